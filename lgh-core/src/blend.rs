@@ -1,0 +1,181 @@
+//! Blending functions `B_ℓ` (eq. 3, Fig. 3) and the light fall-off `g`.
+//!
+//! With `r_ℓ = α h_ℓ` (so `r_ℓ = 2 r_{ℓ−1}` and `r_0 = α h_1 / 2`):
+//! - `B_0(d) = 1` for `d ≤ r_0`, falling linearly to 0 at `r_1`;
+//! - `B_ℓ` (0 < ℓ < ℓ_max) rises linearly from 0 at `r_{ℓ−1}` to 1 at `r_ℓ` and falls to 0 at `r_{ℓ+1}`;
+//! - `B_ℓmax` rises from 0 at `r_{ℓmax−1}` to 1 at `r_ℓmax` and stays 1.
+//!
+//! Each piece is evaluated as `a = d / r_ℓ` with one reciprocal per level, the reciprocals being
+//! exact powers-of-two multiples of `1 / r_0`. On the overlap `[r_ℓ, r_{ℓ+1}]` the two non-zero
+//! weights are then `2 − a` and `a − 1` with `a ∈ [1, 2]`; both subtractions are exact (Sterbenz),
+//! so `Σ_ℓ B_ℓ(d) = 1` holds exactly in floating point, not just approximately.
+
+use crate::error::QueryError;
+
+/// The most levels above level 0 a hierarchy may have.
+pub const MAX_LEVEL: u8 = 21;
+
+/// Clamped inverse-square fall-off `g(d) = 1 / max(d, h0)²` (paper Sec. 6: distances are clamped to
+/// `h0` to avoid the point-light singularity).
+#[inline(always)]
+pub fn falloff(d: f32, h0: f32) -> f32 {
+    let c = if d > h0 { d } else { h0 };
+    1.0 / (c * c)
+}
+
+/// α and the influence radii `r_ℓ = α h_ℓ` of one hierarchy: everything a query needs to weight
+/// levels. Make one with [`LightingGridHierarchy::blending`](crate::LightingGridHierarchy::blending)
+/// (or [`Blending::new`]) once, and reuse it for every query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blending {
+    alpha: f32,
+    h1: f32,
+    max_level: u8,
+    /// `r_ℓ` for ℓ = 0..=MAX_LEVEL.
+    radius: [f32; MAX_LEVEL as usize + 1],
+    /// `1 / r_ℓ`, exact powers-of-two multiples of `1 / r_0`.
+    inv_radius: [f32; MAX_LEVEL as usize + 1],
+}
+
+impl Blending {
+    /// Blending for a hierarchy with level-1 spacing `h1` and top level `max_level`.
+    pub fn new(alpha: f32, h1: f32, max_level: u8) -> Result<Self, QueryError> {
+        if !(alpha.is_finite() && alpha > 0.0) || max_level > MAX_LEVEL {
+            return Err(QueryError::InvalidAlpha { alpha });
+        }
+        let r0 = alpha * h1 * 0.5;
+        let inv0 = 1.0 / r0;
+        let mut radius = [0.0; MAX_LEVEL as usize + 1];
+        let mut inv_radius = [0.0; MAX_LEVEL as usize + 1];
+        let mut scale = 1.0f32;
+        for l in 0..=MAX_LEVEL as usize {
+            radius[l] = r0 * scale;
+            inv_radius[l] = inv0 / scale;
+            scale *= 2.0;
+        }
+        // The outermost radius a query uses is 2 r_ℓmax; it (and 1/r_0) must be finite and non-zero.
+        let outer = 2.0 * radius[max_level as usize];
+        if !(r0 > 0.0 && outer.is_finite() && inv0.is_finite()) {
+            return Err(QueryError::InvalidAlpha { alpha });
+        }
+        Ok(Blending {
+            alpha,
+            h1,
+            max_level,
+            radius,
+            inv_radius,
+        })
+    }
+
+    /// The paper's α.
+    pub fn alpha(&self) -> f32 {
+        self.alpha
+    }
+
+    /// Level-1 spacing `h1` this blending was made for.
+    pub fn h1(&self) -> f32 {
+        self.h1
+    }
+
+    /// Top level `ℓ_max` this blending was made for.
+    pub fn max_level(&self) -> u8 {
+        self.max_level
+    }
+
+    /// Influence radius `r_ℓ = α h_ℓ` (with `h_0 = h_1 / 2`).
+    #[inline]
+    pub fn radius(&self, level: u8) -> f32 {
+        self.radius[level as usize]
+    }
+
+    /// Distances `(inner, outer)` outside of which `B_ℓ` is zero: a level-ℓ light contributes only if
+    /// `inner < d < outer`. `outer` is infinite for the top level.
+    #[inline]
+    pub fn support(&self, level: u8) -> (f32, f32) {
+        let inner = if level == 0 {
+            0.0
+        } else {
+            self.radius[level as usize - 1]
+        };
+        let outer = if level == self.max_level {
+            f32::INFINITY
+        } else {
+            2.0 * self.radius[level as usize]
+        };
+        (inner, outer)
+    }
+
+    /// The blending weight `B_ℓ(d)` of level `level` at distance `d ≥ 0` (eq. 3, Fig. 3).
+    #[inline(always)]
+    pub fn weight(&self, level: u8, d: f32) -> f32 {
+        let top = self.max_level;
+        let w = if top == 0 {
+            1.0
+        } else if level == 0 {
+            2.0 - d * self.inv_radius[0]
+        } else {
+            let rise = d * self.inv_radius[level as usize - 1] - 1.0;
+            if level == top {
+                rise
+            } else {
+                let fall = 2.0 - d * self.inv_radius[level as usize];
+                rise.min(fall)
+            }
+        };
+        w.clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Partition of unity, exactly (see the module docs for why no tolerance is needed).
+        #[test]
+        fn weights_sum_to_one(alpha in 0.01f32..64.0, h1 in 0.001f32..100.0, top in 0u8..=MAX_LEVEL,
+                              d in 0.0f32..1e6) {
+            let b = Blending::new(alpha, h1, top).unwrap();
+            let sum: f32 = (0..=top).map(|l| b.weight(l, d)).sum();
+            prop_assert_eq!(sum, 1.0);
+        }
+
+        #[test]
+        fn weights_vanish_outside_support(alpha in 0.1f32..16.0, top in 1u8..8, d in 0.0f32..1e3) {
+            let b = Blending::new(alpha, 1.0, top).unwrap();
+            for l in 0..=top {
+                let (inner, outer) = b.support(l);
+                if d <= inner || d >= outer {
+                    prop_assert_eq!(b.weight(l, d), 0.0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn shape_matches_figure_3() {
+        let b = Blending::new(2.0, 1.0, 3).unwrap(); // r = 1, 2, 4, 8
+        assert_eq!(b.radius(0), 1.0);
+        assert_eq!(b.weight(0, 0.5), 1.0);
+        assert_eq!(b.weight(0, 1.5), 0.5);
+        assert_eq!(b.weight(1, 1.5), 0.5);
+        assert_eq!(b.weight(1, 2.0), 1.0);
+        assert_eq!(b.weight(1, 3.0), 0.5);
+        assert_eq!(b.weight(3, 100.0), 1.0);
+        assert_eq!(b.weight(3, 4.0), 0.0);
+    }
+
+    #[test]
+    fn bad_alpha_is_an_error() {
+        for a in [0.0, -1.0, f32::NAN, f32::INFINITY, 1e38] {
+            assert!(Blending::new(a, 1.0, 20).is_err(), "{a}");
+        }
+    }
+
+    #[test]
+    fn falloff_is_clamped() {
+        assert_eq!(falloff(0.0, 0.5), 4.0);
+        assert_eq!(falloff(2.0, 0.5), 0.25);
+    }
+}

@@ -1,0 +1,126 @@
+//! Typed errors of building and querying.
+
+use core::fmt;
+
+/// Why a hierarchy (or a backend) could not be built from the given lights and settings.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BuildError {
+    /// Light `index` has a NaN or infinite position coordinate.
+    NonFinitePosition {
+        /** Index of the offending light. */
+        index: usize,
+    },
+    /// Light `index` has a NaN, infinite or negative intensity channel.
+    InvalidIntensity {
+        /** Index of the offending light. */
+        index: usize,
+    },
+    /// The level-1 spacing `h1` is not a finite number > 0.
+    InvalidSpacing {
+        /** The rejected spacing. */
+        h1: f32,
+    },
+    /// The grid origin is not finite.
+    NonFiniteOrigin,
+    /// More levels were requested than the hierarchy supports.
+    TooManyLevels {
+        /** Requested `ℓ_max`. */
+        requested: u8,
+        /** Largest supported `ℓ_max`. */
+        max: u8,
+    },
+    /// The lights span more level-1 cells along one axis than the hierarchy can address.
+    GridTooFine {
+        /** Cells spanned. */
+        cells: f64,
+        /** Most cells per axis. */
+        max: u32,
+    },
+    /// More lights than a 32-bit index can address.
+    TooManyLights {
+        /** Number of lights given. */
+        count: usize,
+    },
+    /// The weak-light threshold is negative or not finite.
+    InvalidThreshold {
+        /** The rejected threshold. */
+        threshold: f32,
+    },
+    /// A rebuild was given a different number of intensities than the hierarchy has lights.
+    LengthMismatch {
+        /** Lights in the hierarchy. */
+        expected: usize,
+        /** Intensities given. */
+        got: usize,
+    },
+}
+
+impl fmt::Display for BuildError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BuildError::NonFinitePosition { index } => {
+                write!(f, "light {index} has a non-finite position")
+            }
+            BuildError::InvalidIntensity { index } => write!(
+                f,
+                "light {index} has a non-finite or negative intensity (intensities are W/sr, ≥ 0)"
+            ),
+            BuildError::InvalidSpacing { h1 } => {
+                write!(f, "grid spacing h1 = {h1} must be a finite number > 0")
+            }
+            BuildError::NonFiniteOrigin => write!(f, "grid origin must be finite"),
+            BuildError::TooManyLevels { requested, max } => write!(
+                f,
+                "{requested} levels requested; at most {max} are supported"
+            ),
+            BuildError::GridTooFine { cells, max } => write!(
+                f,
+                "the lights span {cells:.3e} level-1 cells along one axis (at most {max}); use a larger h1"
+            ),
+            BuildError::TooManyLights { count } => {
+                write!(f, "{count} lights exceed the limit of {}", u32::MAX - 1)
+            }
+            BuildError::InvalidThreshold { threshold } => write!(
+                f,
+                "weak-light threshold {threshold} must be finite and ≥ 0"
+            ),
+            BuildError::LengthMismatch { expected, got } => write!(
+                f,
+                "expected {expected} intensities (one per light), got {got}"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for BuildError {}
+
+/// Why a query could not run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum QueryError {
+    /// α is not a finite number > 0 (or makes a radius overflow).
+    InvalidAlpha {
+        /** The rejected α. */
+        alpha: f32,
+    },
+    /// The shading point has a NaN or infinite coordinate.
+    NonFinitePoint,
+    /// The [`Blending`](crate::Blending) was made for another hierarchy (other `h1` or `ℓ_max`).
+    BlendingMismatch,
+}
+
+impl fmt::Display for QueryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            QueryError::InvalidAlpha { alpha } => {
+                write!(f, "alpha = {alpha} must be a finite number > 0")
+            }
+            QueryError::NonFinitePoint => write!(f, "shading point is not finite"),
+            QueryError::BlendingMismatch => write!(
+                f,
+                "blending parameters were made for a hierarchy with another h1 or level count"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for QueryError {}

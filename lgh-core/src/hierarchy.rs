@@ -1,0 +1,676 @@
+//! The lighting grid hierarchy (paper Sec. 3): build, cheap rebuild, and the radius query.
+
+use alloc::vec::Vec;
+use core::cmp::Ordering;
+use glam::Vec3;
+
+use crate::backend::LightSample;
+use crate::blend::Blending;
+use crate::bricks::BrickIndex;
+use crate::error::{BuildError, QueryError};
+use crate::grid::{self, GridSettings, LevelSource, Placement};
+use crate::level::{self, SplatInput, Topology};
+use crate::light::{luminance, GridLight, PointLight};
+use crate::math::{floor64, sqrt};
+use crate::morton;
+
+/// The input lights in the hierarchy's order: by Morton code of their level-1 cell, ties broken by
+/// position and intensity bits — a total order on the lights' values, so the build does not depend
+/// on the order in which lights were given.
+#[derive(Clone, Debug, Default)]
+struct SortedInput {
+    /// `perm[i]` = index in the caller's slice of sorted light `i`.
+    perm: Vec<u32>,
+    /// Morton code of each light's level-1 cell.
+    code: Vec<u64>,
+    /// Level-1 cell of each light.
+    cell: Vec<[u32; 3]>,
+    /// Position inside the level-1 cell, in cell units.
+    frac: Vec<[f32; 3]>,
+    intensity: Vec<Vec3>,
+    luminance: Vec<f32>,
+    /// Ranges `start..end` of lights with identical positions (usually none). Inside them the
+    /// order is by intensity, which a rebuild must restore to stay identical to a fresh build.
+    coincident: Vec<(u32, u32)>,
+}
+
+/// One level ℓ ≥ 1: its lights (grid vertices) and the topology that locates them.
+#[derive(Clone, Debug)]
+struct Level {
+    lights: Vec<GridLight>,
+    topo: Topology,
+}
+
+/// A lighting grid hierarchy over a set of point lights `S0`.
+///
+/// Level 0 holds the input lights; level ℓ ≥ 1 is a sparse grid with spacing `h_ℓ = 2^(ℓ−1) h_1`
+/// whose vertices are lights with intensity (eq. 1), illumination centre (eq. 2), per-axis variance
+/// (eq. 4) and size (eq. 5). See the crate documentation for an example.
+#[derive(Clone, Debug)]
+pub struct LightingGridHierarchy {
+    placement: Placement,
+    source: LevelSource,
+    prune_below: f32,
+    input: SortedInput,
+    /// Level 0: the input lights, sorted, as grid lights (zero variance and size).
+    level0: Vec<GridLight>,
+    /// Level-1 cells holding level-0 lights: index and runs, for level-0 radius queries.
+    cells0: BrickIndex,
+    cells0_starts: Vec<u32>,
+    cells0_codes: Vec<u64>,
+    /// Levels 1..=ℓ_max.
+    levels: Vec<Level>,
+}
+
+fn validate(lights: &[PointLight]) -> Result<(), BuildError> {
+    if lights.len() >= u32::MAX as usize {
+        return Err(BuildError::TooManyLights {
+            count: lights.len(),
+        });
+    }
+    for (index, l) in lights.iter().enumerate() {
+        if !l.position.is_finite() {
+            return Err(BuildError::NonFinitePosition { index });
+        }
+        validate_intensity(index, l.intensity)?;
+    }
+    Ok(())
+}
+
+fn validate_intensity(index: usize, i: Vec3) -> Result<(), BuildError> {
+    if !i.is_finite() || i.min_element() < 0.0 {
+        return Err(BuildError::InvalidIntensity { index });
+    }
+    Ok(())
+}
+
+fn position_bits(p: Vec3) -> [u32; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+fn intensity_bits(i: Vec3) -> [u32; 3] {
+    [i.x.to_bits(), i.y.to_bits(), i.z.to_bits()]
+}
+
+/// Total order on a light's value (position, then intensity), by bits.
+fn value_order(a: &PointLight, b: &PointLight) -> Ordering {
+    position_bits(a.position)
+        .cmp(&position_bits(b.position))
+        .then_with(|| intensity_bits(a.intensity).cmp(&intensity_bits(b.intensity)))
+}
+
+/// Level-1 cell and in-cell position of `p` under `placement`.
+#[inline]
+fn locate(p: Vec3, pl: &Placement) -> ([u32; 3], [f32; 3]) {
+    let mut cell = [0u32; 3];
+    let mut frac = [0.0f32; 3];
+    for a in 0..3 {
+        let t = (p[a] as f64 - pl.origin[a]) / pl.h1;
+        let c = floor64(t).clamp(0.0, pl.max_cell[a] as f64);
+        cell[a] = c as u32;
+        frac[a] = ((t - c) as f32).clamp(0.0, 1.0);
+    }
+    (cell, frac)
+}
+
+fn sort_pairs(keys: &mut [(u64, u32)], lights: &[PointLight]) {
+    let cmp = |a: &(u64, u32), b: &(u64, u32)| {
+        a.0.cmp(&b.0)
+            .then_with(|| value_order(&lights[a.1 as usize], &lights[b.1 as usize]))
+    };
+    #[cfg(feature = "rayon")]
+    {
+        use rayon::slice::ParallelSliceMut;
+        keys.par_sort_unstable_by(cmp);
+    }
+    #[cfg(not(feature = "rayon"))]
+    keys.sort_unstable_by(cmp);
+}
+
+/// Maps `f` over `jobs`, in parallel with the `rayon` feature; the output keeps the jobs' order.
+fn par_map<J: Send, T: Send, F: Fn(J) -> T + Sync + Send>(jobs: Vec<J>, f: F) -> Vec<T> {
+    #[cfg(feature = "rayon")]
+    {
+        use rayon::prelude::*;
+        jobs.into_par_iter().map(f).collect()
+    }
+    #[cfg(not(feature = "rayon"))]
+    {
+        jobs.into_iter().map(f).collect()
+    }
+}
+
+impl LightingGridHierarchy {
+    /// Builds the hierarchy over `lights` with the given settings.
+    ///
+    /// Errors on non-finite positions, non-finite or negative intensities, invalid settings, or a
+    /// grid too fine for the lights' extent. An empty light set gives an empty hierarchy whose
+    /// queries report nothing.
+    pub fn build(lights: &[PointLight], settings: &GridSettings) -> Result<Self, BuildError> {
+        validate(lights)?;
+        if !(settings.prune_below.is_finite() && settings.prune_below >= 0.0) {
+            return Err(BuildError::InvalidThreshold {
+                threshold: settings.prune_below,
+            });
+        }
+        if lights.is_empty() {
+            return Self::empty(settings);
+        }
+        let placement = grid::place(lights, settings)?;
+
+        let mut keys: Vec<(u64, u32)> = lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| (morton::encode(locate(l.position, &placement).0), i as u32))
+            .collect();
+        sort_pairs(&mut keys, lights);
+
+        let n = lights.len();
+        let mut input = SortedInput {
+            perm: Vec::with_capacity(n),
+            code: Vec::with_capacity(n),
+            cell: Vec::with_capacity(n),
+            frac: Vec::with_capacity(n),
+            intensity: Vec::with_capacity(n),
+            luminance: Vec::with_capacity(n),
+            coincident: Vec::new(),
+        };
+        for &(code, i) in &keys {
+            let l = &lights[i as usize];
+            let (cell, frac) = locate(l.position, &placement);
+            input.perm.push(i);
+            input.code.push(code);
+            input.cell.push(cell);
+            input.frac.push(frac);
+            input.intensity.push(l.intensity);
+            input.luminance.push(luminance(l.intensity));
+        }
+        let mut k = 0;
+        while k < n {
+            let p = lights[keys[k].1 as usize].position;
+            let mut e = k + 1;
+            while e < n && position_bits(lights[keys[e].1 as usize].position) == position_bits(p) {
+                e += 1;
+            }
+            if e - k > 1 {
+                input.coincident.push((k as u32, e as u32));
+            }
+            k = e;
+        }
+        drop(keys);
+        let level0 = input
+            .perm
+            .iter()
+            .zip(&input.luminance)
+            .map(|(&i, &lum)| GridLight {
+                position: lights[i as usize].position,
+                intensity: lights[i as usize].intensity,
+                variance: Vec3::ZERO,
+                size: 0.0,
+                luminance: lum,
+            })
+            .collect();
+        let (cells0_codes, cells0_starts) = level::runs(input.code.iter().copied());
+        let cells0 = BrickIndex::from_sorted_codes(&cells0_codes);
+
+        let mut h = LightingGridHierarchy {
+            placement,
+            source: settings.source,
+            prune_below: settings.prune_below,
+            input,
+            level0,
+            cells0,
+            cells0_starts,
+            cells0_codes,
+            levels: Vec::new(),
+        };
+        h.build_levels(Vec::new());
+        Ok(h)
+    }
+
+    fn empty(settings: &GridSettings) -> Result<Self, BuildError> {
+        let h1 = settings.h1.unwrap_or(1.0);
+        if !(h1.is_finite() && h1 > 0.0) {
+            return Err(BuildError::InvalidSpacing { h1 });
+        }
+        let max_level = settings.max_level.unwrap_or(1);
+        if max_level > crate::blend::MAX_LEVEL {
+            return Err(BuildError::TooManyLevels {
+                requested: max_level,
+                max: crate::blend::MAX_LEVEL,
+            });
+        }
+        let o = settings.origin.unwrap_or(Vec3::ZERO);
+        if !o.is_finite() {
+            return Err(BuildError::NonFiniteOrigin);
+        }
+        Ok(LightingGridHierarchy {
+            placement: Placement {
+                h1: h1 as f64,
+                origin: [o.x as f64, o.y as f64, o.z as f64],
+                max_level,
+                max_cell: [0; 3],
+            },
+            source: settings.source,
+            prune_below: settings.prune_below,
+            input: SortedInput::default(),
+            level0: Vec::new(),
+            cells0: BrickIndex::from_sorted_codes(&[]),
+            cells0_starts: Vec::new(),
+            cells0_codes: Vec::new(),
+            levels: Vec::new(),
+        })
+    }
+
+    /// (Re)computes levels 1..=ℓ_max, reusing the topologies of `old` levels where the lights did not
+    /// move (every level when built from S0; only level 1 when built from the previous level).
+    fn build_levels(&mut self, old: Vec<Level>) {
+        let top = self.placement.max_level;
+        let mut topos: Vec<Option<Topology>> = old.into_iter().map(|l| Some(l.topo)).collect();
+        topos.resize_with(top as usize, || None);
+        let this = &*self;
+        let levels = match self.source {
+            LevelSource::InputLights => {
+                let jobs: Vec<(u8, Option<Topology>)> = (1..=top).zip(topos).collect();
+                par_map(jobs, |(l, topo)| {
+                    let topo = topo.unwrap_or_else(|| this.input_topology(l));
+                    let lights = this.splat_input(l, &topo);
+                    Level { lights, topo }
+                })
+            }
+            LevelSource::PreviousLevel => {
+                let mut levels = Vec::with_capacity(top as usize);
+                if let Some(topo) = topos.into_iter().next() {
+                    let topo = topo.unwrap_or_else(|| this.input_topology(1));
+                    let lights = this.splat_input(1, &topo);
+                    levels.push(Level { lights, topo });
+                }
+                for l in 2..=top {
+                    let next = this.splat_previous(l, &levels[l as usize - 2].lights);
+                    levels.push(next);
+                }
+                levels
+            }
+        };
+        self.levels = levels;
+    }
+
+    /// Topology of level `l` built from the input lights: level-1 cell runs merged by `2^(l−1)`.
+    fn input_topology(&self, l: u8) -> Topology {
+        let shift = 3 * (l as u32 - 1);
+        let mut cells = Vec::new();
+        let mut starts = Vec::new();
+        for (c, &code) in self.cells0_codes.iter().enumerate() {
+            let code = code >> shift;
+            if cells.last() != Some(&code) {
+                cells.push(code);
+                starts.push(self.cells0_starts[c]);
+            }
+        }
+        starts.push(self.input.code.len() as u32);
+        Topology::new(&cells, starts)
+    }
+
+    /// Level `l`'s lights splatted from the input lights `S0` (eqs. 1, 2, 4, 5).
+    fn splat_input(&self, l: u8, topo: &Topology) -> Vec<GridLight> {
+        let sub = l as u32 - 1;
+        let mask = (1u32 << sub) - 1;
+        let scale = 1.0 / (1u32 << sub) as f32;
+        let frac: Vec<[f32; 3]> = self
+            .input
+            .cell
+            .iter()
+            .zip(&self.input.frac)
+            .map(|(c, f)| {
+                let mut g = [0.0; 3];
+                for a in 0..3 {
+                    g[a] = (((c[a] & mask) as f32 + f[a]) * scale).min(1.0);
+                }
+                g
+            })
+            .collect();
+        let input = SplatInput {
+            frac: &frac,
+            intensity: &self.input.intensity,
+            luminance: &self.input.luminance,
+            extra_variance: None,
+        };
+        level::splat(topo, &input, self.h(l) as f64, self.placement.origin)
+    }
+
+    /// Level `l` splatted from the lights of level `l − 1` (the `PreviousLevel` option).
+    fn splat_previous(&self, l: u8, prev: &[GridLight]) -> Level {
+        let pl = &self.placement;
+        let h = self.h(l) as f64;
+        let max = [
+            pl.max_cell[0] >> (l - 1),
+            pl.max_cell[1] >> (l - 1),
+            pl.max_cell[2] >> (l - 1),
+        ];
+        let mut items: Vec<(u64, u32, [f32; 3])> = prev
+            .iter()
+            .enumerate()
+            .map(|(i, g)| {
+                let mut cell = [0u32; 3];
+                let mut frac = [0.0f32; 3];
+                for a in 0..3 {
+                    let t = ((g.position[a] as f64 - pl.origin[a]) / h).max(0.0);
+                    let c = floor64(t).min(max[a] as f64);
+                    cell[a] = c as u32;
+                    frac[a] = ((t - c) as f32).clamp(0.0, 1.0);
+                }
+                (morton::encode(cell), i as u32, frac)
+            })
+            .collect();
+        // Stable by construction: ties keep the previous level's (deterministic) order.
+        items.sort_by_key(|&(code, i, _)| (code, i));
+        let (cells, starts) = level::runs(items.iter().map(|t| t.0));
+        let topo = Topology::new(&cells, starts);
+        let hf = h as f32;
+        let frac: Vec<[f32; 3]> = items.iter().map(|t| t.2).collect();
+        let intensity: Vec<Vec3> = items.iter().map(|t| prev[t.1 as usize].intensity).collect();
+        let lum: Vec<f32> = items.iter().map(|t| prev[t.1 as usize].luminance).collect();
+        let extra: Vec<Vec3> = items
+            .iter()
+            .map(|t| prev[t.1 as usize].variance / (hf * hf))
+            .collect();
+        let input = SplatInput {
+            frac: &frac,
+            intensity: &intensity,
+            luminance: &lum,
+            extra_variance: Some(&extra),
+        };
+        let lights = level::splat(&topo, &input, h, pl.origin);
+        Level { lights, topo }
+    }
+
+    /// Replaces the lights' intensities, keeping their positions: the explosion case, where lights sit
+    /// at fixed voxel centres and only their intensities animate. `intensities[i]` is the new
+    /// intensity of light `i` of the slice given to [`build`](Self::build).
+    ///
+    /// Skips everything that depends only on positions (validation of positions, the sort, the
+    /// grids' topology) and re-splats the levels. The result is bit-identical to a fresh build with
+    /// the new intensities.
+    pub fn update_intensities(&mut self, intensities: &[Vec3]) -> Result<(), BuildError> {
+        let n = self.input.perm.len();
+        if intensities.len() != n {
+            return Err(BuildError::LengthMismatch {
+                expected: n,
+                got: intensities.len(),
+            });
+        }
+        for (i, &v) in intensities.iter().enumerate() {
+            validate_intensity(i, v)?;
+        }
+        if n == 0 {
+            return Ok(());
+        }
+        for (s, &i) in self.input.perm.iter().enumerate() {
+            let v = intensities[i as usize];
+            let lum = luminance(v);
+            self.input.intensity[s] = v;
+            self.input.luminance[s] = lum;
+            self.level0[s].intensity = v;
+            self.level0[s].luminance = lum;
+        }
+        // Coincident lights are ordered by intensity (see `SortedInput`): restore that order.
+        for &(s, e) in &self.input.coincident {
+            let (s, e) = (s as usize, e as usize);
+            let mut run: Vec<(u32, Vec3)> = (s..e)
+                .map(|k| (self.input.perm[k], self.input.intensity[k]))
+                .collect();
+            run.sort_by(|a, b| intensity_bits(a.1).cmp(&intensity_bits(b.1)));
+            for (k, (p, v)) in (s..e).zip(run) {
+                self.input.perm[k] = p;
+                self.input.intensity[k] = v;
+                self.input.luminance[k] = luminance(v);
+                self.level0[k].intensity = v;
+                self.level0[k].luminance = luminance(v);
+            }
+        }
+        let old = core::mem::take(&mut self.levels);
+        self.build_levels(old);
+        Ok(())
+    }
+
+    /// Number of input lights.
+    pub fn len(&self) -> usize {
+        self.level0.len()
+    }
+
+    /// True if the hierarchy has no lights.
+    pub fn is_empty(&self) -> bool {
+        self.level0.is_empty()
+    }
+
+    /// The top level `ℓ_max`.
+    pub fn max_level(&self) -> u8 {
+        self.placement.max_level
+    }
+
+    /// Level-1 spacing `h_1`.
+    pub fn h1(&self) -> f32 {
+        self.placement.h1 as f32
+    }
+
+    /// Spacing `h_ℓ = 2^(ℓ−1) h_1` of level ℓ (`h_0 = h_1 / 2`).
+    pub fn h(&self, level: u8) -> f32 {
+        (self.placement.h1 * libm::ldexp(1.0, level as i32 - 1)) as f32
+    }
+
+    /// `h_0 = h_1 / 2`, the clamp distance of the fall-off [`falloff`](crate::falloff).
+    pub fn h0(&self) -> f32 {
+        self.h(0)
+    }
+
+    /// The grids' shared origin (a vertex of every level).
+    pub fn origin(&self) -> Vec3 {
+        let o = self.placement.origin;
+        Vec3::new(o[0] as f32, o[1] as f32, o[2] as f32)
+    }
+
+    /// Weak-light threshold of this hierarchy (0 = no pruning).
+    pub fn prune_below(&self) -> f32 {
+        self.prune_below
+    }
+
+    /// The lights of level `level` (level 0: the input lights, in the hierarchy's order).
+    /// Empty for levels above `ℓ_max`.
+    pub fn level(&self, level: u8) -> &[GridLight] {
+        if level == 0 {
+            &self.level0
+        } else {
+            self.levels
+                .get(level as usize - 1)
+                .map_or(&[], |l| &l.lights)
+        }
+    }
+
+    /// The grid vertex (integer coordinates relative to [`origin`](Self::origin), in units of `h_ℓ`)
+    /// of light `index` of level `level ≥ 1`.
+    pub fn vertex(&self, level: u8, index: u32) -> Option<[u32; 3]> {
+        let l = self.levels.get((level as usize).checked_sub(1)?)?;
+        l.topo
+            .vertex_codes
+            .get(index as usize)
+            .map(|&c| morton::decode(c))
+    }
+
+    /// Index, in the slice given to [`build`](Self::build), of level-0 light `index`.
+    pub fn input_index(&self, index: u32) -> Option<usize> {
+        self.input.perm.get(index as usize).map(|&i| i as usize)
+    }
+
+    /// True if light `index` of `level` is reported by queries (not pruned as weak, not dark).
+    #[inline]
+    pub fn is_active(&self, level: u8, light: &GridLight) -> bool {
+        light.luminance > 0.0
+            && (level == self.placement.max_level || light.luminance >= self.prune_below)
+    }
+
+    /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
+    pub fn blending(&self, alpha: f32) -> Result<Blending, QueryError> {
+        Blending::new(alpha, self.h1(), self.max_level())
+    }
+
+    /// Level-ℓ coordinates of `x` (world position relative to the origin, in units of `h_ℓ`).
+    #[inline]
+    fn local(&self, x: Vec3, level: u8) -> [f64; 3] {
+        let inv = 1.0 / (self.placement.h1 * libm::ldexp(1.0, level as i32 - 1));
+        let o = self.placement.origin;
+        [
+            (x.x as f64 - o[0]) * inv,
+            (x.y as f64 - o[1]) * inv,
+            (x.z as f64 - o[2]) * inv,
+        ]
+    }
+
+    /// The lighting query of eq. (3): calls `f` once for every light (of any level) that contributes
+    /// at `x`, i.e. whose blending weight `B_ℓ(d)` is non-zero at its distance `d = ‖x − p_ℓi‖`, with
+    /// the weighted intensity `B_ℓ(d) I_ℓi`. Returns the number of calls.
+    ///
+    /// Visibility `V`, fall-off `g` (see [`falloff`](crate::falloff)), BRDF or phase function are the
+    /// caller's. The query allocates nothing; the order of calls is fixed for a given hierarchy, α
+    /// and `x`, so sums over them are deterministic.
+    pub fn query<F: FnMut(&LightSample)>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        mut f: F,
+    ) -> Result<u32, QueryError> {
+        if !x.is_finite() {
+            return Err(QueryError::NonFinitePoint);
+        }
+        if blending.h1() != self.h1() || blending.max_level() != self.max_level() {
+            return Err(QueryError::BlendingMismatch);
+        }
+        if self.level0.is_empty() {
+            return Ok(0);
+        }
+        let top = self.max_level();
+        let alpha = blending.alpha() as f64;
+        let mut count = 0u32;
+        let prune = self.prune_below;
+        let mut emit = |level: u8, index: u32, light: &GridLight, inner2: f32, outer2: f32| {
+            let threshold = if level == top { 0.0 } else { prune };
+            if light.luminance <= 0.0 || light.luminance < threshold {
+                return;
+            }
+            let d2 = (light.position - x).length_squared();
+            if d2 >= outer2 || d2 <= inner2 {
+                return;
+            }
+            let d = sqrt(d2);
+            let w = blending.weight(level, d);
+            if w <= 0.0 {
+                return;
+            }
+            count += 1;
+            f(&LightSample {
+                level,
+                index,
+                position: light.position,
+                intensity: light.intensity * w,
+                variance: light.variance,
+                size: light.size,
+                distance: d,
+                weight: w,
+            });
+        };
+
+        // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1.
+        if top == 0 {
+            for (i, light) in self.level0.iter().enumerate() {
+                emit(0, i as u32, light, -1.0, f32::INFINITY);
+            }
+            return Ok(count);
+        }
+        let (_, outer) = blending.support(0);
+        let outer2 = outer * outer;
+        let t = self.local(x, 1);
+        if let Some((lo, hi)) = box_around(&t, alpha, &self.cells0) {
+            self.cells0.for_each_in_box(
+                lo,
+                hi,
+                |b| brick_near(b, &t, 0.0, 4.0, alpha),
+                |cell| {
+                    let (s, e) = (
+                        self.cells0_starts[cell as usize],
+                        self.cells0_starts[cell as usize + 1],
+                    );
+                    for i in s..e {
+                        emit(0, i, &self.level0[i as usize], -1.0, outer2);
+                    }
+                },
+            );
+        }
+
+        // Levels 0 < ℓ < ℓ_max: vertices within 2 r_ℓ + h_ℓ (per axis) of x, since a centre lies
+        // within h_ℓ of its vertex.
+        for l in 1..top {
+            let level = &self.levels[l as usize - 1];
+            let (inner, outer) = blending.support(l);
+            let (inner2, outer2) = (inner * inner, outer * outer);
+            let t = self.local(x, l);
+            let reach = 2.0 * alpha + 1.0;
+            if let Some((lo, hi)) = box_around(&t, reach, &level.topo.index) {
+                level.topo.index.for_each_in_box(
+                    lo,
+                    hi,
+                    |b| brick_near(b, &t, -1.0, 4.0, 2.0 * alpha),
+                    |i| emit(l, i, &level.lights[i as usize], inner2, outer2),
+                );
+            }
+        }
+
+        // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
+        let (inner, _) = blending.support(top);
+        let inner2 = inner * inner;
+        for (i, light) in self.levels[top as usize - 1].lights.iter().enumerate() {
+            emit(top, i as u32, light, inner2, f32::INFINITY);
+        }
+        Ok(count)
+    }
+}
+
+/// The inclusive box of item coordinates within `reach` (per axis) of `t`, clipped to the items'
+/// bounding box; `None` if empty.
+#[inline]
+fn box_around(t: &[f64; 3], reach: f64, index: &BrickIndex) -> Option<([u32; 3], [u32; 3])> {
+    if index.is_empty() {
+        return None;
+    }
+    let mut lo = [0u32; 3];
+    let mut hi = [0u32; 3];
+    for a in 0..3 {
+        let from = floor64(t[a] - reach).max(index.item_min[a] as f64);
+        let to = floor64(t[a] + reach).min(index.item_max[a] as f64);
+        if from > to {
+            return None;
+        }
+        lo[a] = from as u32;
+        hi[a] = to as u32;
+    }
+    Some((lo, hi))
+}
+
+/// True if the region `[4b + lo_pad, 4b + hi_pad]` (per axis, in level units) of brick `b` comes
+/// within `radius` of `t`.
+#[inline]
+fn brick_near(b: [u32; 3], t: &[f64; 3], lo_pad: f64, hi_pad: f64, radius: f64) -> bool {
+    let mut d2 = 0.0;
+    for a in 0..3 {
+        let base = (b[a] * 4) as f64;
+        let lo = base + lo_pad;
+        let hi = base + hi_pad;
+        let d = if t[a] < lo {
+            lo - t[a]
+        } else if t[a] > hi {
+            t[a] - hi
+        } else {
+            0.0
+        };
+        d2 += d * d;
+    }
+    d2 <= radius * radius
+}

@@ -1,0 +1,159 @@
+//! Deterministic light sets and query points for tests, examples and benchmarks.
+//!
+//! Everything here is generated from integer hashing (no global RNG, no platform-dependent maths
+//! beyond correctly rounded operations), so every machine gets the same lights.
+
+use alloc::vec::Vec;
+use glam::Vec3;
+
+use crate::light::PointLight;
+use crate::spectrum::blackbody_rgb;
+
+/// SplitMix64: a small, fast, well-mixed deterministic generator.
+#[derive(Clone, Debug)]
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+    }
+
+    /// Uniform in `[lo, hi)` per axis.
+    pub fn next_in(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+        let t = Vec3::new(self.next_f32(), self.next_f32(), self.next_f32());
+        lo + (hi - lo) * t
+    }
+}
+
+/// Benchmark set (a): `n` lights uniform in the unit cube with random RGB intensities in `[0, 1)`.
+pub fn uniform_cube(n: usize, seed: u64) -> Vec<PointLight> {
+    let mut rng = SplitMix64(seed);
+    (0..n)
+        .map(|_| {
+            let p = rng.next_in(Vec3::ZERO, Vec3::ONE);
+            let i = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            PointLight::new(p, i)
+        })
+        .collect()
+}
+
+fn lattice_hash(x: i32, y: i32, z: i32, seed: u32) -> f32 {
+    let mut h = (x as u32).wrapping_mul(0x8DA6_B343)
+        ^ (y as u32).wrapping_mul(0xD816_3841)
+        ^ (z as u32).wrapping_mul(0xCB1A_B31F)
+        ^ seed.wrapping_mul(0x1656_67B1);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2C1B_3C6D);
+    h ^= h >> 12;
+    h = h.wrapping_mul(0x297A_2D39);
+    h ^= h >> 15;
+    (h >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+}
+
+/// Smooth value noise in `[-1, 1]` with unit lattice spacing.
+pub fn value_noise(p: Vec3, seed: u32) -> f32 {
+    let f = p.floor();
+    let t = p - f;
+    let s = t * t * (Vec3::splat(3.0) - 2.0 * t);
+    let (x, y, z) = (f.x as i32, f.y as i32, f.z as i32);
+    let mut acc = 0.0;
+    for k in 0..8 {
+        let (dx, dy, dz) = (k & 1, (k >> 1) & 1, k >> 2);
+        let w = (if dx == 1 { s.x } else { 1.0 - s.x })
+            * (if dy == 1 { s.y } else { 1.0 - s.y })
+            * (if dz == 1 { s.z } else { 1.0 - s.z });
+        acc += w * lattice_hash(x + dx, y + dy, z + dz, seed);
+    }
+    acc
+}
+
+/// Fractal (turbulent) noise: `octaves` of value noise, frequency doubling, amplitude halving.
+pub fn fractal_noise(p: Vec3, octaves: u32, seed: u32) -> f32 {
+    let mut sum = 0.0;
+    let mut amp = 0.5;
+    let mut freq = 1.0;
+    for o in 0..octaves {
+        sum += amp * value_noise(p * freq, seed.wrapping_add(o));
+        amp *= 0.5;
+        freq *= 2.0;
+    }
+    sum
+}
+
+/// Benchmark set (b): explosion-like lights on a `res³` lattice filling the unit cube — one light at
+/// the centre of every voxel of a turbulent fireball shell, coloured by a blackbody temperature that
+/// falls from about 3000 K inside the shell to 1300 K at its rim, with intensity `∝ T⁴ h³`.
+/// At `res = 128` it yields about a million lights. Level-1 grids for this set should use
+/// `h1 = 2 / res` with the origin on a voxel centre, as the paper does for explosions.
+pub fn explosion_shell(res: u32) -> Vec<PointLight> {
+    let h = 1.0 / res as f32;
+    let centre = Vec3::splat(0.5);
+    let (inner, outer) = (0.17f32, 0.47f32);
+    let mut out = Vec::new();
+    for k in 0..res {
+        for j in 0..res {
+            for i in 0..res {
+                let p = Vec3::new(i as f32 + 0.5, j as f32 + 0.5, k as f32 + 0.5) * h;
+                let q = p - centre;
+                let n = fractal_noise(p * 6.0, 4, 7);
+                let r = q.length() * (1.0 + 0.35 * n);
+                if r <= inner || r >= outer {
+                    continue;
+                }
+                let depth = (r - inner) / (outer - inner); // 0 inside, 1 at the rim
+                let heat = (1.0 - depth) * (0.75 + 0.25 * fractal_noise(p * 11.0 + 3.0, 3, 11));
+                let kelvin = 1300.0 + 1700.0 * heat.clamp(0.0, 1.0);
+                let t4 = (kelvin / 3000.0).powi(4);
+                let colour = blackbody_rgb(kelvin);
+                let intensity = colour / colour.max_element() * t4 * (h * h * h) * 1e4;
+                out.push(PointLight::new(p, intensity));
+            }
+        }
+    }
+    out
+}
+
+/// Benchmark set (c): `n` equal lights along 8 long curves ("light strings") spanning about
+/// 20 × 4 × 10 units.
+pub fn light_strings(n: usize) -> Vec<PointLight> {
+    const STRINGS: usize = 8;
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let s = i % STRINGS;
+        let t = (i / STRINGS) as f32 / (n.div_ceil(STRINGS).max(2) - 1) as f32;
+        let sf = s as f32;
+        let x = -10.0 + 20.0 * t;
+        let sag = 4.0 * t * (1.0 - t); // catenary-like droop between poles
+        let y = 4.0 - 1.5 * sag + 0.3 * libm::sinf(3.0 * x + sf);
+        let z = -5.0 + 10.0 * sf / (STRINGS - 1) as f32 + 0.8 * libm::sinf(0.7 * x + 2.0 * sf);
+        out.push(PointLight::new(Vec3::new(x, y, z), Vec3::ONE));
+    }
+    out
+}
+
+/// `n` query points for a light set with bounding box `lo..hi`: half uniform inside the box, half
+/// uniform in the box scaled by 3 about its centre ("inside and around").
+pub fn query_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<Vec3> {
+    let mut rng = SplitMix64(seed);
+    let c = (lo + hi) * 0.5;
+    let e = (hi - lo).max(Vec3::splat(1e-3));
+    (0..n)
+        .map(|i| {
+            if i % 2 == 0 {
+                rng.next_in(lo, hi)
+            } else {
+                rng.next_in(c - 1.5 * e, c + 1.5 * e)
+            }
+        })
+        .collect()
+}
