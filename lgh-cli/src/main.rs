@@ -1,1 +1,73 @@
-fn main() {}
+//! `lgh`: the command-line tool of the lighting grid hierarchy.
+//!
+//! Thin by design: it parses arguments, shows progress and writes files; the work is in the
+//! library crates. Errors print as one line on stderr with a non-zero exit.
+
+#![forbid(unsafe_code)]
+
+mod atomic;
+mod bench;
+mod demo;
+mod ply;
+mod probes;
+mod progress;
+
+use clap::{Parser, Subcommand};
+
+/// Lighting with millions of point lights through the Lighting Grid Hierarchy.
+#[derive(Debug, Parser)]
+#[command(name = "lgh", version, about)]
+struct Cli {
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, global = true)]
+    threads: Option<usize>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Bake light probes around the built-in fireball light set and compare with brute force.
+    Demo(demo::DemoArgs),
+    /// Evaluate unshadowed lighting L(x) = Σ B·I·g(d) at every point of a PLY point cloud.
+    Probes(probes::ProbesArgs),
+    /// Benchmarks that print machine-readable JSON.
+    Bench {
+        #[command(subcommand)]
+        which: BenchCommand,
+    },
+}
+
+#[derive(Debug, Subcommand)]
+enum BenchCommand {
+    /// Build and query speed and accuracy of lgh-core on three light sets.
+    Core(bench::CoreBenchArgs),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    if let Some(t) = cli.threads {
+        if t == 0 {
+            eprintln!("lgh: error: --threads must be at least 1");
+            std::process::exit(2);
+        }
+        if let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+        {
+            eprintln!("lgh: error: cannot start {t} threads: {e}");
+            std::process::exit(1);
+        }
+    }
+    let result = match &cli.command {
+        Command::Demo(a) => demo::run(a),
+        Command::Probes(a) => probes::run(a),
+        Command::Bench {
+            which: BenchCommand::Core(a),
+        } => bench::run(a),
+    };
+    if let Err(e) = result {
+        eprintln!("lgh: error: {e}");
+        std::process::exit(1);
+    }
+}

@@ -99,6 +99,13 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
     let h = 1.0 / res as f32;
     let centre = Vec3::splat(0.5);
     let (inner, outer) = (0.17f32, 0.47f32);
+    // Blackbody colours, normalised to a maximum channel of 1, every 1 K from 1300 K to 3000 K.
+    let palette: Vec<Vec3> = (1300..=3000)
+        .map(|k| {
+            let c = blackbody_rgb(k as f32);
+            c / c.max_element()
+        })
+        .collect();
     let mut out = Vec::new();
     for k in 0..res {
         for j in 0..res {
@@ -114,8 +121,8 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
                 let heat = (1.0 - depth) * (0.75 + 0.25 * fractal_noise(p * 11.0 + 3.0, 3, 11));
                 let kelvin = 1300.0 + 1700.0 * heat.clamp(0.0, 1.0);
                 let t4 = (kelvin / 3000.0).powi(4);
-                let colour = blackbody_rgb(kelvin);
-                let intensity = colour / colour.max_element() * t4 * (h * h * h) * 1e4;
+                let colour = palette[(kelvin as usize - 1300).min(palette.len() - 1)];
+                let intensity = colour * t4 * (h * h * h) * 1e4;
                 out.push(PointLight::new(p, intensity));
             }
         }

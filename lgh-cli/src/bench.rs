@@ -1,0 +1,220 @@
+//! `lgh bench core`: build and query speed and accuracy of the LGH against brute force, as JSON.
+
+use std::time::Instant;
+
+use lgh_core::glam::Vec3;
+use lgh_core::metrics::ErrorStats;
+use lgh_core::testsets;
+use lgh_core::{falloff, BruteForce, GridSettings, LightingGridHierarchy, PointLight};
+use rayon::prelude::*;
+use serde_json::{json, Value};
+
+/// Arguments of `lgh bench core`.
+#[derive(Debug, clap::Args)]
+pub struct CoreBenchArgs {
+    /// Light sets: a = 100k uniform, b = ~1M explosion shell on 128³, c = 16,384 light strings.
+    #[arg(long, value_delimiter = ',', default_value = "a,b,c")]
+    pub sets: Vec<String>,
+    /// Query points per set (half inside the lights' bounding box, half around it out to 3× its size).
+    #[arg(long, default_value_t = 20_000)]
+    pub points: usize,
+    /// α values to measure.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,8")]
+    pub alphas: Vec<f32>,
+    /// Query points timed for the single-thread brute-force throughput.
+    #[arg(long, default_value_t = 500)]
+    pub brute_timing_points: usize,
+    /// Repetitions of each build timing (the minimum is reported).
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Write the JSON here (atomically) as well as to stdout.
+    #[arg(long)]
+    pub out: Option<std::path::PathBuf>,
+}
+
+struct Set {
+    name: &'static str,
+    description: &'static str,
+    lights: Vec<PointLight>,
+    settings: GridSettings,
+}
+
+fn make_set(key: &str) -> Result<Set, String> {
+    Ok(match key {
+        "a" => Set {
+            name: "a_uniform_100k",
+            description: "100,000 lights uniform in the unit cube, random RGB",
+            lights: testsets::uniform_cube(100_000, 1),
+            settings: GridSettings::default(),
+        },
+        "b" => Set {
+            name: "b_explosion_128",
+            description: "explosion-like lights at voxel centres of a turbulent fireball shell on a 128^3 lattice, blackbody colours; h1 = 2 voxels, level-1 vertices on voxel centres",
+            lights: testsets::explosion_shell(128),
+            settings: GridSettings {
+                h1: Some(2.0 / 128.0),
+                origin: Some(Vec3::splat(0.5 / 128.0)),
+                ..Default::default()
+            },
+        },
+        "c" => Set {
+            name: "c_strings_16k",
+            description: "16,384 equal lights along 8 long curves (light strings)",
+            lights: testsets::light_strings(16_384),
+            settings: GridSettings::default(),
+        },
+        other => return Err(format!("unknown light set '{other}' (use a, b or c)")),
+    })
+}
+
+fn time<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = Instant::now();
+    let v = f();
+    (v, t.elapsed().as_secs_f64())
+}
+
+fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| e.to_string())
+}
+
+/// Runs the benchmark and prints its JSON report.
+pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
+    if args.points == 0 {
+        return Err("--points must be at least 1".into());
+    }
+    if let Some(a) = args.alphas.iter().find(|a| !(a.is_finite() && **a > 0.0)) {
+        return Err(format!("alpha {a} must be a finite number > 0"));
+    }
+    let mut sets = Vec::new();
+    for key in &args.sets {
+        let (set, gen_s) = time(|| make_set(key));
+        let set = set?;
+        eprintln!(
+            "{}: {} lights generated in {gen_s:.2} s",
+            set.name,
+            set.lights.len()
+        );
+        sets.push(bench_set(&set, args)?);
+    }
+    let report = json!({
+        "benchmark": "lgh bench core",
+        "threads_available": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+        "sets": sets,
+    });
+    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    println!("{text}");
+    if let Some(out) = &args.out {
+        crate::atomic::write_atomic(out, |w| w.write_all(text.as_bytes()))?;
+    }
+    Ok(())
+}
+
+fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
+    let lights = &set.lights;
+    let build = || LightingGridHierarchy::build(lights, &set.settings).map_err(|e| e.to_string());
+    let mut build_s = serde_json::Map::new();
+    let mut lgh = None;
+    for threads in [1usize, 2] {
+        let p = pool(threads)?;
+        let mut best = f64::INFINITY;
+        for _ in 0..args.repeat.max(1) {
+            let (h, s) = p.install(|| time(build));
+            best = best.min(s);
+            lgh = Some(h?);
+        }
+        build_s.insert(threads.to_string(), json!(best));
+    }
+    let mut lgh = lgh.expect("built at least once");
+    // Rebuild with new intensities (same positions), 2 threads.
+    let scaled: Vec<Vec3> = lights.iter().map(|l| l.intensity * 1.5).collect();
+    let p2 = pool(2)?;
+    let mut rebuild_s = f64::INFINITY;
+    for _ in 0..args.repeat.max(1) {
+        let (r, s) = p2.install(|| time(|| lgh.update_intensities(&scaled)));
+        r.map_err(|e| e.to_string())?;
+        rebuild_s = rebuild_s.min(s);
+    }
+    let unscaled: Vec<Vec3> = lights.iter().map(|l| l.intensity).collect();
+    lgh.update_intensities(&unscaled)
+        .map_err(|e| e.to_string())?;
+    let h0 = lgh.h0();
+    let levels: Vec<usize> = (0..=lgh.max_level()).map(|l| lgh.level(l).len()).collect();
+
+    let (lo, hi) = lights.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), l| (lo.min(l.position), hi.max(l.position)),
+    );
+    let points = testsets::query_points(lo, hi, args.points, 42);
+
+    // Brute force: single-thread throughput on a prefix, then the reference on every point.
+    let brute = BruteForce::new(lights).map_err(|e| e.to_string())?;
+    let timed = &points[..args.brute_timing_points.clamp(1, points.len())];
+    let (_, brute_s) = time(|| {
+        timed
+            .iter()
+            .map(|&x| brute.falloff_sum(x, h0).map(|v| v.x))
+            .sum::<Result<f32, _>>()
+    });
+    let brute_pps = timed.len() as f64 / brute_s;
+    eprintln!(
+        "{}: brute force {:.0} points/s/thread; computing the reference on {} points",
+        set.name,
+        brute_pps,
+        points.len()
+    );
+    let reference: Vec<Vec3> = points
+        .par_iter()
+        .map(|&x| brute.falloff_sum(x, h0))
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+
+    let mut per_alpha = Vec::new();
+    for &alpha in &args.alphas {
+        let b = lgh.blending(alpha).map_err(|e| e.to_string())?;
+        let mut values = Vec::with_capacity(points.len());
+        let mut evaluated = 0u64;
+        let (r, secs) = time(|| -> Result<(), String> {
+            for &x in &points {
+                let mut sum = Vec3::ZERO;
+                evaluated += lgh
+                    .query(x, &b, |s| sum += s.intensity * falloff(s.distance, h0))
+                    .map_err(|e| e.to_string())? as u64;
+                values.push(sum);
+            }
+            Ok(())
+        });
+        r?;
+        let err = ErrorStats::compare(&values, &reference).ok_or("empty comparison")?;
+        let pps = points.len() as f64 / secs;
+        eprintln!(
+            "{}: alpha {alpha}: {pps:.0} points/s/thread, {:.0} lights/point, rel RMSE {:.3e}",
+            set.name,
+            evaluated as f64 / points.len() as f64,
+            err.rel_rmse
+        );
+        per_alpha.push(json!({
+            "alpha": alpha,
+            "points_per_second_per_thread": pps,
+            "lights_per_point": evaluated as f64 / points.len() as f64,
+            "rel_rmse": err.rel_rmse,
+            "max_rel_error": err.max_rel,
+            "speedup_vs_brute": pps / brute_pps,
+        }));
+    }
+    Ok(json!({
+        "name": set.name,
+        "description": set.description,
+        "lights": lights.len(),
+        "query_points": points.len(),
+        "h1": lgh.h1(),
+        "max_level": lgh.max_level(),
+        "lights_per_level": levels,
+        "build_seconds": build_s,
+        "rebuild_intensities_seconds_2_threads": rebuild_s,
+        "brute_force_points_per_second_per_thread": brute_pps,
+        "alphas": per_alpha,
+    }))
+}
