@@ -33,8 +33,10 @@ pub struct Blending {
     max_level: u8,
     /// `r_ℓ` for ℓ = 0..=MAX_LEVEL.
     radius: [f32; MAX_LEVEL as usize + 1],
-    /// `1 / r_ℓ`, exact powers-of-two multiples of `1 / r_0`.
-    inv_radius: [f32; MAX_LEVEL as usize + 1],
+    /// Per level `(a, c1, b, c2)` with `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`: the rising and
+    /// falling ramps, `a = 1 / r_{ℓ−1}`, `b = 1 / r_ℓ` (exact powers-of-two multiples of `1 / r_0`),
+    /// or a constant 1 where a level has no ramp on that side.
+    ramps: [[f32; 4]; MAX_LEVEL as usize + 1],
 }
 
 impl Blending {
@@ -53,6 +55,17 @@ impl Blending {
             inv_radius[l] = inv0 / scale;
             scale *= 2.0;
         }
+        let mut ramps = [[0.0, 1.0, 0.0, 1.0]; MAX_LEVEL as usize + 1];
+        for (l, ramp) in ramps.iter_mut().enumerate().take(max_level as usize + 1) {
+            if l > 0 {
+                ramp[0] = inv_radius[l - 1];
+                ramp[1] = -1.0;
+            }
+            if l < max_level as usize {
+                ramp[2] = inv_radius[l];
+                ramp[3] = 2.0;
+            }
+        }
         // The outermost radius a query uses is 2 r_ℓmax; it (and 1/r_0) must be finite and non-zero.
         let outer = 2.0 * radius[max_level as usize];
         if !(r0 > 0.0 && outer.is_finite() && inv0.is_finite()) {
@@ -63,7 +76,7 @@ impl Blending {
             h1,
             max_level,
             radius,
-            inv_radius,
+            ramps,
         })
     }
 
@@ -108,21 +121,8 @@ impl Blending {
     /// The blending weight `B_ℓ(d)` of level `level` at distance `d ≥ 0` (eq. 3, Fig. 3).
     #[inline(always)]
     pub fn weight(&self, level: u8, d: f32) -> f32 {
-        let top = self.max_level;
-        let w = if top == 0 {
-            1.0
-        } else if level == 0 {
-            2.0 - d * self.inv_radius[0]
-        } else {
-            let rise = d * self.inv_radius[level as usize - 1] - 1.0;
-            if level == top {
-                rise
-            } else {
-                let fall = 2.0 - d * self.inv_radius[level as usize];
-                rise.min(fall)
-            }
-        };
-        w.clamp(0.0, 1.0)
+        let [a, c1, b, c2] = self.ramps[level as usize];
+        (d * a + c1).min(c2 - d * b).clamp(0.0, 1.0)
     }
 }
 

@@ -44,38 +44,6 @@ enum Lookup {
 
 const EMPTY: u64 = u64::MAX;
 
-/// Per axis, per 4-bit range mask: the in-brick Morton bits whose coordinate on that axis is in the range.
-const AXIS_MASKS: [[u64; 16]; 3] = axis_masks();
-
-const fn axis_masks() -> [[u64; 16]; 3] {
-    let mut out = [[0u64; 16]; 3];
-    let mut axis = 0;
-    while axis < 3 {
-        let mut range = 0;
-        while range < 16 {
-            let mut bit = 0;
-            let mut m = 0u64;
-            while bit < 64 {
-                let c = ((bit >> axis) & 1) | (((bit >> (axis + 3)) & 1) << 1);
-                if range & (1 << c) != 0 {
-                    m |= 1 << bit;
-                }
-                bit += 1;
-            }
-            out[axis][range] = m;
-            range += 1;
-        }
-        axis += 1;
-    }
-    out
-}
-
-/// The 4-bit mask of in-brick coordinates `a..=b`.
-#[inline(always)]
-fn range_bits(a: u32, b: u32) -> usize {
-    (((1u32 << (b + 1)) - 1) & !((1u32 << a) - 1)) as usize
-}
-
 #[inline(always)]
 fn hash(key: u64, bits: u32) -> usize {
     (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - bits)) as usize
@@ -172,7 +140,7 @@ impl BrickIndex {
         }
     }
 
-    /// Number of items.
+    /// True if the index holds no item.
     pub fn is_empty(&self) -> bool {
         self.bricks.is_empty()
     }
@@ -229,36 +197,23 @@ impl BrickIndex {
         Some(b.first + (b.mask & ((1u64 << bit) - 1)).count_ones())
     }
 
-    /// Calls `f(dense index)` for every item with coordinates in the box `lo..=hi` (inclusive),
-    /// skipping whole bricks for which `keep_brick(brick coordinates)` is false.
+    /// Calls `f(first, count)` with the dense index range of the items of every brick that overlaps
+    /// the box `lo..=hi` (inclusive item coordinates) and for which `keep_brick(brick coordinates)`
+    /// is true. A brick's items are contiguous, so callers scan whole ranges; items of a reported
+    /// brick may lie outside the box.
     ///
-    /// Items are visited brick by brick, in increasing dense index inside a brick. When the box
-    /// spans more bricks than the index holds, the brick list is scanned instead of the box, so the
-    /// cost is bounded by the smaller of the two.
+    /// When the box spans more bricks than the index holds, the brick list is scanned instead of
+    /// the box, so the cost is bounded by the smaller of the two.
     #[inline]
-    pub fn for_each_in_box(
+    pub fn for_each_brick(
         &self,
         lo: [u32; 3],
         hi: [u32; 3],
         mut keep_brick: impl FnMut([u32; 3]) -> bool,
-        mut f: impl FnMut(u32),
+        mut f: impl FnMut(u32, u32),
     ) {
         let blo = [lo[0] >> 2, lo[1] >> 2, lo[2] >> 2];
         let bhi = [hi[0] >> 2, hi[1] >> 2, hi[2] >> 2];
-        let mut visit = |b: &Brick| {
-            let mut m = b.mask;
-            for a in 0..3 {
-                let base = b.coord[a] << 2;
-                let from = lo[a].max(base) - base;
-                let to = hi[a].min(base + 3) - base;
-                m &= AXIS_MASKS[a][range_bits(from, to)];
-            }
-            while m != 0 {
-                let bit = m.trailing_zeros();
-                f(b.first + (b.mask & ((1u64 << bit) - 1)).count_ones());
-                m &= m - 1;
-            }
-        };
         let span = (bhi[0] - blo[0] + 1) as u64
             * (bhi[1] - blo[1] + 1) as u64
             * (bhi[2] - blo[2] + 1) as u64;
@@ -266,7 +221,7 @@ impl BrickIndex {
             for b in &self.bricks {
                 let inside = (0..3).all(|a| b.coord[a] >= blo[a] && b.coord[a] <= bhi[a]);
                 if inside && keep_brick(b.coord) {
-                    visit(b);
+                    f(b.first, b.mask.count_ones());
                 }
             }
         } else {
@@ -278,7 +233,7 @@ impl BrickIndex {
                             continue;
                         }
                         if let Some(b) = self.brick(c) {
-                            visit(b);
+                            f(b.first, b.mask.count_ones());
                         }
                     }
                 }
@@ -317,7 +272,7 @@ mod tests {
     }
 
     #[test]
-    fn box_iteration_finds_exactly_the_items_in_the_box() {
+    fn brick_ranges_cover_exactly_the_items_in_the_box() {
         let coords: Vec<[u32; 3]> = (0..2000u32)
             .map(|i| [(i * 31) % 40, (i * 17) % 37, (i * 7) % 29])
             .collect();
@@ -328,8 +283,12 @@ mod tests {
             ([39, 36, 28], [39, 36, 28]),
         ] {
             let mut got = Vec::new();
-            idx.for_each_in_box(lo, hi, |_| true, |i| got.push(i));
+            idx.for_each_brick(lo, hi, |_| true, |first, n| got.extend(first..first + n));
             got.sort_unstable();
+            got.retain(|&i| {
+                let c = morton::decode(codes[i as usize]);
+                (0..3).all(|a| c[a] >= lo[a] && c[a] <= hi[a])
+            });
             let want: Vec<u32> = codes
                 .iter()
                 .enumerate()

@@ -10,7 +10,7 @@ use crate::bricks::BrickIndex;
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
-use crate::light::{luminance, GridLight, PointLight};
+use crate::light::{luminance, GridLight, LevelLights, PointLight};
 use crate::math::{floor64, sqrt};
 use crate::morton;
 
@@ -37,7 +37,7 @@ struct SortedInput {
 /// One level ℓ ≥ 1: its lights (grid vertices) and the topology that locates them.
 #[derive(Clone, Debug)]
 struct Level {
-    lights: Vec<GridLight>,
+    lights: LevelLights,
     topo: Topology,
 }
 
@@ -53,7 +53,7 @@ pub struct LightingGridHierarchy {
     prune_below: f32,
     input: SortedInput,
     /// Level 0: the input lights, sorted, as grid lights (zero variance and size).
-    level0: Vec<GridLight>,
+    level0: LevelLights,
     /// Level-1 cells holding level-0 lights: index and runs, for level-0 radius queries.
     cells0: BrickIndex,
     cells0_starts: Vec<u32>,
@@ -198,18 +198,20 @@ impl LightingGridHierarchy {
             k = e;
         }
         drop(keys);
-        let level0 = input
-            .perm
-            .iter()
-            .zip(&input.luminance)
-            .map(|(&i, &lum)| GridLight {
-                position: lights[i as usize].position,
-                intensity: lights[i as usize].intensity,
-                variance: Vec3::ZERO,
-                size: 0.0,
-                luminance: lum,
-            })
-            .collect();
+        let level0 = LevelLights::from_lights(
+            input
+                .perm
+                .iter()
+                .zip(&input.luminance)
+                .map(|(&i, &lum)| GridLight {
+                    position: lights[i as usize].position,
+                    intensity: lights[i as usize].intensity,
+                    variance: Vec3::ZERO,
+                    size: 0.0,
+                    luminance: lum,
+                }),
+            true,
+        );
         let (cells0_codes, cells0_starts) = level::runs(input.code.iter().copied());
         let cells0 = BrickIndex::from_sorted_codes(&cells0_codes);
 
@@ -254,7 +256,7 @@ impl LightingGridHierarchy {
             source: settings.source,
             prune_below: settings.prune_below,
             input: SortedInput::default(),
-            level0: Vec::new(),
+            level0: LevelLights::default(),
             cells0: BrickIndex::from_sorted_codes(&[]),
             cells0_starts: Vec::new(),
             cells0_codes: Vec::new(),
@@ -312,7 +314,7 @@ impl LightingGridHierarchy {
     }
 
     /// Level `l`'s lights splatted from the input lights `S0` (eqs. 1, 2, 4, 5).
-    fn splat_input(&self, l: u8, topo: &Topology) -> Vec<GridLight> {
+    fn splat_input(&self, l: u8, topo: &Topology) -> LevelLights {
         let sub = l as u32 - 1;
         let mask = (1u32 << sub) - 1;
         let scale = 1.0 / (1u32 << sub) as f32;
@@ -339,7 +341,7 @@ impl LightingGridHierarchy {
     }
 
     /// Level `l` splatted from the lights of level `l − 1` (the `PreviousLevel` option).
-    fn splat_previous(&self, l: u8, prev: &[GridLight]) -> Level {
+    fn splat_previous(&self, l: u8, prev: &LevelLights) -> Level {
         let pl = &self.placement;
         let h = self.h(l) as f64;
         let max = [
@@ -347,10 +349,9 @@ impl LightingGridHierarchy {
             pl.max_cell[1] >> (l - 1),
             pl.max_cell[2] >> (l - 1),
         ];
-        let mut items: Vec<(u64, u32, [f32; 3])> = prev
-            .iter()
-            .enumerate()
-            .map(|(i, g)| {
+        let mut items: Vec<(u64, u32, [f32; 3])> = (0..prev.len())
+            .map(|i| {
+                let g = prev.get(i);
                 let mut cell = [0u32; 3];
                 let mut frac = [0.0f32; 3];
                 for a in 0..3 {
@@ -368,11 +369,11 @@ impl LightingGridHierarchy {
         let topo = Topology::new(&cells, starts);
         let hf = h as f32;
         let frac: Vec<[f32; 3]> = items.iter().map(|t| t.2).collect();
-        let intensity: Vec<Vec3> = items.iter().map(|t| prev[t.1 as usize].intensity).collect();
-        let lum: Vec<f32> = items.iter().map(|t| prev[t.1 as usize].luminance).collect();
+        let intensity: Vec<Vec3> = items.iter().map(|t| prev.intensity(t.1 as usize)).collect();
+        let lum: Vec<f32> = items.iter().map(|t| prev.luminance(t.1 as usize)).collect();
         let extra: Vec<Vec3> = items
             .iter()
-            .map(|t| prev[t.1 as usize].variance / (hf * hf))
+            .map(|t| prev.variance(t.1 as usize) / (hf * hf))
             .collect();
         let input = SplatInput {
             frac: &frac,
@@ -410,8 +411,7 @@ impl LightingGridHierarchy {
             let lum = luminance(v);
             self.input.intensity[s] = v;
             self.input.luminance[s] = lum;
-            self.level0[s].intensity = v;
-            self.level0[s].luminance = lum;
+            self.level0.set_intensity(s, v);
         }
         // Coincident lights are ordered by intensity (see `SortedInput`): restore that order.
         for &(s, e) in &self.input.coincident {
@@ -424,8 +424,7 @@ impl LightingGridHierarchy {
                 self.input.perm[k] = p;
                 self.input.intensity[k] = v;
                 self.input.luminance[k] = luminance(v);
-                self.level0[k].intensity = v;
-                self.level0[k].luminance = luminance(v);
+                self.level0.set_intensity(k, v);
             }
         }
         let old = core::mem::take(&mut self.levels);
@@ -476,13 +475,14 @@ impl LightingGridHierarchy {
 
     /// The lights of level `level` (level 0: the input lights, in the hierarchy's order).
     /// Empty for levels above `ℓ_max`.
-    pub fn level(&self, level: u8) -> &[GridLight] {
+    pub fn level(&self, level: u8) -> &LevelLights {
+        static EMPTY: LevelLights = LevelLights::EMPTY;
         if level == 0 {
             &self.level0
         } else {
             self.levels
                 .get(level as usize - 1)
-                .map_or(&[], |l| &l.lights)
+                .map_or(&EMPTY, |l| &l.lights)
         }
     }
 
@@ -550,57 +550,35 @@ impl LightingGridHierarchy {
         let top = self.max_level();
         let alpha = blending.alpha() as f64;
         let mut count = 0u32;
-        let prune = self.prune_below;
-        let mut emit = |level: u8, index: u32, light: &GridLight, inner2: f32, outer2: f32| {
-            let threshold = if level == top { 0.0 } else { prune };
-            if light.luminance <= 0.0 || light.luminance < threshold {
-                return;
-            }
-            let d2 = (light.position - x).length_squared();
-            if d2 >= outer2 || d2 <= inner2 {
-                return;
-            }
-            let d = sqrt(d2);
-            let w = blending.weight(level, d);
-            if w <= 0.0 {
-                return;
-            }
-            count += 1;
-            f(&LightSample {
-                level,
-                index,
-                position: light.position,
-                intensity: light.intensity * w,
-                variance: light.variance,
-                size: light.size,
-                distance: d,
-                weight: w,
-            });
+        let mut emit = Emitter {
+            f: &mut f,
+            count: &mut count,
+            blending,
         };
 
-        // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1.
+        // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1. The cells of
+        // a brick are contiguous, and so are their lights.
         if top == 0 {
-            for (i, light) in self.level0.iter().enumerate() {
-                emit(0, i as u32, light, -1.0, f32::INFINITY);
-            }
+            let n = self.level0.len();
+            self.level0.scan(0, n, x, -1.0, f32::INFINITY, |i, d2| {
+                emit.emit(0, i, &self.level0, d2, 0.0)
+            });
             return Ok(count);
         }
         let (_, outer) = blending.support(0);
         let outer2 = outer * outer;
         let t = self.local(x, 1);
         if let Some((lo, hi)) = box_around(&t, alpha, &self.cells0) {
-            self.cells0.for_each_in_box(
+            self.cells0.for_each_brick(
                 lo,
                 hi,
                 |b| brick_near(b, &t, 0.0, 4.0, alpha),
-                |cell| {
-                    let (s, e) = (
-                        self.cells0_starts[cell as usize],
-                        self.cells0_starts[cell as usize + 1],
-                    );
-                    for i in s..e {
-                        emit(0, i, &self.level0[i as usize], -1.0, outer2);
-                    }
+                |first, n| {
+                    let s = self.cells0_starts[first as usize] as usize;
+                    let e = self.cells0_starts[(first + n) as usize] as usize;
+                    self.level0.scan(s, e, x, -1.0, outer2, |i, d2| {
+                        emit.emit(0, i, &self.level0, d2, self.prune_below)
+                    });
                 },
             );
         }
@@ -612,24 +590,73 @@ impl LightingGridHierarchy {
             let (inner, outer) = blending.support(l);
             let (inner2, outer2) = (inner * inner, outer * outer);
             let t = self.local(x, l);
-            let reach = 2.0 * alpha + 1.0;
-            if let Some((lo, hi)) = box_around(&t, reach, &level.topo.index) {
-                level.topo.index.for_each_in_box(
+            if let Some((lo, hi)) = box_around(&t, 2.0 * alpha + 1.0, &level.topo.index) {
+                level.topo.index.for_each_brick(
                     lo,
                     hi,
                     |b| brick_near(b, &t, -1.0, 4.0, 2.0 * alpha),
-                    |i| emit(l, i, &level.lights[i as usize], inner2, outer2),
+                    |first, n| {
+                        let (s, e) = (first as usize, (first + n) as usize);
+                        level.lights.scan(s, e, x, inner2, outer2, |i, d2| {
+                            emit.emit(l, i, &level.lights, d2, self.prune_below)
+                        });
+                    },
                 );
             }
         }
 
         // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
         let (inner, _) = blending.support(top);
-        let inner2 = inner * inner;
-        for (i, light) in self.levels[top as usize - 1].lights.iter().enumerate() {
-            emit(top, i as u32, light, inner2, f32::INFINITY);
-        }
+        let level = &self.levels[top as usize - 1];
+        level.lights.scan(
+            0,
+            level.lights.len(),
+            x,
+            inner * inner,
+            f32::INFINITY,
+            |i, d2| emit.emit(top, i, &level.lights, d2, 0.0),
+        );
         Ok(count)
+    }
+}
+
+/// A light is reported if it is not dark and not weaker than the pruning threshold.
+#[inline(always)]
+fn active(luminance: f32, threshold: f32) -> bool {
+    luminance > 0.0 && luminance >= threshold
+}
+
+/// Hands contributing lights to the caller's closure.
+struct Emitter<'a, F> {
+    f: &'a mut F,
+    count: &'a mut u32,
+    blending: &'a Blending,
+}
+
+impl<F: FnMut(&LightSample)> Emitter<'_, F> {
+    /// Reports light `index` of `level` at squared distance `d2`, unless it is dark, weaker than
+    /// `threshold` (weak-light pruning) or has zero weight.
+    #[inline(always)]
+    fn emit(&mut self, level: u8, index: usize, lights: &LevelLights, d2: f32, threshold: f32) {
+        if !active(lights.luminance(index), threshold) {
+            return;
+        }
+        let d = sqrt(d2);
+        let w = self.blending.weight(level, d);
+        if w <= 0.0 {
+            return;
+        }
+        *self.count += 1;
+        (self.f)(&LightSample {
+            level,
+            index: index as u32,
+            position: lights.position(index),
+            intensity: lights.intensity(index) * w,
+            variance: lights.variance(index),
+            size: lights.size(index),
+            distance: d,
+            weight: w,
+        });
     }
 }
 

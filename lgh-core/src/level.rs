@@ -16,7 +16,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::bricks::BrickIndex;
-use crate::light::{luminance, GridLight};
+use crate::light::{luminance, GridLight, LevelLights};
 use crate::math::sqrt;
 use crate::morton;
 
@@ -146,7 +146,7 @@ pub(crate) fn splat(
     input: &SplatInput<'_>,
     h: f64,
     origin: [f64; 3],
-) -> Vec<GridLight> {
+) -> LevelLights {
     let nv = topo.vertex_codes.len();
     let mut sum_i = vec![Vec3::ZERO; nv];
     let mut sum_v = vec![0.0f32; nv];
@@ -234,33 +234,32 @@ pub(crate) fn splat(
     }
 
     let hf = h as f32;
-    (0..nv)
-        .map(|i| {
-            let q = morton::decode(topo.vertex_codes[i]);
-            let v = sum_v[i];
-            let m = mean[i];
-            let position = Vec3::new(
-                (origin[0] + (q[0] as f64 + m[0] as f64) * h) as f32,
-                (origin[1] + (q[1] as f64 + m[1] as f64) * h) as f32,
-                (origin[2] + (q[2] as f64 + m[2] as f64) * h) as f32,
+    let lights = (0..nv).map(|i| {
+        let q = morton::decode(topo.vertex_codes[i]);
+        let v = sum_v[i];
+        let m = mean[i];
+        let position = Vec3::new(
+            (origin[0] + (q[0] as f64 + m[0] as f64) * h) as f32,
+            (origin[1] + (q[1] as f64 + m[1] as f64) * h) as f32,
+            (origin[2] + (q[2] as f64 + m[2] as f64) * h) as f32,
+        );
+        let (variance, size) = if v > 0.0 {
+            let var = Vec3::new(
+                (sum_m2[i][0] / v - m[0] * m[0]).max(0.0),
+                (sum_m2[i][1] / v - m[1] * m[1]).max(0.0),
+                (sum_m2[i][2] / v - m[2] * m[2]).max(0.0),
             );
-            let (variance, size) = if v > 0.0 {
-                let var = Vec3::new(
-                    (sum_m2[i][0] / v - m[0] * m[0]).max(0.0),
-                    (sum_m2[i][1] / v - m[1] * m[1]).max(0.0),
-                    (sum_m2[i][2] / v - m[2] * m[2]).max(0.0),
-                );
-                (var * (hf * hf), sum_s[i] / v * hf)
-            } else {
-                (Vec3::ZERO, 0.0)
-            };
-            GridLight {
-                position,
-                intensity: sum_i[i],
-                variance,
-                size,
-                luminance: luminance(sum_i[i]),
-            }
-        })
-        .collect()
+            (var * (hf * hf), sum_s[i] / v * hf)
+        } else {
+            (Vec3::ZERO, 0.0)
+        };
+        GridLight {
+            position,
+            intensity: sum_i[i],
+            variance,
+            size,
+            luminance: luminance(sum_i[i]),
+        }
+    });
+    LevelLights::from_lights(lights, false)
 }

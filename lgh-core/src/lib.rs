@@ -70,4 +70,4 @@ pub use error::{BuildError, QueryError};
 pub use glam;
 pub use grid::{GridSettings, LevelSource};
 pub use hierarchy::LightingGridHierarchy;
-pub use light::{luminance, GridLight, PointLight, LUMINANCE_WEIGHTS};
+pub use light::{luminance, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS};

@@ -1,5 +1,6 @@
 //! Point lights, the input set `S0` of the paper.
 
+use alloc::vec::Vec;
 use glam::Vec3;
 
 /// Rec. 709 luminance weights: `‖I‖` in the paper (eq. 2) is the luminance of an RGB intensity.
@@ -43,6 +44,170 @@ pub struct GridLight {
     pub size: f32,
     /// `‖I_ℓi‖`, the luminance of `intensity` (used for weak-light pruning).
     pub luminance: f32,
+}
+
+/// The lights of one level, stored as structure-of-arrays: the radius query scans positions eight
+/// at a time and touches intensities, variances and sizes only for lights that contribute.
+/// Level 0 stores no variance or size (they are zero).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LevelLights {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+    luminance: Vec<f32>,
+    intensity: Vec<Vec3>,
+    variance: Vec<Vec3>,
+    size: Vec<f32>,
+}
+
+impl LevelLights {
+    /// No lights.
+    pub const EMPTY: LevelLights = LevelLights {
+        x: Vec::new(),
+        y: Vec::new(),
+        z: Vec::new(),
+        luminance: Vec::new(),
+        intensity: Vec::new(),
+        variance: Vec::new(),
+        size: Vec::new(),
+    };
+
+    /// Stores `lights`; with `points`, variance and size are dropped (they must be zero).
+    pub(crate) fn from_lights(
+        lights: impl ExactSizeIterator<Item = GridLight>,
+        points: bool,
+    ) -> Self {
+        let n = lights.len();
+        let mut out = LevelLights {
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+            z: Vec::with_capacity(n),
+            luminance: Vec::with_capacity(n),
+            intensity: Vec::with_capacity(n),
+            variance: Vec::with_capacity(if points { 0 } else { n }),
+            size: Vec::with_capacity(if points { 0 } else { n }),
+        };
+        for l in lights {
+            out.x.push(l.position.x);
+            out.y.push(l.position.y);
+            out.z.push(l.position.z);
+            out.luminance.push(l.luminance);
+            out.intensity.push(l.intensity);
+            if !points {
+                out.variance.push(l.variance);
+                out.size.push(l.size);
+            }
+        }
+        out
+    }
+
+    /// Number of lights.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// True if the level has no lights.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Light `i`. Panics if `i >= len()`.
+    #[inline]
+    pub fn get(&self, i: usize) -> GridLight {
+        GridLight {
+            position: self.position(i),
+            intensity: self.intensity[i],
+            variance: self.variance.get(i).copied().unwrap_or(Vec3::ZERO),
+            size: self.size.get(i).copied().unwrap_or(0.0),
+            luminance: self.luminance[i],
+        }
+    }
+
+    /// Position (illumination centre) of light `i`.
+    #[inline]
+    pub fn position(&self, i: usize) -> Vec3 {
+        Vec3::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    /// Luminance `‖I‖` of light `i`.
+    #[inline]
+    pub fn luminance(&self, i: usize) -> f32 {
+        self.luminance[i]
+    }
+
+    /// Intensity of light `i`.
+    #[inline]
+    pub fn intensity(&self, i: usize) -> Vec3 {
+        self.intensity[i]
+    }
+
+    /// All lights, in index order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = GridLight> + '_ {
+        (0..self.len()).map(|i| self.get(i))
+    }
+
+    /// Replaces the intensity (and luminance) of light `i`.
+    pub(crate) fn set_intensity(&mut self, i: usize, intensity: Vec3) {
+        self.intensity[i] = intensity;
+        self.luminance[i] = luminance(intensity);
+    }
+
+    /// Calls `hit(i, d²)` for every light `i` in `start..end` with `inner2 < d² < outer2` from `x`,
+    /// in increasing `i`; distances are computed eight lanes at a time.
+    #[inline(always)]
+    pub(crate) fn scan(
+        &self,
+        start: usize,
+        end: usize,
+        x: Vec3,
+        inner2: f32,
+        outer2: f32,
+        mut hit: impl FnMut(usize, f32),
+    ) {
+        const LANES: usize = 8;
+        let (xs, ys, zs) = (
+            &self.x[start..end],
+            &self.y[start..end],
+            &self.z[start..end],
+        );
+        let full = xs.len() - xs.len() % LANES;
+        let mut i = 0;
+        while i < full {
+            let (cx, cy, cz) = (&xs[i..i + LANES], &ys[i..i + LANES], &zs[i..i + LANES]);
+            let mut d2 = [0.0f32; LANES];
+            let mut mask = 0u32;
+            for k in 0..LANES {
+                let (dx, dy, dz) = (cx[k] - x.x, cy[k] - x.y, cz[k] - x.z);
+                d2[k] = dx * dx + dy * dy + dz * dz;
+                mask |= ((d2[k] > inner2) as u32 & (d2[k] < outer2) as u32) << k;
+            }
+            while mask != 0 {
+                let k = mask.trailing_zeros() as usize;
+                hit(start + i + k, d2[k]);
+                mask &= mask - 1;
+            }
+            i += LANES;
+        }
+        for j in full..xs.len() {
+            let (dx, dy, dz) = (xs[j] - x.x, ys[j] - x.y, zs[j] - x.z);
+            let d2 = dx * dx + dy * dy + dz * dz;
+            if d2 > inner2 && d2 < outer2 {
+                hit(start + j, d2);
+            }
+        }
+    }
+
+    /// Variance of light `i` (zero at level 0).
+    #[inline]
+    pub(crate) fn variance(&self, i: usize) -> Vec3 {
+        self.variance.get(i).copied().unwrap_or(Vec3::ZERO)
+    }
+
+    /// Size of light `i` (zero at level 0).
+    #[inline]
+    pub(crate) fn size(&self, i: usize) -> f32 {
+        self.size.get(i).copied().unwrap_or(0.0)
+    }
 }
 
 #[cfg(test)]

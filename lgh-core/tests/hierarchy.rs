@@ -187,7 +187,7 @@ proptest! {
         let a = LightingGridHierarchy::build(&lights, &settings(0.7, 5)).unwrap();
         let b = LightingGridHierarchy::build(&doubled, &settings(0.7, 5)).unwrap();
         for l in 0..=a.max_level() {
-            for (ga, gb) in a.level(l).iter().zip(b.level(l)) {
+            for (ga, gb) in a.level(l).iter().zip(b.level(l).iter()) {
                 prop_assert_eq!(ga.intensity * 2.0, gb.intensity);
                 prop_assert_eq!(ga.position, gb.position);
                 prop_assert_eq!(ga.variance, gb.variance);
@@ -209,7 +209,7 @@ proptest! {
         let b = LightingGridHierarchy::build(&rest, &settings(0.7, 4)).unwrap();
         let tol = 2.0 * (lights.len() as f64 + 12.0) * EPS;
         for l in 1..=all.max_level() {
-            for ((g, ga), gb) in all.level(l).iter().zip(a.level(l)).zip(b.level(l)) {
+            for ((g, ga), gb) in all.level(l).iter().zip(a.level(l).iter()).zip(b.level(l).iter()) {
                 for c in 0..3 {
                     let want = ga.intensity[c] as f64 + gb.intensity[c] as f64;
                     prop_assert!((g.intensity[c] as f64 - want).abs() <= tol * want + 1e-30);
@@ -519,13 +519,17 @@ fn weak_lights_leave_fine_levels_but_reach_the_top() {
     };
     let lgh = LightingGridHierarchy::build(&lights, &s).unwrap();
     let top = lgh.max_level();
-    let pruned0 = lgh.level(0).iter().filter(|g| !lgh.is_active(0, g)).count();
+    let pruned0 = lgh
+        .level(0)
+        .iter()
+        .filter(|g| !lgh.is_active(0, &g))
+        .count();
     assert_eq!(pruned0, 250);
     // The top level is never pruned and still carries all the energy.
     assert!(lgh
         .level(top)
         .iter()
-        .all(|g| g.luminance == 0.0 || lgh.is_active(top, g)));
+        .all(|g| g.luminance == 0.0 || lgh.is_active(top, &g)));
     let total: f64 = lights.iter().map(|l| luminance(l.intensity) as f64).sum();
     let top_sum: f64 = lgh.level(top).iter().map(|g| g.luminance as f64).sum();
     assert!((top_sum - total).abs() < 1e-4 * total);

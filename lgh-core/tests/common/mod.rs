@@ -30,8 +30,8 @@ pub fn naive_lgh(h: &LightingGridHierarchy, b: &Blending, x: Vec3) -> (Vec3, u32
     let mut sum = Vec3::ZERO;
     let mut n = 0;
     for l in 0..=h.max_level() {
-        for light in h.level(l) {
-            if !h.is_active(l, light) {
+        for light in h.level(l).iter() {
+            if !h.is_active(l, &light) {
                 continue;
             }
             let d = (light.position - x).length();
