@@ -10,9 +10,10 @@ use crate::bricks::BrickIndex;
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
-use crate::light::{luminance, GridLight, LevelLights, PointLight};
+use crate::light::{luminance, GridLight, Hit, LevelLights, PointLight};
 use crate::math::{floor64, sqrt};
 use crate::morton;
+use crate::radix;
 
 /// The input lights in the hierarchy's order: by Morton code of their level-1 cell, ties broken by
 /// position and intensity bits — a total order on the lights' values, so the build does not depend
@@ -113,18 +114,22 @@ fn locate(p: Vec3, pl: &Placement) -> ([u32; 3], [f32; 3]) {
     (cell, frac)
 }
 
-fn sort_pairs(keys: &mut [(u64, u32)], lights: &[PointLight]) {
-    let cmp = |a: &(u64, u32), b: &(u64, u32)| {
-        a.0.cmp(&b.0)
-            .then_with(|| value_order(&lights[a.1 as usize], &lights[b.1 as usize]))
-    };
-    #[cfg(feature = "rayon")]
-    {
-        use rayon::slice::ParallelSliceMut;
-        keys.par_sort_unstable_by(cmp);
+/// Sorts `(Morton code, light index)` pairs by code, ties by the lights' values, so the result
+/// does not depend on the input order.
+fn sort_lights(keys: &mut Vec<(u64, u32)>, lights: &[PointLight]) {
+    radix::sort_by_key(keys, |k| k.0);
+    let mut k = 0;
+    while k < keys.len() {
+        let mut e = k + 1;
+        while e < keys.len() && keys[e].0 == keys[k].0 {
+            e += 1;
+        }
+        if e - k > 1 {
+            keys[k..e]
+                .sort_unstable_by(|a, b| value_order(&lights[a.1 as usize], &lights[b.1 as usize]));
+        }
+        k = e;
     }
-    #[cfg(not(feature = "rayon"))]
-    keys.sort_unstable_by(cmp);
 }
 
 /// Maps `f` over `jobs`, in parallel with the `rayon` feature; the output keeps the jobs' order.
@@ -163,7 +168,7 @@ impl LightingGridHierarchy {
             .enumerate()
             .map(|(i, l)| (morton::encode(locate(l.position, &placement).0), i as u32))
             .collect();
-        sort_pairs(&mut keys, lights);
+        sort_lights(&mut keys, lights);
 
         let n = lights.len();
         let mut input = SortedInput {
@@ -363,8 +368,8 @@ impl LightingGridHierarchy {
                 (morton::encode(cell), i as u32, frac)
             })
             .collect();
-        // Stable by construction: ties keep the previous level's (deterministic) order.
-        items.sort_by_key(|&(code, i, _)| (code, i));
+        // Stable: ties keep the previous level's (deterministic) order.
+        radix::sort_by_key(&mut items, |t| t.0);
         let (cells, starts) = level::runs(items.iter().map(|t| t.0));
         let topo = Topology::new(&cells, starts);
         let hf = h as f32;
@@ -560,9 +565,14 @@ impl LightingGridHierarchy {
         // a brick are contiguous, and so are their lights.
         if top == 0 {
             let n = self.level0.len();
-            self.level0.scan(0, n, x, -1.0, f32::INFINITY, |i, d2| {
-                emit.emit(0, i, &self.level0, d2, 0.0)
-            });
+            self.level0.scan(
+                0,
+                n,
+                x,
+                -1.0,
+                f32::INFINITY,
+                &mut emit.level(0, &self.level0, 0.0),
+            );
             return Ok(count);
         }
         let (_, outer) = blending.support(0);
@@ -576,9 +586,8 @@ impl LightingGridHierarchy {
                 |first, n| {
                     let s = self.cells0_starts[first as usize] as usize;
                     let e = self.cells0_starts[(first + n) as usize] as usize;
-                    self.level0.scan(s, e, x, -1.0, outer2, |i, d2| {
-                        emit.emit(0, i, &self.level0, d2, self.prune_below)
-                    });
+                    let mut hit = emit.level(0, &self.level0, self.prune_below);
+                    self.level0.scan(s, e, x, -1.0, outer2, &mut hit);
                 },
             );
         }
@@ -597,9 +606,8 @@ impl LightingGridHierarchy {
                     |b| brick_near(b, &t, -1.0, 4.0, 2.0 * alpha),
                     |first, n| {
                         let (s, e) = (first as usize, (first + n) as usize);
-                        level.lights.scan(s, e, x, inner2, outer2, |i, d2| {
-                            emit.emit(l, i, &level.lights, d2, self.prune_below)
-                        });
+                        let mut hit = emit.level(l, &level.lights, self.prune_below);
+                        level.lights.scan(s, e, x, inner2, outer2, &mut hit);
                     },
                 );
             }
@@ -608,14 +616,11 @@ impl LightingGridHierarchy {
         // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
         let (inner, _) = blending.support(top);
         let level = &self.levels[top as usize - 1];
-        level.lights.scan(
-            0,
-            level.lights.len(),
-            x,
-            inner * inner,
-            f32::INFINITY,
-            |i, d2| emit.emit(top, i, &level.lights, d2, 0.0),
-        );
+        let n = level.lights.len();
+        let mut hit = emit.level(top, &level.lights, 0.0);
+        level
+            .lights
+            .scan(0, n, x, inner * inner, f32::INFINITY, &mut hit);
         Ok(count)
     }
 }
@@ -633,7 +638,39 @@ struct Emitter<'a, F> {
     blending: &'a Blending,
 }
 
-impl<F: FnMut(&LightSample)> Emitter<'_, F> {
+/// An [`Emitter`] bound to one level's lights and pruning threshold.
+struct LevelHits<'e, 'a, F> {
+    emitter: &'e mut Emitter<'a, F>,
+    level: u8,
+    lights: &'e LevelLights,
+    threshold: f32,
+}
+
+impl<F: FnMut(&LightSample)> Hit for LevelHits<'_, '_, F> {
+    #[inline(always)]
+    fn hit(&mut self, index: usize, d2: f32) {
+        self.emitter
+            .emit(self.level, index, self.lights, d2, self.threshold)
+    }
+}
+
+impl<'a, F: FnMut(&LightSample)> Emitter<'a, F> {
+    /// This emitter bound to `lights` of `level`.
+    #[inline(always)]
+    fn level<'e>(
+        &'e mut self,
+        level: u8,
+        lights: &'e LevelLights,
+        threshold: f32,
+    ) -> LevelHits<'e, 'a, F> {
+        LevelHits {
+            emitter: self,
+            level,
+            lights,
+            threshold,
+        }
+    }
+
     /// Reports light `index` of `level` at squared distance `d2`, unless it is dark, weaker than
     /// `threshold` (weak-light pruning) or has zero weight.
     #[inline(always)]

@@ -41,18 +41,8 @@ pub(crate) fn corner_codes(cells: &[u64], out: &mut Vec<u64>) {
             ]));
         }
     }
-    sort_codes(out);
+    crate::radix::sort_by_key(out, |&c| c);
     out.dedup();
-}
-
-fn sort_codes(v: &mut [u64]) {
-    #[cfg(feature = "rayon")]
-    {
-        use rayon::slice::ParallelSliceMut;
-        v.par_sort_unstable();
-    }
-    #[cfg(not(feature = "rayon"))]
-    v.sort_unstable();
 }
 
 /// Splits a sorted sequence of per-light cell codes into runs: the distinct cell codes and the

@@ -58,6 +58,7 @@ mod light;
 mod math;
 pub mod metrics;
 mod morton;
+mod radix;
 pub mod spectrum;
 pub mod testsets;
 

@@ -46,6 +46,13 @@ pub struct GridLight {
     pub luminance: f32,
 }
 
+/// Receives the lights a [`LevelLights::scan`] finds (a trait rather than a closure so the hot
+/// path can be forced inline).
+pub(crate) trait Hit {
+    /// Light `index` lies at squared distance `d2`.
+    fn hit(&mut self, index: usize, d2: f32);
+}
+
 /// The lights of one level, stored as structure-of-arrays: the radius query scans positions eight
 /// at a time and touches intensities, variances and sizes only for lights that contribute.
 /// Level 0 stores no variance or size (they are zero).
@@ -155,14 +162,14 @@ impl LevelLights {
     /// Calls `hit(i, d²)` for every light `i` in `start..end` with `inner2 < d² < outer2` from `x`,
     /// in increasing `i`; distances are computed eight lanes at a time.
     #[inline(always)]
-    pub(crate) fn scan(
+    pub(crate) fn scan<H: Hit>(
         &self,
         start: usize,
         end: usize,
         x: Vec3,
         inner2: f32,
         outer2: f32,
-        mut hit: impl FnMut(usize, f32),
+        hit: &mut H,
     ) {
         const LANES: usize = 8;
         let (xs, ys, zs) = (
@@ -183,7 +190,7 @@ impl LevelLights {
             }
             while mask != 0 {
                 let k = mask.trailing_zeros() as usize;
-                hit(start + i + k, d2[k]);
+                hit.hit(start + i + k, d2[k]);
                 mask &= mask - 1;
             }
             i += LANES;
@@ -192,7 +199,7 @@ impl LevelLights {
             let (dx, dy, dz) = (xs[j] - x.x, ys[j] - x.y, zs[j] - x.z);
             let d2 = dx * dx + dy * dy + dz * dz;
             if d2 > inner2 && d2 < outer2 {
-                hit(start + j, d2);
+                hit.hit(start + j, d2);
             }
         }
     }

@@ -1,7 +1,7 @@
 //! Scalar maths that works with and without `std`.
 //!
-//! With the `std` feature the hardware instructions behind `f32::sqrt` / `f32::floor` are used;
-//! without it, `libm`. Both are correctly rounded for `sqrt`, so results are bit-identical.
+//! With the `std` feature the hardware instruction behind `f32::sqrt` is used; without it, `libm`.
+//! Both are correctly rounded, so results are bit-identical either way.
 
 /// Square root.
 #[inline(always)]
@@ -16,15 +16,49 @@ pub fn sqrt(x: f32) -> f32 {
     }
 }
 
-/// Floor of an `f64`.
+/// Floor of an `f64` (exact for every input; NaN stays NaN).
+///
+/// Without SSE4.1, `f64::floor` is a library call; grid coordinates are computed per light per
+/// level, so this uses truncation instead where it is exact (`|x| < 2^52`).
 #[inline(always)]
 pub fn floor64(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    {
-        x.floor()
-    }
-    #[cfg(not(feature = "std"))]
-    {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        if t == x {
+            x // keeps −0.0
+        } else if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
         libm::floor(x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floor_matches_libm() {
+        for x in [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999,
+            -2.999,
+            1e15 + 0.5,
+            -1e15 - 0.5,
+            1e300,
+            -1e300,
+            4503599627370497.0,
+        ] {
+            assert_eq!(floor64(x).to_bits(), libm::floor(x).to_bits(), "{x}");
+        }
+        assert!(floor64(f64::NAN).is_nan());
     }
 }
