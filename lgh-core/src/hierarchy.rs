@@ -115,9 +115,11 @@ fn locate(p: Vec3, pl: &Placement) -> ([u32; 3], [f32; 3]) {
 }
 
 /// Sorts `(Morton code, light index)` pairs by code, ties by the lights' values, so the result
-/// does not depend on the input order.
-fn sort_lights(keys: &mut Vec<(u64, u32)>, lights: &[PointLight]) {
+/// does not depend on the input order. Returns the lights in that order with their input indices
+/// (gathered once, so everything after reads memory in order).
+fn sort_lights(keys: &mut Vec<(u64, u32)>, lights: &[PointLight]) -> Vec<(PointLight, u32)> {
     radix::sort_by_key(keys, |k| k.0);
+    let mut sorted: Vec<(PointLight, u32)> = keys.iter().map(|&(_, i)| (lights[i as usize], i)).collect();
     let mut k = 0;
     while k < keys.len() {
         let mut e = k + 1;
@@ -125,11 +127,11 @@ fn sort_lights(keys: &mut Vec<(u64, u32)>, lights: &[PointLight]) {
             e += 1;
         }
         if e - k > 1 {
-            keys[k..e]
-                .sort_unstable_by(|a, b| value_order(&lights[a.1 as usize], &lights[b.1 as usize]));
+            sorted[k..e].sort_unstable_by(|a, b| value_order(&a.0, &b.0));
         }
         k = e;
     }
+    sorted
 }
 
 /// Maps `f` over `jobs`, in parallel with the `rayon` feature; the output keeps the jobs' order.
@@ -168,7 +170,7 @@ impl LightingGridHierarchy {
             .enumerate()
             .map(|(i, l)| (morton::encode(locate(l.position, &placement).0), i as u32))
             .collect();
-        sort_lights(&mut keys, lights);
+        let sorted = sort_lights(&mut keys, lights);
 
         let n = lights.len();
         let mut input = SortedInput {
@@ -180,8 +182,7 @@ impl LightingGridHierarchy {
             luminance: Vec::with_capacity(n),
             coincident: Vec::new(),
         };
-        for &(code, i) in &keys {
-            let l = &lights[i as usize];
+        for (&(code, _), &(l, i)) in keys.iter().zip(&sorted) {
             let (cell, frac) = locate(l.position, &placement);
             input.perm.push(i);
             input.code.push(code);
@@ -190,11 +191,12 @@ impl LightingGridHierarchy {
             input.intensity.push(l.intensity);
             input.luminance.push(luminance(l.intensity));
         }
+        drop(keys);
         let mut k = 0;
         while k < n {
-            let p = lights[keys[k].1 as usize].position;
+            let p = position_bits(sorted[k].0.position);
             let mut e = k + 1;
-            while e < n && position_bits(lights[keys[e].1 as usize].position) == position_bits(p) {
+            while e < n && position_bits(sorted[e].0.position) == p {
                 e += 1;
             }
             if e - k > 1 {
@@ -202,21 +204,17 @@ impl LightingGridHierarchy {
             }
             k = e;
         }
-        drop(keys);
         let level0 = LevelLights::from_lights(
-            input
-                .perm
-                .iter()
-                .zip(&input.luminance)
-                .map(|(&i, &lum)| GridLight {
-                    position: lights[i as usize].position,
-                    intensity: lights[i as usize].intensity,
-                    variance: Vec3::ZERO,
-                    size: 0.0,
-                    luminance: lum,
-                }),
+            sorted.iter().zip(&input.luminance).map(|(&(l, _), &lum)| GridLight {
+                position: l.position,
+                intensity: l.intensity,
+                variance: Vec3::ZERO,
+                size: 0.0,
+                luminance: lum,
+            }),
             true,
         );
+        drop(sorted);
         let (cells0_codes, cells0_starts) = level::runs(input.code.iter().copied());
         let cells0 = BrickIndex::from_sorted_codes(&cells0_codes);
 
