@@ -119,7 +119,8 @@ fn locate(p: Vec3, pl: &Placement) -> ([u32; 3], [f32; 3]) {
 /// (gathered once, so everything after reads memory in order).
 fn sort_lights(keys: &mut Vec<(u64, u32)>, lights: &[PointLight]) -> Vec<(PointLight, u32)> {
     radix::sort_by_key(keys, |k| k.0);
-    let mut sorted: Vec<(PointLight, u32)> = keys.iter().map(|&(_, i)| (lights[i as usize], i)).collect();
+    let mut sorted: Vec<(PointLight, u32)> =
+        keys.iter().map(|&(_, i)| (lights[i as usize], i)).collect();
     let mut k = 0;
     while k < keys.len() {
         let mut e = k + 1;
@@ -205,13 +206,16 @@ impl LightingGridHierarchy {
             k = e;
         }
         let level0 = LevelLights::from_lights(
-            sorted.iter().zip(&input.luminance).map(|(&(l, _), &lum)| GridLight {
-                position: l.position,
-                intensity: l.intensity,
-                variance: Vec3::ZERO,
-                size: 0.0,
-                luminance: lum,
-            }),
+            sorted
+                .iter()
+                .zip(&input.luminance)
+                .map(|(&(l, _), &lum)| GridLight {
+                    position: l.position,
+                    intensity: l.intensity,
+                    variance: Vec3::ZERO,
+                    size: 0.0,
+                    luminance: lum,
+                }),
             true,
         );
         drop(sorted);

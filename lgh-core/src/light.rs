@@ -46,6 +46,9 @@ pub struct GridLight {
     pub luminance: f32,
 }
 
+/// Lanes of the distance scan.
+const LANES: usize = 8;
+
 /// Receives the lights a [`LevelLights::scan`] finds (a trait rather than a closure so the hot
 /// path can be forced inline).
 pub(crate) trait Hit {
@@ -56,7 +59,7 @@ pub(crate) trait Hit {
 /// The lights of one level, stored as structure-of-arrays: the radius query scans positions eight
 /// at a time and touches intensities, variances and sizes only for lights that contribute.
 /// Level 0 stores no variance or size (they are zero).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct LevelLights {
     x: Vec<f32>,
     y: Vec<f32>,
@@ -65,6 +68,26 @@ pub struct LevelLights {
     intensity: Vec<Vec3>,
     variance: Vec<Vec3>,
     size: Vec<f32>,
+}
+
+/// Bit-for-bit equality (so NaN padding compares equal and −0.0 differs from 0.0): "the same
+/// hierarchy" in the determinism guarantees means this.
+impl PartialEq for LevelLights {
+    fn eq(&self, other: &Self) -> bool {
+        fn bits(v: &[f32]) -> impl Iterator<Item = u32> + '_ {
+            v.iter().map(|f| f.to_bits())
+        }
+        fn bits3(v: &[Vec3]) -> impl Iterator<Item = u32> + '_ {
+            v.iter().flat_map(|f| f.to_array()).map(|f| f.to_bits())
+        }
+        bits(&self.x).eq(bits(&other.x))
+            && bits(&self.y).eq(bits(&other.y))
+            && bits(&self.z).eq(bits(&other.z))
+            && bits(&self.luminance).eq(bits(&other.luminance))
+            && bits(&self.size).eq(bits(&other.size))
+            && bits3(&self.intensity).eq(bits3(&other.intensity))
+            && bits3(&self.variance).eq(bits3(&other.variance))
+    }
 }
 
 impl LevelLights {
@@ -105,17 +128,22 @@ impl LevelLights {
                 out.size.push(l.size);
             }
         }
+        for _ in 1..LANES {
+            out.x.push(f32::NAN);
+            out.y.push(f32::NAN);
+            out.z.push(f32::NAN);
+        }
         out
     }
 
     /// Number of lights.
     pub fn len(&self) -> usize {
-        self.x.len()
+        self.intensity.len()
     }
 
     /// True if the level has no lights.
     pub fn is_empty(&self) -> bool {
-        self.x.is_empty()
+        self.intensity.is_empty()
     }
 
     /// Light `i`. Panics if `i >= len()`.
@@ -171,16 +199,15 @@ impl LevelLights {
         outer2: f32,
         hit: &mut H,
     ) {
-        const LANES: usize = 8;
-        let (xs, ys, zs) = (
-            &self.x[start..end],
-            &self.y[start..end],
-            &self.z[start..end],
-        );
-        let full = xs.len() - xs.len() % LANES;
-        let mut i = 0;
-        while i < full {
-            let (cx, cy, cz) = (&xs[i..i + LANES], &ys[i..i + LANES], &zs[i..i + LANES]);
+        // Whole chunks of LANES from `start`; the position arrays carry LANES − 1 NaN entries of
+        // padding, so the last chunk may read past `end` (those lanes are masked off).
+        let mut i = start;
+        while i < end {
+            let (cx, cy, cz) = (
+                &self.x[i..i + LANES],
+                &self.y[i..i + LANES],
+                &self.z[i..i + LANES],
+            );
             let mut d2 = [0.0f32; LANES];
             let mut mask = 0u32;
             for k in 0..LANES {
@@ -188,19 +215,15 @@ impl LevelLights {
                 d2[k] = dx * dx + dy * dy + dz * dz;
                 mask |= ((d2[k] > inner2) as u32 & (d2[k] < outer2) as u32) << k;
             }
+            if end - i < LANES {
+                mask &= (1u32 << (end - i)) - 1;
+            }
             while mask != 0 {
                 let k = mask.trailing_zeros() as usize;
-                hit.hit(start + i + k, d2[k]);
+                hit.hit(i + k, d2[k]);
                 mask &= mask - 1;
             }
             i += LANES;
-        }
-        for j in full..xs.len() {
-            let (dx, dy, dz) = (xs[j] - x.x, ys[j] - x.y, zs[j] - x.z);
-            let d2 = dx * dx + dy * dy + dz * dz;
-            if d2 > inner2 && d2 < outer2 {
-                hit.hit(start + j, d2);
-            }
         }
     }
 
