@@ -183,10 +183,10 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
             evaluated = 0;
             let (r, s) = time(|| -> Result<(), String> {
                 for &x in &points {
-                    let mut sum = Vec3::ZERO;
-                    evaluated += lgh
-                        .query(x, &b, |s| sum += s.intensity * falloff(s.distance, h0))
-                        .map_err(|e| e.to_string())? as u64;
+                    let (sum, n) = lgh
+                        .query_sum(x, &b, |s| s.intensity * falloff(s.distance, h0))
+                        .map_err(|e| e.to_string())?;
+                    evaluated += n as u64;
                     values.push(sum);
                 }
                 Ok(())

@@ -59,8 +59,10 @@ fn query(c: &mut Criterion) {
             bench.iter(|| {
                 let mut total = Vec3::ZERO;
                 for &x in &points {
-                    lgh.query(x, b, |s| total += s.intensity * falloff(s.distance, h0))
-                        .unwrap();
+                    total += lgh
+                        .query_sum(x, b, |s| s.intensity * falloff(s.distance, h0))
+                        .unwrap()
+                        .0;
                 }
                 total
             })

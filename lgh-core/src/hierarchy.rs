@@ -545,6 +545,29 @@ impl LightingGridHierarchy {
         blending: &Blending,
         mut f: F,
     ) -> Result<u32, QueryError> {
+        self.gather(x, blending, |s| f(s)).map(|((), n)| n)
+    }
+
+    /// Like [`query`](Self::query), but sums what `f` returns for each light (radiance, say) and
+    /// returns the sum with the number of lights. Prefer this to accumulating into a captured
+    /// variable: the running sum stays in registers instead of memory.
+    #[inline]
+    pub fn query_sum<F: FnMut(&LightSample) -> Vec3>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        f: F,
+    ) -> Result<(Vec3, u32), QueryError> {
+        self.gather(x, blending, f)
+    }
+
+    #[inline]
+    fn gather<R: Contribution, F: FnMut(&LightSample) -> R>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        mut f: F,
+    ) -> Result<(R, u32), QueryError> {
         if !x.is_finite() {
             return Err(QueryError::NonFinitePoint);
         }
@@ -552,14 +575,14 @@ impl LightingGridHierarchy {
             return Err(QueryError::BlendingMismatch);
         }
         if self.level0.is_empty() {
-            return Ok(0);
+            return Ok((R::ZERO, 0));
         }
         let top = self.max_level();
         let alpha = blending.alpha() as f64;
-        let mut count = 0u32;
         let mut emit = Emitter {
             f: &mut f,
-            count: &mut count,
+            count: 0,
+            sum: R::ZERO,
             blending,
         };
 
@@ -575,7 +598,7 @@ impl LightingGridHierarchy {
                 f32::INFINITY,
                 &mut emit.level(0, &self.level0, 0.0),
             );
-            return Ok(count);
+            return Ok((emit.sum, emit.count));
         }
         let (_, outer) = blending.support(0);
         let outer2 = outer * outer;
@@ -623,7 +646,7 @@ impl LightingGridHierarchy {
         level
             .lights
             .scan(0, n, x, inner * inner, f32::INFINITY, &mut hit);
-        Ok(count)
+        Ok((emit.sum, emit.count))
     }
 }
 
@@ -634,21 +657,42 @@ fn active(luminance: f32, threshold: f32) -> bool {
 }
 
 /// Hands contributing lights to the caller's closure.
-struct Emitter<'a, F> {
+struct Emitter<'a, F, R> {
     f: &'a mut F,
-    count: &'a mut u32,
+    count: u32,
+    sum: R,
     blending: &'a Blending,
 }
 
+/// What a query's closure returns per light: summed by value so it can live in registers.
+trait Contribution: Copy {
+    const ZERO: Self;
+    fn add(self, other: Self) -> Self;
+}
+
+impl Contribution for () {
+    const ZERO: Self = ();
+    #[inline(always)]
+    fn add(self, _: Self) -> Self {}
+}
+
+impl Contribution for Vec3 {
+    const ZERO: Self = Vec3::ZERO;
+    #[inline(always)]
+    fn add(self, other: Self) -> Self {
+        self + other
+    }
+}
+
 /// An [`Emitter`] bound to one level's lights and pruning threshold.
-struct LevelHits<'e, 'a, F> {
-    emitter: &'e mut Emitter<'a, F>,
+struct LevelHits<'e, 'a, F, R> {
+    emitter: &'e mut Emitter<'a, F, R>,
     level: u8,
     lights: &'e LevelLights,
     threshold: f32,
 }
 
-impl<F: FnMut(&LightSample)> Hit for LevelHits<'_, '_, F> {
+impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, '_, F, R> {
     #[inline(always)]
     fn hit(&mut self, index: usize, d2: f32) {
         self.emitter
@@ -656,7 +700,7 @@ impl<F: FnMut(&LightSample)> Hit for LevelHits<'_, '_, F> {
     }
 }
 
-impl<'a, F: FnMut(&LightSample)> Emitter<'a, F> {
+impl<'a, R: Contribution, F: FnMut(&LightSample) -> R> Emitter<'a, F, R> {
     /// This emitter bound to `lights` of `level`.
     #[inline(always)]
     fn level<'e>(
@@ -664,7 +708,7 @@ impl<'a, F: FnMut(&LightSample)> Emitter<'a, F> {
         level: u8,
         lights: &'e LevelLights,
         threshold: f32,
-    ) -> LevelHits<'e, 'a, F> {
+    ) -> LevelHits<'e, 'a, F, R> {
         LevelHits {
             emitter: self,
             level,
@@ -685,8 +729,8 @@ impl<'a, F: FnMut(&LightSample)> Emitter<'a, F> {
         if w <= 0.0 {
             return;
         }
-        *self.count += 1;
-        (self.f)(&LightSample {
+        self.count += 1;
+        let r = (self.f)(&LightSample {
             level,
             index: index as u32,
             position: lights.position(index),
@@ -696,6 +740,7 @@ impl<'a, F: FnMut(&LightSample)> Emitter<'a, F> {
             distance: d,
             weight: w,
         });
+        self.sum = self.sum.add(r);
     }
 }
 
