@@ -221,7 +221,7 @@ pub fn parse(bytes: &[u8]) -> Result<PointCloud, String> {
                     }
                     (Property::List { count, item }, Some(t), _) => {
                         let n = t.number(*count).ok_or_else(|| truncated(&el.name, i))?;
-                        if !(n >= 0.0) {
+                        if n.is_nan() || n < 0.0 {
                             return Err(format!("negative list length in element '{}'", el.name));
                         }
                         for _ in 0..n as u64 {
@@ -234,7 +234,7 @@ pub fn parse(bytes: &[u8]) -> Result<PointCloud, String> {
                             .ok_or_else(|| truncated(&el.name, i))?;
                         pos += count.size();
                         let n = count.read(b, big);
-                        if !(n >= 0.0) {
+                        if n.is_nan() || n < 0.0 {
                             return Err(format!("negative list length in element '{}'", el.name));
                         }
                         let skip = (n as u64).saturating_mul(item.size() as u64);

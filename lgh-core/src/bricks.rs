@@ -107,7 +107,7 @@ impl BrickIndex {
             (item_max[2] >> 2) - min[2] + 1,
         ];
         let cells = dims[0] as u64 * dims[1] as u64 * dims[2] as u64;
-        let budget = (8 * bricks.len() as u64).max(4096).min(1 << 26);
+        let budget = (8 * bricks.len() as u64).clamp(4096, 1 << 26);
         if cells <= budget {
             let mut table = vec![0u32; cells as usize];
             for (i, b) in bricks.iter().enumerate() {

@@ -151,7 +151,7 @@ pub(crate) fn place(
 /// the grid would exceed [`MAX_CELL`] cells per axis. Coincident lights (an empty box) get `h1 = 1`.
 fn auto_h1(lights: &[PointLight], lo: Vec3, hi: Vec3, origin: [f64; 3]) -> f64 {
     let extent = (hi - lo).max_element() as f64;
-    if !(extent > 0.0) {
+    if extent <= 0.0 {
         return 1.0;
     }
     // Each halving doubles the span in cells, so the MAX_CELL test below ends the loop.

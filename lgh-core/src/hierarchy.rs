@@ -10,7 +10,7 @@ use crate::bricks::BrickIndex;
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
-use crate::light::{luminance, GridLight, Hit, LevelLights, PointLight};
+use crate::light::{luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
 use crate::math::{floor64, sqrt};
 use crate::morton;
 use crate::radix;
@@ -426,7 +426,7 @@ impl LightingGridHierarchy {
             let mut run: Vec<(u32, Vec3)> = (s..e)
                 .map(|k| (self.input.perm[k], self.input.intensity[k]))
                 .collect();
-            run.sort_by(|a, b| intensity_bits(a.1).cmp(&intensity_bits(b.1)));
+            run.sort_by_key(|a| intensity_bits(a.1));
             for (k, (p, v)) in (s..e).zip(run) {
                 self.input.perm[k] = p;
                 self.input.intensity[k] = v;
@@ -579,26 +579,34 @@ impl LightingGridHierarchy {
         }
         let top = self.max_level();
         let alpha = blending.alpha() as f64;
-        let mut emit = Emitter {
-            f: &mut f,
-            count: 0,
-            sum: R::ZERO,
-            blending,
+        let prune = self.prune_below;
+        let mut sum = R::ZERO;
+        let mut count = 0u32;
+        // Scans lights[start..end] of `level` and adds what they contribute.
+        let mut scan = |level: u8,
+                        lights: &LevelLights,
+                        start: usize,
+                        end: usize,
+                        inner2: f32,
+                        outer2: f32| {
+            let threshold = if level == top { 0.0 } else { prune };
+            let mut hits = LevelHits {
+                f: &mut f,
+                blending,
+                level,
+                lights,
+                threshold,
+            };
+            let (r, n) = lights.scan(start, end, x, inner2, outer2, &mut hits);
+            sum = sum.add(r);
+            count += n;
         };
 
         // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1. The cells of
         // a brick are contiguous, and so are their lights.
         if top == 0 {
-            let n = self.level0.len();
-            self.level0.scan(
-                0,
-                n,
-                x,
-                -1.0,
-                f32::INFINITY,
-                &mut emit.level(0, &self.level0, 0.0),
-            );
-            return Ok((emit.sum, emit.count));
+            scan(0, &self.level0, 0, self.level0.len(), -1.0, f32::INFINITY);
+            return Ok((sum, count));
         }
         let (_, outer) = blending.support(0);
         let outer2 = outer * outer;
@@ -611,8 +619,7 @@ impl LightingGridHierarchy {
                 |first, n| {
                     let s = self.cells0_starts[first as usize] as usize;
                     let e = self.cells0_starts[(first + n) as usize] as usize;
-                    let mut hit = emit.level(0, &self.level0, self.prune_below);
-                    self.level0.scan(s, e, x, -1.0, outer2, &mut hit);
+                    scan(0, &self.level0, s, e, -1.0, outer2);
                 },
             );
         }
@@ -630,9 +637,14 @@ impl LightingGridHierarchy {
                     hi,
                     |b| brick_near(b, &t, -1.0, 4.0, 2.0 * alpha),
                     |first, n| {
-                        let (s, e) = (first as usize, (first + n) as usize);
-                        let mut hit = emit.level(l, &level.lights, self.prune_below);
-                        level.lights.scan(s, e, x, inner2, outer2, &mut hit);
+                        scan(
+                            l,
+                            &level.lights,
+                            first as usize,
+                            (first + n) as usize,
+                            inner2,
+                            outer2,
+                        )
                     },
                 );
             }
@@ -641,12 +653,15 @@ impl LightingGridHierarchy {
         // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
         let (inner, _) = blending.support(top);
         let level = &self.levels[top as usize - 1];
-        let n = level.lights.len();
-        let mut hit = emit.level(top, &level.lights, 0.0);
-        level
-            .lights
-            .scan(0, n, x, inner * inner, f32::INFINITY, &mut hit);
-        Ok((emit.sum, emit.count))
+        scan(
+            top,
+            &level.lights,
+            0,
+            level.lights.len(),
+            inner * inner,
+            f32::INFINITY,
+        );
+        Ok((sum, count))
     }
 }
 
@@ -656,91 +671,41 @@ fn active(luminance: f32, threshold: f32) -> bool {
     luminance > 0.0 && luminance >= threshold
 }
 
-/// Hands contributing lights to the caller's closure.
-struct Emitter<'a, F, R> {
+/// Hands one level's contributing lights to the caller's closure.
+struct LevelHits<'a, F> {
     f: &'a mut F,
-    count: u32,
-    sum: R,
     blending: &'a Blending,
-}
-
-/// What a query's closure returns per light: summed by value so it can live in registers.
-trait Contribution: Copy {
-    const ZERO: Self;
-    fn add(self, other: Self) -> Self;
-}
-
-impl Contribution for () {
-    const ZERO: Self = ();
-    #[inline(always)]
-    fn add(self, _: Self) -> Self {}
-}
-
-impl Contribution for Vec3 {
-    const ZERO: Self = Vec3::ZERO;
-    #[inline(always)]
-    fn add(self, other: Self) -> Self {
-        self + other
-    }
-}
-
-/// An [`Emitter`] bound to one level's lights and pruning threshold.
-struct LevelHits<'e, 'a, F, R> {
-    emitter: &'e mut Emitter<'a, F, R>,
     level: u8,
-    lights: &'e LevelLights,
+    lights: &'a LevelLights,
+    /// Weak-light pruning threshold of this level.
     threshold: f32,
 }
 
-impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, '_, F, R> {
-    #[inline(always)]
-    fn hit(&mut self, index: usize, d2: f32) {
-        self.emitter
-            .emit(self.level, index, self.lights, d2, self.threshold)
-    }
-}
+impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
+    type Out = R;
 
-impl<'a, R: Contribution, F: FnMut(&LightSample) -> R> Emitter<'a, F, R> {
-    /// This emitter bound to `lights` of `level`.
+    /// Reports light `index` at squared distance `d2` unless it is dark, pruned or has zero weight.
     #[inline(always)]
-    fn level<'e>(
-        &'e mut self,
-        level: u8,
-        lights: &'e LevelLights,
-        threshold: f32,
-    ) -> LevelHits<'e, 'a, F, R> {
-        LevelHits {
-            emitter: self,
-            level,
-            lights,
-            threshold,
-        }
-    }
-
-    /// Reports light `index` of `level` at squared distance `d2`, unless it is dark, weaker than
-    /// `threshold` (weak-light pruning) or has zero weight.
-    #[inline(always)]
-    fn emit(&mut self, level: u8, index: usize, lights: &LevelLights, d2: f32, threshold: f32) {
-        if !active(lights.luminance(index), threshold) {
-            return;
+    fn hit(&mut self, index: usize, d2: f32) -> Option<R> {
+        if !active(self.lights.luminance(index), self.threshold) {
+            return None;
         }
         let d = sqrt(d2);
-        let w = self.blending.weight(level, d);
+        let w = self.blending.weight(self.level, d);
         if w <= 0.0 {
-            return;
+            return None;
         }
-        self.count += 1;
-        let r = (self.f)(&LightSample {
-            level,
+        let l = self.lights;
+        Some((self.f)(&LightSample {
+            level: self.level,
             index: index as u32,
-            position: lights.position(index),
-            intensity: lights.intensity(index) * w,
-            variance: lights.variance(index),
-            size: lights.size(index),
+            position: l.position(index),
+            intensity: l.intensity(index) * w,
+            variance: l.variance(index),
+            size: l.size(index),
             distance: d,
             weight: w,
-        });
-        self.sum = self.sum.add(r);
+        }))
     }
 }
 

@@ -49,11 +49,35 @@ pub struct GridLight {
 /// Lanes of the distance scan.
 const LANES: usize = 8;
 
+/// What a query's closure returns per light: summed by value so it can live in registers.
+pub(crate) trait Contribution: Copy {
+    /// The empty sum.
+    const ZERO: Self;
+    /// `self + other`.
+    fn add(self, other: Self) -> Self;
+}
+
+impl Contribution for () {
+    const ZERO: Self = ();
+    #[inline(always)]
+    fn add(self, _: Self) -> Self {}
+}
+
+impl Contribution for Vec3 {
+    const ZERO: Self = Vec3::ZERO;
+    #[inline(always)]
+    fn add(self, other: Self) -> Self {
+        self + other
+    }
+}
+
 /// Receives the lights a [`LevelLights::scan`] finds (a trait rather than a closure so the hot
-/// path can be forced inline).
+/// path can be forced inline) and returns what each contributes, if anything.
 pub(crate) trait Hit {
+    /// What a light contributes.
+    type Out: Contribution;
     /// Light `index` lies at squared distance `d2`.
-    fn hit(&mut self, index: usize, d2: f32);
+    fn hit(&mut self, index: usize, d2: f32) -> Option<Self::Out>;
 }
 
 /// The lights of one level, stored as structure-of-arrays: the radius query scans positions eight
@@ -187,8 +211,9 @@ impl LevelLights {
         self.luminance[i] = luminance(intensity);
     }
 
-    /// Calls `hit(i, d²)` for every light `i` in `start..end` with `inner2 < d² < outer2` from `x`,
-    /// in increasing `i`; distances are computed eight lanes at a time.
+    /// Calls `hit.hit(i, d²)` for every light `i` in `start..end` with `inner2 < d² < outer2` from
+    /// `x`, in increasing `i`, and returns the sum and number of the contributions it reports.
+    /// Distances are computed eight lanes at a time.
     #[inline(always)]
     pub(crate) fn scan<H: Hit>(
         &self,
@@ -198,7 +223,9 @@ impl LevelLights {
         inner2: f32,
         outer2: f32,
         hit: &mut H,
-    ) {
+    ) -> (H::Out, u32) {
+        let mut sum = H::Out::ZERO;
+        let mut count = 0u32;
         // Whole chunks of LANES from `start`; the position arrays carry LANES − 1 NaN entries of
         // padding, so the last chunk may read past `end` (those lanes are masked off).
         let mut i = start;
@@ -220,11 +247,15 @@ impl LevelLights {
             }
             while mask != 0 {
                 let k = mask.trailing_zeros() as usize;
-                hit.hit(i + k, d2[k]);
+                if let Some(r) = hit.hit(i + k, d2[k]) {
+                    sum = sum.add(r);
+                    count += 1;
+                }
                 mask &= mask - 1;
             }
             i += LANES;
         }
+        (sum, count)
     }
 
     /// Variance of light `i` (zero at level 0).

@@ -37,7 +37,7 @@ pub fn planck(nm: f64, kelvin: f64) -> f64 {
 /// CIE XYZ of a blackbody at `kelvin`: `∫ B(λ, T) x̄(λ) dλ` etc., in W / (sr m²). Zero for T ≤ 0.
 pub fn blackbody_xyz(kelvin: f32) -> [f64; 3] {
     let t = kelvin as f64;
-    if !(t > 0.0) {
+    if t.is_nan() || t <= 0.0 {
         return [0.0; 3];
     }
     let mut xyz = [0.0; 3];

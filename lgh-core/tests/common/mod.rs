@@ -1,4 +1,5 @@
 //! Helpers shared by the integration tests.
+#![allow(clippy::needless_range_loop)]
 #![allow(dead_code)]
 
 use lgh_core::glam::Vec3;
