@@ -85,8 +85,8 @@ pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
     if args.points == 0 {
         return Err("--points must be at least 1".into());
     }
-    if let Some(a) = args.alphas.iter().find(|a| !(a.is_finite() && **a > 0.0)) {
-        return Err(format!("alpha {a} must be a finite number > 0"));
+    for &a in &args.alphas {
+        crate::check_alpha(a)?;
     }
     let mut sets = Vec::new();
     for key in &args.sets {

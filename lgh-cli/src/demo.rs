@@ -24,7 +24,7 @@ pub struct DemoArgs {
     #[arg(long, default_value_t = 48)]
     pub probes: u32,
     /// The paper's α.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
     /// Don't show progress.
     #[arg(long)]
@@ -33,6 +33,7 @@ pub struct DemoArgs {
 
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> Result<(), String> {
+    crate::check_alpha(args.alpha)?;
     if !(16..=512).contains(&args.resolution) {
         return Err("--resolution must be in 16..=512".into());
     }

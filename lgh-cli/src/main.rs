@@ -44,6 +44,15 @@ enum BenchCommand {
     Core(bench::CoreBenchArgs),
 }
 
+/// Validates the paper's α before any work is done.
+pub(crate) fn check_alpha(alpha: f32) -> Result<(), String> {
+    if alpha.is_finite() && alpha > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("alpha {alpha} must be a finite number > 0"))
+    }
+}
+
 fn main() {
     let cli = Cli::parse();
     if let Some(t) = cli.threads {

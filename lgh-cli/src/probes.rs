@@ -30,7 +30,7 @@ pub struct ProbesArgs {
     #[arg(long, value_name = "P.ply")]
     pub points: PathBuf,
     /// The paper's α: influence radius r_ℓ = α h_ℓ (larger is more accurate and slower).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
     /// Output: the probe points with float r, g, b added (binary PLY, written atomically).
     #[arg(long, value_name = "OUT.ply")]
@@ -80,6 +80,7 @@ pub fn read_lights(path: &std::path::Path) -> Result<Vec<PointLight>, String> {
 
 /// Runs `lgh probes`.
 pub fn run(args: &ProbesArgs) -> Result<(), String> {
+    crate::check_alpha(args.alpha)?;
     let t0 = Instant::now();
     let lights = read_lights(&args.lights)?;
     let mut cloud = ply::read(&args.points)?;

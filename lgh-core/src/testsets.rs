@@ -120,7 +120,8 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
                 let depth = (r - inner) / (outer - inner); // 0 inside, 1 at the rim
                 let heat = (1.0 - depth) * (0.75 + 0.25 * fractal_noise(p * 11.0 + 3.0, 3, 11));
                 let kelvin = 1300.0 + 1700.0 * heat.clamp(0.0, 1.0);
-                let t4 = (kelvin / 3000.0).powi(4);
+                let t = kelvin / 3000.0;
+                let t4 = (t * t) * (t * t);
                 let colour = palette[(kelvin as usize - 1300).min(palette.len() - 1)];
                 let intensity = colour * t4 * (h * h * h) * 1e4;
                 out.push(PointLight::new(p, intensity));
