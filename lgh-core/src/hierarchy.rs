@@ -11,7 +11,7 @@ use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
 use crate::light::{luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
-use crate::math::{floor64, sqrt};
+use crate::math::floor64;
 use crate::morton;
 use crate::radix;
 
@@ -684,13 +684,12 @@ struct LevelHits<'a, F> {
 impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
     type Out = R;
 
-    /// Reports light `index` at squared distance `d2` unless it is dark, pruned or has zero weight.
+    /// Reports light `index` at distance `d` unless it is dark, pruned or has zero weight.
     #[inline(always)]
-    fn hit(&mut self, index: usize, d2: f32) -> Option<R> {
+    fn hit(&mut self, index: usize, d: f32) -> Option<R> {
         if !active(self.lights.luminance(index), self.threshold) {
             return None;
         }
-        let d = sqrt(d2);
         let w = self.blending.weight(self.level, d);
         if w <= 0.0 {
             return None;

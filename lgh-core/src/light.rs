@@ -76,8 +76,8 @@ impl Contribution for Vec3 {
 pub(crate) trait Hit {
     /// What a light contributes.
     type Out: Contribution;
-    /// Light `index` lies at squared distance `d2`.
-    fn hit(&mut self, index: usize, d2: f32) -> Option<Self::Out>;
+    /// Light `index` lies at distance `d`.
+    fn hit(&mut self, index: usize, d: f32) -> Option<Self::Out>;
 }
 
 /// The lights of one level, stored as structure-of-arrays: the radius query scans positions eight
@@ -211,7 +211,7 @@ impl LevelLights {
         self.luminance[i] = luminance(intensity);
     }
 
-    /// Calls `hit.hit(i, d²)` for every light `i` in `start..end` with `inner2 < d² < outer2` from
+    /// Calls `hit.hit(i, d)` for every light `i` in `start..end` with `inner2 < d² < outer2` from
     /// `x`, in increasing `i`, and returns the sum and number of the contributions it reports.
     /// Distances are computed eight lanes at a time.
     #[inline(always)]
@@ -244,6 +244,12 @@ impl LevelLights {
             }
             if end - i < LANES {
                 mask &= (1u32 << (end - i)) - 1;
+            }
+            if mask != 0 {
+                // Square roots of the whole chunk at once (one vector instruction per 4 lanes).
+                for v in d2.iter_mut() {
+                    *v = crate::math::sqrt(*v);
+                }
             }
             while mask != 0 {
                 let k = mask.trailing_zeros() as usize;
