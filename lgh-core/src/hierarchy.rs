@@ -508,11 +508,21 @@ impl LightingGridHierarchy {
         self.input.perm.get(index as usize).map(|&i| i as usize)
     }
 
-    /// True if light `index` of `level` is reported by queries (not pruned as weak, not dark).
+    /// True if `light` of `level` is reported by queries: not dark, and not weaker than the
+    /// weak-light threshold unless it is on the top level (which is never pruned).
     #[inline]
     pub fn is_active(&self, level: u8, light: &GridLight) -> bool {
-        light.luminance > 0.0
-            && (level == self.placement.max_level || light.luminance >= self.prune_below)
+        active(light.luminance, self.threshold(level))
+    }
+
+    /// Weak-light threshold of `level`: [`prune_below`](Self::prune_below), or 0 on the top level.
+    #[inline]
+    fn threshold(&self, level: u8) -> f32 {
+        if level == self.placement.max_level {
+            0.0
+        } else {
+            self.prune_below
+        }
     }
 
     /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
@@ -579,7 +589,6 @@ impl LightingGridHierarchy {
         }
         let top = self.max_level();
         let alpha = blending.alpha() as f64;
-        let prune = self.prune_below;
         let mut sum = R::ZERO;
         let mut count = 0u32;
         // Scans lights[start..end] of `level` and adds what they contribute.
@@ -589,7 +598,7 @@ impl LightingGridHierarchy {
                         end: usize,
                         inner2: f32,
                         outer2: f32| {
-            let threshold = if level == top { 0.0 } else { prune };
+            let threshold = self.threshold(level);
             let mut hits = LevelHits {
                 f: &mut f,
                 blending,
