@@ -98,8 +98,8 @@ pub fn fractal_noise(p: Vec3, octaves: u32, seed: u32) -> f32 {
 pub fn explosion_shell(res: u32) -> Vec<PointLight> {
     let h = 1.0 / res as f32;
     let centre = Vec3::splat(0.5);
-    let (inner, outer) = (0.17f32, 0.47f32);
-    // Blackbody colours, normalised to a maximum channel of 1, every 1 K from 1300 K to 3000 K.
+    let (inner, outer) = (0.17f32, 0.5f32); // about 1.04 million lights at res = 128
+                                            // Blackbody colours, normalised to a maximum channel of 1, every 1 K from 1300 K to 3000 K.
     let palette: Vec<Vec3> = (1300..=3000)
         .map(|k| {
             let c = blackbody_rgb(k as f32);
