@@ -140,11 +140,6 @@ impl BrickIndex {
         }
     }
 
-    /// True if the index holds no item.
-    pub fn is_empty(&self) -> bool {
-        self.bricks.is_empty()
-    }
-
     /// The brick with brick coordinates `b`, if any item lies in it.
     #[inline]
     pub fn brick(&self, b: [u32; 3]) -> Option<&Brick> {
@@ -197,48 +192,124 @@ impl BrickIndex {
         Some(b.first + (b.mask & ((1u64 << bit) - 1)).count_ones())
     }
 
-    /// Calls `f(first, count)` with the dense index range of the items of every brick that overlaps
-    /// the box `lo..=hi` (inclusive item coordinates) and for which `keep_brick(brick coordinates)`
-    /// is true. A brick's items are contiguous, so callers scan whole ranges; items of a reported
-    /// brick may lie outside the box.
+    /// Calls `f(first, count)` with the dense index range of the items of every brick whose region
+    /// (see [`Ball`]) meets `ball`. A brick's items are contiguous, so callers scan whole ranges;
+    /// items of a reported brick may lie outside the ball.
     ///
-    /// When the box spans more bricks than the index holds, the brick list is scanned instead of
-    /// the box, so the cost is bounded by the smaller of the two.
+    /// Bricks are enumerated row by row, each row's extent computed from the ball, so no brick
+    /// outside it is looked up. When the ball's bounding box spans more bricks than the index holds,
+    /// the brick list is scanned instead, so the cost is bounded by the smaller of the two.
     #[inline]
-    pub fn for_each_brick(
-        &self,
-        lo: [u32; 3],
-        hi: [u32; 3],
-        mut keep_brick: impl FnMut([u32; 3]) -> bool,
-        mut f: impl FnMut(u32, u32),
-    ) {
-        let blo = [lo[0] >> 2, lo[1] >> 2, lo[2] >> 2];
-        let bhi = [hi[0] >> 2, hi[1] >> 2, hi[2] >> 2];
+    pub fn for_each_brick_near(&self, ball: &Ball, mut f: impl FnMut(u32, u32)) {
+        if self.bricks.is_empty() {
+            return;
+        }
+        // Brick range of the ball's bounding box, clipped to the occupied bricks.
+        let mut blo = [0u32; 3];
+        let mut bhi = [0u32; 3];
+        for a in 0..3 {
+            let (lo, hi) = ball.brick_span(a);
+            let lo = lo.max((self.item_min[a] >> 2) as f64);
+            let hi = hi.min((self.item_max[a] >> 2) as f64);
+            if lo > hi {
+                return;
+            }
+            blo[a] = lo as u32;
+            bhi[a] = hi as u32;
+        }
         let span = (bhi[0] - blo[0] + 1) as u64
             * (bhi[1] - blo[1] + 1) as u64
             * (bhi[2] - blo[2] + 1) as u64;
         if span > self.bricks.len() as u64 {
             for b in &self.bricks {
-                let inside = (0..3).all(|a| b.coord[a] >= blo[a] && b.coord[a] <= bhi[a]);
-                if inside && keep_brick(b.coord) {
+                if ball.meets_brick(b.coord) {
                     f(b.first, b.mask.count_ones());
                 }
             }
-        } else {
-            for bz in blo[2]..=bhi[2] {
-                for by in blo[1]..=bhi[1] {
-                    for bx in blo[0]..=bhi[0] {
-                        let c = [bx, by, bz];
-                        if !keep_brick(c) {
-                            continue;
-                        }
-                        if let Some(b) = self.brick(c) {
-                            f(b.first, b.mask.count_ones());
-                        }
+            return;
+        }
+        let r2 = ball.radius * ball.radius;
+        for bz in blo[2]..=bhi[2] {
+            let dz = ball.gap(2, bz);
+            if dz * dz > r2 {
+                continue;
+            }
+            for by in blo[1]..=bhi[1] {
+                let dy = ball.gap(1, by);
+                let rest = r2 - dz * dz - dy * dy;
+                if rest < 0.0 {
+                    continue;
+                }
+                let (from, to) = ball.row(libm::sqrt(rest));
+                let from = from.max(blo[0] as f64);
+                let to = to.min(bhi[0] as f64);
+                if from > to {
+                    continue;
+                }
+                for bx in from as u32..=to as u32 {
+                    if let Some(b) = self.brick([bx, by, bz]) {
+                        f(b.first, b.mask.count_ones());
                     }
                 }
             }
         }
+    }
+}
+
+/// A query region in a level's integer coordinates: the ball of `radius` around `centre`, tested
+/// against brick regions `[4b + lo_pad, 4b + hi_pad]` per axis. The pads say where a brick's items
+/// can put their lights: level-0 cells `c` hold lights in `[c, c + 1]` (pads 0 and 4); a vertex `q`
+/// has its illumination centre within one unit of `q` (pads −1 and 4).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ball {
+    pub centre: [f64; 3],
+    pub radius: f64,
+    pub lo_pad: f64,
+    pub hi_pad: f64,
+}
+
+impl Ball {
+    /// Distance along axis `a` from the centre to brick row `b`'s region (0 inside).
+    #[inline]
+    fn gap(&self, a: usize, b: u32) -> f64 {
+        let lo = (b * 4) as f64 + self.lo_pad;
+        let hi = (b * 4) as f64 + self.hi_pad;
+        let t = self.centre[a];
+        if t < lo {
+            lo - t
+        } else if t > hi {
+            t - hi
+        } else {
+            0.0
+        }
+    }
+
+    /// Brick coordinates (inclusive, possibly negative) whose regions meet the interval
+    /// `centre[a] ± radius`.
+    #[inline]
+    fn brick_span(&self, a: usize) -> (f64, f64) {
+        self.span(self.centre[a], self.radius)
+    }
+
+    #[inline]
+    fn span(&self, t: f64, half: f64) -> (f64, f64) {
+        // 4b + hi_pad ≥ t − half  and  4b + lo_pad ≤ t + half.
+        let lo = libm::ceil((t - half - self.hi_pad) / 4.0);
+        let hi = libm::floor((t + half - self.lo_pad) / 4.0);
+        (lo.max(0.0), hi)
+    }
+
+    /// The x-range of bricks of a row whose remaining half-width is `half`.
+    #[inline]
+    fn row(&self, half: f64) -> (f64, f64) {
+        self.span(self.centre[0], half)
+    }
+
+    /// True if brick `b`'s region meets the ball.
+    #[inline]
+    fn meets_brick(&self, b: [u32; 3]) -> bool {
+        let d2: f64 = (0..3).map(|a| self.gap(a, b[a]).powi(2)).sum();
+        d2 <= self.radius * self.radius
     }
 }
 
@@ -272,33 +343,45 @@ mod tests {
     }
 
     #[test]
-    fn brick_ranges_cover_exactly_the_items_in_the_box() {
-        let coords: Vec<[u32; 3]> = (0..2000u32)
+    fn brick_ranges_cover_every_item_in_the_ball() {
+        let mut coords: Vec<[u32; 3]> = (0..3000u32)
             .map(|i| [(i * 31) % 40, (i * 17) % 37, (i * 7) % 29])
             .collect();
-        let (idx, codes) = build(&coords);
-        for (lo, hi) in [
-            ([3, 5, 2], [17, 9, 28]),
-            ([0, 0, 0], [100, 100, 100]),
-            ([39, 36, 28], [39, 36, 28]),
-        ] {
-            let mut got = Vec::new();
-            idx.for_each_brick(lo, hi, |_| true, |first, n| got.extend(first..first + n));
-            got.sort_unstable();
-            got.retain(|&i| {
-                let c = morton::decode(codes[i as usize]);
-                (0..3).all(|a| c[a] >= lo[a] && c[a] <= hi[a])
-            });
-            let want: Vec<u32> = codes
-                .iter()
-                .enumerate()
-                .filter(|(_, &c)| {
-                    let c = morton::decode(c);
-                    (0..3).all(|a| c[a] >= lo[a] && c[a] <= hi[a])
-                })
-                .map(|(i, _)| i as u32)
-                .collect();
-            assert_eq!(got, want);
+        for far in [false, true] {
+            if far {
+                coords.push([1_500_000, 3, 9]); // forces the hash lookup
+            }
+            let (idx, codes) = build(&coords);
+            for (centre, radius) in [
+                ([10.3, 20.7, 5.5], 6.2),
+                ([0.0, 0.0, 0.0], 3.0),
+                ([39.0, 36.0, 28.0], 0.5),
+                ([-5.0, 12.0, 50.0], 30.0),
+                ([20.0, 20.0, 15.0], 1e7), // wider than the index: the brick list is scanned
+            ] {
+                let ball = Ball {
+                    centre,
+                    radius,
+                    lo_pad: 0.0,
+                    hi_pad: 3.0,
+                };
+                let mut got = Vec::new();
+                idx.for_each_brick_near(&ball, |first, n| got.extend(first..first + n));
+                let n = got.len();
+                got.sort_unstable();
+                got.dedup();
+                assert_eq!(got.len(), n, "no brick reported twice");
+                for (i, &code) in codes.iter().enumerate() {
+                    let c = morton::decode(code);
+                    let d2: f64 = (0..3).map(|a| (c[a] as f64 - centre[a]).powi(2)).sum();
+                    if d2 <= radius * radius {
+                        assert!(
+                            got.binary_search(&(i as u32)).is_ok(),
+                            "item {c:?} missed for {centre:?} r {radius}"
+                        );
+                    }
+                }
+            }
         }
     }
 }

@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use crate::backend::LightSample;
 use crate::blend::Blending;
-use crate::bricks::BrickIndex;
+use crate::bricks::{Ball, BrickIndex};
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
@@ -619,44 +619,39 @@ impl LightingGridHierarchy {
         }
         let (_, outer) = blending.support(0);
         let outer2 = outer * outer;
-        let t = self.local(x, 1);
-        if let Some((lo, hi)) = box_around(&t, alpha, &self.cells0) {
-            self.cells0.for_each_brick(
-                lo,
-                hi,
-                |b| brick_near(b, &t, 0.0, 4.0, alpha),
-                |first, n| {
-                    let s = self.cells0_starts[first as usize] as usize;
-                    let e = self.cells0_starts[(first + n) as usize] as usize;
-                    scan(0, &self.level0, s, e, -1.0, outer2);
-                },
-            );
-        }
+        let ball = Ball {
+            centre: self.local(x, 1),
+            radius: alpha,
+            lo_pad: 0.0,
+            hi_pad: 4.0,
+        };
+        self.cells0.for_each_brick_near(&ball, |first, n| {
+            let s = self.cells0_starts[first as usize] as usize;
+            let e = self.cells0_starts[(first + n) as usize] as usize;
+            scan(0, &self.level0, s, e, -1.0, outer2);
+        });
 
-        // Levels 0 < ℓ < ℓ_max: vertices within 2 r_ℓ + h_ℓ (per axis) of x, since a centre lies
-        // within h_ℓ of its vertex.
+        // Levels 0 < ℓ < ℓ_max: lights within 2 r_ℓ of x; a centre lies within h_ℓ of its vertex.
         for l in 1..top {
             let level = &self.levels[l as usize - 1];
             let (inner, outer) = blending.support(l);
             let (inner2, outer2) = (inner * inner, outer * outer);
-            let t = self.local(x, l);
-            if let Some((lo, hi)) = box_around(&t, 2.0 * alpha + 1.0, &level.topo.index) {
-                level.topo.index.for_each_brick(
-                    lo,
-                    hi,
-                    |b| brick_near(b, &t, -1.0, 4.0, 2.0 * alpha),
-                    |first, n| {
-                        scan(
-                            l,
-                            &level.lights,
-                            first as usize,
-                            (first + n) as usize,
-                            inner2,
-                            outer2,
-                        )
-                    },
-                );
-            }
+            let ball = Ball {
+                centre: self.local(x, l),
+                radius: 2.0 * alpha,
+                lo_pad: -1.0,
+                hi_pad: 4.0,
+            };
+            level.topo.index.for_each_brick_near(&ball, |first, n| {
+                scan(
+                    l,
+                    &level.lights,
+                    first as usize,
+                    (first + n) as usize,
+                    inner2,
+                    outer2,
+                )
+            });
         }
 
         // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
@@ -715,46 +710,4 @@ impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
             weight: w,
         }))
     }
-}
-
-/// The inclusive box of item coordinates within `reach` (per axis) of `t`, clipped to the items'
-/// bounding box; `None` if empty.
-#[inline]
-fn box_around(t: &[f64; 3], reach: f64, index: &BrickIndex) -> Option<([u32; 3], [u32; 3])> {
-    if index.is_empty() {
-        return None;
-    }
-    let mut lo = [0u32; 3];
-    let mut hi = [0u32; 3];
-    for a in 0..3 {
-        let from = floor64(t[a] - reach).max(index.item_min[a] as f64);
-        let to = floor64(t[a] + reach).min(index.item_max[a] as f64);
-        if from > to {
-            return None;
-        }
-        lo[a] = from as u32;
-        hi[a] = to as u32;
-    }
-    Some((lo, hi))
-}
-
-/// True if the region `[4b + lo_pad, 4b + hi_pad]` (per axis, in level units) of brick `b` comes
-/// within `radius` of `t`.
-#[inline]
-fn brick_near(b: [u32; 3], t: &[f64; 3], lo_pad: f64, hi_pad: f64, radius: f64) -> bool {
-    let mut d2 = 0.0;
-    for a in 0..3 {
-        let base = (b[a] * 4) as f64;
-        let lo = base + lo_pad;
-        let hi = base + hi_pad;
-        let d = if t[a] < lo {
-            lo - t[a]
-        } else if t[a] > hi {
-            t[a] - hi
-        } else {
-            0.0
-        };
-        d2 += d * d;
-    }
-    d2 <= radius * radius
 }
