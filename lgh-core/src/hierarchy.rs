@@ -10,7 +10,7 @@ use crate::bricks::{Ball, BrickIndex};
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
-use crate::light::{luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
+use crate::light::{is_reported, luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
 use crate::math::floor64;
 use crate::morton;
 use crate::radix;
@@ -217,6 +217,7 @@ impl LightingGridHierarchy {
                     luminance: lum,
                 }),
             true,
+            level_threshold(0, placement.max_level, settings.prune_below),
         );
         drop(sorted);
         let (cells0_codes, cells0_starts) = level::runs(input.code.iter().copied());
@@ -344,7 +345,13 @@ impl LightingGridHierarchy {
             luminance: &self.input.luminance,
             extra_variance: None,
         };
-        level::splat(topo, &input, self.h(l) as f64, self.placement.origin)
+        level::splat(
+            topo,
+            &input,
+            self.h(l) as f64,
+            self.placement.origin,
+            self.threshold(l),
+        )
     }
 
     /// Level `l` splatted from the lights of level `l − 1` (the `PreviousLevel` option).
@@ -388,7 +395,7 @@ impl LightingGridHierarchy {
             luminance: &lum,
             extra_variance: Some(&extra),
         };
-        let lights = level::splat(&topo, &input, h, pl.origin);
+        let lights = level::splat(&topo, &input, h, pl.origin, self.threshold(l));
         Level { lights, topo }
     }
 
@@ -512,17 +519,13 @@ impl LightingGridHierarchy {
     /// weak-light threshold unless it is on the top level (which is never pruned).
     #[inline]
     pub fn is_active(&self, level: u8, light: &GridLight) -> bool {
-        active(light.luminance, self.threshold(level))
+        is_reported(light.luminance, self.threshold(level))
     }
 
     /// Weak-light threshold of `level`: [`prune_below`](Self::prune_below), or 0 on the top level.
     #[inline]
     fn threshold(&self, level: u8) -> f32 {
-        if level == self.placement.max_level {
-            0.0
-        } else {
-            self.prune_below
-        }
+        level_threshold(level, self.placement.max_level, self.prune_below)
     }
 
     /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
@@ -598,13 +601,11 @@ impl LightingGridHierarchy {
                         end: usize,
                         inner2: f32,
                         outer2: f32| {
-            let threshold = self.threshold(level);
             let mut hits = LevelHits {
                 f: &mut f,
                 blending,
                 level,
                 lights,
-                threshold,
             };
             let (r, n) = lights.scan(start, end, x, inner2, outer2, &mut hits);
             sum = sum.add(r);
@@ -669,10 +670,13 @@ impl LightingGridHierarchy {
     }
 }
 
-/// A light is reported if it is not dark and not weaker than the pruning threshold.
-#[inline(always)]
-fn active(luminance: f32, threshold: f32) -> bool {
-    luminance > 0.0 && luminance >= threshold
+/// Weak-light pruning applies to every level but the top one.
+fn level_threshold(level: u8, max_level: u8, prune_below: f32) -> f32 {
+    if level == max_level {
+        0.0
+    } else {
+        prune_below
+    }
 }
 
 /// Hands one level's contributing lights to the caller's closure.
@@ -681,19 +685,15 @@ struct LevelHits<'a, F> {
     blending: &'a Blending,
     level: u8,
     lights: &'a LevelLights,
-    /// Weak-light pruning threshold of this level.
-    threshold: f32,
 }
 
 impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
     type Out = R;
 
-    /// Reports light `index` at distance `d` unless it is dark, pruned or has zero weight.
+    /// Reports light `index` at distance `d` unless its weight is zero. (Dark and pruned lights
+    /// never get here: their scanned positions are NaN.)
     #[inline(always)]
     fn hit(&mut self, index: usize, d: f32) -> Option<R> {
-        if !active(self.lights.luminance(index), self.threshold) {
-            return None;
-        }
         let w = self.blending.weight(self.level, d);
         if w <= 0.0 {
             return None;

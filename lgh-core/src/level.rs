@@ -129,13 +129,14 @@ fn weights(f: [f32; 3]) -> [f32; 8] {
 }
 
 /// Splats the input onto the level's vertices and returns its lights: intensity (eq. 1),
-/// illumination centre (eq. 2), variance (eq. 4) and size (eq. 5). `h` is the level's spacing and
-/// `origin` its (shared) origin.
+/// illumination centre (eq. 2), variance (eq. 4) and size (eq. 5). `h` is the level's spacing,
+/// `origin` its (shared) origin and `threshold` its weak-light threshold.
 pub(crate) fn splat(
     topo: &Topology,
     input: &SplatInput<'_>,
     h: f64,
     origin: [f64; 3],
+    threshold: f32,
 ) -> LevelLights {
     let nv = topo.vertex_codes.len();
     let mut sum_i = vec![Vec3::ZERO; nv];
@@ -251,5 +252,5 @@ pub(crate) fn splat(
             luminance: luminance(sum_i[i]),
         }
     });
-    LevelLights::from_lights(lights, false)
+    LevelLights::from_lights(lights, false, threshold)
 }

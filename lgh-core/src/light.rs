@@ -46,6 +46,12 @@ pub struct GridLight {
     pub luminance: f32,
 }
 
+/// A light is reported by queries if it is not dark and not weaker than the weak-light threshold.
+#[inline]
+pub(crate) fn is_reported(luminance: f32, threshold: f32) -> bool {
+    luminance > 0.0 && luminance >= threshold
+}
+
 /// Lanes of the distance scan.
 const LANES: usize = 8;
 
@@ -85,9 +91,15 @@ pub(crate) trait Hit {
 /// Level 0 stores no variance or size (they are zero).
 #[derive(Clone, Debug, Default)]
 pub struct LevelLights {
+    /// Positions as the radius query sees them: NaN for lights it must not report (dark, or weaker
+    /// than `threshold`), so the distance test drops them at no cost. Padded with LANES − 1 NaNs.
     x: Vec<f32>,
     y: Vec<f32>,
     z: Vec<f32>,
+    /// The lights' actual positions.
+    position: Vec<Vec3>,
+    /// Weak-light threshold of this level (0: only dark lights are skipped).
+    threshold: f32,
     luminance: Vec<f32>,
     intensity: Vec<Vec3>,
     variance: Vec<Vec3>,
@@ -104,9 +116,11 @@ impl PartialEq for LevelLights {
         fn bits3(v: &[Vec3]) -> impl Iterator<Item = u32> + '_ {
             v.iter().flat_map(|f| f.to_array()).map(|f| f.to_bits())
         }
-        bits(&self.x).eq(bits(&other.x))
+        self.threshold.to_bits() == other.threshold.to_bits()
+            && bits(&self.x).eq(bits(&other.x))
             && bits(&self.y).eq(bits(&other.y))
             && bits(&self.z).eq(bits(&other.z))
+            && bits3(&self.position).eq(bits3(&other.position))
             && bits(&self.luminance).eq(bits(&other.luminance))
             && bits(&self.size).eq(bits(&other.size))
             && bits3(&self.intensity).eq(bits3(&other.intensity))
@@ -120,31 +134,39 @@ impl LevelLights {
         x: Vec::new(),
         y: Vec::new(),
         z: Vec::new(),
+        position: Vec::new(),
+        threshold: 0.0,
         luminance: Vec::new(),
         intensity: Vec::new(),
         variance: Vec::new(),
         size: Vec::new(),
     };
 
-    /// Stores `lights`; with `points`, variance and size are dropped (they must be zero).
+    /// Stores `lights`; with `points`, variance and size are dropped (they must be zero). Queries
+    /// will report only lights with luminance > 0 and ≥ `threshold`.
     pub(crate) fn from_lights(
         lights: impl ExactSizeIterator<Item = GridLight>,
         points: bool,
+        threshold: f32,
     ) -> Self {
         let n = lights.len();
         let mut out = LevelLights {
-            x: Vec::with_capacity(n),
-            y: Vec::with_capacity(n),
-            z: Vec::with_capacity(n),
+            x: Vec::with_capacity(n + LANES),
+            y: Vec::with_capacity(n + LANES),
+            z: Vec::with_capacity(n + LANES),
+            position: Vec::with_capacity(n),
+            threshold,
             luminance: Vec::with_capacity(n),
             intensity: Vec::with_capacity(n),
             variance: Vec::with_capacity(if points { 0 } else { n }),
             size: Vec::with_capacity(if points { 0 } else { n }),
         };
         for l in lights {
-            out.x.push(l.position.x);
-            out.y.push(l.position.y);
-            out.z.push(l.position.z);
+            let p = out.scanned(l.position, l.luminance);
+            out.x.push(p.x);
+            out.y.push(p.y);
+            out.z.push(p.z);
+            out.position.push(l.position);
             out.luminance.push(l.luminance);
             out.intensity.push(l.intensity);
             if !points {
@@ -160,14 +182,24 @@ impl LevelLights {
         out
     }
 
+    /// The position the radius query scans for a light at `p` with luminance `lum`.
+    #[inline]
+    fn scanned(&self, p: Vec3, lum: f32) -> Vec3 {
+        if is_reported(lum, self.threshold) {
+            p
+        } else {
+            Vec3::NAN
+        }
+    }
+
     /// Number of lights.
     pub fn len(&self) -> usize {
-        self.intensity.len()
+        self.position.len()
     }
 
     /// True if the level has no lights.
     pub fn is_empty(&self) -> bool {
-        self.intensity.is_empty()
+        self.position.is_empty()
     }
 
     /// Light `i`. Panics if `i >= len()`.
@@ -185,7 +217,14 @@ impl LevelLights {
     /// Position (illumination centre) of light `i`.
     #[inline]
     pub fn position(&self, i: usize) -> Vec3 {
-        Vec3::new(self.x[i], self.y[i], self.z[i])
+        self.position[i]
+    }
+
+    /// True if queries report light `i`: it is not dark and not weaker than the level's
+    /// weak-light threshold.
+    #[inline]
+    pub fn is_reported(&self, i: usize) -> bool {
+        is_reported(self.luminance[i], self.threshold)
     }
 
     /// Luminance `‖I‖` of light `i`.
@@ -209,6 +248,8 @@ impl LevelLights {
     pub(crate) fn set_intensity(&mut self, i: usize, intensity: Vec3) {
         self.intensity[i] = intensity;
         self.luminance[i] = luminance(intensity);
+        let p = self.scanned(self.position[i], self.luminance[i]);
+        (self.x[i], self.y[i], self.z[i]) = (p.x, p.y, p.z);
     }
 
     /// Calls `hit.hit(i, d)` for every light `i` in `start..end` with `inner2 < d² < outer2` from
