@@ -81,5 +81,47 @@ fn query(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, build, query);
+/// The level-0 radius query (lights within r_1 = α h_1 of a point): our bricked index with an
+/// 8-lane scan against kiddo's immutable k-d tree, the kind of index the paper's implementation
+/// used. Both visit the same lights and sum their distances.
+fn level0_index(c: &mut Criterion) {
+    let (lights, settings) = explosion();
+    let lgh = LightingGridHierarchy::build(&lights, &settings).unwrap();
+    let level0 = lgh.level(0);
+    let positions: Vec<[f32; 3]> = (0..level0.len())
+        .map(|i| level0.position(i).to_array())
+        .collect();
+    let tree: kiddo::ImmutableKdTree<f32, 3> = kiddo::ImmutableKdTree::new_from_slice(&positions);
+    let (lo, hi) = bounds(&lights);
+    let points = testsets::query_points(lo, hi, 1000, 7);
+    let mut g = c.benchmark_group("level0_radius_query_explosion_128");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(points.len() as u64));
+    for alpha in [1.0f32, 2.0, 4.0] {
+        let r = alpha * lgh.h1();
+        g.bench_with_input(BenchmarkId::new("bricks", alpha), &r, |b, &r| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for &x in &points {
+                    lgh.lights_within(0, x, r, |_, d| sum += d).unwrap();
+                }
+                sum
+            })
+        });
+        g.bench_with_input(BenchmarkId::new("kiddo", alpha), &r, |b, &r| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for &x in &points {
+                    for n in tree.within_unsorted::<kiddo::SquaredEuclidean>(&x.to_array(), r * r) {
+                        sum += n.distance.sqrt();
+                    }
+                }
+                sum
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, build, query, level0_index);
 criterion_main!(benches);

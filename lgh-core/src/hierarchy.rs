@@ -533,6 +533,73 @@ impl LightingGridHierarchy {
         Blending::new(alpha, self.h1(), self.max_level())
     }
 
+    /// Calls `f(index, distance)` for every light of `level` whose position lies within `radius`
+    /// of `x` and that queries report (see [`is_active`](Self::is_active)), using the level's
+    /// index (no allocation). Useful for shadow precomputation and tests.
+    pub fn lights_within(
+        &self,
+        level: u8,
+        x: Vec3,
+        radius: f32,
+        mut f: impl FnMut(u32, f32),
+    ) -> Result<(), QueryError> {
+        if !x.is_finite() {
+            return Err(QueryError::NonFinitePoint);
+        }
+        if level > self.max_level() || radius.is_nan() || radius < 0.0 {
+            return Ok(());
+        }
+        let lights = self.level(level);
+        let r2 = radius * radius;
+        let mut report = |s: usize, e: usize| {
+            lights.scan(s, e, x, -1.0, r2, &mut |i: usize, d: f32| -> Option<()> {
+                f(i as u32, d);
+                Some(())
+            });
+        };
+        if level == self.max_level() || !radius.is_finite() {
+            report(0, lights.len());
+        } else {
+            self.for_each_range(level, x, radius, report);
+        }
+        Ok(())
+    }
+
+    /// Calls `f(start, end)` with ranges of light indices of `level` (< ℓ_max) that together hold
+    /// every light whose position lies within `radius` of `x` (and possibly others).
+    #[inline]
+    fn for_each_range(&self, level: u8, x: Vec3, radius: f32, mut f: impl FnMut(usize, usize)) {
+        // A hair wider than asked, so rounding in the f64 culling never drops a light at the edge.
+        let reach = radius as f64 * (1.0 + 1e-6);
+        if level == 0 {
+            // Level-1 cells hold the level-0 lights; the cells of a brick and their lights are
+            // contiguous.
+            let ball = Ball {
+                centre: self.local(x, 1),
+                radius: reach / self.placement.h1,
+                lo_pad: 0.0,
+                hi_pad: 4.0,
+            };
+            self.cells0.for_each_brick_near(&ball, |first, n| {
+                let s = self.cells0_starts[first as usize] as usize;
+                let e = self.cells0_starts[(first + n) as usize] as usize;
+                f(s, e)
+            });
+        } else {
+            // A vertex's illumination centre lies within h_ℓ of it (pads −1 and 4).
+            let ball = Ball {
+                centre: self.local(x, level),
+                radius: reach / self.h(level) as f64,
+                lo_pad: -1.0,
+                hi_pad: 4.0,
+            };
+            self.levels[level as usize - 1]
+                .topo
+                .index
+                .for_each_brick_near(&ball, |first, n| f(first as usize, (first + n) as usize));
+        }
+    }
+
     /// Level-ℓ coordinates of `x` (world position relative to the origin, in units of `h_ℓ`).
     #[inline]
     fn local(&self, x: Vec3, level: u8) -> [f64; 3] {
@@ -591,7 +658,6 @@ impl LightingGridHierarchy {
             return Ok((R::ZERO, 0));
         }
         let top = self.max_level();
-        let alpha = blending.alpha() as f64;
         let mut sum = R::ZERO;
         let mut count = 0u32;
         // Scans lights[start..end] of `level` and adds what they contribute.
@@ -620,16 +686,8 @@ impl LightingGridHierarchy {
         }
         let (_, outer) = blending.support(0);
         let outer2 = outer * outer;
-        let ball = Ball {
-            centre: self.local(x, 1),
-            radius: alpha,
-            lo_pad: 0.0,
-            hi_pad: 4.0,
-        };
-        self.cells0.for_each_brick_near(&ball, |first, n| {
-            let s = self.cells0_starts[first as usize] as usize;
-            let e = self.cells0_starts[(first + n) as usize] as usize;
-            scan(0, &self.level0, s, e, -1.0, outer2);
+        self.for_each_range(0, x, outer, |s, e| {
+            scan(0, &self.level0, s, e, -1.0, outer2)
         });
 
         // Levels 0 < ℓ < ℓ_max: lights within 2 r_ℓ of x; a centre lies within h_ℓ of its vertex.
@@ -637,21 +695,8 @@ impl LightingGridHierarchy {
             let level = &self.levels[l as usize - 1];
             let (inner, outer) = blending.support(l);
             let (inner2, outer2) = (inner * inner, outer * outer);
-            let ball = Ball {
-                centre: self.local(x, l),
-                radius: 2.0 * alpha,
-                lo_pad: -1.0,
-                hi_pad: 4.0,
-            };
-            level.topo.index.for_each_brick_near(&ball, |first, n| {
-                scan(
-                    l,
-                    &level.lights,
-                    first as usize,
-                    (first + n) as usize,
-                    inner2,
-                    outer2,
-                )
+            self.for_each_range(l, x, outer, |s, e| {
+                scan(l, &level.lights, s, e, inner2, outer2)
             });
         }
 

@@ -86,6 +86,14 @@ pub(crate) trait Hit {
     fn hit(&mut self, index: usize, d: f32) -> Option<Self::Out>;
 }
 
+impl<R: Contribution, F: FnMut(usize, f32) -> Option<R>> Hit for F {
+    type Out = R;
+    #[inline(always)]
+    fn hit(&mut self, index: usize, d: f32) -> Option<R> {
+        self(index, d)
+    }
+}
+
 /// The lights of one level, stored as structure-of-arrays: the radius query scans positions eight
 /// at a time and touches intensities, variances and sizes only for lights that contribute.
 /// Level 0 stores no variance or size (they are zero).

@@ -265,6 +265,26 @@ proptest! {
             "{} vs {}", fast, slow);
     }
 
+    /// `lights_within` reports exactly the active lights of a level within the radius.
+    #[test]
+    fn lights_within_matches_a_linear_search(lights in lights_strategy(400, 6.0), h1 in 0.1f32..3.0,
+                                             radius in 0.0f32..8.0, level in 0u8..6,
+                                             x in (-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0)) {
+        let x = Vec3::new(x.0, x.1, x.2);
+        let lgh = LightingGridHierarchy::build(&lights, &settings(h1, 5)).unwrap();
+        let mut got = Vec::new();
+        lgh.lights_within(level, x, radius, |i, d| got.push((i, d))).unwrap();
+        got.sort_by_key(|t| t.0);
+        let want: Vec<u32> = lgh.level(level).iter().enumerate()
+            .filter(|(_, g)| lgh.is_active(level, g) && (g.position - x).length_squared() < radius * radius)
+            .map(|(i, _)| i as u32)
+            .collect();
+        prop_assert_eq!(got.iter().map(|t| t.0).collect::<Vec<_>>(), want);
+        for (i, d) in got {
+            prop_assert!((d - (lgh.level(level).get(i as usize).position - x).length()).abs() <= 1e-5 * (1.0 + d));
+        }
+    }
+
     /// A rebuild with new intensities equals a fresh build, bit for bit.
     #[test]
     fn rebuild_equals_fresh_build(lights in lights_strategy(300, 4.0), seed in any::<u64>(),
