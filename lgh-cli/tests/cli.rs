@@ -251,6 +251,7 @@ fn bench_core_prints_json() {
     for a in alphas {
         for key in [
             "points_per_second_per_thread",
+            "points_per_second_per_thread_coherent",
             "lights_per_point",
             "rel_rmse",
             "max_rel_error",

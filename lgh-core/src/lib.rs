@@ -62,6 +62,11 @@ mod radix;
 pub mod spectrum;
 pub mod testsets;
 
+/// The README's library example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;
+
 pub use backend::{
     probe, BruteForce, Illumination, LghBackend, LightSample, ManyLights, Material, Shader,
     ShadingPoint,
