@@ -32,6 +32,9 @@ pub struct CoreBenchArgs {
     /// Write the JSON here (atomically) as well as to stdout.
     #[arg(long)]
     pub out: Option<std::path::PathBuf>,
+    /// Also write the results as a Markdown table (the README's) to this file.
+    #[arg(long)]
+    pub markdown: Option<std::path::PathBuf>,
 }
 
 struct Set {
@@ -111,7 +114,53 @@ pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
     if let Some(out) = &args.out {
         crate::atomic::write_atomic(out, |w| w.write_all(text.as_bytes()))?;
     }
+    if let Some(md) = &args.markdown {
+        let table = markdown(&report);
+        crate::atomic::write_atomic(md, |w| w.write_all(table.as_bytes()))?;
+    }
     Ok(())
+}
+
+/// The report as Markdown tables: one row per set for the build, one per set and α for queries.
+fn markdown(report: &Value) -> String {
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let mut out = String::from(
+        "| set | lights | levels | build, 1 thread | build, 2 threads | rebuild (new intensities), 2 threads |\n|---|---:|---:|---:|---:|---:|\n",
+    );
+    let sets = report["sets"].as_array().cloned().unwrap_or_default();
+    for s in &sets {
+        out += &format!(
+            "| {} | {} | 0..={} | {:.3} s | {:.3} s | {:.3} s |\n",
+            s["name"].as_str().unwrap_or("?"),
+            s["lights"],
+            s["max_level"],
+            f(&s["build_seconds"]["1"]),
+            f(&s["build_seconds"]["2"]),
+            f(&s["rebuild_intensities_seconds_2_threads"]),
+        );
+    }
+    out += "\n| set | α | points/s/thread, random order | coherent order | lights per point | relative RMSE | max relative error | speed-up vs brute force |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for s in &sets {
+        out += &format!(
+            "| {} | brute force | {:.0} | | {} | 0 | 0 | 1× |\n",
+            s["name"].as_str().unwrap_or("?"),
+            f(&s["brute_force_points_per_second_per_thread"]),
+            s["lights"],
+        );
+        for a in s["alphas"].as_array().cloned().unwrap_or_default() {
+            out += &format!(
+                "| | {} | {:.0} | {:.0} | {:.0} | {:.2}% | {:.2}% | {:.1}× |\n",
+                a["alpha"],
+                f(&a["points_per_second_per_thread"]),
+                f(&a["points_per_second_per_thread_coherent"]),
+                f(&a["lights_per_point"]),
+                100.0 * f(&a["rel_rmse"]),
+                100.0 * f(&a["max_rel_error"]),
+                f(&a["speedup_vs_brute"]),
+            );
+        }
+    }
+    out
 }
 
 fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {

@@ -263,6 +263,13 @@ fn bench_core_prints_json() {
     // More α, more accuracy.
     assert!(alphas[1]["rel_rmse"].as_f64() < alphas[0]["rel_rmse"].as_f64());
     assert!(set["build_seconds"]["1"].as_f64().unwrap() > 0.0);
+    let table = std::fs::read_to_string(&md).unwrap();
+    assert!(table.contains("| c_strings_16k | 16384 |"), "{table}");
+    assert_eq!(
+        table.lines().filter(|l| l.starts_with("| | ")).count(),
+        2,
+        "{table}"
+    );
 }
 
 #[test]

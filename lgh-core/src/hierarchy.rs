@@ -28,8 +28,6 @@ struct SortedInput {
     cell: Vec<[u32; 3]>,
     /// Position inside the level-1 cell, in cell units.
     frac: Vec<[f32; 3]>,
-    intensity: Vec<Vec3>,
-    luminance: Vec<f32>,
     /// Ranges `start..end` of lights with identical positions (usually none). Inside them the
     /// order is by intensity, which a rebuild must restore to stay identical to a fresh build.
     coincident: Vec<(u32, u32)>,
@@ -179,8 +177,6 @@ impl LightingGridHierarchy {
             code: Vec::with_capacity(n),
             cell: Vec::with_capacity(n),
             frac: Vec::with_capacity(n),
-            intensity: Vec::with_capacity(n),
-            luminance: Vec::with_capacity(n),
             coincident: Vec::new(),
         };
         for (&(code, _), &(l, i)) in keys.iter().zip(&sorted) {
@@ -189,8 +185,6 @@ impl LightingGridHierarchy {
             input.code.push(code);
             input.cell.push(cell);
             input.frac.push(frac);
-            input.intensity.push(l.intensity);
-            input.luminance.push(luminance(l.intensity));
         }
         drop(keys);
         let mut k = 0;
@@ -206,16 +200,13 @@ impl LightingGridHierarchy {
             k = e;
         }
         let level0 = LevelLights::from_lights(
-            sorted
-                .iter()
-                .zip(&input.luminance)
-                .map(|(&(l, _), &lum)| GridLight {
-                    position: l.position,
-                    intensity: l.intensity,
-                    variance: Vec3::ZERO,
-                    size: 0.0,
-                    luminance: lum,
-                }),
+            sorted.iter().map(|&(l, _)| GridLight {
+                position: l.position,
+                intensity: l.intensity,
+                variance: Vec3::ZERO,
+                size: 0.0,
+                luminance: luminance(l.intensity),
+            }),
             true,
             level_threshold(0, placement.max_level, settings.prune_below),
         );
@@ -341,8 +332,8 @@ impl LightingGridHierarchy {
             .collect();
         let input = SplatInput {
             frac: &frac,
-            intensity: &self.input.intensity,
-            luminance: &self.input.luminance,
+            intensity: self.level0.intensities(),
+            luminance: self.level0.luminances(),
             extra_variance: None,
         };
         level::splat(
@@ -421,23 +412,17 @@ impl LightingGridHierarchy {
             return Ok(());
         }
         for (s, &i) in self.input.perm.iter().enumerate() {
-            let v = intensities[i as usize];
-            let lum = luminance(v);
-            self.input.intensity[s] = v;
-            self.input.luminance[s] = lum;
-            self.level0.set_intensity(s, v);
+            self.level0.set_intensity(s, intensities[i as usize]);
         }
         // Coincident lights are ordered by intensity (see `SortedInput`): restore that order.
         for &(s, e) in &self.input.coincident {
             let (s, e) = (s as usize, e as usize);
             let mut run: Vec<(u32, Vec3)> = (s..e)
-                .map(|k| (self.input.perm[k], self.input.intensity[k]))
+                .map(|k| (self.input.perm[k], self.level0.intensity(k)))
                 .collect();
             run.sort_by_key(|a| intensity_bits(a.1));
             for (k, (p, v)) in (s..e).zip(run) {
                 self.input.perm[k] = p;
-                self.input.intensity[k] = v;
-                self.input.luminance[k] = luminance(v);
                 self.level0.set_intensity(k, v);
             }
         }

@@ -252,6 +252,16 @@ impl LevelLights {
         (0..self.len()).map(|i| self.get(i))
     }
 
+    /// All intensities, in index order.
+    pub(crate) fn intensities(&self) -> &[Vec3] {
+        &self.intensity
+    }
+
+    /// All luminances, in index order.
+    pub(crate) fn luminances(&self) -> &[f32] {
+        &self.luminance
+    }
+
     /// Replaces the intensity (and luminance) of light `i`.
     pub(crate) fn set_intensity(&mut self, i: usize, intensity: Vec3) {
         self.intensity[i] = intensity;
