@@ -238,8 +238,21 @@ fn bad_input_gives_one_error_line_and_keeps_the_output() {
 
 #[test]
 fn bench_core_prints_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("table.md");
     let o = lgh(&[
-        "bench", "core", "--sets", "c", "--points", "200", "--alphas", "1,4", "--repeat", "1",
+        "bench",
+        "core",
+        "--sets",
+        "c",
+        "--points",
+        "200",
+        "--alphas",
+        "1,4",
+        "--repeat",
+        "1",
+        "--markdown",
+        md.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
