@@ -308,7 +308,7 @@ impl Ball {
     /// True if brick `b`'s region meets the ball.
     #[inline]
     fn meets_brick(&self, b: [u32; 3]) -> bool {
-        let d2: f64 = (0..3).map(|a| self.gap(a, b[a]).powi(2)).sum();
+        let d2: f64 = (0..3).map(|a| self.gap(a, b[a])).map(|g| g * g).sum();
         d2 <= self.radius * self.radius
     }
 }
