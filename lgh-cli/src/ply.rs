@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 /// Files larger than this are refused before reading.
-pub const MAX_FILE_BYTES: u64 = 16 << 30;
+pub const MAX_FILE_BYTES: u64 = 4 << 30;
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -176,6 +176,9 @@ pub fn parse(bytes: &[u8]) -> Result<PointCloud, String> {
     };
     for el in &elements {
         let keep = el.name == "vertex";
+        if el.props.is_empty() && !keep {
+            continue; // nothing to read, whatever the count
+        }
         let mut columns: Vec<Vec<f64>> = Vec::new();
         if keep {
             // Each vertex needs at least one byte per property (binary) or two (ASCII), so this
@@ -446,5 +449,8 @@ mod tests {
                 .unwrap_err()
                 .contains("vertex")
         );
+        // An element without properties but with an absurd count is skipped at once.
+        let c = parse(b"ply\nformat binary_little_endian 1.0\nelement junk 18446744073709551615\nelement vertex 1\nproperty float x\nend_header\n\0\0\x80\x3f").unwrap();
+        assert_eq!(c.float_column("x").unwrap(), &[1.0]);
     }
 }
