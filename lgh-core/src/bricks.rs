@@ -240,7 +240,7 @@ impl BrickIndex {
                 if rest < 0.0 {
                     continue;
                 }
-                let (from, to) = ball.row(libm::sqrt(rest));
+                let (from, to) = ball.row(crate::math::sqrt64(rest));
                 let from = from.max(blo[0] as f64);
                 let to = to.min(bhi[0] as f64);
                 if from > to {
@@ -294,8 +294,8 @@ impl Ball {
     #[inline]
     fn span(&self, t: f64, half: f64) -> (f64, f64) {
         // 4b + hi_pad ≥ t − half  and  4b + lo_pad ≤ t + half.
-        let lo = libm::ceil((t - half - self.hi_pad) / 4.0);
-        let hi = libm::floor((t + half - self.lo_pad) / 4.0);
+        let lo = crate::math::ceil64((t - half - self.hi_pad) * 0.25);
+        let hi = crate::math::floor64((t + half - self.lo_pad) * 0.25);
         (lo.max(0.0), hi)
     }
 

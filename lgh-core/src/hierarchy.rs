@@ -11,7 +11,7 @@ use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
 use crate::light::{is_reported, luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
-use crate::math::floor64;
+use crate::math::{floor64, level_scale};
 use crate::morton;
 use crate::radix;
 
@@ -453,7 +453,7 @@ impl LightingGridHierarchy {
 
     /// Spacing `h_ℓ = 2^(ℓ−1) h_1` of level ℓ (`h_0 = h_1 / 2`).
     pub fn h(&self, level: u8) -> f32 {
-        (self.placement.h1 * libm::ldexp(1.0, level as i32 - 1)) as f32
+        (self.placement.h1 * level_scale(level)) as f32
     }
 
     /// `h_0 = h_1 / 2`, the clamp distance of the fall-off [`falloff`](crate::falloff).
@@ -588,7 +588,7 @@ impl LightingGridHierarchy {
     /// Level-ℓ coordinates of `x` (world position relative to the origin, in units of `h_ℓ`).
     #[inline]
     fn local(&self, x: Vec3, level: u8) -> [f64; 3] {
-        let inv = 1.0 / (self.placement.h1 * libm::ldexp(1.0, level as i32 - 1));
+        let inv = 1.0 / (self.placement.h1 * level_scale(level));
         let o = self.placement.origin;
         [
             (x.x as f64 - o[0]) * inv,

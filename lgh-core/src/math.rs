@@ -16,6 +16,31 @@ pub fn sqrt(x: f32) -> f32 {
     }
 }
 
+/// Square root of an `f64`.
+#[inline(always)]
+pub fn sqrt64(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        x.sqrt()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sqrt(x)
+    }
+}
+
+/// Ceiling of an `f64` (exact, see [`floor64`]).
+#[inline(always)]
+pub fn ceil64(x: f64) -> f64 {
+    -floor64(-x)
+}
+
+/// `2^level / 2`: the spacing `h_ℓ` of level ℓ in units of `h_1` (`h_0 = h_1 / 2`), exactly.
+#[inline(always)]
+pub fn level_scale(level: u8) -> f64 {
+    (1u64 << level) as f64 * 0.5
+}
+
 /// Floor of an `f64` (exact for every input; NaN stays NaN).
 ///
 /// Without SSE4.1, `f64::floor` is a library call; grid coordinates are computed per light per
@@ -60,5 +85,11 @@ mod tests {
             assert_eq!(floor64(x).to_bits(), libm::floor(x).to_bits(), "{x}");
         }
         assert!(floor64(f64::NAN).is_nan());
+        assert_eq!(ceil64(2.5), 3.0);
+        assert_eq!(ceil64(-2.5), -2.0);
+        assert_eq!(ceil64(4.0), 4.0);
+        assert_eq!(level_scale(0), 0.5);
+        assert_eq!(level_scale(1), 1.0);
+        assert_eq!(level_scale(21), 1048576.0);
     }
 }
