@@ -95,32 +95,44 @@ impl Blending {
         self.max_level
     }
 
-    /// Influence radius `r_ℓ = α h_ℓ` (with `h_0 = h_1 / 2`).
+    /// Influence radius `r_ℓ = α h_ℓ` (with `h_0 = h_1 / 2`); infinite above [`MAX_LEVEL`].
     #[inline]
     pub fn radius(&self, level: u8) -> f32 {
-        self.radius[level as usize]
+        self.radius
+            .get(level as usize)
+            .copied()
+            .unwrap_or(f32::INFINITY)
     }
 
-    /// Distances `(inner, outer)` outside of which `B_ℓ` is zero: a level-ℓ light contributes only if
-    /// `inner < d < outer`. `outer` is infinite for the top level.
+    /// Distances `(inner, outer)` with `B_ℓ(d) = 0` for every `d ≤ inner` and every `d ≥ outer`:
+    /// the nominal `r_{ℓ−1}` and `2 r_ℓ` (0 for level 0, ∞ for the top level), widened by a relative
+    /// 1e-6 so that rounding in [`weight`](Self::weight) can never put a non-zero weight outside.
+    /// Levels above `ℓ_max` have no support.
     #[inline]
     pub fn support(&self, level: u8) -> (f32, f32) {
+        if level > self.max_level {
+            return (f32::INFINITY, f32::INFINITY);
+        }
         let inner = if level == 0 {
             0.0
         } else {
-            self.radius[level as usize - 1]
+            self.radius[level as usize - 1] * (1.0 - 1e-6)
         };
         let outer = if level == self.max_level {
             f32::INFINITY
         } else {
-            2.0 * self.radius[level as usize]
+            2.0 * self.radius[level as usize] * (1.0 + 1e-6)
         };
         (inner, outer)
     }
 
     /// The blending weight `B_ℓ(d)` of level `level` at distance `d ≥ 0` (eq. 3, Fig. 3).
     #[inline(always)]
+    /// Zero for levels above `ℓ_max`.
     pub fn weight(&self, level: u8, d: f32) -> f32 {
+        if level > self.max_level {
+            return 0.0;
+        }
         let [a, c1, b, c2] = self.ramps[level as usize];
         (d * a + c1).min(c2 - d * b).clamp(0.0, 1.0)
     }

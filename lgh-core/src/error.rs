@@ -2,6 +2,10 @@
 
 use core::fmt;
 
+/// The most input lights a hierarchy takes: every level's vertices (at most eight per light) must
+/// have 32-bit indices.
+pub const MAX_LIGHTS: usize = (u32::MAX / 8) as usize;
+
 /// Why a hierarchy (or a backend) could not be built from the given lights and settings.
 #[derive(Clone, Debug, PartialEq)]
 pub enum BuildError {
@@ -15,7 +19,9 @@ pub enum BuildError {
         /** Index of the offending light. */
         index: usize,
     },
-    /// The level-1 spacing `h1` is not a finite number > 0.
+    /// The level-1 spacing `h1` is unusable: not finite and > 0, `h0 = h1 / 2` below the smallest
+    /// normal f32, or the square of the coarsest level's spacing `h1·2^(ℓmax−1)` not finite in f32
+    /// (lights spread over more than about 10^19 units).
     InvalidSpacing {
         /** The rejected spacing. */
         h1: f32,
@@ -28,6 +34,11 @@ pub enum BuildError {
         requested: u8,
         /** Largest supported `ℓ_max`. */
         max: u8,
+    },
+    /// The lights lie too many level-1 cells from the given origin for f64 cell coordinates.
+    OriginTooFar {
+        /// Distance in level-1 cells.
+        cells: f64,
     },
     /// The lights span more level-1 cells along one axis than the hierarchy can address.
     GridTooFine {
@@ -65,9 +76,14 @@ impl fmt::Display for BuildError {
                 f,
                 "light {index} has a non-finite or negative intensity (intensities are W/sr, ≥ 0)"
             ),
-            BuildError::InvalidSpacing { h1 } => {
-                write!(f, "grid spacing h1 = {h1} must be a finite number > 0")
-            }
+            BuildError::InvalidSpacing { h1 } => write!(
+                f,
+                "grid spacing h1 = {h1} is unusable: it must be > 0 with h1/2 a normal f32 and (h1·2^(ℓmax−1))² finite in f32"
+            ),
+            BuildError::OriginTooFar { cells } => write!(
+                f,
+                "the lights lie {cells:.3e} level-1 cells from the grid origin (at most 2^29); move the origin closer"
+            ),
             BuildError::NonFiniteOrigin => write!(f, "grid origin must be finite"),
             BuildError::TooManyLevels { requested, max } => write!(
                 f,
@@ -78,7 +94,7 @@ impl fmt::Display for BuildError {
                 "the lights span {cells:.3e} level-1 cells along one axis (at most {max}); use a larger h1"
             ),
             BuildError::TooManyLights { count } => {
-                write!(f, "{count} lights exceed the limit of {}", u32::MAX - 1)
+                write!(f, "{count} lights exceed the limit of {MAX_LIGHTS}")
             }
             BuildError::InvalidThreshold { threshold } => write!(
                 f,

@@ -5,13 +5,19 @@ use glam::Vec3;
 use crate::blend::MAX_LEVEL;
 use crate::error::BuildError;
 use crate::light::PointLight;
-use crate::math::floor64;
+use crate::math::{floor64, level_scale};
 use crate::morton;
 
-/// The largest level-1 cell coordinate a hierarchy addresses (`2^20 − 1`): vertices, one further,
-/// still fit the 21-bit Morton codes, and level [`MAX_LEVEL`] is then always a single cell.
-pub(crate) const MAX_CELL: u32 = (1 << 20) - 1;
+/// The most level-1 cells the lights may span along one axis (minus one): about a million.
+pub(crate) const MAX_SPAN: u32 = (1 << 20) - 1;
+/// The largest level-1 cell coordinate after the origin is aligned to the coarsest grid (the
+/// alignment adds less than `2^20`); vertices, one further, still fit the 21-bit Morton codes.
+pub(crate) const MAX_CELL: u32 = (1 << 21) - 2;
 const _: () = assert!(MAX_CELL < morton::MAX_COORD);
+const _: () = assert!(MAX_SPAN as u64 + (1 << (MAX_LEVEL - 1)) - 1 <= MAX_CELL as u64);
+/// Lights may lie at most this many level-1 cells from the origin: a position in cells is an f64,
+/// and beyond `2^29` cells it no longer holds the position inside its cell to f32 precision.
+const MAX_ORIGIN_CELLS: f64 = (1u64 << 29) as f64;
 
 /// How level ℓ ≥ 2 is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -88,19 +94,9 @@ pub(crate) fn place(
     };
     let origin = [origin.x as f64, origin.y as f64, origin.z as f64];
     let h1 = match settings.h1 {
-        Some(h) if !(h.is_finite() && h > 0.0) => return Err(BuildError::InvalidSpacing { h1: h }),
         Some(h) => h as f64,
         None => auto_h1(lights, lo, hi, origin),
     };
-    let cmin = abs_cell(lo, origin, h1);
-    let cmax = abs_cell(hi, origin, h1);
-    let span = (0..3).map(|a| cmax[a] - cmin[a]).fold(0.0, f64::max);
-    if span > MAX_CELL as f64 {
-        return Err(BuildError::GridTooFine {
-            cells: span + 1.0,
-            max: MAX_CELL + 1,
-        });
-    }
     let max_level = match settings.max_level {
         Some(l) if l > MAX_LEVEL => {
             return Err(BuildError::TooManyLevels {
@@ -108,20 +104,50 @@ pub(crate) fn place(
                 max: MAX_LEVEL,
             })
         }
-        Some(l) => l,
-        None => {
-            // Lowest ℓ ≥ 1 whose cells (level-1 cells divided by 2^(ℓ−1)) hold everything in one.
-            let mut l = 1u8;
-            while l < MAX_LEVEL {
-                let s = (1u64 << (l - 1)) as f64;
-                if (0..3).all(|a| floor64(cmin[a] / s) == floor64(cmax[a] / s)) {
-                    break;
-                }
-                l += 1;
-            }
-            l
-        }
+        Some(l) => Some(l),
+        None => None,
     };
+    // h0 = h1 / 2 must be a normal f32 (it clamps the fall-off).
+    if !(h1.is_finite() && (h1 * 0.5) as f32 >= f32::MIN_POSITIVE) {
+        return Err(BuildError::InvalidSpacing { h1: h1 as f32 });
+    }
+    let cmin = abs_cell(lo, origin, h1);
+    let cmax = abs_cell(hi, origin, h1);
+    let span = (0..3).map(|a| cmax[a] - cmin[a]).fold(0.0, f64::max);
+    if span > MAX_SPAN as f64 {
+        return Err(BuildError::GridTooFine {
+            cells: span + 1.0,
+            max: MAX_SPAN + 1,
+        });
+    }
+    let far = (0..3)
+        .map(|a| {
+            ((lo[a] as f64 - origin[a])
+                .abs()
+                .max((hi[a] as f64 - origin[a]).abs()))
+                / h1
+        })
+        .fold(0.0, f64::max);
+    if far > MAX_ORIGIN_CELLS {
+        return Err(BuildError::OriginTooFar { cells: far });
+    }
+    let max_level = max_level.unwrap_or_else(|| {
+        // Lowest ℓ ≥ 1 whose cells (level-1 cells divided by 2^(ℓ−1)) hold everything in one.
+        let mut l = 1u8;
+        while l < MAX_LEVEL {
+            let s = (1u64 << (l - 1)) as f64;
+            if (0..3).all(|a| floor64(cmin[a] / s) == floor64(cmax[a] / s)) {
+                break;
+            }
+            l += 1;
+        }
+        l
+    });
+    // The coarsest spacing squared (variances are in squared units) must be finite in f32.
+    let top = (h1 * level_scale(max_level.max(1))) as f32;
+    if !(top * top).is_finite() {
+        return Err(BuildError::InvalidSpacing { h1: h1 as f32 });
+    }
     // Align the shift to the coarsest grid so every level keeps its vertices on the same lattice.
     let align = (1u64 << max_level.saturating_sub(1)) as f64;
     let mut shifted = [0.0; 3];
@@ -129,14 +155,8 @@ pub(crate) fn place(
     for a in 0..3 {
         let base = floor64(cmin[a] / align) * align;
         shifted[a] = origin[a] + base * h1;
-        let m = cmax[a] - base;
-        if m > MAX_CELL as f64 {
-            return Err(BuildError::GridTooFine {
-                cells: m + 1.0,
-                max: MAX_CELL + 1,
-            });
-        }
-        max_cell[a] = m as u32;
+        // cmax − base ≤ span + align − 1 ≤ MAX_CELL (checked at compile time above).
+        max_cell[a] = (cmax[a] - base).min(MAX_CELL as f64) as u32;
     }
     Ok(Placement {
         h1,
@@ -147,25 +167,27 @@ pub(crate) fn place(
 }
 
 /// The Sec. 6.4 rule: start from one cell over the bounding box and halve `h1` until the level-1
-/// vertices that receive light (the corners of occupied cells) outnumber the lights. Stops early if
-/// the grid would exceed [`MAX_CELL`] cells per axis. Coincident lights (an empty box) get `h1 = 1`.
+/// vertices that receive light (the corners of occupied cells) outnumber the lights. Stops before
+/// the lights span more than [`MAX_SPAN`] cells. Coincident lights (an empty box) get `h1 = 1`.
 fn auto_h1(lights: &[PointLight], lo: Vec3, hi: Vec3, origin: [f64; 3]) -> f64 {
-    let extent = (hi - lo).max_element() as f64;
+    let extent = (0..3)
+        .map(|a| hi[a] as f64 - lo[a] as f64)
+        .fold(0.0, f64::max);
     if extent <= 0.0 {
         return 1.0;
     }
-    // Each halving doubles the span in cells, so the MAX_CELL test below ends the loop.
     let mut h = extent;
     let mut codes: alloc::vec::Vec<u64> = alloc::vec::Vec::with_capacity(lights.len());
     let mut vertices: alloc::vec::Vec<u64> = alloc::vec::Vec::new();
-    loop {
-        let next = h * 0.5;
-        let cmin = abs_cell(lo, origin, next);
-        let cmax = abs_cell(hi, origin, next);
-        if (0..3).any(|a| cmax[a] - cmin[a] > MAX_CELL as f64 - 1.0) {
-            return h;
+    // Each halving doubles extent / h, so this ends within about 21 rounds.
+    while extent / (h * 0.5) < (MAX_SPAN - 1) as f64 {
+        h *= 0.5;
+        let cmin = abs_cell(lo, origin, h);
+        let cmax = abs_cell(hi, origin, h);
+        let spans = |a: usize| cmax[a] - cmin[a];
+        if (0..3).any(|a| spans(a).is_nan() || spans(a) > MAX_SPAN as f64) {
+            return h * 2.0; // the origin is too far for this spacing; `place` will say so
         }
-        h = next;
         codes.clear();
         codes.extend(lights.iter().map(|l| {
             let c = abs_cell(l.position, origin, h);
@@ -182,4 +204,5 @@ fn auto_h1(lights: &[PointLight], lo: Vec3, hi: Vec3, origin: [f64; 3]) -> f64 {
             return h;
         }
     }
+    h
 }

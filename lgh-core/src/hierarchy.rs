@@ -62,7 +62,7 @@ pub struct LightingGridHierarchy {
 }
 
 fn validate(lights: &[PointLight]) -> Result<(), BuildError> {
-    if lights.len() >= u32::MAX as usize {
+    if lights.len() > crate::error::MAX_LIGHTS {
         return Err(BuildError::TooManyLights {
             count: lights.len(),
         });
@@ -348,7 +348,7 @@ impl LightingGridHierarchy {
     /// Level `l` splatted from the lights of level `l − 1` (the `PreviousLevel` option).
     fn splat_previous(&self, l: u8, prev: &LevelLights) -> Level {
         let pl = &self.placement;
-        let h = self.h(l) as f64;
+        let h = self.h64(l);
         let max = [
             pl.max_cell[0] >> (l - 1),
             pl.max_cell[1] >> (l - 1),
@@ -378,7 +378,7 @@ impl LightingGridHierarchy {
         let lum: Vec<f32> = items.iter().map(|t| prev.luminance(t.1 as usize)).collect();
         let extra: Vec<Vec3> = items
             .iter()
-            .map(|t| prev.variance(t.1 as usize) / (hf * hf))
+            .map(|t| prev.variance(t.1 as usize) / hf / hf)
             .collect();
         let input = SplatInput {
             frac: &frac,
@@ -453,7 +453,12 @@ impl LightingGridHierarchy {
 
     /// Spacing `h_ℓ = 2^(ℓ−1) h_1` of level ℓ (`h_0 = h_1 / 2`).
     pub fn h(&self, level: u8) -> f32 {
-        (self.placement.h1 * level_scale(level)) as f32
+        self.h64(level) as f32
+    }
+
+    /// `h_ℓ` in f64, as the grids are placed.
+    fn h64(&self, level: u8) -> f64 {
+        self.placement.h1 * level_scale(level)
     }
 
     /// `h_0 = h_1 / 2`, the clamp distance of the fall-off [`falloff`](crate::falloff).
@@ -531,7 +536,7 @@ impl LightingGridHierarchy {
         if !x.is_finite() {
             return Err(QueryError::NonFinitePoint);
         }
-        if level > self.max_level() || radius.is_nan() || radius < 0.0 {
+        if self.is_empty() || level > self.max_level() || radius.is_nan() || radius < 0.0 {
             return Ok(());
         }
         let lights = self.level(level);
@@ -554,14 +559,15 @@ impl LightingGridHierarchy {
     /// every light whose position lies within `radius` of `x` (and possibly others).
     #[inline]
     fn for_each_range(&self, level: u8, x: Vec3, radius: f32, mut f: impl FnMut(usize, usize)) {
-        // A hair wider than asked, so rounding in the f64 culling never drops a light at the edge.
-        let reach = radius as f64 * (1.0 + 1e-6);
+        // A hair wider than asked (relative, and 1e-4 of a cell absolute), so rounding of positions
+        // and of the f64 culling never drops a light at the edge.
+        let reach = |h: f64| radius as f64 * (1.0 + 1e-6) / h + 1e-4;
         if level == 0 {
             // Level-1 cells hold the level-0 lights; the cells of a brick and their lights are
             // contiguous.
             let ball = Ball {
                 centre: self.local(x, 1),
-                radius: reach / self.placement.h1,
+                radius: reach(self.placement.h1),
                 lo_pad: 0.0,
                 hi_pad: 4.0,
             };
@@ -574,7 +580,7 @@ impl LightingGridHierarchy {
             // A vertex's illumination centre lies within h_ℓ of it (pads −1 and 4).
             let ball = Ball {
                 centre: self.local(x, level),
-                radius: reach / self.h(level) as f64,
+                radius: reach(self.h64(level)),
                 lo_pad: -1.0,
                 hi_pad: 4.0,
             };
@@ -588,7 +594,7 @@ impl LightingGridHierarchy {
     /// Level-ℓ coordinates of `x` (world position relative to the origin, in units of `h_ℓ`).
     #[inline]
     fn local(&self, x: Vec3, level: u8) -> [f64; 3] {
-        let inv = 1.0 / (self.placement.h1 * level_scale(level));
+        let inv = 1.0 / self.h64(level);
         let o = self.placement.origin;
         [
             (x.x as f64 - o[0]) * inv,

@@ -240,7 +240,7 @@ pub(crate) fn splat(
                 (sum_m2[i][1] / v - m[1] * m[1]).max(0.0),
                 (sum_m2[i][2] / v - m[2] * m[2]).max(0.0),
             );
-            (var * (hf * hf), sum_s[i] / v * hf)
+            ((var * hf) * hf, sum_s[i] / v * hf)
         } else {
             (Vec3::ZERO, 0.0)
         };

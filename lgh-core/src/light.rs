@@ -270,7 +270,7 @@ impl LevelLights {
         (self.x[i], self.y[i], self.z[i]) = (p.x, p.y, p.z);
     }
 
-    /// Calls `hit.hit(i, d)` for every light `i` in `start..end` with `inner2 < d² < outer2` from
+    /// Calls `hit.hit(i, d)` for every light `i` in `start..end` with `inner2 < d² ≤ outer2` from
     /// `x`, in increasing `i`, and returns the sum and number of the contributions it reports.
     /// Distances are computed eight lanes at a time.
     #[inline(always)]
@@ -299,7 +299,7 @@ impl LevelLights {
             for k in 0..LANES {
                 let (dx, dy, dz) = (cx[k] - x.x, cy[k] - x.y, cz[k] - x.z);
                 d2[k] = dx * dx + dy * dy + dz * dz;
-                mask |= ((d2[k] > inner2) as u32 & (d2[k] < outer2) as u32) << k;
+                mask |= ((d2[k] > inner2) as u32 & (d2[k] <= outer2) as u32) << k;
             }
             if end - i < LANES {
                 mask &= (1u32 << (end - i)) - 1;

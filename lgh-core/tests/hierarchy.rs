@@ -574,3 +574,129 @@ fn automatic_h1_follows_section_6_4() {
     // The automatic top level holds everything in one cell: at most 8 lights.
     assert!(lgh.level(lgh.max_level()).len() <= 8);
 }
+
+/// Edge cases found in review: each once panicked, looped, lost lights or produced NaN.
+#[test]
+fn extreme_placements_are_errors_or_correct() {
+    let d = GridSettings::default();
+    let one = |x: f32| PointLight::new(Vec3::new(x, 0.0, 0.0), Vec3::ONE);
+
+    // An empty hierarchy with levels answers radius queries with nothing.
+    let empty = LightingGridHierarchy::build(
+        &[],
+        &GridSettings {
+            max_level: Some(2),
+            ..d
+        },
+    )
+    .unwrap();
+    for l in 0..=3 {
+        empty
+            .lights_within(l, Vec3::ZERO, 1.0, |_, _| panic!("no lights"))
+            .unwrap();
+    }
+
+    // Extents beyond f32 range with automatic h1: no endless refinement; a typed error.
+    let wide: Vec<PointLight> = (0..8).map(|i| one(-2e38 + i as f32 * 5e37)).collect();
+    assert!(LightingGridHierarchy::build(&wide, &d).is_err());
+    assert!(LightingGridHierarchy::build(&wide[..3], &d).is_err());
+
+    // A given origin far from the lights: refused instead of collapsing the lights into one cell,
+    // with automatic or explicit h1.
+    let near: Vec<PointLight> = (0..8).map(|i| one(i as f32 * 1.3)).collect();
+    for h1 in [None, Some(1.0)] {
+        let s = GridSettings {
+            origin: Some(Vec3::splat(1e30)),
+            h1,
+            ..d
+        };
+        assert!(matches!(
+            LightingGridHierarchy::build(&near, &s),
+            Err(BuildError::OriginTooFar { .. })
+        ));
+    }
+
+    // Two lights one unit apart straddling 2^20 cells from the origin: accepted, and exact when
+    // α makes level 0 cover both (r_0 = 20 units).
+    let pair = [one(1048575.5), one(1048576.5)];
+    let s = GridSettings {
+        origin: Some(Vec3::ZERO),
+        h1: Some(1.0),
+        ..d
+    };
+    let lgh = LightingGridHierarchy::build(&pair, &s).unwrap();
+    let b = lgh.blending(40.0).unwrap();
+    let x = Vec3::new(1048578.0, 0.5, 0.0);
+    let want = lum64(brute_f64(&pair, x, lgh.h0()));
+    let got = luminance(lgh_sum(&lgh, &b, x).0) as f64;
+    assert!((got - want).abs() < 1e-3 * want, "{got} vs {want}");
+
+    // Huge spacings: variances stay finite (no inf·0) while they fit f32; beyond, a typed error.
+    assert!(matches!(
+        LightingGridHierarchy::build(&[one(0.0), one(1e20)], &d),
+        Err(BuildError::InvalidSpacing { .. })
+    ));
+    let far = [one(0.0), one(1e18), one(3e17)];
+    let lgh = LightingGridHierarchy::build(&far, &d).unwrap();
+    for l in 0..=lgh.max_level() {
+        assert!(lgh
+            .level(l)
+            .iter()
+            .all(|g| g.variance.is_finite() && g.position.is_finite() && g.size.is_finite()));
+    }
+    // A spacing whose coarse levels overflow f32 is refused.
+    let s = GridSettings {
+        h1: Some(1e37),
+        max_level: Some(8),
+        ..d
+    };
+    assert!(matches!(
+        LightingGridHierarchy::build(&near, &s),
+        Err(BuildError::InvalidSpacing { .. })
+    ));
+    let s = GridSettings {
+        h1: Some(1e-45),
+        ..d
+    };
+    assert!(matches!(
+        LightingGridHierarchy::build(&near, &s),
+        Err(BuildError::InvalidSpacing { .. })
+    ));
+
+    // A query so far away that d² overflows f32 still reports the top-level light (weight 1).
+    let lgh = LightingGridHierarchy::build(&[one(0.0)], &d).unwrap();
+    let b = lgh.blending(1.0).unwrap();
+    let n = lgh
+        .query(Vec3::new(2e19, 0.0, 0.0), &b, |s| assert_eq!(s.weight, 1.0))
+        .unwrap();
+    assert_eq!(n, 1);
+
+    // Blending of a level that does not exist is zero, not a panic.
+    assert_eq!(b.weight(30, 1.0), 0.0);
+    assert_eq!(b.support(30), (f32::INFINITY, f32::INFINITY));
+    assert_eq!(b.radius(30), f32::INFINITY);
+}
+
+/// α values whose reciprocal radius rounds down put a tiny non-zero weight just past 2 r_ℓ; the
+/// query must still report exactly the lights with non-zero weight (α = 0.21 is one such value).
+#[test]
+fn lights_at_the_outer_radius_are_reported_iff_their_weight_is_positive() {
+    for alpha in [0.21f32, 0.3, 0.7, 1.1, 2.0] {
+        let lights: Vec<PointLight> = (0..400)
+            .map(|i| PointLight::new(Vec3::new(i as f32 * 0.001, 0.0, 0.0), Vec3::ONE))
+            .collect();
+        let lgh = LightingGridHierarchy::build(&lights, &settings(1.0, 3)).unwrap();
+        let b = lgh.blending(alpha).unwrap();
+        for l in 0..=lgh.max_level() {
+            let (_, outer) = b.support(l);
+            if outer.is_finite() {
+                // Probe exactly at the nominal outer radius 2 r_ℓ from a light.
+                let x = lights[0].position - Vec3::new(2.0 * b.radius(l), 0.0, 0.0);
+                let (fast, nf) = lgh_sum(&lgh, &b, x);
+                let (slow, ns) = naive_lgh(&lgh, &b, x);
+                assert_eq!(nf, ns, "alpha {alpha} level {l}");
+                assert!((fast - slow).abs().max_element() <= 1e-5 * slow.max_element() + 1e-30);
+            }
+        }
+    }
+}
