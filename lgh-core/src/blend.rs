@@ -127,13 +127,31 @@ impl Blending {
     }
 
     /// The blending weight `B_ℓ(d)` of level `level` at distance `d ≥ 0` (eq. 3, Fig. 3).
-    #[inline(always)]
     /// Zero for levels above `ℓ_max`.
+    #[inline(always)]
     pub fn weight(&self, level: u8, d: f32) -> f32 {
-        if level > self.max_level {
-            return 0.0;
+        self.ramp(level).weight(d)
+    }
+
+    /// `B_ℓ` of one level, for evaluating many distances.
+    #[inline(always)]
+    pub(crate) fn ramp(&self, level: u8) -> Ramp {
+        match self.ramps.get(level as usize) {
+            Some(&r) if level <= self.max_level => Ramp(r),
+            _ => Ramp([0.0, -1.0, 0.0, -1.0]), // always 0
         }
-        let [a, c1, b, c2] = self.ramps[level as usize];
+    }
+}
+
+/// `B_ℓ` of one level: `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)` with `[a, c1, b, c2]`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ramp([f32; 4]);
+
+impl Ramp {
+    /// `B_ℓ(d)`.
+    #[inline(always)]
+    pub fn weight(self, d: f32) -> f32 {
+        let [a, c1, b, c2] = self.0;
         (d * a + c1).min(c2 - d * b).clamp(0.0, 1.0)
     }
 }

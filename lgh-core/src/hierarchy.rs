@@ -5,7 +5,7 @@ use core::cmp::Ordering;
 use glam::Vec3;
 
 use crate::backend::LightSample;
-use crate::blend::Blending;
+use crate::blend::{Blending, Ramp};
 use crate::bricks::{Ball, BrickIndex};
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
@@ -660,7 +660,7 @@ impl LightingGridHierarchy {
                         outer2: f32| {
             let mut hits = LevelHits {
                 f: &mut f,
-                blending,
+                ramp: blending.ramp(level),
                 level,
                 lights,
             };
@@ -718,7 +718,7 @@ fn level_threshold(level: u8, max_level: u8, prune_below: f32) -> f32 {
 /// Hands one level's contributing lights to the caller's closure.
 struct LevelHits<'a, F> {
     f: &'a mut F,
-    blending: &'a Blending,
+    ramp: Ramp,
     level: u8,
     lights: &'a LevelLights,
 }
@@ -730,7 +730,7 @@ impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
     /// never get here: their scanned positions are NaN.)
     #[inline(always)]
     fn hit(&mut self, index: usize, d: f32) -> Option<R> {
-        let w = self.blending.weight(self.level, d);
+        let w = self.ramp.weight(d);
         if w <= 0.0 {
             return None;
         }
