@@ -16,7 +16,11 @@ use clap::{Parser, Subcommand};
 
 /// Lighting with millions of point lights through the Lighting Grid Hierarchy.
 #[derive(Debug, Parser)]
-#[command(name = "lgh", version, about)]
+#[command(
+    name = "lgh",
+    version,
+    about = "Lighting with millions of point lights through the Lighting Grid Hierarchy"
+)]
 struct Cli {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long, global = true)]
