@@ -8,3 +8,5 @@
 #![forbid(unsafe_code)]
 
 pub use lgh_core;
+
+pub mod vdb;

@@ -1,0 +1,155 @@
+//! The VDB reader against the official OpenVDB library, on the real Blender fire cache in
+//! `../shared/data/volumes` (not part of the repository).
+//!
+//! The oracle is `tests/oracle/vdb_stats.py` (Debian's python3-openvdb and libopenvdb-tools). When
+//! the data or the oracle is missing the tests say so and skip — except under CI (`CI=true`), where
+//! `.ci/run` installs the oracle and a missing one is a failure.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use lgh_volume::vdb;
+use serde_json::Value;
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn fire_frames() -> Option<Vec<PathBuf>> {
+    let dir = std::env::var_os("LGH_SHARED_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace().join("../shared/data"))
+        .join("volumes/blender_fire_pesichra/data");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "vdb"))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        None
+    } else {
+        Some(files)
+    }
+}
+
+fn skip(why: &str) {
+    eprintln!("SKIPPED: {why}");
+}
+
+fn oracle(path: &Path) -> Result<Value, String> {
+    let out = Command::new("/usr/bin/python3")
+        .arg(workspace().join("tests/oracle/vdb_stats.py"))
+        .arg(path)
+        .output()
+        .map_err(|e| format!("cannot run /usr/bin/python3: {e}"))?;
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())
+}
+
+/// A number from the oracle's JSON, where non-finite values are strings ("inf", "nan").
+fn num(v: &Value) -> f64 {
+    match v {
+        Value::Number(n) => n.as_f64().unwrap(),
+        Value::String(s) => s.parse().unwrap(),
+        other => panic!("not a number: {other}"),
+    }
+}
+
+fn same(a: f64, b: f64) -> bool {
+    a == b || (a.is_nan() && b.is_nan())
+}
+
+#[test]
+fn every_fire_frame_matches_the_official_library() {
+    let Some(files) = fire_frames() else {
+        return skip("../shared/data/volumes/blender_fire_pesichra is not here");
+    };
+    let in_ci = std::env::var("CI").is_ok_and(|v| v == "true");
+    for path in &files {
+        let ours = vdb::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(ours.format_version, 224);
+        let theirs = match oracle(path) {
+            Ok(v) => v,
+            Err(e) if !in_ci => {
+                return skip(&format!(
+                    "no OpenVDB oracle (python3-openvdb, vdb_print): {e}"
+                ))
+            }
+            Err(e) => panic!("the OpenVDB oracle must run in CI: {e}"),
+        };
+        let grids = theirs["grids"].as_array().unwrap();
+        assert_eq!(grids.len(), ours.grids.len(), "{}", path.display());
+        for t in grids {
+            let name = t["name"].as_str().unwrap();
+            let g = ours
+                .grid(name)
+                .unwrap_or_else(|| panic!("grid {name} missing"));
+            let s = g.stats();
+            let ctx = format!("{} / {name}", path.display());
+            assert_eq!(t["value_type"].as_str(), Some(g.value_type.name()), "{ctx}");
+            assert_eq!(t["active_voxels"].as_u64(), Some(s.active_voxels), "{ctx}");
+            let (lo, hi) = s.bbox.unwrap();
+            assert_eq!(t["bbox_min"], serde_json::json!(lo), "{ctx}");
+            assert_eq!(t["bbox_max"], serde_json::json!(hi), "{ctx}");
+            // Min and max are one stored value each (vector grids: one length, computed the same
+            // way in f64), so they must agree exactly.
+            assert!(
+                same(num(&t["min"]), s.min),
+                "{ctx}: min {} vs {}",
+                t["min"],
+                s.min
+            );
+            assert!(
+                same(num(&t["max"]), s.max),
+                "{ctx}: max {} vs {}",
+                t["max"],
+                s.max
+            );
+            if let Some(sum) = t.get("sum") {
+                // Both sum the same f32 values in f64, possibly in another order: the difference
+                // is bounded by N·ε₆₄·Σ|v| (N ≤ 300,000 voxels, so below 1e-10 relative).
+                let (a, b) = (num(sum), s.sum);
+                assert!(
+                    same(a, b) || (a - b).abs() <= 1e-10 * a.abs().max(b.abs()),
+                    "{ctx}: sum {a} vs {b}"
+                );
+                for (k, v) in t["voxel_size"].as_array().unwrap().iter().enumerate() {
+                    assert!(
+                        (num(v) - g.voxel_size[k]).abs() <= 1e-12 * num(v),
+                        "{ctx}: voxel size"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn truncated_or_corrupted_files_are_errors_not_crashes() {
+    let Some(files) = fire_frames() else {
+        return skip("../shared/data/volumes/blender_fire_pesichra is not here");
+    };
+    let bytes = std::fs::read(&files[0]).unwrap();
+    // Every truncation is an error.
+    for i in 0..400 {
+        let cut = (bytes.len() as u64 * i / 400) as usize;
+        assert!(vdb::parse(&bytes[..cut]).is_err(), "cut at {cut}");
+    }
+    // Corrupted bytes: an error or a file, never a panic, hang or giant allocation.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for _ in 0..300 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let mut b = bytes.clone();
+        let at = (state % b.len() as u64) as usize;
+        b[at] ^= (state >> 32) as u8 | 1;
+        let _ = vdb::parse(&b);
+    }
+}
