@@ -110,7 +110,7 @@ pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
         "sets": sets,
     });
     let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-    println!("{text}");
+    say!("{text}");
     if let Some(out) = &args.out {
         crate::atomic::write_atomic(out, |w| w.write_all(text.as_bytes()))?;
     }

@@ -95,12 +95,12 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
 
     let brute_per_probe = brute_s / subset.len() as f64;
     let lgh_per_probe = probe_s / points.len() as f64;
-    println!("lgh demo: light probes around a procedural fireball");
-    println!(
+    say!("lgh demo: light probes around a procedural fireball");
+    say!(
         "  lights      {} (fireball shell on a {res}^3 lattice, generated in {gen_s:.2} s)",
         lights.len()
     );
-    println!(
+    say!(
         "  hierarchy   h1 = {:.5}, levels 0..={}, lights per level {:?}, built in {build_s:.3} s",
         lgh.h1(),
         lgh.max_level(),
@@ -108,22 +108,22 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
             .map(|l| lgh.level(l).len())
             .collect::<Vec<_>>()
     );
-    println!(
+    say!(
         "  probes      {} on a {n}^3 grid, alpha {}: {:.0} lights evaluated per probe, {probe_s:.2} s",
         points.len(),
         args.alpha,
         evaluated as f64 / points.len() as f64
     );
-    println!(
+    say!(
         "  accuracy    relative RMSE {:.3}% and max relative error {:.3}% against brute force on {} probes",
         100.0 * err.rel_rmse,
         100.0 * err.max_rel,
         subset.len()
     );
-    println!(
+    say!(
         "  speed       {:.1}x faster than brute force per probe (same threads)",
         brute_per_probe / lgh_per_probe
     );
-    println!("  output      {}", args.out.display());
+    say!("  output      {}", args.out.display());
     Ok(())
 }

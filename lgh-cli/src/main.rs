@@ -5,9 +5,18 @@
 
 #![forbid(unsafe_code)]
 
+/// `println!` that stops quietly when stdout is closed (`lgh inspect … | head`) and returns other
+/// write errors.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::say(format_args!($($arg)*))?
+    };
+}
+
 mod atomic;
 mod bench;
 mod demo;
+mod inspect;
 mod ply;
 mod probes;
 mod progress;
@@ -35,6 +44,8 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Evaluate unshadowed lighting L(x) = Σ B·I·g(d) at every point of a PLY point cloud.
     Probes(probes::ProbesArgs),
+    /// Describe the grids of an OpenVDB file (type, voxel size, active voxels, bounds, statistics).
+    Inspect(inspect::InspectArgs),
     /// Benchmarks that print machine-readable JSON.
     Bench {
         #[command(subcommand)]
@@ -46,6 +57,17 @@ enum Command {
 enum BenchCommand {
     /// Build and query speed and accuracy of lgh-core on three light sets.
     Core(bench::CoreBenchArgs),
+}
+
+/// Writes one line to stdout (see [`say!`]).
+pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), String> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{line}").and_then(|_| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(format!("cannot write to stdout: {e}")),
+    }
 }
 
 /// Validates the paper's α before any work is done.
@@ -75,6 +97,7 @@ fn main() {
     let result = match &cli.command {
         Command::Demo(a) => demo::run(a),
         Command::Probes(a) => probes::run(a),
+        Command::Inspect(a) => inspect::run(a),
         Command::Bench {
             which: BenchCommand::Core(a),
         } => bench::run(a),

@@ -140,7 +140,7 @@ pub fn run(args: &ProbesArgs) -> Result<(), String> {
             .push(values.iter().map(|v| v[c] as f64).collect());
     }
     atomic::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
-    println!(
+    say!(
         "{} probes from {} lights with {} (alpha {}, h1 {:.4}, levels 0..={}): {:.1} lights per probe; read {:.2} s, build {:.3} s, evaluate {:.3} s -> {}",
         points.len(),
         lights.len(),

@@ -307,3 +307,38 @@ fn demo_writes_its_probes() {
     assert_eq!(rows.len(), 216);
     assert!(rows.iter().all(|r| r[3] > 0.0 && r[4] > 0.0));
 }
+
+#[test]
+fn inspect_describes_a_real_cache_and_refuses_garbage() {
+    let dir = tempfile::tempdir().unwrap();
+    let junk = dir.path().join("junk.vdb");
+    std::fs::write(&junk, b"definitely not a vdb file").unwrap();
+    let o = lgh(&["inspect", junk.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("not an OpenVDB file"), "{err}");
+
+    let frame = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data/volumes/blender_fire_pesichra/data/fluid_data_0056.vdb");
+    if !frame.exists() {
+        eprintln!("SKIPPED: {} is not here", frame.display());
+        return;
+    }
+    let o = lgh(&["inspect", "--json", frame.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let grids = v["grids"].as_array().unwrap();
+    assert_eq!(grids.len(), 17);
+    let density = grids.iter().find(|g| g["name"] == "density").unwrap();
+    // The figures vdb_print gives for this grid (the oracle test checks every grid and frame).
+    assert_eq!(density["value_type"], "float");
+    assert_eq!(density["active_voxels"], 76621);
+    assert_eq!(density["bbox_min"], serde_json::json!([1, 5, 7]));
+    assert_eq!(density["bbox_max"], serde_json::json!([81, 48, 64]));
+    for key in ["voxel_size", "min", "max", "sum"] {
+        assert!(!density[key].is_null(), "{key}");
+    }
+    let text = lgh(&["inspect", frame.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&text.stdout).contains("17 grids"));
+}

@@ -133,7 +133,7 @@ impl ValueType {
 
     /// Decodes little-endian stored values into f32 components.
     fn decode(self, bytes: &[u8], half: bool, out: &mut Vec<f32>) {
-        if half && !matches!(self, ValueType::Int32 | ValueType::Int64) {
+        if half {
             out.extend(
                 bytes
                     .chunks_exact(2)
@@ -407,7 +407,10 @@ fn parse_tree_type(t: &str) -> Result<(ValueType, bool), VdbError> {
         None => (rest, false),
     };
     let value = rest.strip_suffix("_5_4_3").ok_or_else(unsupported)?;
-    Ok((ValueType::parse(value).ok_or_else(unsupported)?, half))
+    let value = ValueType::parse(value).ok_or_else(unsupported)?;
+    // Writers add the suffix to integer grids too; it only applies to floating-point values.
+    let real = !matches!(value, ValueType::Int32 | ValueType::Int64);
+    Ok((value, half && real))
 }
 
 /// Skips a metadata map, returning its string entries.
