@@ -9,7 +9,7 @@ use lgh_core::metrics::ErrorStats;
 use lgh_core::{testsets, BruteForce, GridSettings, LghBackend, LightingGridHierarchy};
 use rayon::prelude::*;
 
-use crate::{atomic, ply, probes, progress};
+use crate::{ply, probes, progress};
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
@@ -91,7 +91,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         };
         cloud.columns.push(col);
     }
-    atomic::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
+    lgh_image::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
 
     let brute_per_probe = brute_s / subset.len() as f64;
     let lgh_per_probe = probe_s / points.len() as f64;

@@ -13,7 +13,6 @@ macro_rules! say {
     };
 }
 
-mod atomic;
 mod bench;
 mod demo;
 mod inspect;

@@ -1,0 +1,299 @@
+//! # lgh-image — the images every lgh renderer writes
+//!
+//! One place for what the volume and surface renderers and the CLI share: an RGB float
+//! [`Image`], atomic file writes ([`write_atomic`]), linear OpenEXR with the render settings as
+//! header attributes ([`write_exr`], [`read_exr`]), a tone-mapped sRGB PNG to look at
+//! ([`write_png`]), and the comparison of two images on luminance ([`compare`], [`difference_png`]).
+//!
+//! ```no_run
+//! use lgh_image::{write_exr, write_png, Image};
+//! use lgh_core::glam::Vec3;
+//!
+//! let mut img = Image::new(64, 32);
+//! img.set(10, 5, Vec3::new(1.0, 0.5, 0.25));
+//! write_exr("out.exr".as_ref(), &img, &[("renderer".into(), "lgh".into())])?;
+//! write_png("out.png".as_ref(), &img, 1.0)?;
+//! # Ok::<(), String>(())
+//! ```
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use lgh_core::glam::Vec3;
+use lgh_core::luminance;
+use lgh_core::metrics::ErrorStats;
+
+/// A linear RGB image, row-major, top row first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// `width × height` pixels.
+    pub pixels: Vec<Vec3>,
+}
+
+impl Image {
+    /// A black image.
+    pub fn new(width: usize, height: usize) -> Self {
+        Image {
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; width * height],
+        }
+    }
+
+    /// Pixel `(x, y)`.
+    pub fn get(&self, x: usize, y: usize) -> Vec3 {
+        self.pixels[y * self.width + x]
+    }
+
+    /// Sets pixel `(x, y)`.
+    pub fn set(&mut self, x: usize, y: usize, v: Vec3) {
+        self.pixels[y * self.width + x] = v;
+    }
+}
+
+/// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
+/// if everything succeeded. On any error the temporary file is removed and `path` is untouched.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), String> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let tmp = tempfile::Builder::new()
+        .prefix(".lgh-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| format!("cannot create a temporary file in {}: {e}", dir.display()))?;
+    {
+        let mut w = BufWriter::new(tmp.as_file());
+        write(&mut w)
+            .and_then(|_| w.flush())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    tmp.as_file()
+        .sync_all()
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    tmp.persist(path)
+        .map_err(|e| format!("cannot write {}: {}", path.display(), e.error))?;
+    Ok(())
+}
+
+/// Writes a linear float RGB OpenEXR (ZIP-compressed, lossless) with `attributes` as text
+/// attributes in its header, atomically.
+pub fn write_exr(
+    path: &Path,
+    image: &Image,
+    attributes: &[(String, String)],
+) -> Result<(), String> {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::prelude::*;
+    if image.width == 0 || image.height == 0 {
+        return Err(format!(
+            "cannot write {}: the image is empty",
+            path.display()
+        ));
+    }
+    let mut layer_attributes = LayerAttributes::named("rgb");
+    layer_attributes.software_name = Some(Text::from("lgh"));
+    for (k, v) in attributes {
+        layer_attributes.other.insert(
+            Text::from(k.as_str()),
+            AttributeValue::Text(Text::from(v.as_str())),
+        );
+    }
+    let layer = Layer::new(
+        (image.width, image.height),
+        layer_attributes,
+        Encoding::SMALL_LOSSLESS,
+        SpecificChannels::rgb(|p: Vec2<usize>| {
+            let v = image.get(p.x(), p.y());
+            (v.x, v.y, v.z)
+        }),
+    );
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer)
+        .write()
+        .to_buffered(&mut bytes)
+        .map_err(|e| format!("cannot encode {}: {e}", path.display()))?;
+    write_atomic(path, |w| w.write_all(bytes.get_ref()))
+}
+
+/// Reads the RGB channels of an OpenEXR file (first layer; missing channels are zero).
+pub fn read_exr(path: &Path) -> Result<Image, String> {
+    use exr::prelude::*;
+    let img = read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| crate::Image::new(resolution.width(), resolution.height()),
+        |img: &mut crate::Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            img.set(pos.x(), pos.y(), Vec3::new(r, g, b))
+        },
+    )
+    .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    Ok(img.layer_data.channel_data.pixels)
+}
+
+/// Linear to sRGB-encoded 8 bits, after multiplying by `exposure` and the Reinhard curve on
+/// luminance (which keeps hue while compressing highlights).
+pub fn tonemap(v: Vec3, exposure: f32) -> [u8; 3] {
+    let v = (v * exposure).max(Vec3::ZERO);
+    let l = luminance(v);
+    let v = if l > 0.0 { v * (1.0 / (1.0 + l)) } else { v };
+    let encode = |c: f32| {
+        let c = c.clamp(0.0, 1.0);
+        let s = if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (s * 255.0 + 0.5) as u8
+    };
+    [encode(v.x), encode(v.y), encode(v.z)]
+}
+
+fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<(), String> {
+    write_atomic(path, |w| {
+        let mut enc = png::Encoder::new(w, width as u32, height as u32);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut writer = enc.write_header().map_err(std::io::Error::other)?;
+        writer
+            .write_image_data(rgb)
+            .map_err(std::io::Error::other)?;
+        writer.finish().map_err(std::io::Error::other)
+    })
+}
+
+/// Writes a tone-mapped sRGB PNG (see [`tonemap`]) atomically.
+pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<(), String> {
+    if image.width == 0 || image.height == 0 {
+        return Err(format!(
+            "cannot write {}: the image is empty",
+            path.display()
+        ));
+    }
+    let rgb: Vec<u8> = image
+        .pixels
+        .iter()
+        .flat_map(|&v| tonemap(v, exposure))
+        .collect();
+    write_png_rgb8(path, image.width, image.height, &rgb)
+}
+
+/// Compares `a` against the reference `r` on luminance (DESIGN.md "Measuring": relative RMSE,
+/// max and mean absolute error). `None` if their sizes differ or they are empty.
+pub fn compare(a: &Image, r: &Image) -> Option<ErrorStats> {
+    if (a.width, a.height) != (r.width, r.height) {
+        return None;
+    }
+    ErrorStats::compare(&a.pixels, &r.pixels)
+}
+
+/// A false-colour map of `|a − r|` on luminance: black for no error, through blue, green and
+/// yellow to red at `max_error` and above. Written atomically.
+pub fn difference_png(path: &Path, a: &Image, r: &Image, max_error: f32) -> Result<(), String> {
+    if (a.width, a.height) != (r.width, r.height) {
+        return Err("the images differ in size".into());
+    }
+    let ramp = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+    ];
+    let rgb: Vec<u8> = a
+        .pixels
+        .iter()
+        .zip(&r.pixels)
+        .flat_map(|(&x, &y)| {
+            let e = (luminance(x) - luminance(y)).abs();
+            let t = if max_error > 0.0 {
+                (e / max_error).clamp(0.0, 1.0)
+            } else {
+                0.0
+            } * 4.0;
+            let i = (t as usize).min(3);
+            let c = ramp[i].lerp(ramp[i + 1], t - i as f32);
+            [0, 1, 2].map(|k| (c[k] * 255.0 + 0.5) as u8)
+        })
+        .collect();
+    write_png_rgb8(path, a.width, a.height, &rgb)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gradient() -> Image {
+        let mut img = Image::new(37, 21);
+        for y in 0..21 {
+            for x in 0..37 {
+                img.set(
+                    x,
+                    y,
+                    Vec3::new(x as f32 * 0.1, y as f32 * 3.7, 1e-3 * (x * y) as f32),
+                );
+            }
+        }
+        img
+    }
+
+    #[test]
+    fn exr_round_trip_is_exact_and_keeps_attributes() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.exr");
+        let img = gradient();
+        write_exr(&p, &img, &[("alpha".into(), "2".into())]).unwrap();
+        assert_eq!(read_exr(&p).unwrap(), img);
+        let meta = exr::meta::MetaData::read_from_file(&p, false).unwrap();
+        let attrs = &meta.headers[0].own_attributes.other;
+        assert!(attrs.values().any(|v| format!("{v:?}").contains('2')));
+    }
+
+    #[test]
+    fn png_is_valid_and_failures_leave_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.png");
+        write_png(&p, &gradient(), 1.0).unwrap();
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&p).unwrap()));
+        let reader = decoder.read_info().unwrap();
+        assert_eq!((reader.info().width, reader.info().height), (37, 21));
+        // A failing writer leaves neither the target nor a temporary file.
+        let q = dir.path().join("b.png");
+        assert!(write_atomic(&q, |_| Err(std::io::Error::other("boom"))).is_err());
+        assert!(!q.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        assert!(write_png(&q, &Image::new(0, 0), 1.0).is_err());
+    }
+
+    #[test]
+    fn tonemap_is_monotone_and_black_stays_black() {
+        assert_eq!(tonemap(Vec3::ZERO, 1.0), [0, 0, 0]);
+        let a = tonemap(Vec3::splat(0.2), 1.0);
+        let b = tonemap(Vec3::splat(2.0), 1.0);
+        assert!(a[0] < b[0] && b[0] < 255);
+    }
+
+    #[test]
+    fn comparison_metrics() {
+        let r = gradient();
+        let mut a = r.clone();
+        assert_eq!(compare(&a, &r).unwrap().rel_rmse, 0.0);
+        a.pixels[5] += Vec3::ONE;
+        let s = compare(&a, &r).unwrap();
+        assert!((s.max_abs - 1.0).abs() < 1e-6);
+        assert!(compare(&Image::new(3, 3), &r).is_none());
+        let dir = tempfile::tempdir().unwrap();
+        difference_png(&dir.path().join("d.png"), &a, &r, 1.0).unwrap();
+    }
+}
