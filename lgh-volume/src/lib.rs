@@ -21,4 +21,7 @@
 
 pub use lgh_core;
 
+pub mod grid;
 pub mod vdb;
+
+pub use grid::DenseGrid;

@@ -1,0 +1,186 @@
+//! Dense voxel grids in world space: what the renderer samples.
+
+use lgh_core::glam::Vec3;
+
+use crate::vdb;
+
+/// A dense scalar grid: `dims` voxels of edge `voxel_size`; voxel `(0, 0, 0)` has its centre at
+/// `origin` (world space). Values are stored x fastest, then y, then z.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DenseGrid {
+    /// Voxels per axis.
+    pub dims: [usize; 3],
+    /// Voxel edge length `h` (world units).
+    pub voxel_size: f32,
+    /// World position of the centre of voxel `(0, 0, 0)`.
+    pub origin: Vec3,
+    /// `dims[0] · dims[1] · dims[2]` values.
+    pub data: Vec<f32>,
+}
+
+impl DenseGrid {
+    /// A grid of zeros.
+    pub fn zeros(dims: [usize; 3], voxel_size: f32, origin: Vec3) -> Self {
+        DenseGrid {
+            dims,
+            voxel_size,
+            origin,
+            data: vec![0.0; dims[0] * dims[1] * dims[2]],
+        }
+    }
+
+    /// Linear index of voxel `(i, j, k)`.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize, k: usize) -> usize {
+        (k * self.dims[1] + j) * self.dims[0] + i
+    }
+
+    /// Value of voxel `(i, j, k)`.
+    #[inline]
+    pub fn get(&self, i: usize, j: usize, k: usize) -> f32 {
+        self.data[self.index(i, j, k)]
+    }
+
+    /// World position of the centre of voxel `(i, j, k)`.
+    #[inline]
+    pub fn centre(&self, i: usize, j: usize, k: usize) -> Vec3 {
+        self.origin + Vec3::new(i as f32, j as f32, k as f32) * self.voxel_size
+    }
+
+    /// World-space box covered by the voxels (their outer faces).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let half = Vec3::splat(0.5 * self.voxel_size);
+        let d = Vec3::new(
+            self.dims[0] as f32,
+            self.dims[1] as f32,
+            self.dims[2] as f32,
+        );
+        (self.origin - half, self.origin - half + d * self.voxel_size)
+    }
+
+    /// Trilinear interpolation between voxel centres at world position `p`; zero outside.
+    pub fn sample(&self, p: Vec3) -> f32 {
+        let t = (p - self.origin) / self.voxel_size;
+        let f = t.floor();
+        let w = t - f;
+        let (x, y, z) = (f.x as i64, f.y as i64, f.z as i64);
+        let mut v = 0.0;
+        for c in 0..8 {
+            let (dx, dy, dz) = (c & 1, (c >> 1) & 1, c >> 2);
+            let (i, j, k) = (x + dx, y + dy, z + dz);
+            if i < 0
+                || j < 0
+                || k < 0
+                || i >= self.dims[0] as i64
+                || j >= self.dims[1] as i64
+                || k >= self.dims[2] as i64
+            {
+                continue;
+            }
+            let wt = (if dx == 1 { w.x } else { 1.0 - w.x })
+                * (if dy == 1 { w.y } else { 1.0 - w.y })
+                * (if dz == 1 { w.z } else { 1.0 - w.z });
+            v += wt * self.get(i as usize, j as usize, k as usize);
+        }
+        v
+    }
+
+    /// The active values of a scalar VDB grid over the index box `lo..=hi`, as a dense grid in
+    /// world space (voxel centres at `index_to_world · index`; only axis-aligned uniform-scale
+    /// transforms). Inactive voxels are zero; vector grids give their length.
+    pub fn from_vdb(grid: &vdb::Grid, lo: [i32; 3], hi: [i32; 3]) -> Result<Self, String> {
+        let m = grid.index_to_world;
+        let h = grid.voxel_size[0];
+        let uniform = (grid.voxel_size[1] - h).abs() <= 1e-9 * h
+            && (grid.voxel_size[2] - h).abs() <= 1e-9 * h;
+        let axis_aligned = m[0][1] == 0.0
+            && m[0][2] == 0.0
+            && m[1][0] == 0.0
+            && m[1][2] == 0.0
+            && m[2][0] == 0.0
+            && m[2][1] == 0.0;
+        if !(uniform && axis_aligned) {
+            return Err(format!(
+                "grid '{}' has a non-uniform or rotated transform",
+                grid.name
+            ));
+        }
+        let dims = [0, 1, 2].map(|a| (hi[a] as i64 - lo[a] as i64 + 1).max(0) as usize);
+        if dims.iter().product::<usize>() > 1 << 30 {
+            return Err(format!("grid '{}' is too large to make dense", grid.name));
+        }
+        let origin = Vec3::new(
+            (m[0][0] * lo[0] as f64 + m[0][3]) as f32,
+            (m[1][1] * lo[1] as f64 + m[1][3]) as f32,
+            (m[2][2] * lo[2] as f64 + m[2][3]) as f32,
+        );
+        let mut out = DenseGrid::zeros(dims, h as f32, origin);
+        let c = grid.components();
+        let scalar = |v: &[f32]| {
+            if c == 1 {
+                v[0]
+            } else {
+                v.iter().map(|x| x * x).sum::<f32>().sqrt()
+            }
+        };
+        let inside = |p: [i32; 3]| (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]);
+        for leaf in &grid.leaves {
+            for (w, &word) in leaf.mask.iter().enumerate() {
+                let mut bits = word;
+                while bits != 0 {
+                    let i = w * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let p = [
+                        leaf.origin[0] + (i >> 6) as i32,
+                        leaf.origin[1] + ((i >> 3) & 7) as i32,
+                        leaf.origin[2] + (i & 7) as i32,
+                    ];
+                    if inside(p) {
+                        let idx = out.index(
+                            (p[0] - lo[0]) as usize,
+                            (p[1] - lo[1]) as usize,
+                            (p[2] - lo[2]) as usize,
+                        );
+                        out.data[idx] = scalar(&leaf.values[i * c..(i + 1) * c]);
+                    }
+                }
+            }
+        }
+        for t in grid.tiles.iter().filter(|t| t.active) {
+            let v = scalar(&t.value[..c]);
+            let e = t.edge as i32;
+            for z in t.origin[2].max(lo[2])..(t.origin[2] + e).min(hi[2] + 1) {
+                for y in t.origin[1].max(lo[1])..(t.origin[1] + e).min(hi[1] + 1) {
+                    for x in t.origin[0].max(lo[0])..(t.origin[0] + e).min(hi[0] + 1) {
+                        let idx = out.index(
+                            (x - lo[0]) as usize,
+                            (y - lo[1]) as usize,
+                            (z - lo[2]) as usize,
+                        );
+                        out.data[idx] = v;
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trilinear_sampling_hits_voxel_centres_and_interpolates() {
+        let mut g = DenseGrid::zeros([3, 3, 3], 0.5, Vec3::new(1.0, 2.0, 3.0));
+        let i = g.index(1, 1, 1);
+        g.data[i] = 8.0;
+        assert_eq!(g.sample(g.centre(1, 1, 1)), 8.0);
+        assert_eq!(g.sample(g.centre(0, 1, 1)), 0.0);
+        assert!((g.sample(g.centre(1, 1, 1) + Vec3::new(0.25, 0.0, 0.0)) - 4.0).abs() < 1e-6);
+        assert_eq!(g.sample(Vec3::splat(100.0)), 0.0);
+        let (lo, hi) = g.bounds();
+        assert_eq!(lo, Vec3::new(0.75, 1.75, 2.75));
+        assert_eq!(hi, Vec3::new(2.25, 3.25, 4.25));
+    }
+}
