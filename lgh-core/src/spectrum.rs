@@ -6,6 +6,7 @@
 //! within about 1% of the tabulated CIE 1931 data; the spectrum is integrated from 360 to 830 nm
 //! in 1 nm steps.
 
+use alloc::vec::Vec;
 use glam::Vec3;
 
 const H: f64 = 6.626_070_15e-34; // Planck constant, J s
@@ -66,6 +67,44 @@ pub fn blackbody_rgb(kelvin: f32) -> Vec3 {
     xyz_to_linear_srgb(blackbody_xyz(kelvin))
 }
 
+/// Blackbody radiance ([`blackbody_rgb`]) tabulated every `step` kelvin over `[min, max]` and
+/// interpolated linearly: integrating Planck's law against the CIE functions costs about 500
+/// exponentials, which a per-voxel emission cannot afford. Outside the table it is evaluated
+/// exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlackbodyTable {
+    min: f32,
+    step: f32,
+    values: Vec<Vec3>,
+}
+
+impl BlackbodyTable {
+    /// A table over `[min, max]` kelvin with the given step (all finite, `0 < min < max`,
+    /// `step > 0`; at most a million entries).
+    pub fn new(min: f32, max: f32, step: f32) -> Option<Self> {
+        let valid = min > 0.0 && max > min && step > 0.0 && max.is_finite();
+        let n = ((max - min) / step) as usize + 2;
+        if !valid || n > 1_000_000 {
+            return None;
+        }
+        let values = (0..n)
+            .map(|i| blackbody_rgb(min + i as f32 * step))
+            .collect();
+        Some(BlackbodyTable { min, step, values })
+    }
+
+    /// Radiance at `kelvin` (linear sRGB, W / (sr m²)); zero for T ≤ 0 or NaN.
+    pub fn radiance(&self, kelvin: f32) -> Vec3 {
+        let t = (kelvin - self.min) / self.step;
+        if !(t >= 0.0) || t >= (self.values.len() - 1) as f32 {
+            return blackbody_rgb(kelvin);
+        }
+        let i = t as usize;
+        let f = t - i as f32;
+        self.values[i].lerp(self.values[i + 1], f)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,6 +120,23 @@ mod tests {
         // Near 6500 K a blackbody is close to the D65 white: channels within 15% of each other.
         let n = c / c.max_element();
         assert!(n.min_element() > 0.85, "{n}");
+    }
+
+    #[test]
+    fn table_matches_the_integral() {
+        let table = BlackbodyTable::new(800.0, 4000.0, 1.0).unwrap();
+        for k in [800.0f32, 1234.5, 2500.0, 3999.9, 500.0, 6000.0] {
+            let exact = blackbody_rgb(k);
+            let got = table.radiance(k);
+            // Linear interpolation over 1 K of a smooth curve: far below 0.1% (T⁴-like growth).
+            assert!(
+                (got - exact).abs().max_element() <= 1e-3 * exact.max_element(),
+                "{k}: {got} vs {exact}"
+            );
+        }
+        assert_eq!(table.radiance(-5.0), Vec3::ZERO);
+        assert!(BlackbodyTable::new(0.0, 10.0, 1.0).is_none());
+        assert!(BlackbodyTable::new(1.0, 1e9, 1.0).is_none());
     }
 
     #[test]

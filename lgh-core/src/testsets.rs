@@ -7,7 +7,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::light::PointLight;
-use crate::spectrum::blackbody_rgb;
+use crate::spectrum::BlackbodyTable;
 
 /// SplitMix64: a small, fast, well-mixed deterministic generator.
 #[derive(Clone, Debug)]
@@ -98,14 +98,9 @@ pub fn fractal_noise(p: Vec3, octaves: u32, seed: u32) -> f32 {
 pub fn explosion_shell(res: u32) -> Vec<PointLight> {
     let h = 1.0 / res as f32;
     let centre = Vec3::splat(0.5);
-    let (inner, outer) = (0.17f32, 0.5f32); // about 1.04 million lights at res = 128
-                                            // Blackbody colours, normalised to a maximum channel of 1, every 1 K from 1300 K to 3000 K.
-    let palette: Vec<Vec3> = (1300..=3000)
-        .map(|k| {
-            let c = blackbody_rgb(k as f32);
-            c / c.max_element()
-        })
-        .collect();
+    // About 1.04 million lights at res = 128.
+    let (inner, outer) = (0.17f32, 0.5f32);
+    let table = BlackbodyTable::new(1300.0, 3000.0, 1.0).expect("valid range");
     let mut out = Vec::new();
     for k in 0..res {
         for j in 0..res {
@@ -122,7 +117,9 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
                 let kelvin = 1300.0 + 1700.0 * heat.clamp(0.0, 1.0);
                 let t = kelvin / 3000.0;
                 let t4 = (t * t) * (t * t);
-                let colour = palette[(kelvin as usize - 1300).min(palette.len() - 1)];
+                // The colour of the whole kelvin below (a table entry, exactly blackbody_rgb).
+                let c = table.radiance((kelvin as u32) as f32);
+                let colour = c / c.max_element();
                 let intensity = colour * t4 * (h * h * h) * 1e4;
                 out.push(PointLight::new(p, intensity));
             }
