@@ -21,6 +21,7 @@
 
 pub use lgh_core;
 
+pub mod explosion;
 pub mod grid;
 pub mod vdb;
 

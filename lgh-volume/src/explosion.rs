@@ -1,0 +1,189 @@
+//! The embedded procedural explosion, its medium, and its lights (paper Sec. 6.1;
+//! DESIGN.md "Medium", "Lights").
+
+use lgh_core::glam::Vec3;
+use lgh_core::spectrum::BlackbodyTable;
+use lgh_core::testsets::fractal_noise;
+use lgh_core::PointLight;
+
+use crate::DenseGrid;
+
+/// Smoke density and temperature of one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Volume {
+    /// Smoke density ρ (dimensionless, 0..1 in the procedural explosion).
+    pub density: DenseGrid,
+    /// Temperature in kelvin.
+    pub temperature: DenseGrid,
+}
+
+/// A deterministic procedural fireball on a `res³` grid filling the cube `[-1, 1]³`, at time
+/// `time` (0 = ignition, 1 = one second later): a turbulent ball of smoke whose radius grows
+/// from 0.35 to 0.7 while its hot core (up to 2600 K) expands and cools. `res` must be in
+/// `32..=512`.
+pub fn procedural(res: usize, time: f32) -> Result<Volume, String> {
+    if !(32..=512).contains(&res) {
+        return Err(format!("resolution {res} is outside 32..=512"));
+    }
+    if !(time.is_finite() && (0.0..=10.0).contains(&time)) {
+        return Err(format!("time {time} is outside 0..=10 s"));
+    }
+    let h = 2.0 / res as f32;
+    let origin = Vec3::splat(-1.0 + 0.5 * h);
+    let mut density = DenseGrid::zeros([res; 3], h, origin);
+    let mut temperature = DenseGrid::zeros([res; 3], h, origin);
+    let radius = 0.35 + 0.35 * time.min(1.0);
+    let t_max = 2600.0 - 900.0 * time.min(1.0);
+    let drift = Vec3::new(0.3, 1.1, -0.2) * time;
+    let slab = res * res;
+    let fill = |k: usize, rho: &mut [f32], temp: &mut [f32]| {
+        for j in 0..res {
+            for i in 0..res {
+                let p = origin + Vec3::new(i as f32, j as f32, k as f32) * h;
+                let q = p * 3.0 + drift;
+                let r = p.length() * (1.0 + 0.35 * fractal_noise(q, 4, 17));
+                let shell = 1.0 - (r / radius).powi(4);
+                if shell <= 0.0 {
+                    continue;
+                }
+                let n = 0.65 + 0.35 * fractal_noise(p * 7.0 + drift * 2.0, 3, 29);
+                rho[j * res + i] = (shell * n).clamp(0.0, 1.0);
+                let core = (1.0 - r / (0.75 * radius)).max(0.0);
+                let heat = core.powf(1.3) * (0.75 + 0.25 * fractal_noise(p * 5.0 - drift, 3, 41));
+                temp[j * res + i] = t_max * heat.clamp(0.0, 1.0);
+            }
+        }
+    };
+    {
+        use rayon::prelude::*;
+        density
+            .data
+            .par_chunks_mut(slab)
+            .zip(temperature.data.par_chunks_mut(slab))
+            .enumerate()
+            .for_each(|(k, (rho, temp))| fill(k, rho, temp));
+    }
+    Ok(Volume {
+        density,
+        temperature,
+    })
+}
+
+/// The participating medium (DESIGN.md "Medium"): `σ_a = κ_a ρ`, `σ_s = κ_s ρ`, isotropic phase
+/// function, and emission `j = k_e · blackbody(T)` (W / (m³ sr), linear sRGB) where `T > T_min`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Medium {
+    /// κ_a: absorption per unit density (1 / world unit).
+    pub absorption: f32,
+    /// κ_s: scattering per unit density (1 / world unit).
+    pub scattering: f32,
+    /// k_e: scale of the blackbody emission (1 / world unit).
+    pub emission: f32,
+    /// T_min: no emission at or below this temperature (kelvin).
+    pub min_temperature: f32,
+    table: BlackbodyTable,
+}
+
+impl Medium {
+    /// A medium; errors on negative or non-finite coefficients.
+    pub fn new(
+        absorption: f32,
+        scattering: f32,
+        emission: f32,
+        min_temperature: f32,
+    ) -> Result<Self, String> {
+        for (name, v) in [
+            ("absorption", absorption),
+            ("scattering", scattering),
+            ("emission", emission),
+            ("minimum temperature", min_temperature),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!("{name} {v} must be finite and ≥ 0"));
+            }
+        }
+        Ok(Medium {
+            absorption,
+            scattering,
+            emission,
+            min_temperature,
+            table: BlackbodyTable::new(500.0, 12_000.0, 1.0).expect("valid range"),
+        })
+    }
+
+    /// Emission `j(T)` in W / (m³ sr) (zero at or below `T_min`).
+    pub fn emission_at(&self, kelvin: f32) -> Vec3 {
+        if kelvin > self.min_temperature && kelvin > 0.0 {
+            self.table.radiance(kelvin) * self.emission
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Extinction `σ_t = (κ_a + κ_s) ρ`.
+    pub fn extinction(&self, density: f32) -> f32 {
+        (self.absorption + self.scattering) * density
+    }
+}
+
+/// The explosion's point lights `S0`: one per voxel hotter than `T_min`, at its centre, with
+/// `I0 = j(T) h³` (W/sr). Returns the lights and the voxel (linear index) of each.
+pub fn lights(temperature: &DenseGrid, medium: &Medium) -> (Vec<PointLight>, Vec<usize>) {
+    let h3 = temperature.voxel_size.powi(3);
+    let [nx, ny, nz] = temperature.dims;
+    let mut lights = Vec::new();
+    let mut voxels = Vec::new();
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let idx = temperature.index(i, j, k);
+                let intensity = medium.emission_at(temperature.data[idx]) * h3;
+                if intensity.max_element() > 0.0 {
+                    lights.push(PointLight::new(temperature.centre(i, j, k), intensity));
+                    voxels.push(idx);
+                }
+            }
+        }
+    }
+    (lights, voxels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn procedural_explosion_is_deterministic_and_grows() {
+        let a = procedural(32, 0.2).unwrap();
+        let b = procedural(32, 0.2).unwrap();
+        assert_eq!(a, b);
+        let later = procedural(32, 0.9).unwrap();
+        let count = |g: &DenseGrid| g.data.iter().filter(|&&v| v > 0.0).count();
+        assert!(count(&later.density) > count(&a.density), "the smoke grows");
+        assert!(a
+            .temperature
+            .data
+            .iter()
+            .all(|&t| (0.0..=2600.0).contains(&t)));
+        assert!(count(&a.temperature) > 0 && count(&a.temperature) < count(&a.density));
+        assert!(procedural(16, 0.0).is_err());
+        assert!(procedural(64, f32::NAN).is_err());
+    }
+
+    #[test]
+    fn lights_carry_the_emitted_power_of_their_voxels() {
+        let v = procedural(32, 0.3).unwrap();
+        let medium = Medium::new(1.0, 1.0, 1e-3, 1000.0).unwrap();
+        let (lights, voxels) = lights(&v.temperature, &medium);
+        assert_eq!(lights.len(), voxels.len());
+        let hot = v.temperature.data.iter().filter(|&&t| t > 1000.0).count();
+        assert_eq!(lights.len(), hot);
+        let h3 = v.temperature.voxel_size.powi(3);
+        for (l, &idx) in lights.iter().zip(&voxels).step_by(17) {
+            let want = medium.emission_at(v.temperature.data[idx]) * h3;
+            assert_eq!(l.intensity, want);
+            assert!(v.temperature.sample(l.position) > 1000.0 * 0.999);
+        }
+        assert!(Medium::new(-1.0, 0.0, 0.0, 0.0).is_err());
+    }
+}
