@@ -96,7 +96,7 @@ impl BlackbodyTable {
     /// Radiance at `kelvin` (linear sRGB, W / (sr m²)); zero for T ≤ 0 or NaN.
     pub fn radiance(&self, kelvin: f32) -> Vec3 {
         let t = (kelvin - self.min) / self.step;
-        if !(t >= 0.0) || t >= (self.values.len() - 1) as f32 {
+        if t.is_nan() || t < 0.0 || t >= (self.values.len() - 1) as f32 {
             return blackbody_rgb(kelvin);
         }
         let i = t as usize;
