@@ -14,6 +14,7 @@ macro_rules! say {
 }
 
 mod bench;
+mod compare;
 mod demo;
 mod inspect;
 mod ply;
@@ -45,6 +46,8 @@ enum Command {
     Probes(probes::ProbesArgs),
     /// Describe the grids of an OpenVDB file (type, voxel size, active voxels, bounds, statistics).
     Inspect(inspect::InspectArgs),
+    /// Compare an image with a reference: relative RMSE, max and mean error, difference PNG.
+    Compare(compare::CompareArgs),
     /// Benchmarks that print machine-readable JSON.
     Bench {
         #[command(subcommand)]
@@ -97,6 +100,7 @@ fn main() {
         Command::Demo(a) => demo::run(a),
         Command::Probes(a) => probes::run(a),
         Command::Inspect(a) => inspect::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Bench {
             which: BenchCommand::Core(a),
         } => bench::run(a),

@@ -342,3 +342,37 @@ fn inspect_describes_a_real_cache_and_refuses_garbage() {
     let text = lgh(&["inspect", frame.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&text.stdout).contains("17 grids"));
 }
+
+#[test]
+fn compare_reports_the_error_and_writes_a_difference_map() {
+    use lgh_core::glam::Vec3;
+    let dir = tempfile::tempdir().unwrap();
+    let mut r = lgh_image::Image::new(8, 4);
+    for (i, p) in r.pixels.iter_mut().enumerate() {
+        *p = Vec3::splat(1.0 + i as f32);
+    }
+    let mut a = r.clone();
+    a.pixels[3] += Vec3::splat(2.0);
+    let (pa, pr) = (dir.path().join("a.exr"), dir.path().join("r.exr"));
+    lgh_image::write_exr(&pa, &a, &[]).unwrap();
+    lgh_image::write_exr(&pr, &r, &[]).unwrap();
+    let o = lgh(&[
+        "compare",
+        pa.to_str().unwrap(),
+        pr.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // One pixel of 32 off by 2 in luminance: max 2, mean 2/32, RMSE sqrt(4/32) over mean 16.5.
+    assert!((v["max_abs"].as_f64().unwrap() - 2.0).abs() < 1e-6);
+    assert!((v["mean_abs"].as_f64().unwrap() - 2.0 / 32.0).abs() < 1e-6);
+    assert!((v["rel_rmse"].as_f64().unwrap() - (4.0f64 / 32.0).sqrt() / 16.5).abs() < 1e-6);
+    assert!(dir.path().join("a-diff.png").exists());
+    // Different sizes: one error line.
+    let small = dir.path().join("s.exr");
+    lgh_image::write_exr(&small, &lgh_image::Image::new(2, 2), &[]).unwrap();
+    let o = lgh(&["compare", small.to_str().unwrap(), pr.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+}
