@@ -125,25 +125,13 @@ impl DenseGrid {
         };
         let inside = |p: [i32; 3]| (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]);
         for leaf in &grid.leaves {
-            for (w, &word) in leaf.mask.iter().enumerate() {
-                let mut bits = word;
-                while bits != 0 {
-                    let i = w * 64 + bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let p = [
-                        leaf.origin[0] + (i >> 6) as i32,
-                        leaf.origin[1] + ((i >> 3) & 7) as i32,
-                        leaf.origin[2] + (i & 7) as i32,
-                    ];
-                    if inside(p) {
-                        let idx = out.index(
-                            (p[0] - lo[0]) as usize,
-                            (p[1] - lo[1]) as usize,
-                            (p[2] - lo[2]) as usize,
-                        );
-                        out.data[idx] = scalar(&leaf.values[i * c..(i + 1) * c]);
-                    }
-                }
+            for (i, p) in leaf.active_voxels().filter(|&(_, p)| inside(p)) {
+                let idx = out.index(
+                    (p[0] - lo[0]) as usize,
+                    (p[1] - lo[1]) as usize,
+                    (p[2] - lo[2]) as usize,
+                );
+                out.data[idx] = scalar(&leaf.values[i * c..(i + 1) * c]);
             }
         }
         for t in grid.tiles.iter().filter(|t| t.active) {

@@ -177,6 +177,31 @@ pub struct Leaf {
     pub values: Vec<f32>,
 }
 
+impl Leaf {
+    /// The active voxels: `(voxel index in the leaf, index-space coordinates)`, in mask order.
+    pub fn active_voxels(&self) -> impl Iterator<Item = (usize, [i32; 3])> + '_ {
+        self.mask.iter().enumerate().flat_map(move |(w, &word)| {
+            let mut bits = word;
+            std::iter::from_fn(move || {
+                if bits == 0 {
+                    return None;
+                }
+                let i = w * 64 + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let o = self.origin;
+                Some((
+                    i,
+                    [
+                        o[0] + (i >> 6) as i32,
+                        o[1] + ((i >> 3) & 7) as i32,
+                        o[2] + (i & 7) as i32,
+                    ],
+                ))
+            })
+        })
+    }
+}
+
 /// A tile: a constant value over a cube of `edge³` voxels.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tile {
@@ -262,23 +287,13 @@ impl Grid {
             });
         };
         for leaf in &self.leaves {
-            for (w, &word) in leaf.mask.iter().enumerate() {
-                let mut bits = word;
-                while bits != 0 {
-                    let i = w * 64 + bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let p = [
-                        leaf.origin[0] + (i >> 6) as i32,
-                        leaf.origin[1] + ((i >> 3) & 7) as i32,
-                        leaf.origin[2] + (i & 7) as i32,
-                    ];
-                    let v = scalar(&leaf.values[i * c..(i + 1) * c]);
-                    s.active_voxels += 1;
-                    s.sum += v;
-                    s.min = s.min.min(v);
-                    s.max = s.max.max(v);
-                    grow(&mut s, p, p);
-                }
+            for (i, p) in leaf.active_voxels() {
+                let v = scalar(&leaf.values[i * c..(i + 1) * c]);
+                s.active_voxels += 1;
+                s.sum += v;
+                s.min = s.min.min(v);
+                s.max = s.max.max(v);
+                grow(&mut s, p, p);
             }
         }
         for t in self.tiles.iter().filter(|t| t.active) {
