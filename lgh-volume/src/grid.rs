@@ -58,29 +58,31 @@ impl DenseGrid {
         (self.origin - half, self.origin - half + d * self.voxel_size)
     }
 
-    /// Trilinear interpolation between voxel centres at world position `p`; zero outside.
+    /// Trilinear interpolation between voxel centres at world position `p`. Inside the grid's
+    /// [`bounds`](Self::bounds) the half voxel beyond the outermost centres takes their values
+    /// (each voxel fills its cell, so a uniform grid is uniform up to its faces); outside, zero.
     pub fn sample(&self, p: Vec3) -> f32 {
-        let t = (p - self.origin) / self.voxel_size;
+        let (lo, hi) = self.bounds();
+        if !(p.cmpge(lo).all() && p.cmplt(hi).all()) {
+            return 0.0;
+        }
+        let max = Vec3::new(
+            (self.dims[0] - 1) as f32,
+            (self.dims[1] - 1) as f32,
+            (self.dims[2] - 1) as f32,
+        );
+        let t = ((p - self.origin) / self.voxel_size).clamp(Vec3::ZERO, max);
         let f = t.floor();
         let w = t - f;
-        let (x, y, z) = (f.x as i64, f.y as i64, f.z as i64);
+        let base = [f.x as usize, f.y as usize, f.z as usize];
         let mut v = 0.0;
-        for c in 0..8 {
-            let (dx, dy, dz) = (c & 1, (c >> 1) & 1, c >> 2);
-            let (i, j, k) = (x + dx, y + dy, z + dz);
-            if i < 0
-                || j < 0
-                || k < 0
-                || i >= self.dims[0] as i64
-                || j >= self.dims[1] as i64
-                || k >= self.dims[2] as i64
-            {
-                continue;
-            }
-            let wt = (if dx == 1 { w.x } else { 1.0 - w.x })
-                * (if dy == 1 { w.y } else { 1.0 - w.y })
-                * (if dz == 1 { w.z } else { 1.0 - w.z });
-            v += wt * self.get(i as usize, j as usize, k as usize);
+        for c in 0..8usize {
+            let d = [c & 1, (c >> 1) & 1, c >> 2];
+            let idx = [0, 1, 2].map(|a| (base[a] + d[a]).min(self.dims[a] - 1));
+            let wt = (if d[0] == 1 { w.x } else { 1.0 - w.x })
+                * (if d[1] == 1 { w.y } else { 1.0 - w.y })
+                * (if d[2] == 1 { w.z } else { 1.0 - w.z });
+            v += wt * self.get(idx[0], idx[1], idx[2]);
         }
         v
     }
@@ -167,6 +169,15 @@ mod tests {
         assert_eq!(g.sample(g.centre(0, 1, 1)), 0.0);
         assert!((g.sample(g.centre(1, 1, 1) + Vec3::new(0.25, 0.0, 0.0)) - 4.0).abs() < 1e-6);
         assert_eq!(g.sample(Vec3::splat(100.0)), 0.0);
+        // A uniform grid is uniform up to its faces, and zero beyond.
+        let u = DenseGrid {
+            data: vec![2.0; 27],
+            ..g.clone()
+        };
+        let (lo, hi) = u.bounds();
+        assert_eq!(u.sample(lo), 2.0);
+        assert_eq!(u.sample(hi - Vec3::splat(1e-4)), 2.0);
+        assert_eq!(u.sample(lo - Vec3::splat(1e-4)), 0.0);
         let (lo, hi) = g.bounds();
         assert_eq!(lo, Vec3::new(0.75, 1.75, 2.75));
         assert_eq!(hi, Vec3::new(2.25, 3.25, 4.25));
