@@ -23,6 +23,7 @@ pub use lgh_core;
 
 pub mod explosion;
 pub mod grid;
+pub mod render;
 pub mod vdb;
 
 pub use grid::DenseGrid;
