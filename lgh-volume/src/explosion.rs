@@ -19,7 +19,7 @@ pub struct Volume {
 
 /// A deterministic procedural fireball on a `res³` grid filling the cube `[-1, 1]³`, at time
 /// `time` (0 = ignition, 1 = one second later): a turbulent ball of smoke whose radius grows
-/// from 0.35 to 0.7 while its hot core (up to 2600 K) expands and cools. `res` must be in
+/// from 0.35 to 0.7 while its hot core (up to 3400 K) expands and cools. `res` must be in
 /// `32..=512`.
 pub fn procedural(res: usize, time: f32) -> Result<Volume, String> {
     if !(32..=512).contains(&res) {
@@ -33,7 +33,7 @@ pub fn procedural(res: usize, time: f32) -> Result<Volume, String> {
     let mut density = DenseGrid::zeros([res; 3], h, origin);
     let mut temperature = DenseGrid::zeros([res; 3], h, origin);
     let radius = 0.35 + 0.35 * time.min(1.0);
-    let t_max = 2600.0 - 900.0 * time.min(1.0);
+    let t_max = 3400.0 - 800.0 * time.min(1.0);
     let drift = Vec3::new(0.3, 1.1, -0.2) * time;
     let slab = res * res;
     let fill = |k: usize, rho: &mut [f32], temp: &mut [f32]| {
@@ -48,8 +48,8 @@ pub fn procedural(res: usize, time: f32) -> Result<Volume, String> {
                 }
                 let n = 0.65 + 0.35 * fractal_noise(p * 7.0 + drift * 2.0, 3, 29);
                 rho[j * res + i] = (shell * n).clamp(0.0, 1.0);
-                let core = (1.0 - r / (0.75 * radius)).max(0.0);
-                let heat = core.powf(1.3) * (0.75 + 0.25 * fractal_noise(p * 5.0 - drift, 3, 41));
+                let core = (1.0 - r / (0.8 * radius)).max(0.0);
+                let heat = core.powf(0.6) * (0.8 + 0.2 * fractal_noise(p * 5.0 - drift, 3, 41));
                 temp[j * res + i] = t_max * heat.clamp(0.0, 1.0);
             }
         }
