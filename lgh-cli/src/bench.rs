@@ -194,10 +194,7 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
     let h0 = lgh.h0();
     let levels: Vec<usize> = (0..=lgh.max_level()).map(|l| lgh.level(l).len()).collect();
 
-    let (lo, hi) = lights.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), l| (lo.min(l.position), hi.max(l.position)),
-    );
+    let (lo, hi) = lgh_core::bounds(lights);
     let points = testsets::query_points(lo, hi, args.points, 42);
 
     // Brute force: single-thread throughput on a prefix, then the reference on every point.
@@ -229,43 +226,11 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
     let mut per_alpha = Vec::new();
     for &alpha in &args.alphas {
         let b = lgh.blending(alpha).map_err(|e| e.to_string())?;
-        // Single thread; the best of `repeat` passes over all points.
-        let mut values = Vec::with_capacity(points.len());
-        let mut evaluated = 0u64;
-        let mut secs = f64::INFINITY;
-        for _ in 0..args.repeat.max(1) {
-            values.clear();
-            evaluated = 0;
-            let (r, s) = time(|| -> Result<(), String> {
-                for &x in &points {
-                    let (sum, n) = lgh
-                        .query_sum(x, &b, |s| s.intensity * falloff(s.distance, h0))
-                        .map_err(|e| e.to_string())?;
-                    evaluated += n as u64;
-                    values.push(sum);
-                }
-                Ok(())
-            });
-            r?;
-            secs = secs.min(s);
-        }
+        // Single thread; the best of `repeat` passes over all points, in each order.
+        let (values, evaluated, secs) = time_queries(&lgh, &b, &points, args.repeat)?;
+        let (_, _, coherent_secs) = time_queries(&lgh, &b, &coherent, args.repeat)?;
         let err = ErrorStats::compare(&values, &reference).ok_or("empty comparison")?;
         let pps = points.len() as f64 / secs;
-        let mut coherent_secs = f64::INFINITY;
-        for _ in 0..args.repeat.max(1) {
-            let (r, s) = time(|| -> Result<Vec3, String> {
-                let mut total = Vec3::ZERO;
-                for &x in &coherent {
-                    total += lgh
-                        .query_sum(x, &b, |s| s.intensity * falloff(s.distance, h0))
-                        .map_err(|e| e.to_string())?
-                        .0;
-                }
-                Ok(total)
-            });
-            r?;
-            coherent_secs = coherent_secs.min(s);
-        }
         let coherent_pps = points.len() as f64 / coherent_secs;
         eprintln!(
             "{}: alpha {alpha}: {pps:.0} points/s/thread ({coherent_pps:.0} in coherent order), {:.0} lights/point, rel RMSE {:.3e}",
@@ -296,6 +261,37 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
         "brute_force_points_per_second_per_thread": brute_pps,
         "alphas": per_alpha,
     }))
+}
+
+/// Probe values `L(x) = Σ B·I·g(d)` at `points` on one thread, the lights evaluated in all, and
+/// the best time of `repeat` passes.
+fn time_queries(
+    lgh: &LightingGridHierarchy,
+    blending: &lgh_core::Blending,
+    points: &[Vec3],
+    repeat: usize,
+) -> Result<(Vec<Vec3>, u64, f64), String> {
+    let h0 = lgh.h0();
+    let mut best = (Vec::new(), 0, f64::INFINITY);
+    for _ in 0..repeat.max(1) {
+        let (r, secs) = time(|| -> Result<(Vec<Vec3>, u64), String> {
+            let mut values = Vec::with_capacity(points.len());
+            let mut evaluated = 0u64;
+            for &x in points {
+                let (sum, n) = lgh
+                    .query_sum(x, blending, |s| s.intensity * falloff(s.distance, h0))
+                    .map_err(|e| e.to_string())?;
+                evaluated += n as u64;
+                values.push(sum);
+            }
+            Ok((values, evaluated))
+        });
+        let (values, evaluated) = r?;
+        if secs < best.2 {
+            best = (values, evaluated, secs);
+        }
+    }
+    Ok(best)
 }
 
 /// `points` sorted along a Morton (Z-order) curve over their bounding box, 2^10 cells per axis.

@@ -174,14 +174,11 @@ pub fn evaluate<B: ManyLights + Sync>(
             let r: Vec<_> = chunk
                 .iter()
                 .map(|&x| {
-                    let mut n = 0;
-                    let mut shader = |s: &lgh_core::LightSample| {
-                        n += 1;
-                        s.intensity * lgh_core::falloff(s.distance, h0)
-                    };
+                    let mut shader =
+                        |s: &lgh_core::LightSample| s.intensity * lgh_core::falloff(s.distance, h0);
                     backend
                         .illuminate(&lgh_core::ShadingPoint::in_medium(x), &mut shader)
-                        .map(|i| (i.radiance, n))
+                        .map(|i| (i.radiance, i.lights))
                 })
                 .collect();
             bar.inc(chunk.len() as u64);

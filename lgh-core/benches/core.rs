@@ -7,7 +7,9 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use lgh_core::glam::Vec3;
-use lgh_core::{falloff, testsets, BruteForce, GridSettings, LightingGridHierarchy, PointLight};
+use lgh_core::{
+    bounds, falloff, testsets, BruteForce, GridSettings, LightingGridHierarchy, PointLight,
+};
 
 fn explosion() -> (Vec<PointLight>, GridSettings) {
     let res = 128;
@@ -18,13 +20,6 @@ fn explosion() -> (Vec<PointLight>, GridSettings) {
             origin: Some(Vec3::splat(0.5 / res as f32)),
             ..Default::default()
         },
-    )
-}
-
-fn bounds(lights: &[PointLight]) -> (Vec3, Vec3) {
-    lights.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), l| (lo.min(l.position), hi.max(l.position)),
     )
 }
 

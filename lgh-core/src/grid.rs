@@ -63,8 +63,8 @@ pub(crate) struct Placement {
     pub max_cell: [u32; 3],
 }
 
-/// Bounding box of the lights' positions (validated elsewhere).
-pub(crate) fn bounds(lights: &[PointLight]) -> (Vec3, Vec3) {
+/// Bounding box `(min, max)` of the lights' positions (±∞ for no lights).
+pub fn bounds(lights: &[PointLight]) -> (Vec3, Vec3) {
     lights.iter().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(lo, hi), l| (lo.min(l.position), hi.max(l.position)),

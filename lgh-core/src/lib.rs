@@ -74,6 +74,6 @@ pub use backend::{
 pub use blend::{falloff, Blending, MAX_LEVEL};
 pub use error::{BuildError, QueryError};
 pub use glam;
-pub use grid::{GridSettings, LevelSource};
+pub use grid::{bounds, GridSettings, LevelSource};
 pub use hierarchy::LightingGridHierarchy;
 pub use light::{luminance, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS};

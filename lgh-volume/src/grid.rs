@@ -118,13 +118,7 @@ impl DenseGrid {
         );
         let mut out = DenseGrid::zeros(dims, h as f32, origin);
         let c = grid.components();
-        let scalar = |v: &[f32]| {
-            if c == 1 {
-                v[0]
-            } else {
-                v.iter().map(|x| x * x).sum::<f32>().sqrt()
-            }
-        };
+        let scalar = |v: &[f32]| vdb::Grid::scalar(v) as f32;
         let inside = |p: [i32; 3]| (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]);
         for leaf in &grid.leaves {
             for (i, p) in leaf.active_voxels().filter(|&(_, p)| inside(p)) {

@@ -20,8 +20,8 @@ fn densified_grids_keep_their_active_values() {
         let d = DenseGrid::from_vdb(g, lo, hi).unwrap();
         assert_eq!(d.dims, [0, 1, 2].map(|a| (hi[a] - lo[a] + 1) as usize));
         // Scalars: the same f32 values summed in f64 in another order, within N·ε₆₄ (< 1e-10).
-        // Vectors: the dense grid holds lengths computed in f32 (≤ 3 roundings of 2^-24 each,
-        // under 2e-7 relative) where the statistics use f64.
+        // Vectors: the dense grid holds the f64 lengths rounded to f32 (2^-24 relative each,
+        // within the 2e-7 allowed) where the statistics keep f64.
         let sum: f64 = d.data.iter().map(|&v| v as f64).sum();
         let tol = if g.components() == 1 { 1e-10 } else { 2e-7 };
         assert!(

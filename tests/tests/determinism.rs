@@ -18,10 +18,7 @@ fn build_on(
 
 fn check(lights: &[PointLight], settings: GridSettings) {
     let reference = build_on(1, lights, &settings);
-    let (lo, hi) = lights.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(a, b), l| (a.min(l.position), b.max(l.position)),
-    );
+    let (lo, hi) = lgh_core::bounds(lights);
     let points = testsets::query_points(lo, hi, 300, 3);
     for threads in [2, 3] {
         let other = build_on(threads, lights, &settings);

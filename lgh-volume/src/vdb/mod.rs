@@ -259,19 +259,23 @@ impl Grid {
         self.value_type.components()
     }
 
-    /// Statistics of the active values.
+    /// The scalar a voxel's components stand for: the value itself, or a vector's length
+    /// (computed in f64).
+    pub fn scalar(values: &[f32]) -> f64 {
+        match values {
+            [v] => *v as f64,
+            _ => values
+                .iter()
+                .map(|&x| (x as f64) * (x as f64))
+                .sum::<f64>()
+                .sqrt(),
+        }
+    }
+
+    /// Statistics of the active values (vector grids: of [`Grid::scalar`]).
     pub fn stats(&self) -> GridStats {
         let c = self.components();
-        let scalar = |v: &[f32]| -> f64 {
-            if c == 1 {
-                v[0] as f64
-            } else {
-                v.iter()
-                    .map(|&x| (x as f64) * (x as f64))
-                    .sum::<f64>()
-                    .sqrt()
-            }
-        };
+        let scalar = Grid::scalar;
         let mut s = GridStats {
             min: f64::INFINITY,
             max: f64::NEG_INFINITY,
