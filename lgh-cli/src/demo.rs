@@ -1,129 +1,118 @@
-//! `lgh demo`: bakes light probes around the built-in explosion-like light set and reports accuracy
-//! and speed against brute force. (The explosion rendering demo replaces this once lgh-volume lands.)
+//! `lgh demo`: renders the embedded procedural explosion, lit by its own hot voxels through the
+//! lighting grid hierarchy with ray-marched shadows, to a linear EXR and a PNG beside it.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_core::glam::Vec3;
-use lgh_core::metrics::ErrorStats;
-use lgh_core::{testsets, BruteForce, GridSettings, LghBackend, LightingGridHierarchy};
-use rayon::prelude::*;
+use lgh_volume::explosion::{procedural, Medium};
+use lgh_volume::render::{Camera, MarchSettings};
+use lgh_volume::scene::{Backend, ExplosionLights};
 
-use crate::{ply, probes, progress};
+use crate::output::{self, ShadowArg};
+use crate::progress;
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
 pub struct DemoArgs {
-    /// Where to write the baked probes (binary PLY with x, y, z, r, g, b).
-    #[arg(long, default_value = "demo-probes.ply")]
+    /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
+    #[arg(long, default_value = "demo.exr")]
     pub out: PathBuf,
-    /// Lattice resolution of the built-in fireball (lights at voxel centres).
-    #[arg(long, default_value_t = 96)]
-    pub resolution: u32,
-    /// Probes per axis of the probe grid (which extends 25% beyond the fireball).
-    #[arg(long, default_value_t = 48)]
-    pub probes: u32,
+    /// Voxels per side of the procedural explosion (32 to 512).
+    #[arg(long, default_value_t = 128)]
+    pub resolution: usize,
+    /// Seconds after ignition (0 to 10; the fireball grows over the first second).
+    #[arg(long, default_value_t = 0.5)]
+    pub time: f32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: usize,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 360)]
+    pub height: usize,
     /// The paper's α.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
+    /// Shadows of the lights.
+    #[arg(long, value_enum, default_value_t = ShadowArg::Raymarch)]
+    pub shadows: ShadowArg,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
 }
 
+/// The demo's medium: smoke that absorbs and scatters (albedo 0.75) and glows above 1000 K.
+pub fn demo_medium() -> Medium {
+    Medium::new(2.0, 6.0, 1e-4, 1000.0).expect("valid constants")
+}
+
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> Result<(), String> {
     crate::check_alpha(args.alpha)?;
-    if !(16..=512).contains(&args.resolution) {
-        return Err("--resolution must be in 16..=512".into());
-    }
-    if !(2..=512).contains(&args.probes) {
-        return Err("--probes must be in 2..=512".into());
-    }
-    let res = args.resolution;
+    output::check_size(args.width, args.height)?;
+    output::check_out(&args.out)?;
     let t = Instant::now();
-    let lights = testsets::explosion_shell(res);
-    let gen_s = t.elapsed().as_secs_f64();
-    let settings = GridSettings {
-        h1: Some(2.0 / res as f32),
-        origin: Some(Vec3::splat(0.5 / res as f32)),
+    let volume = procedural(args.resolution, args.time)?;
+    let medium = demo_medium();
+    let lights = ExplosionLights::new(&[&volume], &medium)?;
+    let setup_s = t.elapsed().as_secs_f64();
+    let (lo, hi) = volume.active_bounds().unwrap_or(volume.density.bounds());
+    let camera = Camera::frame(lo, hi, args.width, args.height)?;
+    let march = MarchSettings {
+        shadows: args.shadows.shadows(),
         ..Default::default()
     };
+    let bar = progress::bar(args.height as u64, "rendering", args.quiet);
     let t = Instant::now();
-    let lgh = LightingGridHierarchy::build(&lights, &settings).map_err(|e| e.to_string())?;
-    let build_s = t.elapsed().as_secs_f64();
-
-    let n = args.probes;
-    let points: Vec<Vec3> = (0..n * n * n)
-        .map(|i| {
-            let c = Vec3::new((i % n) as f32, ((i / n) % n) as f32, (i / (n * n)) as f32);
-            Vec3::splat(-0.25) + c / (n - 1) as f32 * 1.5
-        })
-        .collect();
-    let backend = LghBackend::new(&lgh, args.alpha).map_err(|e| e.to_string())?;
-    let bar = progress::bar(points.len() as u64, "probes", args.quiet);
-    let t = Instant::now();
-    let (values, evaluated) = probes::evaluate(&backend, &points, lgh.h0(), &bar)?;
-    let probe_s = t.elapsed().as_secs_f64();
+    let (image, stats) = lights.render(
+        Backend::Lgh { alpha: args.alpha },
+        &volume,
+        &medium,
+        &camera,
+        &march,
+        &|rows| bar.inc(rows as u64),
+    )?;
+    let render_s = t.elapsed().as_secs_f64();
     bar.finish_and_clear();
 
-    // Brute force on an evenly spread subset of the probes.
-    let stride = (points.len() / 1000).max(1);
-    let subset: Vec<usize> = (0..points.len()).step_by(stride).collect();
-    let brute = BruteForce::new(&lights).map_err(|e| e.to_string())?;
-    let t = Instant::now();
-    let reference: Vec<Vec3> = subset
-        .par_iter()
-        .map(|&i| brute.falloff_sum(points[i], lgh.h0()))
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    let brute_s = t.elapsed().as_secs_f64();
-    let approx: Vec<Vec3> = subset.iter().map(|&i| values[i]).collect();
-    let err = ErrorStats::compare(&approx, &reference).ok_or("no probes")?;
+    let mut extra = vec![
+        (
+            "scene",
+            format!(
+                "procedural explosion {}^3, t = {} s",
+                args.resolution, args.time
+            ),
+        ),
+        ("alpha", args.alpha.to_string()),
+        ("lights", lights.lit().to_string()),
+    ];
+    extra.extend(output::stats_attributes(&stats, render_s));
+    let attrs = output::settings_attributes(&march, "lgh", &extra);
+    let png = output::write(&args.out, &image, &attrs)?;
 
-    let mut cloud = ply::PointCloud::default();
-    for (c, name) in ["x", "y", "z", "r", "g", "b"].iter().enumerate() {
-        cloud.props.push((name.to_string(), ply::Scalar::F32));
-        let col = if c < 3 {
-            points.iter().map(|p| p[c] as f64).collect()
-        } else {
-            values.iter().map(|v| v[c - 3] as f64).collect()
-        };
-        cloud.columns.push(col);
-    }
-    lgh_image::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
-
-    let brute_per_probe = brute_s / subset.len() as f64;
-    let lgh_per_probe = probe_s / points.len() as f64;
-    say!("lgh demo: light probes around a procedural fireball");
+    let h = lights.hierarchy();
+    say!("lgh demo: a procedural explosion lit by its own hot voxels");
     say!(
-        "  lights      {} (fireball shell on a {res}^3 lattice, generated in {gen_s:.2} s)",
-        lights.len()
+        "  volume     {0}^3 voxels at t = {1} s, {2} lights (one per voxel above 1000 K); set up in {setup_s:.2} s",
+        args.resolution,
+        args.time,
+        lights.lit()
     );
     say!(
-        "  hierarchy   h1 = {:.5}, levels 0..={}, lights per level {:?}, built in {build_s:.3} s",
-        lgh.h1(),
-        lgh.max_level(),
-        (0..=lgh.max_level())
-            .map(|l| lgh.level(l).len())
-            .collect::<Vec<_>>()
+        "  hierarchy  levels 0..={}, h1 = {:.4}, alpha {}",
+        h.max_level(),
+        h.h1(),
+        args.alpha
     );
     say!(
-        "  probes      {} on a {n}^3 grid, alpha {}: {:.0} lights evaluated per probe, {probe_s:.2} s",
-        points.len(),
-        args.alpha,
-        evaluated as f64 / points.len() as f64
+        "  render     {}x{}, shadows {:?}: {:.1} s, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
+        args.width,
+        args.height,
+        args.shadows,
+        render_s,
+        stats.shading_points,
+        stats.lights_per_point(),
+        stats.shadow_samples as f64 / stats.lights_evaluated.max(1) as f64
     );
-    say!(
-        "  accuracy    relative RMSE {:.3}% and max relative error {:.3}% against brute force on {} probes",
-        100.0 * err.rel_rmse,
-        100.0 * err.max_rel,
-        subset.len()
-    );
-    say!(
-        "  speed       {:.1}x faster than brute force per probe (same threads)",
-        brute_per_probe / lgh_per_probe
-    );
-    say!("  output      {}", args.out.display());
+    say!("  output     {} and {}", args.out.display(), png.display());
     Ok(())
 }

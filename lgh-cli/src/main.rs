@@ -16,7 +16,9 @@ macro_rules! say {
 mod bench;
 mod compare;
 mod demo;
+mod explosion;
 mod inspect;
+mod output;
 mod ply;
 mod probes;
 mod progress;
@@ -40,8 +42,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Bake light probes around the built-in fireball light set and compare with brute force.
+    /// Render the built-in procedural explosion, lit by its own fire (EXR + PNG).
     Demo(demo::DemoArgs),
+    /// Render frames of a simulation cache (OpenVDB), lit by its own fire (EXR + PNG).
+    Explosion(Box<explosion::ExplosionArgs>),
     /// Evaluate unshadowed lighting L(x) = Σ B·I·g(d) at every point of a PLY point cloud.
     Probes(probes::ProbesArgs),
     /// Describe the grids of an OpenVDB file (type, voxel size, active voxels, bounds, statistics).
@@ -98,6 +102,7 @@ fn main() {
     }
     let result = match &cli.command {
         Command::Demo(a) => demo::run(a),
+        Command::Explosion(a) => explosion::run(a),
         Command::Probes(a) => probes::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Compare(a) => compare::run(a),

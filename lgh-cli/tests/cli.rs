@@ -286,26 +286,126 @@ fn bench_core_prints_json() {
 }
 
 #[test]
-fn demo_writes_its_probes() {
+fn demo_renders_an_exr_and_a_png() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("demo.ply");
+    let out = dir.path().join("demo.exr");
     let o = lgh(&[
         "demo",
         "--resolution",
+        "32",
+        "--width",
         "24",
-        "--probes",
-        "6",
+        "--height",
+        "16",
         "--out",
         out.to_str().unwrap(),
         "--quiet",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("relative RMSE"), "{text}");
-    let (props, rows) = read_output(&out);
-    assert_eq!(props, ["x", "y", "z", "r", "g", "b"]);
-    assert_eq!(rows.len(), 216);
-    assert!(rows.iter().all(|r| r[3] > 0.0 && r[4] > 0.0));
+    assert!(text.contains("lights each"), "{text}");
+    let img = lgh_image::read_exr(&out).unwrap();
+    assert_eq!((img.width, img.height), (24, 16));
+    assert!(img.pixels.iter().any(|p| p.max_element() > 0.0));
+    assert!(img.pixels.iter().all(|p| p.is_finite()));
+    assert!(dir.path().join("demo.png").is_file());
+    let attrs = lgh_image::read_exr_attributes(&out).unwrap();
+    let get = |k: &str| {
+        attrs
+            .iter()
+            .find(|(n, _)| n == k)
+            .map(|(_, v)| v.clone())
+            .unwrap_or_else(|| panic!("no {k} in {attrs:?}"))
+    };
+    assert_eq!(get("lgh:backend"), "lgh");
+    assert_eq!(get("lgh:alpha"), "2");
+    assert_eq!(get("lgh:shadows"), "raymarch");
+
+    // Bad arguments: one line, nothing written.
+    for bad in [
+        vec!["demo", "--out", "x.png"],
+        vec!["demo", "--out", "/no/such/folder/x.exr"],
+        vec!["demo", "--alpha", "0"],
+        vec!["demo", "--resolution", "8"],
+        vec!["demo", "--width", "0"],
+    ] {
+        let o = lgh(&bad);
+        assert!(!o.status.success(), "{bad:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
+    }
+}
+
+/// The dev fire cache, or `None` (with a message) when `../shared/data` is absent.
+fn fire_frame(n: u32) -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
+        "../../shared/data/volumes/blender_fire_pesichra/data/fluid_data_{n:04}.vdb"
+    ));
+    if p.exists() {
+        Some(p)
+    } else {
+        eprintln!("SKIPPED: {} is not here", p.display());
+        None
+    }
+}
+
+#[test]
+fn explosion_renders_a_sequence_of_the_real_cache() {
+    let Some(f56) = fire_frame(56) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fire.exr");
+    let args = |backend: &str, frames: &str| {
+        vec![
+            "explosion".to_string(),
+            "--vdb".into(),
+            f56.to_str().unwrap().into(),
+            "--frames".into(),
+            frames.into(),
+            "--backend".into(),
+            backend.into(),
+            "--width".into(),
+            "12".into(),
+            "--height".into(),
+            "8".into(),
+            "--shadows".into(),
+            "none".into(),
+            "--spp".into(),
+            "2".into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+            "--quiet".into(),
+        ]
+    };
+    let run = |a: Vec<String>| lgh(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let o = run(args("lgh", "55..56"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["fire_0055", "fire_0056"] {
+        let img = lgh_image::read_exr(&dir.path().join(format!("{f}.exr"))).unwrap();
+        assert!(img.pixels.iter().any(|p| p.max_element() > 0.0), "{f}");
+        assert!(dir.path().join(format!("{f}.png")).is_file());
+    }
+    let o = run(args("pathtrace", "56..56"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let attrs = lgh_image::read_exr_attributes(&dir.path().join("fire_0056.exr")).unwrap();
+    assert!(
+        attrs.contains(&("lgh:backend".into(), "pathtrace".into())),
+        "{attrs:?}"
+    );
+
+    // A grid that is not there: the error names the ones that are.
+    let mut a = args("lgh", "56..56");
+    a.extend(["--density-grid".to_string(), "smoke".to_string()]);
+    let o = run(a);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("no grid named 'smoke'") && err.contains("flame"),
+        "{err}"
+    );
+    // A frame that is not there.
+    let o = run(args("lgh", "55..99"));
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("fluid_data_0057.vdb"));
 }
 
 #[test]
@@ -319,12 +419,7 @@ fn inspect_describes_a_real_cache_and_refuses_garbage() {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("not an OpenVDB file"), "{err}");
 
-    let frame = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data/volumes/blender_fire_pesichra/data/fluid_data_0056.vdb");
-    if !frame.exists() {
-        eprintln!("SKIPPED: {} is not here", frame.display());
-        return;
-    }
+    let Some(frame) = fire_frame(56) else { return };
     let o = lgh(&["inspect", "--json", frame.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();

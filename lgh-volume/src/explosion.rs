@@ -13,8 +13,56 @@ use crate::DenseGrid;
 pub struct Volume {
     /// Smoke density ρ (dimensionless, 0..1 in the procedural explosion).
     pub density: DenseGrid,
-    /// Temperature in kelvin.
+    /// Temperature, in kelvin times [`Medium::temperature_scale`].
     pub temperature: DenseGrid,
+    /// A factor on the emission (Blender's `flame` grid, 0..1), on the temperature's grid; `None`
+    /// is 1 everywhere.
+    pub flame: Option<DenseGrid>,
+}
+
+impl Volume {
+    /// A frame of density and temperature, without a flame factor.
+    pub fn new(density: DenseGrid, temperature: DenseGrid) -> Self {
+        Volume {
+            density,
+            temperature,
+            flame: None,
+        }
+    }
+
+    /// Emission `j(x)` at world position `x` (trilinear temperature and flame).
+    pub fn emission(&self, medium: &Medium, x: Vec3) -> Vec3 {
+        let j = medium.emission_at(self.temperature.sample(x));
+        match &self.flame {
+            Some(f) if j != Vec3::ZERO => j * f.sample(x),
+            _ => j,
+        }
+    }
+
+    /// Emission of voxel `idx` of the temperature grid (at its centre).
+    pub fn voxel_emission(&self, medium: &Medium, idx: usize) -> Vec3 {
+        let j = medium.emission_at(self.temperature.data[idx]);
+        match &self.flame {
+            Some(f) => j * f.data[idx].max(0.0),
+            None => j,
+        }
+    }
+
+    /// Whether voxel `idx` emits: hot enough, and (with a flame grid) flame above zero.
+    pub fn voxel_emits(&self, medium: &Medium, idx: usize) -> bool {
+        medium.emits(self.temperature.data[idx])
+            && self.flame.as_ref().is_none_or(|f| f.data[idx] > 0.0)
+    }
+
+    /// World box of the voxels with smoke or emission: what a camera should frame.
+    pub fn active_bounds(&self) -> Option<(Vec3, Vec3)> {
+        let a = self.density.active_bounds();
+        let b = self.temperature.active_bounds();
+        match (a, b) {
+            (Some(a), Some(b)) => Some((a.0.min(b.0), a.1.max(b.1))),
+            (a, b) => a.or(b),
+        }
+    }
 }
 
 /// A deterministic procedural fireball on a `res³` grid filling the cube `[-1, 1]³`, at time
@@ -63,14 +111,29 @@ pub fn procedural(res: usize, time: f32) -> Result<Volume, String> {
             .enumerate()
             .for_each(|(k, (rho, temp))| fill(k, rho, temp));
     }
-    Ok(Volume {
-        density,
-        temperature,
-    })
+    Ok(Volume::new(density, temperature))
 }
 
+/// How emission follows temperature.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum EmissionModel {
+    /// `j = k_e · B(T)`: Planck's radiance through CIE 1931 to linear sRGB, in W / (sr m²)
+    /// (luminance = CIE Y), times `k_e` (1 / length).
+    #[default]
+    Planck,
+    /// Blender's Principled Volume: `j = k_e · 10⁻⁶ σ T⁴ / π · c(T)`, where `c(T)` is the
+    /// blackbody colour normalised to luminance 1 and `k_e` is Blender's blackbody intensity
+    /// (times the flame grid, see [`Volume::flame`]). Blender mixes `1 → T⁴` by that intensity;
+    /// the constant term (`10⁻⁶ σ / π ≈ 2·10⁻¹⁴`) is dropped.
+    Blender,
+}
+
+/// Stefan–Boltzmann constant σ in W / (m² K⁴).
+const STEFAN_BOLTZMANN: f32 = 5.670_374e-8;
+
 /// The participating medium (DESIGN.md "Medium"): `σ_a = κ_a ρ`, `σ_s = κ_s ρ`, isotropic phase
-/// function, and emission `j = k_e · blackbody(T)` (W / (m³ sr), linear sRGB) where `T > T_min`.
+/// function, and emission `j = k_e · blackbody(T)` (W / (m³ sr), linear sRGB) where `T > T_min`,
+/// with `T` = temperature scale × the temperature grid's value.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Medium {
     /// κ_a: absorption per unit density (1 / world unit).
@@ -81,6 +144,11 @@ pub struct Medium {
     pub emission: f32,
     /// T_min: no emission at or below this temperature (kelvin).
     pub min_temperature: f32,
+    /// Kelvin per unit of the temperature grid (1 for grids in kelvin; Blender's default
+    /// Principled Volume temperature is 1000 K per unit of its `temperature` grid).
+    pub temperature_scale: f32,
+    /// How emission follows temperature.
+    pub model: EmissionModel,
     table: BlackbodyTable,
 }
 
@@ -107,16 +175,54 @@ impl Medium {
             scattering,
             emission,
             min_temperature,
+            temperature_scale: 1.0,
+            model: EmissionModel::Planck,
             table: BlackbodyTable::new(500.0, 12_000.0, 1.0).expect("valid range"),
         })
     }
 
-    /// Emission `j(T)` in W / (m³ sr) (zero at or below `T_min`).
-    pub fn emission_at(&self, kelvin: f32) -> Vec3 {
-        if kelvin > self.min_temperature && kelvin > 0.0 {
-            self.table.radiance(kelvin) * self.emission
-        } else {
-            Vec3::ZERO
+    /// The same medium with temperature in other units: `T = scale × value` (finite, > 0).
+    pub fn with_temperature_scale(mut self, scale: f32) -> Result<Self, String> {
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(format!("temperature scale {scale} must be finite and > 0"));
+        }
+        self.temperature_scale = scale;
+        Ok(self)
+    }
+
+    /// The same medium with another emission model.
+    pub fn with_model(mut self, model: EmissionModel) -> Self {
+        self.model = model;
+        self
+    }
+
+    /// Whether a voxel whose temperature grid holds `value` emits (`T` hotter than `T_min` and
+    /// than 0 K).
+    pub fn emits(&self, value: f32) -> bool {
+        let kelvin = value * self.temperature_scale;
+        kelvin > self.min_temperature && kelvin > 0.0
+    }
+
+    /// Emission `j(T)` for the temperature grid's `value`, in W / (m³ sr) (zero at or below
+    /// `T_min`).
+    pub fn emission_at(&self, value: f32) -> Vec3 {
+        if !self.emits(value) {
+            return Vec3::ZERO;
+        }
+        let kelvin = value * self.temperature_scale;
+        let b = self.table.radiance(kelvin);
+        match self.model {
+            EmissionModel::Planck => b * self.emission,
+            EmissionModel::Blender => {
+                let y = lgh_core::luminance(b);
+                if y > 0.0 {
+                    let t2 = kelvin * kelvin;
+                    let total = 1e-6 * STEFAN_BOLTZMANN / core::f32::consts::PI * t2 * t2;
+                    b * (self.emission * total / y)
+                } else {
+                    Vec3::ZERO
+                }
+            }
         }
     }
 
@@ -126,9 +232,10 @@ impl Medium {
     }
 }
 
-/// The explosion's point lights `S0`: one per voxel hotter than `T_min`, at its centre, with
-/// `I0 = j(T) h³` (W/sr). Returns the lights and the voxel (linear index) of each.
-pub fn lights(temperature: &DenseGrid, medium: &Medium) -> (Vec<PointLight>, Vec<usize>) {
+/// The explosion's point lights `S0`: one per emitting voxel ([`Volume::voxel_emits`]), at its
+/// centre, with `I0 = j h³` (W/sr). Returns the lights and the voxel (linear index) of each.
+pub fn lights(volume: &Volume, medium: &Medium) -> (Vec<PointLight>, Vec<usize>) {
+    let temperature = &volume.temperature;
     let h3 = temperature.voxel_size.powi(3);
     let [nx, ny, nz] = temperature.dims;
     let mut lights = Vec::new();
@@ -137,7 +244,7 @@ pub fn lights(temperature: &DenseGrid, medium: &Medium) -> (Vec<PointLight>, Vec
         for j in 0..ny {
             for i in 0..nx {
                 let idx = temperature.index(i, j, k);
-                let intensity = medium.emission_at(temperature.data[idx]) * h3;
+                let intensity = volume.voxel_emission(medium, idx) * h3;
                 if intensity.max_element() > 0.0 {
                     lights.push(PointLight::new(temperature.centre(i, j, k), intensity));
                     voxels.push(idx);
@@ -174,7 +281,7 @@ mod tests {
     fn lights_carry_the_emitted_power_of_their_voxels() {
         let v = procedural(32, 0.3).unwrap();
         let medium = Medium::new(1.0, 1.0, 1e-3, 1000.0).unwrap();
-        let (lights, voxels) = lights(&v.temperature, &medium);
+        let (lights, voxels) = lights(&v, &medium);
         assert_eq!(lights.len(), voxels.len());
         let hot = v.temperature.data.iter().filter(|&&t| t > 1000.0).count();
         assert_eq!(lights.len(), hot);

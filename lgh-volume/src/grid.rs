@@ -58,33 +58,67 @@ impl DenseGrid {
         (self.origin - half, self.origin - half + d * self.voxel_size)
     }
 
+    /// World-space box of the voxels with a value above zero (their outer faces), or `None` when
+    /// there are none: what a camera should frame.
+    pub fn active_bounds(&self) -> Option<(Vec3, Vec3)> {
+        let [nx, ny, _] = self.dims;
+        let mut lo = [usize::MAX; 3];
+        let mut hi = [0usize; 3];
+        for (idx, _) in self.data.iter().enumerate().filter(|(_, &v)| v > 0.0) {
+            let c = [idx % nx, (idx / nx) % ny, idx / (nx * ny)];
+            for a in 0..3 {
+                lo[a] = lo[a].min(c[a]);
+                hi[a] = hi[a].max(c[a]);
+            }
+        }
+        if lo[0] == usize::MAX {
+            return None;
+        }
+        let half = Vec3::splat(0.5 * self.voxel_size);
+        Some((
+            self.centre(lo[0], lo[1], lo[2]) - half,
+            self.centre(hi[0], hi[1], hi[2]) + half,
+        ))
+    }
+
     /// Trilinear interpolation between voxel centres at world position `p`. Inside the grid's
     /// [`bounds`](Self::bounds) the half voxel beyond the outermost centres takes their values
     /// (each voxel fills its cell, so a uniform grid is uniform up to its faces); outside, zero.
     pub fn sample(&self, p: Vec3) -> f32 {
-        let (lo, hi) = self.bounds();
-        if !(p.cmpge(lo).all() && p.cmplt(hi).all()) {
+        let u = (p - self.origin) / self.voxel_size;
+        let n = Vec3::new(
+            self.dims[0] as f32,
+            self.dims[1] as f32,
+            self.dims[2] as f32,
+        );
+        if !(u.cmpge(Vec3::splat(-0.5)).all() && u.cmplt(n - 0.5).all()) {
             return 0.0;
         }
-        let max = Vec3::new(
-            (self.dims[0] - 1) as f32,
-            (self.dims[1] - 1) as f32,
-            (self.dims[2] - 1) as f32,
-        );
-        let t = ((p - self.origin) / self.voxel_size).clamp(Vec3::ZERO, max);
-        let f = t.floor();
-        let w = t - f;
-        let base = [f.x as usize, f.y as usize, f.z as usize];
-        let mut v = 0.0;
-        for c in 0..8usize {
-            let d = [c & 1, (c >> 1) & 1, c >> 2];
-            let idx = [0, 1, 2].map(|a| (base[a] + d[a]).min(self.dims[a] - 1));
-            let wt = (if d[0] == 1 { w.x } else { 1.0 - w.x })
-                * (if d[1] == 1 { w.y } else { 1.0 - w.y })
-                * (if d[2] == 1 { w.z } else { 1.0 - w.z });
-            v += wt * self.get(idx[0], idx[1], idx[2]);
-        }
-        v
+        self.sample_voxel(u)
+    }
+
+    /// Trilinear interpolation at `u`, in voxel units from the centre of voxel `(0, 0, 0)`,
+    /// clamped to the outermost centres: [`sample`](Self::sample) without its bounds test, for
+    /// callers that clipped their ray to the grid's bounds already.
+    #[inline]
+    pub fn sample_voxel(&self, u: Vec3) -> f32 {
+        let [nx, ny, nz] = self.dims;
+        let max = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
+        let t = u.clamp(Vec3::ZERO, max);
+        // t ≥ 0, so truncation is the floor (and avoids a libm call per axis on baseline x86-64).
+        let (i, j, k) = (t.x as usize, t.y as usize, t.z as usize);
+        let w = t - Vec3::new(i as f32, j as f32, k as f32);
+        let di = usize::from(i + 1 < nx);
+        let dj = if j + 1 < ny { nx } else { 0 };
+        let dk = if k + 1 < nz { nx * ny } else { 0 };
+        let b = (k * ny + j) * nx + i;
+        let d = &self.data;
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        let x00 = lerp(d[b], d[b + di], w.x);
+        let x10 = lerp(d[b + dj], d[b + dj + di], w.x);
+        let x01 = lerp(d[b + dk], d[b + dk + di], w.x);
+        let x11 = lerp(d[b + dk + dj], d[b + dk + dj + di], w.x);
+        lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z)
     }
 
     /// The active values of a scalar VDB grid over the index box `lo..=hi`, as a dense grid in

@@ -21,9 +21,12 @@
 
 pub use lgh_core;
 
+pub mod cache;
 pub mod explosion;
 pub mod grid;
+pub mod pathtrace;
 pub mod render;
+pub mod scene;
 pub mod vdb;
 
 pub use grid::DenseGrid;

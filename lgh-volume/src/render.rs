@@ -66,24 +66,31 @@ impl Camera {
         })
     }
 
-    /// Frames the box `lo..hi`: looks at its centre from the front-right-above, at the distance where
-    /// its bounding sphere fills the narrower field of view (40° vertically).
+    /// Frames the box `lo..hi` in a +Y-up world: [`frame_up`](Self::frame_up) with [`Up::Y`].
     pub fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, String> {
+        Camera::frame_up(lo, hi, width, height, Up::Y)
+    }
+
+    /// Frames the box `lo..hi`: looks at its centre from the front, a little to the right and
+    /// above, from the distance where the box's bounding sphere shrunk to 80% fills the narrower
+    /// field of view (40° vertically). Smoke rarely fills its box to the corners, and the full
+    /// sphere leaves it small in the frame.
+    pub fn frame_up(
+        lo: Vec3,
+        hi: Vec3,
+        width: usize,
+        height: usize,
+        up: Up,
+    ) -> Result<Self, String> {
         let centre = 0.5 * (lo + hi);
-        let radius = 0.5 * (hi - lo).length();
+        let radius = 0.8 * 0.5 * (hi - lo).length();
         let fov_y = 40.0f32;
         let aspect = width as f32 / height.max(1) as f32;
         let half = (0.5 * fov_y).to_radians().tan() * aspect.min(1.0);
-        let distance = 1.05 * radius / half.atan().sin();
-        let dir = Vec3::new(0.35, 0.25, 1.0).normalize();
-        Camera::look_at(
-            centre + dir * distance,
-            centre,
-            Vec3::Y,
-            fov_y,
-            width,
-            height,
-        )
+        let distance = radius / half.atan().sin();
+        let (right, upv, front) = up.basis();
+        let dir = (0.35 * right + 0.25 * upv + front).normalize();
+        Camera::look_at(centre + dir * distance, centre, upv, fov_y, width, height)
     }
 
     /// Direction of the ray through pixel position `(x, y)` (pixel centres at +0.5; y down).
@@ -92,6 +99,30 @@ impl Camera {
         let u = (2.0 * x / self.width as f32 - 1.0) * self.tan_half_fov * aspect;
         let v = (1.0 - 2.0 * y / self.height as f32) * self.tan_half_fov;
         (self.forward + u * self.right + v * self.up).normalize()
+    }
+}
+
+/// The world's up axis, for automatic framing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Up {
+    /// +Y up, the camera in front on +Z (most engines, Houdini).
+    Y,
+    /// +Z up, the camera in front on −Y (Blender).
+    Z,
+}
+
+impl Up {
+    /// The up vector.
+    pub fn vector(self) -> Vec3 {
+        self.basis().1
+    }
+
+    /// (right, up, front): the axes as seen by a camera in front of the scene.
+    fn basis(self) -> (Vec3, Vec3, Vec3) {
+        match self {
+            Up::Y => (Vec3::X, Vec3::Y, Vec3::Z),
+            Up::Z => (Vec3::X, Vec3::Z, -Vec3::Y),
+        }
     }
 }
 
@@ -111,7 +142,9 @@ pub struct MarchSettings {
     pub step_voxels: f32,
     /// Step along shadow rays, in voxels.
     pub shadow_step_voxels: f32,
-    /// Stop when the transmittance falls below this.
+    /// Camera rays stop when their transmittance falls below this; a light whose shadow-ray
+    /// transmittance falls below it counts as hidden (each drops at most this fraction of what
+    /// it cuts off).
     pub min_transmittance: f32,
     /// Shadowing of the lights.
     pub shadows: Shadows,
@@ -120,7 +153,7 @@ pub struct MarchSettings {
 impl Default for MarchSettings {
     fn default() -> Self {
         MarchSettings {
-            step_voxels: 0.5,
+            step_voxels: 1.0,
             shadow_step_voxels: 1.0,
             min_transmittance: 1e-3,
             shadows: Shadows::RayMarch,
@@ -138,35 +171,84 @@ fn slab(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
     (t0 < t1).then_some((t0, t1))
 }
 
-/// Transmittance `e^{−∫σ_t}` from `a` to `b`, midpoint rule with steps of at most `step`.
-pub fn transmittance(volume: &Volume, medium: &Medium, a: Vec3, b: Vec3, step: f32) -> f32 {
+/// Transmittance `e^{−∫σ_t}` from `a` to `b`, midpoint rule with steps of at most `step`. The
+/// march stops once the transmittance is below `cutoff` and returns 0 (a light that dim behind
+/// smoke is taken as fully hidden: the error is below `cutoff` times its unshadowed
+/// contribution). Also returns the number of density samples taken.
+pub fn transmittance(
+    volume: &Volume,
+    medium: &Medium,
+    a: Vec3,
+    b: Vec3,
+    step: f32,
+    cutoff: f32,
+) -> (f32, u32) {
     let (lo, hi) = volume.density.bounds();
     let d = b - a;
     let len = d.length();
     if len <= 0.0 {
-        return 1.0;
+        return (1.0, 0);
     }
     let dir = d / len;
     let Some((t0, t1)) = slab(a, dir, lo, hi) else {
-        return 1.0;
+        return (1.0, 0);
     };
     let t1 = t1.min(len);
     if t0 >= t1 {
-        return 1.0;
+        return (1.0, 0);
     }
-    let n = ((t1 - t0) / step).ceil().max(1.0) as usize;
+    let n = ((t1 - t0) / step).ceil().max(1.0) as u32;
     let dt = (t1 - t0) / n as f32;
-    let tau: f32 = (0..n)
-        .map(|i| {
-            medium.extinction(
-                volume
-                    .density
-                    .sample(a + dir * (t0 + (i as f32 + 0.5) * dt)),
-            )
-        })
-        .sum::<f32>()
-        * dt;
-    (-tau).exp()
+    let max_tau = if cutoff > 0.0 {
+        -cutoff.ln()
+    } else {
+        f32::INFINITY
+    };
+    // Voxel coordinates of the samples, stepped linearly (the segment is inside the bounds).
+    let g = &volume.density;
+    let u0 = (a + dir * (t0 + 0.5 * dt) - g.origin) / g.voxel_size;
+    let du = dir * (dt / g.voxel_size);
+    let kappa = medium.extinction(1.0) * dt;
+    let mut tau = 0.0f32;
+    for i in 0..n {
+        tau += kappa * g.sample_voxel(u0 + du * i as f32);
+        if tau > max_tau {
+            return (0.0, i + 1);
+        }
+    }
+    ((-tau).exp(), n)
+}
+
+/// What a render did: the work counts that explain its time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    /// Camera-ray steps (samples of the medium).
+    pub steps: u64,
+    /// Steps where the lights were evaluated (scattering medium, lights given).
+    pub shading_points: u64,
+    /// Lights (or clusters) evaluated, summed over shading points.
+    pub lights_evaluated: u64,
+    /// Density samples taken along shadow rays.
+    pub shadow_samples: u64,
+}
+
+impl RenderStats {
+    /// Adds another count.
+    pub fn add(&mut self, o: &RenderStats) {
+        self.steps += o.steps;
+        self.shading_points += o.shading_points;
+        self.lights_evaluated += o.lights_evaluated;
+        self.shadow_samples += o.shadow_samples;
+    }
+
+    /// Mean lights evaluated per shading point (0 when none).
+    pub fn lights_per_point(&self) -> f64 {
+        if self.shading_points == 0 {
+            0.0
+        } else {
+            self.lights_evaluated as f64 / self.shading_points as f64
+        }
+    }
 }
 
 /// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single scattering
@@ -178,6 +260,7 @@ pub fn march<B: ManyLights>(
     origin: Vec3,
     dir: Vec3,
     settings: &MarchSettings,
+    stats: &mut RenderStats,
 ) -> Vec3 {
     let h = volume.density.voxel_size;
     let (lo, hi) = volume.density.bounds();
@@ -191,21 +274,37 @@ pub fn march<B: ManyLights>(
     let mut trans = 1.0f32;
     for i in 0..n {
         let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
+        stats.steps += 1;
         let rho = volume.density.sample(x);
         let sigma_t = medium.extinction(rho);
-        let mut source = medium.emission_at(volume.temperature.sample(x));
+        let mut source = volume.emission(medium, x);
         let sigma_s = medium.scattering * rho;
         if let (Some((backend, h0)), true) = (lights, sigma_s > 0.0) {
+            let mut shadow_samples = 0u64;
             let mut shader = |l: &LightSample| {
                 let v = match settings.shadows {
                     Shadows::None => 1.0,
-                    Shadows::RayMarch => transmittance(volume, medium, x, l.position, shadow_step),
+                    Shadows::RayMarch => {
+                        let (v, n) = transmittance(
+                            volume,
+                            medium,
+                            x,
+                            l.position,
+                            shadow_step,
+                            settings.min_transmittance,
+                        );
+                        shadow_samples += u64::from(n);
+                        v
+                    }
                 };
                 l.intensity * (falloff(l.distance, h0) * v)
             };
             if let Ok(sum) = backend.illuminate(&ShadingPoint::in_medium(x), &mut shader) {
                 source += sum.radiance * (sigma_s / (4.0 * std::f32::consts::PI));
+                stats.shading_points += 1;
+                stats.lights_evaluated += u64::from(sum.lights);
             }
+            stats.shadow_samples += shadow_samples;
         }
         // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
         let step_t = (-sigma_t * dt).exp();
@@ -223,8 +322,8 @@ pub fn march<B: ManyLights>(
     radiance
 }
 
-/// Renders an image, rows in parallel (each pixel is independent, so the result does not depend
-/// on the thread count). `progress(rows)` is called as rows finish.
+/// Renders an image, rows in parallel (each pixel is independent and the counts are integer
+/// sums, so neither depends on the thread count). `progress(rows)` is called as rows finish.
 pub fn render<B: ManyLights + Sync>(
     volume: &Volume,
     medium: &Medium,
@@ -232,20 +331,26 @@ pub fn render<B: ManyLights + Sync>(
     camera: &Camera,
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Image {
+) -> (Image, RenderStats) {
     let mut image = Image::new(camera.width, camera.height);
-    image
+    let stats = image
         .pixels
         .par_chunks_mut(camera.width)
         .enumerate()
-        .for_each(|(y, row)| {
+        .map(|(y, row)| {
+            let mut stats = RenderStats::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-                *px = march(volume, medium, lights, camera.eye, d, settings);
+                *px = march(volume, medium, lights, camera.eye, d, settings, &mut stats);
             }
             progress(1);
+            stats
+        })
+        .reduce(RenderStats::default, |mut a, b| {
+            a.add(&b);
+            a
         });
-    image
+    (image, stats)
 }
 
 #[cfg(test)]
@@ -261,10 +366,7 @@ mod tests {
         density.data.fill(1.0);
         let mut temperature = density.clone();
         temperature.data.fill(kelvin);
-        Volume {
-            density,
-            temperature,
-        }
+        Volume::new(density, temperature)
     }
 
     #[test]
@@ -281,6 +383,7 @@ mod tests {
                 Vec3::new(0.0, 0.0, 5.0),
                 -Vec3::Z,
                 &MarchSettings::default(),
+                &mut RenderStats::default(),
             );
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
             // Each step is integrated exactly, so what remains is f32 rounding over 64 steps
@@ -300,7 +403,7 @@ mod tests {
         use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy};
         let v = crate::explosion::procedural(32, 0.4).unwrap();
         let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let (lights, _) = crate::explosion::lights(&v.temperature, &m);
+        let (lights, _) = crate::explosion::lights(&v, &m);
         let h = v.temperature.voxel_size;
         let settings = GridSettings {
             h1: Some(2.0 * h),
@@ -322,8 +425,9 @@ mod tests {
                 let (mut num, mut den) = (0.0f64, 0.0f64);
                 for (x, y) in [(8.0, 8.0), (6.5, 9.5), (10.5, 7.5)] {
                     let d = cam.direction(x, y);
-                    let a = march(&v, &m, Some((&backend, lgh.h0())), cam.eye, d, &s);
-                    let r = march(&v, &m, Some((&brute, lgh.h0())), cam.eye, d, &s);
+                    let st = &mut RenderStats::default();
+                    let a = march(&v, &m, Some((&backend, lgh.h0())), cam.eye, d, &s, st);
+                    let r = march(&v, &m, Some((&brute, lgh.h0())), cam.eye, d, &s, st);
                     num += ((a - r).abs().max_element()) as f64;
                     den += r.max_element() as f64;
                 }
@@ -345,10 +449,23 @@ mod tests {
             Vec3::new(0.0, 0.0, -3.0),
             Vec3::new(0.0, 0.0, 3.0),
             0.05,
-        );
+            0.0,
+        )
+        .0;
         assert!((t - (-2.0f32).exp()).abs() < 1e-5);
+        // Below the cut-off the light counts as hidden.
+        let (t, n) = transmittance(
+            &v,
+            &m,
+            Vec3::new(0.0, 0.0, -3.0),
+            Vec3::new(0.0, 0.0, 3.0),
+            0.05,
+            0.2,
+        );
+        assert_eq!(t, 0.0);
+        assert!(n < 40, "stops early: {n} of 40 samples");
         // From inside to a point inside: only the segment counts.
-        let t = transmittance(&v, &m, Vec3::ZERO, Vec3::new(0.5, 0.0, 0.0), 0.05);
+        let t = transmittance(&v, &m, Vec3::ZERO, Vec3::new(0.5, 0.0, 0.0), 0.05, 0.0).0;
         assert!((t - (-0.5f32).exp()).abs() < 1e-5);
     }
 

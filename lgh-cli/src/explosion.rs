@@ -1,0 +1,336 @@
+//! `lgh explosion`: renders frames of a real simulation cache (OpenVDB), lit by its own fire.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use lgh_core::glam::Vec3;
+use lgh_volume::cache::{self, GridNames};
+use lgh_volume::explosion::{EmissionModel, Medium};
+use lgh_volume::pathtrace::{self, PathSettings};
+use lgh_volume::render::{Camera, MarchSettings, Up};
+use lgh_volume::scene::{Backend, ExplosionLights};
+
+use crate::output::{self, ShadowArg};
+use crate::progress;
+
+/// The renderer behind the image (`--backend`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BackendArg {
+    /// Ray marcher, scattering through the lighting grid hierarchy.
+    Lgh,
+    /// Ray marcher, scattering from every light: the exact answer of the same light model.
+    Brute,
+    /// Unbiased volumetric path tracer: the physical reference.
+    Pathtrace,
+}
+
+/// How emission follows the temperature grid (`--emission-model`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ModelArg {
+    /// Blender's Principled Volume: blackbody intensity × flame × 10⁻⁶ σT⁴/π × colour(T).
+    Blender,
+    /// Planck's law through CIE 1931, times --emission-scale.
+    Planck,
+}
+
+/// Arguments of `lgh explosion`.
+#[derive(Debug, clap::Args)]
+pub struct ExplosionArgs {
+    /// An OpenVDB file of the cache (with --frames: any frame; its last number is the frame).
+    #[arg(long)]
+    pub vdb: PathBuf,
+    /// Frames to render, `A..B` inclusive (e.g. 50..56): one image each, `OUT_NNNN.exr`.
+    #[arg(long)]
+    pub frames: Option<String>,
+    /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The grid emission follows (Blender: temperature; or flame, heat).
+    #[arg(long, default_value = "temperature")]
+    pub emission_grid: String,
+    /// Smoke density grid.
+    #[arg(long, default_value = "density")]
+    pub density_grid: String,
+    /// Grid multiplying the emission (Blender: flame), used when present; `none` for none.
+    #[arg(long, default_value = "flame")]
+    pub flame_grid: String,
+    /// Emission model.
+    #[arg(long, value_enum, default_value_t = ModelArg::Blender)]
+    pub emission_model: ModelArg,
+    /// Kelvin per unit of the emission grid (Blender's Principled Volume temperature: 1000).
+    #[arg(long, default_value_t = 1000.0)]
+    pub temperature_scale: f32,
+    /// Blender's blackbody intensity (model blender) or k_e (model planck).
+    #[arg(long, default_value_t = 1.0)]
+    pub emission_scale: f32,
+    /// No emission at or below this temperature (kelvin): the lights are the hotter voxels.
+    #[arg(long, default_value_t = 800.0)]
+    pub min_temperature: f32,
+    /// Extinction per unit density (Blender's Principled Volume density).
+    #[arg(long, default_value_t = 1.0)]
+    pub density_scale: f32,
+    /// Single-scattering albedo σ_s/σ_t (Blender's default scattering colour: 0.5).
+    #[arg(long, default_value_t = 0.5)]
+    pub albedo: f32,
+    /// Don't place frames by Blender's config/config_NNNN.uni domain offset.
+    #[arg(long)]
+    pub no_domain_offset: bool,
+    /// Renderer.
+    #[arg(long, value_enum, default_value_t = BackendArg::Lgh)]
+    pub backend: BackendArg,
+    /// The paper's α (backend lgh).
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
+    pub alpha: f32,
+    /// Shadows of the lights (backends lgh and brute).
+    #[arg(long, value_enum, default_value_t = ShadowArg::Raymarch)]
+    pub shadows: ShadowArg,
+    /// Paths per pixel (backend pathtrace).
+    #[arg(long, default_value_t = 64)]
+    pub spp: u32,
+    /// Scattering events per path (backend pathtrace; 1 = the marcher's single scattering).
+    #[arg(long, default_value_t = 1)]
+    pub max_scatter: u32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: usize,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 360)]
+    pub height: usize,
+    /// Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (eye, target, vertical field of view in degrees; default:
+    /// framed on the smoke of all frames, seen from the front).
+    #[arg(long, allow_negative_numbers = true)]
+    pub camera: Option<String>,
+    /// The world's up axis (Blender: z).
+    #[arg(long, value_enum, default_value_t = UpArg::Z)]
+    pub up: UpArg,
+    /// Don't show progress.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `--up`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum UpArg {
+    /// +Y up (Houdini, most engines).
+    Y,
+    /// +Z up (Blender).
+    Z,
+}
+
+/// Parses `A..B` (inclusive, at most 10,000 frames).
+fn parse_frames(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("--frames {s}: expected A..B with whole numbers A ≤ B, e.g. 50..56");
+    let (a, b) = s.split_once("..").ok_or_else(bad)?;
+    let a: u32 = a.trim().parse().map_err(|_| bad())?;
+    let b: u32 = b.trim().parse().map_err(|_| bad())?;
+    if a > b || b - a >= 10_000 {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+fn parse_camera(s: &str, up: Vec3, width: usize, height: usize) -> Result<Camera, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--camera {s}: expected EX,EY,EZ,TX,TY,TZ[,FOV] numbers"))?;
+    if !(v.len() == 6 || v.len() == 7) {
+        return Err(format!(
+            "--camera {s}: expected 6 or 7 numbers, got {}",
+            v.len()
+        ));
+    }
+    let fov = v.get(6).copied().unwrap_or(40.0);
+    Camera::look_at(
+        Vec3::new(v[0], v[1], v[2]),
+        Vec3::new(v[3], v[4], v[5]),
+        up,
+        fov,
+        width,
+        height,
+    )
+}
+
+/// `OUT.exr` for one frame, `OUT_NNNN.exr` for each of several.
+fn frame_out(out: &Path, frame: Option<u32>) -> PathBuf {
+    match frame {
+        None => out.to_path_buf(),
+        Some(f) => {
+            let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+            out.with_file_name(format!("{stem}_{f:04}.exr"))
+        }
+    }
+}
+
+/// Runs `lgh explosion`.
+pub fn run(args: &ExplosionArgs) -> Result<(), String> {
+    crate::check_alpha(args.alpha)?;
+    output::check_size(args.width, args.height)?;
+    output::check_out(&args.out)?;
+    if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
+        return Err(format!("--albedo {} must be in 0..=1", args.albedo));
+    }
+    let frames: Vec<Option<u32>> = match &args.frames {
+        None => vec![None],
+        Some(s) => {
+            let (a, b) = parse_frames(s)?;
+            (a..=b).map(Some).collect()
+        }
+    };
+    let paths = frames
+        .iter()
+        .map(|f| match f {
+            None => Ok(args.vdb.clone()),
+            Some(f) => cache::frame_path(&args.vdb, *f),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
+        return Err(format!("{}: no such file", missing.display()));
+    }
+    let sigma_t = args.density_scale;
+    let model = match args.emission_model {
+        ModelArg::Blender => EmissionModel::Blender,
+        ModelArg::Planck => EmissionModel::Planck,
+    };
+    let medium = Medium::new(
+        (1.0 - args.albedo) * sigma_t,
+        args.albedo * sigma_t,
+        args.emission_scale,
+        args.min_temperature,
+    )?
+    .with_temperature_scale(args.temperature_scale)?
+    .with_model(model);
+    let names = GridNames {
+        density: args.density_grid.clone(),
+        emission: args.emission_grid.clone(),
+        flame: (args.flame_grid != "none").then(|| args.flame_grid.clone()),
+        flame_required: args.flame_grid != "flame" && args.flame_grid != "none",
+    };
+
+    let t = Instant::now();
+    let volumes = cache::load(&paths, &names, !args.no_domain_offset)?;
+    let refs: Vec<_> = volumes.iter().collect();
+    let mut lights = ExplosionLights::new(&refs, &medium)?;
+    let load_s = t.elapsed().as_secs_f64();
+    let up = match args.up {
+        UpArg::Y => Up::Y,
+        UpArg::Z => Up::Z,
+    };
+    let camera = match &args.camera {
+        Some(s) => parse_camera(s, up.vector(), args.width, args.height)?,
+        None => {
+            let g = &volumes[0].density;
+            let (lo, hi) = volumes
+                .iter()
+                .filter_map(|v| v.active_bounds())
+                .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+                .unwrap_or(g.bounds());
+            Camera::frame_up(lo, hi, args.width, args.height, up)?
+        }
+    };
+    let march = MarchSettings {
+        shadows: args.shadows.shadows(),
+        ..Default::default()
+    };
+    let grid = &volumes[0].density;
+    say!(
+        "lgh explosion: {} frame(s) on a {}x{}x{} grid (voxel {:.5}), {} candidate lights; loaded in {load_s:.2} s",
+        volumes.len(),
+        grid.dims[0],
+        grid.dims[1],
+        grid.dims[2],
+        grid.voxel_size,
+        lights.lights().len()
+    );
+    for ((volume, frame), path) in volumes.iter().zip(&frames).zip(&paths) {
+        let out = frame_out(&args.out, *frame);
+        lights.set_frame(volume, &medium)?;
+        let label = frame.map_or("rendering".to_string(), |f| format!("frame {f}"));
+        let bar = progress::bar(args.height as u64, &label, args.quiet);
+        let t = Instant::now();
+        let (image, stats, name) = match args.backend {
+            BackendArg::Lgh | BackendArg::Brute => {
+                let (backend, name) = if args.backend == BackendArg::Lgh {
+                    (Backend::Lgh { alpha: args.alpha }, "lgh")
+                } else {
+                    (Backend::Brute, "brute")
+                };
+                let (img, st) = lights.render(backend, volume, &medium, &camera, &march, &|r| {
+                    bar.inc(r as u64)
+                })?;
+                (img, Some(st), name)
+            }
+            BackendArg::Pathtrace => {
+                let settings = PathSettings {
+                    spp: args.spp,
+                    max_scatter: args.max_scatter,
+                    ..Default::default()
+                };
+                let img =
+                    pathtrace::render(volume, &medium, &camera, &settings, &|r| bar.inc(r as u64))?;
+                (img, None, "pathtrace")
+            }
+        };
+        let secs = t.elapsed().as_secs_f64();
+        bar.finish_and_clear();
+        let mut extra = vec![
+            ("source", path.display().to_string()),
+            ("lights", lights.lit().to_string()),
+            (
+                "emission_model",
+                format!("{:?}", args.emission_model).to_lowercase(),
+            ),
+            ("temperature_scale", args.temperature_scale.to_string()),
+            ("emission_scale", args.emission_scale.to_string()),
+            ("min_temperature", args.min_temperature.to_string()),
+            ("density_scale", args.density_scale.to_string()),
+            ("albedo", args.albedo.to_string()),
+        ];
+        match args.backend {
+            BackendArg::Lgh => extra.push(("alpha", args.alpha.to_string())),
+            BackendArg::Pathtrace => {
+                extra.push(("spp", args.spp.to_string()));
+                extra.push(("max_scatter", args.max_scatter.to_string()));
+            }
+            BackendArg::Brute => {}
+        }
+        match &stats {
+            Some(st) => extra.extend(output::stats_attributes(st, secs)),
+            None => extra.push(("render_seconds", format!("{secs:.3}"))),
+        }
+        let attrs = output::settings_attributes(&march, name, &extra);
+        let png = output::write(&out, &image, &attrs)?;
+        let work = stats.map_or(String::new(), |st| {
+            format!(", {:.1} lights per shading point", st.lights_per_point())
+        });
+        say!(
+            "  {}: {} lights, {name} {secs:.1} s{work} -> {}, {}",
+            path.file_name().and_then(|n| n.to_str()).unwrap_or("?"),
+            lights.lit(),
+            out.display(),
+            png.display()
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_ranges_and_cameras_parse_or_explain() {
+        assert_eq!(parse_frames("50..56").unwrap(), (50, 56));
+        assert!(parse_frames("56..50").is_err());
+        assert!(parse_frames("5-6").is_err());
+        assert!(parse_camera("0,0,5,0,0,0", Vec3::Y, 8, 8).is_ok());
+        assert!(parse_camera("0,0,5,0,0,0,30", Vec3::Y, 8, 8).is_ok());
+        assert!(parse_camera("0,0,5,0,0", Vec3::Y, 8, 8).is_err());
+        assert!(parse_camera("0,0,0,0,0,0", Vec3::Y, 8, 8).is_err());
+        assert_eq!(
+            frame_out(Path::new("a/b.exr"), Some(7)),
+            Path::new("a/b_0007.exr")
+        );
+    }
+}

@@ -1,0 +1,109 @@
+//! What every render command shares: options for the ray marcher, the progress bar over rows,
+//! and the outputs (a linear EXR with the settings in its header, a tone-mapped PNG beside it).
+
+use std::path::{Path, PathBuf};
+
+use lgh_image::Image;
+use lgh_volume::render::{MarchSettings, RenderStats, Shadows};
+
+/// How lights are shadowed (`--shadows`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ShadowArg {
+    /// Transmittance ray-marched to every light (exact shadows).
+    Raymarch,
+    /// No shadows.
+    None,
+}
+
+impl ShadowArg {
+    /// The renderer's setting.
+    pub fn shadows(self) -> Shadows {
+        match self {
+            ShadowArg::Raymarch => Shadows::RayMarch,
+            ShadowArg::None => Shadows::None,
+        }
+    }
+}
+
+/// Checks `--width`/`--height`.
+pub fn check_size(width: usize, height: usize) -> Result<(), String> {
+    if (1..=16384).contains(&width) && (1..=16384).contains(&height) {
+        Ok(())
+    } else {
+        Err(format!(
+            "image size {width}x{height}: width and height must be 1 to 16384"
+        ))
+    }
+}
+
+/// Checks that the output is an `.exr` path and that its folder exists, before any work.
+pub fn check_out(out: &Path) -> Result<PathBuf, String> {
+    if out.extension().and_then(|e| e.to_str()) != Some("exr") {
+        return Err(format!(
+            "--out {}: the output must be an .exr file (a .png is written beside it)",
+            out.display()
+        ));
+    }
+    let dir = match out.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(format!(
+            "--out {}: folder {} does not exist",
+            out.display(),
+            dir.display()
+        ));
+    }
+    Ok(out.with_extension("png"))
+}
+
+/// The render settings as EXR header attributes (`lgh:` prefixed).
+pub fn settings_attributes(
+    march: &MarchSettings,
+    backend: &str,
+    extra: &[(&str, String)],
+) -> Vec<(String, String)> {
+    let mut attrs = vec![
+        ("lgh:backend".to_string(), backend.to_string()),
+        (
+            "lgh:shadows".to_string(),
+            format!("{:?}", march.shadows).to_lowercase(),
+        ),
+        ("lgh:step_voxels".to_string(), march.step_voxels.to_string()),
+        (
+            "lgh:shadow_step_voxels".to_string(),
+            march.shadow_step_voxels.to_string(),
+        ),
+        (
+            "lgh:min_transmittance".to_string(),
+            march.min_transmittance.to_string(),
+        ),
+        (
+            "lgh:version".to_string(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        ),
+    ];
+    attrs.extend(extra.iter().map(|(k, v)| (format!("lgh:{k}"), v.clone())));
+    attrs
+}
+
+/// Counts of a render as header attributes.
+pub fn stats_attributes(stats: &RenderStats, seconds: f64) -> Vec<(&'static str, String)> {
+    vec![
+        ("render_seconds", format!("{seconds:.3}")),
+        ("shading_points", stats.shading_points.to_string()),
+        (
+            "lights_per_shading_point",
+            format!("{:.2}", stats.lights_per_point()),
+        ),
+    ]
+}
+
+/// Writes the EXR and the PNG beside it (auto exposure); returns the PNG's path.
+pub fn write(out: &Path, image: &Image, attrs: &[(String, String)]) -> Result<PathBuf, String> {
+    let png = out.with_extension("png");
+    lgh_image::write_exr(out, image, attrs)?;
+    lgh_image::write_png(&png, image, lgh_image::auto_exposure(image))?;
+    Ok(png)
+}

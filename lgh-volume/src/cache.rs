@@ -1,0 +1,307 @@
+//! Simulation caches on disk: one OpenVDB file per frame, as Blender (Mantaflow) and Houdini
+//! write them, turned into [`Volume`]s on one common grid so that a sequence's lights stay put.
+//!
+//! Blender's *adaptive domain* starts each frame's index space at the corner of that frame's
+//! sub-box; the corner (`res_min`) is in the frame's `config/config_NNNN.uni` beside the
+//! `data/` folder, and `base index = VDB index + res_min` puts every frame on the full domain's
+//! grid. Without a config file the offset is zero (Houdini, or a non-adaptive domain).
+
+use std::path::{Path, PathBuf};
+
+use lgh_core::glam::Vec3;
+
+use crate::explosion::Volume;
+use crate::vdb;
+use crate::DenseGrid;
+
+/// Largest dense grid a cache may expand to (voxels): 2²⁸, 1 GiB per f32 grid.
+pub const MAX_VOXELS: usize = 1 << 28;
+
+/// Which grids of the files hold what.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GridNames {
+    /// Smoke density (Blender: `density`).
+    pub density: String,
+    /// The grid emission follows (Blender: `temperature`; also `flame` or `heat`).
+    pub emission: String,
+    /// A grid multiplying the emission (Blender: `flame`), if any; a missing grid of this name
+    /// is an error only when `flame_required`.
+    pub flame: Option<String>,
+    /// Whether a missing `flame` grid is an error (it is when the user named it).
+    pub flame_required: bool,
+}
+
+impl Default for GridNames {
+    /// Blender's grid names; `flame` is used when the file has it.
+    fn default() -> Self {
+        GridNames {
+            density: "density".into(),
+            emission: "temperature".into(),
+            flame: Some("flame".into()),
+            flame_required: false,
+        }
+    }
+}
+
+/// The file of frame `frame` in a cache whose file `example` is any frame: the last run of
+/// digits in the file name is replaced by `frame`, zero-padded to the same width
+/// (`fluid_data_0056.vdb` → `fluid_data_0050.vdb`).
+pub fn frame_path(example: &Path, frame: u32) -> Result<PathBuf, String> {
+    let name = example
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| format!("{}: not a file name", example.display()))?;
+    let end = name
+        .rfind(|c: char| c.is_ascii_digit())
+        .ok_or_else(|| format!("{name}: no frame number in the file name"))?
+        + 1;
+    let start = name[..end]
+        .rfind(|c: char| !c.is_ascii_digit())
+        .map_or(0, |i| i + 1);
+    let width = end - start;
+    let renamed = format!("{}{:0width$}{}", &name[..start], frame, &name[end..]);
+    Ok(example.with_file_name(renamed))
+}
+
+/// Reads `res_min` from a Blender fluid config file (`config_NNNN.uni`: gzip of a 204-byte
+/// little-endian record ending in `C01\0`, `res_min` as three i32 at byte 160).
+pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let raw = gunzip(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    if raw.len() != 204 || &raw[200..204] != b"C01\0" {
+        return Err(format!(
+            "{}: not a Blender fluid config (expected 204 bytes ending in C01)",
+            path.display()
+        ));
+    }
+    let i32_at = |o: usize| i32::from_le_bytes([raw[o], raw[o + 1], raw[o + 2], raw[o + 3]]);
+    let res_min = [i32_at(160), i32_at(164), i32_at(168)];
+    if res_min.iter().any(|v| !(0..=1 << 16).contains(v)) {
+        return Err(format!(
+            "{}: implausible domain offset {res_min:?}",
+            path.display()
+        ));
+    }
+    Ok(res_min)
+}
+
+/// The config file Blender writes beside a frame: `…/data/fluid_data_NNNN.vdb` →
+/// `…/config/config_NNNN.uni`.
+pub fn blender_config_path(vdb_path: &Path) -> Option<PathBuf> {
+    let name = vdb_path.file_name()?.to_str()?;
+    let digits: String = name
+        .trim_end_matches(".vdb")
+        .chars()
+        .rev()
+        .take_while(|c| c.is_ascii_digit())
+        .collect::<Vec<_>>()
+        .into_iter()
+        .rev()
+        .collect();
+    if digits.is_empty() {
+        return None;
+    }
+    let data_dir = vdb_path.parent()?;
+    Some(
+        data_dir
+            .parent()?
+            .join("config")
+            .join(format!("config_{digits}.uni")),
+    )
+}
+
+/// Inflates a gzip member (RFC 1952).
+fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
+    if bytes.len() < 18 || bytes[0] != 0x1f || bytes[1] != 0x8b || bytes[2] != 8 {
+        return Err("not a gzip file".into());
+    }
+    let flags = bytes[3];
+    let mut at = 10usize;
+    let past = |at: usize| -> Result<usize, String> {
+        if at > bytes.len() {
+            Err("truncated gzip header".into())
+        } else {
+            Ok(at)
+        }
+    };
+    if flags & 4 != 0 {
+        let n = u16::from_le_bytes([bytes[at], bytes[at + 1]]) as usize;
+        at = past(at + 2 + n)?;
+    }
+    for bit in [8u8, 16] {
+        if flags & bit != 0 {
+            let nul = bytes[at..]
+                .iter()
+                .position(|&b| b == 0)
+                .ok_or("truncated gzip header")?;
+            at = past(at + nul + 1)?;
+        }
+    }
+    if flags & 2 != 0 {
+        at = past(at + 2)?;
+    }
+    miniz_oxide::inflate::decompress_to_vec_with_limit(&bytes[at..], 1 << 20)
+        .map_err(|e| format!("corrupt gzip data: {e:?}"))
+}
+
+/// One frame's grids as read, before they are placed on the common grid.
+struct RawFrame {
+    density: vdb::Grid,
+    emission: vdb::Grid,
+    flame: Option<vdb::Grid>,
+    offset: [i32; 3],
+}
+
+fn take_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<vdb::Grid, String> {
+    file.grid(name).cloned().ok_or_else(|| {
+        let names: Vec<&str> = file.grids.iter().map(|g| g.name.as_str()).collect();
+        format!(
+            "{}: no grid named '{name}' (grids: {})",
+            path.display(),
+            names.join(", ")
+        )
+    })
+}
+
+/// Loads the frames `paths` onto one dense grid that covers every frame's active voxels of the
+/// three grids (in the full domain's index space when `blender_offset`, reading each frame's
+/// config file if it exists). All frames must share one voxel size and transform.
+pub fn load(
+    paths: &[PathBuf],
+    names: &GridNames,
+    blender_offset: bool,
+) -> Result<Vec<Volume>, String> {
+    if paths.is_empty() {
+        return Err("no frames to load".into());
+    }
+    let mut frames = Vec::with_capacity(paths.len());
+    for path in paths {
+        let file = vdb::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let density = take_grid(&file, &names.density, path)?;
+        let emission = take_grid(&file, &names.emission, path)?;
+        let flame = match &names.flame {
+            Some(n) => match take_grid(&file, n, path) {
+                Ok(g) => Some(g),
+                Err(e) if names.flame_required => return Err(e),
+                Err(_) => None,
+            },
+            None => None,
+        };
+        let offset = match blender_config_path(path).filter(|c| blender_offset && c.is_file()) {
+            Some(c) => read_blender_offset(&c)?,
+            None => [0; 3],
+        };
+        frames.push(RawFrame {
+            density,
+            emission,
+            flame,
+            offset,
+        });
+    }
+    let transform = frames[0].density.index_to_world;
+    let mut lo = [i32::MAX; 3];
+    let mut hi = [i32::MIN; 3];
+    for (f, path) in frames.iter().zip(paths) {
+        for g in [&f.density, &f.emission]
+            .into_iter()
+            .chain(f.flame.as_ref())
+        {
+            if g.index_to_world != transform {
+                return Err(format!(
+                    "{}: grid '{}' has another transform (voxel size or placement) than '{}' of {}",
+                    path.display(),
+                    g.name,
+                    frames[0].density.name,
+                    paths[0].display()
+                ));
+            }
+            if g.value_type.components() != 1 {
+                return Err(format!(
+                    "{}: grid '{}' is a {} grid; density, emission and flame must be scalar",
+                    path.display(),
+                    g.name,
+                    g.value_type.name()
+                ));
+            }
+            if let Some((a, b)) = g.stats().bbox {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(a[k].saturating_add(f.offset[k]));
+                    hi[k] = hi[k].max(b[k].saturating_add(f.offset[k]));
+                }
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        return Err("the frames have no active voxels".into());
+    }
+    let dims = [0, 1, 2].map(|k| (i64::from(hi[k]) - i64::from(lo[k]) + 1) as usize);
+    let voxels = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
+    if voxels.is_none_or(|v| v > MAX_VOXELS) {
+        return Err(format!(
+            "the frames span {}x{}x{} voxels, more than the {} a dense grid may hold",
+            dims[0], dims[1], dims[2], MAX_VOXELS
+        ));
+    }
+    let m = transform;
+    let origin = Vec3::new(
+        (m[0][0] * f64::from(lo[0]) + m[0][3]) as f32,
+        (m[1][1] * f64::from(lo[1]) + m[1][3]) as f32,
+        (m[2][2] * f64::from(lo[2]) + m[2][3]) as f32,
+    );
+    let place = |g: &vdb::Grid, off: [i32; 3]| -> Result<DenseGrid, String> {
+        let a = [0, 1, 2].map(|k| lo[k] - off[k]);
+        let b = [0, 1, 2].map(|k| hi[k] - off[k]);
+        let mut d = DenseGrid::from_vdb(g, a, b)?;
+        d.origin = origin;
+        Ok(d)
+    };
+    frames
+        .iter()
+        .map(|f| {
+            Ok(Volume {
+                density: place(&f.density, f.offset)?,
+                temperature: place(&f.emission, f.offset)?,
+                flame: f.flame.as_ref().map(|g| place(g, f.offset)).transpose()?,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_paths_keep_the_padding() {
+        let p = Path::new("/c/data/fluid_data_0056.vdb");
+        assert_eq!(
+            frame_path(p, 50).unwrap(),
+            Path::new("/c/data/fluid_data_0050.vdb")
+        );
+        assert_eq!(
+            frame_path(Path::new("f7.vdb"), 123).unwrap(),
+            Path::new("f123.vdb")
+        );
+        assert!(frame_path(Path::new("fire.vdb"), 1).is_err());
+        assert_eq!(
+            blender_config_path(p).unwrap(),
+            Path::new("/c/config/config_0056.uni")
+        );
+    }
+
+    #[test]
+    fn bad_config_files_are_errors() {
+        let dir = std::env::temp_dir().join(format!("lgh-cache-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("config_0001.uni");
+        std::fs::write(&p, b"not gzip at all, clearly").unwrap();
+        assert!(read_blender_offset(&p).is_err());
+        std::fs::write(
+            &p,
+            [0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8],
+        )
+        .unwrap();
+        assert!(read_blender_offset(&p).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,218 @@
+//! An explosion lit by itself, frame after frame (paper Sec. 3 and 6.1).
+//!
+//! The lights `S0` sit at the centres of the voxels that are hot in *any* frame of a sequence, so
+//! their positions never move; each frame only changes their intensities `I0 = j h³`, which the
+//! core's cheap rebuild ([`LightingGridHierarchy::update_intensities`]) absorbs. The grid of the
+//! hierarchy is tied to the simulation grid as in the paper: `h0 = h`, `h1 = 2h`, level-1
+//! vertices on voxel centres. Fixed positions and a fixed grid are what keep the approximation
+//! from flickering: nothing is clustered anew each frame.
+
+use lgh_core::glam::Vec3;
+use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
+use lgh_image::Image;
+
+use crate::explosion::{Medium, Volume};
+use crate::render::{render, Camera, MarchSettings, RenderStats};
+use crate::DenseGrid;
+
+/// Which many-lights method shades the scattering.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Backend {
+    /// The lighting grid hierarchy at the paper's α.
+    Lgh {
+        /// The paper's α (blending radius in cells).
+        alpha: f32,
+    },
+    /// Every light `S0`: the exact answer of the same light model.
+    Brute,
+}
+
+/// The lights of a sequence of frames on one simulation grid.
+#[derive(Clone, Debug)]
+pub struct ExplosionLights {
+    dims: [usize; 3],
+    voxel_size: f32,
+    origin: Vec3,
+    /// Linear voxel index of each light.
+    voxels: Vec<usize>,
+    lights: Vec<PointLight>,
+    hierarchy: LightingGridHierarchy,
+}
+
+/// Checks that every frame has the layout of the first (and that density and temperature share
+/// it), so that light positions can stay fixed.
+fn same_layout(a: &DenseGrid, b: &DenseGrid) -> bool {
+    a.dims == b.dims && a.voxel_size == b.voxel_size && a.origin == b.origin
+}
+
+impl ExplosionLights {
+    /// Lights at every voxel hotter than `T_min` in any of `frames`, with the intensities of
+    /// `frames[0]`. All frames must share one grid (dimensions, voxel size, origin).
+    pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, String> {
+        let first = frames.first().ok_or("no frames to light")?;
+        let grid = &first.temperature;
+        for (i, f) in frames.iter().enumerate() {
+            if !same_layout(grid, &f.temperature) || !same_layout(grid, &f.density) {
+                return Err(format!(
+                    "frame {i} is on another grid than frame 0: a sequence needs one grid \
+                     (dimensions, voxel size, origin)"
+                ));
+            }
+        }
+        let mut hot = vec![false; grid.data.len()];
+        for f in frames {
+            for (i, h) in hot.iter_mut().enumerate() {
+                *h = *h || f.voxel_emits(medium, i);
+            }
+        }
+        let voxels: Vec<usize> = (0..hot.len()).filter(|&i| hot[i]).collect();
+        let [nx, ny, _] = grid.dims;
+        let lights = voxels
+            .iter()
+            .map(|&idx| {
+                let (i, j, k) = (idx % nx, (idx / nx) % ny, idx / (nx * ny));
+                PointLight::new(grid.centre(i, j, k), Vec3::ZERO)
+            })
+            .collect::<Vec<_>>();
+        let h = grid.voxel_size;
+        let settings = GridSettings {
+            h1: Some(2.0 * h),
+            origin: Some(grid.origin),
+            ..Default::default()
+        };
+        let hierarchy = LightingGridHierarchy::build(&lights, &settings)
+            .map_err(|e| format!("cannot build the light hierarchy: {e}"))?;
+        let mut out = ExplosionLights {
+            dims: grid.dims,
+            voxel_size: h,
+            origin: grid.origin,
+            voxels,
+            lights,
+            hierarchy,
+        };
+        out.set_frame(first, medium)?;
+        Ok(out)
+    }
+
+    /// Sets the intensities to those of `frame` (same grid as at construction) and rebuilds the
+    /// hierarchy's intensities, keeping every position.
+    pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), String> {
+        let t = &frame.temperature;
+        if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
+            return Err("the flame grid is on another grid than the temperature".into());
+        }
+        if t.dims != self.dims || t.voxel_size != self.voxel_size || t.origin != self.origin {
+            return Err("frame is on another grid than the lights".into());
+        }
+        let h3 = self.voxel_size.powi(3);
+        let intensities: Vec<Vec3> = self
+            .voxels
+            .iter()
+            .map(|&idx| frame.voxel_emission(medium, idx) * h3)
+            .collect();
+        for (l, &i) in self.lights.iter_mut().zip(&intensities) {
+            l.intensity = i;
+        }
+        self.hierarchy
+            .update_intensities(&intensities)
+            .map_err(|e| format!("cannot update the light hierarchy: {e}"))
+    }
+
+    /// The lights `S0` (every candidate voxel; cold ones have zero intensity this frame).
+    pub fn lights(&self) -> &[PointLight] {
+        &self.lights
+    }
+
+    /// Number of lights with non-zero intensity this frame.
+    pub fn lit(&self) -> usize {
+        self.lights
+            .iter()
+            .filter(|l| l.intensity.max_element() > 0.0)
+            .count()
+    }
+
+    /// The hierarchy over the lights.
+    pub fn hierarchy(&self) -> &LightingGridHierarchy {
+        &self.hierarchy
+    }
+
+    /// Renders `frame` (whose intensities were set by [`set_frame`](Self::set_frame) or
+    /// [`new`](Self::new)) through `backend`; `progress(rows)` as rows finish.
+    pub fn render(
+        &self,
+        backend: Backend,
+        frame: &Volume,
+        medium: &Medium,
+        camera: &Camera,
+        settings: &MarchSettings,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<(Image, RenderStats), String> {
+        let h0 = self.voxel_size;
+        Ok(match backend {
+            Backend::Lgh { alpha } => {
+                let b = LghBackend::new(&self.hierarchy, alpha).map_err(|e| e.to_string())?;
+                render(frame, medium, Some((&b, h0)), camera, settings, progress)
+            }
+            Backend::Brute => {
+                let lit: Vec<PointLight> = self
+                    .lights
+                    .iter()
+                    .copied()
+                    .filter(|l| l.intensity.max_element() > 0.0)
+                    .collect();
+                let b = BruteForce::new(&lit).map_err(|e| e.to_string())?;
+                render(frame, medium, Some((&b, h0)), camera, settings, progress)
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::explosion::procedural;
+
+    #[test]
+    fn a_sequence_keeps_positions_and_matches_fresh_lights() {
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let a = procedural(32, 0.2).unwrap();
+        let b = procedural(32, 0.8).unwrap();
+        let mut seq = ExplosionLights::new(&[&a, &b], &m).unwrap();
+        let positions: Vec<Vec3> = seq.lights().iter().map(|l| l.position).collect();
+        seq.set_frame(&b, &m).unwrap();
+        assert!(seq.lights().iter().map(|l| l.position).eq(positions));
+        // Frame b alone: its hot voxels are a subset, with the same intensities.
+        let alone = ExplosionLights::new(&[&b], &m).unwrap();
+        assert_eq!(alone.lit(), seq.lit());
+        let lit = |s: &ExplosionLights| {
+            s.lights()
+                .iter()
+                .filter(|l| l.intensity.max_element() > 0.0)
+                .map(|l| (l.position, l.intensity))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(lit(&alone), lit(&seq));
+        // Dark lights add exactly nothing to eqs. 1-5, so with the same number of levels the
+        // sequence renders the frame bit for bit as the frame's own lights do.
+        assert_eq!(seq.hierarchy().max_level(), alone.hierarchy().max_level());
+        let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 12, 8).unwrap();
+        let s = MarchSettings::default();
+        let none = &|_: usize| {};
+        let back = Backend::Lgh { alpha: 2.0 };
+        let x = seq.render(back, &b, &m, &cam, &s, none).unwrap();
+        let y = alone.render(back, &b, &m, &cam, &s, none).unwrap();
+        assert_eq!(x.0.pixels, y.0.pixels);
+        assert!(x.0.pixels.iter().any(|p| p.max_element() > 0.0));
+    }
+
+    #[test]
+    fn frames_on_other_grids_are_refused() {
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let a = procedural(32, 0.2).unwrap();
+        let b = procedural(40, 0.2).unwrap();
+        assert!(ExplosionLights::new(&[&a, &b], &m).is_err());
+        assert!(ExplosionLights::new(&[], &m).is_err());
+        let mut s = ExplosionLights::new(&[&a], &m).unwrap();
+        assert!(s.set_frame(&b, &m).is_err());
+    }
+}
