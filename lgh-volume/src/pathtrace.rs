@@ -863,7 +863,7 @@ mod tests {
         //  - the marcher's discretisation: midpoint rules along camera and shadow rays, and the
         //    emitter's volume as one point per voxel. We measure it by halving every resolution —
         //    steps along both kinds of ray, and the emitter's voxels (the emitted field is the
-        //    same: a uniform cube) — and, as each part converges at least linearly, bound the
+        //    same: a uniform wall) — and, as each part converges at least linearly, bound the
         //    coarse marcher's error by 2 |M_h − M_{h/2}| (a series with ratio ≤ 1/2). For the
         //    emitter part alone the midpoint rule predicts h²/(12 d²) ≈ 6·10⁻⁴ relative at the
         //    smallest distance (the ball's density, trilinear, reaches x = 0.85; the first light
