@@ -14,6 +14,7 @@ macro_rules! say {
 }
 
 mod bench;
+mod bench_explosion;
 mod compare;
 mod demo;
 mod explosion;
@@ -63,6 +64,8 @@ enum Command {
 enum BenchCommand {
     /// Build and query speed and accuracy of lgh-core on three light sets.
     Core(bench::CoreBenchArgs),
+    /// The explosion renderer: LGH at several α against brute force and the path tracer.
+    Explosion(bench_explosion::ExplosionBenchArgs),
 }
 
 /// Writes one line to stdout (see [`say!`]).
@@ -109,6 +112,9 @@ fn main() {
         Command::Bench {
             which: BenchCommand::Core(a),
         } => bench::run(a),
+        Command::Bench {
+            which: BenchCommand::Explosion(a),
+        } => bench_explosion::run(a),
     };
     if let Err(e) = result {
         eprintln!("lgh: error: {e}");

@@ -525,20 +525,56 @@ fn render_impl(
         .enumerate()
         .for_each(|(y, (mean_row, var_row))| {
             for x in 0..w {
-                let dir = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-                let mut rng = pixel_rng(settings.seed, (y * w + x) as u64);
-                let mut stats = Welford::default();
-                for _ in 0..settings.spp {
-                    let l = radiance(
-                        volume, medium, &majorants, camera.eye, dir, settings, &mut rng,
-                    );
-                    stats.add(l);
-                }
-                (mean_row[x], var_row[x]) = stats.mean_and_variance_of_mean();
+                (mean_row[x], var_row[x]) =
+                    pixel(volume, medium, &majorants, camera, settings, x, y);
             }
             progress(1);
         });
     Ok((mean, variance))
+}
+
+/// Mean and variance of the mean of pixel `(x, y)`'s paths.
+fn pixel(
+    volume: &Volume,
+    medium: &Medium,
+    majorants: &Majorants,
+    camera: &Camera,
+    settings: &PathSettings,
+    x: usize,
+    y: usize,
+) -> (Vec3, Vec3) {
+    let dir = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
+    let mut rng = pixel_rng(settings.seed, (y * camera.width + x) as u64);
+    let mut stats = Welford::default();
+    for _ in 0..settings.spp {
+        stats.add(radiance(
+            volume, medium, majorants, camera.eye, dir, settings, &mut rng,
+        ));
+    }
+    stats.mean_and_variance_of_mean()
+}
+
+/// The pixels `(x, y)` of `pixels` only, exactly as [`render`] computes them (same random
+/// numbers), in parallel: for references and benchmarks on pixel subsets.
+pub fn render_pixels(
+    volume: &Volume,
+    medium: &Medium,
+    camera: &Camera,
+    settings: &PathSettings,
+    pixels: &[[usize; 2]],
+) -> Result<Vec<Vec3>, String> {
+    settings.validate()?;
+    if let Some(p) = pixels
+        .iter()
+        .find(|p| p[0] >= camera.width || p[1] >= camera.height)
+    {
+        return Err(format!("path tracer: pixel {p:?} is outside the image"));
+    }
+    let majorants = Majorants::new(volume, medium)?;
+    Ok(pixels
+        .par_iter()
+        .map(|&[x, y]| pixel(volume, medium, &majorants, camera, settings, x, y).0)
+        .collect())
 }
 
 /// Running mean and sum of squared deviations per channel (Welford), in f64.

@@ -353,6 +353,49 @@ pub fn render<B: ManyLights + Sync>(
     (image, stats)
 }
 
+/// The pixels `(x, y)` of `pixels` only, exactly as [`render`] computes them, in parallel: for
+/// brute-force references and benchmarks on pixel subsets. Pixels outside the image are an
+/// error.
+pub fn render_pixels<B: ManyLights + Sync>(
+    volume: &Volume,
+    medium: &Medium,
+    lights: Option<(&B, f32)>,
+    camera: &Camera,
+    settings: &MarchSettings,
+    pixels: &[[usize; 2]],
+) -> Result<(Vec<Vec3>, RenderStats), String> {
+    if let Some(p) = pixels
+        .iter()
+        .find(|p| p[0] >= camera.width || p[1] >= camera.height)
+    {
+        return Err(format!("pixel {p:?} is outside the image"));
+    }
+    Ok(pixels
+        .par_iter()
+        .map(|&[x, y]| {
+            let mut stats = RenderStats::default();
+            let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
+            let v = march(volume, medium, lights, camera.eye, d, settings, &mut stats);
+            (v, stats)
+        })
+        .fold(
+            || (Vec::new(), RenderStats::default()),
+            |(mut vs, mut st), (v, s)| {
+                vs.push(v);
+                st.add(&s);
+                (vs, st)
+            },
+        )
+        .reduce(
+            || (Vec::new(), RenderStats::default()),
+            |(mut a, mut sa), (b, sb)| {
+                a.extend(b);
+                sa.add(&sb);
+                (a, sa)
+            },
+        ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,7 +12,7 @@ use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, Poin
 use lgh_image::Image;
 
 use crate::explosion::{Medium, Volume};
-use crate::render::{render, Camera, MarchSettings, RenderStats};
+use crate::render::{render, render_pixels, Camera, MarchSettings, RenderStats};
 use crate::DenseGrid;
 
 /// Which many-lights method shades the scattering.
@@ -150,20 +150,52 @@ impl ExplosionLights {
         let h0 = self.voxel_size;
         Ok(match backend {
             Backend::Lgh { alpha } => {
-                let b = LghBackend::new(&self.hierarchy, alpha).map_err(|e| e.to_string())?;
+                let b = self.lgh(alpha)?;
                 render(frame, medium, Some((&b, h0)), camera, settings, progress)
             }
             Backend::Brute => {
-                let lit: Vec<PointLight> = self
-                    .lights
-                    .iter()
-                    .copied()
-                    .filter(|l| l.intensity.max_element() > 0.0)
-                    .collect();
-                let b = BruteForce::new(&lit).map_err(|e| e.to_string())?;
+                let b = self.brute()?;
                 render(frame, medium, Some((&b, h0)), camera, settings, progress)
             }
         })
+    }
+
+    /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.
+    pub fn render_pixels(
+        &self,
+        backend: Backend,
+        frame: &Volume,
+        medium: &Medium,
+        camera: &Camera,
+        settings: &MarchSettings,
+        pixels: &[[usize; 2]],
+    ) -> Result<(Vec<Vec3>, RenderStats), String> {
+        let h0 = self.voxel_size;
+        match backend {
+            Backend::Lgh { alpha } => {
+                let b = self.lgh(alpha)?;
+                render_pixels(frame, medium, Some((&b, h0)), camera, settings, pixels)
+            }
+            Backend::Brute => {
+                let b = self.brute()?;
+                render_pixels(frame, medium, Some((&b, h0)), camera, settings, pixels)
+            }
+        }
+    }
+
+    fn lgh(&self, alpha: f32) -> Result<LghBackend<'_>, String> {
+        LghBackend::new(&self.hierarchy, alpha).map_err(|e| e.to_string())
+    }
+
+    /// Brute force over the lights that shine this frame.
+    fn brute(&self) -> Result<BruteForce, String> {
+        let lit: Vec<PointLight> = self
+            .lights
+            .iter()
+            .copied()
+            .filter(|l| l.intensity.max_element() > 0.0)
+            .collect();
+        BruteForce::new(&lit).map_err(|e| e.to_string())
     }
 }
 

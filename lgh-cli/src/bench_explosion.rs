@@ -1,0 +1,286 @@
+//! `lgh bench explosion`: the explosion renderer against its two references, as JSON.
+//!
+//! Per scene: the lights and the hierarchy's build time; per α, a full image rendered with the
+//! hierarchy (seconds, lights evaluated per shading point) and, on a regular subset of its
+//! pixels, brute force over every light (the exact answer of the same light model: relative
+//! RMSE and speed-up) and the path tracer (how many paths, and seconds, until its noise against
+//! its own converged image falls to the hierarchy's error). Brute force and the path tracer run
+//! on the pixel subset only, because on whole images they take hours; the hierarchy's subset
+//! time is measured too, so every ratio compares the same pixels.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use lgh_core::glam::Vec3;
+use lgh_core::metrics::ErrorStats;
+use lgh_volume::cache::{self, GridNames};
+use lgh_volume::explosion::{procedural, EmissionModel, Medium, Volume};
+use lgh_volume::pathtrace::{self, PathSettings};
+use lgh_volume::render::{Camera, MarchSettings, Up};
+use lgh_volume::scene::{Backend, ExplosionLights};
+use serde_json::{json, Value};
+
+/// Arguments of `lgh bench explosion`.
+#[derive(Debug, clap::Args)]
+pub struct ExplosionBenchArgs {
+    /// Scenes: p128 and p256 (the procedural explosion at t = 0.5 s), fire56 (the dev Blender
+    /// frame 0056 from ../shared/data, skipped with a message when absent).
+    #[arg(long, value_delimiter = ',', default_value = "p128,p256,fire56")]
+    pub scenes: Vec<String>,
+    /// α values.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4")]
+    pub alphas: Vec<f32>,
+    /// Full-image width.
+    #[arg(long, default_value_t = 160)]
+    pub width: usize,
+    /// Full-image height.
+    #[arg(long, default_value_t = 90)]
+    pub height: usize,
+    /// Pixels of the subset the references render: evenly strided among the pixels whose
+    /// emission (a cheap render without lights) is above 1% of the brightest.
+    #[arg(long, default_value_t = 64)]
+    pub pixels: usize,
+    /// Paths per pixel of the path tracer's converged image (its ladder goes up to 1/16 of it).
+    #[arg(long, default_value_t = 1 << 18)]
+    pub reference_spp: u32,
+    /// Folder of the dev cache.
+    #[arg(
+        long,
+        default_value = "../shared/data/volumes/blender_fire_pesichra/data"
+    )]
+    pub data: PathBuf,
+    /// Write the JSON here (atomically) as well as to stdout.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+struct Scene {
+    name: String,
+    volume: Volume,
+    medium: Medium,
+    up: Up,
+}
+
+fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, String> {
+    let demo = crate::demo::demo_medium();
+    Ok(Some(match key {
+        "p128" | "p256" => Scene {
+            name: format!("procedural_{}", &key[1..]),
+            volume: procedural(key[1..].parse().expect("p128 or p256"), 0.5)?,
+            medium: demo,
+            up: Up::Y,
+        },
+        "fire56" => {
+            let path = data.join("fluid_data_0056.vdb");
+            if !path.is_file() {
+                eprintln!("fire56: SKIPPED, {} is not here", path.display());
+                return Ok(None);
+            }
+            // Blender's defaults (what `lgh explosion` uses) with smoke 100× denser, so that
+            // scattering, what the hierarchy approximates, is a visible part of the image.
+            let medium = Medium::new(50.0, 50.0, 1.0, 800.0)?
+                .with_temperature_scale(1000.0)?
+                .with_model(EmissionModel::Blender);
+            Scene {
+                name: "blender_fire_0056".into(),
+                volume: cache::load(&[path], &GridNames::default(), true)?.remove(0),
+                medium,
+                up: Up::Z,
+            }
+        }
+        other => return Err(format!("unknown scene '{other}' (p128, p256, fire56)")),
+    }))
+}
+
+/// Up to `n` pixels, evenly strided among those whose emission-only luminance is above 1% of
+/// the brightest: the references' time goes to pixels that show the explosion.
+fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Vec<[usize; 2]> {
+    let (emission, _) = lgh_volume::render::render::<lgh_core::BruteForce>(
+        &s.volume,
+        &s.medium,
+        None,
+        camera,
+        &MarchSettings::default(),
+        &|_| {},
+    );
+    let lum: Vec<f32> = emission
+        .pixels
+        .iter()
+        .map(|&p| lgh_core::luminance(p))
+        .collect();
+    let max = lum.iter().copied().fold(0.0f32, f32::max);
+    let bright: Vec<[usize; 2]> = (0..lum.len())
+        .filter(|&i| max > 0.0 && lum[i] > 0.01 * max)
+        .map(|i| [i % camera.width, i / camera.width])
+        .collect();
+    let step = bright.len().div_ceil(n.max(1)).max(1);
+    bright.into_iter().step_by(step).collect()
+}
+
+fn rel_rmse(a: &[Vec3], r: &[Vec3]) -> Option<f64> {
+    ErrorStats::compare(a, r).map(|e| e.rel_rmse)
+}
+
+fn secs<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = Instant::now();
+    let v = f();
+    (v, t.elapsed().as_secs_f64())
+}
+
+/// Runs the benchmark and prints its JSON report.
+pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
+    for &a in &args.alphas {
+        crate::check_alpha(a)?;
+    }
+    crate::output::check_size(args.width, args.height)?;
+    if args.pixels == 0 {
+        return Err("--pixels must be at least 1".into());
+    }
+    if args.reference_spp < 64 {
+        return Err("--reference-spp must be at least 64".into());
+    }
+    let mut scenes = Vec::new();
+    for key in &args.scenes {
+        if let Some(s) = scene(key, &args.data)? {
+            scenes.push(bench_scene(&s, args)?);
+        }
+    }
+    let report = json!({
+        "benchmark": "lgh bench explosion",
+        "threads": rayon::current_num_threads(),
+        "image": [args.width, args.height],
+        "scenes": scenes,
+    });
+    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    say!("{text}");
+    if let Some(out) = &args.out {
+        lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))?;
+    }
+    Ok(())
+}
+
+fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
+    let (lights, build_s) = secs(|| ExplosionLights::new(&[&s.volume], &s.medium));
+    let lights = lights?;
+    let (lo, hi) = s
+        .volume
+        .active_bounds()
+        .unwrap_or(s.volume.density.bounds());
+    let camera = Camera::frame_up(lo, hi, args.width, args.height, s.up)?;
+    let march = MarchSettings::default();
+    let pixels = &pick_pixels(s, &camera, args.pixels)[..];
+    if pixels.is_empty() {
+        return Err(format!("{}: the image shows no emission", s.name));
+    }
+    eprintln!(
+        "{}: {} lights, hierarchy built in {build_s:.3} s",
+        s.name,
+        lights.lit()
+    );
+
+    let (brute, brute_s) = secs(|| {
+        lights.render_pixels(
+            Backend::Brute,
+            &s.volume,
+            &s.medium,
+            &camera,
+            &march,
+            pixels,
+        )
+    });
+    let (brute, brute_stats) = brute?;
+    eprintln!(
+        "{}: brute force on {} pixels in {brute_s:.1} s",
+        s.name,
+        pixels.len()
+    );
+
+    // The path tracer: a converged image, then doubling paths until its error is below each α's.
+    let pt = |spp: u32| {
+        let settings = PathSettings {
+            spp,
+            max_scatter: 1,
+            seed: u64::from(spp),
+            ..Default::default()
+        };
+        secs(|| pathtrace::render_pixels(&s.volume, &s.medium, &camera, &settings, pixels))
+    };
+    let (converged, converged_s) = pt(args.reference_spp);
+    let converged = converged?;
+    let mut ladder = Vec::new();
+    let mut spp = 1;
+    // Stop at 1/16 of the reference: the reference's own noise then inflates the measured error
+    // by at most sqrt(1 + 1/16) - 1 = 3%.
+    while spp <= args.reference_spp / 16 {
+        let (img, t) = pt(spp);
+        let err = rel_rmse(&img?, &converged).unwrap_or(f64::NAN);
+        ladder.push((spp, t, err));
+        spp *= 2;
+    }
+    eprintln!(
+        "{}: path tracer, {} spp reference in {converged_s:.1} s",
+        s.name, args.reference_spp
+    );
+
+    let mut rows = Vec::new();
+    for &alpha in &args.alphas {
+        let backend = Backend::Lgh { alpha };
+        let (image, image_s) =
+            secs(|| lights.render(backend, &s.volume, &s.medium, &camera, &march, &|_| {}));
+        let (_, stats) = image?;
+        let (sub, sub_s) =
+            secs(|| lights.render_pixels(backend, &s.volume, &s.medium, &camera, &march, pixels));
+        let (sub, _) = sub?;
+        let err = rel_rmse(&sub, &brute).unwrap_or(f64::NAN);
+        let matched = ladder.iter().find(|(_, _, e)| *e <= err);
+        // Not reached within the ladder: where the 1/sqrt(spp) noise law puts it, from the
+        // last rung (an estimate, reported as such).
+        let extrapolated = ladder
+            .last()
+            .filter(|_| matched.is_none() && err > 0.0)
+            .map(|&(spp, t, e)| {
+                let k = (e / err).powi(2);
+                (f64::from(spp) * k, t * k)
+            });
+        eprintln!(
+            "{}: alpha {alpha}: {image_s:.1} s, {:.0} lights per point, rel RMSE {:.4}",
+            s.name,
+            stats.lights_per_point(),
+            err
+        );
+        rows.push(json!({
+            "alpha": alpha,
+            "render_seconds": image_s,
+            "shading_points": stats.shading_points,
+            "lights_per_shading_point": stats.lights_per_point(),
+            "shadow_samples_per_light": stats.shadow_samples as f64 / stats.lights_evaluated.max(1) as f64,
+            "subset_seconds": sub_s,
+            "rel_rmse_vs_brute": err,
+            "speedup_vs_brute": brute_s / sub_s,
+            "pathtrace_spp_to_match": matched.map(|m| m.0),
+            "pathtrace_seconds_to_match": matched.map(|m| m.1),
+            "pathtrace_time_ratio": matched.map(|m| m.1 / sub_s),
+            "pathtrace_spp_to_match_extrapolated": extrapolated.map(|x| x.0),
+            "pathtrace_time_ratio_extrapolated": extrapolated.map(|x| x.1 / sub_s),
+        }));
+    }
+    Ok(json!({
+        "scene": s.name,
+        "grid": s.volume.density.dims,
+        "lights": lights.lit(),
+        "levels": lights.hierarchy().max_level() + 1,
+        "build_seconds": build_s,
+        "reference_pixels": pixels.len(),
+        "brute": {
+            "subset_seconds": brute_s,
+            "lights_per_shading_point": brute_stats.lights_per_point(),
+        },
+        "pathtrace": {
+            "max_scatter": 1,
+            "reference_spp": args.reference_spp,
+            "reference_seconds": converged_s,
+            "ladder": ladder.iter().map(|(spp, t, e)| json!({"spp": spp, "seconds": t, "rel_rmse_vs_converged": e})).collect::<Vec<_>>(),
+        },
+        "alphas": rows,
+    }))
+}
