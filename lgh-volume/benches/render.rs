@@ -23,7 +23,14 @@ fn renders(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("lgh", alpha), &alpha, |b, &alpha| {
             b.iter(|| {
                 lights
-                    .render(Backend::Lgh { alpha }, &volume, &medium, &camera, &march, &|_| {})
+                    .render(
+                        Backend::Lgh { alpha },
+                        &volume,
+                        &medium,
+                        &camera,
+                        &march,
+                        &|_| {},
+                    )
                     .unwrap()
             })
         });
