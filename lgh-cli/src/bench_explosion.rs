@@ -14,7 +14,7 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{procedural, EmissionModel, Medium, Volume};
+use lgh_volume::explosion::{framing_bounds, procedural, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
@@ -162,10 +162,7 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
 fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
     let (lights, build_s) = secs(|| ExplosionLights::new(&[&s.volume], &s.medium));
     let lights = lights?;
-    let (lo, hi) = s
-        .volume
-        .active_bounds()
-        .unwrap_or(s.volume.density.bounds());
+    let (lo, hi) = framing_bounds(&[&s.volume]).expect("one frame");
     let camera = Camera::frame_up(lo, hi, args.width, args.height, s.up)?;
     let march = MarchSettings::default();
     let pixels = &pick_pixels(s, &camera, args.pixels)[..];

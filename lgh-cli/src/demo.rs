@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_volume::explosion::{procedural, Medium};
+use lgh_volume::explosion::{framing_bounds, procedural, Medium};
 use lgh_volume::render::{Camera, MarchSettings};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
@@ -55,7 +55,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     let medium = demo_medium();
     let lights = ExplosionLights::new(&[&volume], &medium)?;
     let setup_s = t.elapsed().as_secs_f64();
-    let (lo, hi) = volume.active_bounds().unwrap_or(volume.density.bounds());
+    let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
     let camera = Camera::frame(lo, hi, args.width, args.height)?;
     let march = MarchSettings {
         shadows: args.shadows.shadows(),

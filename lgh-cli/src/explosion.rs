@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{EmissionModel, Medium};
+use lgh_volume::explosion::{framing_bounds, EmissionModel, Medium};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
@@ -220,12 +220,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     let camera = match &args.camera {
         Some(s) => parse_camera(s, up.vector(), args.width, args.height)?,
         None => {
-            let g = &volumes[0].density;
-            let (lo, hi) = volumes
-                .iter()
-                .filter_map(|v| v.active_bounds())
-                .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
-                .unwrap_or(g.bounds());
+            let (lo, hi) = framing_bounds(&refs).ok_or("no frames")?;
             Camera::frame_up(lo, hi, args.width, args.height, up)?
         }
     };

@@ -1,5 +1,6 @@
 //! End-to-end tests of the `lgh` binary.
 
+use lgh_tests::fire_frame;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -333,19 +334,6 @@ fn demo_renders_an_exr_and_a_png() {
         assert!(!o.status.success(), "{bad:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
-    }
-}
-
-/// The dev fire cache, or `None` (with a message) when `../shared/data` is absent.
-fn fire_frame(n: u32) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
-        "../../shared/data/volumes/blender_fire_pesichra/data/fluid_data_{n:04}.vdb"
-    ));
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("SKIPPED: {} is not here", p.display());
-        None
     }
 }
 

@@ -51,16 +51,20 @@ pub fn frame_path(example: &Path, frame: u32) -> Result<PathBuf, String> {
         .file_name()
         .and_then(|n| n.to_str())
         .ok_or_else(|| format!("{}: not a file name", example.display()))?;
-    let end = name
-        .rfind(|c: char| c.is_ascii_digit())
-        .ok_or_else(|| format!("{name}: no frame number in the file name"))?
-        + 1;
-    let start = name[..end]
-        .rfind(|c: char| !c.is_ascii_digit())
-        .map_or(0, |i| i + 1);
+    let (start, end) =
+        frame_digits(name).ok_or_else(|| format!("{name}: no frame number in the file name"))?;
     let width = end - start;
     let renamed = format!("{}{:0width$}{}", &name[..start], frame, &name[end..]);
     Ok(example.with_file_name(renamed))
+}
+
+/// Byte range of the frame number in a file name: its last run of digits.
+fn frame_digits(name: &str) -> Option<(usize, usize)> {
+    let end = name.rfind(|c: char| c.is_ascii_digit())? + 1;
+    let start = name[..end]
+        .rfind(|c: char| !c.is_ascii_digit())
+        .map_or(0, |i| i + 1);
+    Some((start, end))
 }
 
 /// Reads `res_min` from a Blender fluid config file (`config_NNNN.uni`: gzip of a 204-byte
@@ -89,25 +93,9 @@ pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], String> {
 /// `…/config/config_NNNN.uni`.
 pub fn blender_config_path(vdb_path: &Path) -> Option<PathBuf> {
     let name = vdb_path.file_name()?.to_str()?;
-    let digits: String = name
-        .trim_end_matches(".vdb")
-        .chars()
-        .rev()
-        .take_while(|c| c.is_ascii_digit())
-        .collect::<Vec<_>>()
-        .into_iter()
-        .rev()
-        .collect();
-    if digits.is_empty() {
-        return None;
-    }
-    let data_dir = vdb_path.parent()?;
-    Some(
-        data_dir
-            .parent()?
-            .join("config")
-            .join(format!("config_{digits}.uni")),
-    )
+    let (start, end) = frame_digits(name)?;
+    let config = format!("config_{}.uni", &name[start..end]);
+    Some(vdb_path.parent()?.parent()?.join("config").join(config))
 }
 
 /// Inflates a gzip member (RFC 1952).

@@ -34,7 +34,7 @@ impl Volume {
     pub fn emission(&self, medium: &Medium, x: Vec3) -> Vec3 {
         let j = medium.emission_at(self.temperature.sample(x));
         match &self.flame {
-            Some(f) if j != Vec3::ZERO => j * f.sample(x),
+            Some(f) if j != Vec3::ZERO => j * f.sample(x).max(0.0),
             _ => j,
         }
     }
@@ -48,21 +48,34 @@ impl Volume {
         }
     }
 
-    /// Whether voxel `idx` emits: hot enough, and (with a flame grid) flame above zero.
+    /// Whether voxel `idx` is a light: its [`voxel_emission`](Self::voxel_emission) is not zero.
     pub fn voxel_emits(&self, medium: &Medium, idx: usize) -> bool {
-        medium.emits(self.temperature.data[idx])
-            && self.flame.as_ref().is_none_or(|f| f.data[idx] > 0.0)
+        self.voxel_emission(medium, idx).max_element() > 0.0
     }
 
     /// World box of the voxels with smoke or emission: what a camera should frame.
     pub fn active_bounds(&self) -> Option<(Vec3, Vec3)> {
-        let a = self.density.active_bounds();
-        let b = self.temperature.active_bounds();
-        match (a, b) {
-            (Some(a), Some(b)) => Some((a.0.min(b.0), a.1.max(b.1))),
-            (a, b) => a.or(b),
-        }
+        union(
+            self.density.active_bounds(),
+            self.temperature.active_bounds(),
+        )
     }
+}
+
+/// The smallest box holding both (either may be absent).
+fn union(a: Option<(Vec3, Vec3)>, b: Option<(Vec3, Vec3)>) -> Option<(Vec3, Vec3)> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some((a.0.min(b.0), a.1.max(b.1))),
+        (a, b) => a.or(b),
+    }
+}
+
+/// What a camera should frame for a sequence: the union of the frames'
+/// [`active_bounds`](Volume::active_bounds), or the first frame's whole grid when no frame has
+/// smoke or emission (`None` for no frames).
+pub fn framing_bounds(frames: &[&Volume]) -> Option<(Vec3, Vec3)> {
+    let active = frames.iter().map(|v| v.active_bounds()).fold(None, union);
+    active.or_else(|| frames.first().map(|v| v.density.bounds()))
 }
 
 /// A deterministic procedural fireball on a `res³` grid filling the cube `[-1, 1]³`, at time
@@ -244,6 +257,7 @@ pub fn lights(volume: &Volume, medium: &Medium) -> (Vec<PointLight>, Vec<usize>)
         for j in 0..ny {
             for i in 0..nx {
                 let idx = temperature.index(i, j, k);
+                // The rule of `voxel_emits`, without computing the emission twice.
                 let intensity = volume.voxel_emission(medium, idx) * h3;
                 if intensity.max_element() > 0.0 {
                     lights.push(PointLight::new(temperature.centre(i, j, k), intensity));

@@ -564,12 +564,9 @@ pub fn render_pixels(
     pixels: &[[usize; 2]],
 ) -> Result<Vec<Vec3>, String> {
     settings.validate()?;
-    if let Some(p) = pixels
-        .iter()
-        .find(|p| p[0] >= camera.width || p[1] >= camera.height)
-    {
-        return Err(format!("path tracer: pixel {p:?} is outside the image"));
-    }
+    camera
+        .check_pixels(pixels)
+        .map_err(|e| format!("path tracer: {e}"))?;
     let majorants = Majorants::new(volume, medium)?;
     Ok(pixels
         .par_iter()

@@ -93,6 +93,20 @@ impl Camera {
         Camera::look_at(centre + dir * distance, centre, upv, fov_y, width, height)
     }
 
+    /// Checks that every `(x, y)` of `pixels` is inside the image.
+    pub fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), String> {
+        match pixels
+            .iter()
+            .find(|p| p[0] >= self.width || p[1] >= self.height)
+        {
+            Some(p) => Err(format!(
+                "pixel {p:?} is outside the {}x{} image",
+                self.width, self.height
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Direction of the ray through pixel position `(x, y)` (pixel centres at +0.5; y down).
     pub fn direction(&self, x: f32, y: f32) -> Vec3 {
         let aspect = self.width as f32 / self.height as f32;
@@ -222,8 +236,6 @@ pub fn transmittance(
 /// What a render did: the work counts that explain its time.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
-    /// Camera-ray steps (samples of the medium).
-    pub steps: u64,
     /// Steps where the lights were evaluated (scattering medium, lights given).
     pub shading_points: u64,
     /// Lights (or clusters) evaluated, summed over shading points.
@@ -235,7 +247,6 @@ pub struct RenderStats {
 impl RenderStats {
     /// Adds another count.
     pub fn add(&mut self, o: &RenderStats) {
-        self.steps += o.steps;
         self.shading_points += o.shading_points;
         self.lights_evaluated += o.lights_evaluated;
         self.shadow_samples += o.shadow_samples;
@@ -274,7 +285,6 @@ pub fn march<B: ManyLights>(
     let mut trans = 1.0f32;
     for i in 0..n {
         let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
-        stats.steps += 1;
         let rho = volume.density.sample(x);
         let sigma_t = medium.extinction(rho);
         let mut source = volume.emission(medium, x);
@@ -364,12 +374,7 @@ pub fn render_pixels<B: ManyLights + Sync>(
     settings: &MarchSettings,
     pixels: &[[usize; 2]],
 ) -> Result<(Vec<Vec3>, RenderStats), String> {
-    if let Some(p) = pixels
-        .iter()
-        .find(|p| p[0] >= camera.width || p[1] >= camera.height)
-    {
-        return Err(format!("pixel {p:?} is outside the image"));
-    }
+    camera.check_pixels(pixels)?;
     Ok(pixels
         .par_iter()
         .map(|&[x, y]| {

@@ -8,7 +8,10 @@
 //! from flickering: nothing is clustered anew each frame.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
+use lgh_core::{
+    BruteForce, GridSettings, Illumination, LghBackend, LightingGridHierarchy, ManyLights,
+    PointLight, QueryError, Shader, ShadingPoint,
+};
 use lgh_image::Image;
 
 use crate::explosion::{Medium, Volume};
@@ -147,17 +150,9 @@ impl ExplosionLights {
         settings: &MarchSettings,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(Image, RenderStats), String> {
-        let h0 = self.voxel_size;
-        Ok(match backend {
-            Backend::Lgh { alpha } => {
-                let b = self.lgh(alpha)?;
-                render(frame, medium, Some((&b, h0)), camera, settings, progress)
-            }
-            Backend::Brute => {
-                let b = self.brute()?;
-                render(frame, medium, Some((&b, h0)), camera, settings, progress)
-            }
-        })
+        let b = self.backend(backend)?;
+        let lights = Some((&b, self.voxel_size));
+        Ok(render(frame, medium, lights, camera, settings, progress))
     }
 
     /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.
@@ -170,32 +165,56 @@ impl ExplosionLights {
         settings: &MarchSettings,
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), String> {
-        let h0 = self.voxel_size;
-        match backend {
+        let b = self.backend(backend)?;
+        let lights = Some((&b, self.voxel_size));
+        render_pixels(frame, medium, lights, camera, settings, pixels)
+    }
+
+    /// The many-lights method of `backend` over this frame's lights (brute force only over the
+    /// lights that shine).
+    fn backend(&self, backend: Backend) -> Result<Selected<'_>, String> {
+        Ok(match backend {
             Backend::Lgh { alpha } => {
-                let b = self.lgh(alpha)?;
-                render_pixels(frame, medium, Some((&b, h0)), camera, settings, pixels)
+                Selected::Lgh(LghBackend::new(&self.hierarchy, alpha).map_err(|e| e.to_string())?)
             }
             Backend::Brute => {
-                let b = self.brute()?;
-                render_pixels(frame, medium, Some((&b, h0)), camera, settings, pixels)
+                let lit: Vec<PointLight> = self
+                    .lights
+                    .iter()
+                    .copied()
+                    .filter(|l| l.intensity.max_element() > 0.0)
+                    .collect();
+                Selected::Brute(BruteForce::new(&lit).map_err(|e| e.to_string())?)
             }
+        })
+    }
+}
+
+/// A [`Backend`] made ready: one type for the renderer, whichever method was chosen. (One value
+/// per render, so the variants' size difference costs nothing.)
+#[allow(clippy::large_enum_variant)]
+enum Selected<'a> {
+    Lgh(LghBackend<'a>),
+    Brute(BruteForce),
+}
+
+impl ManyLights for Selected<'_> {
+    fn name(&self) -> &'static str {
+        match self {
+            Selected::Lgh(b) => b.name(),
+            Selected::Brute(b) => b.name(),
         }
     }
 
-    fn lgh(&self, alpha: f32) -> Result<LghBackend<'_>, String> {
-        LghBackend::new(&self.hierarchy, alpha).map_err(|e| e.to_string())
-    }
-
-    /// Brute force over the lights that shine this frame.
-    fn brute(&self) -> Result<BruteForce, String> {
-        let lit: Vec<PointLight> = self
-            .lights
-            .iter()
-            .copied()
-            .filter(|l| l.intensity.max_element() > 0.0)
-            .collect();
-        BruteForce::new(&lit).map_err(|e| e.to_string())
+    fn illuminate<S: Shader>(
+        &self,
+        point: &ShadingPoint,
+        shader: &mut S,
+    ) -> Result<Illumination, QueryError> {
+        match self {
+            Selected::Lgh(b) => b.illuminate(point, shader),
+            Selected::Brute(b) => b.illuminate(point, shader),
+        }
     }
 }
 

@@ -1,17 +1,12 @@
 //! Dense grids made from the real Blender cache keep every active value.
 
-use std::path::Path;
-
 use lgh_volume::{vdb, DenseGrid};
 
 #[test]
 fn densified_grids_keep_their_active_values() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data/volumes/blender_fire_pesichra/data/fluid_data_0056.vdb");
-    if !path.exists() {
-        eprintln!("SKIPPED: {} is not here", path.display());
+    let Some(path) = lgh_tests::fire_frame(56) else {
         return;
-    }
+    };
     let file = vdb::read(&path).unwrap();
     for name in ["density", "flame", "temperature", "velocity"] {
         let g = file.grid(name).unwrap();

@@ -2,25 +2,14 @@
 //! light (the exact answer of the same light model) on a procedural volume and a real Blender
 //! frame, and a 7-frame sequence of the real cache rendered bit-identically on 1 and 2 threads.
 
-use std::path::{Path, PathBuf};
+use lgh_tests::fire_frame;
+use std::path::PathBuf;
 
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{procedural, EmissionModel, Medium, Volume};
+use lgh_volume::explosion::{framing_bounds, procedural, EmissionModel, Medium, Volume};
 use lgh_volume::render::{Camera, MarchSettings, Shadows, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
-
-fn fire_frame(n: u32) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!(
-        "../../shared/data/volumes/blender_fire_pesichra/data/fluid_data_{n:04}.vdb"
-    ));
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("SKIPPED: {} is not here", p.display());
-        None
-    }
-}
 
 /// Relative RMSE (luminance, DESIGN.md "Measuring") of the *scattered* light: `a` and `r`
 /// minus the emission-only image `e`. The emission is computed identically by both, so leaving
@@ -144,11 +133,7 @@ fn a_sequence_of_the_real_cache_is_deterministic() {
         .unwrap()
         .with_model(EmissionModel::Blender);
     let refs: Vec<&Volume> = volumes.iter().collect();
-    let (lo, hi) = volumes
-        .iter()
-        .filter_map(Volume::active_bounds)
-        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
-        .unwrap();
+    let (lo, hi) = framing_bounds(&refs).unwrap();
     let cam = Camera::frame_up(lo, hi, 12, 8, Up::Z).unwrap();
     let s = MarchSettings {
         shadows: Shadows::RayMarch,

@@ -19,10 +19,7 @@ fn workspace() -> PathBuf {
 }
 
 fn fire_frames() -> Option<Vec<PathBuf>> {
-    let dir = std::env::var_os("LGH_SHARED_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace().join("../shared/data"))
-        .join("volumes/blender_fire_pesichra/data");
+    let dir = lgh_tests::fire_dir();
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .ok()?
         .filter_map(|e| e.ok().map(|e| e.path()))
