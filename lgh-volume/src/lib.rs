@@ -50,6 +50,7 @@ pub mod grid;
 pub mod pathtrace;
 pub mod render;
 pub mod scene;
+pub mod shadow;
 pub mod vdb;
 
 pub use grid::DenseGrid;

@@ -619,7 +619,7 @@ impl Welford {
 mod tests {
     use super::*;
     use crate::explosion::{lights, procedural};
-    use crate::render::{march, MarchSettings, RenderStats, Shadows};
+    use crate::render::{MarchSettings, Marcher, RenderStats, Shadows};
     use lgh_core::BruteForce;
 
     /// Mean and standard error (per channel) of `n` paths along one ray, in parallel chunks with
@@ -917,15 +917,7 @@ mod tests {
                 min_transmittance: 1e-9,
                 shadows: Shadows::RayMarch,
             };
-            march(
-                vol,
-                &m,
-                Some((&brute, h0)),
-                o,
-                d,
-                &s,
-                &mut RenderStats::default(),
-            )
+            Marcher::new(vol, &m, &s).march(Some((&brute, h0)), o, d, &mut RenderStats::default())
         };
         let maj = Majorants::new(&v, &m).unwrap();
         let s = PathSettings {

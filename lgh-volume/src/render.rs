@@ -12,6 +12,7 @@ use lgh_image::Image;
 use rayon::prelude::*;
 
 use crate::explosion::{Medium, Volume};
+use crate::shadow::ShadowGrid;
 
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -176,61 +177,13 @@ impl Default for MarchSettings {
 }
 
 /// Parameter interval where the ray `o + t d` is inside the box `lo..hi`.
-fn slab(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
+pub(crate) fn slab(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
     let inv = d.recip();
     let a = (lo - o) * inv;
     let b = (hi - o) * inv;
     let t0 = a.min(b).max_element().max(0.0);
     let t1 = a.max(b).min_element();
     (t0 < t1).then_some((t0, t1))
-}
-
-/// Transmittance `e^{−∫σ_t}` from `a` to `b`, midpoint rule with steps of at most `step`. The
-/// march stops once the transmittance is below `cutoff` and returns 0 (a light that dim behind
-/// smoke is taken as fully hidden: the error is below `cutoff` times its unshadowed
-/// contribution). Also returns the number of density samples taken.
-pub fn transmittance(
-    volume: &Volume,
-    medium: &Medium,
-    a: Vec3,
-    b: Vec3,
-    step: f32,
-    cutoff: f32,
-) -> (f32, u32) {
-    let (lo, hi) = volume.density.bounds();
-    let d = b - a;
-    let len = d.length();
-    if len <= 0.0 {
-        return (1.0, 0);
-    }
-    let dir = d / len;
-    let Some((t0, t1)) = slab(a, dir, lo, hi) else {
-        return (1.0, 0);
-    };
-    let t1 = t1.min(len);
-    if t0 >= t1 {
-        return (1.0, 0);
-    }
-    let n = ((t1 - t0) / step).ceil().max(1.0) as u32;
-    let dt = (t1 - t0) / n as f32;
-    let max_tau = if cutoff > 0.0 {
-        -cutoff.ln()
-    } else {
-        f32::INFINITY
-    };
-    // Voxel coordinates of the samples, stepped linearly (the segment is inside the bounds).
-    let g = &volume.density;
-    let u0 = (a + dir * (t0 + 0.5 * dt) - g.origin) / g.voxel_size;
-    let du = dir * (dt / g.voxel_size);
-    let kappa = medium.extinction(1.0) * dt;
-    let mut tau = 0.0f32;
-    for i in 0..n {
-        tau += kappa * g.sample_voxel(u0 + du * i as f32);
-        if tau > max_tau {
-            return (0.0, i + 1);
-        }
-    }
-    ((-tau).exp(), n)
 }
 
 /// What a render did: the work counts that explain its time.
@@ -262,74 +215,99 @@ impl RenderStats {
     }
 }
 
-/// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single scattering
-/// from `lights` (if given; `h0` clamps their fall-off).
-pub fn march<B: ManyLights>(
-    volume: &Volume,
-    medium: &Medium,
-    lights: Option<(&B, f32)>,
-    origin: Vec3,
-    dir: Vec3,
-    settings: &MarchSettings,
-    stats: &mut RenderStats,
-) -> Vec3 {
-    let h = volume.density.voxel_size;
-    let (lo, hi) = volume.density.bounds();
-    let Some((t0, t1)) = slab(origin, dir, lo, hi) else {
-        return Vec3::ZERO;
-    };
-    let n = ((t1 - t0) / (settings.step_voxels * h)).ceil().max(1.0) as usize;
-    let dt = (t1 - t0) / n as f32;
-    let shadow_step = settings.shadow_step_voxels * h;
-    let mut radiance = Vec3::ZERO;
-    let mut trans = 1.0f32;
-    for i in 0..n {
-        let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
-        let rho = volume.density.sample(x);
-        let sigma_t = medium.extinction(rho);
-        let mut source = volume.emission(medium, x);
-        let sigma_s = medium.scattering * rho;
-        if let (Some((backend, h0)), true) = (lights, sigma_s > 0.0) {
-            let mut shadow_samples = 0u64;
-            let mut shader = |l: &LightSample| {
-                let v = match settings.shadows {
-                    Shadows::None => 1.0,
-                    Shadows::RayMarch => {
-                        let (v, n) = transmittance(
-                            volume,
-                            medium,
-                            x,
-                            l.position,
-                            shadow_step,
-                            settings.min_transmittance,
-                        );
-                        shadow_samples += u64::from(n);
-                        v
-                    }
-                };
-                l.intensity * (falloff(l.distance, h0) * v)
-            };
-            if let Ok(sum) = backend.illuminate(&ShadingPoint::in_medium(x), &mut shader) {
-                source += sum.radiance * (sigma_s / (4.0 * std::f32::consts::PI));
-                stats.shading_points += 1;
-                stats.lights_evaluated += u64::from(sum.lights);
-            }
-            stats.shadow_samples += shadow_samples;
-        }
-        // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
-        let step_t = (-sigma_t * dt).exp();
-        let weight = if sigma_t > 0.0 {
-            (1.0 - step_t) / sigma_t
-        } else {
-            dt
+/// A frame ready to march: the volume, its medium and the settings, with the shadow grid the
+/// settings ask for built once.
+pub struct Marcher<'a> {
+    /// The volume.
+    pub volume: &'a Volume,
+    /// Its medium.
+    pub medium: &'a Medium,
+    /// The march settings.
+    pub settings: MarchSettings,
+    /// The density laid out for shadow rays, when they are ray-marched.
+    shadows: Option<ShadowGrid>,
+}
+
+impl<'a> Marcher<'a> {
+    /// Prepares `volume` in `medium` for marching with `settings`.
+    pub fn new(volume: &'a Volume, medium: &'a Medium, settings: &MarchSettings) -> Self {
+        let shadows = match settings.shadows {
+            Shadows::None => None,
+            Shadows::RayMarch => Some(ShadowGrid::new(
+                volume,
+                medium,
+                settings.shadow_step_voxels,
+                settings.min_transmittance,
+            )),
         };
-        radiance += trans * weight * source;
-        trans *= step_t;
-        if trans < settings.min_transmittance {
-            break;
+        Marcher {
+            volume,
+            medium,
+            settings: *settings,
+            shadows,
         }
     }
-    radiance
+
+    /// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single
+    /// scattering from `lights` (if given; `h0` clamps their fall-off).
+    pub fn march<B: ManyLights>(
+        &self,
+        lights: Option<(&B, f32)>,
+        origin: Vec3,
+        dir: Vec3,
+        stats: &mut RenderStats,
+    ) -> Vec3 {
+        let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
+        let h = volume.density.voxel_size;
+        let (lo, hi) = volume.density.bounds();
+        let Some((t0, t1)) = slab(origin, dir, lo, hi) else {
+            return Vec3::ZERO;
+        };
+        let n = ((t1 - t0) / (settings.step_voxels * h)).ceil().max(1.0) as usize;
+        let dt = (t1 - t0) / n as f32;
+        let mut radiance = Vec3::ZERO;
+        let mut trans = 1.0f32;
+        for i in 0..n {
+            let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
+            let rho = volume.density.sample(x);
+            let sigma_t = medium.extinction(rho);
+            let mut source = volume.emission(medium, x);
+            let sigma_s = medium.scattering * rho;
+            if let (Some((backend, h0)), true) = (lights, sigma_s > 0.0) {
+                let mut shadow_samples = 0u64;
+                let mut shader = |l: &LightSample| {
+                    let v = match &self.shadows {
+                        None => 1.0,
+                        Some(grid) => {
+                            let (v, n) = grid.transmittance(x, l.position);
+                            shadow_samples += u64::from(n);
+                            v
+                        }
+                    };
+                    l.intensity * (falloff(l.distance, h0) * v)
+                };
+                if let Ok(sum) = backend.illuminate(&ShadingPoint::in_medium(x), &mut shader) {
+                    source += sum.radiance * (sigma_s / (4.0 * std::f32::consts::PI));
+                    stats.shading_points += 1;
+                    stats.lights_evaluated += u64::from(sum.lights);
+                }
+                stats.shadow_samples += shadow_samples;
+            }
+            // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
+            let step_t = (-sigma_t * dt).exp();
+            let weight = if sigma_t > 0.0 {
+                (1.0 - step_t) / sigma_t
+            } else {
+                dt
+            };
+            radiance += trans * weight * source;
+            trans *= step_t;
+            if trans < settings.min_transmittance {
+                break;
+            }
+        }
+        radiance
+    }
 }
 
 /// Renders an image, rows in parallel (each pixel is independent and the counts are integer
@@ -342,6 +320,7 @@ pub fn render<B: ManyLights + Sync>(
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> (Image, RenderStats) {
+    let marcher = Marcher::new(volume, medium, settings);
     let mut image = Image::new(camera.width, camera.height);
     let stats = image
         .pixels
@@ -351,7 +330,7 @@ pub fn render<B: ManyLights + Sync>(
             let mut stats = RenderStats::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-                *px = march(volume, medium, lights, camera.eye, d, settings, &mut stats);
+                *px = marcher.march(lights, camera.eye, d, &mut stats);
             }
             progress(1);
             stats
@@ -375,12 +354,13 @@ pub fn render_pixels<B: ManyLights + Sync>(
     pixels: &[[usize; 2]],
 ) -> Result<(Vec<Vec3>, RenderStats), String> {
     camera.check_pixels(pixels)?;
+    let marcher = Marcher::new(volume, medium, settings);
     Ok(pixels
         .par_iter()
         .map(|&[x, y]| {
             let mut stats = RenderStats::default();
             let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-            let v = march(volume, medium, lights, camera.eye, d, settings, &mut stats);
+            let v = marcher.march(lights, camera.eye, d, &mut stats);
             (v, stats)
         })
         .fold(
@@ -424,13 +404,10 @@ mod tests {
         for sigma in [0.1f32, 1.0, 4.0] {
             let m = Medium::new(sigma, 0.0, 1e-3, 500.0).unwrap();
             let j = m.emission_at(2000.0);
-            let got = march::<BruteForce>(
-                &v,
-                &m,
+            let got = Marcher::new(&v, &m, &MarchSettings::default()).march::<BruteForce>(
                 None,
                 Vec3::new(0.0, 0.0, 5.0),
                 -Vec3::Z,
-                &MarchSettings::default(),
                 &mut RenderStats::default(),
             );
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
@@ -467,6 +444,7 @@ mod tests {
                 step_voxels: 1.0,
                 ..Default::default()
             };
+            let marcher = Marcher::new(&v, &m, &s);
             let mut errs = Vec::new();
             for alpha in [2.0f32, 64.0] {
                 let backend = LghBackend::new(&lgh, alpha).unwrap();
@@ -474,8 +452,8 @@ mod tests {
                 for (x, y) in [(8.0, 8.0), (6.5, 9.5), (10.5, 7.5)] {
                     let d = cam.direction(x, y);
                     let st = &mut RenderStats::default();
-                    let a = march(&v, &m, Some((&backend, lgh.h0())), cam.eye, d, &s, st);
-                    let r = march(&v, &m, Some((&brute, lgh.h0())), cam.eye, d, &s, st);
+                    let a = marcher.march(Some((&backend, lgh.h0())), cam.eye, d, st);
+                    let r = marcher.march(Some((&brute, lgh.h0())), cam.eye, d, st);
                     num += ((a - r).abs().max_element()) as f64;
                     den += r.max_element() as f64;
                 }
@@ -485,36 +463,6 @@ mod tests {
             assert!(errs[1] < 1e-4, "{shadows:?}: {errs:?}");
             assert!(errs[0] < 0.1 && errs[1] <= errs[0], "{shadows:?}: {errs:?}");
         }
-    }
-
-    #[test]
-    fn transmittance_is_beer_lambert() {
-        let v = slab_volume(0.0);
-        let m = Medium::new(0.7, 0.3, 0.0, 0.0).unwrap();
-        let t = transmittance(
-            &v,
-            &m,
-            Vec3::new(0.0, 0.0, -3.0),
-            Vec3::new(0.0, 0.0, 3.0),
-            0.05,
-            0.0,
-        )
-        .0;
-        assert!((t - (-2.0f32).exp()).abs() < 1e-5);
-        // Below the cut-off the light counts as hidden.
-        let (t, n) = transmittance(
-            &v,
-            &m,
-            Vec3::new(0.0, 0.0, -3.0),
-            Vec3::new(0.0, 0.0, 3.0),
-            0.05,
-            0.2,
-        );
-        assert_eq!(t, 0.0);
-        assert!(n < 40, "stops early: {n} of 40 samples");
-        // From inside to a point inside: only the segment counts.
-        let t = transmittance(&v, &m, Vec3::ZERO, Vec3::new(0.5, 0.0, 0.0), 0.05, 0.0).0;
-        assert!((t - (-0.5f32).exp()).abs() < 1e-5);
     }
 
     #[test]
