@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgh_volume::explosion::{framing_bounds, procedural, Medium};
-use lgh_volume::render::{Camera, MarchSettings};
+use lgh_volume::render::Camera;
 use lgh_volume::scene::{Backend, ExplosionLights};
 
-use crate::output::{self, ShadowArg};
+use crate::output::{self, MarchArgs};
 use crate::progress;
 
 /// Arguments of `lgh demo`.
@@ -32,13 +32,17 @@ pub struct DemoArgs {
     /// The paper's α.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
-    /// Shadows of the lights.
-    #[arg(long, value_enum, default_value_t = ShadowArg::Raymarch)]
-    pub shadows: ShadowArg,
+    #[command(flatten)]
+    pub march: MarchArgs,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
 }
+
+/// The demo's shadow-ray step, in voxels. Halving the shadow rays' samples changes the demo's
+/// scattered light by 0.08% (relative RMSE against 0.5-voxel steps, 160×90; 1 voxel: 0.015%),
+/// about 1/40 of the hierarchy's own error at α = 2, and saves about a fifth of the render time.
+pub const DEMO_SHADOW_STEP: f32 = 2.0;
 
 /// The demo's medium: smoke that absorbs and scatters (albedo 0.75) and glows above 1000 K.
 pub fn demo_medium() -> Medium {
@@ -50,6 +54,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     crate::check_alpha(args.alpha)?;
     output::check_size(args.width, args.height)?;
     output::check_out(&args.out)?;
+    let march = args.march.settings(DEMO_SHADOW_STEP)?;
     let t = Instant::now();
     let volume = procedural(args.resolution, args.time)?;
     let medium = demo_medium();
@@ -57,10 +62,6 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     let setup_s = t.elapsed().as_secs_f64();
     let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
     let camera = Camera::frame(lo, hi, args.width, args.height)?;
-    let march = MarchSettings {
-        shadows: args.shadows.shadows(),
-        ..Default::default()
-    };
     let bar = progress::bar(args.height as u64, "rendering", args.quiet);
     let t = Instant::now();
     let (image, stats) = lights.render(
@@ -107,7 +108,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         "  render     {}x{}, shadows {:?}: {:.1} s, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
         args.width,
         args.height,
-        args.shadows,
+        args.march.shadows,
         render_s,
         stats.shading_points,
         stats.lights_per_point(),

@@ -10,7 +10,7 @@ use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
-use crate::output::{self, ShadowArg};
+use crate::output::{self, MarchArgs};
 use crate::progress;
 
 /// The renderer behind the image (`--backend`).
@@ -81,9 +81,8 @@ pub struct ExplosionArgs {
     /// The paper's α (backend lgh).
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
-    /// Shadows of the lights (backends lgh and brute).
-    #[arg(long, value_enum, default_value_t = ShadowArg::Raymarch)]
-    pub shadows: ShadowArg,
+    #[command(flatten)]
+    pub march: MarchArgs,
     /// Paths per pixel (backend pathtrace).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
@@ -168,6 +167,9 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     crate::check_alpha(args.alpha)?;
     output::check_size(args.width, args.height)?;
     output::check_out(&args.out)?;
+    let march = args
+        .march
+        .settings(MarchSettings::default().shadow_step_voxels)?;
     if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
         return Err(format!("--albedo {} must be in 0..=1", args.albedo));
     }
@@ -223,10 +225,6 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
             let (lo, hi) = framing_bounds(&refs).ok_or("no frames")?;
             Camera::frame_up(lo, hi, args.width, args.height, up)?
         }
-    };
-    let march = MarchSettings {
-        shadows: args.shadows.shadows(),
-        ..Default::default()
     };
     let grid = &volumes[0].density;
     say!(

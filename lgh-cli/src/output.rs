@@ -25,6 +25,39 @@ impl ShadowArg {
     }
 }
 
+/// The ray marcher's options, shared by the render commands.
+#[derive(Debug, Clone, clap::Args)]
+pub struct MarchArgs {
+    /// Shadows of the lights (backends lgh and brute).
+    #[arg(long, value_enum, default_value_t = ShadowArg::Raymarch)]
+    pub shadows: ShadowArg,
+    /// Step along camera rays, in voxels (smaller is more accurate and slower).
+    #[arg(long, default_value_t = 1.0)]
+    pub step: f32,
+    /// Step along shadow rays, in voxels (smaller is more accurate and slower) [default: 1, or 2
+    /// for lgh demo]
+    #[arg(long)]
+    pub shadow_step: Option<f32>,
+}
+
+impl MarchArgs {
+    /// The marcher's settings, checked; `default_shadow_step` applies without `--shadow-step`.
+    pub fn settings(&self, default_shadow_step: f32) -> Result<MarchSettings, String> {
+        let shadow_step = self.shadow_step.unwrap_or(default_shadow_step);
+        for (name, v) in [("--step", self.step), ("--shadow-step", shadow_step)] {
+            if !(0.05..=16.0).contains(&v) {
+                return Err(format!("{name} {v}: must be 0.05 to 16 voxels"));
+            }
+        }
+        Ok(MarchSettings {
+            shadows: self.shadows.shadows(),
+            step_voxels: self.step,
+            shadow_step_voxels: shadow_step,
+            ..Default::default()
+        })
+    }
+}
+
 /// Checks `--width`/`--height`.
 pub fn check_size(width: usize, height: usize) -> Result<(), String> {
     if (1..=16384).contains(&width) && (1..=16384).contains(&height) {

@@ -321,6 +321,9 @@ fn demo_renders_an_exr_and_a_png() {
     assert_eq!(get("lgh:backend"), "lgh");
     assert_eq!(get("lgh:alpha"), "2");
     assert_eq!(get("lgh:shadows"), "raymarch");
+    // The demo's own shadow step, and the camera step's default.
+    assert_eq!(get("lgh:shadow_step_voxels"), "2");
+    assert_eq!(get("lgh:step_voxels"), "1");
 
     // Bad arguments: one line, nothing written.
     for bad in [
@@ -329,6 +332,9 @@ fn demo_renders_an_exr_and_a_png() {
         vec!["demo", "--alpha", "0"],
         vec!["demo", "--resolution", "8"],
         vec!["demo", "--width", "0"],
+        vec!["demo", "--shadow-step", "0"],
+        vec!["demo", "--step", "100"],
+        vec!["demo", "--step", "nan"],
     ] {
         let o = lgh(&bad);
         assert!(!o.status.success(), "{bad:?}");

@@ -121,14 +121,22 @@ impl ShadowGrid {
             return (1.0, 0);
         }
         let dir = d / len;
-        let Some((t0, t1)) = crate::render::slab(a, dir, self.lo, self.hi) else {
-            return (1.0, 0);
+        // Shading points and lights are usually both inside the box: no clipping needed.
+        let inside = |p: Vec3| p.cmpge(self.lo).all() && p.cmple(self.hi).all();
+        let (t0, t1) = if inside(a) && inside(b) {
+            (0.0, len)
+        } else {
+            match crate::render::slab(a, dir, self.lo, self.hi) {
+                Some((t0, t1)) => (t0, t1.min(len)),
+                None => return (1.0, 0),
+            }
         };
-        let t1 = t1.min(len);
         if t0 >= t1 {
             return (1.0, 0);
         }
-        let n = ((t1 - t0) / self.step).ceil().max(1.0) as u32;
+        // ⌈(t1 − t0) / step⌉ without a libm call (no rounding instruction on baseline x86-64).
+        let q = (t1 - t0) / self.step;
+        let n = ((q as u32) + u32::from(((q as u32) as f32) < q)).max(1);
         let dt = (t1 - t0) / n as f32;
         // Stop once the summed density exceeds ln(1/cutoff) / (κ dt).
         let kappa = self.kappa * dt;
