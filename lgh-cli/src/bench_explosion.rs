@@ -94,7 +94,7 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, String> {
 
 /// Up to `n` pixels, evenly strided among those whose emission-only luminance is above 1% of
 /// the brightest: the references' time goes to pixels that show the explosion.
-fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Vec<[usize; 2]> {
+fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Result<Vec<[usize; 2]>, String> {
     let (emission, _) = lgh_volume::render::render::<lgh_core::BruteForce>(
         &s.volume,
         &s.medium,
@@ -102,7 +102,7 @@ fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Vec<[usize; 2]> {
         camera,
         &MarchSettings::default(),
         &|_| {},
-    );
+    )?;
     let lum: Vec<f32> = emission
         .pixels
         .iter()
@@ -114,7 +114,7 @@ fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Vec<[usize; 2]> {
         .map(|i| [i % camera.width, i / camera.width])
         .collect();
     let step = bright.len().div_ceil(n.max(1)).max(1);
-    bright.into_iter().step_by(step).collect()
+    Ok(bright.into_iter().step_by(step).collect())
 }
 
 fn rel_rmse(a: &[Vec3], r: &[Vec3]) -> Option<f64> {
@@ -165,7 +165,7 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
     let (lo, hi) = framing_bounds(&[&s.volume]).expect("one frame");
     let camera = Camera::frame_up(lo, hi, args.width, args.height, s.up)?;
     let march = MarchSettings::default();
-    let pixels = &pick_pixels(s, &camera, args.pixels)[..];
+    let pixels = &pick_pixels(s, &camera, args.pixels)?[..];
     if pixels.is_empty() {
         return Err(format!("{}: the image shows no emission", s.name));
     }

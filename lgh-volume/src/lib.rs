@@ -10,8 +10,9 @@
 //!   procedural explosion.
 //! - [`scene`]: a sequence's lights at fixed positions with per-frame intensities, through the
 //!   lighting grid hierarchy or brute force.
-//! - [`render`]: camera and ray marcher (emission + single scattering, ray-marched shadows);
-//!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
+//! - [`render`]: camera and ray marcher (emission + single scattering); [`shadow`]: the
+//!   ray-marched shadow rays it shades with; [`pathtrace`]: the unbiased path-traced reference
+//!   on the same grids.
 //!
 //! Deep-shadow cube maps and multiple scattering (Secs. 4, 5) are not written yet; shadows are
 //! ray-marched (exact) or off. The lighting itself lives in [`lgh_core`].

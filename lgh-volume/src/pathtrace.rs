@@ -1,7 +1,7 @@
 //! The physical reference: an unbiased volumetric path tracer on the ray marcher's grids
 //! (DESIGN.md "References" (b)).
 //!
-//! It solves exactly the model of [`crate::render::march`],
+//! It solves exactly the model of [`crate::render::Marcher::march`],
 //! `dL/ds = −σ_t L + j + σ_s/(4π) ∫ L dω`, with `σ_t = (κ_a + κ_s) ρ(x)` and `σ_s = κ_s ρ(x)`
 //! from the trilinearly sampled density, `j(x) = volume.emission(medium, x)` (the emission of the
 //! trilinearly sampled temperature, times the flame grid if there is one), the medium confined to
@@ -917,7 +917,12 @@ mod tests {
                 min_transmittance: 1e-9,
                 shadows: Shadows::RayMarch,
             };
-            Marcher::new(vol, &m, &s).march(Some((&brute, h0)), o, d, &mut RenderStats::default())
+            Marcher::new(vol, &m, &s).unwrap().march(
+                Some((&brute, h0)),
+                o,
+                d,
+                &mut RenderStats::default(),
+            )
         };
         let maj = Majorants::new(&v, &m).unwrap();
         let s = PathSettings {

@@ -165,6 +165,29 @@ pub struct MarchSettings {
     pub shadows: Shadows,
 }
 
+impl MarchSettings {
+    /// Checks the settings: steps of 0.01 to 64 voxels, a cut-off in [0, 1).
+    pub fn check(&self) -> Result<(), String> {
+        for (name, v) in [
+            ("step", self.step_voxels),
+            ("shadow step", self.shadow_step_voxels),
+        ] {
+            if !(0.01..=64.0).contains(&v) {
+                return Err(format!(
+                    "march settings: {name} {v} must be 0.01 to 64 voxels"
+                ));
+            }
+        }
+        if !(0.0..1.0).contains(&self.min_transmittance) {
+            return Err(format!(
+                "march settings: minimum transmittance {} must be in [0, 1)",
+                self.min_transmittance
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for MarchSettings {
     fn default() -> Self {
         MarchSettings {
@@ -229,8 +252,13 @@ pub struct Marcher<'a> {
 }
 
 impl<'a> Marcher<'a> {
-    /// Prepares `volume` in `medium` for marching with `settings`.
-    pub fn new(volume: &'a Volume, medium: &'a Medium, settings: &MarchSettings) -> Self {
+    /// Prepares `volume` in `medium` for marching with `settings` (checked).
+    pub fn new(
+        volume: &'a Volume,
+        medium: &'a Medium,
+        settings: &MarchSettings,
+    ) -> Result<Self, String> {
+        settings.check()?;
         let shadows = match settings.shadows {
             Shadows::None => None,
             Shadows::RayMarch => Some(ShadowGrid::new(
@@ -240,12 +268,12 @@ impl<'a> Marcher<'a> {
                 settings.min_transmittance,
             )),
         };
-        Marcher {
+        Ok(Marcher {
             volume,
             medium,
             settings: *settings,
             shadows,
-        }
+        })
     }
 
     /// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single
@@ -319,8 +347,8 @@ pub fn render<B: ManyLights + Sync>(
     camera: &Camera,
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> (Image, RenderStats) {
-    let marcher = Marcher::new(volume, medium, settings);
+) -> Result<(Image, RenderStats), String> {
+    let marcher = Marcher::new(volume, medium, settings)?;
     let mut image = Image::new(camera.width, camera.height);
     let stats = image
         .pixels
@@ -339,7 +367,7 @@ pub fn render<B: ManyLights + Sync>(
             a.add(&b);
             a
         });
-    (image, stats)
+    Ok((image, stats))
 }
 
 /// The pixels `(x, y)` of `pixels` only, exactly as [`render`] computes them, in parallel: for
@@ -354,7 +382,7 @@ pub fn render_pixels<B: ManyLights + Sync>(
     pixels: &[[usize; 2]],
 ) -> Result<(Vec<Vec3>, RenderStats), String> {
     camera.check_pixels(pixels)?;
-    let marcher = Marcher::new(volume, medium, settings);
+    let marcher = Marcher::new(volume, medium, settings)?;
     Ok(pixels
         .par_iter()
         .map(|&[x, y]| {
@@ -404,12 +432,14 @@ mod tests {
         for sigma in [0.1f32, 1.0, 4.0] {
             let m = Medium::new(sigma, 0.0, 1e-3, 500.0).unwrap();
             let j = m.emission_at(2000.0);
-            let got = Marcher::new(&v, &m, &MarchSettings::default()).march::<BruteForce>(
-                None,
-                Vec3::new(0.0, 0.0, 5.0),
-                -Vec3::Z,
-                &mut RenderStats::default(),
-            );
+            let got = Marcher::new(&v, &m, &MarchSettings::default())
+                .unwrap()
+                .march::<BruteForce>(
+                    None,
+                    Vec3::new(0.0, 0.0, 5.0),
+                    -Vec3::Z,
+                    &mut RenderStats::default(),
+                );
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
             // Each step is integrated exactly, so what remains is f32 rounding over 64 steps
             // (1e-4) and the early stop at T < min_transmittance, which drops at most
@@ -444,7 +474,7 @@ mod tests {
                 step_voxels: 1.0,
                 ..Default::default()
             };
-            let marcher = Marcher::new(&v, &m, &s);
+            let marcher = Marcher::new(&v, &m, &s).unwrap();
             let mut errs = Vec::new();
             for alpha in [2.0f32, 64.0] {
                 let backend = LghBackend::new(&lgh, alpha).unwrap();
@@ -462,6 +492,42 @@ mod tests {
             // α = 64 puts every light in level 0 with weight 1: brute force up to summation order.
             assert!(errs[1] < 1e-4, "{shadows:?}: {errs:?}");
             assert!(errs[0] < 0.1 && errs[1] <= errs[0], "{shadows:?}: {errs:?}");
+        }
+    }
+
+    #[test]
+    fn bad_march_settings_are_errors() {
+        let v = slab_volume(0.0);
+        let m = Medium::new(1.0, 1.0, 0.0, 0.0).unwrap();
+        let ok = MarchSettings::default();
+        assert!(Marcher::new(&v, &m, &ok).is_ok());
+        for bad in [
+            MarchSettings {
+                step_voxels: 0.0,
+                ..ok
+            },
+            MarchSettings {
+                step_voxels: f32::NAN,
+                ..ok
+            },
+            MarchSettings {
+                shadow_step_voxels: -1.0,
+                ..ok
+            },
+            MarchSettings {
+                shadow_step_voxels: f32::INFINITY,
+                ..ok
+            },
+            MarchSettings {
+                min_transmittance: 1.0,
+                ..ok
+            },
+            MarchSettings {
+                min_transmittance: -0.1,
+                ..ok
+            },
+        ] {
+            assert!(Marcher::new(&v, &m, &bad).is_err(), "{bad:?}");
         }
     }
 

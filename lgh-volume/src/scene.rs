@@ -152,7 +152,7 @@ impl ExplosionLights {
     ) -> Result<(Image, RenderStats), String> {
         let b = self.backend(backend)?;
         let lights = Some((&b, self.voxel_size));
-        Ok(render(frame, medium, lights, camera, settings, progress))
+        render(frame, medium, lights, camera, settings, progress)
     }
 
     /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.

@@ -21,14 +21,15 @@ pub struct ShadowGrid {
     dims: [usize; 3],
     /// World position of the centre of padded voxel `(0, 0, 0)`.
     origin: Vec3,
-    voxel_size: f32,
+    inv_voxel_size: f32,
     /// The density grid's box (voxel faces), where shadow rays are marched.
     lo: Vec3,
     hi: Vec3,
-    /// `σ_t` per unit density (`κ_a + κ_s`).
-    kappa: f32,
-    /// Longest step along a shadow ray, world units.
-    step: f32,
+    /// `σ_t` per unit density times the voxel size: optical depth per voxel of path per unit
+    /// density.
+    kappa_voxel: f32,
+    /// 1 / the longest step along a shadow ray, in voxels.
+    inv_step_voxels: f32,
     /// Optical depth `ln(1/cutoff)` past which a light counts as hidden.
     max_tau: f32,
 }
@@ -38,7 +39,7 @@ impl ShadowGrid {
     /// `step_voxels` voxels and cut off at transmittance `cutoff` (see
     /// [`transmittance`](Self::transmittance)).
     pub fn new(volume: &Volume, medium: &Medium, step_voxels: f32, cutoff: f32) -> Self {
-        let march = (step_voxels * volume.density.voxel_size, cutoff);
+        let march = (step_voxels, cutoff);
         let g = &volume.density;
         let [nx, ny, nz] = g.dims;
         let dims = [nx + 2, ny + 2, nz + 2];
@@ -64,7 +65,7 @@ impl ShadowGrid {
         dims: [usize; 3],
         volume: &Volume,
         medium: &Medium,
-        (step, cutoff): (f32, f32),
+        (step_voxels, cutoff): (f32, f32),
     ) -> Self {
         let g = &volume.density;
         let (lo, hi) = g.bounds();
@@ -72,11 +73,11 @@ impl ShadowGrid {
             data,
             dims,
             origin: g.origin - Vec3::splat(g.voxel_size),
-            voxel_size: g.voxel_size,
+            inv_voxel_size: 1.0 / g.voxel_size,
             lo,
             hi,
-            kappa: medium.extinction(1.0),
-            step,
+            kappa_voxel: medium.extinction(1.0) * g.voxel_size,
+            inv_step_voxels: 1.0 / step_voxels,
             max_tau: if cutoff > 0.0 {
                 -cutoff.ln()
             } else {
@@ -115,35 +116,39 @@ impl ShadowGrid {
     /// an error below the cut-off times its unshadowed contribution. Also returns the number of
     /// density samples taken.
     pub fn transmittance(&self, a: Vec3, b: Vec3) -> (f32, u32) {
-        let d = b - a;
-        let len = d.length();
-        if len <= 0.0 || self.data.is_empty() {
+        if self.data.is_empty() {
             return (1.0, 0);
         }
-        let dir = d / len;
         // Shading points and lights are usually both inside the box: no clipping needed.
         let inside = |p: Vec3| p.cmpge(self.lo).all() && p.cmple(self.hi).all();
-        let (t0, t1) = if inside(a) && inside(b) {
-            (0.0, len)
+        let (a, b) = if inside(a) && inside(b) {
+            (a, b)
         } else {
-            match crate::render::slab(a, dir, self.lo, self.hi) {
-                Some((t0, t1)) => (t0, t1.min(len)),
-                None => return (1.0, 0),
+            let d = b - a;
+            let len = d.length();
+            if len <= 0.0 {
+                return (1.0, 0);
+            }
+            match crate::render::slab(a, d / len, self.lo, self.hi) {
+                Some((t0, t1)) if t0 < len => (a + d * (t0 / len), a + d * (t1.min(len) / len)),
+                _ => return (1.0, 0),
             }
         };
-        if t0 >= t1 {
+        // Everything in padded voxel units from here: one square root and two divisions a ray.
+        let pa = (a - self.origin) * self.inv_voxel_size;
+        let seg = (b - a) * self.inv_voxel_size;
+        let len = seg.length();
+        if len.is_nan() || len <= 0.0 {
             return (1.0, 0);
         }
-        // ⌈(t1 − t0) / step⌉ without a libm call (no rounding instruction on baseline x86-64).
-        let q = (t1 - t0) / self.step;
+        // ⌈len / step⌉ without a libm call (no rounding instruction on baseline x86-64).
+        let q = len * self.inv_step_voxels;
         let n = ((q as u32) + u32::from(((q as u32) as f32) < q)).max(1);
-        let dt = (t1 - t0) / n as f32;
+        let dp = seg * (1.0 / n as f32);
         // Stop once the summed density exceeds ln(1/cutoff) / (κ dt).
-        let kappa = self.kappa * dt;
+        let kappa = self.kappa_voxel * (len / n as f32);
         let max_sum = self.max_tau / kappa;
-        // Padded voxel coordinates of the samples, stepped linearly.
-        let p0 = (a + dir * (t0 + 0.5 * dt) - self.origin) / self.voxel_size;
-        let dp = dir * (dt / self.voxel_size);
+        let p0 = pa + 0.5 * dp;
         let mut sum = 0.0f32;
         for i in 0..n {
             sum += self.sample(p0 + dp * i as f32);
@@ -189,7 +194,7 @@ mod tests {
                 for c in 0..=16 {
                     let t = Vec3::new(a as f32 / 20.0, b as f32 / 12.0, c as f32 / 16.0);
                     let x = lo + (hi - lo) * t;
-                    let p = (x - g.origin) / g.voxel_size;
+                    let p = (x - g.origin) * g.inv_voxel_size;
                     let u = (x - v.density.origin) / v.density.voxel_size;
                     worst = worst.max((g.sample(p) - v.density.sample_voxel(u)).abs());
                 }

@@ -43,6 +43,7 @@ fn errors_by_alpha(
     let none = &|_: usize| {};
     let emission =
         lgh_volume::render::render::<lgh_core::BruteForce>(volume, medium, None, camera, &s, none)
+            .unwrap()
             .0;
     let brute = lights
         .render(Backend::Brute, volume, medium, camera, &s, none)
