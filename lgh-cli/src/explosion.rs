@@ -236,9 +236,12 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
         grid.voxel_size,
         lights.lights().len()
     );
-    for ((volume, frame), path) in volumes.iter().zip(&frames).zip(&paths) {
+    for (n, ((volume, frame), path)) in volumes.iter().zip(&frames).zip(&paths).enumerate() {
         let out = frame_out(&args.out, *frame);
-        lights.set_frame(volume, &medium)?;
+        // `ExplosionLights::new` set the first frame's intensities already.
+        if n > 0 {
+            lights.set_frame(volume, &medium)?;
+        }
         let label = frame.map_or("rendering".to_string(), |f| format!("frame {f}"));
         let bar = progress::bar(args.height as u64, &label, args.quiet);
         let t = Instant::now();

@@ -41,20 +41,17 @@ pub struct MarchArgs {
 }
 
 impl MarchArgs {
-    /// The marcher's settings, checked; `default_shadow_step` applies without `--shadow-step`.
+    /// The marcher's settings, checked ([`MarchSettings::check`]); `default_shadow_step` applies
+    /// without `--shadow-step`.
     pub fn settings(&self, default_shadow_step: f32) -> Result<MarchSettings, String> {
-        let shadow_step = self.shadow_step.unwrap_or(default_shadow_step);
-        for (name, v) in [("--step", self.step), ("--shadow-step", shadow_step)] {
-            if !(0.05..=16.0).contains(&v) {
-                return Err(format!("{name} {v}: must be 0.05 to 16 voxels"));
-            }
-        }
-        Ok(MarchSettings {
+        let settings = MarchSettings {
             shadows: self.shadows.shadows(),
             step_voxels: self.step,
-            shadow_step_voxels: shadow_step,
+            shadow_step_voxels: self.shadow_step.unwrap_or(default_shadow_step),
             ..Default::default()
-        })
+        };
+        settings.check()?;
+        Ok(settings)
     }
 }
 

@@ -112,13 +112,7 @@ impl DenseGrid {
         let dj = if j + 1 < ny { nx } else { 0 };
         let dk = if k + 1 < nz { nx * ny } else { 0 };
         let b = (k * ny + j) * nx + i;
-        let d = &self.data;
-        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let x00 = lerp(d[b], d[b + di], w.x);
-        let x10 = lerp(d[b + dj], d[b + dj + di], w.x);
-        let x01 = lerp(d[b + dk], d[b + dk + di], w.x);
-        let x11 = lerp(d[b + dk + dj], d[b + dk + dj + di], w.x);
-        lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z)
+        trilinear(&self.data[b..], di, dj, dk, w)
     }
 
     /// The active values of a scalar VDB grid over the index box `lo..=hi`, as a dense grid in
@@ -182,6 +176,18 @@ impl DenseGrid {
         }
         Ok(out)
     }
+}
+
+/// Trilinear interpolation with weights `w` between the eight values at offsets `0`, `di`, `dj`,
+/// `dj + di`, `dk`, … of `c` (x, y and z neighbours; an offset of 0 repeats a border value).
+#[inline(always)]
+pub(crate) fn trilinear(c: &[f32], di: usize, dj: usize, dk: usize, w: Vec3) -> f32 {
+    let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+    let x00 = lerp(c[0], c[di], w.x);
+    let x10 = lerp(c[dj], c[dj + di], w.x);
+    let x01 = lerp(c[dk], c[dk + di], w.x);
+    let x11 = lerp(c[dk + dj], c[dk + dj + di], w.x);
+    lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z)
 }
 
 #[cfg(test)]

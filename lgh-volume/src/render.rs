@@ -276,6 +276,28 @@ impl<'a> Marcher<'a> {
         })
     }
 
+    /// [`new`](Self::new), without the shadow grid when there are no lights to shadow.
+    fn for_lights(
+        volume: &'a Volume,
+        medium: &'a Medium,
+        settings: &MarchSettings,
+        lights: bool,
+    ) -> Result<Self, String> {
+        let shadows = if lights {
+            settings.shadows
+        } else {
+            Shadows::None
+        };
+        Marcher::new(
+            volume,
+            medium,
+            &MarchSettings {
+                shadows,
+                ..*settings
+            },
+        )
+    }
+
     /// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single
     /// scattering from `lights` (if given; `h0` clamps their fall-off).
     pub fn march<B: ManyLights>(
@@ -348,7 +370,7 @@ pub fn render<B: ManyLights + Sync>(
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<(Image, RenderStats), String> {
-    let marcher = Marcher::new(volume, medium, settings)?;
+    let marcher = Marcher::for_lights(volume, medium, settings, lights.is_some())?;
     let mut image = Image::new(camera.width, camera.height);
     let stats = image
         .pixels
@@ -382,31 +404,19 @@ pub fn render_pixels<B: ManyLights + Sync>(
     pixels: &[[usize; 2]],
 ) -> Result<(Vec<Vec3>, RenderStats), String> {
     camera.check_pixels(pixels)?;
-    let marcher = Marcher::new(volume, medium, settings)?;
-    Ok(pixels
+    let marcher = Marcher::for_lights(volume, medium, settings, lights.is_some())?;
+    let out: Vec<(Vec3, RenderStats)> = pixels
         .par_iter()
         .map(|&[x, y]| {
             let mut stats = RenderStats::default();
             let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-            let v = marcher.march(lights, camera.eye, d, &mut stats);
-            (v, stats)
+            (marcher.march(lights, camera.eye, d, &mut stats), stats)
         })
-        .fold(
-            || (Vec::new(), RenderStats::default()),
-            |(mut vs, mut st), (v, s)| {
-                vs.push(v);
-                st.add(&s);
-                (vs, st)
-            },
-        )
-        .reduce(
-            || (Vec::new(), RenderStats::default()),
-            |(mut a, mut sa), (b, sb)| {
-                a.extend(b);
-                sa.add(&sb);
-                (a, sa)
-            },
-        ))
+        .collect();
+    let (radiance, per_pixel): (Vec<Vec3>, Vec<RenderStats>) = out.into_iter().unzip();
+    let mut stats = RenderStats::default();
+    per_pixel.iter().for_each(|s| stats.add(s));
+    Ok((radiance, stats))
 }
 
 #[cfg(test)]

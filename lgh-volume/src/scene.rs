@@ -55,7 +55,8 @@ impl ExplosionLights {
         let first = frames.first().ok_or("no frames to light")?;
         let grid = &first.temperature;
         for (i, f) in frames.iter().enumerate() {
-            if !same_layout(grid, &f.temperature) || !same_layout(grid, &f.density) {
+            let flame_off = f.flame.as_ref().is_some_and(|fl| !same_layout(grid, fl));
+            if !same_layout(grid, &f.temperature) || !same_layout(grid, &f.density) || flame_off {
                 return Err(format!(
                     "frame {i} is on another grid than frame 0: a sequence needs one grid \
                      (dimensions, voxel size, origin)"
