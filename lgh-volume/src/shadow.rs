@@ -7,9 +7,13 @@
 //! for them: [`ShadowGrid`] pads it by one voxel of its own border values, which makes a trilinear
 //! lookup anywhere in the grid's box a clamp-free read of eight neighbours.
 
-use lgh_core::glam::Vec3;
+use lgh_core::glam::{Vec3, Vec3A};
 
 use crate::explosion::{Medium, Volume};
+
+/// 2^23: a float in [−2^22, 2^22] plus this is rounded to the nearest integer, which the sum's
+/// low mantissa bits hold.
+const ROUND: f32 = 8_388_608.0;
 
 /// The density, padded by one voxel on every side with its border values, and the medium's
 /// extinction per unit density: what [`transmittance`](Self::transmittance) reads.
@@ -19,6 +23,8 @@ pub struct ShadowGrid {
     data: Vec<f32>,
     /// Padded dimensions (the density's plus 2).
     dims: [usize; 3],
+    /// Values from a voxel to its far neighbour `(+1, +1, +1)`, inclusive.
+    span: usize,
     /// World position of the centre of padded voxel `(0, 0, 0)`.
     origin: Vec3,
     inv_voxel_size: f32,
@@ -60,6 +66,7 @@ impl ShadowGrid {
         ShadowGrid {
             data,
             dims,
+            span: dims[0] * dims[1] + dims[0] + 2,
             origin: g.origin - Vec3::splat(g.voxel_size),
             inv_voxel_size: 1.0 / g.voxel_size,
             lo,
@@ -74,23 +81,33 @@ impl ShadowGrid {
         }
     }
 
-    /// Trilinear density at `p`, in padded voxel units; `p` is clamped into the padded grid.
+    /// Trilinear density at `p`, in padded voxel units, for `p` in the grid's box (padded
+    /// `[0.5, n + 0.5]` per axis, `n` the density's size) give or take rounding.
     #[inline(always)]
-    fn sample(&self, p: Vec3) -> f32 {
-        let [nx, ny, nz] = self.dims;
-        // Inside the box p ∈ [0.5, n + 0.5] (n = dims − 2), so the floor is at most n and its
-        // neighbour n + 1 is the last padded voxel; the clamp only guards rounding at the faces.
-        let x = p.x.max(0.0).min(nx as f32 - 1.5);
-        let y = p.y.max(0.0).min(ny as f32 - 1.5);
-        let z = p.z.max(0.0).min(nz as f32 - 1.5);
-        // Non-negative, so truncation is the floor; u32 converts without a 64-bit fix-up.
-        let (i, j, k) = (x as u32, y as u32, z as u32);
-        let (wx, wy, wz) = (x - i as f32, y - j as f32, z - k as f32);
-        let (dj, dk) = (nx, nx * ny);
-        let b = (k as usize * ny + j as usize) * nx + i as usize;
-        // One bounds check for all eight neighbours.
-        let c = &self.data[b..=b + dk + dj + 1];
-        crate::grid::trilinear(c, 1, dj, dk, Vec3::new(wx, wy, wz))
+    fn sample(&self, p: Vec3A) -> f32 {
+        // floor(p) without a saturating float-to-integer conversion: adding 2^23 rounds p − ½
+        // (exact) to the nearest integer, whose value sits in the float's low mantissa bits.
+        // At an integer p the tie may round down to p − 1, with weight 1: the same value.
+        let r = (p - Vec3A::splat(0.5)) + Vec3A::splat(ROUND);
+        let w = p - (r - Vec3A::splat(ROUND));
+        let [i, j, k] = r
+            .to_array()
+            .map(|v| v.to_bits().wrapping_sub(ROUND.to_bits()) as usize);
+        let [nx, ny, _] = self.dims;
+        let b = k
+            .wrapping_mul(ny)
+            .wrapping_add(j)
+            .wrapping_mul(nx)
+            .wrapping_add(i);
+        // One bounds check for all eight neighbours; a point outside the padded box (which
+        // clipping rules out) reads nothing rather than clamping.
+        match self.data.get(b..b.wrapping_add(self.span)) {
+            Some(c) => crate::grid::trilinear(c, 1, nx, nx * ny, w.into()),
+            None => {
+                debug_assert!(false, "shadow sample outside the padded grid: {p}");
+                0.0
+            }
+        }
     }
 
     /// Transmittance `e^{−∫σ_t}` from `a` to `b`, midpoint rule with steps of at most the step
@@ -118,8 +135,8 @@ impl ShadowGrid {
             }
         };
         // Everything in padded voxel units from here: one square root and two divisions a ray.
-        let pa = (a - self.origin) * self.inv_voxel_size;
-        let seg = (b - a) * self.inv_voxel_size;
+        let pa = Vec3A::from((a - self.origin) * self.inv_voxel_size);
+        let seg = Vec3A::from((b - a) * self.inv_voxel_size);
         let len = seg.length();
         if len.is_nan() || len <= 0.0 {
             return (1.0, 0);
@@ -179,7 +196,7 @@ mod tests {
                     let x = lo + (hi - lo) * t;
                     let p = (x - g.origin) * g.inv_voxel_size;
                     let u = (x - v.density.origin) / v.density.voxel_size;
-                    worst = worst.max((g.sample(p) - v.density.sample_voxel(u)).abs());
+                    worst = worst.max((g.sample(p.into()) - v.density.sample_voxel(u)).abs());
                 }
             }
         }
