@@ -1,7 +1,8 @@
 //! Criterion benches of the explosion renderer: the same small image of the procedural explosion
 //! (40³, 32×18, ray-marched shadows) through the lighting grid hierarchy at α = 1, 2, 4, through
 //! brute force over every light, and path-traced (single scattering, 16 paths per pixel); and the
-//! per-frame light update of a sequence; and shadow rays alone, through the demo's 128³ volume.
+//! per-frame light update of a sequence; and shadow rays alone, one by one and together, through
+//! the demo's 128³ volume.
 //! `lgh bench explosion` measures the large scenes and the errors; these are the quick,
 //! statistically careful timings.
 
@@ -63,29 +64,50 @@ fn renders(c: &mut Criterion) {
     });
 }
 
-/// 10,000 shadow rays between random points of the demo's volume (procedural 128³, its medium),
-/// 4, 16 and 64 voxels long, marched in 2-voxel steps (the demo's) and cut off at 10⁻³.
+/// Shadow rays through the demo's volume (procedural 128³, its medium) in 2-voxel steps (the
+/// demo's), cut off at 10⁻³: from each of 100 random points of the box to 96 random points
+/// within 4, 16 or 64 voxels of it (clamped into the box), one by one with `transmittance` and
+/// together with `transmittances` (eight abreast where the CPU has AVX2).
 fn shadow_rays(c: &mut Criterion) {
     let volume = procedural(128, 0.5).unwrap();
     let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
     let grid = ShadowGrid::new(&volume, &medium, 2.0, 1e-3);
     let (lo, hi) = volume.density.bounds();
     let h = volume.density.voxel_size;
-    let mut g = c.benchmark_group("shadow_rays_128_x10000");
+    let mut g = c.benchmark_group("shadow_rays_128_100x96");
     for voxels in [4.0f32, 16.0, 64.0] {
         let mut rng = SplitMix64(7);
-        let rays: Vec<(Vec3, Vec3)> = (0..10_000)
+        let r = Vec3::splat(voxels * h);
+        let sets: Vec<(Vec3, Vec<Vec3>)> = (0..100)
             .map(|_| {
-                let a = rng.next_in(lo, hi);
-                let d = rng.next_in(-Vec3::ONE, Vec3::ONE).normalize_or_zero();
-                (a, (a + d * voxels * h).clamp(lo, hi))
+                let x = rng.next_in(lo, hi);
+                let lights = (0..96)
+                    .map(|_| rng.next_in(x - r, x + r).clamp(lo, hi))
+                    .collect();
+                (x, lights)
             })
             .collect();
-        g.bench_with_input(BenchmarkId::new("voxels", voxels), &rays, |b, rays| {
+        g.bench_with_input(BenchmarkId::new("one_by_one", voxels), &sets, |b, sets| {
             b.iter(|| {
-                rays.iter()
-                    .map(|&(a, b)| grid.transmittance(a, b).0)
-                    .sum::<f32>()
+                let mut sum = 0.0f32;
+                for (x, lights) in sets {
+                    sum += lights
+                        .iter()
+                        .map(|&l| grid.transmittance(*x, l).0)
+                        .sum::<f32>();
+                }
+                sum
+            })
+        });
+        let mut out = Vec::new();
+        g.bench_with_input(BenchmarkId::new("together", voxels), &sets, |b, sets| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for (x, lights) in sets {
+                    grid.transmittances(*x, lights, &mut out);
+                    sum += out.iter().sum::<f32>();
+                }
+                sum
             })
         });
     }

@@ -40,7 +40,7 @@
 //! # Ok::<(), String>(())
 //! ```
 
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use lgh_core;

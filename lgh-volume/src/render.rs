@@ -317,6 +317,7 @@ impl<'a> Marcher<'a> {
         let dt = (t1 - t0) / n as f32;
         let mut radiance = Vec3::ZERO;
         let mut trans = 1.0f32;
+        let mut scratch = Scratch::default();
         for i in 0..n {
             let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
             let rho = volume.density.sample(x);
@@ -324,24 +325,9 @@ impl<'a> Marcher<'a> {
             let mut source = volume.emission(medium, x);
             let sigma_s = medium.scattering * rho;
             if let (Some((backend, h0)), true) = (lights, sigma_s > 0.0) {
-                let mut shadow_samples = 0u64;
-                let mut shader = |l: &LightSample| {
-                    let v = match &self.shadows {
-                        None => 1.0,
-                        Some(grid) => {
-                            let (v, n) = grid.transmittance(x, l.position);
-                            shadow_samples += u64::from(n);
-                            v
-                        }
-                    };
-                    l.intensity * (falloff(l.distance, h0) * v)
-                };
-                if let Ok(sum) = backend.illuminate(&ShadingPoint::in_medium(x), &mut shader) {
-                    source += sum.radiance * (sigma_s / (4.0 * std::f32::consts::PI));
-                    stats.shading_points += 1;
-                    stats.lights_evaluated += u64::from(sum.lights);
+                if let Some(sum) = self.in_scattered(backend, h0, x, &mut scratch, stats) {
+                    source += sum * (sigma_s / (4.0 * std::f32::consts::PI));
                 }
-                stats.shadow_samples += shadow_samples;
             }
             // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
             let step_t = (-sigma_t * dt).exp();
@@ -358,6 +344,59 @@ impl<'a> Marcher<'a> {
         }
         radiance
     }
+
+    /// `Σ_lights V·g·B·I` at `x` (the backend applies `B`), counted into `stats`; `None` when
+    /// the backend can't shade `x`.
+    fn in_scattered<B: ManyLights>(
+        &self,
+        backend: &B,
+        h0: f32,
+        x: Vec3,
+        scratch: &mut Scratch,
+        stats: &mut RenderStats,
+    ) -> Option<Vec3> {
+        let point = ShadingPoint::in_medium(x);
+        let Some(grid) = &self.shadows else {
+            let sum = backend
+                .illuminate(&point, &mut |l: &LightSample| {
+                    l.intensity * falloff(l.distance, h0)
+                })
+                .ok()?;
+            stats.shading_points += 1;
+            stats.lights_evaluated += u64::from(sum.lights);
+            return Some(sum.radiance);
+        };
+        // Gather the lights, then march their shadow rays together.
+        scratch.positions.clear();
+        scratch.unshadowed.clear();
+        let sum = backend
+            .illuminate(&point, &mut |l: &LightSample| {
+                scratch.positions.push(l.position);
+                scratch
+                    .unshadowed
+                    .push((l.intensity, falloff(l.distance, h0)));
+                Vec3::ZERO
+            })
+            .ok()?;
+        stats.shading_points += 1;
+        stats.lights_evaluated += u64::from(sum.lights);
+        stats.shadow_samples += grid.transmittances(x, &scratch.positions, &mut scratch.visibility);
+        // Summed in the backend's order, as the backend sums what a shader returns.
+        let mut radiance = Vec3::ZERO;
+        for (&(intensity, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
+            radiance += intensity * (g * v);
+        }
+        Some(radiance)
+    }
+}
+
+/// A shading point's lights, gathered so that their shadow rays can be marched together.
+#[derive(Default)]
+struct Scratch {
+    positions: Vec<Vec3>,
+    /// Intensity and fall-off `g` of each light.
+    unshadowed: Vec<(Vec3, f32)>,
+    visibility: Vec<f32>,
 }
 
 /// Renders an image, rows in parallel (each pixel is independent and the counts are integer
