@@ -132,7 +132,7 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
     for &a in &args.alphas {
         crate::check_alpha(a)?;
     }
-    crate::output::check_size(args.width, args.height)?;
+    lgh_volume::render::check_image_size(args.width, args.height)?;
     if args.pixels == 0 {
         return Err("--pixels must be at least 1".into());
     }

@@ -53,7 +53,7 @@ pub fn demo_medium() -> Medium {
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> Result<(), String> {
     crate::check_alpha(args.alpha)?;
-    output::check_size(args.width, args.height)?;
+    lgh_volume::render::check_image_size(args.width, args.height)?;
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP)?;
     let t = Instant::now();

@@ -55,17 +55,6 @@ impl MarchArgs {
     }
 }
 
-/// Checks `--width`/`--height`.
-pub fn check_size(width: usize, height: usize) -> Result<(), String> {
-    if (1..=16384).contains(&width) && (1..=16384).contains(&height) {
-        Ok(())
-    } else {
-        Err(format!(
-            "image size {width}x{height}: width and height must be 1 to 16384"
-        ))
-    }
-}
-
 /// Checks that the output is an `.exr` path and that its folder exists, before any work.
 pub fn check_out(out: &Path) -> Result<PathBuf, String> {
     if out.extension().and_then(|e| e.to_str()) != Some("exr") {

@@ -8,8 +8,6 @@
 
 use std::path::{Path, PathBuf};
 
-use lgh_core::glam::Vec3;
-
 use crate::explosion::Volume;
 use crate::vdb;
 use crate::DenseGrid;
@@ -132,23 +130,43 @@ fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
         .map_err(|e| format!("corrupt gzip data: {e:?}"))
 }
 
-/// One frame's grids as read, before they are placed on the common grid.
+/// One frame's file as read, with the positions of its grids, before they are placed on the
+/// common grid.
 struct RawFrame {
-    density: vdb::Grid,
-    emission: vdb::Grid,
-    flame: Option<vdb::Grid>,
+    file: vdb::VdbFile,
+    density: usize,
+    emission: usize,
+    flame: Option<usize>,
     offset: [i32; 3],
 }
 
-fn take_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<vdb::Grid, String> {
-    file.grid(name).cloned().ok_or_else(|| {
-        let names: Vec<&str> = file.grids.iter().map(|g| g.name.as_str()).collect();
-        format!(
-            "{}: no grid named '{name}' (grids: {})",
-            path.display(),
-            names.join(", ")
-        )
-    })
+impl RawFrame {
+    fn density(&self) -> &vdb::Grid {
+        &self.file.grids[self.density]
+    }
+
+    fn emission(&self) -> &vdb::Grid {
+        &self.file.grids[self.emission]
+    }
+
+    fn flame(&self) -> Option<&vdb::Grid> {
+        self.flame.map(|i| &self.file.grids[i])
+    }
+}
+
+/// Position of the grid `name` in `file`, or an error that lists the grids there are.
+fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, String> {
+    file.grids
+        .iter()
+        .position(|g| g.name == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = file.grids.iter().map(|g| g.name.as_str()).collect();
+            format!(
+                "{}: no grid named '{name}' (grids: {})",
+                path.display(),
+                names.join(", ")
+            )
+        })
 }
 
 /// Loads the frames `paths` onto one dense grid that covers every frame's active voxels of the
@@ -165,10 +183,10 @@ pub fn load(
     let mut frames = Vec::with_capacity(paths.len());
     for path in paths {
         let file = vdb::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let density = take_grid(&file, &names.density, path)?;
-        let emission = take_grid(&file, &names.emission, path)?;
+        let density = find_grid(&file, &names.density, path)?;
+        let emission = find_grid(&file, &names.emission, path)?;
         let flame = match &names.flame {
-            Some(n) => match take_grid(&file, n, path) {
+            Some(n) => match find_grid(&file, n, path) {
                 Ok(g) => Some(g),
                 Err(e) if names.flame_required => return Err(e),
                 Err(_) => None,
@@ -180,26 +198,24 @@ pub fn load(
             None => [0; 3],
         };
         frames.push(RawFrame {
+            file,
             density,
             emission,
             flame,
             offset,
         });
     }
-    let transform = frames[0].density.index_to_world;
+    let transform = frames[0].density().index_to_world;
     let mut lo = [i32::MAX; 3];
     let mut hi = [i32::MIN; 3];
     for (f, path) in frames.iter().zip(paths) {
-        for g in [&f.density, &f.emission]
-            .into_iter()
-            .chain(f.flame.as_ref())
-        {
+        for g in [f.density(), f.emission()].into_iter().chain(f.flame()) {
             if g.index_to_world != transform {
                 return Err(format!(
                     "{}: grid '{}' has another transform (voxel size or placement) than '{}' of {}",
                     path.display(),
                     g.name,
-                    frames[0].density.name,
+                    frames[0].density().name,
                     paths[0].display()
                 ));
             }
@@ -211,7 +227,7 @@ pub fn load(
                     g.value_type.name()
                 ));
             }
-            if let Some((a, b)) = g.stats().bbox {
+            if let Some((a, b)) = g.active_bbox() {
                 for k in 0..3 {
                     lo[k] = lo[k].min(a[k].saturating_add(f.offset[k]));
                     hi[k] = hi[k].max(b[k].saturating_add(f.offset[k]));
@@ -230,26 +246,20 @@ pub fn load(
             dims[0], dims[1], dims[2], MAX_VOXELS
         ));
     }
-    let m = transform;
-    let origin = Vec3::new(
-        (m[0][0] * f64::from(lo[0]) + m[0][3]) as f32,
-        (m[1][1] * f64::from(lo[1]) + m[1][3]) as f32,
-        (m[2][2] * f64::from(lo[2]) + m[2][3]) as f32,
-    );
-    let place = |g: &vdb::Grid, off: [i32; 3]| -> Result<DenseGrid, String> {
+    // Every frame lands at the common box's place, whatever its own domain offset.
+    let origin = DenseGrid::world_position(&transform, lo);
+    let place = |g: &vdb::Grid, off: [i32; 3]| {
         let a = [0, 1, 2].map(|k| lo[k] - off[k]);
         let b = [0, 1, 2].map(|k| hi[k] - off[k]);
-        let mut d = DenseGrid::from_vdb(g, a, b)?;
-        d.origin = origin;
-        Ok(d)
+        DenseGrid::from_vdb_at(g, a, b, origin)
     };
     frames
         .iter()
         .map(|f| {
             Ok(Volume {
-                density: place(&f.density, f.offset)?,
-                temperature: place(&f.emission, f.offset)?,
-                flame: f.flame.as_ref().map(|g| place(g, f.offset)).transpose()?,
+                density: place(f.density(), f.offset)?,
+                temperature: place(f.emission(), f.offset)?,
+                flame: f.flame().map(|g| place(g, f.offset)).transpose()?,
             })
         })
         .collect()

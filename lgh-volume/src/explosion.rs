@@ -4,7 +4,6 @@
 use lgh_core::glam::Vec3;
 use lgh_core::spectrum::BlackbodyTable;
 use lgh_core::testsets::fractal_noise;
-use lgh_core::PointLight;
 
 use crate::DenseGrid;
 
@@ -245,30 +244,6 @@ impl Medium {
     }
 }
 
-/// The explosion's point lights `S0`: one per emitting voxel ([`Volume::voxel_emits`]), at its
-/// centre, with `I0 = j h³` (W/sr). Returns the lights and the voxel (linear index) of each.
-pub fn lights(volume: &Volume, medium: &Medium) -> (Vec<PointLight>, Vec<usize>) {
-    let temperature = &volume.temperature;
-    let h3 = temperature.voxel_size.powi(3);
-    let [nx, ny, nz] = temperature.dims;
-    let mut lights = Vec::new();
-    let mut voxels = Vec::new();
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                let idx = temperature.index(i, j, k);
-                // The rule of `voxel_emits`, without computing the emission twice.
-                let intensity = volume.voxel_emission(medium, idx) * h3;
-                if intensity.max_element() > 0.0 {
-                    lights.push(PointLight::new(temperature.centre(i, j, k), intensity));
-                    voxels.push(idx);
-                }
-            }
-        }
-    }
-    (lights, voxels)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -292,19 +267,7 @@ mod tests {
     }
 
     #[test]
-    fn lights_carry_the_emitted_power_of_their_voxels() {
-        let v = procedural(32, 0.3).unwrap();
-        let medium = Medium::new(1.0, 1.0, 1e-3, 1000.0).unwrap();
-        let (lights, voxels) = lights(&v, &medium);
-        assert_eq!(lights.len(), voxels.len());
-        let hot = v.temperature.data.iter().filter(|&&t| t > 1000.0).count();
-        assert_eq!(lights.len(), hot);
-        let h3 = v.temperature.voxel_size.powi(3);
-        for (l, &idx) in lights.iter().zip(&voxels).step_by(17) {
-            let want = medium.emission_at(v.temperature.data[idx]) * h3;
-            assert_eq!(l.intensity, want);
-            assert!(v.temperature.sample(l.position) > 1000.0 * 0.999);
-        }
+    fn bad_media_are_errors() {
         assert!(Medium::new(-1.0, 0.0, 0.0, 0.0).is_err());
     }
 }

@@ -61,11 +61,10 @@ impl DenseGrid {
     /// World-space box of the voxels with a value above zero (their outer faces), or `None` when
     /// there are none: what a camera should frame.
     pub fn active_bounds(&self) -> Option<(Vec3, Vec3)> {
-        let [nx, ny, _] = self.dims;
         let mut lo = [usize::MAX; 3];
         let mut hi = [0usize; 3];
         for (idx, _) in self.data.iter().enumerate().filter(|(_, &v)| v > 0.0) {
-            let c = [idx % nx, (idx / nx) % ny, idx / (nx * ny)];
+            let c = unflatten(idx, self.dims);
             for a in 0..3 {
                 lo[a] = lo[a].min(c[a]);
                 hi[a] = hi[a].max(c[a]);
@@ -119,6 +118,22 @@ impl DenseGrid {
     /// world space (voxel centres at `index_to_world · index`; only axis-aligned uniform-scale
     /// transforms). Inactive voxels are zero; vector grids give their length.
     pub fn from_vdb(grid: &vdb::Grid, lo: [i32; 3], hi: [i32; 3]) -> Result<Self, String> {
+        let origin = DenseGrid::world_position(&grid.index_to_world, lo);
+        DenseGrid::from_vdb_at(grid, lo, hi, origin)
+    }
+
+    /// World position of index-space voxel `p` under an axis-aligned index-to-world matrix.
+    pub(crate) fn world_position(m: &[[f64; 4]; 4], p: [i32; 3]) -> Vec3 {
+        Vec3::from([0, 1, 2].map(|a| (m[a][a] * f64::from(p[a]) + m[a][3]) as f32))
+    }
+
+    /// [`from_vdb`](Self::from_vdb), with voxel `lo`'s centre placed at `origin`.
+    pub(crate) fn from_vdb_at(
+        grid: &vdb::Grid,
+        lo: [i32; 3],
+        hi: [i32; 3],
+        origin: Vec3,
+    ) -> Result<Self, String> {
         let m = grid.index_to_world;
         let h = grid.voxel_size[0];
         let uniform = (grid.voxel_size[1] - h).abs() <= 1e-9 * h
@@ -139,11 +154,6 @@ impl DenseGrid {
         if dims.iter().product::<usize>() > 1 << 30 {
             return Err(format!("grid '{}' is too large to make dense", grid.name));
         }
-        let origin = Vec3::new(
-            (m[0][0] * lo[0] as f64 + m[0][3]) as f32,
-            (m[1][1] * lo[1] as f64 + m[1][3]) as f32,
-            (m[2][2] * lo[2] as f64 + m[2][3]) as f32,
-        );
         let mut out = DenseGrid::zeros(dims, h as f32, origin);
         let c = grid.components();
         let scalar = |v: &[f32]| vdb::Grid::scalar(v) as f32;
@@ -176,6 +186,34 @@ impl DenseGrid {
         }
         Ok(out)
     }
+}
+
+/// The voxel `[i, j, k]` at linear index `idx` (x fastest) of a grid of `dims` voxels.
+pub(crate) fn unflatten(idx: usize, dims: [usize; 3]) -> [usize; 3] {
+    [
+        idx % dims[0],
+        (idx / dims[0]) % dims[1],
+        idx / (dims[0] * dims[1]),
+    ]
+}
+
+/// Parameter interval `(t0, t1)`, `0 ≤ t0 < t1`, where the ray `o + t d` (t ≥ 0) is inside the
+/// box `lo..hi`, or `None` if it misses. An axis the ray runs parallel to must hold `o`
+/// within `[lo, hi)`.
+pub(crate) fn slab(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
+    let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
+    for a in 0..3 {
+        if d[a] == 0.0 {
+            if o[a] < lo[a] || o[a] >= hi[a] {
+                return None;
+            }
+            continue;
+        }
+        let (u, v) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
+        t0 = t0.max(u.min(v));
+        t1 = t1.min(u.max(v));
+    }
+    (t0 < t1).then_some((t0, t1))
 }
 
 /// Trilinear interpolation with weights `w` between the eight values at offsets `0`, `di`, `dj`,

@@ -233,11 +233,7 @@ impl Majorants {
         let blocks: Result<Vec<(f32, bool)>, String> = (0..count)
             .into_par_iter()
             .map(|b| {
-                let c = [
-                    b % dims[0],
-                    (b / dims[0]) % dims[1],
-                    b / (dims[0] * dims[1]),
-                ];
+                let c = crate::grid::unflatten(b, dims);
                 let v0 = c.map(|x| (x * BLOCK_VOXELS) as f32);
                 let v1 = [0, 1, 2].map(|a| ((c[a] + 1) * BLOCK_VOXELS).min(g.dims[a]) as f32);
                 let box_lo = lo + Vec3::from(v0) * h;
@@ -310,7 +306,7 @@ impl Majorants {
         acc: &mut Vec3,
         rng: &mut SplitMix64,
     ) -> Option<(Vec3, f32)> {
-        let (t0, t1) = clip(o, d, self.lo, self.hi)?;
+        let (t0, t1) = crate::grid::slab(o, d, self.lo, self.hi)?;
         // 3-D DDA over the blocks (Amanatides & Woo). Distances are f64, measured from the entry
         // point: in f32 a far camera's `t + dt` could round back to `t` in a dense block and
         // stall the walk at one point.
@@ -383,23 +379,6 @@ impl Majorants {
     }
 }
 
-/// Parameter interval `[t0, t1]` (t0 ≥ 0) where the ray `o + t d` is inside the box `lo..hi`.
-fn clip(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
-    let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
-    for a in 0..3 {
-        if d[a] == 0.0 {
-            if o[a] < lo[a] || o[a] >= hi[a] {
-                return None;
-            }
-            continue;
-        }
-        let (u, v) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
-        t0 = t0.max(u.min(v));
-        t1 = t1.min(u.max(v));
-    }
-    (t0 < t1).then_some((t0, t1))
-}
-
 /// A unit-mean exponential variate, from 53 random bits (finite; the tail beyond 36.7 that it
 /// cannot reach has probability 10⁻¹⁶).
 fn exponential(rng: &mut SplitMix64) -> f64 {
@@ -415,18 +394,11 @@ fn isotropic(rng: &mut SplitMix64) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
-/// SplitMix64's output function: a bijective 64-bit mix.
-fn mix64(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 /// The random-number generator of stream `index` (a pixel) under `seed`: a hash of both, so it
 /// never depends on which thread runs the pixel.
 pub fn pixel_rng(seed: u64, index: u64) -> SplitMix64 {
-    SplitMix64(mix64(
-        mix64(seed) ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15),
+    SplitMix64(SplitMix64::mix(
+        SplitMix64::mix(seed) ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15),
     ))
 }
 
@@ -483,7 +455,7 @@ pub fn render(
     settings: &PathSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Image, String> {
-    render_impl(volume, medium, camera, settings, progress).map(|(mean, _)| mean)
+    render_impl(volume, medium, camera, settings, false, progress).map(|(mean, _)| mean)
 }
 
 /// Like [`render`], and also the per-pixel, per-channel variance of the mean (sample variance of
@@ -499,37 +471,42 @@ pub fn render_with_variance(
     if settings.spp < 2 {
         return Err("path tracer: a variance needs at least 2 samples per pixel".into());
     }
-    render_impl(volume, medium, camera, settings, progress)
+    let (mean, variance) = render_impl(volume, medium, camera, settings, true, progress)?;
+    Ok((mean, variance.expect("asked for")))
 }
 
+/// The mean image, and the variance-of-the-mean image if `with_variance`.
 fn render_impl(
     volume: &Volume,
     medium: &Medium,
     camera: &Camera,
     settings: &PathSettings,
+    with_variance: bool,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Image, Image), String> {
+) -> Result<(Image, Option<Image>), String> {
     settings.validate()?;
     let (w, h) = (camera.width, camera.height);
-    if !(1..=1 << 15).contains(&w) || !(1..=1 << 15).contains(&h) {
-        return Err(format!(
-            "path tracer: image size {w}×{h} must be 1 to 32768 per side"
-        ));
-    }
+    crate::render::check_image_size(w, h).map_err(|e| format!("path tracer: {e}"))?;
     let majorants = Majorants::new(volume, medium)?;
-    let mut mean = Image::new(w, h);
-    let mut variance = Image::new(w, h);
-    mean.pixels
-        .par_chunks_mut(w)
-        .zip(variance.pixels.par_chunks_mut(w))
-        .enumerate()
-        .for_each(|(y, (mean_row, var_row))| {
-            for x in 0..w {
-                (mean_row[x], var_row[x]) =
-                    pixel(volume, medium, &majorants, camera, settings, x, y);
+    let row = |y: usize, mean: &mut [Vec3], mut variance: Option<&mut [Vec3]>| {
+        for x in 0..w {
+            let (m, v) = pixel(volume, medium, &majorants, camera, settings, x, y);
+            mean[x] = m;
+            if let Some(var) = variance.as_deref_mut() {
+                var[x] = v;
             }
-            progress(1);
-        });
+        }
+        progress(1);
+    };
+    let mut mean = Image::new(w, h);
+    let rows = mean.pixels.par_chunks_mut(w).enumerate();
+    let mut variance = with_variance.then(|| Image::new(w, h));
+    match &mut variance {
+        Some(var) => rows
+            .zip(var.pixels.par_chunks_mut(w))
+            .for_each(|((y, m), v)| row(y, m, Some(v))),
+        None => rows.for_each(|(y, m)| row(y, m, None)),
+    }
     Ok((mean, variance))
 }
 
@@ -618,8 +595,9 @@ impl Welford {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::explosion::{lights, procedural};
+    use crate::explosion::procedural;
     use crate::render::{MarchSettings, Marcher, RenderStats, Shadows};
+    use crate::scene::ExplosionLights;
     use lgh_core::BruteForce;
 
     /// Mean and standard error (per channel) of `n` paths along one ray, in parallel chunks with
@@ -784,7 +762,7 @@ mod tests {
     /// f64 (10⁵ steps: its error is far below the path tracer's noise).
     fn quadrature_transmittance(v: &Volume, m: &Medium, o: Vec3, d: Vec3) -> f64 {
         let (lo, hi) = v.density.bounds();
-        let (t0, t1) = clip(o, d, lo, hi).unwrap();
+        let (t0, t1) = crate::grid::slab(o, d, lo, hi).unwrap();
         let n = 100_000;
         let dt = f64::from(t1 - t0) / n as f64;
         let tau: f64 = (0..n)
@@ -909,8 +887,8 @@ mod tests {
         let m = Medium::new(1.0, 4.0, 1e-3, 1000.0).unwrap();
         let h0 = v.density.voxel_size;
         let march_with = |vol: &Volume, step: f32, o: Vec3, d: Vec3| {
-            let (ls, _) = lights(vol, &m);
-            let brute = BruteForce::new(&ls).unwrap();
+            let lights = ExplosionLights::new(&[vol], &m).unwrap();
+            let brute = BruteForce::new(lights.lights()).unwrap();
             let s = MarchSettings {
                 step_voxels: step,
                 shadow_step_voxels: 2.0 * step,

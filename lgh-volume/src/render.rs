@@ -14,6 +14,21 @@ use rayon::prelude::*;
 use crate::explosion::{Medium, Volume};
 use crate::shadow::ShadowGrid;
 
+/// The largest image side, in pixels: a 16384² image of RGB floats takes 3 GiB.
+pub const MAX_IMAGE_SIDE: usize = 16384;
+
+/// Checks an image size: 1 to [`MAX_IMAGE_SIDE`] pixels per side.
+pub fn check_image_size(width: usize, height: usize) -> Result<(), String> {
+    let ok = |n: usize| (1..=MAX_IMAGE_SIDE).contains(&n);
+    if ok(width) && ok(height) {
+        Ok(())
+    } else {
+        Err(format!(
+            "image size {width}x{height}: width and height must be 1 to {MAX_IMAGE_SIDE}"
+        ))
+    }
+}
+
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -51,11 +66,7 @@ impl Camera {
                 "camera: field of view {fov_y}° must be in (0, 179)"
             ));
         }
-        if width == 0 || height == 0 || width > 1 << 15 || height > 1 << 15 {
-            return Err(format!(
-                "camera: image size {width}×{height} must be 1 to 32768 per side"
-            ));
-        }
+        check_image_size(width, height).map_err(|e| format!("camera: {e}"))?;
         Ok(Camera {
             eye,
             forward,
@@ -199,16 +210,6 @@ impl Default for MarchSettings {
     }
 }
 
-/// Parameter interval where the ray `o + t d` is inside the box `lo..hi`.
-pub(crate) fn slab(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
-    let inv = d.recip();
-    let a = (lo - o) * inv;
-    let b = (hi - o) * inv;
-    let t0 = a.min(b).max_element().max(0.0);
-    let t1 = a.max(b).min_element();
-    (t0 < t1).then_some((t0, t1))
-}
-
 /// What a render did: the work counts that explain its time.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
@@ -310,7 +311,7 @@ impl<'a> Marcher<'a> {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
-        let Some((t0, t1)) = slab(origin, dir, lo, hi) else {
+        let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
             return Vec3::ZERO;
         };
         let n = ((t1 - t0) / (settings.step_voxels * h)).ceil().max(1.0) as usize;
@@ -499,48 +500,6 @@ mod tests {
                 (got - want).abs().max_element() <= tol,
                 "σ {sigma}: {got} vs {want}"
             );
-        }
-    }
-
-    #[test]
-    fn lgh_single_scattering_converges_to_brute_force() {
-        use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy};
-        let v = crate::explosion::procedural(32, 0.4).unwrap();
-        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let (lights, _) = crate::explosion::lights(&v, &m);
-        let h = v.temperature.voxel_size;
-        let settings = GridSettings {
-            h1: Some(2.0 * h),
-            origin: Some(v.temperature.origin),
-            ..Default::default()
-        };
-        let lgh = LightingGridHierarchy::build(&lights, &settings).unwrap();
-        let brute = BruteForce::new(&lights).unwrap();
-        let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 16, 16).unwrap();
-        for shadows in [Shadows::None, Shadows::RayMarch] {
-            let s = MarchSettings {
-                shadows,
-                step_voxels: 1.0,
-                ..Default::default()
-            };
-            let marcher = Marcher::new(&v, &m, &s).unwrap();
-            let mut errs = Vec::new();
-            for alpha in [2.0f32, 64.0] {
-                let backend = LghBackend::new(&lgh, alpha).unwrap();
-                let (mut num, mut den) = (0.0f64, 0.0f64);
-                for (x, y) in [(8.0, 8.0), (6.5, 9.5), (10.5, 7.5)] {
-                    let d = cam.direction(x, y);
-                    let st = &mut RenderStats::default();
-                    let a = marcher.march(Some((&backend, lgh.h0())), cam.eye, d, st);
-                    let r = marcher.march(Some((&brute, lgh.h0())), cam.eye, d, st);
-                    num += ((a - r).abs().max_element()) as f64;
-                    den += r.max_element() as f64;
-                }
-                errs.push(num / den);
-            }
-            // α = 64 puts every light in level 0 with weight 1: brute force up to summation order.
-            assert!(errs[1] < 1e-4, "{shadows:?}: {errs:?}");
-            assert!(errs[0] < 0.1 && errs[1] <= errs[0], "{shadows:?}: {errs:?}");
         }
     }
 

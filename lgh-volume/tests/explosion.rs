@@ -68,15 +68,26 @@ fn errors_by_alpha(
         .collect()
 }
 
-/// The bounds, from the core's measured point-probe error on the 1M-light explosion set
-/// (README, `lgh bench core`): relative RMSE 6.9%, 1.3% and 0.19% at α = 1, 2, 4. A pixel's
-/// scattered light is a transmittance-weighted mean of such point values, so its relative error
-/// is of the same order; shadows add an error the probes do not have (a cluster is shadowed as
-/// a point at its illumination centre), which we allow for with a factor of 4 at α = 2, where
-/// the bound is 5%. The error must also shrink as α grows.
-fn check(errors: &[f64], what: &str) {
+/// The bound at α = 2, from the core's measured point-probe error on the 1M-light explosion set
+/// (README, `lgh bench core`): relative RMSE 6.9%, 1.3% and 0.19% at α = 1, 2, 4.
+///
+/// Without shadows a pixel's scattered light is a transmittance-weighted mean of point values of
+/// the very model the probes measure, and by Jensen's inequality the mean's error is at most the
+/// points' RMS error; another light set than the probes' may err differently, for which we allow
+/// a factor of 2: 2.6%. Shadows add an error the probes do not have (a cluster is shadowed as a
+/// point at its illumination centre), for which we allow a factor of 4: 5.2%.
+fn bound(shadows: Shadows) -> f64 {
+    match shadows {
+        Shadows::None => 2.0 * 0.013,
+        Shadows::RayMarch => 4.0 * 0.013,
+    }
+}
+
+/// Checks the α = 2 error against [`bound`], and that the error shrinks as α grows.
+fn check(errors: &[f64], shadows: Shadows, what: &str) {
     eprintln!("{what}: scattered-light relative RMSE at α = 1, 2, 4: {errors:?}");
-    assert!(errors[1] < 0.05, "{what}: α = 2 error {}", errors[1]);
+    let b = bound(shadows);
+    assert!(errors[1] < b, "{what}: α = 2 error {} ≥ {b}", errors[1]);
     assert!(
         errors[0] > errors[1] && errors[1] > errors[2],
         "{what}: error must shrink with α: {errors:?}"
@@ -89,10 +100,9 @@ fn lgh_matches_brute_force_on_a_procedural_explosion() {
     let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
     let (lo, hi) = v.active_bounds().unwrap();
     let cam = Camera::frame(lo, hi, 24, 14).unwrap();
-    check(
-        &errors_by_alpha(&v, &m, &cam, Shadows::RayMarch),
-        "procedural 40³, shadows",
-    );
+    let shadows = Shadows::RayMarch;
+    let errors = errors_by_alpha(&v, &m, &cam, shadows);
+    check(&errors, shadows, "procedural 40³, shadows");
 }
 
 #[test]
@@ -110,10 +120,9 @@ fn lgh_matches_brute_force_on_a_real_frame() {
         .with_model(EmissionModel::Blender);
     let (lo, hi) = v.active_bounds().unwrap();
     let cam = Camera::frame_up(lo, hi, 16, 10, Up::Z).unwrap();
-    check(
-        &errors_by_alpha(&v, &m, &cam, Shadows::None),
-        "fire frame 0056, no shadows",
-    );
+    let shadows = Shadows::None;
+    let errors = errors_by_alpha(&v, &m, &cam, shadows);
+    check(&errors, shadows, "fire frame 0056, no shadows");
 }
 
 #[test]

@@ -172,7 +172,7 @@ impl ShadowGrid {
             if len <= 0.0 {
                 return None;
             }
-            match crate::render::slab(a, d / len, self.lo, self.hi) {
+            match crate::grid::slab(a, d / len, self.lo, self.hi) {
                 Some((t0, t1)) if t0 < len => (a + d * (t0 / len), a + d * (t1.min(len) / len)),
                 _ => return None,
             }

@@ -272,6 +272,30 @@ impl Grid {
         }
     }
 
+    /// Index-space box `(lo, hi)` (inclusive) of the active voxels and tiles, if any.
+    pub fn active_bbox(&self) -> Option<([i32; 3], [i32; 3])> {
+        let mut bbox: Option<([i32; 3], [i32; 3])> = None;
+        let mut grow = |lo: [i32; 3], hi: [i32; 3]| {
+            bbox = Some(match bbox {
+                None => (lo, hi),
+                Some((a, b)) => (
+                    [0, 1, 2].map(|k| a[k].min(lo[k])),
+                    [0, 1, 2].map(|k| b[k].max(hi[k])),
+                ),
+            });
+        };
+        for leaf in &self.leaves {
+            for (_, p) in leaf.active_voxels() {
+                grow(p, p);
+            }
+        }
+        for t in self.tiles.iter().filter(|t| t.active) {
+            let e = t.edge as i32 - 1;
+            grow(t.origin, t.origin.map(|o| o + e));
+        }
+        bbox
+    }
+
     /// Statistics of the active values (vector grids: of [`Grid::scalar`]).
     pub fn stats(&self) -> GridStats {
         let c = self.components();
@@ -279,40 +303,22 @@ impl Grid {
         let mut s = GridStats {
             min: f64::INFINITY,
             max: f64::NEG_INFINITY,
+            bbox: self.active_bbox(),
             ..Default::default()
         };
-        let grow = |s: &mut GridStats, lo: [i32; 3], hi: [i32; 3]| {
-            s.bbox = Some(match s.bbox {
-                None => (lo, hi),
-                Some((a, b)) => (
-                    [a[0].min(lo[0]), a[1].min(lo[1]), a[2].min(lo[2])],
-                    [b[0].max(hi[0]), b[1].max(hi[1]), b[2].max(hi[2])],
-                ),
-            });
-        };
-        for leaf in &self.leaves {
-            for (i, p) in leaf.active_voxels() {
-                let v = scalar(&leaf.values[i * c..(i + 1) * c]);
-                s.active_voxels += 1;
-                s.sum += v;
-                s.min = s.min.min(v);
-                s.max = s.max.max(v);
-                grow(&mut s, p, p);
-            }
-        }
-        for t in self.tiles.iter().filter(|t| t.active) {
-            let n = (t.edge as u64).pow(3);
-            let v = scalar(&t.value[..c]);
+        let mut add = |v: f64, n: u64| {
             s.active_voxels += n;
             s.sum += v * n as f64;
             s.min = s.min.min(v);
             s.max = s.max.max(v);
-            let e = t.edge as i32 - 1;
-            grow(
-                &mut s,
-                t.origin,
-                [t.origin[0] + e, t.origin[1] + e, t.origin[2] + e],
-            );
+        };
+        for leaf in &self.leaves {
+            for (i, _) in leaf.active_voxels() {
+                add(scalar(&leaf.values[i * c..(i + 1) * c]), 1);
+            }
+        }
+        for t in self.tiles.iter().filter(|t| t.active) {
+            add(scalar(&t.value[..c]), (t.edge as u64).pow(3));
         }
         if s.active_voxels == 0 {
             s.min = 0.0;
