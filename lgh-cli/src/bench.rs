@@ -72,7 +72,8 @@ fn make_set(key: &str) -> Result<Set, String> {
     })
 }
 
-fn time<T>(f: impl FnOnce() -> T) -> (T, f64) {
+/// `f()` and the seconds it took.
+pub(crate) fn time<T>(f: impl FnOnce() -> T) -> (T, f64) {
     let t = Instant::now();
     let v = f();
     (v, t.elapsed().as_secs_f64())
@@ -301,12 +302,7 @@ fn morton_sorted(points: &[Vec3]) -> Vec<Vec3> {
         |(lo, hi), &p| (lo.min(p), hi.max(p)),
     );
     let scale = 1023.0 / (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
-    let key = |p: Vec3| {
-        let q = ((p - lo) * scale).to_array().map(|v| v as u64);
-        (0..10).fold(0u64, |k, bit| {
-            k | (0..3).fold(0, |k, a| k | ((q[a] >> bit) & 1) << (3 * bit + a))
-        })
-    };
+    let key = |p: Vec3| lgh_core::morton::encode(((p - lo) * scale).to_array().map(|v| v as u32));
     let mut sorted = points.to_vec();
     sorted.sort_by_key(|&p| key(p));
     sorted

@@ -8,8 +8,8 @@
 //! on the pixel subset only, because on whole images they take hours; the hierarchy's subset
 //! time is measured too, so every ratio compares the same pixels.
 
+use crate::bench::time;
 use std::path::PathBuf;
-use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
@@ -121,12 +121,6 @@ fn rel_rmse(a: &[Vec3], r: &[Vec3]) -> Option<f64> {
     ErrorStats::compare(a, r).map(|e| e.rel_rmse)
 }
 
-fn secs<T>(f: impl FnOnce() -> T) -> (T, f64) {
-    let t = Instant::now();
-    let v = f();
-    (v, t.elapsed().as_secs_f64())
-}
-
 /// Runs the benchmark and prints its JSON report.
 pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
     for &a in &args.alphas {
@@ -160,7 +154,7 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
 }
 
 fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
-    let (lights, build_s) = secs(|| ExplosionLights::new(&[&s.volume], &s.medium));
+    let (lights, build_s) = time(|| ExplosionLights::new(&[&s.volume], &s.medium));
     let lights = lights?;
     let (lo, hi) = framing_bounds(&[&s.volume]).expect("one frame");
     let camera = Camera::frame_up(lo, hi, args.width, args.height, s.up)?;
@@ -175,7 +169,7 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
         lights.lit()
     );
 
-    let (brute, brute_s) = secs(|| {
+    let (brute, brute_s) = time(|| {
         lights.render_pixels(
             Backend::Brute,
             &s.volume,
@@ -200,7 +194,7 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
             seed: u64::from(spp),
             ..Default::default()
         };
-        secs(|| pathtrace::render_pixels(&s.volume, &s.medium, &camera, &settings, pixels))
+        time(|| pathtrace::render_pixels(&s.volume, &s.medium, &camera, &settings, pixels))
     };
     let (converged, converged_s) = pt(args.reference_spp);
     let converged = converged?;
@@ -223,10 +217,10 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
     for &alpha in &args.alphas {
         let backend = Backend::Lgh { alpha };
         let (image, image_s) =
-            secs(|| lights.render(backend, &s.volume, &s.medium, &camera, &march, &|_| {}));
+            time(|| lights.render(backend, &s.volume, &s.medium, &camera, &march, &|_| {}));
         let (_, stats) = image?;
         let (sub, sub_s) =
-            secs(|| lights.render_pixels(backend, &s.volume, &s.medium, &camera, &march, pixels));
+            time(|| lights.render_pixels(backend, &s.volume, &s.medium, &camera, &march, pixels));
         let (sub, _) = sub?;
         let err = rel_rmse(&sub, &brute).unwrap_or(f64::NAN);
         let matched = ladder.iter().find(|(_, _, e)| *e <= err);

@@ -9,7 +9,6 @@ use lgh_volume::render::Camera;
 use lgh_volume::scene::{Backend, ExplosionLights};
 
 use crate::output::{self, MarchArgs};
-use crate::progress;
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
@@ -63,20 +62,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     let setup_s = t.elapsed().as_secs_f64();
     let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
     let camera = Camera::frame(lo, hi, args.width, args.height)?;
-    let bar = progress::bar(args.height as u64, "rendering", args.quiet);
-    let t = Instant::now();
-    let (image, stats) = lights.render(
-        Backend::Lgh { alpha: args.alpha },
-        &volume,
-        &medium,
-        &camera,
-        &march,
-        &|rows| bar.inc(rows as u64),
-    )?;
-    let render_s = t.elapsed().as_secs_f64();
-    bar.finish_and_clear();
-
-    let mut extra = vec![
+    let extra = vec![
         (
             "scene",
             format!(
@@ -87,9 +73,22 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         ("alpha", args.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
-    extra.extend(output::stats_attributes(&stats, render_s));
-    let attrs = output::settings_attributes(&march, "lgh", &extra);
-    let png = output::write(&args.out, &image, &attrs)?;
+    let backend = Backend::Lgh { alpha: args.alpha };
+    let written = output::render_and_write(
+        |progress| {
+            let (image, stats) =
+                lights.render(backend, &volume, &medium, &camera, &march, progress)?;
+            Ok((image, Some(stats)))
+        },
+        args.height,
+        "rendering",
+        args.quiet,
+        &args.out,
+        &march,
+        "lgh",
+        extra,
+    )?;
+    let stats = written.stats.unwrap_or_default();
 
     let h = lights.hierarchy();
     say!("lgh demo: a procedural explosion lit by its own hot voxels");
@@ -110,11 +109,15 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         args.width,
         args.height,
         args.march.shadows,
-        render_s,
+        written.seconds,
         stats.shading_points,
         stats.lights_per_point(),
         stats.shadow_samples as f64 / stats.lights_evaluated.max(1) as f64
     );
-    say!("  output     {} and {}", args.out.display(), png.display());
+    say!(
+        "  output     {} and {}",
+        args.out.display(),
+        written.png.display()
+    );
     Ok(())
 }

@@ -11,7 +11,6 @@ use lgh_volume::render::{Camera, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
 use crate::output::{self, MarchArgs};
-use crate::progress;
 
 /// The renderer behind the image (`--backend`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -51,9 +50,10 @@ pub struct ExplosionArgs {
     /// Smoke density grid.
     #[arg(long, default_value = "density")]
     pub density_grid: String,
-    /// Grid multiplying the emission (Blender: flame), used when present; `none` for none.
-    #[arg(long, default_value = "flame")]
-    pub flame_grid: String,
+    /// Grid multiplying the emission; `none` for none. Named, it must exist; by default
+    /// Blender's `flame` is used when the file has it.
+    #[arg(long)]
+    pub flame_grid: Option<String>,
     /// Emission model.
     #[arg(long, value_enum, default_value_t = ModelArg::Blender)]
     pub emission_model: ModelArg,
@@ -206,14 +206,22 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     let names = GridNames {
         density: args.density_grid.clone(),
         emission: args.emission_grid.clone(),
-        flame: (args.flame_grid != "none").then(|| args.flame_grid.clone()),
-        flame_required: args.flame_grid != "flame" && args.flame_grid != "none",
+        flame: match args.flame_grid.as_deref() {
+            None => Some("flame".to_string()),
+            Some("none") => None,
+            Some(name) => Some(name.to_string()),
+        },
+        flame_required: args.flame_grid.is_some(),
     };
 
     let t = Instant::now();
     let volumes = cache::load(&paths, &names, !args.no_domain_offset)?;
     let refs: Vec<_> = volumes.iter().collect();
-    let mut lights = ExplosionLights::new(&refs, &medium)?;
+    // The path tracer reads the grids directly: no lights to build.
+    let mut lights = match args.backend {
+        BackendArg::Pathtrace => None,
+        BackendArg::Lgh | BackendArg::Brute => Some(ExplosionLights::new(&refs, &medium)?),
+    };
     let load_s = t.elapsed().as_secs_f64();
     let up = match args.up {
         UpArg::Y => Up::Y,
@@ -228,51 +236,26 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     };
     let grid = &volumes[0].density;
     say!(
-        "lgh explosion: {} frame(s) on a {}x{}x{} grid (voxel {:.5}), {} candidate lights; loaded in {load_s:.2} s",
+        "lgh explosion: {} frame(s) on a {}x{}x{} grid (voxel {:.5}); loaded in {load_s:.2} s",
         volumes.len(),
         grid.dims[0],
         grid.dims[1],
         grid.dims[2],
         grid.voxel_size,
-        lights.lights().len()
     );
     for (n, ((volume, frame), path)) in volumes.iter().zip(&frames).zip(&paths).enumerate() {
         let out = frame_out(&args.out, *frame);
         // `ExplosionLights::new` set the first frame's intensities already.
-        if n > 0 {
+        if let (Some(lights), true) = (&mut lights, n > 0) {
             lights.set_frame(volume, &medium)?;
         }
-        let label = frame.map_or("rendering".to_string(), |f| format!("frame {f}"));
-        let bar = progress::bar(args.height as u64, &label, args.quiet);
-        let t = Instant::now();
-        let (image, stats, name) = match args.backend {
-            BackendArg::Lgh | BackendArg::Brute => {
-                let (backend, name) = if args.backend == BackendArg::Lgh {
-                    (Backend::Lgh { alpha: args.alpha }, "lgh")
-                } else {
-                    (Backend::Brute, "brute")
-                };
-                let (img, st) = lights.render(backend, volume, &medium, &camera, &march, &|r| {
-                    bar.inc(r as u64)
-                })?;
-                (img, Some(st), name)
-            }
-            BackendArg::Pathtrace => {
-                let settings = PathSettings {
-                    spp: args.spp,
-                    max_scatter: args.max_scatter,
-                    ..Default::default()
-                };
-                let img =
-                    pathtrace::render(volume, &medium, &camera, &settings, &|r| bar.inc(r as u64))?;
-                (img, None, "pathtrace")
-            }
+        let lit = match &lights {
+            Some(l) => l.lit(),
+            None => volume.emitting_voxels(&medium),
         };
-        let secs = t.elapsed().as_secs_f64();
-        bar.finish_and_clear();
         let mut extra = vec![
             ("source", path.display().to_string()),
-            ("lights", lights.lit().to_string()),
+            ("lights", lit.to_string()),
             (
                 "emission_model",
                 format!("{:?}", args.emission_model).to_lowercase(),
@@ -283,29 +266,54 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
             ("density_scale", args.density_scale.to_string()),
             ("albedo", args.albedo.to_string()),
         ];
-        match args.backend {
-            BackendArg::Lgh => extra.push(("alpha", args.alpha.to_string())),
+        let (backend, name) = match args.backend {
+            BackendArg::Lgh => {
+                extra.push(("alpha", args.alpha.to_string()));
+                (Some(Backend::Lgh { alpha: args.alpha }), "lgh")
+            }
+            BackendArg::Brute => (Some(Backend::Brute), "brute"),
             BackendArg::Pathtrace => {
                 extra.push(("spp", args.spp.to_string()));
                 extra.push(("max_scatter", args.max_scatter.to_string()));
+                (None, "pathtrace")
             }
-            BackendArg::Brute => {}
-        }
-        match &stats {
-            Some(st) => extra.extend(output::stats_attributes(st, secs)),
-            None => extra.push(("render_seconds", format!("{secs:.3}"))),
-        }
-        let attrs = output::settings_attributes(&march, name, &extra);
-        let png = output::write(&out, &image, &attrs)?;
-        let work = stats.map_or(String::new(), |st| {
+        };
+        let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, backend) {
+            (Some(lights), Some(backend)) => {
+                let (image, stats) =
+                    lights.render(backend, volume, &medium, &camera, &march, progress)?;
+                Ok((image, Some(stats)))
+            }
+            _ => {
+                let settings = PathSettings {
+                    spp: args.spp,
+                    max_scatter: args.max_scatter,
+                    ..Default::default()
+                };
+                let image = pathtrace::render(volume, &medium, &camera, &settings, progress)?;
+                Ok((image, None))
+            }
+        };
+        let label = frame.map_or("rendering".to_string(), |f| format!("frame {f}"));
+        let written = output::render_and_write(
+            render,
+            args.height,
+            &label,
+            args.quiet,
+            &out,
+            &march,
+            name,
+            extra,
+        )?;
+        let work = written.stats.map_or(String::new(), |st| {
             format!(", {:.1} lights per shading point", st.lights_per_point())
         });
         say!(
-            "  {}: {} lights, {name} {secs:.1} s{work} -> {}, {}",
+            "  {}: {lit} lights, {name} {:.1} s{work} -> {}, {}",
             path.file_name().and_then(|n| n.to_str()).unwrap_or("?"),
-            lights.lit(),
+            written.seconds,
             out.display(),
-            png.display()
+            written.png.display()
         );
     }
     Ok(())

@@ -28,11 +28,12 @@ fn number(v: f64) -> Value {
 /// Runs `lgh inspect`.
 pub fn run(args: &InspectArgs) -> Result<(), String> {
     let file = vdb::read(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
+    let stats: Vec<vdb::GridStats> = file.grids.iter().map(|g| g.stats()).collect();
     let grids: Vec<Value> = file
         .grids
         .iter()
-        .map(|g| {
-            let s = g.stats();
+        .zip(&stats)
+        .map(|(g, s)| {
             let (lo, hi) = s
                 .bbox
                 .map_or((Value::Null, Value::Null), |(a, b)| (json!(a), json!(b)));
@@ -61,8 +62,7 @@ pub fn run(args: &InspectArgs) -> Result<(), String> {
         file.library_version.1,
         file.grids.len()
     );
-    for g in &file.grids {
-        let s = g.stats();
+    for (g, s) in file.grids.iter().zip(&stats) {
         let bbox = s.bbox.map_or("empty".to_string(), |(a, b)| {
             format!("({},{},{})->({},{},{})", a[0], a[1], a[2], b[0], b[1], b[2])
         });

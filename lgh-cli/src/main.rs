@@ -81,11 +81,7 @@ pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), String> {
 
 /// Validates the paper's α before any work is done.
 pub(crate) fn check_alpha(alpha: f32) -> Result<(), String> {
-    if alpha.is_finite() && alpha > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("alpha {alpha} must be a finite number > 0"))
-    }
+    lgh_core::check_alpha(alpha).map_err(|e| e.to_string())
 }
 
 fn main() {

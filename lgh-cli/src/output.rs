@@ -2,6 +2,7 @@
 //! and the outputs (a linear EXR with the settings in its header, a tone-mapped PNG beside it).
 
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use lgh_image::Image;
 use lgh_volume::render::{MarchSettings, RenderStats, Shadows};
@@ -77,8 +78,55 @@ pub fn check_out(out: &Path) -> Result<PathBuf, String> {
     Ok(out.with_extension("png"))
 }
 
+/// What [`render_and_write`] did: the render's counts (none from the path tracer), its seconds,
+/// and the PNG written beside the EXR.
+pub struct Written {
+    /// The marcher's counts.
+    pub stats: Option<RenderStats>,
+    /// Render time.
+    pub seconds: f64,
+    /// The PNG's path.
+    pub png: PathBuf,
+}
+
+/// Runs `render` (given a progress callback over rows) under a progress bar of `rows` rows
+/// labelled `label` (hidden when `quiet`), then writes `out` — an EXR whose header holds the
+/// march settings, the `backend`'s name, `extra` and the render's counts and time — and the PNG
+/// beside it.
+#[allow(clippy::too_many_arguments)]
+pub fn render_and_write(
+    render: impl FnOnce(&(dyn Fn(usize) + Sync)) -> Result<(Image, Option<RenderStats>), String>,
+    rows: usize,
+    label: &str,
+    quiet: bool,
+    out: &Path,
+    march: &MarchSettings,
+    backend: &str,
+    mut extra: Vec<(&'static str, String)>,
+) -> Result<Written, String> {
+    let bar = crate::progress::bar(rows as u64, label, quiet);
+    let t = Instant::now();
+    let (image, stats) = render(&|r| bar.inc(r as u64))?;
+    let seconds = t.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    extra.push(("render_seconds", format!("{seconds:.3}")));
+    if let Some(st) = &stats {
+        extra.push(("shading_points", st.shading_points.to_string()));
+        extra.push((
+            "lights_per_shading_point",
+            format!("{:.2}", st.lights_per_point()),
+        ));
+    }
+    let png = write(out, &image, &settings_attributes(march, backend, &extra))?;
+    Ok(Written {
+        stats,
+        seconds,
+        png,
+    })
+}
+
 /// The render settings as EXR header attributes (`lgh:` prefixed).
-pub fn settings_attributes(
+fn settings_attributes(
     march: &MarchSettings,
     backend: &str,
     extra: &[(&str, String)],
@@ -107,20 +155,8 @@ pub fn settings_attributes(
     attrs
 }
 
-/// Counts of a render as header attributes.
-pub fn stats_attributes(stats: &RenderStats, seconds: f64) -> Vec<(&'static str, String)> {
-    vec![
-        ("render_seconds", format!("{seconds:.3}")),
-        ("shading_points", stats.shading_points.to_string()),
-        (
-            "lights_per_shading_point",
-            format!("{:.2}", stats.lights_per_point()),
-        ),
-    ]
-}
-
 /// Writes the EXR and the PNG beside it (auto exposure); returns the PNG's path.
-pub fn write(out: &Path, image: &Image, attrs: &[(String, String)]) -> Result<PathBuf, String> {
+fn write(out: &Path, image: &Image, attrs: &[(String, String)]) -> Result<PathBuf, String> {
     let png = out.with_extension("png");
     lgh_image::write_exr(out, image, attrs)?;
     lgh_image::write_png(&png, image, lgh_image::auto_exposure(image))?;

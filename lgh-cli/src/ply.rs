@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 /// Files larger than this are refused before reading.
-pub const MAX_FILE_BYTES: u64 = 4 << 30;
+pub use lgh_image::MAX_INPUT_BYTES as MAX_FILE_BYTES;
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -173,13 +173,7 @@ pub fn evaluate<B: ManyLights + Sync>(
         .flat_map_iter(|chunk| {
             let r: Vec<_> = chunk
                 .iter()
-                .map(|&x| {
-                    let mut shader =
-                        |s: &lgh_core::LightSample| s.intensity * lgh_core::falloff(s.distance, h0);
-                    backend
-                        .illuminate(&lgh_core::ShadingPoint::in_medium(x), &mut shader)
-                        .map(|i| (i.radiance, i.lights))
-                })
+                .map(|&x| lgh_core::probe(backend, x, h0).map(|i| (i.radiance, i.lights)))
                 .collect();
             bar.inc(chunk.len() as u64);
             r

@@ -291,10 +291,8 @@ impl ManyLights for BruteForce {
 }
 
 /// The unshadowed light-probe value `L(x) = Σ B·I·g(d)` through any backend, with the clamped
-/// fall-off [`falloff`](crate::falloff) at `h0`.
-pub fn probe<B: ManyLights>(backend: &B, x: Vec3, h0: f32) -> Result<Vec3, QueryError> {
+/// fall-off [`falloff`](crate::falloff) at `h0`, and the number of lights it took.
+pub fn probe<B: ManyLights>(backend: &B, x: Vec3, h0: f32) -> Result<Illumination, QueryError> {
     let mut shader = |s: &LightSample| s.intensity * crate::blend::falloff(s.distance, h0);
-    Ok(backend
-        .illuminate(&ShadingPoint::in_medium(x), &mut shader)?
-        .radiance)
+    backend.illuminate(&ShadingPoint::in_medium(x), &mut shader)
 }

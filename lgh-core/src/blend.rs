@@ -39,10 +39,20 @@ pub struct Blending {
     ramps: [[f32; 4]; MAX_LEVEL as usize + 1],
 }
 
+/// Checks the paper's α: a finite number above 0.
+pub fn check_alpha(alpha: f32) -> Result<(), QueryError> {
+    if alpha.is_finite() && alpha > 0.0 {
+        Ok(())
+    } else {
+        Err(QueryError::InvalidAlpha { alpha })
+    }
+}
+
 impl Blending {
     /// Blending for a hierarchy with level-1 spacing `h1` and top level `max_level`.
     pub fn new(alpha: f32, h1: f32, max_level: u8) -> Result<Self, QueryError> {
-        if !(alpha.is_finite() && alpha > 0.0) || max_level > MAX_LEVEL {
+        check_alpha(alpha)?;
+        if max_level > MAX_LEVEL {
             return Err(QueryError::InvalidAlpha { alpha });
         }
         let r0 = alpha * h1 * 0.5;

@@ -57,7 +57,7 @@ mod level;
 mod light;
 mod math;
 pub mod metrics;
-mod morton;
+pub mod morton;
 mod radix;
 pub mod spectrum;
 pub mod testsets;
@@ -71,7 +71,7 @@ pub use backend::{
     probe, BruteForce, Illumination, LghBackend, LightSample, ManyLights, Material, Shader,
     ShadingPoint,
 };
-pub use blend::{falloff, Blending, MAX_LEVEL};
+pub use blend::{check_alpha, falloff, Blending, MAX_LEVEL};
 pub use error::{BuildError, QueryError};
 pub use glam;
 pub use grid::{bounds, GridSettings, LevelSource};

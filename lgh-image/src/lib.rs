@@ -58,6 +58,10 @@ impl Image {
     }
 }
 
+/// Input files (VDB caches, PLY point sets) larger than this are refused before reading: 8 GiB,
+/// a third of a 24 GiB machine.
+pub const MAX_INPUT_BYTES: u64 = 8 << 30;
+
 /// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
 /// if everything succeeded. On any error the temporary file is removed and `path` is untouched.
 pub fn write_atomic(

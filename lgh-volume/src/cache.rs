@@ -12,8 +12,8 @@ use crate::explosion::Volume;
 use crate::vdb;
 use crate::DenseGrid;
 
-/// Largest dense grid a cache may expand to (voxels): 2²⁸, 1 GiB per f32 grid.
-pub const MAX_VOXELS: usize = 1 << 28;
+/// Largest dense grid a cache may expand to (voxels).
+pub use crate::grid::MAX_DENSE_VOXELS as MAX_VOXELS;
 
 /// Which grids of the files hold what.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -47,6 +47,13 @@ impl Volume {
         }
     }
 
+    /// How many voxels emit ([`voxel_emits`](Self::voxel_emits)): the lights `S0` of this frame.
+    pub fn emitting_voxels(&self, medium: &Medium) -> usize {
+        (0..self.temperature.data.len())
+            .filter(|&i| self.voxel_emits(medium, i))
+            .count()
+    }
+
     /// Whether voxel `idx` is a light: its [`voxel_emission`](Self::voxel_emission) is not zero.
     pub fn voxel_emits(&self, medium: &Medium, idx: usize) -> bool {
         self.voxel_emission(medium, idx).max_element() > 0.0

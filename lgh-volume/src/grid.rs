@@ -151,7 +151,11 @@ impl DenseGrid {
             ));
         }
         let dims = [0, 1, 2].map(|a| (hi[a] as i64 - lo[a] as i64 + 1).max(0) as usize);
-        if dims.iter().product::<usize>() > 1 << 30 {
+        if dims
+            .iter()
+            .try_fold(1usize, |a, &d| a.checked_mul(d))
+            .is_none_or(|v| v > MAX_DENSE_VOXELS)
+        {
             return Err(format!("grid '{}' is too large to make dense", grid.name));
         }
         let mut out = DenseGrid::zeros(dims, h as f32, origin);
@@ -187,6 +191,9 @@ impl DenseGrid {
         Ok(out)
     }
 }
+
+/// Largest grid made dense from a sparse one (voxels): 2²⁸, 1 GiB per f32 grid.
+pub const MAX_DENSE_VOXELS: usize = 1 << 28;
 
 /// The voxel `[i, j, k]` at linear index `idx` (x fastest) of a grid of `dims` voxels.
 pub(crate) fn unflatten(idx: usize, dims: [usize; 3]) -> [usize; 3] {

@@ -356,18 +356,14 @@ impl<'a> Marcher<'a> {
         scratch: &mut Scratch,
         stats: &mut RenderStats,
     ) -> Option<Vec3> {
-        let point = ShadingPoint::in_medium(x);
         let Some(grid) = &self.shadows else {
-            let sum = backend
-                .illuminate(&point, &mut |l: &LightSample| {
-                    l.intensity * falloff(l.distance, h0)
-                })
-                .ok()?;
+            let sum = lgh_core::probe(backend, x, h0).ok()?;
             stats.shading_points += 1;
             stats.lights_evaluated += u64::from(sum.lights);
             return Some(sum.radiance);
         };
         // Gather the lights, then march their shadow rays together.
+        let point = ShadingPoint::in_medium(x);
         scratch.positions.clear();
         scratch.unshadowed.clear();
         let sum = backend

@@ -20,7 +20,7 @@ use compress::{read_data, COMPRESS_ACTIVE_MASK};
 use cursor::Cursor;
 
 /// Files larger than this are refused before reading.
-pub const MAX_FILE_BYTES: u64 = 8 << 30;
+pub use lgh_image::MAX_INPUT_BYTES as MAX_FILE_BYTES;
 
 /// Why a file could not be read.
 #[derive(Clone, Debug, PartialEq)]
