@@ -1,16 +1,18 @@
 //! `lgh explosion`: renders frames of a real simulation cache (OpenVDB), lit by its own fire.
 
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{framing_bounds, EmissionModel, Medium};
+use lgh_volume::explosion::{grow_framing, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
 use crate::output::{self, MarchArgs};
+use crate::progress;
 
 /// The renderer behind the image (`--backend`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -215,38 +217,64 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     };
 
     let t = Instant::now();
-    let volumes = cache::load(&paths, &names, !args.no_domain_offset)?;
-    let refs: Vec<_> = volumes.iter().collect();
-    // The path tracer reads the grids directly: no lights to build.
-    let mut lights = match args.backend {
-        BackendArg::Pathtrace => None,
-        BackendArg::Lgh | BackendArg::Brute => Some(ExplosionLights::new(&refs, &medium)?),
-    };
-    let load_s = t.elapsed().as_secs_f64();
+    let seq = cache::Sequence::open(&paths, &names, !args.no_domain_offset)?;
     let up = match args.up {
         UpArg::Y => Up::Y,
         UpArg::Z => Up::Z,
     };
+    // One pass over the frames, one in memory at a time, for what depends on all of them: the
+    // lights (every voxel hot in any frame; the path tracer needs none) and the framing. The
+    // last frame read is kept for its render.
+    let needs_lights = args.backend != BackendArg::Pathtrace;
+    let mut framing = None;
+    let mut kept: Option<Rc<Volume>> = None;
+    let mut lights = None;
+    if needs_lights || args.camera.is_none() {
+        let bar = progress::bar(seq.len() as u64, "reading frames", args.quiet);
+        let frames_read = (0..seq.len()).map(|i| {
+            let v = Rc::new(seq.frame(i)?);
+            framing = grow_framing(framing, &v);
+            kept = Some(Rc::clone(&v));
+            bar.inc(1);
+            Ok(v)
+        });
+        if needs_lights {
+            lights = Some(ExplosionLights::from_frames(frames_read, &medium)?);
+        } else {
+            for v in frames_read {
+                v?;
+            }
+        }
+        bar.finish_and_clear();
+    }
+    let load_s = t.elapsed().as_secs_f64();
     let camera = match &args.camera {
         Some(s) => parse_camera(s, up.vector(), args.width, args.height)?,
         None => {
-            let (lo, hi) = framing_bounds(&refs).ok_or("no frames")?;
+            let (lo, hi) = framing.unwrap_or_else(|| seq.bounds());
             Camera::frame_up(lo, hi, args.width, args.height, up)?
         }
     };
-    let grid = &volumes[0].density;
+    let dims = seq.dims();
     say!(
-        "lgh explosion: {} frame(s) on a {}x{}x{} grid (voxel {:.5}); loaded in {load_s:.2} s",
-        volumes.len(),
-        grid.dims[0],
-        grid.dims[1],
-        grid.dims[2],
-        grid.voxel_size,
+        "lgh explosion: {} frame(s) on a {}x{}x{} grid (voxel {:.5}); read in {load_s:.2} s",
+        seq.len(),
+        dims[0],
+        dims[1],
+        dims[2],
+        seq.voxel_size(),
     );
-    for (n, ((volume, frame), path)) in volumes.iter().zip(&frames).zip(&paths).enumerate() {
+    for (n, (frame, path)) in frames.iter().zip(&paths).enumerate() {
+        let volume = match kept.take() {
+            Some(v) if n + 1 == seq.len() => v,
+            other => {
+                kept = other;
+                Rc::new(seq.frame(n)?)
+            }
+        };
+        let volume: &Volume = &volume;
         let out = frame_out(&args.out, *frame);
-        // `ExplosionLights::new` set the first frame's intensities already.
-        if let (Some(lights), true) = (&mut lights, n > 0) {
+        if let Some(lights) = &mut lights {
             lights.set_frame(volume, &medium)?;
         }
         let lit = match &lights {

@@ -9,6 +9,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::explosion::Volume;
+use lgh_core::glam::Vec3;
+
 use crate::vdb;
 use crate::DenseGrid;
 
@@ -169,19 +171,9 @@ fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, Stri
         })
 }
 
-/// Loads the frames `paths` onto one dense grid that covers every frame's active voxels of the
-/// three grids (in the full domain's index space when `blender_offset`, reading each frame's
-/// config file if it exists). All frames must share one voxel size and transform.
-pub fn load(
-    paths: &[PathBuf],
-    names: &GridNames,
-    blender_offset: bool,
-) -> Result<Vec<Volume>, String> {
-    if paths.is_empty() {
-        return Err("no frames to load".into());
-    }
-    let mut frames = Vec::with_capacity(paths.len());
-    for path in paths {
+impl RawFrame {
+    /// Reads `path` and finds its grids (and its domain offset when `blender_offset`).
+    fn read(path: &Path, names: &GridNames, blender_offset: bool) -> Result<Self, String> {
         let file = vdb::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let density = find_grid(&file, &names.density, path)?;
         let emission = find_grid(&file, &names.emission, path)?;
@@ -197,26 +189,39 @@ pub fn load(
             Some(c) => read_blender_offset(&c)?,
             None => [0; 3],
         };
-        frames.push(RawFrame {
+        Ok(RawFrame {
             file,
             density,
             emission,
             flame,
             offset,
-        });
+        })
     }
-    let transform = frames[0].density().index_to_world;
-    let mut lo = [i32::MAX; 3];
-    let mut hi = [i32::MIN; 3];
-    for (f, path) in frames.iter().zip(paths) {
-        for g in [f.density(), f.emission()].into_iter().chain(f.flame()) {
-            if g.index_to_world != transform {
+
+    /// The grids that make the volume.
+    fn grids(&self) -> impl Iterator<Item = &vdb::Grid> {
+        [self.density(), self.emission()]
+            .into_iter()
+            .chain(self.flame())
+    }
+
+    /// Checks that every grid is scalar and placed by `transform` (the first frame's, of grid
+    /// `first` in file `first_path`).
+    fn check(
+        &self,
+        path: &Path,
+        transform: &[[f64; 4]; 4],
+        first: &str,
+        first_path: &Path,
+    ) -> Result<(), String> {
+        for g in self.grids() {
+            if g.index_to_world != *transform {
                 return Err(format!(
                     "{}: grid '{}' has another transform (voxel size or placement) than '{}' of {}",
                     path.display(),
                     g.name,
-                    frames[0].density().name,
-                    paths[0].display()
+                    first,
+                    first_path.display()
                 ));
             }
             if g.value_type.components() != 1 {
@@ -227,42 +232,151 @@ pub fn load(
                     g.value_type.name()
                 ));
             }
-            if let Some((a, b)) = g.active_bbox() {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(a[k].saturating_add(f.offset[k]));
-                    hi[k] = hi[k].max(b[k].saturating_add(f.offset[k]));
-                }
+        }
+        Ok(())
+    }
+}
+
+/// Frames of a cache opened for streaming: every file read once to check it and to find the one
+/// dense box that covers every frame's active voxels of the three grids (in the full domain's
+/// index space when `blender_offset`, reading each frame's config file if it exists); then
+/// [`frame`](Self::frame) reads one frame at a time onto that box, so a long sequence never
+/// needs more than one frame in memory.
+#[derive(Clone, Debug)]
+pub struct Sequence {
+    paths: Vec<PathBuf>,
+    names: GridNames,
+    blender_offset: bool,
+    transform: [[f64; 4]; 4],
+    /// The first frame's density grid name, for error messages.
+    first: String,
+    /// The common box, inclusive, in index space.
+    lo: [i32; 3],
+    hi: [i32; 3],
+}
+
+impl Sequence {
+    /// Opens the frames `paths`. All frames must share one voxel size and transform.
+    pub fn open(
+        paths: &[PathBuf],
+        names: &GridNames,
+        blender_offset: bool,
+    ) -> Result<Self, String> {
+        let first_path = paths.first().ok_or("no frames to load")?;
+        let mut seq: Option<Sequence> = None;
+        for path in paths {
+            let raw = RawFrame::read(path, names, blender_offset)?;
+            let s = seq.get_or_insert_with(|| Sequence {
+                paths: paths.to_vec(),
+                names: names.clone(),
+                blender_offset,
+                transform: raw.density().index_to_world,
+                first: raw.density().name.clone(),
+                lo: [i32::MAX; 3],
+                hi: [i32::MIN; 3],
+            });
+            raw.check(path, &s.transform, &s.first, first_path)?;
+            s.grow(&raw);
+        }
+        let seq = seq.ok_or("no frames to load")?;
+        if seq.lo[0] > seq.hi[0] {
+            return Err("the frames have no active voxels".into());
+        }
+        let dims = seq.dims();
+        let voxels = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
+        if voxels.is_none_or(|v| v > MAX_VOXELS) {
+            return Err(format!(
+                "the frames span {}x{}x{} voxels, more than the {} a dense grid may hold",
+                dims[0], dims[1], dims[2], MAX_VOXELS
+            ));
+        }
+        Ok(seq)
+    }
+
+    /// Grows the box by a frame's active voxels.
+    fn grow(&mut self, raw: &RawFrame) {
+        for (a, b) in raw.grids().filter_map(|g| g.active_bbox()) {
+            for k in 0..3 {
+                self.lo[k] = self.lo[k].min(a[k].saturating_add(raw.offset[k]));
+                self.hi[k] = self.hi[k].max(b[k].saturating_add(raw.offset[k]));
             }
         }
     }
-    if lo[0] > hi[0] {
-        return Err("the frames have no active voxels".into());
+
+    /// Voxels of the common grid per axis.
+    pub fn dims(&self) -> [usize; 3] {
+        [0, 1, 2].map(|k| (i64::from(self.hi[k]) - i64::from(self.lo[k]) + 1) as usize)
     }
-    let dims = [0, 1, 2].map(|k| (i64::from(hi[k]) - i64::from(lo[k]) + 1) as usize);
-    let voxels = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
-    if voxels.is_none_or(|v| v > MAX_VOXELS) {
-        return Err(format!(
-            "the frames span {}x{}x{} voxels, more than the {} a dense grid may hold",
-            dims[0], dims[1], dims[2], MAX_VOXELS
-        ));
+
+    /// Voxel size (the x axis of the transform; a frame whose voxels are not cubes is an error
+    /// when it is read).
+    pub fn voxel_size(&self) -> f32 {
+        self.transform[0][0] as f32
     }
-    // Every frame lands at the common box's place, whatever its own domain offset.
-    let origin = DenseGrid::world_position(&transform, lo);
-    let place = |g: &vdb::Grid, off: [i32; 3]| {
-        let a = [0, 1, 2].map(|k| lo[k] - off[k]);
-        let b = [0, 1, 2].map(|k| hi[k] - off[k]);
-        DenseGrid::from_vdb_at(g, a, b, origin)
-    };
-    frames
-        .iter()
-        .map(|f| {
-            Ok(Volume {
-                density: place(f.density(), f.offset)?,
-                temperature: place(f.emission(), f.offset)?,
-                flame: f.flame().map(|g| place(g, f.offset)).transpose()?,
-            })
+
+    /// Number of frames.
+    pub fn len(&self) -> usize {
+        self.paths.len()
+    }
+
+    /// Whether there are no frames (never: [`open`](Self::open) refuses none).
+    pub fn is_empty(&self) -> bool {
+        self.paths.is_empty()
+    }
+
+    /// The frames' files.
+    pub fn paths(&self) -> &[PathBuf] {
+        &self.paths
+    }
+
+    /// World box of the common grid (voxel faces): every frame's grids cover it.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let h = self.voxel_size();
+        let lo = DenseGrid::world_position(&self.transform, self.lo);
+        let size = Vec3::from(self.dims().map(|d| d as f32)) * h;
+        (lo - Vec3::splat(0.5 * h), lo - Vec3::splat(0.5 * h) + size)
+    }
+
+    /// Reads frame `i` onto the common box (checked again: the file may have changed since
+    /// [`open`](Self::open)).
+    pub fn frame(&self, i: usize) -> Result<Volume, String> {
+        let path = self
+            .paths
+            .get(i)
+            .ok_or_else(|| format!("frame {i} of a {}-frame sequence", self.len()))?;
+        let raw = RawFrame::read(path, &self.names, self.blender_offset)?;
+        raw.check(path, &self.transform, &self.first, &self.paths[0])?;
+        let mut within = self.clone();
+        within.grow(&raw);
+        if within.lo != self.lo || within.hi != self.hi {
+            return Err(format!(
+                "{}: changed since the sequence was opened (its voxels leave the common box)",
+                path.display()
+            ));
+        }
+        // Every frame lands at the common box's place, whatever its own domain offset.
+        let origin = DenseGrid::world_position(&self.transform, self.lo);
+        let place = |g: &vdb::Grid| {
+            let a = [0, 1, 2].map(|k| self.lo[k] - raw.offset[k]);
+            let b = [0, 1, 2].map(|k| self.hi[k] - raw.offset[k]);
+            DenseGrid::from_vdb_at(g, a, b, origin)
+        };
+        Ok(Volume {
+            density: place(raw.density())?,
+            temperature: place(raw.emission())?,
+            flame: raw.flame().map(place).transpose()?,
         })
-        .collect()
+    }
+}
+
+/// Loads the frames `paths` onto one dense grid ([`Sequence`]), all at once.
+pub fn load(
+    paths: &[PathBuf],
+    names: &GridNames,
+    blender_offset: bool,
+) -> Result<Vec<Volume>, String> {
+    let seq = Sequence::open(paths, names, blender_offset)?;
+    (0..seq.len()).map(|i| seq.frame(i)).collect()
 }
 
 #[cfg(test)]

@@ -76,11 +76,17 @@ fn union(a: Option<(Vec3, Vec3)>, b: Option<(Vec3, Vec3)>) -> Option<(Vec3, Vec3
     }
 }
 
+/// `acc` grown by `frame`'s [`active_bounds`](Volume::active_bounds): [`framing_bounds`] one
+/// frame at a time.
+pub fn grow_framing(acc: Option<(Vec3, Vec3)>, frame: &Volume) -> Option<(Vec3, Vec3)> {
+    union(acc, frame.active_bounds())
+}
+
 /// What a camera should frame for a sequence: the union of the frames'
 /// [`active_bounds`](Volume::active_bounds), or the first frame's whole grid when no frame has
 /// smoke or emission (`None` for no frames).
 pub fn framing_bounds(frames: &[&Volume]) -> Option<(Vec3, Vec3)> {
-    let active = frames.iter().map(|v| v.active_bounds()).fold(None, union);
+    let active = frames.iter().fold(None, |acc, v| grow_framing(acc, v));
     active.or_else(|| frames.first().map(|v| v.density.bounds()))
 }
 

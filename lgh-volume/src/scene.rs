@@ -7,6 +7,8 @@
 //! vertices on voxel centres. Fixed positions and a fixed grid are what keep the approximation
 //! from flickering: nothing is clustered anew each frame.
 
+use std::borrow::Borrow;
+
 use lgh_core::glam::Vec3;
 use lgh_core::{
     BruteForce, GridSettings, Illumination, LghBackend, LightingGridHierarchy, ManyLights,
@@ -56,8 +58,22 @@ impl ExplosionLights {
     /// voxel size, origin); the density may lie on another.
     pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, String> {
         let first = frames.first().ok_or("no frames to light")?;
-        let grid = &first.temperature;
-        for (i, f) in frames.iter().enumerate() {
+        let mut out = ExplosionLights::from_frames(frames.iter().map(|&f| Ok(f)), medium)?;
+        out.set_frame(first, medium)?;
+        Ok(out)
+    }
+
+    /// [`new`](Self::new) for frames that come one at a time (read from disk, say), each looked
+    /// at once and then dropped; the lights are dark until [`set_frame`](Self::set_frame).
+    pub fn from_frames<V: Borrow<Volume>>(
+        frames: impl IntoIterator<Item = Result<V, String>>,
+        medium: &Medium,
+    ) -> Result<Self, String> {
+        // The first frame's temperature layout, and which of its voxels are hot in any frame.
+        let mut layout: Option<(DenseGrid, Vec<bool>)> = None;
+        for (i, f) in frames.into_iter().enumerate() {
+            let f = f?;
+            let f = f.borrow();
             if f.flame
                 .as_ref()
                 .is_some_and(|fl| !same_layout(&f.temperature, fl))
@@ -66,19 +82,28 @@ impl ExplosionLights {
                     "frame {i}: the flame grid is on another grid than the temperature"
                 ));
             }
+            let (grid, hot) = layout.get_or_insert_with(|| {
+                let t = &f.temperature;
+                let empty = DenseGrid::zeros([0; 3], t.voxel_size, t.origin);
+                (
+                    DenseGrid {
+                        dims: t.dims,
+                        ..empty
+                    },
+                    vec![false; t.data.len()],
+                )
+            });
             if !same_layout(grid, &f.temperature) {
                 return Err(format!(
                     "frame {i}'s temperature is on another grid than frame 0's: a sequence's \
                      lights need one grid (dimensions, voxel size, origin)"
                 ));
             }
-        }
-        let mut hot = vec![false; grid.data.len()];
-        for f in frames {
-            for (i, h) in hot.iter_mut().enumerate() {
-                *h = *h || f.voxel_emits(medium, i);
+            for (v, h) in hot.iter_mut().enumerate() {
+                *h = *h || f.voxel_emits(medium, v);
             }
         }
+        let (grid, hot) = layout.ok_or("no frames to light")?;
         let voxels: Vec<usize> = (0..hot.len()).filter(|&i| hot[i]).collect();
         let lights = voxels
             .iter()
@@ -95,16 +120,14 @@ impl ExplosionLights {
         };
         let hierarchy = LightingGridHierarchy::build(&lights, &settings)
             .map_err(|e| format!("cannot build the light hierarchy: {e}"))?;
-        let mut out = ExplosionLights {
+        Ok(ExplosionLights {
             dims: grid.dims,
             voxel_size: h,
             origin: grid.origin,
             voxels,
             lights,
             hierarchy,
-        };
-        out.set_frame(first, medium)?;
-        Ok(out)
+        })
     }
 
     /// Sets the intensities to those of `frame` (same grid as at construction) and rebuilds the

@@ -192,3 +192,52 @@ fn a_sequence_of_the_real_cache_is_deterministic() {
     };
     assert!(total(&one[6]) > total(&one[0]));
 }
+
+#[test]
+fn a_streamed_sequence_renders_as_one_loaded_at_once() {
+    let paths: Vec<PathBuf> = match (50..=56).map(fire_frame).collect::<Option<Vec<_>>>() {
+        Some(p) => p,
+        None => return,
+    };
+    let names = GridNames::default();
+    let m = Medium::new(50.0, 50.0, 1.0, 800.0)
+        .unwrap()
+        .with_temperature_scale(1000.0)
+        .unwrap()
+        .with_model(EmissionModel::Blender);
+    // All frames in memory.
+    let volumes = cache::load(&paths, &names, true).unwrap();
+    let refs: Vec<&Volume> = volumes.iter().collect();
+    let mut at_once = ExplosionLights::new(&refs, &m).unwrap();
+    // One frame at a time, each read from its file when needed.
+    let seq = cache::Sequence::open(&paths, &names, true).unwrap();
+    assert_eq!(seq.len(), 7);
+    assert_eq!(seq.bounds(), volumes[0].density.bounds());
+    let mut streamed =
+        ExplosionLights::from_frames((0..seq.len()).map(|i| seq.frame(i)), &m).unwrap();
+    assert_eq!(streamed.lights().len(), at_once.lights().len());
+    assert_eq!(streamed.lit(), 0, "dark until a frame is set");
+
+    let (lo, hi) = framing_bounds(&refs).unwrap();
+    let cam = Camera::frame_up(lo, hi, 10, 6, Up::Z).unwrap();
+    let s = MarchSettings {
+        step_voxels: 2.0,
+        ..Default::default()
+    };
+    for i in [0, 3, 6] {
+        let v = seq.frame(i).unwrap();
+        assert!(v == volumes[i], "frame {i} read alone differs");
+        streamed.set_frame(&v, &m).unwrap();
+        at_once.set_frame(&volumes[i], &m).unwrap();
+        let back = Backend::Lgh { alpha: 2.0 };
+        let a = streamed.render(back, &v, &m, &cam, &s, &|_| {}).unwrap().0;
+        let b = at_once
+            .render(back, &volumes[i], &m, &cam, &s, &|_| {})
+            .unwrap()
+            .0;
+        assert!(a.pixels == b.pixels, "frame {i}");
+    }
+    // A frame that cannot be read is an error, from the sequence and through the lights.
+    assert!(seq.frame(7).is_err());
+    assert!(ExplosionLights::from_frames((0..8).map(|i| seq.frame(i)), &m).is_err());
+}
