@@ -64,6 +64,14 @@ pub enum BuildError {
         /** Intensities given. */
         got: usize,
     },
+    /// Light-octree settings out of range: `max_leaf` must be at least 1 and `max_depth` at most
+    /// [`MAX_OCTREE_DEPTH`](crate::octree::MAX_OCTREE_DEPTH).
+    InvalidOctreeSettings {
+        /** The rejected `max_leaf`. */
+        max_leaf: usize,
+        /** The rejected `max_depth`. */
+        max_depth: u8,
+    },
 }
 
 impl fmt::Display for BuildError {
@@ -103,6 +111,14 @@ impl fmt::Display for BuildError {
             BuildError::LengthMismatch { expected, got } => write!(
                 f,
                 "expected {expected} intensities (one per light), got {got}"
+            ),
+            BuildError::InvalidOctreeSettings {
+                max_leaf,
+                max_depth,
+            } => write!(
+                f,
+                "light octree: max_leaf {max_leaf} must be ≥ 1 and max_depth {max_depth} ≤ {}",
+                crate::octree::MAX_OCTREE_DEPTH
             ),
         }
     }

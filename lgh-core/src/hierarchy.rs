@@ -61,7 +61,9 @@ pub struct LightingGridHierarchy {
     levels: Vec<Level>,
 }
 
-fn validate(lights: &[PointLight]) -> Result<(), BuildError> {
+/// Checks the lights: at most [`MAX_LIGHTS`](crate::error::MAX_LIGHTS), finite positions, finite
+/// non-negative intensities.
+pub(crate) fn validate(lights: &[PointLight]) -> Result<(), BuildError> {
     if lights.len() > crate::error::MAX_LIGHTS {
         return Err(BuildError::TooManyLights {
             count: lights.len(),

@@ -58,6 +58,7 @@ mod light;
 mod math;
 pub mod metrics;
 pub mod morton;
+pub mod octree;
 mod radix;
 pub mod spectrum;
 pub mod testsets;
