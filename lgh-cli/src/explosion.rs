@@ -265,12 +265,10 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
         seq.voxel_size(),
     );
     for (n, (frame, path)) in frames.iter().zip(&paths).enumerate() {
-        let volume = match kept.take() {
-            Some(v) if n + 1 == seq.len() => v,
-            other => {
-                kept = other;
-                Rc::new(seq.frame(n)?)
-            }
+        // The pass's last frame is still in memory; the others are read again.
+        let volume = match kept.take_if(|_| n + 1 == seq.len()) {
+            Some(v) => v,
+            None => Rc::new(seq.frame(n)?),
         };
         let volume: &Volume = &volume;
         let out = frame_out(&args.out, *frame);

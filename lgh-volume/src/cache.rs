@@ -198,6 +198,19 @@ impl RawFrame {
         })
     }
 
+    /// Index-space box (inclusive, in the full domain's index space) of the active voxels of
+    /// the frame's grids; empty (lo > hi) when none is active.
+    fn index_box(&self) -> ([i32; 3], [i32; 3]) {
+        let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
+        for (a, b) in self.grids().filter_map(|g| g.active_bbox()) {
+            for k in 0..3 {
+                lo[k] = lo[k].min(a[k].saturating_add(self.offset[k]));
+                hi[k] = hi[k].max(b[k].saturating_add(self.offset[k]));
+            }
+        }
+        (lo, hi)
+    }
+
     /// The grids that make the volume.
     fn grids(&self) -> impl Iterator<Item = &vdb::Grid> {
         [self.density(), self.emission()]
@@ -262,8 +275,20 @@ impl Sequence {
         names: &GridNames,
         blender_offset: bool,
     ) -> Result<Self, String> {
+        Ok(Sequence::scan(paths, names, blender_offset, false)?.0)
+    }
+
+    /// Reads every frame once, checks it and grows the common box; keeps the frames as read if
+    /// `keep`.
+    fn scan(
+        paths: &[PathBuf],
+        names: &GridNames,
+        blender_offset: bool,
+        keep: bool,
+    ) -> Result<(Self, Vec<RawFrame>), String> {
         let first_path = paths.first().ok_or("no frames to load")?;
         let mut seq: Option<Sequence> = None;
+        let mut kept = Vec::new();
         for path in paths {
             let raw = RawFrame::read(path, names, blender_offset)?;
             let s = seq.get_or_insert_with(|| Sequence {
@@ -276,7 +301,14 @@ impl Sequence {
                 hi: [i32::MIN; 3],
             });
             raw.check(path, &s.transform, &s.first, first_path)?;
-            s.grow(&raw);
+            let (lo, hi) = raw.index_box();
+            for k in 0..3 {
+                s.lo[k] = s.lo[k].min(lo[k]);
+                s.hi[k] = s.hi[k].max(hi[k]);
+            }
+            if keep {
+                kept.push(raw);
+            }
         }
         let seq = seq.ok_or("no frames to load")?;
         if seq.lo[0] > seq.hi[0] {
@@ -290,17 +322,7 @@ impl Sequence {
                 dims[0], dims[1], dims[2], MAX_VOXELS
             ));
         }
-        Ok(seq)
-    }
-
-    /// Grows the box by a frame's active voxels.
-    fn grow(&mut self, raw: &RawFrame) {
-        for (a, b) in raw.grids().filter_map(|g| g.active_bbox()) {
-            for k in 0..3 {
-                self.lo[k] = self.lo[k].min(a[k].saturating_add(raw.offset[k]));
-                self.hi[k] = self.hi[k].max(b[k].saturating_add(raw.offset[k]));
-            }
-        }
+        Ok((seq, kept))
     }
 
     /// Voxels of the common grid per axis.
@@ -346,15 +368,19 @@ impl Sequence {
             .ok_or_else(|| format!("frame {i} of a {}-frame sequence", self.len()))?;
         let raw = RawFrame::read(path, &self.names, self.blender_offset)?;
         raw.check(path, &self.transform, &self.first, &self.paths[0])?;
-        let mut within = self.clone();
-        within.grow(&raw);
-        if within.lo != self.lo || within.hi != self.hi {
+        let (lo, hi) = raw.index_box();
+        if (0..3).any(|k| lo[k] < self.lo[k] || hi[k] > self.hi[k]) {
             return Err(format!(
                 "{}: changed since the sequence was opened (its voxels leave the common box)",
                 path.display()
             ));
         }
-        // Every frame lands at the common box's place, whatever its own domain offset.
+        self.place(&raw)
+    }
+
+    /// `raw` on the common box: every frame lands at the box's place, whatever its own domain
+    /// offset.
+    fn place(&self, raw: &RawFrame) -> Result<Volume, String> {
         let origin = DenseGrid::world_position(&self.transform, self.lo);
         let place = |g: &vdb::Grid| {
             let a = [0, 1, 2].map(|k| self.lo[k] - raw.offset[k]);
@@ -369,14 +395,15 @@ impl Sequence {
     }
 }
 
-/// Loads the frames `paths` onto one dense grid ([`Sequence`]), all at once.
+/// Loads the frames `paths` onto one dense grid ([`Sequence`]), all at once, reading each file
+/// once.
 pub fn load(
     paths: &[PathBuf],
     names: &GridNames,
     blender_offset: bool,
 ) -> Result<Vec<Volume>, String> {
-    let seq = Sequence::open(paths, names, blender_offset)?;
-    (0..seq.len()).map(|i| seq.frame(i)).collect()
+    let (seq, raws) = Sequence::scan(paths, names, blender_offset, true)?;
+    raws.iter().map(|raw| seq.place(raw)).collect()
 }
 
 #[cfg(test)]

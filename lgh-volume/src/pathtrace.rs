@@ -560,6 +560,22 @@ struct Welford {
 }
 
 impl Welford {
+    /// Adds another run's samples (Chan, Golub & LeVeque's pairwise update).
+    #[cfg(test)]
+    fn merge(&mut self, o: &Welford) {
+        if o.n == 0 {
+            return;
+        }
+        let (n, m) = (self.n as f64, o.n as f64);
+        let total = n + m;
+        for c in 0..3 {
+            let delta = o.mean[c] - self.mean[c];
+            self.mean[c] += delta * m / total;
+            self.m2[c] += o.m2[c] + delta * delta * n * m / total;
+        }
+        self.n += o.n;
+    }
+
     fn add(&mut self, v: Vec3) {
         self.n += 1;
         let n = self.n as f64;
@@ -612,35 +628,43 @@ mod tests {
         n: usize,
     ) -> (Vec3, Vec3) {
         const CHUNK: usize = 4096;
-        let parts: Vec<([f64; 3], [f64; 3])> = (0..n.div_ceil(CHUNK))
+        let parts: Vec<Welford> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 let mut rng = pixel_rng(settings.seed, c as u64);
-                let (mut s, mut s2) = ([0.0f64; 3], [0.0f64; 3]);
+                let mut w = Welford::default();
                 for _ in 0..CHUNK.min(n - c * CHUNK) {
-                    let l = radiance(volume, medium, majorants, origin, dir, settings, &mut rng);
-                    for k in 0..3 {
-                        s[k] += f64::from(l[k]);
-                        s2[k] += f64::from(l[k]).powi(2);
-                    }
+                    w.add(radiance(
+                        volume, medium, majorants, origin, dir, settings, &mut rng,
+                    ));
                 }
-                (s, s2)
+                w
             })
             .collect();
-        let (mut s, mut s2) = ([0.0f64; 3], [0.0f64; 3]);
-        for (a, b) in parts {
-            for k in 0..3 {
-                s[k] += a[k];
-                s2[k] += b[k];
+        let mut all = Welford::default();
+        parts.iter().for_each(|w| all.merge(w));
+        let (mean, variance) = all.mean_and_variance_of_mean();
+        (mean, variance.map(f32::sqrt))
+    }
+
+    #[test]
+    fn merged_runs_give_the_mean_and_variance_of_all_samples() {
+        let v = |i: usize| Vec3::new(i as f32, (i * i % 7) as f32, 0.5);
+        let (mut all, mut a, mut b) = (Welford::default(), Welford::default(), Welford::default());
+        for i in 0..30 {
+            all.add(v(i));
+            if i < 11 {
+                a.add(v(i))
+            } else {
+                b.add(v(i))
             }
         }
-        let nf = n as f64;
-        let mean = s.map(|v| v / nf);
-        let se = [0, 1, 2].map(|k| ((s2[k] / nf - mean[k] * mean[k]).max(0.0) / (nf - 1.0)).sqrt());
-        (
-            Vec3::new(mean[0] as f32, mean[1] as f32, mean[2] as f32),
-            Vec3::new(se[0] as f32, se[1] as f32, se[2] as f32),
-        )
+        a.merge(&b);
+        let ((m1, v1), (m2, v2)) = (
+            all.mean_and_variance_of_mean(),
+            a.mean_and_variance_of_mean(),
+        );
+        assert!((m1 - m2).abs().max_element() < 1e-5 && (v1 - v2).abs().max_element() < 1e-5);
     }
 
     /// A cube of `n³` voxels of edge `h` centred on the origin, uniform density and temperature.

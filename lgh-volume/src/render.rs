@@ -308,6 +308,18 @@ impl<'a> Marcher<'a> {
         dir: Vec3,
         stats: &mut RenderStats,
     ) -> Vec3 {
+        self.march_with(lights, origin, dir, stats, &mut Scratch::default())
+    }
+
+    /// [`march`](Self::march) with buffers that the caller reuses from ray to ray.
+    fn march_with<B: ManyLights>(
+        &self,
+        lights: Option<(&B, f32)>,
+        origin: Vec3,
+        dir: Vec3,
+        stats: &mut RenderStats,
+        scratch: &mut Scratch,
+    ) -> Vec3 {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
@@ -318,7 +330,6 @@ impl<'a> Marcher<'a> {
         let dt = (t1 - t0) / n as f32;
         let mut radiance = Vec3::ZERO;
         let mut trans = 1.0f32;
-        let mut scratch = Scratch::default();
         for i in 0..n {
             let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
             let rho = volume.density.sample(x);
@@ -326,7 +337,7 @@ impl<'a> Marcher<'a> {
             let mut source = volume.emission(medium, x);
             let sigma_s = medium.scattering * rho;
             if let (Some((backend, h0)), true) = (lights, sigma_s > 0.0) {
-                if let Some(sum) = self.in_scattered(backend, h0, x, &mut scratch, stats) {
+                if let Some(sum) = self.in_scattered(backend, h0, x, scratch, stats) {
                     source += sum * (sigma_s / (4.0 * std::f32::consts::PI));
                 }
             }
@@ -387,7 +398,8 @@ impl<'a> Marcher<'a> {
     }
 }
 
-/// A shading point's lights, gathered so that their shadow rays can be marched together.
+/// A shading point's lights, gathered so that their shadow rays can be marched together; reused
+/// from shading point to shading point and ray to ray.
 #[derive(Default)]
 struct Scratch {
     positions: Vec<Vec3>,
@@ -414,9 +426,10 @@ pub fn render<B: ManyLights + Sync>(
         .enumerate()
         .map(|(y, row)| {
             let mut stats = RenderStats::default();
+            let mut scratch = Scratch::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-                *px = marcher.march(lights, camera.eye, d, &mut stats);
+                *px = marcher.march_with(lights, camera.eye, d, &mut stats, &mut scratch);
             }
             progress(1);
             stats
@@ -443,10 +456,11 @@ pub fn render_pixels<B: ManyLights + Sync>(
     let marcher = Marcher::for_lights(volume, medium, settings, lights.is_some())?;
     let out: Vec<(Vec3, RenderStats)> = pixels
         .par_iter()
-        .map(|&[x, y]| {
+        .map_init(Scratch::default, |scratch, &[x, y]| {
             let mut stats = RenderStats::default();
             let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-            (marcher.march(lights, camera.eye, d, &mut stats), stats)
+            let radiance = marcher.march_with(lights, camera.eye, d, &mut stats, scratch);
+            (radiance, stats)
         })
         .collect();
     let (radiance, per_pixel): (Vec<Vec3>, Vec<RenderStats>) = out.into_iter().unzip();

@@ -113,10 +113,7 @@ impl Rays {
 /// from `x`, the rays that need no clipping.
 #[target_feature(enable = "avx2")]
 fn setup(grid: &ShadowGrid, x: Vec3, lights: &[Vec3; LANES]) -> Option<Rays> {
-    let axis = |a: usize| {
-        let v = lights.map(|l| l[a]);
-        _mm256_setr_ps(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7])
-    };
+    let axis = |a: usize| from_array(lights.map(|l| l[a]));
     let b = [axis(0), axis(1), axis(2)];
     let mut inside = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
     for (a, &b) in b.iter().enumerate() {
@@ -162,7 +159,13 @@ fn setup(grid: &ShadowGrid, x: Vec3, lights: &[Vec3; LANES]) -> Option<Rays> {
 #[inline]
 #[target_feature(enable = "avx2")]
 fn lanes(rays: &[(usize, Ray); LANES], f: impl Fn(&Ray) -> f32) -> __m256 {
-    let v = rays.map(|(_, r)| f(&r));
+    from_array(rays.map(|(_, r)| f(&r)))
+}
+
+/// A vector of eight values, the first in lane 0.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn from_array(v: [f32; LANES]) -> __m256 {
     _mm256_setr_ps(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7])
 }
 
@@ -299,7 +302,7 @@ mod tests {
             5.5,
         ];
         let (nx, ny, max_base) = (130, 131, 130 * 131 * 132 - (130 * 131 + 132));
-        let v = |a: [f32; LANES]| _mm256_setr_ps(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]);
+        let v = from_array;
         let rotate = |r: usize| core::array::from_fn(|l| wild[(l + r) % LANES]);
         for r in 0..LANES {
             let p = [v(wild), v(rotate(r)), v(rotate(3 * r + 1))];
