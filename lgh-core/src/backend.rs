@@ -14,6 +14,7 @@ use crate::blend::Blending;
 use crate::error::{BuildError, QueryError};
 use crate::hierarchy::LightingGridHierarchy;
 use crate::light::PointLight;
+use crate::reflection::Lobe;
 
 /// One light presented to a shader.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,6 +35,9 @@ pub struct LightSample {
     pub distance: f32,
     /// Blending weight `B_ℓ(d)` already folded into `intensity` (1 for non-LGH backends).
     pub weight: f32,
+    /// The part of the reflection to shade this light for ([`Lobe::All`] but for the light
+    /// octree, which shades the diffuse and specular terms of eq. (1) separately).
+    pub lobe: Lobe,
 }
 
 /// The material at a shading point, for backends that bound a light's contribution.
@@ -281,6 +285,7 @@ impl ManyLights for BruteForce {
                 size: 0.0,
                 distance: (position - x).length(),
                 weight: 1.0,
+                lobe: Lobe::All,
             });
         }
         Ok(Illumination {

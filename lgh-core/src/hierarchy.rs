@@ -746,6 +746,7 @@ impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
             size: l.size(index),
             distance: d,
             weight: w,
+            lobe: crate::reflection::Lobe::All,
         }))
     }
 }

@@ -60,6 +60,7 @@ pub mod metrics;
 pub mod morton;
 pub mod octree;
 mod radix;
+pub mod reflection;
 pub mod spectrum;
 pub mod testsets;
 
