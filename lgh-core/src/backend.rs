@@ -211,6 +211,14 @@ impl BruteForce {
         self.x.is_empty()
     }
 
+    /// Position and intensity of light `i` (panics if `i ≥ len()`).
+    pub fn light(&self, i: usize) -> (Vec3, Vec3) {
+        (
+            Vec3::new(self.x[i], self.y[i], self.z[i]),
+            Vec3::new(self.r[i], self.g[i], self.b[i]),
+        )
+    }
+
     /// `Σ_j I_j g(‖x − p_j‖)` with the clamped fall-off `g(d) = 1 / max(d, h0)²`: the unshadowed
     /// light-probe sum, vectorised over lights (8 lanes, in a fixed order, so it is deterministic).
     pub fn falloff_sum(&self, x: Vec3, h0: f32) -> Result<Vec3, QueryError> {
@@ -275,12 +283,12 @@ impl ManyLights for BruteForce {
         }
         let mut radiance = Vec3::ZERO;
         for i in 0..self.len() {
-            let position = Vec3::new(self.x[i], self.y[i], self.z[i]);
+            let (position, intensity) = self.light(i);
             radiance += shader.shade(&LightSample {
                 level: 0,
                 index: i as u32,
                 position,
-                intensity: Vec3::new(self.r[i], self.g[i], self.b[i]),
+                intensity,
                 variance: Vec3::ZERO,
                 size: 0.0,
                 distance: (position - x).length(),

@@ -138,6 +138,15 @@ pub enum QueryError {
     NonFinitePoint,
     /// The [`Blending`](crate::Blending) was made for another hierarchy (other `h1` or `ℓ_max`).
     BlendingMismatch,
+    /// An error threshold (the octree's and Ward's absolute `T`, Lightcuts' relative ε) is not a
+    /// finite number > 0.
+    InvalidThreshold {
+        /** The rejected threshold. */
+        threshold: f32,
+    },
+    /// A surface material without a finite unit normal, or a specular one without a unit view
+    /// direction: the error-bounded backends cannot bound eq. (1) there.
+    InvalidSurface,
 }
 
 impl fmt::Display for QueryError {
@@ -150,6 +159,14 @@ impl fmt::Display for QueryError {
             QueryError::BlendingMismatch => write!(
                 f,
                 "blending parameters were made for a hierarchy with another h1 or level count"
+            ),
+            QueryError::InvalidThreshold { threshold } => write!(
+                f,
+                "error threshold {threshold} must be a finite number > 0"
+            ),
+            QueryError::InvalidSurface => write!(
+                f,
+                "a surface point needs a finite unit normal (and a unit view direction for a specular material)"
             ),
         }
     }

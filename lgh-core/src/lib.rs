@@ -49,12 +49,15 @@ extern crate std;
 
 mod backend;
 mod blend;
+#[cfg(test)]
+mod bounded_tests;
 mod bricks;
 mod error;
 mod grid;
 mod hierarchy;
 mod level;
 mod light;
+pub mod lightcuts;
 mod math;
 pub mod metrics;
 pub mod morton;
@@ -63,6 +66,7 @@ mod radix;
 pub mod reflection;
 pub mod spectrum;
 pub mod testsets;
+pub mod ward;
 
 /// The README's library example, compiled and run as a doctest.
 #[cfg(doctest)]

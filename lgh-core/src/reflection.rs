@@ -28,18 +28,6 @@ pub enum Lobe {
     Specular,
 }
 
-/// The Phong lobe `max(0, R·E)^n` and the cosine `N·L` for a light in direction `l` (unit), or
-/// `None` if the light is not above the surface.
-#[inline]
-fn phong_cosines(normal: Vec3, view: Vec3, l: Vec3) -> (f32, f32) {
-    let cos_theta = normal.dot(l);
-    if cos_theta <= 0.0 {
-        return (0.0, 0.0);
-    }
-    let r = 2.0 * cos_theta * normal - l;
-    (cos_theta, r.dot(view).max(0.0))
-}
-
 /// Eq. (1) for one light of intensity `intensity` at `light`: the radiance it reflects at `point`
 /// towards the viewer, restricted to `lobe`. Surfaces need [`ShadingPoint::normal`] (and
 /// [`ShadingPoint::view`] for the specular term); without them the point is shaded as a medium
@@ -75,19 +63,12 @@ pub fn reflected(point: &ShadingPoint, light: Vec3, intensity: Vec3, lobe: Lobe)
     }
     if lobe != Lobe::Diffuse && ks != Vec3::ZERO {
         if let Some(view) = point.view {
-            let (_, cos_alpha) = phong_cosines(normal, view, l);
+            // R = 2 (N·L) N − L, the mirror direction of L.
+            let cos_alpha = (2.0 * cos_theta * normal - l).dot(view).max(0.0);
             weight += ks * libm::powf(cos_alpha, n);
         }
     }
     falloff * weight
-}
-
-/// `(cos θ, cos α)` of eq. (1) for a light in unit direction `l` from a point with unit `normal`
-/// and unit `view` direction: `N·L` (unclamped, so bounds can widen it) and `max(0, R·E)` (zero
-/// when the light is not above the surface).
-pub(crate) fn cosines(normal: Vec3, view: Vec3, l: Vec3) -> (f32, f32) {
-    let cos_theta = normal.dot(l);
-    (cos_theta, phong_cosines(normal, view, l).1)
 }
 
 #[cfg(test)]

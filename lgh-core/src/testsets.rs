@@ -6,6 +6,7 @@
 use alloc::vec::Vec;
 use glam::Vec3;
 
+use crate::backend::{Material, ShadingPoint};
 use crate::light::PointLight;
 use crate::spectrum::BlackbodyTable;
 
@@ -37,6 +38,65 @@ impl SplitMix64 {
         let t = Vec3::new(self.next_f32(), self.next_f32(), self.next_f32());
         lo + (hi - lo) * t
     }
+
+    /// A unit vector, uniform on the sphere (by rejection from the cube).
+    pub fn next_unit(&mut self) -> Vec3 {
+        loop {
+            let v = self.next_in(Vec3::splat(-1.0), Vec3::ONE);
+            let l2 = v.length_squared();
+            if (0.01..1.0).contains(&l2) {
+                return v / crate::math::sqrt(l2);
+            }
+        }
+    }
+}
+
+/// `n` lights in four dense clumps over a sparse background, one in eleven dark, random RGB
+/// intensities in `[0, 10)`: what hierarchies find hardest to bound (clusters of very different
+/// size and brightness side by side).
+pub fn clumped_lights(n: usize, seed: u64) -> Vec<PointLight> {
+    let mut rng = SplitMix64(seed);
+    (0..n)
+        .map(|i| {
+            let centre = Vec3::splat((i % 4) as f32 * 3.0);
+            let p = if i % 5 == 0 {
+                rng.next_in(Vec3::splat(-10.0), Vec3::splat(20.0))
+            } else {
+                centre + rng.next_in(Vec3::splat(-0.5), Vec3::splat(0.5))
+            };
+            let c = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            PointLight::new(p, if i % 11 == 0 { Vec3::ZERO } else { c * 10.0 })
+        })
+        .collect()
+}
+
+/// `n` surface and medium points for a light set with bounding box `lo..hi`, placed as
+/// [`query_points`] places them, each with a random unit normal and view direction and, in turn,
+/// a Lambert, a Phong (exponent 1…300) and a medium material.
+pub fn shading_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<ShadingPoint> {
+    let mut rng = SplitMix64(SplitMix64::mix(seed));
+    query_points(lo, hi, n, seed)
+        .into_iter()
+        .enumerate()
+        .map(|(i, position)| {
+            let kd = rng.next_in(Vec3::splat(0.1), Vec3::ONE);
+            let material = match i % 3 {
+                0 => Material::Lambert { albedo: kd },
+                1 => Material::Phong {
+                    kd,
+                    ks: rng.next_in(Vec3::splat(0.1), Vec3::ONE),
+                    exponent: 1.0 + 299.0 * rng.next_f32(),
+                },
+                _ => return ShadingPoint::in_medium(position),
+            };
+            ShadingPoint {
+                position,
+                normal: Some(rng.next_unit()),
+                view: Some(rng.next_unit()),
+                material,
+            }
+        })
+        .collect()
 }
 
 /// Benchmark set (a): `n` lights uniform in the unit cube with random RGB intensities in `[0, 1)`.

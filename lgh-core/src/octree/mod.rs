@@ -10,13 +10,18 @@
 //! - its *minimal bounding box*: the smallest axis-aligned box of its lights, whose diagonal is the
 //!   `Δd_max` of the error bounds (§4).
 //!
-//! The shading with error bounds (§4) builds on this; it is not here yet.
+//! Shading with the error bounds of §4 is [`OctreeBackend`] (module `shading`, bounds in `bounds`).
 
 use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::error::BuildError;
 use crate::light::PointLight;
+
+mod bounds;
+mod shading;
+
+pub use shading::{OctreeBackend, EXACT_SUM_LIGHTS};
 
 /// The deepest subdivision the octree allows: 2⁻²⁴ of the root box is below f32 resolution of
 /// its coordinates, so deeper cells could not separate lights anyway.
@@ -256,26 +261,7 @@ impl LightOctree {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testsets::SplitMix64;
     use alloc::vec;
-
-    fn random_lights(n: usize, seed: u64) -> Vec<PointLight> {
-        let mut rng = SplitMix64(seed);
-        (0..n)
-            .map(|i| {
-                // Clustered: a few dense blobs and a sparse background, some lights dark.
-                let centre = Vec3::splat((i % 4) as f32 * 3.0);
-                let p = if i % 5 == 0 {
-                    rng.next_in(Vec3::splat(-10.0), Vec3::splat(20.0))
-                } else {
-                    centre + rng.next_in(Vec3::splat(-0.5), Vec3::splat(0.5))
-                };
-                let dark = i % 11 == 0;
-                let c = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-                PointLight::new(p, if dark { Vec3::ZERO } else { c * 10.0 })
-            })
-            .collect()
-    }
 
     /// Checks every node against its definition (§3.2) and the tree's structure.
     fn check(tree: &LightOctree) {
@@ -328,7 +314,7 @@ mod tests {
     #[test]
     fn nodes_hold_their_virtual_lights_and_minimal_boxes() {
         for (n, max_leaf) in [(1usize, 3usize), (2, 1), (500, 3), (2000, 8)] {
-            let lights = random_lights(n, n as u64);
+            let lights = crate::testsets::clumped_lights(n, n as u64);
             let settings = OctreeSettings {
                 max_leaf,
                 ..Default::default()
