@@ -244,6 +244,42 @@ pub fn compare(a: &Image, r: &Image) -> Option<ErrorStats> {
     ErrorStats::compare(&a.pixels, &r.pixels)
 }
 
+/// The error of an image as an 8-bit display would show it (Paquette et al. §5.1): every channel
+/// quantised linearly, `round(255 · clamp(v, 0, 1))`, no gamma — the scale on which their
+/// threshold of 2.55 and their observed errors of (1, 1, 1) are stated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Error8Bit {
+    /// The largest difference of any channel of any pixel, in levels of 255.
+    pub max: u8,
+    /// The mean difference over all channels of all pixels.
+    pub mean: f64,
+}
+
+/// `v` quantised to 8 bits as [`Error8Bit`] does it.
+pub fn quantize_8bit(v: f32) -> u8 {
+    // NaN goes to 0 (`as` saturates and maps NaN to 0).
+    (255.0 * v.clamp(0.0, 1.0)).round() as u8
+}
+
+/// [`Error8Bit`] of `a` against `r`; `None` if their sizes differ or they are empty.
+pub fn error_8bit(a: &Image, r: &Image) -> Option<Error8Bit> {
+    if (a.width, a.height) != (r.width, r.height) || a.pixels.is_empty() {
+        return None;
+    }
+    let (mut max, mut sum) = (0u8, 0u64);
+    for (p, q) in a.pixels.iter().zip(&r.pixels) {
+        for c in 0..3 {
+            let e = quantize_8bit(p[c]).abs_diff(quantize_8bit(q[c]));
+            max = max.max(e);
+            sum += u64::from(e);
+        }
+    }
+    Some(Error8Bit {
+        max,
+        mean: sum as f64 / (3 * a.pixels.len()) as f64,
+    })
+}
+
 /// A false-colour map of `|a − r|` on luminance: black for no error, through blue, green and
 /// yellow to red at `max_error` and above. Written atomically.
 pub fn difference_png(path: &Path, a: &Image, r: &Image, max_error: f32) -> Result<(), String> {
@@ -292,6 +328,22 @@ mod tests {
             }
         }
         img
+    }
+
+    #[test]
+    fn error_8bit_quantises_linearly_and_clamps() {
+        let mut a = Image::new(2, 1);
+        let mut r = Image::new(2, 1);
+        // 0.5 → 128 (127.5 rounds away from zero), 0.5 + 1.4/255 → 129: one level apart.
+        a.set(0, 0, Vec3::new(0.5, 0.0, 2.0));
+        r.set(0, 0, Vec3::new(0.5 + 1.4 / 255.0, 0.0, 7.0));
+        // Below zero and NaN both count as 0; 3/255 apart → 3 levels.
+        a.set(1, 0, Vec3::new(-1.0, f32::NAN, 3.0 / 255.0));
+        r.set(1, 0, Vec3::new(0.0, 0.0, 0.0));
+        let e = error_8bit(&a, &r).unwrap();
+        assert_eq!(e.max, 3);
+        assert!((e.mean - 4.0 / 6.0).abs() < 1e-12);
+        assert_eq!(error_8bit(&a, &Image::new(1, 2)), None);
     }
 
     #[test]
