@@ -20,6 +20,7 @@ mod demo;
 mod explosion;
 mod inspect;
 mod output;
+mod paquette;
 mod ply;
 mod probes;
 mod progress;
@@ -53,6 +54,9 @@ enum Command {
     Inspect(inspect::InspectArgs),
     /// Compare an image with a reference: relative RMSE, max and mean error, difference PNG.
     Compare(compare::CompareArgs),
+    /// Paquette et al.'s test scenes: brute force, Ward, the light octree, Lightcuts and LGH
+    /// (their Tables 2 and 3).
+    Paquette(paquette::PaquetteArgs),
     /// Benchmarks that print machine-readable JSON.
     Bench {
         #[command(subcommand)]
@@ -105,6 +109,7 @@ fn main() {
         Command::Probes(a) => probes::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Paquette(a) => paquette::run(a),
         Command::Bench {
             which: BenchCommand::Core(a),
         } => bench::run(a),

@@ -58,6 +58,21 @@ impl Image {
     }
 }
 
+/// The largest image side, in pixels: a 16384² image of RGB floats takes 3 GiB.
+pub const MAX_IMAGE_SIDE: usize = 16384;
+
+/// Checks an image size: 1 to [`MAX_IMAGE_SIDE`] pixels per side.
+pub fn check_image_size(width: usize, height: usize) -> Result<(), String> {
+    let ok = |n: usize| (1..=MAX_IMAGE_SIDE).contains(&n);
+    if ok(width) && ok(height) {
+        Ok(())
+    } else {
+        Err(format!(
+            "image size {width}x{height}: width and height must be 1 to {MAX_IMAGE_SIDE}"
+        ))
+    }
+}
+
 /// Input files (VDB caches, PLY point sets) larger than this are refused before reading: 8 GiB,
 /// a third of a 24 GiB machine.
 pub const MAX_INPUT_BYTES: u64 = 8 << 30;

@@ -14,20 +14,8 @@ use rayon::prelude::*;
 use crate::explosion::{Medium, Volume};
 use crate::shadow::ShadowGrid;
 
-/// The largest image side, in pixels: a 16384² image of RGB floats takes 3 GiB.
-pub const MAX_IMAGE_SIDE: usize = 16384;
-
-/// Checks an image size: 1 to [`MAX_IMAGE_SIDE`] pixels per side.
-pub fn check_image_size(width: usize, height: usize) -> Result<(), String> {
-    let ok = |n: usize| (1..=MAX_IMAGE_SIDE).contains(&n);
-    if ok(width) && ok(height) {
-        Ok(())
-    } else {
-        Err(format!(
-            "image size {width}x{height}: width and height must be 1 to {MAX_IMAGE_SIDE}"
-        ))
-    }
-}
+/// The one image-size rule of every renderer (it lives in lgh-image).
+pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
 
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,9 +1,58 @@
-//! # lgh-vpl — virtual-point-light global illumination on meshes (not implemented yet)
+//! # lgh-vpl — surfaces lit by many lights
 //!
-//! This crate will hold OBJ scenes, a triangle BVH, VPL generation and surface shading through any
-//! [`lgh_core`] backend (paper Sec. 6.4, Fig. 13; DESIGN.md "lgh-vpl"). It is an empty placeholder
-//! today: nothing here works yet, and nothing pretends to.
+//! What is here today is the surface half of the crate: triangle meshes with Lambert and Phong
+//! materials, built in code or read from OBJ + MTL ([`mesh`]); our own triangle BVH with
+//! closest-hit and any-hit queries ([`bvh`]); a pinhole [`camera`]; and a renderer that shades
+//! the surface each pixel sees through any [`lgh_core::ManyLights`] backend — the lighting grid
+//! hierarchy, brute force, or the error-bounded ones — with Paquette et al.'s Phong model eq. (1)
+//! and, as in that paper, no occlusion between lights and surfaces ([`render`]).
+//!
+//! **Not here yet** (DESIGN.md "lgh-vpl", paper Sec. 6.4, Fig. 13): virtual point lights traced
+//! from emitters, shadow rays to the lights (the BVH's [`Bvh::occluded`] is ready for them),
+//! clamping of the VPL singularity, and the α = 1, 4, 16 experiment. Those are a later issue;
+//! nothing in this crate pretends to do them.
+//!
+//! ```
+//! use lgh_core::glam::Vec3;
+//! use lgh_core::{BruteForce, Material, PointLight};
+//! use lgh_vpl::{render, Camera, Mesh, Scene};
+//!
+//! // A grey floor and a red box on it, lit by two lights.
+//! let grey = Material::Lambert { albedo: Vec3::splat(0.6) };
+//! let red = Material::Phong { kd: Vec3::new(0.6, 0.1, 0.1), ks: Vec3::splat(0.3), exponent: 40.0 };
+//! let mut mesh = Mesh::quad(
+//!     [Vec3::new(-4.0, 0.0, 4.0), Vec3::new(4.0, 0.0, 4.0), Vec3::new(4.0, 0.0, -4.0), Vec3::new(-4.0, 0.0, -4.0)],
+//!     grey,
+//! )?;
+//! mesh.append(Mesh::cuboid(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 1.5, 1.0), red)?)?;
+//! let scene = Scene::new(mesh);
+//!
+//! let lights = [
+//!     PointLight::new(Vec3::new(2.0, 3.0, 2.0), Vec3::splat(10.0)),
+//!     PointLight::new(Vec3::new(-3.0, 2.0, 1.0), Vec3::new(4.0, 4.0, 8.0)),
+//! ];
+//! let backend = BruteForce::new(&lights)?;
+//! let camera = Camera::new(Vec3::new(0.0, 4.0, 8.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 48)?;
+//! let rendered = render(&scene, &camera, &backend, |_rows| {})?;
+//! assert!(rendered.pixels_shaded > 0);
+//! assert_eq!(rendered.mean_lights(), 2.0);
+//! // rendered.image is linear RGB: write it with lgh_image::write_exr / write_png.
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
+pub mod bvh;
+pub mod camera;
+pub mod mesh;
+pub mod paquette;
+pub mod render;
+pub mod scene;
+
+pub use bvh::{Bvh, Hit, Ray};
+pub use camera::{Camera, CameraError};
 pub use lgh_core;
+pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL};
+pub use render::{render, render_with_shader, RenderError, Rendered};
+pub use scene::Scene;

@@ -1,0 +1,860 @@
+//! Triangle meshes with materials: built in code ([`Mesh::quad`], [`Mesh::cuboid`],
+//! [`Mesh::append`]) or read from Wavefront OBJ + MTL files ([`Mesh::load_obj`], through `tobj`).
+//!
+//! A mesh is always valid: every position and normal is finite, every index is in range, every
+//! material is a surface material ([`Material::Lambert`] or [`Material::Phong`]) with finite,
+//! non-negative coefficients, and there is at least one triangle. **Zero-area triangles are
+//! skipped**, never rejected: they cannot be hit and have no normal, and real meshes carry a few
+//! (slivers from triangulated polygons, collapsed edges); [`Mesh::degenerate_skipped`] says how
+//! many were dropped.
+
+use std::cell::RefCell;
+use std::fmt;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use lgh_core::glam::Vec3;
+use lgh_core::Material;
+
+/// The material of faces that name none (an OBJ without `usemtl`, or naming a material its MTL
+/// files do not define) and of MTL materials without `Kd`: a grey Lambertian surface of albedo 0.5.
+pub const DEFAULT_MATERIAL: Material = Material::Lambert {
+    albedo: DEFAULT_ALBEDO,
+};
+
+/// The albedo of [`DEFAULT_MATERIAL`].
+const DEFAULT_ALBEDO: Vec3 = Vec3::splat(0.5);
+
+/// One triangle of a [`Mesh`]: indices into its positions, normals and materials.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Triangle {
+    /// Indices of the three corners in [`Mesh::positions`], counter-clockwise seen from the front.
+    pub vertices: [u32; 3],
+    /// Indices of the corners' normals in [`Mesh::normals`]; `None` shades with the face normal.
+    pub normals: Option<[u32; 3]>,
+    /// Index of the triangle's material in [`Mesh::materials`].
+    pub material: u32,
+}
+
+/// Why a mesh could not be built or read.
+#[derive(Debug)]
+pub enum MeshError {
+    /// A file could not be opened or read (missing OBJ, missing MTL named by `mtllib`, …).
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// A file is larger than [`lgh_image::MAX_INPUT_BYTES`].
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size in bytes.
+        bytes: u64,
+    },
+    /// A file is not valid OBJ or MTL.
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// No triangle with a non-zero area.
+    NoTriangles {
+        /// Zero-area triangles that were skipped.
+        degenerate: usize,
+    },
+    /// A vertex position is NaN or infinite.
+    NonFiniteVertex {
+        /// Index of the position.
+        index: usize,
+    },
+    /// A vertex normal is NaN or infinite.
+    NonFiniteNormal {
+        /// Index of the normal.
+        index: usize,
+    },
+    /// A triangle refers to a position, normal or material that does not exist.
+    IndexOutOfRange {
+        /// Index of the triangle.
+        triangle: usize,
+    },
+    /// A material is not a surface material, or has a negative or non-finite coefficient.
+    InvalidMaterial {
+        /// Its name in the MTL file, or its index for meshes built in code.
+        name: String,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// More positions, normals, triangles or materials than 32-bit indices address.
+    TooMany,
+}
+
+impl fmt::Display for MeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshError::Io { path, error } => write!(f, "cannot read {}: {error}", path.display()),
+            MeshError::TooLarge { path, bytes } => write!(
+                f,
+                "{} is {bytes} bytes, more than the {} bytes an input may have",
+                path.display(),
+                lgh_image::MAX_INPUT_BYTES
+            ),
+            MeshError::Parse { path, message } => {
+                write!(f, "{} is not valid: {message}", path.display())
+            }
+            MeshError::NoTriangles { degenerate } => write!(
+                f,
+                "the mesh has no triangle of non-zero area ({degenerate} zero-area triangles skipped)"
+            ),
+            MeshError::NonFiniteVertex { index } => {
+                write!(f, "vertex {index} has a NaN or infinite coordinate")
+            }
+            MeshError::NonFiniteNormal { index } => {
+                write!(f, "normal {index} has a NaN or infinite coordinate")
+            }
+            MeshError::IndexOutOfRange { triangle } => write!(
+                f,
+                "triangle {triangle} refers to a vertex, normal or material that does not exist"
+            ),
+            MeshError::InvalidMaterial { name, reason } => {
+                write!(f, "material {name:?}: {reason}")
+            }
+            MeshError::TooMany => write!(f, "the mesh has more than 2^32 - 1 elements of a kind"),
+        }
+    }
+}
+
+impl std::error::Error for MeshError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            MeshError::Io { error, .. } => Some(error),
+            _ => None,
+        }
+    }
+}
+
+/// A valid triangle mesh (see the module docs for what valid means).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    triangles: Vec<Triangle>,
+    materials: Vec<Material>,
+    degenerate_skipped: usize,
+}
+
+impl Mesh {
+    /// Checks and assembles a mesh; zero-area triangles are dropped and counted.
+    pub fn new(
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        triangles: Vec<Triangle>,
+        materials: Vec<Material>,
+    ) -> Result<Mesh, MeshError> {
+        let limit = u32::MAX as usize;
+        if [positions.len(), normals.len(), triangles.len(), materials.len()]
+            .iter()
+            .any(|&n| n > limit)
+        {
+            return Err(MeshError::TooMany);
+        }
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFiniteVertex { index });
+        }
+        if let Some(index) = normals.iter().position(|n| !n.is_finite()) {
+            return Err(MeshError::NonFiniteNormal { index });
+        }
+        for (i, m) in materials.iter().enumerate() {
+            check_material(m).map_err(|reason| MeshError::InvalidMaterial {
+                name: format!("#{i}"),
+                reason,
+            })?;
+        }
+        let in_range = |t: &Triangle| {
+            t.vertices.iter().all(|&v| (v as usize) < positions.len())
+                && t.normals
+                    .is_none_or(|n| n.iter().all(|&v| (v as usize) < normals.len()))
+                && (t.material as usize) < materials.len()
+        };
+        if let Some(triangle) = triangles.iter().position(|t| !in_range(t)) {
+            return Err(MeshError::IndexOutOfRange { triangle });
+        }
+        let total = triangles.len();
+        let triangles: Vec<Triangle> = triangles
+            .into_iter()
+            .filter(|t| face_normal(t.vertices.map(|v| positions[v as usize])) != Vec3::ZERO)
+            .collect();
+        let degenerate_skipped = total - triangles.len();
+        if triangles.is_empty() {
+            return Err(MeshError::NoTriangles {
+                degenerate: degenerate_skipped,
+            });
+        }
+        Ok(Mesh {
+            positions,
+            normals,
+            triangles,
+            materials,
+            degenerate_skipped,
+        })
+    }
+
+    /// The quad `corners[0..4]` (in order around its edge, counter-clockwise seen from the front)
+    /// as two triangles sharing the diagonal `corners[0]`–`corners[2]`, with face normals.
+    pub fn quad(corners: [Vec3; 4], material: Material) -> Result<Mesh, MeshError> {
+        Mesh::new(
+            corners.to_vec(),
+            Vec::new(),
+            vec![flat([0, 1, 2], 0), flat([0, 2, 3], 0)],
+            vec![material],
+        )
+    }
+
+    /// The axis-aligned box `lo..hi` as twelve triangles with outward face normals.
+    pub fn cuboid(lo: Vec3, hi: Vec3, material: Material) -> Result<Mesh, MeshError> {
+        // Corner i has x from bit 0, y from bit 1, z from bit 2.
+        let positions = (0..8)
+            .map(|i: u32| Vec3::select(glam_mask(i), hi, lo))
+            .collect();
+        // Each face counter-clockwise seen from outside.
+        const FACES: [[u32; 4]; 6] = [
+            [0, 4, 6, 2], // −x
+            [1, 3, 7, 5], // +x
+            [0, 1, 5, 4], // −y
+            [2, 6, 7, 3], // +y
+            [0, 2, 3, 1], // −z
+            [4, 5, 7, 6], // +z
+        ];
+        let triangles = FACES
+            .iter()
+            .flat_map(|&[a, b, c, d]| [flat([a, b, c], 0), flat([a, c, d], 0)])
+            .collect();
+        Mesh::new(positions, Vec::new(), triangles, vec![material])
+    }
+
+    /// Adds `other`'s triangles and materials to this mesh.
+    pub fn append(&mut self, other: Mesh) -> Result<(), MeshError> {
+        let counts = [
+            self.positions.len() + other.positions.len(),
+            self.normals.len() + other.normals.len(),
+            self.triangles.len() + other.triangles.len(),
+            self.materials.len() + other.materials.len(),
+        ];
+        if counts.iter().any(|&n| n > u32::MAX as usize) {
+            return Err(MeshError::TooMany);
+        }
+        let (p, n, m) = (
+            self.positions.len() as u32,
+            self.normals.len() as u32,
+            self.materials.len() as u32,
+        );
+        self.triangles
+            .extend(other.triangles.iter().map(|t| Triangle {
+                vertices: t.vertices.map(|v| v + p),
+                normals: t.normals.map(|ns| ns.map(|v| v + n)),
+                material: t.material + m,
+            }));
+        self.positions.extend(other.positions);
+        self.normals.extend(other.normals);
+        self.materials.extend(other.materials);
+        self.degenerate_skipped += other.degenerate_skipped;
+        Ok(())
+    }
+
+    /// Reads a Wavefront OBJ file and the MTL files it names (`mtllib`, relative to the OBJ's
+    /// folder). Polygons are triangulated as fans; points, lines and texture coordinates are
+    /// ignored. Vertex normals are used if every corner of every face names one; otherwise
+    /// every face is shaded with its face normal.
+    ///
+    /// MTL mapping: `Kd` → diffuse reflectance, `Ks` → specular reflectance, `Ns` → Phong
+    /// exponent; `Ks` absent or zero gives [`Material::Lambert`] with albedo `Kd`, otherwise
+    /// [`Material::Phong`]. Other MTL statements (`Ka`, `Ke`, `Ni`, `illum`, textures) are
+    /// ignored. A missing `Kd` is [`DEFAULT_MATERIAL`]'s albedo; a missing `Ns` is 1. Faces
+    /// without `usemtl`, or naming a material no MTL file defines, get [`DEFAULT_MATERIAL`].
+    ///
+    /// Errors: a missing or unreadable OBJ or MTL file, a file larger than
+    /// [`lgh_image::MAX_INPUT_BYTES`], a parse error, non-finite coordinates, negative or
+    /// non-finite material values, no triangle of non-zero area.
+    pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
+        let mut text = String::new();
+        open_checked(path)?
+            .read_to_string(&mut text)
+            .map_err(|error| MeshError::Io {
+                path: path.to_owned(),
+                error,
+            })?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        // The first MTL error, with its path: tobj only keeps a bare error code.
+        let mtl_error: RefCell<Option<MeshError>> = RefCell::new(None);
+        let options = tobj::LoadOptions {
+            single_index: false,
+            triangulate: true,
+            ignore_points: true,
+            ignore_lines: true,
+        };
+        let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |name| {
+            let mtl = folder.join(name);
+            let keep = |e: MeshError| {
+                mtl_error.borrow_mut().get_or_insert(e);
+            };
+            match read_mtl(&mtl) {
+                Ok(text) => tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
+                    keep(MeshError::Parse {
+                        path: mtl.clone(),
+                        message: e.to_string(),
+                    })
+                }),
+                Err(e) => {
+                    keep(e);
+                    Err(tobj::LoadError::GenericFailure)
+                }
+            }
+        });
+        if let Some(e) = mtl_error.into_inner() {
+            return Err(e);
+        }
+        let (models, materials) = loaded.map_err(|e| MeshError::Parse {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+        // Every MTL file loaded (their errors returned above), so this is Ok or "none named".
+        let materials = materials.unwrap_or_default();
+        from_tobj(&models, &materials, every_face_has_normals(&text))
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Vertex normals (as given; not necessarily unit length).
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+
+    /// The triangles, none of zero area.
+    pub fn triangles(&self) -> &[Triangle] {
+        &self.triangles
+    }
+
+    /// The materials.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Zero-area triangles dropped when the mesh was built (summed over [`append`](Self::append)).
+    pub fn degenerate_skipped(&self) -> usize {
+        self.degenerate_skipped
+    }
+
+    /// The three corners of triangle `t` (panics if `t` is out of range).
+    pub fn corners(&self, t: u32) -> [Vec3; 3] {
+        self.triangles[t as usize]
+            .vertices
+            .map(|v| self.positions[v as usize])
+    }
+
+    /// The material of triangle `t` (panics if `t` is out of range).
+    pub fn material(&self, t: u32) -> Material {
+        self.materials[self.triangles[t as usize].material as usize]
+    }
+
+    /// The unit face normal of triangle `t`, on the side its corners turn counter-clockwise.
+    pub fn face_normal(&self, t: u32) -> Vec3 {
+        face_normal(self.corners(t))
+    }
+
+    /// The unit shading normal of triangle `t` at barycentric `(u, v)` (the weights of corners 1
+    /// and 2): the interpolated vertex normals, or the face normal where the triangle has none or
+    /// they interpolate to zero. Not oriented: the renderer turns it towards the viewer.
+    pub fn shading_normal(&self, t: u32, u: f32, v: f32) -> Vec3 {
+        let Some([a, b, c]) = self.triangles[t as usize].normals else {
+            return self.face_normal(t);
+        };
+        let n = self.normals[a as usize] * (1.0 - u - v)
+            + self.normals[b as usize] * u
+            + self.normals[c as usize] * v;
+        let n = n.normalize_or_zero();
+        if n == Vec3::ZERO {
+            self.face_normal(t)
+        } else {
+            n
+        }
+    }
+
+    /// The point at barycentric `(u, v)` of triangle `t` (the weights of corners 1 and 2).
+    pub fn point(&self, t: u32, u: f32, v: f32) -> Vec3 {
+        let [a, b, c] = self.corners(t);
+        a * (1.0 - u - v) + b * u + c * v
+    }
+
+    /// The bounding box `(lo, hi)` of the vertices the triangles use.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.triangles
+            .iter()
+            .flat_map(|t| t.vertices)
+            .map(|v| self.positions[v as usize])
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p), hi.max(p))
+            })
+    }
+}
+
+/// A triangle with face normals only.
+fn flat(vertices: [u32; 3], material: u32) -> Triangle {
+    Triangle {
+        vertices,
+        normals: None,
+        material,
+    }
+}
+
+/// The mask selecting `hi` on the axes whose bit is set in `i`.
+fn glam_mask(i: u32) -> lgh_core::glam::BVec3 {
+    lgh_core::glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0)
+}
+
+/// The unit normal of a triangle, or zero if it has no area (in f32).
+fn face_normal([a, b, c]: [Vec3; 3]) -> Vec3 {
+    (b - a).cross(c - a).normalize_or_zero()
+}
+
+/// Why `m` cannot be a surface material, if it cannot.
+fn check_material(m: &Material) -> Result<(), &'static str> {
+    let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0;
+    match *m {
+        Material::Isotropic => Err("a phase function is not a surface material"),
+        Material::Lambert { albedo } if !colour(albedo) => {
+            Err("the albedo must be finite and non-negative")
+        }
+        Material::Phong { kd, ks, .. } if !colour(kd) || !colour(ks) => {
+            Err("Kd and Ks must be finite and non-negative")
+        }
+        Material::Phong { exponent, .. } if !(exponent.is_finite() && exponent >= 0.0) => {
+            Err("the Phong exponent Ns must be finite and non-negative")
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Opens `path` for reading after checking its size against [`lgh_image::MAX_INPUT_BYTES`].
+fn open_checked(path: &Path) -> Result<std::fs::File, MeshError> {
+    let io = |error| MeshError::Io {
+        path: path.to_owned(),
+        error,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let bytes = file.metadata().map_err(io)?.len();
+    if bytes > lgh_image::MAX_INPUT_BYTES {
+        return Err(MeshError::TooLarge {
+            path: path.to_owned(),
+            bytes,
+        });
+    }
+    Ok(file)
+}
+
+/// Reads the MTL file `path`, checking its colour statements for their three numbers: `tobj`
+/// 4.0.5 panics on `Kd 0.5`.
+fn read_mtl(path: &Path) -> Result<String, MeshError> {
+    let mut text = String::new();
+    open_checked(path)?
+        .read_to_string(&mut text)
+        .map_err(|error| MeshError::Io {
+            path: path.to_owned(),
+            error,
+        })?;
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
+            if words.count() < 3 {
+                return Err(MeshError::Parse {
+                    path: path.to_owned(),
+                    message: format!("line {}: {key} needs three numbers", i + 1),
+                });
+            }
+        }
+    }
+    Ok(text)
+}
+
+/// Our material for an MTL material (the mapping of [`Mesh::load_obj`]).
+fn from_mtl(m: &tobj::Material) -> Result<Material, MeshError> {
+    let invalid = |reason| MeshError::InvalidMaterial {
+        name: m.name.clone(),
+        reason,
+    };
+    let kd = m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from);
+    let ks = m.specular.map_or(Vec3::ZERO, Vec3::from);
+    let exponent = m.shininess.unwrap_or(1.0);
+    if !(exponent.is_finite() && exponent >= 0.0) {
+        return Err(invalid("the Phong exponent Ns must be finite and non-negative"));
+    }
+    let material = if ks == Vec3::ZERO {
+        Material::Lambert { albedo: kd }
+    } else {
+        Material::Phong { kd, ks, exponent }
+    };
+    check_material(&material).map_err(invalid)?;
+    Ok(material)
+}
+
+/// True if every corner of every face (`f`) in the OBJ text names a normal (`v//n`, `v/t/n`).
+fn every_face_has_normals(obj: &str) -> bool {
+    obj.lines()
+        .filter_map(|line| {
+            let mut words = line.split_whitespace();
+            (words.next() == Some("f")).then_some(words)
+        })
+        .flatten()
+        .all(|corner| corner.split('/').nth(2).is_some_and(|n| !n.is_empty()))
+}
+
+/// The mesh of `tobj`'s models and materials; faces without a known material get
+/// [`DEFAULT_MATERIAL`], appended after the MTL materials. Vertex normals are used only if
+/// `normals_everywhere`: where some faces lack them, `tobj` makes up normals for those faces
+/// (copying another corner's), and which faces they are is lost.
+fn from_tobj(
+    models: &[tobj::Model],
+    mtls: &[tobj::Material],
+    normals_everywhere: bool,
+) -> Result<Mesh, MeshError> {
+    let mut materials = mtls.iter().map(from_mtl).collect::<Result<Vec<_>, _>>()?;
+    let default = u32::try_from(materials.len()).map_err(|_| MeshError::TooMany)?;
+    materials.push(DEFAULT_MATERIAL);
+    let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+    for model in models {
+        let mesh = &model.mesh;
+        let offset = |base: usize| u32::try_from(base).map_err(|_| MeshError::TooMany);
+        let (p0, n0) = (offset(positions.len())?, offset(normals.len())?);
+        positions.extend(mesh.positions.chunks_exact(3).map(Vec3::from_slice));
+        normals.extend(mesh.normals.chunks_exact(3).map(Vec3::from_slice));
+        let material = mesh
+            .material_id
+            .filter(|&i| i < mtls.len())
+            .map_or(default, |i| i as u32);
+        let with_normals = normals_everywhere && mesh.normal_indices.len() == mesh.indices.len();
+        for (k, corners) in mesh.indices.chunks_exact(3).enumerate() {
+            let triangle = triangles.len();
+            let shift = |base: u32, i: u32| {
+                base.checked_add(i)
+                    .ok_or(MeshError::IndexOutOfRange { triangle })
+            };
+            let shift3 = |base: u32, c: &[u32]| -> Result<[u32; 3], MeshError> {
+                Ok([shift(base, c[0])?, shift(base, c[1])?, shift(base, c[2])?])
+            };
+            triangles.push(Triangle {
+                vertices: shift3(p0, corners)?,
+                normals: match with_normals {
+                    true => Some(shift3(n0, &mesh.normal_indices[3 * k..3 * k + 3])?),
+                    false => None,
+                },
+                material,
+            });
+        }
+    }
+    Mesh::new(positions, normals, triangles, materials)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GREY: Material = Material::Lambert {
+        albedo: Vec3::splat(0.7),
+    };
+
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    /// `obj` written as `scene.obj` beside `mtl` as `scene.mtl` (if given), then loaded.
+    fn load(obj: &str, mtl: Option<&str>) -> Result<Mesh, MeshError> {
+        let dir = tempfile::tempdir().unwrap();
+        if let Some(mtl) = mtl {
+            write(dir.path(), "scene.mtl", mtl);
+        }
+        Mesh::load_obj(&write(dir.path(), "scene.obj", obj))
+    }
+
+    #[test]
+    fn cuboid_faces_point_outwards_and_quads_follow_their_winding() {
+        let (lo, hi) = (Vec3::new(-1.0, 0.0, 2.0), Vec3::new(3.0, 1.0, 4.0));
+        let m = Mesh::cuboid(lo, hi, GREY).unwrap();
+        assert_eq!(m.triangles().len(), 12);
+        assert_eq!(m.bounds(), (lo, hi));
+        let centre = 0.5 * (lo + hi);
+        for t in 0..12 {
+            let [a, b, c] = m.corners(t);
+            let n = m.face_normal(t);
+            // Unit, axis-aligned, pointing away from the centre.
+            assert_eq!(n.abs().max_element(), 1.0, "{n}");
+            assert!(n.dot((a + b + c) / 3.0 - centre) > 0.0, "triangle {t}: {n}");
+            assert_eq!(m.shading_normal(t, 0.2, 0.3), n);
+        }
+        let q = Mesh::quad(
+            [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            GREY,
+        )
+        .unwrap();
+        assert_eq!(q.triangles().len(), 2);
+        assert!((0..2).all(|t| q.face_normal(t) == Vec3::Z));
+        assert_eq!(q.point(0, 1.0, 0.0), Vec3::X);
+    }
+
+    #[test]
+    fn append_keeps_each_triangle_with_its_own_material() {
+        let red = Material::Lambert {
+            albedo: Vec3::new(0.8, 0.1, 0.1),
+        };
+        let mut m = Mesh::cuboid(Vec3::ZERO, Vec3::ONE, GREY).unwrap();
+        let floor = Mesh::quad(
+            [Vec3::ZERO, Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::X].map(|p| p * 4.0),
+            red,
+        )
+        .unwrap();
+        m.append(floor.clone()).unwrap();
+        assert_eq!(m.triangles().len(), 14);
+        assert_eq!(m.materials(), &[GREY, red]);
+        assert_eq!(m.material(11), GREY);
+        assert_eq!(m.material(12), red);
+        assert_eq!(m.corners(13), floor.corners(1));
+    }
+
+    #[test]
+    fn invalid_meshes_are_errors_and_zero_area_triangles_are_skipped() {
+        let tri = |vertices, material| Triangle {
+            vertices,
+            normals: None,
+            material,
+        };
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(2.0, 0.0, 0.0)];
+        // Triangle 1 is a sliver of zero area (collinear corners).
+        let m = Mesh::new(
+            p.clone(),
+            vec![],
+            vec![tri([0, 1, 2], 0), tri([0, 1, 3], 0)],
+            vec![GREY],
+        )
+        .unwrap();
+        assert_eq!((m.triangles().len(), m.degenerate_skipped()), (1, 1));
+        let new = |p: Vec<Vec3>, n: Vec<Vec3>, t: Triangle, m: Material| {
+            Mesh::new(p, n, vec![t], vec![m])
+        };
+        let ok = tri([0, 1, 2], 0);
+        assert!(matches!(
+            new(p.clone(), vec![], tri([0, 1, 3], 0), GREY),
+            Err(MeshError::NoTriangles { degenerate: 1 })
+        ));
+        let mut bad = p.clone();
+        bad[2].y = f32::NAN;
+        assert!(matches!(
+            new(bad, vec![], ok, GREY),
+            Err(MeshError::NonFiniteVertex { index: 2 })
+        ));
+        let with_normals = Triangle {
+            normals: Some([0, 0, 1]),
+            ..ok
+        };
+        assert!(matches!(
+            new(p.clone(), vec![Vec3::Z, Vec3::INFINITY], with_normals, GREY),
+            Err(MeshError::NonFiniteNormal { index: 1 })
+        ));
+        for t in [tri([0, 1, 4], 0), tri([0, 1, 2], 1), with_normals] {
+            assert!(
+                matches!(
+                    new(p.clone(), vec![Vec3::Z], t, GREY),
+                    Err(MeshError::IndexOutOfRange { triangle: 0 })
+                ),
+                "{t:?}"
+            );
+        }
+        let phong = |kd: f32, ks: f32, exponent: f32| Material::Phong {
+            kd: Vec3::splat(kd),
+            ks: Vec3::splat(ks),
+            exponent,
+        };
+        for m in [
+            Material::Isotropic,
+            Material::Lambert {
+                albedo: Vec3::new(0.5, -0.1, 0.5),
+            },
+            Material::Lambert {
+                albedo: Vec3::splat(f32::NAN),
+            },
+            phong(-1.0, 0.5, 10.0),
+            phong(0.5, f32::INFINITY, 10.0),
+            phong(0.5, 0.5, -1.0),
+            phong(0.5, 0.5, f32::NAN),
+        ] {
+            assert!(
+                matches!(
+                    new(p.clone(), vec![], ok, m),
+                    Err(MeshError::InvalidMaterial { .. })
+                ),
+                "{m:?}"
+            );
+        }
+        for e in [
+            Mesh::quad([Vec3::ZERO; 4], GREY).unwrap_err(),
+            Mesh::cuboid(Vec3::ZERO, Vec3::splat(f32::NAN), GREY).unwrap_err(),
+        ] {
+            assert!(!e.to_string().is_empty());
+        }
+    }
+
+    #[test]
+    fn obj_and_mtl_load_with_the_documented_mapping() {
+        let obj = "\
+# before any usemtl: the default material
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0 0
+vn 0 0 1
+vn 0 0 2
+f 1 2 3
+mtllib scene.mtl
+usemtl matte
+f 1 2 3 4
+usemtl shiny
+f 1//1 2//1 3//2
+# zero area: skipped
+f 1 2 5
+usemtl undefined
+f 1 3 4
+";
+        let mtl = "\
+newmtl matte
+Kd 0.25 0.5 0.75
+Ks 0 0 0
+Ns 10
+newmtl shiny
+Kd 0.1 0.2 0.3
+Ks 0.4 0.4 0.4
+Ns 32
+newmtl unused
+";
+        let m = load(obj, Some(mtl)).unwrap();
+        let matte = Material::Lambert {
+            albedo: Vec3::new(0.25, 0.5, 0.75),
+        };
+        let shiny = Material::Phong {
+            kd: Vec3::new(0.1, 0.2, 0.3),
+            ks: Vec3::splat(0.4),
+            exponent: 32.0,
+        };
+        let unused = Material::Lambert {
+            albedo: Vec3::splat(0.5),
+        };
+        assert_eq!(m.materials(), &[matte, shiny, unused, DEFAULT_MATERIAL]);
+        // 1 + 2 (the quad) + 1 + 0 (skipped) + 1.
+        assert_eq!(m.triangles().len(), 5);
+        assert_eq!(m.degenerate_skipped(), 1);
+        let materials: Vec<Material> = (0..5).map(|t| m.material(t)).collect();
+        assert_eq!(
+            materials,
+            [DEFAULT_MATERIAL, matte, matte, shiny, DEFAULT_MATERIAL]
+        );
+        // Some faces have no vertex normals: face normals everywhere.
+        assert!(m.triangles().iter().all(|t| t.normals.is_none()));
+        assert_eq!(m.corners(2), [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]);
+        // Every face has them: used, and normalised when interpolated.
+        let m = load(
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 2\nvn 1 0 0\nf 1//1 2//2 3//3\n",
+            None,
+        )
+        .unwrap();
+        assert_eq!(m.triangles()[0].normals, Some([0, 1, 2]));
+        assert_eq!(m.shading_normal(0, 0.5, 0.0), Vec3::Z);
+        let n = m.shading_normal(0, 0.0, 0.5);
+        assert!((n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6, "{n}");
+    }
+
+    #[test]
+    fn bad_obj_and_mtl_files_are_clear_errors() {
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+        let with_mtl = |mtl: &str| load(&format!("mtllib scene.mtl\n{tri}usemtl a\nf 1 2 3\n"), Some(mtl));
+        let missing = Mesh::load_obj(Path::new("/nonexistent/scene.obj")).unwrap_err();
+        assert!(
+            matches!(&missing, MeshError::Io { error, .. } if error.kind() == std::io::ErrorKind::NotFound),
+            "{missing}"
+        );
+        let no_mtl = load(&format!("mtllib gone.mtl\n{tri}f 1 2 3\n"), None).unwrap_err();
+        assert!(
+            matches!(&no_mtl, MeshError::Io { path, .. } if path.ends_with("gone.mtl")),
+            "{no_mtl}"
+        );
+        for (obj, what) in [
+            ("v 0 0\nf 1 2 3\n", "a vertex with two coordinates"),
+            (&format!("{tri}f 1 2 7\n"), "an index past the end"),
+            (&format!("{tri}f 1 2 x\n"), "a non-numeric index"),
+        ] {
+            let e = load(obj, None).unwrap_err();
+            assert!(matches!(e, MeshError::Parse { .. }), "{what}: {e}");
+        }
+        for mtl in ["newmtl a\nKd 0.5\n", "newmtl a\nKs 1 1\n", "newmtl a\nNs x\n"] {
+            let e = with_mtl(mtl).unwrap_err();
+            assert!(
+                matches!(&e, MeshError::Parse { path, .. } if path.ends_with("scene.mtl")),
+                "{mtl:?}: {e}"
+            );
+        }
+        for mtl in [
+            "newmtl a\nKd -0.5 0.5 0.5\n",
+            "newmtl a\nKd 0.5 nan 0.5\n",
+            "newmtl a\nKd 0.5 0.5 0.5\nKs inf 0 0\n",
+            "newmtl a\nKs 0.5 0.5 0.5\nNs -3\n",
+            "newmtl a\nNs nan\n",
+        ] {
+            let e = with_mtl(mtl).unwrap_err();
+            assert!(
+                matches!(&e, MeshError::InvalidMaterial { name, .. } if name == "a"),
+                "{mtl:?}: {e}"
+            );
+        }
+        assert!(matches!(
+            load("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", None),
+            Err(MeshError::NonFiniteVertex { index: 0 })
+        ));
+        assert!(matches!(
+            load(&format!("{tri}vn 0 inf 1\nf 1//1 2//1 3//1\n"), None),
+            Err(MeshError::NonFiniteNormal { index: 0 })
+        ));
+        for obj in ["", "# nothing\n", &format!("{tri}l 1 2\np 3\n"), "v 0 0 0\nf 1 1 1\n"] {
+            assert!(
+                matches!(load(obj, None), Err(MeshError::NoTriangles { .. })),
+                "{obj:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_cornell_box_loads() {
+        let path = lgh_tests::shared_data()
+            .join("meshes/cornellbox_original/CornellBox-Original.obj");
+        if !path.exists() {
+            eprintln!("SKIPPED: {} is not here", path.display());
+            return;
+        }
+        let m = Mesh::load_obj(&path).unwrap();
+        // 18 quads, no zero-area triangles; 8 MTL materials, all Lambertian, and the default.
+        assert_eq!((m.triangles().len(), m.degenerate_skipped()), (36, 0));
+        assert_eq!(m.materials().len(), 9);
+        assert!(m
+            .materials()
+            .iter()
+            .all(|m| matches!(m, Material::Lambert { .. })));
+        let (lo, hi) = m.bounds();
+        assert_eq!((lo, hi), (Vec3::new(-1.02, 0.0, -1.04), Vec3::new(1.0, 1.99, 0.99)));
+        let red = Material::Lambert {
+            albedo: Vec3::new(0.63, 0.065, 0.05),
+        };
+        assert!(m.materials().contains(&red));
+    }
+}
