@@ -36,7 +36,7 @@ pub struct PaquetteArgs {
     pub material: Surface,
     /// Absolute error threshold of the octree and Ward's method, in 8-bit levels of 255 (the
     /// paper's 1 %: 2.55). Radiance 1 maps to 255.
-    #[arg(long, default_value_t = 2.55)]
+    #[arg(long, default_value_t = 2.55, allow_negative_numbers = true)]
     pub threshold: f32,
     /// Image width.
     #[arg(long, default_value_t = 320)]
@@ -266,7 +266,10 @@ pub fn run(args: &PaquetteArgs) -> Result<(), String> {
         } else {
             records.pop().unwrap_or(Value::Null)
         };
-        say!("{}", serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?);
+        say!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
     } else if args.table {
         print_table(&records)?;
     }
@@ -276,9 +279,17 @@ pub fn run(args: &PaquetteArgs) -> Result<(), String> {
 fn print_case(r: &Value) -> Result<(), String> {
     say!(
         "{} with {} lights, {} surfaces, {}×{}, threshold {} of 255",
-        r["scene"], r["lights"], r["material"], r["width"], r["height"], r["threshold_8bit"]
+        r["scene"],
+        r["lights"],
+        r["material"],
+        r["width"],
+        r["height"],
+        r["threshold_8bit"]
     );
-    say!("  RT (brute force)  {:9.3} s", r["rt_seconds"].as_f64().unwrap_or(0.0));
+    say!(
+        "  RT (brute force)  {:9.3} s",
+        r["rt_seconds"].as_f64().unwrap_or(0.0)
+    );
     for key in ["ward", "octree", "lightcuts"] {
         let m = &r[key];
         say!(
@@ -298,11 +309,17 @@ fn print_case(r: &Value) -> Result<(), String> {
         l["max_error_8bit"],
         l["mean_error_8bit"].as_f64().unwrap_or(0.0)
     );
-    say!("  speed-up of the octree over RT: {:.2}", r["speedup"].as_f64().unwrap_or(0.0));
+    say!(
+        "  speed-up of the octree over RT: {:.2}",
+        r["speedup"].as_f64().unwrap_or(0.0)
+    );
     if let Some(p) = r.get("paper") {
         say!(
             "  paper (SGI R10000): RT {} s, Ward {} %, LH {} %, speed-up {}",
-            p["rt_seconds"], p["ward_percent"], p["octree_percent"], p["speedup"]
+            p["rt_seconds"],
+            p["ward_percent"],
+            p["octree_percent"],
+            p["speedup"]
         );
     }
     Ok(())

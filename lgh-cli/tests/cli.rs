@@ -497,3 +497,107 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
     assert!(!o.status.success());
     assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
 }
+
+#[test]
+fn paquette_reports_the_papers_keys_and_keeps_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = lgh(&[
+        "paquette",
+        "--scene",
+        "udem",
+        "--lights",
+        "256",
+        "--material",
+        "specular",
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--json",
+        "-q",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "rt_seconds",
+        "ward_percent",
+        "octree_percent",
+        "speedup",
+        "max_error_8bit",
+        "mean_error_8bit",
+    ] {
+        assert!(v[key].is_number(), "{key} missing in {v}");
+    }
+    // The octree and Ward keep the paper's bound of 2.55 levels; with the rounding of both
+    // images to 8 bits an error of 2.55 can show as 3 levels, never more.
+    assert!(v["max_error_8bit"].as_u64().unwrap() <= 3, "{v}");
+    assert!(v["ward"]["max_error_8bit"].as_u64().unwrap() <= 3, "{v}");
+    assert_eq!(v["paper"]["speedup"], 32.8);
+    // The renders are there, and the octree's EXR agrees with brute force as reported.
+    let brute = lgh_image::read_exr(&dir.path().join("udem_256_specular_brute.exr")).unwrap();
+    let octree = lgh_image::read_exr(&dir.path().join("udem_256_specular_octree.exr")).unwrap();
+    let e = lgh_image::error_8bit(&octree, &brute).unwrap();
+    assert_eq!(u64::from(e.max), v["max_error_8bit"].as_u64().unwrap());
+    assert!(
+        brute.pixels.iter().any(|p| p.max_element() > 0.1),
+        "a black reference"
+    );
+}
+
+#[test]
+fn paquette_refuses_bad_input_before_any_work() {
+    for (args, needle) in [
+        (vec!["--scene", "udem", "--lights", "0"], "--lights 0"),
+        (
+            vec!["--scene", "udem", "--lights", "100000"],
+            "--lights 100000",
+        ),
+        (vec!["--scene", "mars", "--lights", "64"], "unknown scene"),
+        (
+            vec!["--scene", "udem", "--lights", "64", "--threshold", "0"],
+            "--threshold",
+        ),
+        (
+            vec!["--scene", "udem", "--lights", "64", "--threshold", "NaN"],
+            "--threshold",
+        ),
+        (
+            vec!["--scene", "udem", "--lights", "64", "--threshold", "-1"],
+            "--threshold",
+        ),
+        (
+            vec!["--scene", "udem", "--lights", "64", "--width", "0"],
+            "--width",
+        ),
+        (
+            vec!["--scene", "udem", "--lights", "64", "--material", "glass"],
+            "unknown material",
+        ),
+        (
+            vec![
+                "--scene",
+                "udem",
+                "--lights",
+                "64",
+                "--out",
+                "/nonexistent/x",
+            ],
+            "no such folder",
+        ),
+        (vec!["--scene", "udem"], "--lights"),
+    ] {
+        let mut full = vec!["paquette"];
+        full.extend(&args);
+        let out = lgh(&full);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?} printed a result");
+    }
+}

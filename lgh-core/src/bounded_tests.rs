@@ -193,3 +193,65 @@ fn members(tree: &LightTree, k: usize) -> Vec<PointLight> {
     }
     out
 }
+
+/// Degenerate scenes: no lights, a light exactly at the shading point, hundreds of coincident
+/// lights, lights in the surface's plane. Every backend answers (no panic, finite) and the
+/// octree and Ward keep their bound.
+#[test]
+fn degenerate_scenes_are_handled() {
+    let point = ShadingPoint {
+        position: Vec3::ZERO,
+        normal: Some(Vec3::Y),
+        view: Some(Vec3::new(0.6, 0.8, 0.0)),
+        material: crate::Material::Phong {
+            kd: Vec3::splat(0.5),
+            ks: Vec3::splat(0.5),
+            exponent: 200.0,
+        },
+    };
+    let mut lights = alloc::vec![PointLight::new(Vec3::ZERO, Vec3::ONE)];
+    lights.extend((0..300).map(|_| PointLight::new(Vec3::new(0.3, 1.0, 0.2), Vec3::splat(0.1))));
+    lights.extend((0..50).map(|i| PointLight::new(Vec3::new(i as f32 * 0.1, 0.0, 1.0), Vec3::ONE)));
+    for set in [&lights[..0], &lights[..1], &lights[..]] {
+        let want = exact(&point, set);
+        let t = 1e-3;
+        let brute = BruteForce::new(set).unwrap();
+        let tree = LightOctree::build(set, &OctreeSettings::default()).unwrap();
+        let cuts = LightTree::build(set, Representative::Brightest).unwrap();
+        let octree = shade(&OctreeBackend::new(&tree, t).unwrap(), &point).0;
+        let ward = shade(&WardBackend::new(&brute, t).unwrap(), &point).0;
+        let lc = shade(
+            &LightcutsBackend::new(&cuts, Default::default()).unwrap(),
+            &point,
+        )
+        .0;
+        assert!(lc.is_finite());
+        for a in 0..3 {
+            let allowed = 2.0 * f64::from(t) + rounding(set.len(), want[a]);
+            assert!((f64::from(octree[a]) - want[a]).abs() <= allowed);
+            assert!((f64::from(ward[a]) - want[a]).abs() <= allowed);
+        }
+    }
+    // Thresholds must be finite and > 0.
+    let tree = LightOctree::build(&lights, &OctreeSettings::default()).unwrap();
+    let brute = BruteForce::new(&lights).unwrap();
+    let cuts = LightTree::build(&lights, Representative::Brightest).unwrap();
+    for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        assert!(OctreeBackend::new(&tree, bad).is_err());
+        assert!(WardBackend::new(&brute, bad).is_err());
+        let s = LightcutsSettings {
+            relative_error: bad,
+            max_cut: 10,
+        };
+        assert!(LightcutsBackend::new(&cuts, s).is_err());
+    }
+    // A surface point without a normal cannot be bounded: a clear error.
+    let mut no_normal = point;
+    no_normal.normal = None;
+    let b = OctreeBackend::new(&tree, 0.01).unwrap();
+    let mut shader = |_: &crate::LightSample| Vec3::ZERO;
+    assert_eq!(
+        b.illuminate(&no_normal, &mut shader),
+        Err(crate::QueryError::InvalidSurface)
+    );
+}
