@@ -2,7 +2,8 @@
 //! with the absolute error bound Paquette et al. used for their comparison (`papers/004_…`, §5.1).
 //!
 //! At each point, every light's *potential contribution* — its unoccluded reflection, eq. (1) with
-//! `S = 1`, [`reflected`] — is computed and the lights are sorted by it, largest first. They are
+//! `S = 1`, [`reflected`] — is computed, and the lights are taken largest first (Ward sorts them; a heap gives the same
+//! order without sorting the lights that are never tested). They are
 //! shaded (visibility included, by the shader) in that order until the potential contributions
 //! left sum to at most the threshold `T`. The rest are not shaded: Ward adds them estimated as their
 //! potential times the fraction of potential the tested lights delivered, clamped to `[0, 1]`.
@@ -12,14 +13,47 @@
 //! one is Paquette's change.
 //!
 //! Without occlusion the estimate is exact and Ward's method costs a full pass over the lights
-//! plus a sort: it can only save the shader calls (in Ward's setting, the shadow rays).
+//! plus a heap: it can only save the shader calls (in Ward's setting, the shadow rays).
 
+use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
+use core::cmp::Ordering;
 use glam::Vec3;
 
 use crate::backend::{BruteForce, Illumination, LightSample, ManyLights, Shader, ShadingPoint};
 use crate::error::QueryError;
 use crate::reflection::{reflected, Lobe};
+
+/// A light's potential contribution, ordered by its largest channel.
+#[derive(Clone, Copy, Debug)]
+struct Potential {
+    key: f32,
+    index: u32,
+    value: Vec3,
+}
+
+impl PartialEq for Potential {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Potential {}
+
+impl PartialOrd for Potential {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Potential {
+    /// Largest key first, ties by the lower index.
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.key
+            .total_cmp(&other.key)
+            .then(other.index.cmp(&self.index))
+    }
+}
 
 /// Ward's method over the lights of a [`BruteForce`], with absolute threshold `T`.
 #[derive(Clone, Copy, Debug)]
@@ -59,35 +93,32 @@ impl ManyLights for WardBackend<'_> {
             return Err(QueryError::NonFinitePoint);
         }
         let n = self.lights.len();
-        // Potential contributions, with each light's largest channel as its sort key.
-        let mut potential: Vec<(f32, u32, Vec3)> = (0..n)
+        // Potential contributions, keyed by each light's largest channel.
+        let potential: Vec<Potential> = (0..n)
             .map(|i| {
                 let (position, intensity) = self.lights.light(i);
-                let p = reflected(point, position, intensity, Lobe::All);
-                (p.max_element(), i as u32, p)
+                let value = reflected(point, position, intensity, Lobe::All);
+                Potential {
+                    key: value.max_element(),
+                    index: i as u32,
+                    value,
+                }
             })
             .collect();
-        // Largest first, ties by index: deterministic.
-        potential.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-        // Suffix sums of the keys (in f64): tested[k..] is what is left after testing k lights.
-        let mut left = 0.0f64;
-        let mut cut = n;
+        let mut left: f64 = potential.iter().map(|p| f64::from(p.key)).sum();
+        // Largest first (ties by index, so deterministic): a heap, built in O(n), gives them
+        // without sorting the many lights that are never tested.
+        let mut heap = BinaryHeap::from(potential);
         let threshold = f64::from(self.threshold);
-        for (k, p) in potential.iter().enumerate().rev() {
-            if left + f64::from(p.0) > threshold {
-                cut = k + 1;
-                break;
-            }
-            left += f64::from(p.0);
-            cut = k;
-        }
         let mut out = Illumination::default();
         let mut tested_potential = Vec3::ZERO;
-        for &(_, i, p) in &potential[..cut] {
-            let (position, intensity) = self.lights.light(i as usize);
+        while left > threshold {
+            let Some(p) = heap.pop() else { break };
+            left -= f64::from(p.key);
+            let (position, intensity) = self.lights.light(p.index as usize);
             out.radiance += shader.shade(&LightSample {
                 level: 0,
-                index: i,
+                index: p.index,
                 position,
                 intensity,
                 variance: Vec3::ZERO,
@@ -96,13 +127,12 @@ impl ManyLights for WardBackend<'_> {
                 weight: 1.0,
                 lobe: Lobe::All,
             });
-            tested_potential += p;
+            tested_potential += p.value;
+            out.lights += 1;
         }
-        out.lights = cut as u32;
-        if cut < n {
-            let untested = potential[cut..]
-                .iter()
-                .fold(Vec3::ZERO, |acc, &(_, _, p)| acc + p);
+        if !heap.is_empty() {
+            // In heap order, which depends only on the input: deterministic.
+            let untested = heap.iter().fold(Vec3::ZERO, |acc, p| acc + p.value);
             // Ward's estimate: the untested potential times the fraction the tested lights
             // delivered (all of it when nothing was tested or nothing was potential).
             let delivered = Vec3::select(
