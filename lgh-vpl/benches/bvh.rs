@@ -53,7 +53,10 @@ fn shapes(mesh: &Mesh) -> Vec<Shape> {
 }
 
 /// 128×64 camera rays down the atrium and 8,192 random segments' directions inside it.
-fn rays(mesh: &Mesh) -> (Vec<(Vec3, Vec3)>, Vec<(Vec3, Vec3)>) {
+/// Rays as (origin, direction).
+type Rays = Vec<(Vec3, Vec3)>;
+
+fn rays(mesh: &Mesh) -> (Rays, Rays) {
     let camera = Camera::new(
         Vec3::new(-14.0, 2.5, 0.5),
         Vec3::new(10.0, 5.0, -0.5),
@@ -91,10 +94,7 @@ fn theirs(bvh: &bvh::bvh::Bvh<f32, 3>, shapes: &[Shape], rays: &[(Vec3, Vec3)]) 
     rays.iter()
         .filter_map(|&(o, d)| {
             let ray = Ray::new(o, d);
-            let query = bvh::ray::Ray::new(
-                Point3::from(o.to_array()),
-                Vector3::from(d.to_array()),
-            );
+            let query = bvh::ray::Ray::new(Point3::from(o.to_array()), Vector3::from(d.to_array()));
             let mut best = f32::INFINITY;
             for s in bvh.traverse_iterator(&query, shapes) {
                 if let Some((t, _, _)) = ray.hit_triangle(&s.corners, best) {
@@ -152,7 +152,10 @@ fn bvh_vs_bvh_crate(c: &mut Criterion) {
     let mut g = c.benchmark_group(format!("sponza_{n}_closest_hit_8192_rays"));
     g.sample_size(10);
     for (name, rays) in [("camera", &coherent), ("random", &random)] {
-        let (a, b) = (ours(&ours_bvh, rays), theirs(&their_bvh, &their_shapes, rays));
+        let (a, b) = (
+            ours(&ours_bvh, rays),
+            theirs(&their_bvh, &their_shapes, rays),
+        );
         assert_eq!(a, b, "{name} rays: the two hierarchies disagree");
         println!("{name} rays: {} of {} hit", a.1, rays.len());
         g.bench_function(format!("ours_{name}"), |b| b.iter(|| ours(&ours_bvh, rays)));

@@ -21,7 +21,7 @@
 //! parameter); a hit at `t` barely above 0 on the surface a ray starts from is possible, so rays
 //! leaving a surface (shadow rays) must start slightly off it.
 
-use lgh_core::glam::Vec3;
+use lgh_core::glam::{Vec3, Vec3A};
 
 use crate::mesh::Mesh;
 
@@ -132,16 +132,15 @@ impl Ray {
             return None;
         }
         let t_scaled = (e0 * p[0].z + e1 * p[1].z + e2 * p[2].z) * s.z;
-        let outside = if det < 0.0 {
-            t_scaled >= 0.0 || t_scaled <= t_max * det
-        } else {
-            t_scaled <= 0.0 || t_scaled >= t_max * det
-        };
-        if outside {
+        // Behind the origin: t_scaled and det of opposite signs (or t_scaled zero).
+        if (det < 0.0 && t_scaled >= 0.0) || (det > 0.0 && t_scaled <= 0.0) {
             return None;
         }
+        // t itself against t_max, not t_scaled against t_max·det as pbrt does: both round, and
+        // a t one ulp below t_max could be refused, so the closest of two coplanar faces lost.
         let inv = 1.0 / det;
-        Some((t_scaled * inv, e1 * inv, e2 * inv))
+        let t = t_scaled * inv;
+        (t > 0.0 && t < t_max).then_some((t, e1 * inv, e2 * inv))
     }
 
     /// True if the ray enters the box `lo..hi` before `t_max`, both far ends widened by
@@ -151,7 +150,8 @@ impl Ray {
     #[inline]
     fn hits_box(&self, lo: Vec3, hi: Vec3, t_max: f32) -> bool {
         // 1 + 2γ₃ with γₙ = nε/(1 − nε), ε = 2⁻²⁴: pbrt's robust slab test.
-        const WIDEN: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+        const WIDEN: f32 =
+            1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
         let t0 = (lo - self.origin) * self.inv_dir;
         let t1 = (hi - self.origin) * self.inv_dir;
         let near = t0.min(t1).max_element().max(0.0);
@@ -199,27 +199,27 @@ impl Bvh {
     pub fn new(mesh: &Mesh) -> Bvh {
         let n = mesh.triangles().len();
         let prims: Vec<Prim> = (0..n as u32)
-            .map(|t| {
-                let [a, b, c] = mesh.corners(t);
+            .map(|id| {
+                let [a, b, c] = mesh.corners(id).map(Vec3A::from);
                 let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
                 Prim {
                     lo,
                     hi,
                     centroid: 0.5 * (lo + hi),
+                    id,
                 }
             })
             .collect();
         let mut builder = Builder {
-            prims: &prims,
-            order: (0..n as u32).collect(),
+            prims,
             nodes: Vec::with_capacity(2 * n.div_ceil(MAX_LEAF).max(1)),
         };
         builder.node(0, n, 0);
-        let Builder { order, nodes, .. } = builder;
+        let Builder { prims, nodes } = builder;
         Bvh {
             nodes,
-            corners: order.iter().map(|&t| mesh.corners(t)).collect(),
-            ids: order,
+            corners: prims.iter().map(|p| mesh.corners(p.id)).collect(),
+            ids: prims.iter().map(|p| p.id).collect(),
         }
     }
 
@@ -319,44 +319,43 @@ impl Bvh {
     }
 }
 
-/// A triangle's box and its centre, for the build.
+/// A triangle's box, its centre and its index in the mesh, for the build.
 #[derive(Clone, Copy)]
 struct Prim {
-    lo: Vec3,
-    hi: Vec3,
-    centroid: Vec3,
+    lo: Vec3A,
+    hi: Vec3A,
+    centroid: Vec3A,
+    id: u32,
 }
 
 /// An empty box.
-const EMPTY: (Vec3, Vec3) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+const EMPTY: (Vec3A, Vec3A) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
 
 /// Half the surface area of the box `lo..hi` (0 for an empty box).
-fn half_area((lo, hi): (Vec3, Vec3)) -> f32 {
-    let d = (hi - lo).max(Vec3::ZERO);
+fn half_area((lo, hi): (Vec3A, Vec3A)) -> f32 {
+    let d = (hi - lo).max(Vec3A::ZERO);
     d.x * d.y + d.y * d.z + d.z * d.x
 }
 
 /// The union of two boxes.
-fn union(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> (Vec3, Vec3) {
+fn union(a: (Vec3A, Vec3A), b: (Vec3A, Vec3A)) -> (Vec3A, Vec3A) {
     (a.0.min(b.0), a.1.max(b.1))
 }
 
-/// The top-down build.
-struct Builder<'a> {
-    prims: &'a [Prim],
-    /// Mesh triangle indices, permuted into leaf order as the build goes.
-    order: Vec<u32>,
+/// The top-down build. The primitives themselves are partitioned (not indices to them), so every
+/// pass over a node reads memory in order; they end in leaf order.
+struct Builder {
+    prims: Vec<Prim>,
     nodes: Vec<Node>,
 }
 
-impl Builder<'_> {
-    /// Builds the node over `order[start..end]` and its subtree; returns its index.
+impl Builder {
+    /// Builds the node over `prims[start..end]` and its subtree; returns its index.
     fn node(&mut self, start: usize, end: usize, depth: u32) -> u32 {
         let index = self.nodes.len();
         self.nodes.push(Node::default());
         let (mut bounds, mut centres) = (EMPTY, EMPTY);
-        for &t in &self.order[start..end] {
-            let p = &self.prims[t as usize];
+        for p in &self.prims[start..end] {
             bounds = union(bounds, (p.lo, p.hi));
             centres = union(centres, (p.centroid, p.centroid));
         }
@@ -369,7 +368,7 @@ impl Builder<'_> {
             None if n > MAX_LEAF => Some(self.median_split(start, end, centres)),
             _ => None,
         };
-        let (lo, hi) = bounds;
+        let (lo, hi) = (Vec3::from(bounds.0), Vec3::from(bounds.1));
         self.nodes[index] = match mid {
             None => Node {
                 lo,
@@ -393,35 +392,40 @@ impl Builder<'_> {
         index as u32
     }
 
-    /// The cheapest binned SAH split of `order[start..end]`: its cost and `(axis, mid)` after
-    /// partitioning `order` around it; `None` if the centroids coincide on every axis.
+    /// The cheapest binned SAH split of `prims[start..end]`: its cost and `(axis, mid)` after
+    /// partitioning the primitives around it; `None` if the centroids coincide on every axis.
     fn sah_split(
         &mut self,
         start: usize,
         end: usize,
-        bounds: (Vec3, Vec3),
-        centres: (Vec3, Vec3),
+        bounds: (Vec3A, Vec3A),
+        centres: (Vec3A, Vec3A),
     ) -> Option<(f32, (u8, usize))> {
         let extent = centres.1 - centres.0;
-        let scale = Vec3::splat(BINS as f32) / extent;
-        let bin = |c: Vec3, axis: usize| {
+        // Axes without extent bin everything into bin 0 and are skipped below.
+        let scale = Vec3A::select(
+            extent.cmpgt(Vec3A::ZERO),
+            Vec3A::splat(BINS as f32) / extent,
+            Vec3A::ZERO,
+        );
+        let bin = |c: Vec3A, axis: usize| {
             (((c[axis] - centres.0[axis]) * scale[axis]) as usize).min(BINS - 1)
         };
+        // All three axes binned in one pass.
+        let mut boxes = [[EMPTY; BINS]; 3];
+        let mut counts = [[0usize; BINS]; 3];
+        for p in &self.prims[start..end] {
+            for axis in 0..3 {
+                let b = bin(p.centroid, axis);
+                boxes[axis][b] = union(boxes[axis][b], (p.lo, p.hi));
+                counts[axis][b] += 1;
+            }
+        }
         let parent = half_area(bounds);
         let mut best: Option<(f32, usize, usize)> = None;
-        for axis in 0..3 {
-            if !(extent[axis] > 0.0) {
-                continue;
-            }
-            let mut boxes = [EMPTY; BINS];
-            let mut counts = [0usize; BINS];
-            for &t in &self.order[start..end] {
-                let p = &self.prims[t as usize];
-                let b = bin(p.centroid, axis);
-                boxes[b] = union(boxes[b], (p.lo, p.hi));
-                counts[b] += 1;
-            }
-            // right[i]: area × count of bins i + 1 ..
+        for axis in (0..3).filter(|&a| extent[a] > 0.0) {
+            let (boxes, counts) = (&boxes[axis], &counts[axis]);
+            // right[i]: area × count of bins i + 1 ..; NaN when they are empty.
             let mut right = [0.0f32; BINS];
             let (mut acc, mut count) = (EMPTY, 0);
             for i in (1..BINS).rev() {
@@ -438,18 +442,17 @@ impl Builder<'_> {
                 acc = union(acc, boxes[i]);
                 count += counts[i];
                 let cost = 1.0 + (half_area(acc) * count as f32 + right[i]) / parent;
-                // Both sides non-empty (NaN marks an empty right side).
+                // Both sides non-empty (an empty right side made the cost NaN).
                 if count > 0 && cost.is_finite() && best.is_none_or(|(c, _, _)| cost < c) {
                     best = Some((cost, axis, i));
                 }
             }
         }
         let (cost, axis, split) = best?;
-        let prims = self.prims;
-        let slice = &mut self.order[start..end];
+        let slice = &mut self.prims[start..end];
         let mut mid = 0;
         for i in 0..slice.len() {
-            if bin(prims[slice[i] as usize].centroid, axis) <= split {
+            if bin(slice[i].centroid, axis) <= split {
                 slice.swap(i, mid);
                 mid += 1;
             }
@@ -457,15 +460,15 @@ impl Builder<'_> {
         Some((cost, (axis as u8, start + mid)))
     }
 
-    /// Splits `order[start..end]` at its median centroid on the widest centroid axis (ties by
+    /// Splits `prims[start..end]` at its median centroid on the widest centroid axis (ties by
     /// triangle index, so it is deterministic); returns `(axis, mid)`.
-    fn median_split(&mut self, start: usize, end: usize, centres: (Vec3, Vec3)) -> (u8, usize) {
+    fn median_split(&mut self, start: usize, end: usize, centres: (Vec3A, Vec3A)) -> (u8, usize) {
         let axis = (centres.1 - centres.0).max_position();
-        let prims = self.prims;
         let mid = (end - start) / 2;
-        self.order[start..end].select_nth_unstable_by(mid, |&a, &b| {
-            let (ca, cb) = (prims[a as usize].centroid[axis], prims[b as usize].centroid[axis]);
-            ca.total_cmp(&cb).then(a.cmp(&b))
+        self.prims[start..end].select_nth_unstable_by(mid, |a, b| {
+            a.centroid[axis]
+                .total_cmp(&b.centroid[axis])
+                .then(a.id.cmp(&b.id))
         });
         (axis as u8, start + mid)
     }
@@ -495,8 +498,10 @@ mod tests {
         Mesh::new(positions, vec![], triangles, vec![GREY]).unwrap()
     }
 
-    /// `n` random triangles in the cube [−5, 5]³: most small, some long and thin, some large,
-    /// and a clump of 40 identical ones (coincident centroids, for the median split).
+    /// `n` random triangles in the cube [−5, 5]³: most small, some long and thin, some large;
+    /// a clump of 40 identical ones (coincident centroids, for the median split); and 400
+    /// overlapping ones in the plane z = 0.3, whose hits differ by an ulp or two (rounding, not
+    /// geometry), so that only the very closest agrees with brute force bit for bit.
     fn random_soup(n: usize, seed: u64) -> Vec<[Vec3; 3]> {
         let mut rng = SplitMix64(seed);
         let mut tris: Vec<[Vec3; 3]> = (0..n)
@@ -513,6 +518,13 @@ mod tests {
             .collect();
         let same = [Vec3::ZERO, Vec3::X, Vec3::Y];
         tris.extend(std::iter::repeat_n(same, 40));
+        let (lo, hi) = (Vec3::new(-4.0, -4.0, 0.3), Vec3::new(4.0, 4.0, 0.3));
+        tris.extend((0..400).map(|_| {
+            let c = rng.next_in(lo, hi);
+            let mut corner =
+                || c + rng.next_in(Vec3::new(-2.0, -2.0, 0.0), Vec3::new(2.0, 2.0, 0.0));
+            [corner(), corner(), corner()]
+        }));
         tris
     }
 
@@ -593,7 +605,13 @@ mod tests {
         // every edge, then random directions.
         let (lo, hi) = mesh.bounds();
         let mut targets: Vec<Vec3> = (0..8)
-            .map(|i| Vec3::select(lgh_core::glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), hi, lo))
+            .map(|i| {
+                Vec3::select(
+                    lgh_core::glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
+                    hi,
+                    lo,
+                )
+            })
             .collect();
         for a in 0..8 {
             for b in a + 1..8 {
@@ -609,7 +627,11 @@ mod tests {
 
     #[test]
     fn triangle_test_reports_t_and_barycentrics() {
-        let c = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)];
+        let c = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        ];
         let ray = Ray::new(Vec3::new(0.5, 0.25, 3.0), Vec3::new(0.0, 0.0, -2.0));
         let (t, u, v) = ray.hit_triangle(&c, f32::INFINITY).unwrap();
         assert_eq!((t, u, v), (1.5, 0.25, 0.125));
@@ -617,7 +639,28 @@ mod tests {
         let back = Ray::new(Vec3::new(0.5, 0.25, -3.0), Vec3::Z);
         assert_eq!(back.hit_triangle(&c, f32::INFINITY).map(|h| h.0), Some(3.0));
         assert_eq!(back.hit_triangle(&c, 3.0), None);
-        assert_eq!(Ray::new(Vec3::new(0.5, 0.25, 1.0), Vec3::Z).hit_triangle(&c, 9.0), None);
+        assert_eq!(
+            Ray::new(Vec3::new(0.5, 0.25, 1.0), Vec3::Z).hit_triangle(&c, 9.0),
+            None
+        );
+        // A hit at t is reported exactly when t < t_max: for t_max one ulp above t, not at t.
+        let mut rng = SplitMix64(9);
+        let mut checked = 0;
+        for _ in 0..5000 {
+            let corners = [(); 3].map(|_| rng.next_in(Vec3::splat(-1.0), Vec3::ONE));
+            // Aimed inside the triangle (each weight 1/9 to 2/3), so nearly all hit.
+            let w = rng.next_in(Vec3::splat(0.25), Vec3::ONE);
+            let target = (w.x * corners[0] + w.y * corners[1] + w.z * corners[2]) / w.element_sum();
+            let origin = rng.next_in(Vec3::splat(-3.0), Vec3::splat(3.0));
+            let ray = Ray::new(origin, target - origin);
+            if let Some(hit) = ray.hit_triangle(&corners, f32::INFINITY) {
+                let above = f32::from_bits(hit.0.to_bits() + 1);
+                assert_eq!(ray.hit_triangle(&corners, above), Some(hit));
+                assert_eq!(ray.hit_triangle(&corners, hit.0), None);
+                checked += 1;
+            }
+        }
+        assert!(checked > 4900, "{checked}");
     }
 
     #[test]

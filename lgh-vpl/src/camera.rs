@@ -15,7 +15,7 @@ pub enum CameraError {
     UpAlongView,
     /// The vertical field of view (degrees) is not in (0, 180).
     FieldOfView(f32),
-    /// The image size is outside 1 to [`lgh_volume::render::MAX_IMAGE_SIDE`] pixels per side.
+    /// The image size is outside 1 to [`lgh_image::MAX_IMAGE_SIDE`] pixels per side.
     ImageSize(String),
 }
 
@@ -80,7 +80,7 @@ impl Camera {
         if !(fov_y_degrees > 0.0 && fov_y_degrees < 180.0 && tan_half_fov.is_finite()) {
             return Err(CameraError::FieldOfView(fov_y_degrees));
         }
-        lgh_volume::render::check_image_size(width, height).map_err(CameraError::ImageSize)?;
+        lgh_image::check_image_size(width, height).map_err(CameraError::ImageSize)?;
         let right = side.normalize();
         Ok(Camera {
             eye,
@@ -148,14 +148,17 @@ mod tests {
         assert!(ok(e, t, up, 60.0, 8, 8).is_ok());
         assert_eq!(ok(e, e, up, 60.0, 8, 8), Err(CameraError::EyeAtTarget));
         assert_eq!(ok(e, t, Vec3::Z, 60.0, 8, 8), Err(CameraError::UpAlongView));
-        assert_eq!(ok(e, t, Vec3::ZERO, 60.0, 8, 8), Err(CameraError::UpAlongView));
+        assert_eq!(
+            ok(e, t, Vec3::ZERO, 60.0, 8, 8),
+            Err(CameraError::UpAlongView)
+        );
         for fov in [0.0, -10.0, 180.0, 200.0, f32::NAN, f32::INFINITY] {
             assert!(
                 matches!(ok(e, t, up, fov, 8, 8), Err(CameraError::FieldOfView(_))),
                 "{fov}"
             );
         }
-        for (w, h) in [(0, 8), (8, 0), (lgh_volume::render::MAX_IMAGE_SIDE + 1, 8)] {
+        for (w, h) in [(0, 8), (8, 0), (lgh_image::MAX_IMAGE_SIDE + 1, 8)] {
             assert!(
                 matches!(ok(e, t, up, 60.0, w, h), Err(CameraError::ImageSize(_))),
                 "{w}x{h}"

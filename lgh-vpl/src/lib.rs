@@ -5,7 +5,7 @@
 //! closest-hit and any-hit queries ([`bvh`]); a pinhole [`camera`]; and a renderer that shades
 //! the surface each pixel sees through any [`lgh_core::ManyLights`] backend — the lighting grid
 //! hierarchy, brute force, or the error-bounded ones — with Paquette et al.'s Phong model eq. (1)
-//! and, as in that paper, no occlusion between lights and surfaces ([`render`]).
+//! and, as in that paper, no occlusion between lights and surfaces ([`render`](mod@render)).
 //!
 //! **Not here yet** (DESIGN.md "lgh-vpl", paper Sec. 6.4, Fig. 13): virtual point lights traced
 //! from emitters, shadow rays to the lights (the BVH's [`Bvh::occluded`] is ready for them),

@@ -154,9 +154,14 @@ impl Mesh {
         materials: Vec<Material>,
     ) -> Result<Mesh, MeshError> {
         let limit = u32::MAX as usize;
-        if [positions.len(), normals.len(), triangles.len(), materials.len()]
-            .iter()
-            .any(|&n| n > limit)
+        if [
+            positions.len(),
+            normals.len(),
+            triangles.len(),
+            materials.len(),
+        ]
+        .iter()
+        .any(|&n| n > limit)
         {
             return Err(MeshError::TooMany);
         }
@@ -278,13 +283,7 @@ impl Mesh {
     /// [`lgh_image::MAX_INPUT_BYTES`], a parse error, non-finite coordinates, negative or
     /// non-finite material values, no triangle of non-zero area.
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
-        let mut text = String::new();
-        open_checked(path)?
-            .read_to_string(&mut text)
-            .map_err(|error| MeshError::Io {
-                path: path.to_owned(),
-                error,
-            })?;
+        let text = read_text(path)?;
         let folder = path.parent().unwrap_or(Path::new(""));
         // The first MTL error, with its path: tobj only keeps a bare error code.
         let mtl_error: RefCell<Option<MeshError>> = RefCell::new(None);
@@ -439,13 +438,13 @@ fn check_material(m: &Material) -> Result<(), &'static str> {
     }
 }
 
-/// Opens `path` for reading after checking its size against [`lgh_image::MAX_INPUT_BYTES`].
-fn open_checked(path: &Path) -> Result<std::fs::File, MeshError> {
+/// The text of `path`, after checking its size against [`lgh_image::MAX_INPUT_BYTES`].
+fn read_text(path: &Path) -> Result<String, MeshError> {
     let io = |error| MeshError::Io {
         path: path.to_owned(),
         error,
     };
-    let file = std::fs::File::open(path).map_err(io)?;
+    let mut file = std::fs::File::open(path).map_err(io)?;
     let bytes = file.metadata().map_err(io)?.len();
     if bytes > lgh_image::MAX_INPUT_BYTES {
         return Err(MeshError::TooLarge {
@@ -453,19 +452,15 @@ fn open_checked(path: &Path) -> Result<std::fs::File, MeshError> {
             bytes,
         });
     }
-    Ok(file)
+    let mut text = String::new();
+    file.read_to_string(&mut text).map_err(io)?;
+    Ok(text)
 }
 
 /// Reads the MTL file `path`, checking its colour statements for their three numbers: `tobj`
 /// 4.0.5 panics on `Kd 0.5`.
 fn read_mtl(path: &Path) -> Result<String, MeshError> {
-    let mut text = String::new();
-    open_checked(path)?
-        .read_to_string(&mut text)
-        .map_err(|error| MeshError::Io {
-            path: path.to_owned(),
-            error,
-        })?;
+    let text = read_text(path)?;
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
@@ -490,7 +485,9 @@ fn from_mtl(m: &tobj::Material) -> Result<Material, MeshError> {
     let ks = m.specular.map_or(Vec3::ZERO, Vec3::from);
     let exponent = m.shininess.unwrap_or(1.0);
     if !(exponent.is_finite() && exponent >= 0.0) {
-        return Err(invalid("the Phong exponent Ns must be finite and non-negative"));
+        return Err(invalid(
+            "the Phong exponent Ns must be finite and non-negative",
+        ));
     }
     let material = if ks == Vec3::ZERO {
         Material::Lambert { albedo: kd }
@@ -763,7 +760,10 @@ newmtl unused
         );
         // Some faces have no vertex normals: face normals everywhere.
         assert!(m.triangles().iter().all(|t| t.normals.is_none()));
-        assert_eq!(m.corners(2), [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]);
+        assert_eq!(
+            m.corners(2),
+            [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]
+        );
         // Every face has them: used, and normalised when interpolated.
         let m = load(
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 2\nvn 1 0 0\nf 1//1 2//2 3//3\n",
@@ -773,13 +773,21 @@ newmtl unused
         assert_eq!(m.triangles()[0].normals, Some([0, 1, 2]));
         assert_eq!(m.shading_normal(0, 0.5, 0.0), Vec3::Z);
         let n = m.shading_normal(0, 0.0, 0.5);
-        assert!((n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6, "{n}");
+        assert!(
+            (n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6,
+            "{n}"
+        );
     }
 
     #[test]
     fn bad_obj_and_mtl_files_are_clear_errors() {
         let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-        let with_mtl = |mtl: &str| load(&format!("mtllib scene.mtl\n{tri}usemtl a\nf 1 2 3\n"), Some(mtl));
+        let with_mtl = |mtl: &str| {
+            load(
+                &format!("mtllib scene.mtl\n{tri}usemtl a\nf 1 2 3\n"),
+                Some(mtl),
+            )
+        };
         let missing = Mesh::load_obj(Path::new("/nonexistent/scene.obj")).unwrap_err();
         assert!(
             matches!(&missing, MeshError::Io { error, .. } if error.kind() == std::io::ErrorKind::NotFound),
@@ -798,7 +806,11 @@ newmtl unused
             let e = load(obj, None).unwrap_err();
             assert!(matches!(e, MeshError::Parse { .. }), "{what}: {e}");
         }
-        for mtl in ["newmtl a\nKd 0.5\n", "newmtl a\nKs 1 1\n", "newmtl a\nNs x\n"] {
+        for mtl in [
+            "newmtl a\nKd 0.5\n",
+            "newmtl a\nKs 1 1\n",
+            "newmtl a\nNs x\n",
+        ] {
             let e = with_mtl(mtl).unwrap_err();
             assert!(
                 matches!(&e, MeshError::Parse { path, .. } if path.ends_with("scene.mtl")),
@@ -826,7 +838,12 @@ newmtl unused
             load(&format!("{tri}vn 0 inf 1\nf 1//1 2//1 3//1\n"), None),
             Err(MeshError::NonFiniteNormal { index: 0 })
         ));
-        for obj in ["", "# nothing\n", &format!("{tri}l 1 2\np 3\n"), "v 0 0 0\nf 1 1 1\n"] {
+        for obj in [
+            "",
+            "# nothing\n",
+            &format!("{tri}l 1 2\np 3\n"),
+            "v 0 0 0\nf 1 1 1\n",
+        ] {
             assert!(
                 matches!(load(obj, None), Err(MeshError::NoTriangles { .. })),
                 "{obj:?}"
@@ -836,8 +853,8 @@ newmtl unused
 
     #[test]
     fn the_cornell_box_loads() {
-        let path = lgh_tests::shared_data()
-            .join("meshes/cornellbox_original/CornellBox-Original.obj");
+        let path =
+            lgh_tests::shared_data().join("meshes/cornellbox_original/CornellBox-Original.obj");
         if !path.exists() {
             eprintln!("SKIPPED: {} is not here", path.display());
             return;
@@ -851,7 +868,10 @@ newmtl unused
             .iter()
             .all(|m| matches!(m, Material::Lambert { .. })));
         let (lo, hi) = m.bounds();
-        assert_eq!((lo, hi), (Vec3::new(-1.02, 0.0, -1.04), Vec3::new(1.0, 1.99, 0.99)));
+        assert_eq!(
+            (lo, hi),
+            (Vec3::new(-1.02, 0.0, -1.04), Vec3::new(1.0, 1.99, 0.99))
+        );
         let red = Material::Lambert {
             albedo: Vec3::new(0.63, 0.065, 0.05),
         };

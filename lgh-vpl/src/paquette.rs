@@ -277,8 +277,8 @@ pub fn build(
         Surface::Specular => total[1],
     };
     let intensity = Vec3::splat(total / lights as f32);
-    let camera = Camera::new(eye, target, Vec3::Y, 60.0, width, height)
-        .map_err(SceneError::Camera)?;
+    let camera =
+        Camera::new(eye, target, Vec3::Y, 60.0, width, height).map_err(SceneError::Camera)?;
     Ok(Built {
         scene: Scene::new(mesh),
         lights: positions
@@ -335,7 +335,8 @@ fn logo_lights(n: usize) -> Vec<Vec3> {
         .iter()
         .flat_map(|s| s.windows(2).map(|w| (w[0], w[1])).collect::<Vec<_>>())
         .collect();
-    let len = |(a, b): &((f32, f32), (f32, f32))| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+    let len =
+        |(a, b): &((f32, f32), (f32, f32))| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
     let total: f32 = segments.iter().map(len).sum();
     let step = total / n as f32;
     let mut out = Vec::with_capacity(n);
@@ -382,12 +383,15 @@ pub struct PaperRow {
     pub speedup: f64,
 }
 
+/// RT seconds, Ward %, LH %, speed-up.
+type PaperNumbers = (f64, f64, f64, f64);
+
 /// The paper's Tables 2 (diffuse) and 3 (specular), as printed.
 pub fn paper_table() -> Vec<PaperRow> {
     use Surface::{Diffuse, Specular};
     use TestScene::{Cluster, Strings, Udem};
     #[rustfmt::skip]
-    let rows: [(TestScene, Surface, [(f64, f64, f64, f64); 5]); 6] = [
+    let rows: [(TestScene, Surface, [PaperNumbers; 5]); 6] = [
         (Strings, Diffuse, [(11.4, 70.2, 91.2, 1.1), (87.5, 70.3, 73.5, 1.4), (550.6, 68.3, 42.4, 2.4), (2716.3, 70.8, 18.4, 5.4), (13157.1, 72.5, 5.7, 17.6)]),
         (Udem, Diffuse, [(14.8, 64.9, 85.1, 1.2), (108.6, 60.0, 44.4, 2.3), (632.6, 57.8, 16.2, 6.2), (3114.9, 58.7, 4.2, 23.6), (14609.3, 59.5, 1.1, 90.1)]),
         (Cluster, Diffuse, [(8.6, 107.0, 95.3, 1.0), (33.9, 112.4, 90.9, 1.1), (136.1, 119.6, 74.1, 1.3), (545.5, 127.6, 47.0, 2.1), (2179.6, 135.6, 33.5, 3.0)]),

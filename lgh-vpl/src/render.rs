@@ -161,7 +161,12 @@ mod tests {
     fn floor() -> Mesh {
         let c = |x: f32, z: f32| Vec3::new(x, 0.0, z);
         Mesh::quad(
-            [c(-10.0, 10.0), c(10.0, 10.0), c(10.0, -10.0), c(-10.0, -10.0)],
+            [
+                c(-10.0, 10.0),
+                c(10.0, 10.0),
+                c(10.0, -10.0),
+                c(-10.0, -10.0),
+            ],
             FLOOR,
         )
         .unwrap()
@@ -184,8 +189,8 @@ mod tests {
         let lights = lights(40);
         let backend = BruteForce::new(&lights).unwrap();
         // Looking down at the floor; the top rows see the sky.
-        let camera = Camera::new(Vec3::new(0.0, 3.0, 5.0), Vec3::ZERO, Vec3::Y, 60.0, 24, 16)
-            .unwrap();
+        let camera =
+            Camera::new(Vec3::new(0.0, 3.0, 5.0), Vec3::ZERO, Vec3::Y, 60.0, 24, 16).unwrap();
         let rows = std::sync::atomic::AtomicUsize::new(0);
         let got = render(&scene, &camera, &backend, |n| {
             rows.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
@@ -219,7 +224,8 @@ mod tests {
                 if want == Vec3::ZERO {
                     assert_eq!(px, want, "pixel ({x}, {y})");
                 } else {
-                    worst = worst.max(((px - want).abs() / want.max(Vec3::splat(1e-6))).max_element());
+                    worst =
+                        worst.max(((px - want).abs() / want.max(Vec3::splat(1e-6))).max_element());
                 }
             }
         }
@@ -229,7 +235,10 @@ mod tests {
         // relative; the Phong lobe (R·E)^30 multiplies the cosine's error by 30, so 1e-4 bounds
         // it with room (measured: 5.7e-6).
         assert!(worst < 1e-4, "largest relative difference {worst}");
-        assert!(hits > 100 && hits < 24 * 16, "{hits} of the pixels see the floor");
+        assert!(
+            hits > 100 && hits < 24 * 16,
+            "{hits} of the pixels see the floor"
+        );
         assert_eq!(got.pixels_shaded, hits);
         assert_eq!(got.lights_shaded, hits * 40);
         assert_eq!(got.mean_lights(), 40.0);
@@ -269,8 +278,15 @@ mod tests {
         assert_eq!(one, two);
     }
 
-    /// A backend that refuses points with x > 0 and presents one unit light otherwise.
-    struct RefusesPositiveX;
+    /// Brute force over one unit light at (0, 5, 0), refusing points with x > 0.
+    struct RefusesPositiveX(BruteForce);
+
+    impl RefusesPositiveX {
+        fn new() -> Self {
+            let light = PointLight::new(Vec3::new(0.0, 5.0, 0.0), Vec3::ONE);
+            RefusesPositiveX(BruteForce::new(&[light]).unwrap())
+        }
+    }
 
     impl ManyLights for RefusesPositiveX {
         fn name(&self) -> &'static str {
@@ -285,21 +301,7 @@ mod tests {
             if point.position.x > 0.0 {
                 return Err(QueryError::NonFinitePoint);
             }
-            let (position, intensity) = (Vec3::new(0.0, 5.0, 0.0), Vec3::ONE);
-            Ok(Illumination {
-                radiance: shader.shade(&LightSample {
-                    level: 0,
-                    index: 0,
-                    position,
-                    intensity,
-                    variance: Vec3::ZERO,
-                    size: 0.0,
-                    distance: (position - point.position).length(),
-                    weight: 1.0,
-                    lobe: Lobe::All,
-                }),
-                lights: 1,
-            })
+            self.0.illuminate(point, shader)
         }
     }
 
@@ -307,12 +309,10 @@ mod tests {
     fn the_first_refused_pixel_is_the_error_and_custom_shaders_are_used() {
         let scene = Scene::new(floor());
         // Straight down at the floor: every pixel hits, the right half at x > 0.
-        let camera = Camera::new(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, 60.0, 8, 6)
-            .unwrap();
-        let e = render(&scene, &camera, &RefusesPositiveX, |_| {}).unwrap_err();
-        let first_right = (0..8)
-            .find(|&x| camera.ray(x, 0).1.x > 0.0)
-            .unwrap();
+        let camera =
+            Camera::new(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, 60.0, 8, 6).unwrap();
+        let e = render(&scene, &camera, &RefusesPositiveX::new(), |_| {}).unwrap_err();
+        let first_right = (0..8).find(|&x| camera.ray(x, 0).1.x > 0.0).unwrap();
         assert_eq!(
             e,
             RenderError::Query {
@@ -332,8 +332,14 @@ mod tests {
             6,
         )
         .unwrap();
-        let r = render_with_shader(&scene, &left, &RefusesPositiveX, |_, l| l.intensity, |_| {})
-            .unwrap();
+        let r = render_with_shader(
+            &scene,
+            &left,
+            &RefusesPositiveX::new(),
+            |_, l| l.intensity,
+            |_| {},
+        )
+        .unwrap();
         assert!(r.image.pixels.iter().all(|&p| p == Vec3::ONE));
         assert_eq!((r.pixels_shaded, r.lights_shaded), (48, 48));
     }
