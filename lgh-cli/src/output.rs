@@ -117,7 +117,12 @@ pub fn render_and_write(
             format!("{:.2}", st.lights_per_point()),
         ));
     }
-    let png = write(out, &image, &settings_attributes(march, backend, &extra))?;
+    let png = write_exr_png(
+        out,
+        &image,
+        &settings_attributes(march, backend, &extra),
+        None,
+    )?;
     Ok(Written {
         stats,
         seconds,
@@ -155,10 +160,17 @@ fn settings_attributes(
     attrs
 }
 
-/// Writes the EXR and the PNG beside it (auto exposure); returns the PNG's path.
-fn write(out: &Path, image: &Image, attrs: &[(String, String)]) -> Result<PathBuf, String> {
+/// Writes the EXR (with `attrs` in its header) and the PNG beside it, tone-mapped at `exposure`
+/// (`None`: automatic); returns the PNG's path.
+pub fn write_exr_png(
+    out: &Path,
+    image: &Image,
+    attrs: &[(String, String)],
+    exposure: Option<f32>,
+) -> Result<PathBuf, String> {
     let png = out.with_extension("png");
     lgh_image::write_exr(out, image, attrs)?;
-    lgh_image::write_png(&png, image, lgh_image::auto_exposure(image))?;
+    let exposure = exposure.unwrap_or_else(|| lgh_image::auto_exposure(image));
+    lgh_image::write_png(&png, image, exposure)?;
     Ok(png)
 }

@@ -7,7 +7,7 @@
 //! octree's. Times are wall-clock seconds of the render (the octree's and LGH's include building
 //! their hierarchy); errors are against brute force on the 8-bit scale of the paper.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use lgh_core::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
 use lgh_core::octree::{LightOctree, OctreeBackend, OctreeSettings};
@@ -167,7 +167,19 @@ fn case(
     if let Some(dir) = &args.out {
         let stem = format!("{}_{lights}_{}", scene.name(), surface.name());
         for (name, m) in [("brute", &rt), ("octree", &octree), ("lgh", &lgh_m)] {
-            write(dir, &format!("{stem}_{name}"), &m.image)?;
+            let attrs = [
+                ("backend", name.to_string()),
+                ("scene", scene.name().to_string()),
+                ("lights", lights.to_string()),
+                ("material", surface.name().to_string()),
+                ("threshold_8bit", args.threshold.to_string()),
+                ("render_seconds", format!("{:.3}", m.seconds)),
+                ("version", env!("CARGO_PKG_VERSION").to_string()),
+            ]
+            .map(|(k, v)| (format!("lgh:{k}"), v));
+            // Exposure 1: radiance 1 is white, as on the paper's 8-bit scale.
+            let exr = dir.join(format!("{stem}_{name}.exr"));
+            crate::output::write_exr_png(&exr, &m.image, &attrs, Some(1.0))?;
         }
     }
     Ok(json!({
@@ -189,13 +201,6 @@ fn case(
         "lgh": { "alpha": alpha, "matched_octree_error": lgh_m.max_error <= octree.max_error,
                  "build_seconds": build, "method": method_json(&lgh_m, rt.seconds) },
     }))
-}
-
-/// Writes `image` as `dir/stem.exr` and `dir/stem.png` (exposure 1: radiance 1 is white).
-fn write(dir: &Path, stem: &str, image: &Image) -> Result<(), String> {
-    let exr = dir.join(format!("{stem}.exr"));
-    lgh_image::write_exr(&exr, image, &[])?;
-    lgh_image::write_png(&exr.with_extension("png"), image, 1.0)
 }
 
 /// The paper's row for a case.

@@ -40,6 +40,24 @@ pub struct LightSample {
     pub lobe: Lobe,
 }
 
+impl LightSample {
+    /// Input light `index` — a point at full weight — seen from `x`, to be shaded for `lobe`.
+    #[inline]
+    pub fn point(index: u32, position: Vec3, intensity: Vec3, x: Vec3, lobe: Lobe) -> Self {
+        LightSample {
+            level: 0,
+            index,
+            position,
+            intensity,
+            variance: Vec3::ZERO,
+            size: 0.0,
+            distance: (position - x).length(),
+            weight: 1.0,
+            lobe,
+        }
+    }
+}
+
 /// The material at a shading point, for backends that bound a light's contribution.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Material {
@@ -284,17 +302,13 @@ impl ManyLights for BruteForce {
         let mut radiance = Vec3::ZERO;
         for i in 0..self.len() {
             let (position, intensity) = self.light(i);
-            radiance += shader.shade(&LightSample {
-                level: 0,
-                index: i as u32,
+            radiance += shader.shade(&LightSample::point(
+                i as u32,
                 position,
                 intensity,
-                variance: Vec3::ZERO,
-                size: 0.0,
-                distance: (position - x).length(),
-                weight: 1.0,
-                lobe: Lobe::All,
-            });
+                x,
+                Lobe::All,
+            ));
         }
         Ok(Illumination {
             radiance,

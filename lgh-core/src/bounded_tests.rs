@@ -35,6 +35,19 @@ fn rounding(n: usize, sum: f64) -> f64 {
     n as f64 * f64::from(f32::EPSILON) * 0.5 * sum
 }
 
+/// `Ok` if every channel of `got` is within `bound` of the exact `want` (plus the rounding of a
+/// sum of `n` terms), else what went wrong.
+fn within(got: Vec3, want: &[f64; 3], bound: f64, n: usize) -> Result<(), alloc::string::String> {
+    for a in 0..3 {
+        let err = (f64::from(got[a]) - want[a]).abs();
+        let allowed = bound + rounding(n, want[a]);
+        if err > allowed {
+            return Err(alloc::format!("channel {a}: error {err} > {allowed}"));
+        }
+    }
+    Ok(())
+}
+
 /// The scene: clumped lights and shading points inside and around them.
 fn scene(n: usize, seed: u64) -> (Vec<PointLight>, Vec<ShadingPoint>) {
     let lights = clumped_lights(n, seed);
@@ -68,11 +81,8 @@ proptest! {
         for p in &points {
             let want = exact(p, &lights);
             let (got, _) = shade(&backend, p);
-            for a in 0..3 {
-                let err = (f64::from(got[a]) - want[a]).abs();
-                let allowed = terms(p) * f64::from(t) + rounding(n, want[a]);
-                prop_assert!(err <= allowed, "error {err} > {allowed} at {p:?}");
-            }
+            let r = within(got, &want, terms(p) * f64::from(t), n);
+            prop_assert!(r.is_ok(), "{r:?} at {p:?}");
         }
     }
 
@@ -88,10 +98,8 @@ proptest! {
         for p in &points {
             let want = exact(p, &lights);
             let (got, _) = shade(&backend, p);
-            for a in 0..3 {
-                let err = (f64::from(got[a]) - want[a]).abs();
-                prop_assert!(err <= f64::from(t) + rounding(n, want[a]));
-            }
+            let r = within(got, &want, f64::from(t), n);
+            prop_assert!(r.is_ok(), "{r:?} at {p:?}");
         }
     }
 }
@@ -226,11 +234,9 @@ fn degenerate_scenes_are_handled() {
         )
         .0;
         assert!(lc.is_finite());
-        for a in 0..3 {
-            let allowed = 2.0 * f64::from(t) + rounding(set.len(), want[a]);
-            assert!((f64::from(octree[a]) - want[a]).abs() <= allowed);
-            assert!((f64::from(ward[a]) - want[a]).abs() <= allowed);
-        }
+        let bound = 2.0 * f64::from(t);
+        within(octree, &want, bound, set.len()).unwrap();
+        within(ward, &want, bound, set.len()).unwrap();
     }
     // Thresholds must be finite and > 0.
     let tree = LightOctree::build(&lights, &OctreeSettings::default()).unwrap();

@@ -149,6 +149,18 @@ pub enum QueryError {
     InvalidSurface,
 }
 
+impl QueryError {
+    /// `threshold` if it is a finite number > 0, the error otherwise: the one rule for the
+    /// octree's and Ward's absolute `T` and Lightcuts' relative ε.
+    pub fn check_threshold(threshold: f32) -> Result<f32, QueryError> {
+        if threshold.is_finite() && threshold > 0.0 {
+            Ok(threshold)
+        } else {
+            Err(QueryError::InvalidThreshold { threshold })
+        }
+    }
+}
+
 impl fmt::Display for QueryError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -63,6 +63,7 @@ pub mod metrics;
 pub mod morton;
 pub mod octree;
 mod radix;
+mod ranked;
 pub mod reflection;
 pub mod spectrum;
 pub mod testsets;

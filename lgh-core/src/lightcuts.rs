@@ -22,12 +22,12 @@
 
 use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
-use core::cmp::Ordering;
 use glam::Vec3;
 
 use crate::backend::{Illumination, LightSample, ManyLights, Material, Shader, ShadingPoint};
 use crate::error::{BuildError, QueryError};
 use crate::light::PointLight;
+use crate::ranked::Ranked;
 use crate::reflection::Lobe;
 use crate::testsets::SplitMix64;
 
@@ -197,31 +197,6 @@ pub struct LightcutsBackend<'a> {
     settings: LightcutsSettings,
 }
 
-/// A cluster of the cut: its error bound (largest channel), node and estimate.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct InCut {
-    bound: f32,
-    node: u32,
-    estimate: Vec3,
-}
-
-impl Eq for InCut {}
-
-impl PartialOrd for InCut {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for InCut {
-    /// Largest bound first, ties by node index.
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.bound
-            .total_cmp(&other.bound)
-            .then(other.node.cmp(&self.node))
-    }
-}
-
 /// The material bound `M_ub` of a cluster box seen from a point, per unit intensity and with the
 /// `1/d_min²` of `G_ub` folded in; infinite if the point is in the box.
 fn cluster_bound(point: &ShadingPoint, lo: Vec3, hi: Vec3) -> Vec3 {
@@ -256,33 +231,32 @@ fn cluster_bound(point: &ShadingPoint, lo: Vec3, hi: Vec3) -> Vec3 {
 impl<'a> LightcutsBackend<'a> {
     /// Lightcuts over `tree` (ε finite and > 0, `max_cut` ≥ 1).
     pub fn new(tree: &'a LightTree, settings: LightcutsSettings) -> Result<Self, QueryError> {
-        let e = settings.relative_error;
-        if !(e.is_finite() && e > 0.0) || settings.max_cut == 0 {
+        let e = QueryError::check_threshold(settings.relative_error)?;
+        if settings.max_cut == 0 {
             return Err(QueryError::InvalidThreshold { threshold: e });
         }
         Ok(LightcutsBackend { tree, settings })
     }
 
-    /// The cluster `k` entering the cut: its estimate (the shader at the representative with the
-    /// cluster's intensity) and bound.
-    fn enter<S: Shader>(&self, point: &ShadingPoint, k: u32, shader: &mut S) -> InCut {
+    /// The cluster `k` entering the cut, ranked by its bound, with its estimate: the shader at
+    /// the representative with the cluster's intensity.
+    fn enter<S: Shader>(&self, point: &ShadingPoint, k: u32, shader: &mut S) -> Ranked<Vec3> {
         let c = &self.tree.nodes[k as usize];
         let position = self.tree.lights[c.representative as usize].position;
         let estimate = shader.shade(&LightSample {
-            level: 0,
-            index: c.representative,
-            position,
-            intensity: c.intensity,
-            variance: Vec3::ZERO,
             size: (c.bounds.1 - c.bounds.0).length(),
-            distance: (position - point.position).length(),
-            weight: 1.0,
-            lobe: Lobe::All,
+            ..LightSample::point(
+                c.representative,
+                position,
+                c.intensity,
+                point.position,
+                Lobe::All,
+            )
         });
-        InCut {
-            bound: c.error_bound(point),
-            node: k,
-            estimate,
+        Ranked {
+            key: c.error_bound(point),
+            index: k,
+            item: estimate,
         }
     }
 }
@@ -304,37 +278,32 @@ impl ManyLights for LightcutsBackend<'_> {
         if self.tree.nodes.is_empty() {
             return Ok(out);
         }
-        let mut cut = BinaryHeap::with_capacity(64);
         let root = self.enter(point, 0, shader);
-        let mut total = root.estimate;
-        out.lights = 1;
-        cut.push(root);
-        let mut size = 1;
-        while size < self.settings.max_cut {
+        let mut total = root.item;
+        let mut cut = BinaryHeap::from([root]);
+        while cut.len() < self.settings.max_cut {
             let Some(&top) = cut.peek() else { break };
             // NaN-safe: refine unless the bound is known to be small enough.
-            if top.bound <= self.settings.relative_error * total.max_element() {
+            if top.key <= self.settings.relative_error * total.max_element() {
                 break;
             }
             // A single light has bound 0, so only a NaN estimate gets a leaf here.
-            let Some(kids) = self.tree.nodes[top.node as usize].children else {
+            let Some(kids) = self.tree.nodes[top.index as usize].children else {
                 break;
             };
             cut.pop();
-            total -= top.estimate;
+            total -= top.item;
             for k in kids {
                 let entry = self.enter(point, k, shader);
-                total += entry.estimate;
+                total += entry.item;
                 cut.push(entry);
             }
-            out.lights += 2;
-            size += 1;
         }
-        // Summed afresh in node order, not from the running total: deterministic and free of the
-        // running sum's cancellation.
-        let mut entries = cut.into_vec();
-        entries.sort_unstable_by_key(|e| e.node);
-        out.radiance = entries.iter().fold(Vec3::ZERO, |acc, e| acc + e.estimate);
+        // Summed afresh in heap order (which depends only on the input, so deterministic), not
+        // from the running total, which cancellation may have eroded.
+        out.radiance = cut.iter().fold(Vec3::ZERO, |acc, e| acc + e.item);
+        // One shader call for the root, two per refinement, each of which grew the cut by one.
+        out.lights = 2 * cut.len() as u32 - 1;
         Ok(out)
     }
 }

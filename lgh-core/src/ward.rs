@@ -17,43 +17,12 @@
 
 use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
-use core::cmp::Ordering;
 use glam::Vec3;
 
 use crate::backend::{BruteForce, Illumination, LightSample, ManyLights, Shader, ShadingPoint};
 use crate::error::QueryError;
+use crate::ranked::Ranked;
 use crate::reflection::{reflected, Lobe};
-
-/// A light's potential contribution, ordered by its largest channel.
-#[derive(Clone, Copy, Debug)]
-struct Potential {
-    key: f32,
-    index: u32,
-    value: Vec3,
-}
-
-impl PartialEq for Potential {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for Potential {}
-
-impl PartialOrd for Potential {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Potential {
-    /// Largest key first, ties by the lower index.
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.key
-            .total_cmp(&other.key)
-            .then(other.index.cmp(&self.index))
-    }
-}
 
 /// Ward's method over the lights of a [`BruteForce`], with absolute threshold `T`.
 #[derive(Clone, Copy, Debug)]
@@ -66,10 +35,10 @@ impl<'a> WardBackend<'a> {
     /// Ward's method over `lights` with threshold `threshold` (radiance units, per channel; finite
     /// and > 0).
     pub fn new(lights: &'a BruteForce, threshold: f32) -> Result<Self, QueryError> {
-        if !(threshold.is_finite() && threshold > 0.0) {
-            return Err(QueryError::InvalidThreshold { threshold });
-        }
-        Ok(WardBackend { lights, threshold })
+        Ok(WardBackend {
+            lights,
+            threshold: QueryError::check_threshold(threshold)?,
+        })
     }
 
     /// The threshold `T`.
@@ -94,14 +63,14 @@ impl ManyLights for WardBackend<'_> {
         }
         let n = self.lights.len();
         // Potential contributions, keyed by each light's largest channel.
-        let potential: Vec<Potential> = (0..n)
+        let potential: Vec<Ranked<Vec3>> = (0..n)
             .map(|i| {
                 let (position, intensity) = self.lights.light(i);
                 let value = reflected(point, position, intensity, Lobe::All);
-                Potential {
+                Ranked {
                     key: value.max_element(),
                     index: i as u32,
-                    value,
+                    item: value,
                 }
             })
             .collect();
@@ -116,23 +85,19 @@ impl ManyLights for WardBackend<'_> {
             let Some(p) = heap.pop() else { break };
             left -= f64::from(p.key);
             let (position, intensity) = self.lights.light(p.index as usize);
-            out.radiance += shader.shade(&LightSample {
-                level: 0,
-                index: p.index,
+            out.radiance += shader.shade(&LightSample::point(
+                p.index,
                 position,
                 intensity,
-                variance: Vec3::ZERO,
-                size: 0.0,
-                distance: (position - x).length(),
-                weight: 1.0,
-                lobe: Lobe::All,
-            });
-            tested_potential += p.value;
+                x,
+                Lobe::All,
+            ));
+            tested_potential += p.item;
             out.lights += 1;
         }
         if !heap.is_empty() {
             // In heap order, which depends only on the input: deterministic.
-            let untested = heap.iter().fold(Vec3::ZERO, |acc, p| acc + p.value);
+            let untested = heap.iter().fold(Vec3::ZERO, |acc, p| acc + p.item);
             // Ward's estimate: the untested potential times the fraction the tested lights
             // delivered (all of it when nothing was tested or nothing was potential).
             let delivered = Vec3::select(

@@ -188,6 +188,19 @@ fn floor(x: (f32, f32), z: (f32, f32), y: f32, m: Material) -> Result<Mesh, Mesh
     )
 }
 
+/// A vertical rectangle standing on the ground from `a` to `b` (their `(x, z)`), `height` tall.
+fn upright(a: (f32, f32), b: (f32, f32), height: f32, m: Material) -> Result<Mesh, MeshError> {
+    Mesh::quad(
+        [
+            Vec3::new(a.0, 0.0, a.1),
+            Vec3::new(b.0, 0.0, b.1),
+            Vec3::new(b.0, height, b.1),
+            Vec3::new(a.0, height, a.1),
+        ],
+        m,
+    )
+}
+
 /// Builds `which` with `lights` equal lights and `surface` materials, seen by a `width × height`
 /// camera.
 pub fn build(
@@ -206,15 +219,7 @@ pub fn build(
         TestScene::Strings => {
             let mut mesh = floor((-14.0, 14.0), (-8.0, 8.0), 0.0, ground)?;
             for z in [-8.0f32, 8.0] {
-                mesh.append(Mesh::quad(
-                    [
-                        Vec3::new(-14.0, 0.0, z),
-                        Vec3::new(14.0, 0.0, z),
-                        Vec3::new(14.0, 10.0, z),
-                        Vec3::new(-14.0, 10.0, z),
-                    ],
-                    wall,
-                )?)?;
+                mesh.append(upright((-14.0, z), (14.0, z), 10.0, wall)?)?;
             }
             let positions = light_strings(lights).iter().map(|l| l.position).collect();
             (
@@ -238,25 +243,9 @@ pub fn build(
         }
         TestScene::Cluster => {
             let mut mesh = floor((-4.0, 7.0), (-4.0, 4.0), 0.0, ground)?;
-            mesh.append(Mesh::quad(
-                [
-                    Vec3::new(7.0, 0.0, 4.0),
-                    Vec3::new(7.0, 0.0, -4.0),
-                    Vec3::new(7.0, 5.0, -4.0),
-                    Vec3::new(7.0, 5.0, 4.0),
-                ],
-                wall,
-            )?)?;
+            mesh.append(upright((7.0, 4.0), (7.0, -4.0), 5.0, wall)?)?;
             for z in [-4.0f32, 4.0] {
-                mesh.append(Mesh::quad(
-                    [
-                        Vec3::new(-4.0, 0.0, z),
-                        Vec3::new(7.0, 0.0, z),
-                        Vec3::new(7.0, 5.0, z),
-                        Vec3::new(-4.0, 5.0, z),
-                    ],
-                    wall,
-                )?)?;
+                mesh.append(upright((-4.0, z), (7.0, z), 5.0, wall)?)?;
             }
             // A uniform cube of side 1 centred 1.5 m above the floor.
             let mut rng = SplitMix64(0xC1A5_7E12);

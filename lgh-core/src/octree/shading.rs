@@ -16,13 +16,13 @@
 
 use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
-use core::cmp::Ordering;
 use glam::Vec3;
 
 use super::bounds::{diffuse_bound, specular_bound, virtual_cosines, NodeView};
 use super::{LightOctree, OctreeNode};
 use crate::backend::{Illumination, LightSample, ManyLights, Material, Shader, ShadingPoint};
 use crate::error::QueryError;
+use crate::ranked::Ranked;
 use crate::reflection::Lobe;
 
 /// Nodes with at most this many lights are summed exactly: evaluating a bound and a virtual light
@@ -42,30 +42,6 @@ pub const EXACT_SUM_LIGHTS: usize = 3;
 pub struct OctreeBackend<'a> {
     tree: &'a LightOctree,
     threshold: f32,
-}
-
-/// A listed node: its bound (for its largest channel) and index.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Listed {
-    bound: f32,
-    node: u32,
-}
-
-impl Eq for Listed {}
-
-impl PartialOrd for Listed {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Listed {
-    /// Largest bound first; ties by node index, so refinement order is deterministic.
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.bound
-            .total_cmp(&other.bound)
-            .then(other.node.cmp(&self.node))
-    }
 }
 
 /// Which term a traversal bounds.
@@ -123,10 +99,10 @@ impl<'a> OctreeBackend<'a> {
     /// The backend for `tree` with absolute threshold `threshold` (radiance units, per channel;
     /// finite and > 0).
     pub fn new(tree: &'a LightOctree, threshold: f32) -> Result<Self, QueryError> {
-        if !(threshold.is_finite() && threshold > 0.0) {
-            return Err(QueryError::InvalidThreshold { threshold });
-        }
-        Ok(OctreeBackend { tree, threshold })
+        Ok(OctreeBackend {
+            tree,
+            threshold: QueryError::check_threshold(threshold)?,
+        })
     }
 
     /// The octree.
@@ -188,7 +164,7 @@ impl<'a> OctreeBackend<'a> {
         shader: &mut S,
         out: &mut Illumination,
         stack: &mut Vec<u32>,
-        list: &mut BinaryHeap<Listed>,
+        list: &mut BinaryHeap<Ranked<()>>,
     ) {
         let nodes = self.tree.nodes();
         let lobe = term.lobe(point);
@@ -207,7 +183,11 @@ impl<'a> OctreeBackend<'a> {
                 match term.bound(point, node) {
                     Some(bound) if bound < self.threshold => {
                         listed_sum += f64::from(bound);
-                        list.push(Listed { bound, node: i });
+                        list.push(Ranked {
+                            key: bound,
+                            index: i,
+                            item: (),
+                        });
                     }
                     _ => self.open(point, i, lobe, shader, out, stack),
                 }
@@ -217,22 +197,22 @@ impl<'a> OctreeBackend<'a> {
             }
             // The listed bounds sum above T: treat the largest one level lower.
             let Some(largest) = list.pop() else { break };
-            listed_sum -= f64::from(largest.bound);
-            self.open(point, largest.node, lobe, shader, out, stack);
+            listed_sum -= f64::from(largest.key);
+            self.open(point, largest.index, lobe, shader, out, stack);
         }
         if matches!(term, Term::Diffuse { .. }) {
             for entry in list.iter() {
-                let node = &nodes[entry.node as usize];
+                let node = &nodes[entry.index as usize];
                 out.radiance += shader.shade(&LightSample {
                     level: 1,
-                    index: entry.node,
-                    position: node.light.position,
-                    intensity: node.light.intensity,
-                    variance: Vec3::ZERO,
                     size: node.diagonal(),
-                    distance: (node.light.position - point.position).length(),
-                    weight: 1.0,
-                    lobe,
+                    ..LightSample::point(
+                        entry.index,
+                        node.light.position,
+                        node.light.intensity,
+                        point.position,
+                        lobe,
+                    )
                 });
                 out.lights += 1;
             }
@@ -269,17 +249,13 @@ impl<'a> OctreeBackend<'a> {
         out: &mut Illumination,
     ) {
         for (k, light) in self.tree.lights_of(node).iter().enumerate() {
-            out.radiance += shader.shade(&LightSample {
-                level: 0,
-                index: node.start + k as u32,
-                position: light.position,
-                intensity: light.intensity,
-                variance: Vec3::ZERO,
-                size: 0.0,
-                distance: (light.position - point.position).length(),
-                weight: 1.0,
+            out.radiance += shader.shade(&LightSample::point(
+                node.start + k as u32,
+                light.position,
+                light.intensity,
+                point.position,
                 lobe,
-            });
+            ));
         }
         out.lights += node.count() as u32;
     }
