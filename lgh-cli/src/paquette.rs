@@ -66,6 +66,8 @@ struct Measured {
     max_error: u8,
     mean_error: f64,
     image: Image,
+    /// Lights shaded per pixel (0 where no surface is seen).
+    lights_map: Vec<u32>,
 }
 
 fn measure<B: ManyLights + Sync>(
@@ -92,7 +94,48 @@ fn measure<B: ManyLights + Sync>(
         max_error,
         mean_error,
         image: rendered.image,
+        lights_map: rendered.lights_map,
     })
+}
+
+/// Upper edges (8-bit levels) of the brightness classes of [`cost_by_brightness`].
+const BRIGHTNESS_EDGES: [f32; 5] = [4.0, 16.0, 64.0, 256.0, f32::INFINITY];
+
+/// A method's mean lights shaded per pixel, by how bright brute force makes the pixel (its
+/// largest channel in 8-bit levels): an absolute threshold costs more where the image is bright.
+fn cost_by_brightness(m: &Measured, rt: &Measured) -> Value {
+    let mut classes = [(0u64, 0u64); BRIGHTNESS_EDGES.len()];
+    // Brute force shades every light at every pixel that sees a surface, and none elsewhere.
+    for ((px, &seen), &cost) in rt
+        .image
+        .pixels
+        .iter()
+        .zip(&rt.lights_map)
+        .zip(&m.lights_map)
+    {
+        if seen > 0 {
+            let level = 255.0 * px.max_element();
+            let k = BRIGHTNESS_EDGES.iter().position(|&e| level < e);
+            let k = k.unwrap_or(BRIGHTNESS_EDGES.len() - 1);
+            classes[k].0 += 1;
+            classes[k].1 += u64::from(cost);
+        }
+    }
+    let mut below = 0.0;
+    let rows = BRIGHTNESS_EDGES
+        .iter()
+        .zip(classes)
+        .map(|(&edge, (pixels, lights))| {
+            let row = json!({
+                "from_8bit": below,
+                "below_8bit": if edge.is_finite() { json!(edge) } else { Value::Null },
+                "pixels": pixels,
+                "lights_per_pixel": if pixels > 0 { lights as f64 / pixels as f64 } else { 0.0 },
+            });
+            below = edge;
+            row
+        });
+    Value::Array(rows.collect())
 }
 
 fn method_json(m: &Measured, rt: f64) -> Value {
@@ -196,6 +239,7 @@ fn case(
         "max_error_8bit": octree.max_error,
         "mean_error_8bit": octree.mean_error,
         "octree": method_json(&octree, rt.seconds),
+        "octree_cost_by_brightness": cost_by_brightness(&octree, &rt),
         "ward": method_json(&ward, rt.seconds),
         "lightcuts": method_json(&lightcuts, rt.seconds),
         "lgh": { "alpha": alpha, "matched_octree_error": lgh_m.max_error <= octree.max_error,

@@ -539,6 +539,18 @@ fn paquette_reports_the_papers_keys_and_keeps_the_bound() {
     assert!(v["max_error_8bit"].as_u64().unwrap() <= 3, "{v}");
     assert!(v["ward"]["max_error_8bit"].as_u64().unwrap() <= 3, "{v}");
     assert_eq!(v["paper"]["speedup"], 32.8);
+    // The cost by brightness partitions the shaded pixels: its classes average back to the
+    // octree's lights per pixel.
+    let classes = v["octree_cost_by_brightness"].as_array().unwrap();
+    let (pixels, lights) = classes.iter().fold((0.0, 0.0), |(p, l), c| {
+        let n = c["pixels"].as_f64().unwrap();
+        (p + n, l + n * c["lights_per_pixel"].as_f64().unwrap())
+    });
+    let mean = v["octree"]["lights_per_pixel"].as_f64().unwrap();
+    assert!(
+        pixels > 0.0 && (lights / pixels - mean).abs() < 1e-9 * mean,
+        "{v}"
+    );
     // The renders are there, and the octree's EXR agrees with brute force as reported.
     let brute = lgh_image::read_exr(&dir.path().join("udem_256_specular_brute.exr")).unwrap();
     let octree = lgh_image::read_exr(&dir.path().join("udem_256_specular_octree.exr")).unwrap();

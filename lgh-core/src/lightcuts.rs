@@ -19,6 +19,13 @@
 //! representative, picked at random with probability proportional to the child's intensity (a
 //! seeded hash, so the tree is reproducible) — or as the brightest light of the cluster, the
 //! deterministic variant.
+//!
+//! Either way a cluster's representative is one of its children's, and as in Walter et al. (§4)
+//! refining a cluster shades only the other child: the child that inherits the representative
+//! gets the parent's estimate scaled by `I_child / I_C` per channel, which is the same value when
+//! the shader is linear in the light's intensity (any physical shader is) and does not depend on
+//! [`LightSample::size`] (the cluster's extent, which differs between parent and child).
+//! [`LightcutsSettings::reuse_representative`] turns this off for other shaders.
 
 use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
@@ -178,14 +185,19 @@ pub struct LightcutsSettings {
     pub relative_error: f32,
     /// The largest cut.
     pub max_cut: usize,
+    /// Reuse a refined cluster's estimate for the child that shares its representative (one
+    /// shader call per refinement instead of two; see the module docs for what it assumes of the
+    /// shader).
+    pub reuse_representative: bool,
 }
 
 impl Default for LightcutsSettings {
-    /// Walter et al.'s 2 % and 1000.
+    /// Walter et al.'s 2 % and 1000, reusing representatives.
     fn default() -> Self {
         LightcutsSettings {
             relative_error: 0.02,
             max_cut: 1000,
+            reuse_representative: true,
         }
     }
 }
@@ -253,8 +265,28 @@ impl<'a> LightcutsBackend<'a> {
                 Lobe::All,
             )
         });
+        self.ranked(point, k, estimate)
+    }
+
+    /// The child `k` of `parent` that shares its representative, entering the cut with the
+    /// parent's estimate scaled by the intensity ratio (no shader call).
+    fn inherit(&self, point: &ShadingPoint, k: u32, parent: &Ranked<Vec3>) -> Ranked<Vec3> {
+        let (c, p) = (
+            &self.tree.nodes[k as usize],
+            &self.tree.nodes[parent.index as usize],
+        );
+        // I_child ≤ I_C per channel; a dark channel of the parent is dark in the child too.
+        let ratio = Vec3::select(
+            p.intensity.cmpgt(Vec3::ZERO),
+            c.intensity / p.intensity,
+            Vec3::ZERO,
+        );
+        self.ranked(point, k, parent.item * ratio)
+    }
+
+    fn ranked(&self, point: &ShadingPoint, k: u32, estimate: Vec3) -> Ranked<Vec3> {
         Ranked {
-            key: c.error_bound(point),
+            key: self.tree.nodes[k as usize].error_bound(point),
             index: k,
             item: estimate,
         }
@@ -281,6 +313,7 @@ impl ManyLights for LightcutsBackend<'_> {
         let root = self.enter(point, 0, shader);
         let mut total = root.item;
         let mut cut = BinaryHeap::from([root]);
+        let mut calls = 1u32;
         while cut.len() < self.settings.max_cut {
             let Some(&top) = cut.peek() else { break };
             // NaN-safe: refine unless the bound is known to be small enough.
@@ -293,8 +326,15 @@ impl ManyLights for LightcutsBackend<'_> {
             };
             cut.pop();
             total -= top.item;
+            let parent = &self.tree.nodes[top.index as usize];
             for k in kids {
-                let entry = self.enter(point, k, shader);
+                let shared = parent.representative == self.tree.nodes[k as usize].representative;
+                let entry = if shared && self.settings.reuse_representative {
+                    self.inherit(point, k, &top)
+                } else {
+                    calls += 1;
+                    self.enter(point, k, shader)
+                };
                 total += entry.item;
                 cut.push(entry);
             }
@@ -302,8 +342,7 @@ impl ManyLights for LightcutsBackend<'_> {
         // Summed afresh in heap order (which depends only on the input, so deterministic), not
         // from the running total, which cancellation may have eroded.
         out.radiance = cut.iter().fold(Vec3::ZERO, |acc, e| acc + e.item);
-        // One shader call for the root, two per refinement, each of which grew the cut by one.
-        out.lights = 2 * cut.len() as u32 - 1;
+        out.lights = calls;
         Ok(out)
     }
 }

@@ -31,6 +31,9 @@ pub struct Rendered {
     pub pixels_shaded: u64,
     /// Lights (or clusters) shaded, summed over shaded pixels ([`lgh_core::Illumination::lights`]).
     pub lights_shaded: u64,
+    /// Lights (or clusters) shaded at each pixel, top row first: the backend's cost map (0 where
+    /// the ray hits nothing).
+    pub lights_map: Vec<u32>,
 }
 
 impl Rendered {
@@ -108,13 +111,15 @@ where
 {
     let width = camera.width();
     let mut image = Image::new(width, camera.height());
+    let mut lights_map = vec![0u32; image.pixels.len()];
     let rows: Vec<Result<(u64, u64), RenderError>> = image
         .pixels
         .par_chunks_mut(width)
+        .zip(lights_map.par_chunks_mut(width))
         .enumerate()
-        .map(|(y, row)| {
+        .map(|(y, (row, costs))| {
             let (mut pixels, mut lights) = (0u64, 0u64);
-            for (x, px) in row.iter_mut().enumerate() {
+            for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
                 let (origin, dir) = camera.ray(x, y);
                 let Some(point) = scene.first_hit(origin, dir) else {
                     continue;
@@ -123,6 +128,7 @@ where
                     .illuminate(&point, &mut |light: &LightSample| shade(&point, light))
                     .map_err(|error| RenderError::Query { x, y, error })?;
                 *px = sum.radiance;
+                *cost = sum.lights;
                 pixels += 1;
                 lights += u64::from(sum.lights);
             }
@@ -140,6 +146,7 @@ where
         image,
         pixels_shaded,
         lights_shaded,
+        lights_map,
     })
 }
 
@@ -242,6 +249,10 @@ mod tests {
         assert_eq!(got.pixels_shaded, hits);
         assert_eq!(got.lights_shaded, hits * 40);
         assert_eq!(got.mean_lights(), 40.0);
+        // The cost map: every light at each pixel that sees the floor, none at the sky's.
+        let counted: Vec<u32> = got.lights_map.iter().copied().filter(|&c| c > 0).collect();
+        assert_eq!(counted.len() as u64, hits);
+        assert!(counted.iter().all(|&c| c == 40));
     }
 
     #[test]
