@@ -8,6 +8,12 @@
 //! smaller), provided `Δd_max < d`. Reflection about the normal is an isometry, so the mirror
 //! directions `R_i` differ from `R_v` by at most the same angle: `Δα_max = Δθ_max` (§4.3.1).
 //!
+//! We widen by `tan Δθ_max = Δd_max / (d − Δd_max)` itself instead of its arctangent: it is no
+//! smaller (`x ≥ atan x`), so every bound stays valid, and it saves the `atanf` that was a tenth of
+//! the octree's shading instructions (callgrind, U de M, 16384 lights: 297.7 → 267.4 million). The
+//! nodes the bounds accept are seen under small angles, where the two agree to `x²/3`: the lights
+//! shaded per pixel rose by 0.04 % there.
+//!
 //! The model bounded is [`reflected`](crate::reflection::reflected) with its clamps: the cosines are
 //! `max(0, ·)`, and the bounds widen the virtual light's *unclamped* cosine by the angle (cos is
 //! 1-Lipschitz, rule (8)) before clamping, which keeps them valid when part of the node is below the
@@ -25,7 +31,7 @@ pub(crate) struct NodeView {
     pub d: f32,
     /// `Δd_max`: the minimal box's diagonal.
     pub spread: f32,
-    /// `Δθ_max = atan(Δd_max / (d − Δd_max))`.
+    /// `tan Δθ_max = Δd_max / (d − Δd_max)`, an upper bound on the angle `Δθ_max` (module docs).
     pub angle: f32,
     /// Unit direction from the point to the virtual light.
     pub dir: Vec3,
@@ -45,7 +51,7 @@ impl NodeView {
         Some(NodeView {
             d,
             spread,
-            angle: libm::atanf(spread / (d - spread)),
+            angle: spread / (d - spread),
             dir: to / d,
         })
     }
@@ -180,8 +186,9 @@ mod tests {
         assert_eq!(diffuse_bound(&v, 0.5, v.angle), 0.0);
         assert!(NodeView::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 2.0).is_none());
         assert!(NodeView::new(Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 2.0), 0.1).is_none());
-        // Δθ_max grows as the point nears the cluster: atan(1 / (2 − 1)) = 45°.
+        // The widening grows as the point nears the cluster: tan Δθ_max = 1 / (2 − 1) = 1, above
+        // Δθ_max = 45° and the true largest angle asin(1/2) = 30°.
         let v = NodeView::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 1.0).unwrap();
-        assert!((v.angle - core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+        assert_eq!(v.angle, 1.0);
     }
 }
