@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::Path;
 
-/// Files larger than this are refused before reading.
+/// Files larger than this are refused, and never read past ([`lgh_image::read_limited`]).
 pub use lgh_image::MAX_INPUT_BYTES as MAX_FILE_BYTES;
 
 /// A PLY scalar type.
@@ -151,17 +151,8 @@ impl PointCloud {
 
 /// Reads the vertex element of the PLY file at `path`.
 pub fn read(path: &Path) -> Result<PointCloud, String> {
-    let meta =
-        std::fs::metadata(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(format!(
-            "{}: {} bytes is larger than the {} GiB limit",
-            path.display(),
-            meta.len(),
-            MAX_FILE_BYTES >> 30
-        ));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let bytes = lgh_image::read_limited(path, MAX_FILE_BYTES)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     parse(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 

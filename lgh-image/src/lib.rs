@@ -3,7 +3,8 @@
 //! One place for what the volume and surface renderers and the CLI share: an RGB float
 //! [`Image`], atomic file writes ([`write_atomic`]), linear OpenEXR with the render settings as
 //! header attributes ([`write_exr`], [`read_exr`]), a tone-mapped sRGB PNG to look at
-//! ([`write_png`]), and the comparison of two images on luminance ([`compare`], [`difference_png`]).
+//! ([`write_png`]), the comparison of two images on luminance ([`compare`], [`difference_png`]),
+//! and input files read up to a size limit ([`read_limited`]).
 //!
 //! ```no_run
 //! use lgh_image::{write_exr, write_png, Image};
@@ -19,7 +20,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, Read, Write};
 use std::path::Path;
 
 use lgh_core::glam::Vec3;
@@ -73,9 +74,35 @@ pub fn check_image_size(width: usize, height: usize) -> Result<(), String> {
     }
 }
 
-/// Input files (VDB caches, PLY point sets) larger than this are refused before reading: 8 GiB,
-/// a third of a 24 GiB machine.
+/// Input files (VDB caches, PLY point sets, OBJ and MTL files) larger than this are refused, by
+/// [`read_limited`]: 8 GiB, a third of a 24 GiB machine.
 pub const MAX_INPUT_BYTES: u64 = 8 << 30;
+
+/// The bytes of the file at `path`, refused with an [`ErrorKind::FileTooLarge`] error if there
+/// are more than `max_bytes`. The size a regular file reports refuses it before reading; what
+/// reports none (a FIFO, a device) is read through `take(max_bytes + 1)`, so never past the limit.
+///
+/// [`ErrorKind::FileTooLarge`]: std::io::ErrorKind::FileTooLarge
+pub fn read_limited(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
+    let too_large = || {
+        std::io::Error::new(
+            std::io::ErrorKind::FileTooLarge,
+            format!("the file is larger than the limit of {max_bytes} bytes"),
+        )
+    };
+    let file = std::fs::File::open(path)?;
+    let size = file.metadata()?.len();
+    if size > max_bytes {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
 
 /// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
 /// if everything succeeded. On any error the temporary file is removed and `path` is untouched.
@@ -405,6 +432,30 @@ mod tests {
         let a = tonemap(Vec3::splat(0.2), 1.0);
         let b = tonemap(Vec3::splat(2.0), 1.0);
         assert!(a[0] < b[0] && b[0] < 255);
+    }
+
+    #[test]
+    fn read_limited_refuses_files_and_streams_past_the_limit() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("ten");
+        std::fs::write(&p, b"0123456789").unwrap();
+        assert_eq!(read_limited(&p, 10).unwrap(), b"0123456789");
+        let e = read_limited(&p, 9).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::FileTooLarge);
+        assert!(
+            e.to_string().contains("larger than the limit of 9 bytes"),
+            "{e}"
+        );
+        let missing = read_limited(&dir.path().join("none"), 10).unwrap_err();
+        assert_eq!(missing.kind(), std::io::ErrorKind::NotFound);
+        // An endless stream whose metadata says 0 bytes: refused after max + 1 bytes.
+        #[cfg(unix)]
+        assert_eq!(
+            read_limited(Path::new("/dev/zero"), 1000)
+                .unwrap_err()
+                .kind(),
+            std::io::ErrorKind::FileTooLarge
+        );
     }
 
     #[test]

@@ -2,11 +2,11 @@
 //!
 //! **Build**: top-down binned surface-area heuristic (16 bins per axis over the triangles'
 //! centroid bounds; cost `1 + (A_L N_L + A_R N_R) / A` against a leaf's `N`, as in pbrt-v3).
-//! Leaves hold at most [`MAX_LEAF`] triangles. Below depth 64, or where every centroid coincides,
-//! a node is split at its median instead, so no tree is deeper than 64 + 32 levels and the
-//! traversal stack is a fixed array. The build partitions the triangles' boxes themselves (so
-//! each pass reads memory in order), is serial and deterministic: the same mesh always gives the
-//! same tree.
+//! Leaves hold at most [`MAX_LEAF`] triangles. At depth ≥ 64 (the root is depth 0), or where
+//! every centroid coincides, a node is split at its median instead, so no tree is deeper than
+//! 64 + 32 levels and the traversal stack is a fixed array. The build partitions the triangles'
+//! boxes themselves (so each pass reads memory in order), is serial and deterministic: the same
+//! mesh always gives the same tree.
 //!
 //! **Layout**: nodes flattened depth-first into one array (32 bytes each; the left child follows
 //! its parent, the right child's index is stored); the leaves' triangles copied in leaf order.
@@ -21,8 +21,9 @@
 //! rays in Sponza; with these, the closest hit agrees bit for bit with a loop over every triangle
 //! with the same test (the tests check it on random triangles with coplanar overlaps, the bench
 //! on Sponza). Hits count for `0 < t < t_max` (the ray's parameter); a hit at `t` barely above 0
-//! on the surface a ray starts from is possible, so rays leaving a surface (shadow rays) must
-//! start slightly off it.
+//! on the surface a ray starts from, or barely below `t_max` on the surface it ends on, is
+//! possible, so a shadow ray from one surface to another (to a VPL, which lies on a surface) must
+//! have both ends moved slightly off their surfaces.
 
 use lgh_core::glam::{Vec3, Vec3A};
 
@@ -31,10 +32,13 @@ use crate::mesh::Mesh;
 /// The largest number of triangles in a leaf.
 pub const MAX_LEAF: usize = 8;
 
+// A leaf's triangle count is stored in a `u16`, and 0 marks interior nodes.
+const _: () = assert!(MAX_LEAF >= 1 && MAX_LEAF <= u16::MAX as usize);
+
 /// Bins per axis of the binned SAH.
 const BINS: usize = 16;
 
-/// Depth below which nodes are split at the median instead of by the SAH.
+/// Nodes at depth ≥ this (the root is depth 0) are split at the median instead of by the SAH.
 const MAX_SAH_DEPTH: u32 = 64;
 
 /// Traversal stack size: at most `MAX_SAH_DEPTH` SAH levels plus 32 median levels (2³² leaves).
@@ -148,18 +152,23 @@ impl Ray {
 
     /// True if the ray enters the box `lo..hi` before `t_max`, both far ends widened by
     /// `1 + 2γ₃` so rounding cannot cull a hit on the box's face, nor one a few ulps nearer than
-    /// the best so far (a coplanar overlapping face). NaN slabs (a zero direction component with
-    /// the origin on the slab's plane) are ignored, which is conservative.
+    /// the best so far (a coplanar overlapping face). NaN slab ends (`0 · ∞`: a zero direction
+    /// component with the origin on the slab's plane, where the ray runs inside the closed slab)
+    /// are ignored, which is conservative; the other slabs still count.
     #[inline]
     fn hits_box(&self, lo: Vec3, hi: Vec3, t_max: f32) -> bool {
         // 1 + 2γ₃ with γₙ = nε/(1 − nε), ε = 2⁻²⁴: pbrt's robust slab test.
         const WIDEN: f32 =
             1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
-        let t0 = (lo - self.origin) * self.inv_dir;
-        let t1 = (hi - self.origin) * self.inv_dir;
-        let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element();
-        near <= far.min(t_max) * WIDEN
+        // Near and far planes by the sign of 1/dir (so of a zero component too), not by min and
+        // max of the two ends, which would turn (NaN, ±∞) into a slab of ±∞ that culls the box.
+        let negative = self.inv_dir.cmplt(Vec3::ZERO);
+        let t_near = (Vec3::select(negative, hi, lo) - self.origin) * self.inv_dir;
+        let t_far = (Vec3::select(negative, lo, hi) - self.origin) * self.inv_dir;
+        // f32::max and f32::min return the other operand for a NaN: NaN ends drop out.
+        let near = t_near.x.max(t_near.y).max(t_near.z).max(0.0);
+        let far = t_far.x.min(t_far.y).min(t_far.z).min(t_max);
+        near <= far * WIDEN
     }
 }
 
@@ -187,6 +196,23 @@ struct Node {
     axis: u8,
 }
 
+impl Node {
+    /// True for a leaf, which holds triangles; an interior node holds two children.
+    fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+
+    /// The index of an interior node's right child (its left child is the node after it).
+    fn right_child(&self) -> usize {
+        self.offset as usize
+    }
+
+    /// The leaf-order indices of a leaf's triangles.
+    fn triangles(&self) -> std::ops::Range<usize> {
+        self.offset as usize..self.offset as usize + self.count as usize
+    }
+}
+
 /// A bounding volume hierarchy over the triangles of a [`Mesh`] (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Bvh {
@@ -200,10 +226,23 @@ pub struct Bvh {
 impl Bvh {
     /// Builds the hierarchy over `mesh`'s triangles.
     pub fn new(mesh: &Mesh) -> Bvh {
-        let n = mesh.triangles().len();
+        Bvh::build(mesh.triangles().len(), |id| mesh.corners(id))
+    }
+
+    /// Builds the hierarchy over `n` triangles (at most `u32::MAX`), triangle `id`'s corners
+    /// being `corners(id)`. No triangles give an empty hierarchy, without nodes, that no ray hits
+    /// (a [`Mesh`] always has a triangle, but a leaf of none would read as an interior node).
+    fn build(n: usize, corners: impl Fn(u32) -> [Vec3; 3]) -> Bvh {
+        if n == 0 {
+            return Bvh {
+                nodes: Vec::new(),
+                corners: Vec::new(),
+                ids: Vec::new(),
+            };
+        }
         let prims: Vec<Prim> = (0..n as u32)
             .map(|id| {
-                let [a, b, c] = mesh.corners(id).map(Vec3A::from);
+                let [a, b, c] = corners(id).map(Vec3A::from);
                 let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
                 Prim {
                     lo,
@@ -221,7 +260,7 @@ impl Bvh {
         let Builder { prims, nodes } = builder;
         Bvh {
             nodes,
-            corners: prims.iter().map(|p| mesh.corners(p.id)).collect(),
+            corners: prims.iter().map(|p| corners(p.id)).collect(),
             ids: prims.iter().map(|p| p.id).collect(),
         }
     }
@@ -231,16 +270,19 @@ impl Bvh {
         self.nodes.len()
     }
 
-    /// Depth of the tree (1 for a single leaf).
+    /// Depth of the tree (1 for a single leaf, 0 for an empty tree).
     pub fn depth(&self) -> usize {
         let mut deepest = 0;
-        let mut stack = vec![(0usize, 1usize)];
+        let mut stack = Vec::new();
+        if !self.nodes.is_empty() {
+            stack.push((0usize, 1usize));
+        }
         while let Some((i, d)) = stack.pop() {
             deepest = deepest.max(d);
             let node = &self.nodes[i];
-            if node.count == 0 {
+            if !node.is_leaf() {
                 stack.push((i + 1, d + 1));
-                stack.push((node.offset as usize, d + 1));
+                stack.push((node.right_child(), d + 1));
             }
         }
         deepest
@@ -263,8 +305,9 @@ impl Bvh {
     }
 
     /// True if any triangle meets the open segment from `origin` to `target` (an any-hit
-    /// query, for shadow rays: start them slightly off the surface they leave). False when
-    /// `origin == target` or either is not finite.
+    /// query, for shadow rays: move both ends slightly off the surfaces they lie on, the one the
+    /// ray leaves and, for a VPL, the one it ends on). False when `origin == target` or either is
+    /// not finite.
     pub fn occluded(&self, origin: Vec3, target: Vec3) -> bool {
         let ray = Ray::segment(origin, target);
         let mut hit = false;
@@ -278,10 +321,12 @@ impl Bvh {
     }
 
     /// Visits the leaf triangles (leaf-order indices) whose boxes `ray` enters before the current
-    /// `t_max`; `visit(t_max, i)` returns a new, smaller `t_max` when it accepts a hit.
+    /// `t_max`, starting from `ray.t_max()`. `visit(t_max, i)` returns `None` to leave `t_max`
+    /// as it is, or `Some(t)` to make `t` the new `t_max` (the `t < t_max` of an accepted hit);
+    /// `Some(t)` with `t <= 0`, such as `Some(0.0)`, stops the traversal at once.
     #[inline]
     fn traverse(&self, ray: &Ray, mut visit: impl FnMut(f32, usize) -> Option<f32>) {
-        if !ray.is_valid() {
+        if !ray.is_valid() || self.nodes.is_empty() {
             return;
         }
         let negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
@@ -292,19 +337,19 @@ impl Bvh {
         loop {
             let node = &self.nodes[index];
             if ray.hits_box(node.lo, node.hi, t_max) {
-                if node.count == 0 {
+                if !node.is_leaf() {
+                    let (left, right) = (index + 1, node.right_child());
                     let (near, far) = if negative[node.axis as usize] {
-                        (node.offset, index as u32 + 1)
+                        (right, left)
                     } else {
-                        (index as u32 + 1, node.offset)
+                        (left, right)
                     };
-                    stack[top] = far;
+                    stack[top] = far as u32;
                     top += 1;
-                    index = near as usize;
+                    index = near;
                     continue;
                 }
-                let first = node.offset as usize;
-                for i in first..first + node.count as usize {
+                for i in node.triangles() {
                     if let Some(t) = visit(t_max, i) {
                         t_max = t;
                         if t_max <= 0.0 {
@@ -353,7 +398,7 @@ struct Builder {
 }
 
 impl Builder {
-    /// Builds the node over `prims[start..end]` and its subtree; returns its index.
+    /// Builds the node over `prims[start..end]` (not empty) and its subtree; returns its index.
     fn node(&mut self, start: usize, end: usize, depth: u32) -> u32 {
         let index = self.nodes.len();
         self.nodes.push(Node::default());
@@ -664,6 +709,41 @@ mod tests {
             }
         }
         assert!(checked > 4900, "{checked}");
+    }
+
+    #[test]
+    fn rays_in_the_plane_of_a_box_face_hit_and_nan_slabs_are_ignored() {
+        // A triangle standing on z = 0 with its bottom edge along y. Rays along x with zero y and
+        // z components (of either sign) run in the plane of its box's face z = 0, where the slab
+        // test computes 0 · ∞ = NaN, and meet that edge at t = 1.
+        let tri = [
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 2.0),
+        ];
+        let bvh = Bvh::new(&soup(&[tri]));
+        for dir in [Vec3::X, Vec3::new(1.0, -0.0, -0.0)] {
+            let ray = Ray::new(Vec3::ZERO, dir);
+            assert_eq!(
+                ray.hit_triangle(&tri, f32::INFINITY).map(|h| h.0),
+                Some(1.0)
+            );
+            assert_eq!(bvh.intersect(&ray).map(|h| h.t), Some(1.0), "{dir}");
+            assert!(bvh.occluded(Vec3::ZERO, 2.0 * dir), "{dir}");
+        }
+        // The NaN slab (z) drops out, the others still count: y keeps this box off the ray.
+        let ray = Ray::new(Vec3::ZERO, Vec3::X);
+        let (lo, hi) = (Vec3::new(5.0, 5.0, -1.0), Vec3::new(6.0, 6.0, 0.0));
+        assert!(!ray.hits_box(lo, hi, f32::INFINITY));
+        assert!(ray.hits_box(Vec3::new(lo.x, -1.0, lo.z), hi, f32::INFINITY));
+    }
+
+    #[test]
+    fn an_empty_hierarchy_has_no_nodes_and_hits_nothing() {
+        let empty = Bvh::build(0, |_| unreachable!());
+        assert_eq!((empty.node_count(), empty.depth()), (0, 0));
+        assert_eq!(empty.intersect(&Ray::new(Vec3::ZERO, Vec3::X)), None);
+        assert!(!empty.occluded(Vec3::ZERO, Vec3::X));
     }
 
     #[test]

@@ -10,7 +10,6 @@
 
 use std::cell::RefCell;
 use std::fmt;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use lgh_core::glam::Vec3;
@@ -50,10 +49,9 @@ pub enum MeshError {
     TooLarge {
         /// The file.
         path: PathBuf,
-        /// Its size in bytes.
-        bytes: u64,
     },
-    /// A file is not valid OBJ or MTL.
+    /// A file is not valid OBJ or MTL (not UTF-8 text, a malformed statement, a face index out
+    /// of range, …).
     Parse {
         /// The file.
         path: PathBuf,
@@ -95,9 +93,9 @@ impl fmt::Display for MeshError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             MeshError::Io { path, error } => write!(f, "cannot read {}: {error}", path.display()),
-            MeshError::TooLarge { path, bytes } => write!(
+            MeshError::TooLarge { path } => write!(
                 f,
-                "{} is {bytes} bytes, more than the {} bytes an input may have",
+                "{} is larger than the {} bytes an input may have",
                 path.display(),
                 lgh_image::MAX_INPUT_BYTES
             ),
@@ -239,7 +237,8 @@ impl Mesh {
         Mesh::new(positions, Vec::new(), triangles, vec![material])
     }
 
-    /// Adds `other`'s triangles and materials to this mesh.
+    /// Adds `other`'s positions, normals, triangles and materials to this mesh. Materials are not
+    /// deduplicated: one that both meshes have is listed twice.
     pub fn append(&mut self, other: Mesh) -> Result<(), MeshError> {
         let counts = [
             self.positions.len() + other.positions.len(),
@@ -269,9 +268,13 @@ impl Mesh {
     }
 
     /// Reads a Wavefront OBJ file and the MTL files it names (`mtllib`, relative to the OBJ's
-    /// folder). Polygons are triangulated as fans; points, lines and texture coordinates are
+    /// folder). `tobj` reads the rest of an `mtllib` line as a single path (so names may contain
+    /// spaces): `mtllib a.mtl b.mtl` names one file, `a.mtl b.mtl`; write one `mtllib` line per
+    /// file. Polygons are triangulated as fans; points, lines and texture coordinates are
     /// ignored. Vertex normals are used if every corner of every face names one; otherwise
-    /// every face is shaded with its face normal.
+    /// every face is shaded with its face normal. A face's position, texture and normal indices
+    /// must each be 1 to `n` or −`n` to −1 (counting back), where `n` is the number of
+    /// positions, texture coordinates or normals before the face in the file.
     ///
     /// MTL mapping: `Kd` → diffuse reflectance, `Ks` → specular reflectance, `Ns` → Phong
     /// exponent; `Ks` absent or zero gives [`Material::Lambert`] with albedo `Kd`, otherwise
@@ -280,10 +283,13 @@ impl Mesh {
     /// without `usemtl`, or naming a material no MTL file defines, get [`DEFAULT_MATERIAL`].
     ///
     /// Errors: a missing or unreadable OBJ or MTL file, a file larger than
-    /// [`lgh_image::MAX_INPUT_BYTES`], a parse error, non-finite coordinates, negative or
-    /// non-finite material values, no triangle of non-zero area.
+    /// [`lgh_image::MAX_INPUT_BYTES`], a parse error (text that is not UTF-8 included), a face
+    /// index out of range, non-finite coordinates, negative or non-finite material values, no
+    /// triangle of non-zero area.
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
         let text = read_text(path)?;
+        // Before tobj, which panics on some indices out of range.
+        let normals_everywhere = check_faces(path, &text)?;
         let folder = path.parent().unwrap_or(Path::new(""));
         // The first MTL error, with its path: tobj only keeps a bare error code.
         let mtl_error: RefCell<Option<MeshError>> = RefCell::new(None);
@@ -320,7 +326,7 @@ impl Mesh {
         })?;
         // Every MTL file loaded (their errors returned above), so this is Ok or "none named".
         let materials = materials.unwrap_or_default();
-        from_tobj(&models, &materials, every_face_has_normals(&text))
+        from_tobj(&models, &materials, normals_everywhere)
     }
 
     /// Vertex positions.
@@ -375,7 +381,7 @@ impl Mesh {
         let n = self.normals[a as usize] * (1.0 - u - v)
             + self.normals[b as usize] * u
             + self.normals[c as usize] * v;
-        let n = n.normalize_or_zero();
+        let n = unit_or_zero(n);
         if n == Vec3::ZERO {
             self.face_normal(t)
         } else {
@@ -415,9 +421,19 @@ fn glam_mask(i: u32) -> lgh_core::glam::BVec3 {
     lgh_core::glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0)
 }
 
-/// The unit normal of a triangle, or zero if it has no area (in f32).
+/// The unit normal of a triangle, or zero if the cross product of its edges is zero (no area in
+/// f32) or an edge is not finite. Each edge is scaled to a largest component of 1 first, so the
+/// cross product of a huge triangle cannot overflow nor that of a tiny one underflow.
 fn face_normal([a, b, c]: [Vec3; 3]) -> Vec3 {
-    (b - a).cross(c - a).normalize_or_zero()
+    let scaled = |e: Vec3| e / e.abs().max_element();
+    unit_or_zero(scaled(b - a).cross(scaled(c - a)))
+}
+
+/// `v` at unit length, or zero if `v` is zero or not finite. `v` is divided by its largest
+/// component first, so its squared length can neither overflow nor underflow.
+fn unit_or_zero(v: Vec3) -> Vec3 {
+    // A zero `v` becomes NaN here, which `normalize_or_zero` turns into zero.
+    (v / v.abs().max_element()).normalize_or_zero()
 }
 
 /// Why `m` cannot be a surface material, if it cannot.
@@ -431,30 +447,38 @@ fn check_material(m: &Material) -> Result<(), &'static str> {
         Material::Phong { kd, ks, .. } if !colour(kd) || !colour(ks) => {
             Err("Kd and Ks must be finite and non-negative")
         }
-        Material::Phong { exponent, .. } if !(exponent.is_finite() && exponent >= 0.0) => {
-            Err("the Phong exponent Ns must be finite and non-negative")
-        }
+        Material::Phong { exponent, .. } => check_exponent(exponent),
         _ => Ok(()),
     }
 }
 
-/// The text of `path`, after checking its size against [`lgh_image::MAX_INPUT_BYTES`].
-fn read_text(path: &Path) -> Result<String, MeshError> {
-    let io = |error| MeshError::Io {
-        path: path.to_owned(),
-        error,
-    };
-    let mut file = std::fs::File::open(path).map_err(io)?;
-    let bytes = file.metadata().map_err(io)?.len();
-    if bytes > lgh_image::MAX_INPUT_BYTES {
-        return Err(MeshError::TooLarge {
-            path: path.to_owned(),
-            bytes,
-        });
+/// Why `exponent` cannot be a Phong exponent, if it cannot.
+fn check_exponent(exponent: f32) -> Result<(), &'static str> {
+    if exponent.is_finite() && exponent >= 0.0 {
+        Ok(())
+    } else {
+        Err("the Phong exponent Ns must be finite and non-negative")
     }
-    let mut text = String::new();
-    file.read_to_string(&mut text).map_err(io)?;
-    Ok(text)
+}
+
+/// The text of `path`, read up to [`lgh_image::MAX_INPUT_BYTES`]; bytes that are not UTF-8 are
+/// a parse error.
+fn read_text(path: &Path) -> Result<String, MeshError> {
+    let bytes = lgh_image::read_limited(path, lgh_image::MAX_INPUT_BYTES).map_err(|error| {
+        match error.kind() {
+            std::io::ErrorKind::FileTooLarge => MeshError::TooLarge {
+                path: path.to_owned(),
+            },
+            _ => MeshError::Io {
+                path: path.to_owned(),
+                error,
+            },
+        }
+    })?;
+    String::from_utf8(bytes).map_err(|e| MeshError::Parse {
+        path: path.to_owned(),
+        message: format!("not UTF-8 text ({e})"),
+    })
 }
 
 /// Reads the MTL file `path`, checking its colour statements for their three numbers: `tobj`
@@ -484,11 +508,8 @@ fn from_mtl(m: &tobj::Material) -> Result<Material, MeshError> {
     let kd = m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from);
     let ks = m.specular.map_or(Vec3::ZERO, Vec3::from);
     let exponent = m.shininess.unwrap_or(1.0);
-    if !(exponent.is_finite() && exponent >= 0.0) {
-        return Err(invalid(
-            "the Phong exponent Ns must be finite and non-negative",
-        ));
-    }
+    // Checked even where `Ks` is zero and the exponent unused.
+    check_exponent(exponent).map_err(invalid)?;
     let material = if ks == Vec3::ZERO {
         Material::Lambert { albedo: kd }
     } else {
@@ -498,15 +519,54 @@ fn from_mtl(m: &tobj::Material) -> Result<Material, MeshError> {
     Ok(material)
 }
 
-/// True if every corner of every face (`f`) in the OBJ text names a normal (`v//n`, `v/t/n`).
-fn every_face_has_normals(obj: &str) -> bool {
-    obj.lines()
-        .filter_map(|line| {
-            let mut words = line.split_whitespace();
-            (words.next() == Some("f")).then_some(words)
-        })
-        .flatten()
-        .all(|corner| corner.split('/').nth(2).is_some_and(|n| !n.is_empty()))
+/// Checks the indices of the faces (`f`) of the OBJ text `obj` read from `path`, and returns
+/// true if every corner of every face names a normal (`v//n`, `v/t/n`).
+///
+/// Each position, texture and normal index must be 1 to `n` or −`n` to −1, where `n` is the
+/// number of positions (`v`), texture coordinates (`vt`) or normals (`vn`) before the face:
+/// `tobj` 4.0.5 overflows on others (a panic in debug builds) and takes 0 for "no index".
+fn check_faces(path: &Path, obj: &str) -> Result<bool, MeshError> {
+    const WHAT: [&str; 3] = ["position", "texture coordinate", "normal"];
+    // Positions, texture coordinates and normals so far.
+    let mut counts = [0i64; 3];
+    let mut normals_everywhere = true;
+    for (line, text) in obj.lines().enumerate() {
+        let mut words = text.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f") => {
+                for corner in words {
+                    normals_everywhere &= corner.split('/').nth(2).is_some_and(|n| !n.is_empty());
+                    for (k, index) in corner.split('/').take(3).enumerate() {
+                        // An empty index is an absent one (`v//n`).
+                        let problem = match index.parse::<i64>() {
+                            _ if index.is_empty() => continue,
+                            Ok(i) if (1..=counts[k]).contains(&i) => continue,
+                            Ok(i) if (-counts[k]..=-1).contains(&i) => continue,
+                            Err(_) => "is not an integer".to_string(),
+                            Ok(_) if counts[k] == 0 => format!("has no {} before it", WHAT[k]),
+                            Ok(_) => format!(
+                                "is not 1 to {0} or -1 to -{0} ({1}s before it: {0})",
+                                counts[k], WHAT[k]
+                            ),
+                        };
+                        return Err(MeshError::Parse {
+                            path: path.to_owned(),
+                            message: format!(
+                                "line {}: {} index {index} in `{corner}` {problem}",
+                                line + 1,
+                                WHAT[k]
+                            ),
+                        });
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(normals_everywhere)
 }
 
 /// The mesh of `tobj`'s models and materials; faces without a known material get
@@ -849,6 +909,102 @@ newmtl unused
                 "{obj:?}"
             );
         }
+    }
+
+    #[test]
+    fn face_indices_out_of_range_or_zero_are_errors_naming_the_line() {
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+        for (obj, line) in [
+            // tobj 4.0.5 overflows on the first two, and reads index 0 as "missing".
+            (format!("{tri}vn 0 0 1\nf 1//-3 2//-3 3//-3\n"), 5),
+            (
+                format!("{tri}vn 0 0 1\nf 1//9000000000000000000 2//1 3//1\n"),
+                5,
+            ),
+            (format!("{tri}vn 0 0 1\nf 1//0 2//0 3//0\n"), 5),
+            (format!("{tri}vt 0 0\nf 1/-2 2/1 3/1\n"), 5),
+            (format!("{tri}vt 0 0\nf 1/0 2/1 3/1\n"), 5),
+            (format!("{tri}f 0 2 3\n"), 4),
+            (format!("{tri}f 1 2 -4\n"), 4),
+            (format!("{tri}f 1 2 -9223372036854775808\n"), 4),
+            // Counted so far: a face cannot name an element defined after it.
+            (format!("f 1 2 3\n{tri}"), 1),
+            (format!("{tri}vn 0 0 1\nf 1//1 2//1 3//2\nvn 0 0 1\n"), 5),
+        ] {
+            let e = load(&obj, None).unwrap_err();
+            let prefix = format!("line {line}: ");
+            assert!(
+                matches!(&e, MeshError::Parse { message, .. } if message.starts_with(&prefix)),
+                "{obj:?}: {e}"
+            );
+        }
+        // Negative indices count back from the last element read so far.
+        let m = load(
+            &format!(
+                "{tri}vn 0 0 1\nvt 0 0\nf -3/-1/-1 -2/-1/-1 -1/-1/-1\n\
+                 v 5 5 5\nv 6 5 5\nv 5 6 5\nvn 1 0 0\nf -3//-1 -2//-1 -1//-1\n"
+            ),
+            None,
+        )
+        .unwrap();
+        assert_eq!(m.triangles().len(), 2);
+        assert_eq!(
+            m.corners(1),
+            [
+                Vec3::splat(5.0),
+                Vec3::new(6.0, 5.0, 5.0),
+                Vec3::new(5.0, 6.0, 5.0)
+            ]
+        );
+        assert_eq!(
+            (m.shading_normal(0, 0.2, 0.2), m.shading_normal(1, 0.2, 0.2)),
+            (Vec3::Z, Vec3::X)
+        );
+    }
+
+    #[test]
+    fn huge_and_tiny_triangles_and_normals_are_kept_and_normalised() {
+        // Edges of 1e20: the cross product (1e40) overflows f32; of 1e-20, its square underflows.
+        for size in [1e20f32, 1e-20] {
+            let big = Vec3::new(size, 0.0, size);
+            let m = Mesh::new(
+                vec![Vec3::ZERO, Vec3::X * size, Vec3::Y * size],
+                vec![big],
+                vec![Triangle {
+                    vertices: [0, 1, 2],
+                    normals: Some([0, 0, 0]),
+                    material: 0,
+                }],
+                vec![GREY],
+            )
+            .unwrap();
+            assert_eq!(m.face_normal(0), Vec3::Z, "{size}");
+            let n = m.shading_normal(0, 0.3, 0.3);
+            assert!(
+                (n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6,
+                "{size}: {n}"
+            );
+        }
+    }
+
+    #[test]
+    fn non_utf8_obj_and_mtl_files_are_parse_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = dir.path().join("scene.obj");
+        let tri = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        std::fs::write(&obj, [&tri[..], b"# caf\xe9\n"].concat()).unwrap();
+        let e = Mesh::load_obj(&obj).unwrap_err();
+        assert!(
+            matches!(&e, MeshError::Parse { path, .. } if *path == obj),
+            "{e}"
+        );
+        std::fs::write(&obj, [b"mtllib scene.mtl\n", &tri[..]].concat()).unwrap();
+        std::fs::write(dir.path().join("scene.mtl"), b"newmtl caf\xe9\n").unwrap();
+        let e = Mesh::load_obj(&obj).unwrap_err();
+        assert!(
+            matches!(&e, MeshError::Parse { path, .. } if path.ends_with("scene.mtl")),
+            "{e}"
+        );
     }
 
     #[test]

@@ -15,8 +15,8 @@
 //! for specular surfaces) were set once, from brute-force renders with 1024 lights, so that the
 //! brightest 0.1 % of pixels sit near 0.85–0.9 of the range the 8-bit error measure maps to 255:
 //! the threshold of 1 % then means what it means in the paper. A pure `n = 200` lobe reflects a
-//! light only near its mirror direction, so the specular scenes need 11–25× brighter lights. The diffuse
-//! surfaces are Lambertian; the specular ones are pure Phong lobes with `n = 200` (§5.1).
+//! light only near its mirror direction, so the specular scenes need 11–26× brighter lights. The
+//! diffuse surfaces are Lambertian; the specular ones are pure Phong lobes with `n = 200` (§5.1).
 
 use std::fmt;
 use std::str::FromStr;
@@ -156,7 +156,15 @@ impl fmt::Display for SceneError {
     }
 }
 
-impl std::error::Error for SceneError {}
+impl std::error::Error for SceneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SceneError::LightCount(_) => None,
+            SceneError::Camera(e) => Some(e),
+            SceneError::Mesh(e) => Some(e),
+        }
+    }
+}
 
 impl From<MeshError> for SceneError {
     fn from(e: MeshError) -> Self {
@@ -404,4 +412,24 @@ pub fn paper_table() -> Vec<PaperRow> {
                 })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::error::Error;
+
+    #[test]
+    fn scene_errors_give_their_camera_or_mesh_error_as_source() {
+        let source = |e: &SceneError| e.source().map(|s| s.to_string());
+        let camera = CameraError::EyeAtTarget;
+        assert_eq!(
+            source(&SceneError::Camera(camera.clone())),
+            Some(camera.to_string())
+        );
+        let mesh = Mesh::quad([Vec3::ZERO; 4], Surface::Diffuse.material(0.5)).unwrap_err();
+        let text = mesh.to_string();
+        assert_eq!(source(&SceneError::Mesh(mesh)), Some(text));
+        assert!(SceneError::LightCount(0).source().is_none());
+    }
 }

@@ -19,7 +19,7 @@ use std::path::Path;
 use compress::{read_data, COMPRESS_ACTIVE_MASK};
 use cursor::Cursor;
 
-/// Files larger than this are refused before reading.
+/// Files larger than this are refused, and never read past ([`lgh_image::read_limited`]).
 pub use lgh_image::MAX_INPUT_BYTES as MAX_FILE_BYTES;
 
 /// Why a file could not be read.
@@ -349,15 +349,7 @@ impl VdbFile {
 /// Reads the OpenVDB file at `path`.
 pub fn read(path: &Path) -> Result<VdbFile, VdbError> {
     let io = |e: std::io::Error| VdbError::Io(format!("cannot read {}: {e}", path.display()));
-    let len = std::fs::metadata(path).map_err(io)?.len();
-    if len > MAX_FILE_BYTES {
-        return Err(VdbError::Io(format!(
-            "{}: {len} bytes is larger than the {} GiB limit",
-            path.display(),
-            MAX_FILE_BYTES >> 30
-        )));
-    }
-    parse(&std::fs::read(path).map_err(io)?)
+    parse(&lgh_image::read_limited(path, MAX_FILE_BYTES).map_err(io)?)
 }
 
 const MAGIC: u64 = 0x5644_4220;
