@@ -16,7 +16,7 @@ use lgh_core::metrics::ErrorStats;
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::explosion::{framing_bounds, procedural, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
-use lgh_volume::render::{Camera, MarchSettings, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
 use serde_json::{json, Value};
 
@@ -111,7 +111,7 @@ fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Result<Vec<[usize; 2]>, 
     let max = lum.iter().copied().fold(0.0f32, f32::max);
     let bright: Vec<[usize; 2]> = (0..lum.len())
         .filter(|&i| max > 0.0 && lum[i] > 0.01 * max)
-        .map(|i| [i % camera.width, i / camera.width])
+        .map(|i| [i % camera.width(), i / camera.width()])
         .collect();
     let step = bright.len().div_ceil(n.max(1)).max(1);
     Ok(bright.into_iter().step_by(step).collect())

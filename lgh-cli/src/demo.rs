@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgh_volume::explosion::{framing_bounds, procedural, Medium};
-use lgh_volume::render::Camera;
+use lgh_volume::render::{Camera, Framing};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
 use crate::output::{self, MarchArgs};

@@ -8,7 +8,7 @@ use lgh_core::glam::Vec3;
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::explosion::{grow_framing, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
-use lgh_volume::render::{Camera, MarchSettings, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
 use crate::output::{self, MarchArgs};

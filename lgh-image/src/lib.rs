@@ -4,7 +4,8 @@
 //! [`Image`], atomic file writes ([`write_atomic`]), linear OpenEXR with the render settings as
 //! header attributes ([`write_exr`], [`read_exr`]), a tone-mapped sRGB PNG to look at
 //! ([`write_png`]), the comparison of two images on luminance ([`compare`], [`difference_png`]),
-//! and input files read up to a size limit ([`read_limited`]).
+//! input files read up to a size limit ([`read_limited`]), and the pinhole camera the images
+//! are seen through ([`Pinhole`], in [`camera`]).
 //!
 //! ```no_run
 //! use lgh_image::{write_exr, write_png, Image};
@@ -19,6 +20,10 @@
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+
+pub mod camera;
+
+pub use camera::{CameraError, Pinhole};
 
 use std::io::{BufWriter, Read, Write};
 use std::path::Path;

@@ -19,7 +19,7 @@
 //!
 //! ```
 //! use lgh_volume::explosion::{procedural, Medium};
-//! use lgh_volume::render::{Camera, MarchSettings};
+//! use lgh_volume::render::{Camera, Framing, MarchSettings};
 //! use lgh_volume::scene::{Backend, ExplosionLights};
 //!
 //! let volume = procedural(32, 0.5)?;

@@ -46,7 +46,7 @@
 //! ```
 //! use lgh_volume::explosion::{procedural, Medium};
 //! use lgh_volume::pathtrace::{render, PathSettings};
-//! use lgh_volume::render::Camera;
+//! use lgh_volume::render::{Camera, Framing};
 //! use lgh_volume::lgh_core::glam::Vec3;
 //!
 //! let volume = procedural(32, 0.5)?;
@@ -64,7 +64,7 @@ use lgh_image::Image;
 use rayon::prelude::*;
 
 use crate::explosion::{Medium, Volume};
-use crate::render::Camera;
+use crate::render::{Camera, Framing};
 use crate::DenseGrid;
 
 /// Path-tracing parameters.
@@ -485,7 +485,7 @@ fn render_impl(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<(Image, Option<Image>), String> {
     settings.validate()?;
-    let (w, h) = (camera.width, camera.height);
+    let (w, h) = (camera.width(), camera.height());
     crate::render::check_image_size(w, h).map_err(|e| format!("path tracer: {e}"))?;
     let majorants = Majorants::new(volume, medium)?;
     let row = |y: usize, mean: &mut [Vec3], mut variance: Option<&mut [Vec3]>| {
@@ -521,11 +521,17 @@ fn pixel(
     y: usize,
 ) -> (Vec3, Vec3) {
     let dir = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-    let mut rng = pixel_rng(settings.seed, (y * camera.width + x) as u64);
+    let mut rng = pixel_rng(settings.seed, (y * camera.width() + x) as u64);
     let mut stats = Welford::default();
     for _ in 0..settings.spp {
         stats.add(radiance(
-            volume, medium, majorants, camera.eye, dir, settings, &mut rng,
+            volume,
+            medium,
+            majorants,
+            camera.eye(),
+            dir,
+            settings,
+            &mut rng,
         ));
     }
     stats.mean_and_variance_of_mean()

@@ -17,24 +17,41 @@ use crate::shadow::ShadowGrid;
 /// The one image-size rule of every renderer (it lives in lgh-image).
 pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
 
-/// A pinhole camera.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    /// Eye position.
-    pub eye: Vec3,
-    forward: Vec3,
-    right: Vec3,
-    up: Vec3,
-    tan_half_fov: f32,
-    /// Image width in pixels.
-    pub width: usize,
-    /// Image height in pixels.
-    pub height: usize,
+/// The pinhole camera, shared with the surface renderer: lgh-image's
+/// [`Pinhole`](lgh_image::camera::Pinhole). [`Framing`] adds what the volume renderer needs on
+/// top: string errors, the automatic framing of a box, and the check of pixel lists.
+pub use lgh_image::camera::Pinhole as Camera;
+
+/// The volume renderer's conveniences on [`Camera`] (implemented for it; bring the trait into
+/// scope to call `Camera::frame(...)`, `Camera::look_at(...)` or `camera.check_pixels(...)`).
+pub trait Framing: Sized {
+    /// A camera at `eye` looking at `target`, `up` roughly up, vertical field of view in degrees
+    /// and a `width × height` image: [`Camera::new`], its
+    /// [`CameraError`](lgh_image::camera::CameraError) as a message.
+    fn look_at(
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        fov_y: f32,
+        width: usize,
+        height: usize,
+    ) -> Result<Self, String>;
+
+    /// Frames the box `lo..hi` in a +Y-up world: [`frame_up`](Self::frame_up) with [`Up::Y`].
+    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, String>;
+
+    /// Frames the box `lo..hi`: looks at its centre from the front, a little to the right and
+    /// above, from the distance where the box's bounding sphere shrunk to 80% fills the narrower
+    /// field of view (40° vertically). Smoke rarely fills its box to the corners, and the full
+    /// sphere leaves it small in the frame.
+    fn frame_up(lo: Vec3, hi: Vec3, width: usize, height: usize, up: Up) -> Result<Self, String>;
+
+    /// Checks that every `(x, y)` of `pixels` is inside the image.
+    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), String>;
 }
 
-impl Camera {
-    /// A camera at `eye` looking at `target`, `up` roughly up, vertical field of view in degrees.
-    pub fn look_at(
+impl Framing for Camera {
+    fn look_at(
         eye: Vec3,
         target: Vec3,
         up: Vec3,
@@ -42,46 +59,14 @@ impl Camera {
         width: usize,
         height: usize,
     ) -> Result<Self, String> {
-        let forward = (target - eye).normalize_or_zero();
-        let right = forward.cross(up).normalize_or_zero();
-        if forward == Vec3::ZERO || right == Vec3::ZERO || !eye.is_finite() {
-            return Err(
-                "camera: eye, target and up must be finite, distinct and not collinear".into(),
-            );
-        }
-        if !(fov_y > 0.0 && fov_y < 179.0) {
-            return Err(format!(
-                "camera: field of view {fov_y}° must be in (0, 179)"
-            ));
-        }
-        check_image_size(width, height).map_err(|e| format!("camera: {e}"))?;
-        Ok(Camera {
-            eye,
-            forward,
-            right,
-            up: right.cross(forward),
-            tan_half_fov: (0.5 * fov_y).to_radians().tan(),
-            width,
-            height,
-        })
+        Camera::new(eye, target, up, fov_y, width, height).map_err(|e| e.to_string())
     }
 
-    /// Frames the box `lo..hi` in a +Y-up world: [`frame_up`](Self::frame_up) with [`Up::Y`].
-    pub fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, String> {
+    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, String> {
         Camera::frame_up(lo, hi, width, height, Up::Y)
     }
 
-    /// Frames the box `lo..hi`: looks at its centre from the front, a little to the right and
-    /// above, from the distance where the box's bounding sphere shrunk to 80% fills the narrower
-    /// field of view (40° vertically). Smoke rarely fills its box to the corners, and the full
-    /// sphere leaves it small in the frame.
-    pub fn frame_up(
-        lo: Vec3,
-        hi: Vec3,
-        width: usize,
-        height: usize,
-        up: Up,
-    ) -> Result<Self, String> {
+    fn frame_up(lo: Vec3, hi: Vec3, width: usize, height: usize, up: Up) -> Result<Self, String> {
         let centre = 0.5 * (lo + hi);
         let radius = 0.8 * 0.5 * (hi - lo).length();
         let fov_y = 40.0f32;
@@ -93,26 +78,18 @@ impl Camera {
         Camera::look_at(centre + dir * distance, centre, upv, fov_y, width, height)
     }
 
-    /// Checks that every `(x, y)` of `pixels` is inside the image.
-    pub fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), String> {
+    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), String> {
         match pixels
             .iter()
-            .find(|p| p[0] >= self.width || p[1] >= self.height)
+            .find(|p| p[0] >= self.width() || p[1] >= self.height())
         {
             Some(p) => Err(format!(
                 "pixel {p:?} is outside the {}x{} image",
-                self.width, self.height
+                self.width(),
+                self.height()
             )),
             None => Ok(()),
         }
-    }
-
-    /// Direction of the ray through pixel position `(x, y)` (pixel centres at +0.5; y down).
-    pub fn direction(&self, x: f32, y: f32) -> Vec3 {
-        let aspect = self.width as f32 / self.height as f32;
-        let u = (2.0 * x / self.width as f32 - 1.0) * self.tan_half_fov * aspect;
-        let v = (1.0 - 2.0 * y / self.height as f32) * self.tan_half_fov;
-        (self.forward + u * self.right + v * self.up).normalize()
     }
 }
 
@@ -407,17 +384,17 @@ pub fn render<B: ManyLights + Sync>(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<(Image, RenderStats), String> {
     let marcher = Marcher::for_lights(volume, medium, settings, lights.is_some())?;
-    let mut image = Image::new(camera.width, camera.height);
+    let mut image = Image::new(camera.width(), camera.height());
     let stats = image
         .pixels
-        .par_chunks_mut(camera.width)
+        .par_chunks_mut(camera.width())
         .enumerate()
         .map(|(y, row)| {
             let mut stats = RenderStats::default();
             let mut scratch = Scratch::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-                *px = marcher.march_with(lights, camera.eye, d, &mut stats, &mut scratch);
+                *px = marcher.march_with(lights, camera.eye(), d, &mut stats, &mut scratch);
             }
             progress(1);
             stats
@@ -447,7 +424,7 @@ pub fn render_pixels<B: ManyLights + Sync>(
         .map_init(Scratch::default, |scratch, &[x, y]| {
             let mut stats = RenderStats::default();
             let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-            let radiance = marcher.march_with(lights, camera.eye, d, &mut stats, scratch);
+            let radiance = marcher.march_with(lights, camera.eye(), d, &mut stats, scratch);
             (radiance, stats)
         })
         .collect();
@@ -542,10 +519,21 @@ mod tests {
         let c = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 64, 36).unwrap();
         // The centre pixel looks at the box centre.
         let d = c.direction(32.0, 18.0);
-        assert!((c.eye + d * (c.eye.length())).length() < 1e-3);
+        assert!((c.eye() + d * (c.eye().length())).length() < 1e-3);
         assert!(Camera::look_at(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 40.0, 8, 8).is_err());
         assert!(Camera::look_at(Vec3::ZERO, Vec3::Y, Vec3::Y, 40.0, 8, 8).is_err());
         assert!(Camera::look_at(Vec3::ZERO, Vec3::X, Vec3::Y, 0.0, 8, 8).is_err());
         assert!(Camera::look_at(Vec3::ZERO, Vec3::X, Vec3::Y, 40.0, 0, 8).is_err());
+        // The messages are the shared camera's.
+        assert_eq!(
+            Camera::look_at(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 40.0, 8, 8),
+            Err(lgh_image::camera::CameraError::EyeAtTarget.to_string())
+        );
+        // Pixel lists are checked against the image size.
+        assert!(c.check_pixels(&[[0, 0], [63, 35]]).is_ok());
+        for outside in [[64, 0], [0, 36]] {
+            let e = c.check_pixels(&[[1, 1], outside]).unwrap_err();
+            assert!(e.contains("outside the 64x36 image"), "{e}");
+        }
     }
 }

@@ -255,6 +255,7 @@ impl ManyLights for Selected<'_> {
 mod tests {
     use super::*;
     use crate::explosion::procedural;
+    use crate::render::Framing;
 
     #[test]
     fn a_sequence_frame_matches_the_frames_own_lights() {

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::explosion::{framing_bounds, procedural, EmissionModel, Medium, Volume};
-use lgh_volume::render::{Camera, MarchSettings, Shadows, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
 use lgh_volume::scene::{Backend, ExplosionLights};
 
 /// Relative RMSE (luminance, DESIGN.md "Measuring") of the *scattered* light: `a` and `r`

@@ -2,10 +2,12 @@
 //!
 //! What is here today is the surface half of the crate: triangle meshes with Lambert and Phong
 //! materials, built in code or read from OBJ + MTL ([`mesh`]); our own triangle BVH with
-//! closest-hit and any-hit queries ([`bvh`]); a pinhole [`camera`]; and a renderer that shades
-//! the surface each pixel sees through any [`lgh_core::ManyLights`] backend — the lighting grid
-//! hierarchy, brute force, or the error-bounded ones — with Paquette et al.'s Phong model eq. (1)
-//! and, as in that paper, no occlusion between lights and surfaces ([`render`](mod@render)).
+//! closest-hit and any-hit queries ([`bvh`]); a pinhole [`Camera`] (lgh-image's
+//! [`Pinhole`](lgh_image::camera::Pinhole), shared with the volume renderer); and a renderer that
+//! shades the surface each pixel sees through any [`lgh_core::ManyLights`] backend — the lighting
+//! grid hierarchy, brute force, or the error-bounded ones — with Paquette et al.'s Phong model
+//! eq. (1) and, as in that paper, no occlusion between lights and surfaces
+//! ([`render`](mod@render)).
 //!
 //! **Not here yet** (DESIGN.md "lgh-vpl", paper Sec. 6.4, Fig. 13): virtual point lights traced
 //! from emitters, shadow rays to the lights (the BVH's [`Bvh::occluded`] is ready for them),
@@ -44,15 +46,14 @@
 #![warn(missing_docs)]
 
 pub mod bvh;
-pub mod camera;
 pub mod mesh;
 pub mod paquette;
 pub mod render;
 pub mod scene;
 
 pub use bvh::{Bvh, Hit, Ray};
-pub use camera::{Camera, CameraError};
 pub use lgh_core;
+pub use lgh_image::camera::{CameraError, Pinhole as Camera};
 pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL};
 pub use render::{render, render_with_shader, RenderError, Rendered};
 pub use scene::Scene;

@@ -25,9 +25,9 @@ use lgh_core::glam::Vec3;
 use lgh_core::testsets::{light_strings, SplitMix64};
 use lgh_core::{Material, PointLight};
 
-use crate::camera::{Camera, CameraError};
 use crate::mesh::{Mesh, MeshError};
 use crate::scene::Scene;
+use crate::{Camera, CameraError};
 
 /// The light counts of the paper's tables.
 pub const LIGHT_COUNTS: [usize; 5] = [64, 256, 1024, 4096, 16384];

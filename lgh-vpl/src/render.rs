@@ -19,8 +19,8 @@ use lgh_core::{LightSample, ManyLights, QueryError, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
-use crate::camera::Camera;
 use crate::scene::Scene;
+use crate::Camera;
 
 /// A rendered image and what it took.
 #[derive(Clone, Debug, PartialEq)]

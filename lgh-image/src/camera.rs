@@ -1,4 +1,8 @@
-//! The pinhole camera: rays from the eye through pixel centres.
+//! The pinhole camera every lgh renderer looks through: rays from the eye through pixel
+//! positions, image rows top first.
+//!
+//! lgh-vpl re-exports [`Pinhole`] as its `Camera`; lgh-volume uses it as `render::Camera`, with
+//! its automatic framing of a volume on top.
 
 use std::fmt;
 
@@ -15,7 +19,7 @@ pub enum CameraError {
     UpAlongView,
     /// The vertical field of view (degrees) is not in (0, 180).
     FieldOfView(f32),
-    /// The image size is outside 1 to [`lgh_image::MAX_IMAGE_SIDE`] pixels per side.
+    /// The image size is outside 1 to [`MAX_IMAGE_SIDE`](crate::MAX_IMAGE_SIDE) pixels per side.
     ImageSize(String),
 }
 
@@ -43,7 +47,7 @@ impl std::error::Error for CameraError {}
 
 /// A pinhole camera with a vertical field of view and square pixels; image rows top first.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
+pub struct Pinhole {
     eye: Vec3,
     forward: Vec3,
     right: Vec3,
@@ -53,9 +57,10 @@ pub struct Camera {
     height: usize,
 }
 
-impl Camera {
+impl Pinhole {
     /// A camera at `eye` looking at `target`, with `up` roughly up (any vector not parallel to
-    /// the view), a vertical field of view of `fov_y_degrees` and a `width × height` image.
+    /// the view), a vertical field of view of `fov_y_degrees` and a `width × height` image
+    /// (checked with [`check_image_size`](crate::check_image_size)).
     pub fn new(
         eye: Vec3,
         target: Vec3,
@@ -63,7 +68,7 @@ impl Camera {
         fov_y_degrees: f32,
         width: usize,
         height: usize,
-    ) -> Result<Camera, CameraError> {
+    ) -> Result<Pinhole, CameraError> {
         if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
             return Err(CameraError::NonFinite);
         }
@@ -80,9 +85,9 @@ impl Camera {
         if !(fov_y_degrees > 0.0 && fov_y_degrees < 180.0 && tan_half_fov.is_finite()) {
             return Err(CameraError::FieldOfView(fov_y_degrees));
         }
-        lgh_image::check_image_size(width, height).map_err(CameraError::ImageSize)?;
+        crate::check_image_size(width, height).map_err(CameraError::ImageSize)?;
         let right = side.normalize();
-        Ok(Camera {
+        Ok(Pinhole {
             eye,
             forward,
             right,
@@ -93,7 +98,7 @@ impl Camera {
         })
     }
 
-    /// The eye position.
+    /// The eye position: the origin of every ray.
     pub fn eye(&self) -> Vec3 {
         self.eye
     }
@@ -108,14 +113,22 @@ impl Camera {
         self.height
     }
 
-    /// The ray `(origin, unit direction)` through the centre of pixel `(px, py)` (x right, y down;
-    /// pixels outside the image give rays outside the field of view, not an error).
-    pub fn ray(&self, px: usize, py: usize) -> (Vec3, Vec3) {
+    /// The unit direction of the ray through pixel position `(x, y)`, in pixels from the image's
+    /// top-left corner (x right, y down): pixel `(px, py)`'s centre is at `(px + 0.5, py + 0.5)`.
+    /// Positions outside the image give directions outside the field of view, not an error.
+    pub fn direction(&self, x: f32, y: f32) -> Vec3 {
+        // The renderers' images depend on this exact arithmetic: keep the order of operations.
         let aspect = self.width as f32 / self.height as f32;
-        let x = (2.0 * (px as f32 + 0.5) / self.width as f32 - 1.0) * self.tan_half_fov * aspect;
-        let y = (1.0 - 2.0 * (py as f32 + 0.5) / self.height as f32) * self.tan_half_fov;
-        let dir = (self.forward + x * self.right + y * self.up).normalize();
-        (self.eye, dir)
+        let u = (2.0 * x / self.width as f32 - 1.0) * self.tan_half_fov * aspect;
+        let v = (1.0 - 2.0 * y / self.height as f32) * self.tan_half_fov;
+        (self.forward + u * self.right + v * self.up).normalize()
+    }
+
+    /// The ray `(origin, unit direction)` through the centre of pixel `(px, py)` (x right, y down):
+    /// the eye and [`direction`](Self::direction)`(px + 0.5, py + 0.5)`. Pixels outside the image
+    /// give rays outside the field of view, not an error.
+    pub fn ray(&self, px: usize, py: usize) -> (Vec3, Vec3) {
+        (self.eye, self.direction(px as f32 + 0.5, py as f32 + 0.5))
     }
 }
 
@@ -126,7 +139,7 @@ mod tests {
     #[test]
     fn centre_pixel_looks_at_the_target_and_corners_span_the_field_of_view() {
         let target = Vec3::new(1.0, 2.0, -3.0);
-        let c = Camera::new(Vec3::new(1.0, 2.0, 2.0), target, Vec3::Y, 90.0, 3, 3).unwrap();
+        let c = Pinhole::new(Vec3::new(1.0, 2.0, 2.0), target, Vec3::Y, 90.0, 3, 3).unwrap();
         let (o, d) = c.ray(1, 1);
         assert_eq!(o, c.eye());
         assert!((d - (-Vec3::Z)).length() < 1e-6, "{d}");
@@ -135,15 +148,67 @@ mod tests {
         let want = Vec3::new(-2.0 / 3.0, 2.0 / 3.0, -1.0).normalize();
         assert!((d - want).length() < 1e-6, "{d} vs {want}");
         // Non-square: the horizontal extent scales with the aspect ratio.
-        let wide = Camera::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 4, 2).unwrap();
+        let wide = Pinhole::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 4, 2).unwrap();
         let (_, d) = wide.ray(0, 0);
         let want = Vec3::new(-1.5, 0.5, -1.0).normalize();
         assert!((d - want).length() < 1e-6, "{d} vs {want}");
     }
 
     #[test]
+    fn direction_takes_positions_in_pixels_from_the_top_left_corner() {
+        // 90° vertically on a 4×2 image: the image plane at distance 1 spans x ∈ [−2, 2],
+        // y ∈ [−1, 1]; position (0, 0) is its top-left corner, (4, 2) its bottom-right one.
+        let c = Pinhole::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 4, 2).unwrap();
+        for ((x, y), want) in [
+            ((0.0, 0.0), Vec3::new(-2.0, 1.0, -1.0)),
+            ((4.0, 2.0), Vec3::new(2.0, -1.0, -1.0)),
+            ((2.0, 1.0), Vec3::new(0.0, 0.0, -1.0)),
+            ((3.0, 0.5), Vec3::new(1.0, 0.5, -1.0)),
+        ] {
+            let d = c.direction(x, y);
+            let want = want.normalize();
+            assert!((d - want).length() < 1e-6, "({x}, {y}): {d} vs {want}");
+        }
+    }
+
+    #[test]
+    fn ray_is_direction_at_the_pixel_centre_exactly() {
+        let cameras = [
+            Pinhole::new(Vec3::new(1.0, 2.0, 2.0), Vec3::ZERO, Vec3::Y, 90.0, 3, 3).unwrap(),
+            Pinhole::new(
+                Vec3::new(-7.1, 3.3, 2.9),
+                Vec3::new(0.1, -0.4, 1.2),
+                Vec3::new(0.2, 1.3, -0.1),
+                75.5,
+                17,
+                31,
+            )
+            .unwrap(),
+            Pinhole::new(Vec3::new(1.0, -9.0, 0.5), Vec3::ZERO, Vec3::Z, 12.0, 64, 36).unwrap(),
+        ];
+        for c in cameras {
+            // One pixel beyond the image on each side too: those are rays, not errors.
+            for py in 0..=c.height() {
+                for px in 0..=c.width() {
+                    let (o, d) = c.ray(px, py);
+                    assert_eq!(
+                        o.to_array().map(f32::to_bits),
+                        c.eye().to_array().map(f32::to_bits)
+                    );
+                    let want = c.direction(px as f32 + 0.5, py as f32 + 0.5);
+                    assert_eq!(
+                        d.to_array().map(f32::to_bits),
+                        want.to_array().map(f32::to_bits),
+                        "pixel ({px}, {py}) of {c:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
     fn degenerate_cameras_are_errors() {
-        let ok = |eye, target, up, fov, w, h| Camera::new(eye, target, up, fov, w, h);
+        let ok = |eye, target, up, fov, w, h| Pinhole::new(eye, target, up, fov, w, h);
         let (e, t, up) = (Vec3::ZERO, -Vec3::Z, Vec3::Y);
         assert!(ok(e, t, up, 60.0, 8, 8).is_ok());
         assert_eq!(ok(e, e, up, 60.0, 8, 8), Err(CameraError::EyeAtTarget));
@@ -158,7 +223,7 @@ mod tests {
                 "{fov}"
             );
         }
-        for (w, h) in [(0, 8), (8, 0), (lgh_image::MAX_IMAGE_SIDE + 1, 8)] {
+        for (w, h) in [(0, 8), (8, 0), (crate::MAX_IMAGE_SIDE + 1, 8)] {
             assert!(
                 matches!(ok(e, t, up, 60.0, w, h), Err(CameraError::ImageSize(_))),
                 "{w}x{h}"
