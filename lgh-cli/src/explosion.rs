@@ -217,24 +217,26 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     };
 
     let t = Instant::now();
-    let seq = cache::Sequence::open(&paths, &names, !args.no_domain_offset)?;
+    let (seq, last) = cache::Sequence::open_with_last(&paths, &names, !args.no_domain_offset)?;
     let up = match args.up {
         UpArg::Y => Up::Y,
         UpArg::Z => Up::Z,
     };
     // One pass over the frames, one in memory at a time, for what depends on all of them: the
-    // lights (every voxel hot in any frame; the path tracer needs none) and the framing. The
-    // last frame read is kept for its render.
+    // lights (every voxel hot in any frame; the path tracer needs none) and the framing. Neither
+    // depends on the order, so the pass starts with the last frame, which opening the sequence
+    // has just read, and that frame is kept for its render.
     let needs_lights = args.backend != BackendArg::Pathtrace;
     let mut framing = None;
-    let mut kept: Option<Rc<Volume>> = None;
+    let last = Rc::new(last);
+    let mut kept = Some(Rc::clone(&last));
     let mut lights = None;
     if needs_lights || args.camera.is_none() {
         let bar = progress::bar(seq.len() as u64, "reading frames", args.quiet);
-        let frames_read = (0..seq.len()).map(|i| {
-            let v = Rc::new(seq.frame(i)?);
+        let others = (0..seq.len() - 1).map(|i| seq.frame(i).map(Rc::new));
+        let frames_read = std::iter::once(Ok(last)).chain(others).map(|v| {
+            let v = v?;
             framing = grow_framing(framing, &v);
-            kept = Some(Rc::clone(&v));
             bar.inc(1);
             Ok(v)
         });

@@ -136,27 +136,31 @@ fn settings_attributes(
     backend: &str,
     extra: &[(&str, String)],
 ) -> Vec<(String, String)> {
-    let mut attrs = vec![
-        ("lgh:backend".to_string(), backend.to_string()),
-        (
-            "lgh:shadows".to_string(),
-            format!("{:?}", march.shadows).to_lowercase(),
-        ),
-        ("lgh:step_voxels".to_string(), march.step_voxels.to_string()),
-        (
-            "lgh:shadow_step_voxels".to_string(),
-            march.shadow_step_voxels.to_string(),
-        ),
-        (
-            "lgh:min_transmittance".to_string(),
-            march.min_transmittance.to_string(),
-        ),
-        (
-            "lgh:version".to_string(),
-            env!("CARGO_PKG_VERSION").to_string(),
-        ),
+    let march = [
+        ("shadows", format!("{:?}", march.shadows).to_lowercase()),
+        ("step_voxels", march.step_voxels.to_string()),
+        ("shadow_step_voxels", march.shadow_step_voxels.to_string()),
+        ("min_transmittance", march.min_transmittance.to_string()),
     ];
-    attrs.extend(extra.iter().map(|(k, v)| (format!("lgh:{k}"), v.clone())));
+    header_attributes(backend, march.iter().chain(extra))
+}
+
+/// EXR header attributes: `lgh:backend`, then `settings` and `lgh:version`, every key with the
+/// `lgh:` prefix.
+pub fn header_attributes<'a>(
+    backend: &str,
+    settings: impl IntoIterator<Item = &'a (&'a str, String)>,
+) -> Vec<(String, String)> {
+    let mut attrs = vec![("lgh:backend".to_string(), backend.to_string())];
+    attrs.extend(
+        settings
+            .into_iter()
+            .map(|(k, v)| (format!("lgh:{k}"), v.clone())),
+    );
+    attrs.push((
+        "lgh:version".to_string(),
+        env!("CARGO_PKG_VERSION").to_string(),
+    ));
     attrs
 }
 

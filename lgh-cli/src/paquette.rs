@@ -12,9 +12,13 @@ use std::path::PathBuf;
 use lgh_core::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
 use lgh_core::octree::{LightOctree, OctreeBackend, OctreeSettings};
 use lgh_core::ward::WardBackend;
-use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, ManyLights};
+use lgh_core::{
+    BruteForce, GridSettings, LghBackend, LightingGridHierarchy, ManyLights, QueryError,
+};
 use lgh_image::{error_8bit, Image};
-use lgh_vpl::paquette::{self, Built, Surface, TestScene, LIGHT_COUNTS, MAX_SCENE_LIGHTS};
+use lgh_vpl::paquette::{
+    self, Built, Surface, TestScene, LIGHT_COUNTS, MAX_SCENE_LIGHTS, PAPER_THRESHOLD,
+};
 use serde_json::{json, Value};
 
 use crate::bench::time;
@@ -36,7 +40,7 @@ pub struct PaquetteArgs {
     pub material: Surface,
     /// Absolute error threshold of the octree and Ward's method, in 8-bit levels of 255 (the
     /// paper's 1 %: 2.55). Radiance 1 maps to 255.
-    #[arg(long, default_value_t = 2.55, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = PAPER_THRESHOLD * 255.0, allow_negative_numbers = true)]
     pub threshold: f32,
     /// Image width.
     #[arg(long, default_value_t = 320)]
@@ -157,6 +161,7 @@ fn case(
 ) -> Result<Value, String> {
     let built = paquette::build(scene, lights, surface, args.width, args.height)
         .map_err(|e| e.to_string())?;
+    // The octree's and Ward's threshold in radiance, where 1 is 255 levels.
     let t = args.threshold / 255.0;
     let say = |what: &str| {
         if !args.quiet {
@@ -210,16 +215,16 @@ fn case(
     if let Some(dir) = &args.out {
         let stem = format!("{}_{lights}_{}", scene.name(), surface.name());
         for (name, m) in [("brute", &rt), ("octree", &octree), ("lgh", &lgh_m)] {
-            let attrs = [
-                ("backend", name.to_string()),
-                ("scene", scene.name().to_string()),
-                ("lights", lights.to_string()),
-                ("material", surface.name().to_string()),
-                ("threshold_8bit", args.threshold.to_string()),
-                ("render_seconds", format!("{:.3}", m.seconds)),
-                ("version", env!("CARGO_PKG_VERSION").to_string()),
-            ]
-            .map(|(k, v)| (format!("lgh:{k}"), v));
+            let attrs = crate::output::header_attributes(
+                name,
+                &[
+                    ("scene", scene.name().to_string()),
+                    ("lights", lights.to_string()),
+                    ("material", surface.name().to_string()),
+                    ("threshold_8bit", args.threshold.to_string()),
+                    ("render_seconds", format!("{:.3}", m.seconds)),
+                ],
+            );
             // Exposure 1: radiance 1 is white, as on the paper's 8-bit scale.
             let exr = dir.join(format!("{stem}_{name}.exr"));
             crate::output::write_exr_png(&exr, &m.image, &attrs, Some(1.0))?;
@@ -256,12 +261,8 @@ fn paper_row(scene: TestScene, lights: usize, surface: Surface) -> Option<paquet
 
 /// Checks the arguments before any work.
 fn check(args: &PaquetteArgs) -> Result<(), String> {
-    if !(args.threshold.is_finite() && args.threshold > 0.0) {
-        return Err(format!(
-            "--threshold {}: must be a finite number of 8-bit levels > 0",
-            args.threshold
-        ));
-    }
+    QueryError::check_threshold(args.threshold)
+        .map_err(|e| format!("--threshold (8-bit levels): {e}"))?;
     if let Some(n) = args.lights {
         if n == 0 || n > MAX_SCENE_LIGHTS {
             return Err(format!("--lights {n}: must be 1 to {MAX_SCENE_LIGHTS}"));

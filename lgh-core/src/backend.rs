@@ -240,9 +240,7 @@ impl BruteForce {
     /// `Σ_j I_j g(‖x − p_j‖)` with the clamped fall-off `g(d) = 1 / max(d, h0)²`: the unshadowed
     /// light-probe sum, vectorised over lights (8 lanes, in a fixed order, so it is deterministic).
     pub fn falloff_sum(&self, x: Vec3, h0: f32) -> Result<Vec3, QueryError> {
-        if !x.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        QueryError::check_point(x)?;
         const LANES: usize = 8;
         let h02 = h0 * h0;
         let mut acc = [[0.0f32; LANES]; 3];
@@ -295,10 +293,7 @@ impl ManyLights for BruteForce {
         point: &ShadingPoint,
         shader: &mut S,
     ) -> Result<Illumination, QueryError> {
-        let x = point.position;
-        if !x.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        let x = QueryError::check_point(point.position)?;
         let mut radiance = Vec3::ZERO;
         for i in 0..self.len() {
             let (position, intensity) = self.light(i);

@@ -150,6 +150,16 @@ pub enum QueryError {
 }
 
 impl QueryError {
+    /// `x` if every coordinate is finite, [`QueryError::NonFinitePoint`] otherwise: the one check
+    /// every query makes of its point.
+    pub fn check_point(x: glam::Vec3) -> Result<glam::Vec3, QueryError> {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(QueryError::NonFinitePoint)
+        }
+    }
+
     /// `threshold` if it is a finite number > 0, the error otherwise: the one rule for the
     /// octree's and Ward's absolute `T` and Lightcuts' relative ε.
     pub fn check_threshold(threshold: f32) -> Result<f32, QueryError> {

@@ -535,9 +535,7 @@ impl LightingGridHierarchy {
         radius: f32,
         mut f: impl FnMut(u32, f32),
     ) -> Result<(), QueryError> {
-        if !x.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        QueryError::check_point(x)?;
         if self.is_empty() || level > self.max_level() || radius.is_nan() || radius < 0.0 {
             return Ok(());
         }
@@ -641,9 +639,7 @@ impl LightingGridHierarchy {
         blending: &Blending,
         mut f: F,
     ) -> Result<(R, u32), QueryError> {
-        if !x.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        QueryError::check_point(x)?;
         if blending.h1() != self.h1() || blending.max_level() != self.max_level() {
             return Err(QueryError::BlendingMismatch);
         }

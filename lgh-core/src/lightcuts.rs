@@ -273,7 +273,7 @@ impl<'a> LightcutsBackend<'a> {
     fn inherit(&self, point: &ShadingPoint, k: u32, parent: &Ranked<Vec3>) -> Ranked<Vec3> {
         let (c, p) = (
             &self.tree.nodes[k as usize],
-            &self.tree.nodes[parent.index as usize],
+            &self.tree.nodes[parent.index() as usize],
         );
         // I_child ≤ I_C per channel; a dark channel of the parent is dark in the child too.
         let ratio = Vec3::select(
@@ -285,11 +285,7 @@ impl<'a> LightcutsBackend<'a> {
     }
 
     fn ranked(&self, point: &ShadingPoint, k: u32, estimate: Vec3) -> Ranked<Vec3> {
-        Ranked {
-            key: self.tree.nodes[k as usize].error_bound(point),
-            index: k,
-            item: estimate,
-        }
+        Ranked::new(self.tree.nodes[k as usize].error_bound(point), k, estimate)
     }
 }
 
@@ -303,9 +299,7 @@ impl ManyLights for LightcutsBackend<'_> {
         point: &ShadingPoint,
         shader: &mut S,
     ) -> Result<Illumination, QueryError> {
-        if !point.position.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        QueryError::check_point(point.position)?;
         let mut out = Illumination::default();
         if self.tree.nodes.is_empty() {
             return Ok(out);
@@ -317,16 +311,16 @@ impl ManyLights for LightcutsBackend<'_> {
         while cut.len() < self.settings.max_cut {
             let Some(&top) = cut.peek() else { break };
             // NaN-safe: refine unless the bound is known to be small enough.
-            if top.key <= self.settings.relative_error * total.max_element() {
+            if top.key() <= self.settings.relative_error * total.max_element() {
                 break;
             }
             // A single light has bound 0, so only a NaN estimate gets a leaf here.
-            let Some(kids) = self.tree.nodes[top.index as usize].children else {
+            let Some(kids) = self.tree.nodes[top.index() as usize].children else {
                 break;
             };
             cut.pop();
             total -= top.item;
-            let parent = &self.tree.nodes[top.index as usize];
+            let parent = &self.tree.nodes[top.index() as usize];
             for k in kids {
                 let shared = parent.representative == self.tree.nodes[k as usize].representative;
                 let entry = if shared && self.settings.reuse_representative {

@@ -57,24 +57,17 @@ impl ManyLights for WardBackend<'_> {
         point: &ShadingPoint,
         shader: &mut S,
     ) -> Result<Illumination, QueryError> {
-        let x = point.position;
-        if !x.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        let x = QueryError::check_point(point.position)?;
         let n = self.lights.len();
         // Potential contributions, keyed by each light's largest channel.
         let potential: Vec<Ranked<Vec3>> = (0..n)
             .map(|i| {
                 let (position, intensity) = self.lights.light(i);
                 let value = reflected(point, position, intensity, Lobe::All);
-                Ranked {
-                    key: value.max_element(),
-                    index: i as u32,
-                    item: value,
-                }
+                Ranked::new(value.max_element(), i as u32, value)
             })
             .collect();
-        let mut left: f64 = potential.iter().map(|p| f64::from(p.key)).sum();
+        let mut left: f64 = potential.iter().map(|p| f64::from(p.key())).sum();
         // Largest first (ties by index, so deterministic): a heap, built in O(n), gives them
         // without sorting the many lights that are never tested.
         let mut heap = BinaryHeap::from(potential);
@@ -83,10 +76,10 @@ impl ManyLights for WardBackend<'_> {
         let mut tested_potential = Vec3::ZERO;
         while left > threshold {
             let Some(p) = heap.pop() else { break };
-            left -= f64::from(p.key);
-            let (position, intensity) = self.lights.light(p.index as usize);
+            left -= f64::from(p.key());
+            let (position, intensity) = self.lights.light(p.index() as usize);
             out.radiance += shader.shade(&LightSample::point(
-                p.index,
+                p.index(),
                 position,
                 intensity,
                 x,

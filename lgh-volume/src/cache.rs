@@ -217,37 +217,6 @@ impl RawFrame {
             .into_iter()
             .chain(self.flame())
     }
-
-    /// Checks that every grid is scalar and placed by `transform` (the first frame's, of grid
-    /// `first` in file `first_path`).
-    fn check(
-        &self,
-        path: &Path,
-        transform: &[[f64; 4]; 4],
-        first: &str,
-        first_path: &Path,
-    ) -> Result<(), String> {
-        for g in self.grids() {
-            if g.index_to_world != *transform {
-                return Err(format!(
-                    "{}: grid '{}' has another transform (voxel size or placement) than '{}' of {}",
-                    path.display(),
-                    g.name,
-                    first,
-                    first_path.display()
-                ));
-            }
-            if g.value_type.components() != 1 {
-                return Err(format!(
-                    "{}: grid '{}' is a {} grid; density, emission and flame must be scalar",
-                    path.display(),
-                    g.name,
-                    g.value_type.name()
-                ));
-            }
-        }
-        Ok(())
-    }
 }
 
 /// Frames of a cache opened for streaming: every file read once to check it and to find the one
@@ -261,8 +230,6 @@ pub struct Sequence {
     names: GridNames,
     blender_offset: bool,
     transform: [[f64; 4]; 4],
-    /// The first frame's density grid name, for error messages.
-    first: String,
     /// The common box, inclusive, in index space.
     lo: [i32; 3],
     hi: [i32; 3],
@@ -278,15 +245,27 @@ impl Sequence {
         Ok(Sequence::scan(paths, names, blender_offset, false)?.0)
     }
 
-    /// Reads every frame once, checks it and grows the common box; keeps the frames as read if
-    /// `keep`.
+    /// [`open`](Self::open), and the last frame, which opening has just read, placed on the
+    /// common box: a caller that goes over every frame again can start with it and read it once.
+    pub fn open_with_last(
+        paths: &[PathBuf],
+        names: &GridNames,
+        blender_offset: bool,
+    ) -> Result<(Self, Volume), String> {
+        let (seq, kept) = Sequence::scan(paths, names, blender_offset, false)?;
+        let last = kept.last().ok_or("no frames to load")?;
+        let volume = seq.place(last)?;
+        Ok((seq, volume))
+    }
+
+    /// Reads every frame once, checks it and grows the common box; keeps every frame as read
+    /// if `keep_all`, else the last one.
     fn scan(
         paths: &[PathBuf],
         names: &GridNames,
         blender_offset: bool,
-        keep: bool,
+        keep_all: bool,
     ) -> Result<(Self, Vec<RawFrame>), String> {
-        let first_path = paths.first().ok_or("no frames to load")?;
         let mut seq: Option<Sequence> = None;
         let mut kept = Vec::new();
         for path in paths {
@@ -296,19 +275,19 @@ impl Sequence {
                 names: names.clone(),
                 blender_offset,
                 transform: raw.density().index_to_world,
-                first: raw.density().name.clone(),
                 lo: [i32::MAX; 3],
                 hi: [i32::MIN; 3],
             });
-            raw.check(path, &s.transform, &s.first, first_path)?;
+            s.check(&raw, path)?;
             let (lo, hi) = raw.index_box();
             for k in 0..3 {
                 s.lo[k] = s.lo[k].min(lo[k]);
                 s.hi[k] = s.hi[k].max(hi[k]);
             }
-            if keep {
-                kept.push(raw);
+            if !keep_all {
+                kept.clear();
             }
+            kept.push(raw);
         }
         let seq = seq.ok_or("no frames to load")?;
         if seq.lo[0] > seq.hi[0] {
@@ -334,6 +313,31 @@ impl Sequence {
     /// when it is read).
     pub fn voxel_size(&self) -> f32 {
         self.transform[0][0] as f32
+    }
+
+    /// Checks that every grid of `raw` (read from `path`) is scalar and placed by the
+    /// sequence's transform, the first frame's density grid's.
+    fn check(&self, raw: &RawFrame, path: &Path) -> Result<(), String> {
+        for g in raw.grids() {
+            if g.index_to_world != self.transform {
+                return Err(format!(
+                    "{}: grid '{}' has another transform (voxel size or placement) than '{}' of {}",
+                    path.display(),
+                    g.name,
+                    self.names.density,
+                    self.paths[0].display()
+                ));
+            }
+            if g.value_type.components() != 1 {
+                return Err(format!(
+                    "{}: grid '{}' is a {} grid; density, emission and flame must be scalar",
+                    path.display(),
+                    g.name,
+                    g.value_type.name()
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Number of frames.
@@ -367,7 +371,7 @@ impl Sequence {
             .get(i)
             .ok_or_else(|| format!("frame {i} of a {}-frame sequence", self.len()))?;
         let raw = RawFrame::read(path, &self.names, self.blender_offset)?;
-        raw.check(path, &self.transform, &self.first, &self.paths[0])?;
+        self.check(&raw, path)?;
         let (lo, hi) = raw.index_box();
         if (0..3).any(|k| lo[k] < self.lo[k] || hi[k] > self.hi[k]) {
             return Err(format!(

@@ -485,8 +485,8 @@ fn render_impl(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<(Image, Option<Image>), String> {
     settings.validate()?;
+    // The camera has checked the image size.
     let (w, h) = (camera.width(), camera.height());
-    crate::render::check_image_size(w, h).map_err(|e| format!("path tracer: {e}"))?;
     let majorants = Majorants::new(volume, medium)?;
     let row = |y: usize, mean: &mut [Vec3], mut variance: Option<&mut [Vec3]>| {
         for x in 0..w {
@@ -520,18 +520,12 @@ fn pixel(
     x: usize,
     y: usize,
 ) -> (Vec3, Vec3) {
-    let dir = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
+    let (eye, dir) = camera.ray(x, y);
     let mut rng = pixel_rng(settings.seed, (y * camera.width() + x) as u64);
     let mut stats = Welford::default();
     for _ in 0..settings.spp {
         stats.add(radiance(
-            volume,
-            medium,
-            majorants,
-            camera.eye(),
-            dir,
-            settings,
-            &mut rng,
+            volume, medium, majorants, eye, dir, settings, &mut rng,
         ));
     }
     stats.mean_and_variance_of_mean()

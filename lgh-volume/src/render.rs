@@ -393,8 +393,8 @@ pub fn render<B: ManyLights + Sync>(
             let mut stats = RenderStats::default();
             let mut scratch = Scratch::default();
             for (x, px) in row.iter_mut().enumerate() {
-                let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-                *px = marcher.march_with(lights, camera.eye(), d, &mut stats, &mut scratch);
+                let (eye, d) = camera.ray(x, y);
+                *px = marcher.march_with(lights, eye, d, &mut stats, &mut scratch);
             }
             progress(1);
             stats
@@ -423,8 +423,8 @@ pub fn render_pixels<B: ManyLights + Sync>(
         .par_iter()
         .map_init(Scratch::default, |scratch, &[x, y]| {
             let mut stats = RenderStats::default();
-            let d = camera.direction(x as f32 + 0.5, y as f32 + 0.5);
-            let radiance = marcher.march_with(lights, camera.eye(), d, &mut stats, scratch);
+            let (eye, d) = camera.ray(x, y);
+            let radiance = marcher.march_with(lights, eye, d, &mut stats, scratch);
             (radiance, stats)
         })
         .collect();

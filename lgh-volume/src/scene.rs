@@ -344,9 +344,10 @@ mod tests {
                 })
                 .collect();
             // α = 64 puts every light in level 0 with weight 1: brute force up to summation
-            // order. (The bound at α = 2 is tests/explosion.rs's, on whole images.)
+            // order. α = 2 stays within 10 % on these pixels (tests/explosion.rs bounds whole
+            // images of a real frame, when the data is there).
             assert!(errs[1] < 1e-4, "{shadows:?}: {errs:?}");
-            assert!(errs[1] < errs[0], "{shadows:?}: {errs:?}");
+            assert!(errs[0] < 0.1 && errs[1] < errs[0], "{shadows:?}: {errs:?}");
         }
     }
 }

@@ -210,7 +210,11 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
     let refs: Vec<&Volume> = volumes.iter().collect();
     let mut at_once = ExplosionLights::new(&refs, &m).unwrap();
     // One frame at a time, each read from its file when needed.
-    let seq = cache::Sequence::open(&paths, &names, true).unwrap();
+    let (seq, last) = cache::Sequence::open_with_last(&paths, &names, true).unwrap();
+    assert!(
+        last == volumes[6],
+        "the last frame read while opening differs"
+    );
     assert_eq!(seq.len(), 7);
     assert_eq!(seq.bounds(), volumes[0].density.bounds());
     let mut streamed =
@@ -229,6 +233,8 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
         assert!(v == volumes[i], "frame {i} read alone differs");
         streamed.set_frame(&v, &m).unwrap();
         at_once.set_frame(&volumes[i], &m).unwrap();
+        // The same lights directly, and then through a render.
+        assert!(streamed.lights() == at_once.lights(), "frame {i}'s lights");
         let back = Backend::Lgh { alpha: 2.0 };
         let a = streamed.render(back, &v, &m, &cam, &s, &|_| {}).unwrap().0;
         let b = at_once

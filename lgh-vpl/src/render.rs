@@ -29,20 +29,23 @@ pub struct Rendered {
     pub image: Image,
     /// Pixels whose ray hit a surface (each one shading point).
     pub pixels_shaded: u64,
-    /// Lights (or clusters) shaded, summed over shaded pixels ([`lgh_core::Illumination::lights`]).
-    pub lights_shaded: u64,
-    /// Lights (or clusters) shaded at each pixel, top row first: the backend's cost map (0 where
-    /// the ray hits nothing).
+    /// Lights (or clusters) shaded at each pixel ([`lgh_core::Illumination::lights`]), top row
+    /// first: the backend's cost map (0 where the ray hits nothing).
     pub lights_map: Vec<u32>,
 }
 
 impl Rendered {
+    /// Lights (or clusters) shaded, summed over the pixels.
+    pub fn lights_shaded(&self) -> u64 {
+        self.lights_map.iter().map(|&c| u64::from(c)).sum()
+    }
+
     /// Mean lights shaded per shaded pixel (0 when no pixel was shaded).
     pub fn mean_lights(&self) -> f64 {
         if self.pixels_shaded == 0 {
             0.0
         } else {
-            self.lights_shaded as f64 / self.pixels_shaded as f64
+            self.lights_shaded() as f64 / self.pixels_shaded as f64
         }
     }
 }
@@ -112,13 +115,13 @@ where
     let width = camera.width();
     let mut image = Image::new(width, camera.height());
     let mut lights_map = vec![0u32; image.pixels.len()];
-    let rows: Vec<Result<(u64, u64), RenderError>> = image
+    let rows: Vec<Result<u64, RenderError>> = image
         .pixels
         .par_chunks_mut(width)
         .zip(lights_map.par_chunks_mut(width))
         .enumerate()
         .map(|(y, (row, costs))| {
-            let (mut pixels, mut lights) = (0u64, 0u64);
+            let mut pixels = 0u64;
             for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
                 let (origin, dir) = camera.ray(x, y);
                 let Some(point) = scene.first_hit(origin, dir) else {
@@ -130,22 +133,18 @@ where
                 *px = sum.radiance;
                 *cost = sum.lights;
                 pixels += 1;
-                lights += u64::from(sum.lights);
             }
             progress(1);
-            Ok((pixels, lights))
+            Ok(pixels)
         })
         .collect();
-    let (mut pixels_shaded, mut lights_shaded) = (0, 0);
+    let mut pixels_shaded = 0;
     for row in rows {
-        let (pixels, lights) = row?;
-        pixels_shaded += pixels;
-        lights_shaded += lights;
+        pixels_shaded += row?;
     }
     Ok(Rendered {
         image,
         pixels_shaded,
-        lights_shaded,
         lights_map,
     })
 }
@@ -247,7 +246,7 @@ mod tests {
             "{hits} of the pixels see the floor"
         );
         assert_eq!(got.pixels_shaded, hits);
-        assert_eq!(got.lights_shaded, hits * 40);
+        assert_eq!(got.lights_shaded(), hits * 40);
         assert_eq!(got.mean_lights(), 40.0);
         // The cost map: every light at each pixel that sees the floor, none at the sky's.
         let counted: Vec<u32> = got.lights_map.iter().copied().filter(|&c| c > 0).collect();
@@ -352,6 +351,6 @@ mod tests {
         )
         .unwrap();
         assert!(r.image.pixels.iter().all(|&p| p == Vec3::ONE));
-        assert_eq!((r.pixels_shaded, r.lights_shaded), (48, 48));
+        assert_eq!((r.pixels_shaded, r.lights_shaded()), (48, 48));
     }
 }

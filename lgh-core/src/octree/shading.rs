@@ -22,6 +22,7 @@ use super::bounds::{diffuse_bound, specular_bound, virtual_cosines, NodeView};
 use super::{LightOctree, OctreeNode};
 use crate::backend::{Illumination, LightSample, ManyLights, Material, Shader, ShadingPoint};
 use crate::error::QueryError;
+use crate::ranked::Ranked;
 use crate::reflection::Lobe;
 
 /// Nodes with at most this many lights are summed exactly: evaluating a bound and a virtual light
@@ -41,30 +42,6 @@ pub const EXACT_SUM_LIGHTS: usize = 3;
 pub struct OctreeBackend<'a> {
     tree: &'a LightOctree,
     threshold: f32,
-}
-
-/// An entry of the error list (or of the ignored contributions): a node's bound and index packed
-/// into one integer, so the max-heap compares one `u64` instead of two fields. Listed bounds are
-/// finite and ≥ 0 (below `T`), and for those the bits of an `f32` order as the numbers do; the
-/// complemented index in the low half takes equal bounds by the lower node index, so the order,
-/// and every result, depends only on the input.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct Listed(u64);
-
-impl Listed {
-    fn new(bound: f32, node: u32) -> Listed {
-        debug_assert!(bound >= 0.0 && bound.is_finite());
-        // + 0.0 turns a −0.0, whose sign bit would rank it first, into +0.0.
-        Listed(u64::from((bound + 0.0).to_bits()) << 32 | u64::from(!node))
-    }
-
-    fn bound(self) -> f32 {
-        f32::from_bits((self.0 >> 32) as u32)
-    }
-
-    fn node(self) -> u32 {
-        !(self.0 as u32)
-    }
 }
 
 /// Which term a traversal bounds.
@@ -187,7 +164,7 @@ impl<'a> OctreeBackend<'a> {
         shader: &mut S,
         out: &mut Illumination,
         stack: &mut Vec<u32>,
-        list: &mut BinaryHeap<Listed>,
+        list: &mut BinaryHeap<Ranked<()>>,
     ) {
         let nodes = self.tree.nodes();
         let lobe = term.lobe(point);
@@ -206,7 +183,7 @@ impl<'a> OctreeBackend<'a> {
                 match term.bound(point, node) {
                     Some(bound) if bound < self.threshold => {
                         listed_sum += f64::from(bound);
-                        list.push(Listed::new(bound, i));
+                        list.push(Ranked::new(bound, i, ()));
                     }
                     _ => self.open(point, i, lobe, shader, out, stack),
                 }
@@ -216,17 +193,17 @@ impl<'a> OctreeBackend<'a> {
             }
             // The listed bounds sum above T: treat the largest one level lower.
             let Some(largest) = list.pop() else { break };
-            listed_sum -= f64::from(largest.bound());
-            self.open(point, largest.node(), lobe, shader, out, stack);
+            listed_sum -= f64::from(largest.key());
+            self.open(point, largest.index(), lobe, shader, out, stack);
         }
         if matches!(term, Term::Diffuse { .. }) {
             for entry in list.iter() {
-                let node = &nodes[entry.node() as usize];
+                let node = &nodes[entry.index() as usize];
                 out.radiance += shader.shade(&LightSample {
                     level: 1,
                     size: node.diagonal(),
                     ..LightSample::point(
-                        entry.node(),
+                        entry.index(),
                         node.light.position,
                         node.light.intensity,
                         point.position,
@@ -290,9 +267,7 @@ impl ManyLights for OctreeBackend<'_> {
         point: &ShadingPoint,
         shader: &mut S,
     ) -> Result<Illumination, QueryError> {
-        if !point.position.is_finite() {
-            return Err(QueryError::NonFinitePoint);
-        }
+        QueryError::check_point(point.position)?;
         let terms = Self::terms(point)?;
         let mut out = Illumination::default();
         if self.tree.nodes().is_empty() {
