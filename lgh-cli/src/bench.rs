@@ -44,7 +44,7 @@ struct Set {
     settings: GridSettings,
 }
 
-fn make_set(key: &str) -> Result<Set, String> {
+fn make_set(key: &str) -> Result<Set, crate::Error> {
     Ok(match key {
         "a" => Set {
             name: "a_uniform_100k",
@@ -68,7 +68,7 @@ fn make_set(key: &str) -> Result<Set, String> {
             lights: testsets::light_strings(16_384),
             settings: GridSettings::default(),
         },
-        other => return Err(format!("unknown light set '{other}' (use a, b or c)")),
+        other => return Err(format!("unknown light set '{other}' (use a, b or c)").into()),
     })
 }
 
@@ -79,15 +79,15 @@ pub(crate) fn time<T>(f: impl FnOnce() -> T) -> (T, f64) {
     (v, t.elapsed().as_secs_f64())
 }
 
-fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+fn pool(threads: usize) -> Result<rayon::ThreadPool, crate::Error> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| e.to_string())
+        .map_err(Into::into)
 }
 
 /// Runs the benchmark and prints its JSON report.
-pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
+pub fn run(args: &CoreBenchArgs) -> Result<(), crate::Error> {
     if args.points == 0 {
         return Err("--points must be at least 1".into());
     }
@@ -110,7 +110,7 @@ pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
         "threads_available": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
         "sets": sets,
     });
-    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string_pretty(&report)?;
     say!("{text}");
     if let Some(out) = &args.out {
         lgh_image::write_atomic(out, |w| w.write_all(text.as_bytes()))?;
@@ -164,7 +164,7 @@ fn markdown(report: &Value) -> String {
     out
 }
 
-fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
+fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, crate::Error> {
     let lights = &set.lights;
     let build = || LightingGridHierarchy::build(lights, &set.settings).map_err(|e| e.to_string());
     let mut build_s = serde_json::Map::new();
@@ -186,12 +186,11 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
     let mut rebuild_s = f64::INFINITY;
     for _ in 0..args.repeat.max(1) {
         let (r, s) = p2.install(|| time(|| lgh.update_intensities(&scaled)));
-        r.map_err(|e| e.to_string())?;
+        r?;
         rebuild_s = rebuild_s.min(s);
     }
     let unscaled: Vec<Vec3> = lights.iter().map(|l| l.intensity).collect();
-    lgh.update_intensities(&unscaled)
-        .map_err(|e| e.to_string())?;
+    lgh.update_intensities(&unscaled)?;
     let h0 = lgh.h0();
     let levels: Vec<usize> = (0..=lgh.max_level()).map(|l| lgh.level(l).len()).collect();
 
@@ -199,7 +198,7 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
     let points = testsets::query_points(lo, hi, args.points, 42);
 
     // Brute force: single-thread throughput on a prefix, then the reference on every point.
-    let brute = BruteForce::new(lights).map_err(|e| e.to_string())?;
+    let brute = BruteForce::new(lights)?;
     let timed = &points[..args.brute_timing_points.clamp(1, points.len())];
     let (_, brute_s) = time(|| {
         timed
@@ -217,8 +216,7 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
     let reference: Vec<Vec3> = points
         .par_iter()
         .map(|&x| brute.falloff_sum(x, h0))
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
+        .collect::<Result<_, _>>()?;
 
     // The same points in a spatially coherent order, as a renderer visits them (tiles of pixels,
     // steps along rays): sorted along a Morton curve.
@@ -226,7 +224,7 @@ fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, String> {
 
     let mut per_alpha = Vec::new();
     for &alpha in &args.alphas {
-        let b = lgh.blending(alpha).map_err(|e| e.to_string())?;
+        let b = lgh.blending(alpha)?;
         // Single thread; the best of `repeat` passes over all points, in each order.
         let (values, evaluated, secs) = time_queries(&lgh, &b, &points, args.repeat)?;
         let (_, _, coherent_secs) = time_queries(&lgh, &b, &coherent, args.repeat)?;
@@ -271,17 +269,16 @@ fn time_queries(
     blending: &lgh_core::Blending,
     points: &[Vec3],
     repeat: usize,
-) -> Result<(Vec<Vec3>, u64, f64), String> {
+) -> Result<(Vec<Vec3>, u64, f64), crate::Error> {
     let h0 = lgh.h0();
     let mut best = (Vec::new(), 0, f64::INFINITY);
     for _ in 0..repeat.max(1) {
-        let (r, secs) = time(|| -> Result<(Vec<Vec3>, u64), String> {
+        let (r, secs) = time(|| -> Result<(Vec<Vec3>, u64), crate::Error> {
             let mut values = Vec::with_capacity(points.len());
             let mut evaluated = 0u64;
             for &x in points {
-                let (sum, n) = lgh
-                    .query_sum(x, blending, |s| s.intensity * falloff(s.distance, h0))
-                    .map_err(|e| e.to_string())?;
+                let (sum, n) =
+                    lgh.query_sum(x, blending, |s| s.intensity * falloff(s.distance, h0))?;
                 evaluated += n as u64;
                 values.push(sum);
             }

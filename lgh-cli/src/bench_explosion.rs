@@ -14,10 +14,11 @@ use std::path::PathBuf;
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{framing_bounds, procedural, EmissionModel, Medium, Volume};
+use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
+use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
-use lgh_volume::scene::{Backend, ExplosionLights};
+use lgh_volume::{ExplosionLights, Method};
 use serde_json::{json, Value};
 
 /// Arguments of `lgh bench explosion`.
@@ -61,7 +62,7 @@ struct Scene {
     up: Up,
 }
 
-fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, String> {
+fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Error> {
     let demo = crate::demo::demo_medium();
     Ok(Some(match key {
         "p128" | "p256" => Scene {
@@ -88,13 +89,13 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, String> {
                 up: Up::Z,
             }
         }
-        other => return Err(format!("unknown scene '{other}' (p128, p256, fire56)")),
+        other => return Err(format!("unknown scene '{other}' (p128, p256, fire56)").into()),
     }))
 }
 
 /// Up to `n` pixels, evenly strided among those whose emission-only luminance is above 1% of
 /// the brightest: the references' time goes to pixels that show the explosion.
-fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Result<Vec<[usize; 2]>, String> {
+fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Result<Vec<[usize; 2]>, crate::Error> {
     let (emission, _) = lgh_volume::render::render::<lgh_core::BruteForce>(
         &s.volume,
         &s.medium,
@@ -122,7 +123,7 @@ fn rel_rmse(a: &[Vec3], r: &[Vec3]) -> Option<f64> {
 }
 
 /// Runs the benchmark and prints its JSON report.
-pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
+pub fn run(args: &ExplosionBenchArgs) -> Result<(), crate::Error> {
     for &a in &args.alphas {
         crate::check_alpha(a)?;
     }
@@ -145,7 +146,7 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
         "image": [args.width, args.height],
         "scenes": scenes,
     });
-    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string_pretty(&report)?;
     say!("{text}");
     if let Some(out) = &args.out {
         lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))?;
@@ -153,7 +154,7 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
+fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Error> {
     let (lights, build_s) = time(|| ExplosionLights::new(&[&s.volume], &s.medium));
     let lights = lights?;
     let (lo, hi) = framing_bounds(&[&s.volume]).expect("one frame");
@@ -161,7 +162,7 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
     let march = MarchSettings::default();
     let pixels = &pick_pixels(s, &camera, args.pixels)?[..];
     if pixels.is_empty() {
-        return Err(format!("{}: the image shows no emission", s.name));
+        return Err(format!("{}: the image shows no emission", s.name).into());
     }
     eprintln!(
         "{}: {} lights, hierarchy built in {build_s:.3} s",
@@ -171,7 +172,8 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
 
     let (brute, brute_s) = time(|| {
         lights.render_pixels(
-            Backend::Brute,
+            Method::Brute,
+            0.0,
             &s.volume,
             &s.medium,
             &camera,
@@ -215,12 +217,13 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, String> {
 
     let mut rows = Vec::new();
     for &alpha in &args.alphas {
-        let backend = Backend::Lgh { alpha };
+        let lgh = Method::Lgh;
         let (image, image_s) =
-            time(|| lights.render(backend, &s.volume, &s.medium, &camera, &march, &|_| {}));
+            time(|| lights.render(lgh, alpha, &s.volume, &s.medium, &camera, &march, &|_| {}));
         let (_, stats) = image?;
-        let (sub, sub_s) =
-            time(|| lights.render_pixels(backend, &s.volume, &s.medium, &camera, &march, pixels));
+        let (sub, sub_s) = time(|| {
+            lights.render_pixels(lgh, alpha, &s.volume, &s.medium, &camera, &march, pixels)
+        });
         let (sub, _) = sub?;
         let err = rel_rmse(&sub, &brute).unwrap_or(f64::NAN);
         let matched = ladder.iter().find(|(_, _, e)| *e <= err);

@@ -20,7 +20,7 @@ pub struct CompareArgs {
 }
 
 /// Runs `lgh compare`.
-pub fn run(args: &CompareArgs) -> Result<(), String> {
+pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     let a = lgh_image::read_exr(&args.image)?;
     let r = lgh_image::read_exr(&args.reference)?;
     let stats = lgh_image::compare(&a, &r).ok_or_else(|| {

@@ -4,9 +4,9 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_volume::explosion::{framing_bounds, procedural, Medium};
+use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing};
-use lgh_volume::scene::{Backend, ExplosionLights};
+use lgh_volume::{procedural, ExplosionLights, Medium, Method};
 
 use crate::output::{self, MarchArgs};
 
@@ -50,7 +50,7 @@ pub fn demo_medium() -> Medium {
 }
 
 /// Runs the demo.
-pub fn run(args: &DemoArgs) -> Result<(), String> {
+pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     crate::check_alpha(args.alpha)?;
     lgh_volume::render::check_image_size(args.width, args.height)?;
     output::check_out(&args.out)?;
@@ -73,11 +73,17 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         ("alpha", args.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
-    let backend = Backend::Lgh { alpha: args.alpha };
     let written = output::render_and_write(
         |progress| {
-            let (image, stats) =
-                lights.render(backend, &volume, &medium, &camera, &march, progress)?;
+            let (image, stats) = lights.render(
+                Method::Lgh,
+                args.alpha,
+                &volume,
+                &medium,
+                &camera,
+                &march,
+                progress,
+            )?;
             Ok((image, Some(stats)))
         },
         args.height,

@@ -6,23 +6,42 @@ use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{grow_framing, EmissionModel, Medium, Volume};
+use lgh_volume::medium::{grow_framing, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
-use lgh_volume::scene::{Backend, ExplosionLights};
+use lgh_volume::{ExplosionLights, Method};
 
 use crate::output::{self, MarchArgs};
 use crate::progress;
 
-/// The renderer behind the image (`--backend`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+/// The renderer behind the image (`--backend`): the ray marcher with the library's
+/// many-lights [`Method`] (its values and help are `Method`'s own), or the path tracer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BackendArg {
-    /// Ray marcher, scattering through the lighting grid hierarchy.
-    Lgh,
-    /// Ray marcher, scattering from every light: the exact answer of the same light model.
-    Brute,
+    /// The ray marcher, scattering through a many-lights method.
+    March(Method),
     /// Unbiased volumetric path tracer: the physical reference.
     Pathtrace,
+}
+
+impl clap::ValueEnum for BackendArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            BackendArg::March(Method::Lgh),
+            BackendArg::March(Method::Brute),
+            BackendArg::Pathtrace,
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        match self {
+            BackendArg::March(m) => m.to_possible_value(),
+            BackendArg::Pathtrace => Some(
+                clap::builder::PossibleValue::new("pathtrace")
+                    .help("Unbiased volumetric path tracer: the physical reference"),
+            ),
+        }
+    }
 }
 
 /// How emission follows the temperature grid (`--emission-model`).
@@ -78,7 +97,7 @@ pub struct ExplosionArgs {
     #[arg(long)]
     pub no_domain_offset: bool,
     /// Renderer.
-    #[arg(long, value_enum, default_value_t = BackendArg::Lgh)]
+    #[arg(long, value_enum, default_value_t = BackendArg::March(Method::Lgh))]
     pub backend: BackendArg,
     /// The paper's α (backend lgh).
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
@@ -119,38 +138,35 @@ pub enum UpArg {
 }
 
 /// Parses `A..B` (inclusive, at most 10,000 frames).
-fn parse_frames(s: &str) -> Result<(u32, u32), String> {
+fn parse_frames(s: &str) -> Result<(u32, u32), crate::Error> {
     let bad = || format!("--frames {s}: expected A..B with whole numbers A ≤ B, e.g. 50..56");
     let (a, b) = s.split_once("..").ok_or_else(bad)?;
     let a: u32 = a.trim().parse().map_err(|_| bad())?;
     let b: u32 = b.trim().parse().map_err(|_| bad())?;
     if a > b || b - a >= 10_000 {
-        return Err(bad());
+        return Err(bad().into());
     }
     Ok((a, b))
 }
 
-fn parse_camera(s: &str, up: Vec3, width: usize, height: usize) -> Result<Camera, String> {
+fn parse_camera(s: &str, up: Vec3, width: usize, height: usize) -> Result<Camera, crate::Error> {
     let v: Vec<f32> = s
         .split(',')
         .map(|x| x.trim().parse::<f32>())
         .collect::<Result<_, _>>()
         .map_err(|_| format!("--camera {s}: expected EX,EY,EZ,TX,TY,TZ[,FOV] numbers"))?;
     if !(v.len() == 6 || v.len() == 7) {
-        return Err(format!(
-            "--camera {s}: expected 6 or 7 numbers, got {}",
-            v.len()
-        ));
+        return Err(format!("--camera {s}: expected 6 or 7 numbers, got {}", v.len()).into());
     }
     let fov = v.get(6).copied().unwrap_or(40.0);
-    Camera::look_at(
+    Ok(Camera::look_at(
         Vec3::new(v[0], v[1], v[2]),
         Vec3::new(v[3], v[4], v[5]),
         up,
         fov,
         width,
         height,
-    )
+    )?)
 }
 
 /// `OUT.exr` for one frame, `OUT_NNNN.exr` for each of several.
@@ -165,7 +181,7 @@ fn frame_out(out: &Path, frame: Option<u32>) -> PathBuf {
 }
 
 /// Runs `lgh explosion`.
-pub fn run(args: &ExplosionArgs) -> Result<(), String> {
+pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
     crate::check_alpha(args.alpha)?;
     lgh_volume::render::check_image_size(args.width, args.height)?;
     output::check_out(&args.out)?;
@@ -173,7 +189,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
         .march
         .settings(MarchSettings::default().shadow_step_voxels)?;
     if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
-        return Err(format!("--albedo {} must be in 0..=1", args.albedo));
+        return Err(format!("--albedo {} must be in 0..=1", args.albedo).into());
     }
     let frames: Vec<Option<u32>> = match &args.frames {
         None => vec![None],
@@ -190,7 +206,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
-        return Err(format!("{}: no such file", missing.display()));
+        return Err(format!("{}: no such file", missing.display()).into());
     }
     let sigma_t = args.density_scale;
     let model = match args.emission_model {
@@ -294,22 +310,24 @@ pub fn run(args: &ExplosionArgs) -> Result<(), String> {
             ("density_scale", args.density_scale.to_string()),
             ("albedo", args.albedo.to_string()),
         ];
-        let (backend, name) = match args.backend {
-            BackendArg::Lgh => {
-                extra.push(("alpha", args.alpha.to_string()));
-                (Some(Backend::Lgh { alpha: args.alpha }), "lgh")
+        let (method, name) = match args.backend {
+            BackendArg::March(m) => {
+                if m == Method::Lgh {
+                    extra.push(("alpha", args.alpha.to_string()));
+                }
+                (Some(m), m.name())
             }
-            BackendArg::Brute => (Some(Backend::Brute), "brute"),
             BackendArg::Pathtrace => {
                 extra.push(("spp", args.spp.to_string()));
                 extra.push(("max_scatter", args.max_scatter.to_string()));
                 (None, "pathtrace")
             }
         };
-        let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, backend) {
-            (Some(lights), Some(backend)) => {
-                let (image, stats) =
-                    lights.render(backend, volume, &medium, &camera, &march, progress)?;
+        let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, method) {
+            (Some(lights), Some(method)) => {
+                let (image, stats) = lights.render(
+                    method, args.alpha, volume, &medium, &camera, &march, progress,
+                )?;
                 Ok((image, Some(stats)))
             }
             _ => {

@@ -26,7 +26,7 @@ fn number(v: f64) -> Value {
 }
 
 /// Runs `lgh inspect`.
-pub fn run(args: &InspectArgs) -> Result<(), String> {
+pub fn run(args: &InspectArgs) -> Result<(), crate::Error> {
     let file = vdb::read(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
     let stats: Vec<vdb::GridStats> = file.grids.iter().map(|g| g.stats()).collect();
     let grids: Vec<Value> = file

@@ -72,20 +72,23 @@ enum BenchCommand {
     Explosion(bench_explosion::ExplosionBenchArgs),
 }
 
+/// The CLI's error: any library's typed error or a message, shown as one line by `main`.
+pub(crate) type Error = Box<dyn std::error::Error + Send + Sync>;
+
 /// Writes one line to stdout (see [`say!`]).
-pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), String> {
+pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), crate::Error> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
     match writeln!(out, "{line}").and_then(|_| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
-        Err(e) => Err(format!("cannot write to stdout: {e}")),
+        Err(e) => Err(format!("cannot write to stdout: {e}").into()),
     }
 }
 
 /// Validates the paper's α before any work is done.
-pub(crate) fn check_alpha(alpha: f32) -> Result<(), String> {
-    lgh_core::check_alpha(alpha).map_err(|e| e.to_string())
+pub(crate) fn check_alpha(alpha: f32) -> Result<(), crate::Error> {
+    Ok(lgh_core::check_alpha(alpha)?)
 }
 
 fn main() {

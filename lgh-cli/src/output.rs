@@ -5,33 +5,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
-use lgh_volume::render::{MarchSettings, RenderStats, Shadows};
-
-/// How lights are shadowed (`--shadows`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum ShadowArg {
-    /// Transmittance ray-marched to every light (exact shadows).
-    Raymarch,
-    /// No shadows.
-    None,
-}
-
-impl ShadowArg {
-    /// The renderer's setting.
-    pub fn shadows(self) -> Shadows {
-        match self {
-            ShadowArg::Raymarch => Shadows::RayMarch,
-            ShadowArg::None => Shadows::None,
-        }
-    }
-}
+use lgh_volume::render::{MarchSettings, RenderStats};
+use lgh_volume::Shadows;
 
 /// The ray marcher's options, shared by the render commands.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MarchArgs {
     /// Shadows of the lights (backends lgh and brute).
-    #[arg(long, value_enum, default_value_t = ShadowArg::Raymarch)]
-    pub shadows: ShadowArg,
+    #[arg(long, value_enum, default_value_t = Shadows::RayMarch)]
+    pub shadows: Shadows,
     /// Step along camera rays, in voxels (smaller is more accurate and slower).
     #[arg(long, default_value_t = 1.0)]
     pub step: f32,
@@ -44,9 +26,9 @@ pub struct MarchArgs {
 impl MarchArgs {
     /// The marcher's settings, checked ([`MarchSettings::check`]); `default_shadow_step` applies
     /// without `--shadow-step`.
-    pub fn settings(&self, default_shadow_step: f32) -> Result<MarchSettings, String> {
+    pub fn settings(&self, default_shadow_step: f32) -> Result<MarchSettings, crate::Error> {
         let settings = MarchSettings {
-            shadows: self.shadows.shadows(),
+            shadows: self.shadows,
             step_voxels: self.step,
             shadow_step_voxels: self.shadow_step.unwrap_or(default_shadow_step),
             ..Default::default()
@@ -57,12 +39,13 @@ impl MarchArgs {
 }
 
 /// Checks that the output is an `.exr` path and that its folder exists, before any work.
-pub fn check_out(out: &Path) -> Result<PathBuf, String> {
+pub fn check_out(out: &Path) -> Result<PathBuf, crate::Error> {
     if out.extension().and_then(|e| e.to_str()) != Some("exr") {
         return Err(format!(
             "--out {}: the output must be an .exr file (a .png is written beside it)",
             out.display()
-        ));
+        )
+        .into());
     }
     let dir = match out.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -73,7 +56,8 @@ pub fn check_out(out: &Path) -> Result<PathBuf, String> {
             "--out {}: folder {} does not exist",
             out.display(),
             dir.display()
-        ));
+        )
+        .into());
     }
     Ok(out.with_extension("png"))
 }
@@ -95,7 +79,7 @@ pub struct Written {
 /// beside it.
 #[allow(clippy::too_many_arguments)]
 pub fn render_and_write(
-    render: impl FnOnce(&(dyn Fn(usize) + Sync)) -> Result<(Image, Option<RenderStats>), String>,
+    render: impl FnOnce(&(dyn Fn(usize) + Sync)) -> Result<(Image, Option<RenderStats>), crate::Error>,
     rows: usize,
     label: &str,
     quiet: bool,
@@ -103,7 +87,7 @@ pub fn render_and_write(
     march: &MarchSettings,
     backend: &str,
     mut extra: Vec<(&'static str, String)>,
-) -> Result<Written, String> {
+) -> Result<Written, crate::Error> {
     let bar = crate::progress::bar(rows as u64, label, quiet);
     let t = Instant::now();
     let (image, stats) = render(&|r| bar.inc(r as u64))?;
@@ -137,7 +121,7 @@ fn settings_attributes(
     extra: &[(&str, String)],
 ) -> Vec<(String, String)> {
     let march = [
-        ("shadows", format!("{:?}", march.shadows).to_lowercase()),
+        ("shadows", march.shadows.name().to_string()),
         ("step_voxels", march.step_voxels.to_string()),
         ("shadow_step_voxels", march.shadow_step_voxels.to_string()),
         ("min_transmittance", march.min_transmittance.to_string()),
@@ -171,7 +155,7 @@ pub fn write_exr_png(
     image: &Image,
     attrs: &[(String, String)],
     exposure: Option<f32>,
-) -> Result<PathBuf, String> {
+) -> Result<PathBuf, crate::Error> {
     let png = out.with_extension("png");
     lgh_image::write_exr(out, image, attrs)?;
     let exposure = exposure.unwrap_or_else(|| lgh_image::auto_exposure(image));

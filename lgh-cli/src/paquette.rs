@@ -79,7 +79,7 @@ fn measure<B: ManyLights + Sync>(
     backend: &B,
     build_seconds: f64,
     reference: Option<&Image>,
-) -> Result<Measured, String> {
+) -> Result<Measured, crate::Error> {
     let (rendered, seconds) = time(|| {
         lgh_vpl::render(&built.scene, &built.camera, backend, |_| {})
             .map_err(|e| format!("{}: {e}", backend.name()))
@@ -158,9 +158,8 @@ fn case(
     lights: usize,
     surface: Surface,
     args: &PaquetteArgs,
-) -> Result<Value, String> {
-    let built = paquette::build(scene, lights, surface, args.width, args.height)
-        .map_err(|e| e.to_string())?;
+) -> Result<Value, crate::Error> {
+    let built = paquette::build(scene, lights, surface, args.width, args.height)?;
     // The octree's and Ward's threshold in radiance, where 1 is 255 levels.
     let t = args.threshold / 255.0;
     let say = |what: &str| {
@@ -169,41 +168,31 @@ fn case(
         }
     };
     say("brute force");
-    let brute = BruteForce::new(&built.lights).map_err(|e| e.to_string())?;
+    let brute = BruteForce::new(&built.lights)?;
     let rt = measure(&built, &brute, 0.0, None)?;
     let reference = Some(&rt.image);
     say("Ward");
-    let ward = measure(
-        &built,
-        &WardBackend::new(&brute, t).map_err(|e| e.to_string())?,
-        0.0,
-        reference,
-    )?;
+    let ward = measure(&built, &WardBackend::new(&brute, t)?, 0.0, reference)?;
     say("octree");
     let (tree, build) = time(|| LightOctree::build(&built.lights, &OctreeSettings::default()));
-    let tree = tree.map_err(|e| e.to_string())?;
-    let octree = measure(
-        &built,
-        &OctreeBackend::new(&tree, t).map_err(|e| e.to_string())?,
-        build,
-        reference,
-    )?;
+    let tree = tree?;
+    let octree = measure(&built, &OctreeBackend::new(&tree, t)?, build, reference)?;
     say("Lightcuts");
     let (cuts, build) = time(|| LightTree::build(&built.lights, Representative::Brightest));
-    let cuts = cuts.map_err(|e| e.to_string())?;
+    let cuts = cuts?;
     let lightcuts = measure(
         &built,
-        &LightcutsBackend::new(&cuts, LightcutsSettings::default()).map_err(|e| e.to_string())?,
+        &LightcutsBackend::new(&cuts, LightcutsSettings::default())?,
         build,
         reference,
     )?;
     say("LGH");
     let (lgh, build) =
         time(|| LightingGridHierarchy::build(&built.lights, &GridSettings::default()));
-    let lgh = lgh.map_err(|e| e.to_string())?;
+    let lgh = lgh?;
     let mut chosen = None;
     for alpha in LGH_ALPHAS {
-        let backend = LghBackend::new(&lgh, alpha).map_err(|e| e.to_string())?;
+        let backend = LghBackend::new(&lgh, alpha)?;
         let m = measure(&built, &backend, build, reference)?;
         let good = m.max_error <= octree.max_error;
         chosen = Some((alpha, m));
@@ -260,26 +249,26 @@ fn paper_row(scene: TestScene, lights: usize, surface: Surface) -> Option<paquet
 }
 
 /// Checks the arguments before any work.
-fn check(args: &PaquetteArgs) -> Result<(), String> {
+fn check(args: &PaquetteArgs) -> Result<(), crate::Error> {
     QueryError::check_threshold(args.threshold)
         .map_err(|e| format!("--threshold (8-bit levels): {e}"))?;
     if let Some(n) = args.lights {
         if n == 0 || n > MAX_SCENE_LIGHTS {
-            return Err(format!("--lights {n}: must be 1 to {MAX_SCENE_LIGHTS}"));
+            return Err(format!("--lights {n}: must be 1 to {MAX_SCENE_LIGHTS}").into());
         }
     }
     lgh_image::check_image_size(args.width, args.height)
         .map_err(|e| format!("--width/--height: {e}"))?;
     if let Some(dir) = &args.out {
         if !dir.is_dir() {
-            return Err(format!("--out {}: no such folder", dir.display()));
+            return Err(format!("--out {}: no such folder", dir.display()).into());
         }
     }
     Ok(())
 }
 
 /// Runs `lgh paquette`.
-pub fn run(args: &PaquetteArgs) -> Result<(), String> {
+pub fn run(args: &PaquetteArgs) -> Result<(), crate::Error> {
     check(args)?;
     let cases: Vec<(TestScene, usize, Surface)> = if args.table {
         [Surface::Diffuse, Surface::Specular]
@@ -316,17 +305,14 @@ pub fn run(args: &PaquetteArgs) -> Result<(), String> {
         } else {
             records.pop().unwrap_or(Value::Null)
         };
-        say!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
+        say!("{}", serde_json::to_string_pretty(&v)?);
     } else if args.table {
         print_table(&records)?;
     }
     Ok(())
 }
 
-fn print_case(r: &Value) -> Result<(), String> {
+fn print_case(r: &Value) -> Result<(), crate::Error> {
     say!(
         "{} with {} lights, {} surfaces, {}×{}, threshold {} of 255",
         r["scene"],
@@ -375,7 +361,7 @@ fn print_case(r: &Value) -> Result<(), String> {
     Ok(())
 }
 
-fn print_table(records: &[Value]) -> Result<(), String> {
+fn print_table(records: &[Value]) -> Result<(), crate::Error> {
     say!("| scene | lights | material | RT s | Ward % | octree % | speed-up | max / mean 8-bit error | Lightcuts % | LGH α | LGH % | LGH max error | paper RT s | paper Ward % | paper LH % | paper speed-up |");
     say!("|---|---:|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);

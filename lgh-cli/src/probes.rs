@@ -10,15 +10,7 @@ use lgh_core::{
 use rayon::prelude::*;
 
 use crate::{ply, progress};
-
-/// Which many-lights backend evaluates the probes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Backend {
-    /// The lighting grid hierarchy.
-    Lgh,
-    /// Every light at every point (exact for the same light model).
-    Brute,
-}
+use lgh_volume::Method;
 
 /// Arguments of `lgh probes`.
 #[derive(Debug, clap::Args)]
@@ -36,8 +28,8 @@ pub struct ProbesArgs {
     #[arg(long, value_name = "OUT.ply")]
     pub out: PathBuf,
     /// Many-lights backend.
-    #[arg(long, value_enum, default_value_t = Backend::Lgh)]
-    pub backend: Backend,
+    #[arg(long, value_enum, default_value_t = Method::Lgh)]
+    pub backend: Method,
     /// Level-1 grid spacing h1 (default: chosen from the lights, paper Sec. 6.4).
     #[arg(long)]
     pub h1: Option<f32>,
@@ -50,7 +42,7 @@ pub struct ProbesArgs {
 }
 
 /// Reads the lights of a PLY file.
-pub fn read_lights(path: &std::path::Path) -> Result<Vec<PointLight>, String> {
+pub fn read_lights(path: &std::path::Path) -> Result<Vec<PointLight>, crate::Error> {
     let cloud = ply::read(path)?;
     let col = |n: &str| {
         cloud.float_column(n).map_err(|e| {
@@ -79,7 +71,7 @@ pub fn read_lights(path: &std::path::Path) -> Result<Vec<PointLight>, String> {
 }
 
 /// Runs `lgh probes`.
-pub fn run(args: &ProbesArgs) -> Result<(), String> {
+pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
     crate::check_alpha(args.alpha)?;
     let t0 = Instant::now();
     let lights = read_lights(&args.lights)?;
@@ -96,10 +88,7 @@ pub fn run(args: &ProbesArgs) -> Result<(), String> {
             .collect()
     };
     if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-        return Err(format!(
-            "{}: point {i} is not finite",
-            args.points.display()
-        ));
+        return Err(format!("{}: point {i} is not finite", args.points.display()).into());
     }
     let read_s = t0.elapsed().as_secs_f64();
     let settings = GridSettings {
@@ -115,11 +104,11 @@ pub fn run(args: &ProbesArgs) -> Result<(), String> {
     let bar = progress::bar(points.len() as u64, "probes", args.quiet);
     let t2 = Instant::now();
     let (values, evaluated) = match args.backend {
-        Backend::Lgh => {
-            let backend = LghBackend::new(&lgh, args.alpha).map_err(|e| e.to_string())?;
+        Method::Lgh => {
+            let backend = LghBackend::new(&lgh, args.alpha)?;
             evaluate(&backend, &points, h0, &bar)?
         }
-        Backend::Brute => {
+        Method::Brute => {
             let backend = BruteForce::new(&lights).map_err(ctx)?;
             evaluate(&backend, &points, h0, &bar)?
         }
@@ -145,8 +134,8 @@ pub fn run(args: &ProbesArgs) -> Result<(), String> {
         points.len(),
         lights.len(),
         match args.backend {
-            Backend::Lgh => "lgh",
-            Backend::Brute => "brute force",
+            Method::Lgh => "lgh",
+            Method::Brute => "brute force",
         },
         args.alpha,
         lgh.h1(),
@@ -167,7 +156,7 @@ pub fn evaluate<B: ManyLights + Sync>(
     points: &[Vec3],
     h0: f32,
     bar: &indicatif::ProgressBar,
-) -> Result<(Vec<Vec3>, u64), String> {
+) -> Result<(Vec<Vec3>, u64), crate::Error> {
     let out: Result<Vec<(Vec3, u32)>, lgh_core::QueryError> = points
         .par_chunks(1024)
         .flat_map_iter(|chunk| {
@@ -179,7 +168,7 @@ pub fn evaluate<B: ManyLights + Sync>(
             r
         })
         .collect();
-    let out = out.map_err(|e| e.to_string())?;
+    let out = out?;
     let evaluated = out.iter().map(|v| v.1 as u64).sum();
     Ok((out.into_iter().map(|v| v.0).collect(), evaluated))
 }

@@ -7,13 +7,12 @@
 //! statistically careful timings.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use lgh_volume::explosion::{procedural, Medium};
 use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::lgh_core::testsets::SplitMix64;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::scene::{Backend, ExplosionLights};
 use lgh_volume::shadow::ShadowGrid;
+use lgh_volume::{procedural, ExplosionLights, Medium, Method};
 
 fn renders(c: &mut Criterion) {
     let volume = procedural(40, 0.5).unwrap();
@@ -29,7 +28,8 @@ fn renders(c: &mut Criterion) {
             b.iter(|| {
                 lights
                     .render(
-                        Backend::Lgh { alpha },
+                        Method::Lgh,
+                        alpha,
                         &volume,
                         &medium,
                         &camera,
@@ -43,7 +43,15 @@ fn renders(c: &mut Criterion) {
     g.bench_function("brute", |b| {
         b.iter(|| {
             lights
-                .render(Backend::Brute, &volume, &medium, &camera, &march, &|_| {})
+                .render(
+                    Method::Brute,
+                    0.0,
+                    &volume,
+                    &medium,
+                    &camera,
+                    &march,
+                    &|_| {},
+                )
                 .unwrap()
         })
     });

@@ -8,7 +8,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::explosion::Volume;
+use crate::error::VolumeError;
+use crate::medium::Volume;
 use lgh_core::glam::Vec3;
 
 use crate::vdb;
@@ -46,13 +47,15 @@ impl Default for GridNames {
 /// The file of frame `frame` in a cache whose file `example` is any frame: the last run of
 /// digits in the file name is replaced by `frame`, zero-padded to the same width
 /// (`fluid_data_0056.vdb` → `fluid_data_0050.vdb`).
-pub fn frame_path(example: &Path, frame: u32) -> Result<PathBuf, String> {
+pub fn frame_path(example: &Path, frame: u32) -> Result<PathBuf, VolumeError> {
+    let bad = || VolumeError::FrameName {
+        path: example.to_path_buf(),
+    };
     let name = example
         .file_name()
         .and_then(|n| n.to_str())
-        .ok_or_else(|| format!("{}: not a file name", example.display()))?;
-    let (start, end) =
-        frame_digits(name).ok_or_else(|| format!("{name}: no frame number in the file name"))?;
+        .ok_or_else(bad)?;
+    let (start, end) = frame_digits(name).ok_or_else(bad)?;
     let width = end - start;
     let renamed = format!("{}{:0width$}{}", &name[..start], frame, &name[end..]);
     Ok(example.with_file_name(renamed))
@@ -69,22 +72,25 @@ fn frame_digits(name: &str) -> Option<(usize, usize)> {
 
 /// Reads `res_min` from a Blender fluid config file (`config_NNNN.uni`: gzip of a 204-byte
 /// little-endian record ending in `C01\0`, `res_min` as three i32 at byte 160).
-pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let raw = gunzip(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], VolumeError> {
+    let bytes = std::fs::read(path).map_err(|source| VolumeError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |reason: String| VolumeError::BlenderConfig {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let raw = gunzip(&bytes).map_err(bad)?;
     if raw.len() != 204 || &raw[200..204] != b"C01\0" {
-        return Err(format!(
-            "{}: not a Blender fluid config (expected 204 bytes ending in C01)",
-            path.display()
+        return Err(bad(
+            "not a Blender fluid config (expected 204 bytes ending in C01)".into(),
         ));
     }
     let i32_at = |o: usize| i32::from_le_bytes([raw[o], raw[o + 1], raw[o + 2], raw[o + 3]]);
     let res_min = [i32_at(160), i32_at(164), i32_at(168)];
     if res_min.iter().any(|v| !(0..=1 << 16).contains(v)) {
-        return Err(format!(
-            "{}: implausible domain offset {res_min:?}",
-            path.display()
-        ));
+        return Err(bad(format!("implausible domain offset {res_min:?}")));
     }
     Ok(res_min)
 }
@@ -98,7 +104,7 @@ pub fn blender_config_path(vdb_path: &Path) -> Option<PathBuf> {
     Some(vdb_path.parent()?.parent()?.join("config").join(config))
 }
 
-/// Inflates a gzip member (RFC 1952).
+/// Inflates a gzip member (RFC 1952); the error says what is wrong with it.
 fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
     if bytes.len() < 18 || bytes[0] != 0x1f || bytes[1] != 0x8b || bytes[2] != 8 {
         return Err("not a gzip file".into());
@@ -157,24 +163,24 @@ impl RawFrame {
 }
 
 /// Position of the grid `name` in `file`, or an error that lists the grids there are.
-fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, String> {
+fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, VolumeError> {
     file.grids
         .iter()
         .position(|g| g.name == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = file.grids.iter().map(|g| g.name.as_str()).collect();
-            format!(
-                "{}: no grid named '{name}' (grids: {})",
-                path.display(),
-                names.join(", ")
-            )
+        .ok_or_else(|| VolumeError::NoGrid {
+            path: path.to_path_buf(),
+            name: name.to_string(),
+            available: file.grids.iter().map(|g| g.name.clone()).collect(),
         })
 }
 
 impl RawFrame {
     /// Reads `path` and finds its grids (and its domain offset when `blender_offset`).
-    fn read(path: &Path, names: &GridNames, blender_offset: bool) -> Result<Self, String> {
-        let file = vdb::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    fn read(path: &Path, names: &GridNames, blender_offset: bool) -> Result<Self, VolumeError> {
+        let file = vdb::read(path).map_err(|source| VolumeError::Vdb {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let density = find_grid(&file, &names.density, path)?;
         let emission = find_grid(&file, &names.emission, path)?;
         let flame = match &names.flame {
@@ -241,7 +247,7 @@ impl Sequence {
         paths: &[PathBuf],
         names: &GridNames,
         blender_offset: bool,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VolumeError> {
         Ok(Sequence::scan(paths, names, blender_offset, false)?.0)
     }
 
@@ -251,9 +257,9 @@ impl Sequence {
         paths: &[PathBuf],
         names: &GridNames,
         blender_offset: bool,
-    ) -> Result<(Self, Volume), String> {
+    ) -> Result<(Self, Volume), VolumeError> {
         let (seq, kept) = Sequence::scan(paths, names, blender_offset, false)?;
-        let last = kept.last().ok_or("no frames to load")?;
+        let last = kept.last().ok_or(VolumeError::NoFrames)?;
         let volume = seq.place(last)?;
         Ok((seq, volume))
     }
@@ -265,7 +271,7 @@ impl Sequence {
         names: &GridNames,
         blender_offset: bool,
         keep_all: bool,
-    ) -> Result<(Self, Vec<RawFrame>), String> {
+    ) -> Result<(Self, Vec<RawFrame>), VolumeError> {
         let mut seq: Option<Sequence> = None;
         let mut kept = Vec::new();
         for path in paths {
@@ -289,17 +295,17 @@ impl Sequence {
             }
             kept.push(raw);
         }
-        let seq = seq.ok_or("no frames to load")?;
+        let seq = seq.ok_or(VolumeError::NoFrames)?;
         if seq.lo[0] > seq.hi[0] {
-            return Err("the frames have no active voxels".into());
+            return Err(VolumeError::NoActiveVoxels);
         }
         let dims = seq.dims();
         let voxels = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
         if voxels.is_none_or(|v| v > MAX_VOXELS) {
-            return Err(format!(
-                "the frames span {}x{}x{} voxels, more than the {} a dense grid may hold",
-                dims[0], dims[1], dims[2], MAX_VOXELS
-            ));
+            return Err(VolumeError::TooManyVoxels {
+                grid: None,
+                dims: Some(dims),
+            });
         }
         Ok((seq, kept))
     }
@@ -317,24 +323,22 @@ impl Sequence {
 
     /// Checks that every grid of `raw` (read from `path`) is scalar and placed by the
     /// sequence's transform, the first frame's density grid's.
-    fn check(&self, raw: &RawFrame, path: &Path) -> Result<(), String> {
+    fn check(&self, raw: &RawFrame, path: &Path) -> Result<(), VolumeError> {
         for g in raw.grids() {
             if g.index_to_world != self.transform {
-                return Err(format!(
-                    "{}: grid '{}' has another transform (voxel size or placement) than '{}' of {}",
-                    path.display(),
-                    g.name,
-                    self.names.density,
-                    self.paths[0].display()
-                ));
+                return Err(VolumeError::GridTransform {
+                    path: path.to_path_buf(),
+                    grid: g.name.clone(),
+                    reference: self.names.density.clone(),
+                    reference_path: self.paths[0].clone(),
+                });
             }
             if g.value_type.components() != 1 {
-                return Err(format!(
-                    "{}: grid '{}' is a {} grid; density, emission and flame must be scalar",
-                    path.display(),
-                    g.name,
-                    g.value_type.name()
-                ));
+                return Err(VolumeError::NotScalar {
+                    path: path.to_path_buf(),
+                    grid: g.name.clone(),
+                    value_type: g.value_type.name(),
+                });
             }
         }
         Ok(())
@@ -365,26 +369,25 @@ impl Sequence {
 
     /// Reads frame `i` onto the common box (checked again: the file may have changed since
     /// [`open`](Self::open)).
-    pub fn frame(&self, i: usize) -> Result<Volume, String> {
-        let path = self
-            .paths
-            .get(i)
-            .ok_or_else(|| format!("frame {i} of a {}-frame sequence", self.len()))?;
+    pub fn frame(&self, i: usize) -> Result<Volume, VolumeError> {
+        let path = self.paths.get(i).ok_or(VolumeError::NoSuchFrame {
+            index: i,
+            len: self.len(),
+        })?;
         let raw = RawFrame::read(path, &self.names, self.blender_offset)?;
         self.check(&raw, path)?;
         let (lo, hi) = raw.index_box();
         if (0..3).any(|k| lo[k] < self.lo[k] || hi[k] > self.hi[k]) {
-            return Err(format!(
-                "{}: changed since the sequence was opened (its voxels leave the common box)",
-                path.display()
-            ));
+            return Err(VolumeError::FrameChanged {
+                path: path.to_path_buf(),
+            });
         }
         self.place(&raw)
     }
 
     /// `raw` on the common box: every frame lands at the box's place, whatever its own domain
     /// offset.
-    fn place(&self, raw: &RawFrame) -> Result<Volume, String> {
+    fn place(&self, raw: &RawFrame) -> Result<Volume, VolumeError> {
         let origin = DenseGrid::world_position(&self.transform, self.lo);
         let place = |g: &vdb::Grid| {
             let a = [0, 1, 2].map(|k| self.lo[k] - raw.offset[k]);
@@ -405,7 +408,7 @@ pub fn load(
     paths: &[PathBuf],
     names: &GridNames,
     blender_offset: bool,
-) -> Result<Vec<Volume>, String> {
+) -> Result<Vec<Volume>, VolumeError> {
     let (seq, raws) = Sequence::scan(paths, names, blender_offset, true)?;
     raws.iter().map(|raw| seq.place(raw)).collect()
 }

@@ -2,6 +2,7 @@
 
 use lgh_core::glam::Vec3;
 
+use crate::error::VolumeError;
 use crate::vdb;
 
 /// A dense scalar grid: `dims` voxels of edge `voxel_size`; voxel `(0, 0, 0)` has its centre at
@@ -117,7 +118,7 @@ impl DenseGrid {
     /// The active values of a scalar VDB grid over the index box `lo..=hi`, as a dense grid in
     /// world space (voxel centres at `index_to_world · index`; only axis-aligned uniform-scale
     /// transforms). Inactive voxels are zero; vector grids give their length.
-    pub fn from_vdb(grid: &vdb::Grid, lo: [i32; 3], hi: [i32; 3]) -> Result<Self, String> {
+    pub fn from_vdb(grid: &vdb::Grid, lo: [i32; 3], hi: [i32; 3]) -> Result<Self, VolumeError> {
         let origin = DenseGrid::world_position(&grid.index_to_world, lo);
         DenseGrid::from_vdb_at(grid, lo, hi, origin)
     }
@@ -133,7 +134,7 @@ impl DenseGrid {
         lo: [i32; 3],
         hi: [i32; 3],
         origin: Vec3,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VolumeError> {
         let m = grid.index_to_world;
         let h = grid.voxel_size[0];
         let uniform = (grid.voxel_size[1] - h).abs() <= 1e-9 * h
@@ -145,10 +146,9 @@ impl DenseGrid {
             && m[2][0] == 0.0
             && m[2][1] == 0.0;
         if !(uniform && axis_aligned) {
-            return Err(format!(
-                "grid '{}' has a non-uniform or rotated transform",
-                grid.name
-            ));
+            return Err(VolumeError::UnsupportedTransform {
+                grid: grid.name.clone(),
+            });
         }
         let dims = [0, 1, 2].map(|a| (hi[a] as i64 - lo[a] as i64 + 1).max(0) as usize);
         if dims
@@ -156,7 +156,10 @@ impl DenseGrid {
             .try_fold(1usize, |a, &d| a.checked_mul(d))
             .is_none_or(|v| v > MAX_DENSE_VOXELS)
         {
-            return Err(format!("grid '{}' is too large to make dense", grid.name));
+            return Err(VolumeError::TooManyVoxels {
+                grid: Some(grid.name.clone()),
+                dims: Some(dims),
+            });
         }
         let mut out = DenseGrid::zeros(dims, h as f32, origin);
         let c = grid.components();

@@ -1,26 +1,29 @@
 //! # lgh-volume — self-illuminating explosions
 //!
-//! A fire simulation in, images out (paper Secs. 3, 4, 6.1; DESIGN.md "lgh-volume"):
+//! A fire simulation in, images out (paper Secs. 3, 4, 6.1; ARCHITECTURE.md at the repository
+//! root, "lgh-volume", follows the data from a VDB file to an EXR):
 //!
 //! - [`vdb`]: a pure-Rust reader of OpenVDB files as Blender and Houdini write them, checked
 //!   against the official library; [`cache`] places a cache's frames on one grid (Blender's
-//!   adaptive-domain offset) with Blender's grid names.
-//! - [`explosion`]: the medium (absorption, isotropic scattering, blackbody emission with
-//!   Planck's or Blender's model), one light per hot voxel (`I0 = j h³`), and the embedded
-//!   procedural explosion.
-//! - [`scene`]: a sequence's lights at fixed positions with per-frame intensities, through the
-//!   lighting grid hierarchy or brute force.
-//! - [`render`]: camera and ray marcher (emission + single scattering); [`shadow`]: the
-//!   ray-marched shadow rays it shades with; [`pathtrace`]: the unbiased path-traced reference
-//!   on the same grids.
+//!   adaptive-domain offset) with Blender's grid names; [`grid`]: the dense grids.
+//! - [`medium`]: one frame's density and temperature ([`Volume`]) and how they absorb, scatter
+//!   and emit ([`Medium`]: Planck's or Blender's emission); [`procedural`]: the embedded
+//!   explosion.
+//! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
+//!   per-frame intensities, through the lighting grid hierarchy or brute force ([`Method`]).
+//! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: today
+//!   ray-marched or none); [`lighting`]: the one per-point lighting function,
+//!   [`Lights::incident`] (eq. 1 with `V`).
+//! - [`render`]: camera and ray marcher (emission + single scattering) and the one pixel loop;
+//!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
+//! - [`error`]: [`VolumeError`], the crate's one error type.
 //!
-//! Deep-shadow cube maps and multiple scattering (Secs. 4, 5) are not written yet; shadows are
-//! ray-marched (exact) or off. The lighting itself lives in [`lgh_core`].
+//! Deep-shadow cube maps and multiple scattering (Secs. 4, 5) are not written yet; they plug
+//! into [`Visibility`] and [`Lights::incident`]. The lighting itself lives in [`lgh_core`].
 //!
 //! ```
-//! use lgh_volume::explosion::{procedural, Medium};
 //! use lgh_volume::render::{Camera, Framing, MarchSettings};
-//! use lgh_volume::scene::{Backend, ExplosionLights};
+//! use lgh_volume::{procedural, ExplosionLights, Medium, Method};
 //!
 //! let volume = procedural(32, 0.5)?;
 //! let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?; // κ_a, κ_s, k_e, T_min
@@ -28,7 +31,8 @@
 //! let (lo, hi) = volume.active_bounds().unwrap();
 //! let camera = Camera::frame(lo, hi, 32, 18)?;
 //! let (image, stats) = lights.render(
-//!     Backend::Lgh { alpha: 2.0 },
+//!     Method::Lgh,
+//!     2.0, // the paper's α
 //!     &volume,
 //!     &medium,
 //!     &camera,
@@ -37,8 +41,11 @@
 //! )?;
 //! assert_eq!(image.pixels.len(), 32 * 18);
 //! println!("{:.0} lights per shading point", stats.lights_per_point());
-//! # Ok::<(), String>(())
+//! # Ok::<(), lgh_volume::VolumeError>(())
 //! ```
+//!
+//! Feature `clap`: the choices ([`Shadows`], [`Method`]) derive `clap::ValueEnum`, so a
+//! command line takes them as they are.
 
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
@@ -46,12 +53,21 @@
 pub use lgh_core;
 
 pub mod cache;
-pub mod explosion;
+pub mod error;
 pub mod grid;
+pub mod lighting;
+pub mod lights;
+pub mod medium;
 pub mod pathtrace;
+pub mod procedural;
 pub mod render;
-pub mod scene;
 pub mod shadow;
 pub mod vdb;
 
+pub use error::VolumeError;
 pub use grid::DenseGrid;
+pub use lighting::Lights;
+pub use lights::{ExplosionLights, Method};
+pub use medium::{EmissionModel, Medium, Volume};
+pub use procedural::procedural;
+pub use shadow::{Shadows, Visibility};

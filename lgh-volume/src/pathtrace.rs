@@ -55,7 +55,7 @@
 //! let settings = PathSettings { spp: 2, ..Default::default() };
 //! let image = render(&volume, &medium, &camera, &settings, &|_rows| {})?;
 //! assert_eq!(image.pixels.len(), 48);
-//! # Ok::<(), String>(())
+//! # Ok::<(), lgh_volume::VolumeError>(())
 //! ```
 
 use lgh_core::glam::Vec3;
@@ -63,8 +63,9 @@ use lgh_core::testsets::SplitMix64;
 use lgh_image::Image;
 use rayon::prelude::*;
 
-use crate::explosion::{Medium, Volume};
-use crate::render::{Camera, Framing};
+use crate::error::VolumeError;
+use crate::medium::{Medium, Volume};
+use crate::render::{shade_pixels, Camera};
 use crate::DenseGrid;
 
 /// Path-tracing parameters.
@@ -94,15 +95,18 @@ impl Default for PathSettings {
 
 impl PathSettings {
     /// Checks the settings: at least one path per pixel and a finite, non-negative environment.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), VolumeError> {
         if self.spp == 0 {
-            return Err("path tracer: samples per pixel must be at least 1".into());
+            return Err(VolumeError::InvalidCount {
+                name: "path tracer: samples per pixel",
+                value: 0,
+                rule: "must be at least 1",
+            });
         }
         if !(self.environment.is_finite() && self.environment.min_element() >= 0.0) {
-            return Err(format!(
-                "path tracer: environment radiance {} must be finite and ≥ 0",
-                self.environment
-            ));
+            return Err(VolumeError::InvalidEnvironment {
+                radiance: self.environment,
+            });
         }
         Ok(())
     }
@@ -164,21 +168,22 @@ pub struct Majorants {
 }
 
 /// Checks that a grid can be sampled: non-empty, consistent, finite geometry.
-fn check_grid(name: &str, g: &DenseGrid) -> Result<(), String> {
+fn check_grid(grid: &'static str, g: &DenseGrid) -> Result<(), VolumeError> {
     let count = g.dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
     if g.dims.contains(&0) || count != Some(g.data.len()) {
-        return Err(format!(
-            "{name} grid: dimensions {:?} do not match its {} values",
-            g.dims,
-            g.data.len()
-        ));
+        return Err(VolumeError::GridShape {
+            grid,
+            dims: g.dims,
+            values: g.data.len(),
+        });
     }
     let (lo, hi) = g.bounds();
     if !(g.voxel_size.is_finite() && g.voxel_size > 0.0 && lo.is_finite() && hi.is_finite()) {
-        return Err(format!(
-            "{name} grid: voxel size {} and origin {} must be finite (size > 0)",
-            g.voxel_size, g.origin
-        ));
+        return Err(VolumeError::GridGeometry {
+            grid,
+            voxel_size: g.voxel_size,
+            origin: g.origin,
+        });
     }
     Ok(())
 }
@@ -221,7 +226,7 @@ impl Majorants {
     /// Builds the block majorants of `volume` in `medium`. Errors on grids that cannot be
     /// sampled (empty, inconsistent, non-finite geometry) and on infinite or absurdly large
     /// extinction (more than 10⁴ tentative collisions per voxel), which would never finish.
-    pub fn new(volume: &Volume, medium: &Medium) -> Result<Self, String> {
+    pub fn new(volume: &Volume, medium: &Medium) -> Result<Self, VolumeError> {
         check_grid("density", &volume.density)?;
         check_grid("temperature", &volume.temperature)?;
         let g = &volume.density;
@@ -230,7 +235,7 @@ impl Majorants {
         let dims = g.dims.map(|n| n.div_ceil(BLOCK_VOXELS));
         let count = dims[0] * dims[1] * dims[2];
         let emission_floor = EMISSION_RATE / h;
-        let blocks: Result<Vec<(f32, bool)>, String> = (0..count)
+        let blocks: Result<Vec<(f32, bool)>, VolumeError> = (0..count)
             .into_par_iter()
             .map(|b| {
                 let c = crate::grid::unflatten(b, dims);
@@ -245,10 +250,10 @@ impl Majorants {
                     sigma = sigma.max(emission_floor);
                 }
                 if !(sigma.is_finite() && sigma * h <= MAX_COLLISIONS_PER_VOXEL) {
-                    return Err(format!(
-                        "path tracer: extinction majorant {sigma} per unit length is not finite \
-                         or too large to track (voxel size {h})"
-                    ));
+                    return Err(VolumeError::Majorant {
+                        sigma,
+                        voxel_size: h,
+                    });
                 }
                 Ok((sigma, emissive))
             })
@@ -454,8 +459,9 @@ pub fn render(
     camera: &Camera,
     settings: &PathSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Image, String> {
-    render_impl(volume, medium, camera, settings, false, progress).map(|(mean, _)| mean)
+) -> Result<Image, VolumeError> {
+    let pixels = trace_pixels(volume, medium, camera, settings, None, progress)?;
+    Ok(image(camera, pixels.into_iter().map(|(mean, _)| mean)))
 }
 
 /// Like [`render`], and also the per-pixel, per-channel variance of the mean (sample variance of
@@ -467,47 +473,48 @@ pub fn render_with_variance(
     camera: &Camera,
     settings: &PathSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Image, Image), String> {
+) -> Result<(Image, Image), VolumeError> {
     if settings.spp < 2 {
-        return Err("path tracer: a variance needs at least 2 samples per pixel".into());
+        return Err(VolumeError::InvalidCount {
+            name: "path tracer: samples per pixel",
+            value: settings.spp as usize,
+            rule: "must be at least 2 for a variance",
+        });
     }
-    let (mean, variance) = render_impl(volume, medium, camera, settings, true, progress)?;
-    Ok((mean, variance.expect("asked for")))
+    let pixels = trace_pixels(volume, medium, camera, settings, None, progress)?;
+    let mean = image(camera, pixels.iter().map(|p| p.0));
+    let variance = image(camera, pixels.iter().map(|p| p.1));
+    Ok((mean, variance))
 }
 
-/// The mean image, and the variance-of-the-mean image if `with_variance`.
-fn render_impl(
+/// An image of `camera`'s size from its pixels in order.
+fn image(camera: &Camera, pixels: impl Iterator<Item = Vec3>) -> Image {
+    Image {
+        width: camera.width(),
+        height: camera.height(),
+        pixels: pixels.collect(),
+    }
+}
+
+/// Mean and variance of the mean of each pixel of `pixels` (`None`: the whole image), through
+/// the crate's one pixel loop.
+fn trace_pixels(
     volume: &Volume,
     medium: &Medium,
     camera: &Camera,
     settings: &PathSettings,
-    with_variance: bool,
+    pixels: Option<&[[usize; 2]]>,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Image, Option<Image>), String> {
+) -> Result<Vec<(Vec3, Vec3)>, VolumeError> {
     settings.validate()?;
-    // The camera has checked the image size.
-    let (w, h) = (camera.width(), camera.height());
     let majorants = Majorants::new(volume, medium)?;
-    let row = |y: usize, mean: &mut [Vec3], mut variance: Option<&mut [Vec3]>| {
-        for x in 0..w {
-            let (m, v) = pixel(volume, medium, &majorants, camera, settings, x, y);
-            mean[x] = m;
-            if let Some(var) = variance.as_deref_mut() {
-                var[x] = v;
-            }
-        }
-        progress(1);
-    };
-    let mut mean = Image::new(w, h);
-    let rows = mean.pixels.par_chunks_mut(w).enumerate();
-    let mut variance = with_variance.then(|| Image::new(w, h));
-    match &mut variance {
-        Some(var) => rows
-            .zip(var.pixels.par_chunks_mut(w))
-            .for_each(|((y, m), v)| row(y, m, Some(v))),
-        None => rows.for_each(|(y, m)| row(y, m, None)),
-    }
-    Ok((mean, variance))
+    shade_pixels(
+        camera,
+        pixels,
+        || (),
+        |_, x, y| Ok(pixel(volume, medium, &majorants, camera, settings, x, y)),
+        progress,
+    )
 }
 
 /// Mean and variance of the mean of pixel `(x, y)`'s paths.
@@ -539,16 +546,9 @@ pub fn render_pixels(
     camera: &Camera,
     settings: &PathSettings,
     pixels: &[[usize; 2]],
-) -> Result<Vec<Vec3>, String> {
-    settings.validate()?;
-    camera
-        .check_pixels(pixels)
-        .map_err(|e| format!("path tracer: {e}"))?;
-    let majorants = Majorants::new(volume, medium)?;
-    Ok(pixels
-        .par_iter()
-        .map(|&[x, y]| pixel(volume, medium, &majorants, camera, settings, x, y).0)
-        .collect())
+) -> Result<Vec<Vec3>, VolumeError> {
+    let out = trace_pixels(volume, medium, camera, settings, Some(pixels), &|_| {})?;
+    Ok(out.into_iter().map(|(mean, _)| mean).collect())
 }
 
 /// Running mean and sum of squared deviations per channel (Welford), in f64.
@@ -611,9 +611,10 @@ impl Welford {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::explosion::procedural;
-    use crate::render::{MarchSettings, Marcher, RenderStats, Shadows};
-    use crate::scene::ExplosionLights;
+    use crate::lighting::Lights;
+    use crate::lights::ExplosionLights;
+    use crate::procedural::procedural;
+    use crate::render::{Framing, MarchSettings, Marcher, RenderStats, Shadows};
     use lgh_core::BruteForce;
 
     /// Mean and standard error (per channel) of `n` paths along one ray, in parallel chunks with
@@ -919,12 +920,15 @@ mod tests {
                 min_transmittance: 1e-9,
                 shadows: Shadows::RayMarch,
             };
-            Marcher::new(vol, &m, &s).unwrap().march(
-                Some((&brute, h0)),
-                o,
-                d,
-                &mut RenderStats::default(),
-            )
+            Marcher::new(vol, &m, &s)
+                .unwrap()
+                .march(
+                    Some(&Lights::new(brute, h0)),
+                    o,
+                    d,
+                    &mut RenderStats::default(),
+                )
+                .unwrap()
         };
         let maj = Majorants::new(&v, &m).unwrap();
         let s = PathSettings {

@@ -1,33 +1,52 @@
-//! The camera and the volume ray marcher (DESIGN.md "Rendering").
+//! The camera and the volume ray marcher (ARCHITECTURE.md, "lgh-volume"; paper Sec. 6.1).
 //!
 //! A camera ray marches the smoke from where it enters the grid's box; each step of length `dt`
 //! adds `T · [j + σ_s/(4π) Σ_lights V·g·B·I] · (1 − e^{−σ_t dt}) / σ_t` — the exact integral over
 //! a step whose medium is constant (evaluated at the step's midpoint) — and multiplies the
-//! transmittance `T` by `e^{−σ_t dt}`, until `T` is negligible. The sum over lights goes through
-//! any [`ManyLights`] backend; the visibility `V` is a ray-marched transmittance to each light or 1.
+//! transmittance `T` by `e^{−σ_t dt}`, until `T` is negligible. The sum over lights is
+//! [`Lights::incident`], through any [`ManyLights`] backend, with the [`Visibility`] the
+//! [`Marcher`] built from its settings.
+//!
+//! Every renderer of the crate (this marcher, the path tracer) computes its pixels through one
+//! loop, [`shade_pixels`]: rows in parallel, each pixel independent, so no result depends on the
+//! thread count.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{falloff, LightSample, ManyLights, ShadingPoint};
+use lgh_core::{ManyLights, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
-use crate::explosion::{Medium, Volume};
-use crate::shadow::ShadowGrid;
+use crate::error::{check_setting, VolumeError};
+use crate::lighting::{LightScratch, Lights};
+use crate::medium::{Medium, Volume};
+pub use crate::shadow::Shadows;
+use crate::shadow::Visibility;
 
 /// The one image-size rule of every renderer (it lives in lgh-image).
 pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
 
 /// The pinhole camera, shared with the surface renderer: lgh-image's
 /// [`Pinhole`](lgh_image::camera::Pinhole). [`Framing`] adds what the volume renderer needs on
-/// top: string errors, the automatic framing of a box, and the check of pixel lists.
+/// top: typed errors, the automatic framing of a box, and the check of pixel lists.
 pub use lgh_image::camera::Pinhole as Camera;
 
 /// The volume renderer's conveniences on [`Camera`] (implemented for it; bring the trait into
 /// scope to call `Camera::frame(...)`, `Camera::look_at(...)` or `camera.check_pixels(...)`).
+///
+/// ```
+/// use lgh_volume::lgh_core::glam::Vec3;
+/// use lgh_volume::render::{Camera, Framing};
+///
+/// let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 64, 36)?;
+/// assert_eq!((camera.width(), camera.height()), (64, 36));
+/// assert!(camera.check_pixels(&[[63, 35]]).is_ok());
+/// assert!(camera.check_pixels(&[[64, 0]]).is_err());
+/// # Ok::<(), lgh_volume::VolumeError>(())
+/// ```
 pub trait Framing: Sized {
     /// A camera at `eye` looking at `target`, `up` roughly up, vertical field of view in degrees
     /// and a `width × height` image: [`Camera::new`], its
-    /// [`CameraError`](lgh_image::camera::CameraError) as a message.
+    /// [`CameraError`](lgh_image::camera::CameraError) as a [`VolumeError::Camera`].
     fn look_at(
         eye: Vec3,
         target: Vec3,
@@ -35,19 +54,25 @@ pub trait Framing: Sized {
         fov_y: f32,
         width: usize,
         height: usize,
-    ) -> Result<Self, String>;
+    ) -> Result<Self, VolumeError>;
 
     /// Frames the box `lo..hi` in a +Y-up world: [`frame_up`](Self::frame_up) with [`Up::Y`].
-    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, String>;
+    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, VolumeError>;
 
     /// Frames the box `lo..hi`: looks at its centre from the front, a little to the right and
     /// above, from the distance where the box's bounding sphere shrunk to 80% fills the narrower
     /// field of view (40° vertically). Smoke rarely fills its box to the corners, and the full
     /// sphere leaves it small in the frame.
-    fn frame_up(lo: Vec3, hi: Vec3, width: usize, height: usize, up: Up) -> Result<Self, String>;
+    fn frame_up(
+        lo: Vec3,
+        hi: Vec3,
+        width: usize,
+        height: usize,
+        up: Up,
+    ) -> Result<Self, VolumeError>;
 
     /// Checks that every `(x, y)` of `pixels` is inside the image.
-    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), String>;
+    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), VolumeError>;
 }
 
 impl Framing for Camera {
@@ -58,15 +83,21 @@ impl Framing for Camera {
         fov_y: f32,
         width: usize,
         height: usize,
-    ) -> Result<Self, String> {
-        Camera::new(eye, target, up, fov_y, width, height).map_err(|e| e.to_string())
+    ) -> Result<Self, VolumeError> {
+        Ok(Camera::new(eye, target, up, fov_y, width, height)?)
     }
 
-    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, String> {
+    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, VolumeError> {
         Camera::frame_up(lo, hi, width, height, Up::Y)
     }
 
-    fn frame_up(lo: Vec3, hi: Vec3, width: usize, height: usize, up: Up) -> Result<Self, String> {
+    fn frame_up(
+        lo: Vec3,
+        hi: Vec3,
+        width: usize,
+        height: usize,
+        up: Up,
+    ) -> Result<Self, VolumeError> {
         let centre = 0.5 * (lo + hi);
         let radius = 0.8 * 0.5 * (hi - lo).length();
         let fov_y = 40.0f32;
@@ -78,16 +109,16 @@ impl Framing for Camera {
         Camera::look_at(centre + dir * distance, centre, upv, fov_y, width, height)
     }
 
-    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), String> {
+    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), VolumeError> {
         match pixels
             .iter()
             .find(|p| p[0] >= self.width() || p[1] >= self.height())
         {
-            Some(p) => Err(format!(
-                "pixel {p:?} is outside the {}x{} image",
-                self.width(),
-                self.height()
-            )),
+            Some(&pixel) => Err(VolumeError::PixelOutside {
+                pixel,
+                width: self.width(),
+                height: self.height(),
+            }),
             None => Ok(()),
         }
     }
@@ -117,15 +148,6 @@ impl Up {
     }
 }
 
-/// How lights are shadowed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Shadows {
-    /// No shadows (V = 1).
-    None,
-    /// Transmittance ray-marched from the shading point to each light (exact shadows).
-    RayMarch,
-}
-
 /// Ray-marching parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MarchSettings {
@@ -143,23 +165,35 @@ pub struct MarchSettings {
 
 impl MarchSettings {
     /// Checks the settings: steps of 0.01 to 64 voxels, a cut-off in [0, 1).
-    pub fn check(&self) -> Result<(), String> {
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    ///
+    /// assert!(MarchSettings::default().check().is_ok());
+    /// let bad = MarchSettings { step_voxels: 100.0, ..Default::default() };
+    /// assert_eq!(
+    ///     bad.check().unwrap_err().to_string(),
+    ///     "march settings: step 100 must be 0.01 to 64 voxels"
+    /// );
+    /// ```
+    pub fn check(&self) -> Result<(), VolumeError> {
         for (name, v) in [
-            ("step", self.step_voxels),
-            ("shadow step", self.shadow_step_voxels),
+            ("march settings: step", self.step_voxels),
+            ("march settings: shadow step", self.shadow_step_voxels),
         ] {
-            if !(0.01..=64.0).contains(&v) {
-                return Err(format!(
-                    "march settings: {name} {v} must be 0.01 to 64 voxels"
-                ));
-            }
+            check_setting(
+                (0.01..=64.0).contains(&v),
+                name,
+                v,
+                "must be 0.01 to 64 voxels",
+            )?;
         }
-        if !(0.0..1.0).contains(&self.min_transmittance) {
-            return Err(format!(
-                "march settings: minimum transmittance {} must be in [0, 1)",
-                self.min_transmittance
-            ));
-        }
+        check_setting(
+            (0.0..1.0).contains(&self.min_transmittance),
+            "march settings: minimum transmittance",
+            self.min_transmittance,
+            "must be in [0, 1)",
+        )?;
         Ok(())
     }
 }
@@ -195,6 +229,7 @@ impl RenderStats {
     }
 
     /// Mean lights evaluated per shading point (0 when none).
+    #[must_use]
     pub fn lights_per_point(&self) -> f64 {
         if self.shading_points == 0 {
             0.0
@@ -204,92 +239,124 @@ impl RenderStats {
     }
 }
 
-/// A frame ready to march: the volume, its medium and the settings, with the shadow grid the
-/// settings ask for built once.
+/// A frame ready to march: the volume, its medium, the checked settings and the visibility they
+/// ask for, built once. The state is consistent by construction: nothing can change the
+/// settings without building the visibility anew (make another `Marcher`).
 pub struct Marcher<'a> {
-    /// The volume.
-    pub volume: &'a Volume,
-    /// Its medium.
-    pub medium: &'a Medium,
-    /// The march settings.
-    pub settings: MarchSettings,
-    /// The density laid out for shadow rays, when they are ray-marched.
-    shadows: Option<ShadowGrid>,
+    volume: &'a Volume,
+    medium: &'a Medium,
+    settings: MarchSettings,
+    visibility: Visibility,
 }
 
 impl<'a> Marcher<'a> {
-    /// Prepares `volume` in `medium` for marching with `settings` (checked).
+    /// Prepares `volume` in `medium` for marching with `settings` (checked), building the
+    /// visibility `settings.shadows` asks for.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::BruteForce;
+    /// use lgh_volume::{procedural, Medium};
+    /// use lgh_volume::render::{MarchSettings, Marcher, RenderStats};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let marcher = Marcher::new(&volume, &medium, &MarchSettings::default())?;
+    /// // Emission only (no lights to scatter): radiance along a ray through the centre.
+    /// let l = marcher.march::<BruteForce>(None, Vec3::new(0.0, 0.0, 3.0), -Vec3::Z, &mut RenderStats::default())?;
+    /// assert!(l.max_element() > 0.0);
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
     pub fn new(
         volume: &'a Volume,
         medium: &'a Medium,
         settings: &MarchSettings,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VolumeError> {
         settings.check()?;
-        let shadows = match settings.shadows {
-            Shadows::None => None,
-            Shadows::RayMarch => Some(ShadowGrid::new(
-                volume,
-                medium,
-                settings.shadow_step_voxels,
-                settings.min_transmittance,
-            )),
-        };
         Ok(Marcher {
             volume,
             medium,
             settings: *settings,
-            shadows,
+            visibility: Visibility::new(
+                settings.shadows,
+                volume,
+                medium,
+                settings.shadow_step_voxels,
+                settings.min_transmittance,
+            ),
         })
     }
 
-    /// [`new`](Self::new), without the shadow grid when there are no lights to shadow.
-    fn for_lights(
+    /// [`new`](Self::new) for a render whose lights are `lights`: without them there is
+    /// nothing to shadow, and no visibility is built.
+    fn for_lights<B>(
         volume: &'a Volume,
         medium: &'a Medium,
         settings: &MarchSettings,
-        lights: bool,
-    ) -> Result<Self, String> {
-        let shadows = if lights {
+        lights: Option<&Lights<B>>,
+    ) -> Result<Self, VolumeError> {
+        let shadows = if lights.is_some() {
             settings.shadows
         } else {
             Shadows::None
         };
-        Marcher::new(
-            volume,
-            medium,
-            &MarchSettings {
-                shadows,
-                ..*settings
-            },
-        )
+        let settings = MarchSettings {
+            shadows,
+            ..*settings
+        };
+        Marcher::new(volume, medium, &settings)
+    }
+
+    /// The volume.
+    #[must_use]
+    pub fn volume(&self) -> &'a Volume {
+        self.volume
+    }
+
+    /// Its medium.
+    #[must_use]
+    pub fn medium(&self) -> &'a Medium {
+        self.medium
+    }
+
+    /// The (checked) settings.
+    #[must_use]
+    pub fn settings(&self) -> &MarchSettings {
+        &self.settings
+    }
+
+    /// The visibility the settings asked for.
+    #[must_use]
+    pub fn visibility(&self) -> &Visibility {
+        &self.visibility
     }
 
     /// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single
-    /// scattering from `lights` (if given; `h0` clamps their fall-off).
+    /// scattering from `lights` (if given); a failed lighting query is an error.
     pub fn march<B: ManyLights>(
         &self,
-        lights: Option<(&B, f32)>,
+        lights: Option<&Lights<B>>,
         origin: Vec3,
         dir: Vec3,
         stats: &mut RenderStats,
-    ) -> Vec3 {
-        self.march_with(lights, origin, dir, stats, &mut Scratch::default())
+    ) -> Result<Vec3, VolumeError> {
+        self.march_with(lights, origin, dir, stats, &mut LightScratch::default())
     }
 
     /// [`march`](Self::march) with buffers that the caller reuses from ray to ray.
     fn march_with<B: ManyLights>(
         &self,
-        lights: Option<(&B, f32)>,
+        lights: Option<&Lights<B>>,
         origin: Vec3,
         dir: Vec3,
         stats: &mut RenderStats,
-        scratch: &mut Scratch,
-    ) -> Vec3 {
+        scratch: &mut LightScratch,
+    ) -> Result<Vec3, VolumeError> {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
         let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
-            return Vec3::ZERO;
+            return Ok(Vec3::ZERO);
         };
         let n = ((t1 - t0) / (settings.step_voxels * h)).ceil().max(1.0) as usize;
         let dt = (t1 - t0) / n as f32;
@@ -301,10 +368,16 @@ impl<'a> Marcher<'a> {
             let sigma_t = medium.extinction(rho);
             let mut source = volume.emission(medium, x);
             let sigma_s = medium.scattering * rho;
-            if let (Some((backend, h0)), true) = (lights, sigma_s > 0.0) {
-                if let Some(sum) = self.in_scattered(backend, h0, x, scratch, stats) {
-                    source += sum * (sigma_s / (4.0 * std::f32::consts::PI));
-                }
+            if let (Some(lights), true) = (lights, sigma_s > 0.0) {
+                // The isotropic phase function 1/4π is applied once, outside the sum.
+                let sum = lights.incident(
+                    &ShadingPoint::in_medium(x),
+                    &self.visibility,
+                    |_| Vec3::ONE,
+                    scratch,
+                    stats,
+                )?;
+                source += sum * (sigma_s / (4.0 * std::f32::consts::PI));
             }
             // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
             let step_t = (-sigma_t * dt).exp();
@@ -319,90 +392,92 @@ impl<'a> Marcher<'a> {
                 break;
             }
         }
-        radiance
-    }
-
-    /// `Σ_lights V·g·B·I` at `x` (the backend applies `B`), counted into `stats`; `None` when
-    /// the backend can't shade `x`.
-    fn in_scattered<B: ManyLights>(
-        &self,
-        backend: &B,
-        h0: f32,
-        x: Vec3,
-        scratch: &mut Scratch,
-        stats: &mut RenderStats,
-    ) -> Option<Vec3> {
-        let Some(grid) = &self.shadows else {
-            let sum = lgh_core::probe(backend, x, h0).ok()?;
-            stats.shading_points += 1;
-            stats.lights_evaluated += u64::from(sum.lights);
-            return Some(sum.radiance);
-        };
-        // Gather the lights, then march their shadow rays together.
-        let point = ShadingPoint::in_medium(x);
-        scratch.positions.clear();
-        scratch.unshadowed.clear();
-        let sum = backend
-            .illuminate(&point, &mut |l: &LightSample| {
-                scratch.positions.push(l.position);
-                scratch
-                    .unshadowed
-                    .push((l.intensity, falloff(l.distance, h0)));
-                Vec3::ZERO
-            })
-            .ok()?;
-        stats.shading_points += 1;
-        stats.lights_evaluated += u64::from(sum.lights);
-        stats.shadow_samples += grid.transmittances(x, &scratch.positions, &mut scratch.visibility);
-        // Summed in the backend's order, as the backend sums what a shader returns.
-        let mut radiance = Vec3::ZERO;
-        for (&(intensity, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
-            radiance += intensity * (g * v);
-        }
-        Some(radiance)
+        Ok(radiance)
     }
 }
 
-/// A shading point's lights, gathered so that their shadow rays can be marched together; reused
-/// from shading point to shading point and ray to ray.
-#[derive(Default)]
-struct Scratch {
-    positions: Vec<Vec3>,
-    /// Intensity and fall-off `g` of each light.
-    unshadowed: Vec<(Vec3, f32)>,
-    visibility: Vec<f32>,
+/// The one pixel loop of every renderer in the crate: `shade(scratch, x, y)` for each pixel of
+/// `camera`'s image (`pixels: None`, rows in parallel, `progress(1)` as each row finishes) or
+/// of a list (`Some`, in parallel, no progress), results in pixel order. Each row (or rayon
+/// split of a list) makes its scratch with `init`; pixels are independent, so nothing depends on
+/// the thread count. The first error in pixel order is returned; the other pixels still run.
+pub fn shade_pixels<T: Send, S>(
+    camera: &Camera,
+    pixels: Option<&[[usize; 2]]>,
+    init: impl Fn() -> S + Sync + Send,
+    shade: impl Fn(&mut S, usize, usize) -> Result<T, VolumeError> + Sync + Send,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<T>, VolumeError> {
+    let results: Vec<Result<T, VolumeError>> = match pixels {
+        None => {
+            let w = camera.width();
+            let rows: Vec<Vec<Result<T, VolumeError>>> = (0..camera.height())
+                .into_par_iter()
+                .map(|y| {
+                    let mut scratch = init();
+                    let row = (0..w).map(|x| shade(&mut scratch, x, y)).collect();
+                    progress(1);
+                    row
+                })
+                .collect();
+            rows.into_iter().flatten().collect()
+        }
+        Some(list) => {
+            camera.check_pixels(list)?;
+            list.par_iter()
+                .map_init(&init, |scratch, &[x, y]| shade(scratch, x, y))
+                .collect()
+        }
+    };
+    results.into_iter().collect()
+}
+
+/// The marcher's radiance and counts for `pixels` (`None`: the whole image) of `camera`.
+fn march_pixels<B: ManyLights + Sync>(
+    marcher: &Marcher<'_>,
+    lights: Option<&Lights<B>>,
+    camera: &Camera,
+    pixels: Option<&[[usize; 2]]>,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+    let out = shade_pixels(
+        camera,
+        pixels,
+        LightScratch::default,
+        |scratch, x, y| {
+            let mut stats = RenderStats::default();
+            let (eye, d) = camera.ray(x, y);
+            let radiance = marcher.march_with(lights, eye, d, &mut stats, scratch)?;
+            Ok((radiance, stats))
+        },
+        progress,
+    )?;
+    let mut stats = RenderStats::default();
+    let radiance = out
+        .into_iter()
+        .map(|(r, s)| {
+            stats.add(&s);
+            r
+        })
+        .collect();
+    Ok((radiance, stats))
 }
 
 /// Renders an image, rows in parallel (each pixel is independent and the counts are integer
 /// sums, so neither depends on the thread count). `progress(rows)` is called as rows finish.
+/// Without `lights` the render is emission only (and builds no visibility).
 pub fn render<B: ManyLights + Sync>(
     volume: &Volume,
     medium: &Medium,
-    lights: Option<(&B, f32)>,
+    lights: Option<&Lights<B>>,
     camera: &Camera,
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Image, RenderStats), String> {
-    let marcher = Marcher::for_lights(volume, medium, settings, lights.is_some())?;
+) -> Result<(Image, RenderStats), VolumeError> {
+    let marcher = Marcher::for_lights(volume, medium, settings, lights)?;
+    let (pixels, stats) = march_pixels(&marcher, lights, camera, None, progress)?;
     let mut image = Image::new(camera.width(), camera.height());
-    let stats = image
-        .pixels
-        .par_chunks_mut(camera.width())
-        .enumerate()
-        .map(|(y, row)| {
-            let mut stats = RenderStats::default();
-            let mut scratch = Scratch::default();
-            for (x, px) in row.iter_mut().enumerate() {
-                let (eye, d) = camera.ray(x, y);
-                *px = marcher.march_with(lights, eye, d, &mut stats, &mut scratch);
-            }
-            progress(1);
-            stats
-        })
-        .reduce(RenderStats::default, |mut a, b| {
-            a.add(&b);
-            a
-        });
+    image.pixels = pixels;
     Ok((image, stats))
 }
 
@@ -412,26 +487,13 @@ pub fn render<B: ManyLights + Sync>(
 pub fn render_pixels<B: ManyLights + Sync>(
     volume: &Volume,
     medium: &Medium,
-    lights: Option<(&B, f32)>,
+    lights: Option<&Lights<B>>,
     camera: &Camera,
     settings: &MarchSettings,
     pixels: &[[usize; 2]],
-) -> Result<(Vec<Vec3>, RenderStats), String> {
-    camera.check_pixels(pixels)?;
-    let marcher = Marcher::for_lights(volume, medium, settings, lights.is_some())?;
-    let out: Vec<(Vec3, RenderStats)> = pixels
-        .par_iter()
-        .map_init(Scratch::default, |scratch, &[x, y]| {
-            let mut stats = RenderStats::default();
-            let (eye, d) = camera.ray(x, y);
-            let radiance = marcher.march_with(lights, eye, d, &mut stats, scratch);
-            (radiance, stats)
-        })
-        .collect();
-    let (radiance, per_pixel): (Vec<Vec3>, Vec<RenderStats>) = out.into_iter().unzip();
-    let mut stats = RenderStats::default();
-    per_pixel.iter().for_each(|s| stats.add(s));
-    Ok((radiance, stats))
+) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+    let marcher = Marcher::for_lights(volume, medium, settings, lights)?;
+    march_pixels(&marcher, lights, camera, Some(pixels), &|_| {})
 }
 
 #[cfg(test)]
@@ -464,7 +526,8 @@ mod tests {
                     Vec3::new(0.0, 0.0, 5.0),
                     -Vec3::Z,
                     &mut RenderStats::default(),
-                );
+                )
+                .unwrap();
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
             // Each step is integrated exactly, so what remains is f32 rounding over 64 steps
             // (1e-4) and the early stop at T < min_transmittance, which drops at most
@@ -525,14 +588,16 @@ mod tests {
         assert!(Camera::look_at(Vec3::ZERO, Vec3::X, Vec3::Y, 0.0, 8, 8).is_err());
         assert!(Camera::look_at(Vec3::ZERO, Vec3::X, Vec3::Y, 40.0, 0, 8).is_err());
         // The messages are the shared camera's.
-        assert_eq!(
+        assert!(matches!(
             Camera::look_at(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 40.0, 8, 8),
-            Err(lgh_image::camera::CameraError::EyeAtTarget.to_string())
-        );
+            Err(VolumeError::Camera(
+                lgh_image::camera::CameraError::EyeAtTarget
+            ))
+        ));
         // Pixel lists are checked against the image size.
         assert!(c.check_pixels(&[[0, 0], [63, 35]]).is_ok());
         for outside in [[64, 0], [0, 36]] {
-            let e = c.check_pixels(&[[1, 1], outside]).unwrap_err();
+            let e = c.check_pixels(&[[1, 1], outside]).unwrap_err().to_string();
             assert!(e.contains("outside the 64x36 image"), "{e}");
         }
     }

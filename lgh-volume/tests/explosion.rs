@@ -7,9 +7,10 @@ use std::path::PathBuf;
 
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::explosion::{framing_bounds, procedural, EmissionModel, Medium, Volume};
+use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
+use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
-use lgh_volume::scene::{Backend, ExplosionLights};
+use lgh_volume::{ExplosionLights, Method};
 
 /// Relative RMSE (luminance, DESIGN.md "Measuring") of the *scattered* light: `a` and `r`
 /// minus the emission-only image `e`. The emission is computed identically by both, so leaving
@@ -46,7 +47,7 @@ fn errors_by_alpha(
             .unwrap()
             .0;
     let brute = lights
-        .render(Backend::Brute, volume, medium, camera, &s, none)
+        .render(Method::Brute, 0.0, volume, medium, camera, &s, none)
         .unwrap()
         .0;
     let scattered: f64 = brute
@@ -60,7 +61,7 @@ fn errors_by_alpha(
         .iter()
         .map(|&alpha| {
             let img = lights
-                .render(Backend::Lgh { alpha }, volume, medium, camera, &s, none)
+                .render(Method::Lgh, alpha, volume, medium, camera, &s, none)
                 .unwrap()
                 .0;
             scatter_rel_rmse(&img, &brute, &emission)
@@ -162,7 +163,7 @@ fn a_sequence_of_the_real_cache_is_deterministic() {
                 .map(|v| {
                     lights.set_frame(v, &m).unwrap();
                     lights
-                        .render(Backend::Lgh { alpha: 2.0 }, v, &m, &cam, &s, &|_| {})
+                        .render(Method::Lgh, 2.0, v, &m, &cam, &s, &|_| {})
                         .unwrap()
                         .0
                 })
@@ -235,10 +236,13 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
         at_once.set_frame(&volumes[i], &m).unwrap();
         // The same lights directly, and then through a render.
         assert!(streamed.lights() == at_once.lights(), "frame {i}'s lights");
-        let back = Backend::Lgh { alpha: 2.0 };
-        let a = streamed.render(back, &v, &m, &cam, &s, &|_| {}).unwrap().0;
+        let back = Method::Lgh;
+        let a = streamed
+            .render(back, 2.0, &v, &m, &cam, &s, &|_| {})
+            .unwrap()
+            .0;
         let b = at_once
-            .render(back, &volumes[i], &m, &cam, &s, &|_| {})
+            .render(back, 2.0, &volumes[i], &m, &cam, &s, &|_| {})
             .unwrap()
             .0;
         assert!(a.pixels == b.pixels, "frame {i}");

@@ -1,17 +1,107 @@
-//! Shadow rays: the transmittance `V = e^{−∫σ_t}` from a shading point to a light, ray-marched
-//! through the density (the exact visibility of the paper's eq. 1 for a point light in smoke;
-//! DESIGN.md "Rendering").
+//! Visibility `V(x, light)` of the lights through the smoke: the one seam every shading point
+//! of lgh-volume goes through (paper Sec. 4; ARCHITECTURE.md, "lgh-volume").
 //!
-//! Shadow rays are where a render with shadows spends its time (every shading point marches one
-//! to each of the hundreds of lights the hierarchy returns), so the density gets a copy laid out
-//! for them: [`ShadowGrid`] pads it by one voxel of its own border values, which makes a trilinear
-//! lookup anywhere in the grid's box a clamp-free read of eight neighbours, and
+//! [`Shadows`] is the choice (`--shadows`), [`Visibility`] the choice made ready for one frame:
+//! it takes a shading point and the lights exactly as a many-lights backend returns them
+//! ([`LightSample`]: level, index, centre, size `s`), so a method that needs more than a light's
+//! position — the paper's deep-shadow cube maps are per light of every level — plugs in here as
+//! one more variant.
+//!
+//! The reference today is ray-marched transmittance `V = e^{−∫σ_t}` from the shading point to
+//! each light (the exact visibility of the paper's eq. 1 for a point light in smoke). Shadow rays
+//! are where a render with shadows spends its time (every shading point marches one to each of
+//! the hundreds of lights the hierarchy returns), so the density gets a copy laid out for them:
+//! [`ShadowGrid`] pads it by one voxel of its own border values, which makes a trilinear lookup
+//! anywhere in the grid's box a clamp-free read of eight neighbours, and
 //! [`ShadowGrid::transmittances`] marches a shading point's rays together — eight abreast on CPUs
 //! with AVX2 (module `avx2`, the crate's only `unsafe` code), with the same result bit for bit.
 
 use lgh_core::glam::{Vec3, Vec3A};
+use lgh_core::LightSample;
 
-use crate::explosion::{Medium, Volume};
+use crate::medium::{Medium, Volume};
+
+/// How lights are shadowed: the user's choice (`--shadows` of `lgh demo` and `lgh explosion`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum Shadows {
+    /// Transmittance ray-marched to every light (exact shadows).
+    #[default]
+    #[cfg_attr(feature = "clap", value(name = "raymarch"))]
+    RayMarch,
+    /// No shadows.
+    None,
+}
+
+impl Shadows {
+    /// The name on the command line and in EXR headers (`raymarch`, `none`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Shadows::RayMarch => "raymarch",
+            Shadows::None => "none",
+        }
+    }
+}
+
+/// The visibility of a frame's lights, ready to evaluate: [`Shadows`] built for one volume and
+/// medium.
+#[derive(Clone, Debug)]
+pub enum Visibility {
+    /// No shadows: `V = 1`.
+    None,
+    /// Transmittance ray-marched through the density (exact up to the step and cut-off).
+    RayMarched(ShadowGrid),
+}
+
+impl Visibility {
+    /// `shadows` for `volume` in `medium`, shadow rays marched in steps of at most `step_voxels`
+    /// voxels and cut off at transmittance `cutoff` (see [`ShadowGrid::transmittance`]).
+    #[must_use]
+    pub fn new(
+        shadows: Shadows,
+        volume: &Volume,
+        medium: &Medium,
+        step_voxels: f32,
+        cutoff: f32,
+    ) -> Self {
+        match shadows {
+            Shadows::None => Visibility::None,
+            Shadows::RayMarch => {
+                Visibility::RayMarched(ShadowGrid::new(volume, medium, step_voxels, cutoff))
+            }
+        }
+    }
+
+    /// Whether every light is fully visible (no shadows at all).
+    #[must_use]
+    pub fn is_none(&self) -> bool {
+        matches!(self, Visibility::None)
+    }
+
+    /// `V(x, light)` for each of `lights` into `out` (resized to match), in order; returns the
+    /// density samples taken. `positions` is a buffer the caller reuses.
+    pub fn transmittances(
+        &self,
+        x: Vec3,
+        lights: &[LightSample],
+        positions: &mut Vec<Vec3>,
+        out: &mut Vec<f32>,
+    ) -> u64 {
+        match self {
+            Visibility::None => {
+                out.clear();
+                out.resize(lights.len(), 1.0);
+                0
+            }
+            Visibility::RayMarched(grid) => {
+                positions.clear();
+                positions.extend(lights.iter().map(|l| l.position));
+                grid.transmittances(x, positions, out)
+            }
+        }
+    }
+}
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;

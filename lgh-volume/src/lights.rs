@@ -16,22 +16,35 @@ use lgh_core::{
 };
 use lgh_image::Image;
 
-use crate::explosion::{Medium, Volume};
+use crate::error::VolumeError;
+use crate::lighting::Lights;
+use crate::medium::{Medium, Volume};
 #[cfg(test)]
 use crate::render::Shadows;
 use crate::render::{render, render_pixels, Camera, MarchSettings, RenderStats};
 use crate::DenseGrid;
 
-/// Which many-lights method shades the scattering.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Backend {
-    /// The lighting grid hierarchy at the paper's α.
-    Lgh {
-        /// The paper's α (blending radius in cells).
-        alpha: f32,
-    },
+/// Which many-lights method shades the scattering (`--backend` of the CLI). The hierarchy's
+/// α is a setting of its own, so that this stays a plain choice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum Method {
+    /// The lighting grid hierarchy (paper Sec. 3) at the paper's α.
+    #[default]
+    Lgh,
     /// Every light `S0`: the exact answer of the same light model.
     Brute,
+}
+
+impl Method {
+    /// The method's name, as in `lgh_core`'s [`ManyLights::name`] (`lgh`, `brute`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Lgh => "lgh",
+            Method::Brute => "brute",
+        }
+    }
 }
 
 /// The lights of a sequence of frames on one simulation grid.
@@ -56,8 +69,8 @@ impl ExplosionLights {
     /// Lights at every voxel hotter than `T_min` in any of `frames`, with the intensities of
     /// `frames[0]`. Every frame's temperature (and flame) grid must have one layout (dimensions,
     /// voxel size, origin); the density may lie on another.
-    pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, String> {
-        let first = frames.first().ok_or("no frames to light")?;
+    pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, VolumeError> {
+        let first = frames.first().ok_or(VolumeError::NoFrames)?;
         let mut out = ExplosionLights::from_frames(frames.iter().map(|&f| Ok(f)), medium)?;
         out.set_frame(first, medium)?;
         Ok(out)
@@ -66,9 +79,9 @@ impl ExplosionLights {
     /// [`new`](Self::new) for frames that come one at a time (read from disk, say), each looked
     /// at once and then dropped; the lights are dark until [`set_frame`](Self::set_frame).
     pub fn from_frames<V: Borrow<Volume>>(
-        frames: impl IntoIterator<Item = Result<V, String>>,
+        frames: impl IntoIterator<Item = Result<V, VolumeError>>,
         medium: &Medium,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VolumeError> {
         // The first frame's temperature layout, and which of its voxels are hot in any frame.
         let mut layout: Option<(DenseGrid, Vec<bool>)> = None;
         for (i, f) in frames.into_iter().enumerate() {
@@ -78,9 +91,7 @@ impl ExplosionLights {
                 .as_ref()
                 .is_some_and(|fl| !same_layout(&f.temperature, fl))
             {
-                return Err(format!(
-                    "frame {i}: the flame grid is on another grid than the temperature"
-                ));
+                return Err(VolumeError::FlameOffGrid { frame: Some(i) });
             }
             let (grid, hot) = layout.get_or_insert_with(|| {
                 let t = &f.temperature;
@@ -94,16 +105,13 @@ impl ExplosionLights {
                 )
             });
             if !same_layout(grid, &f.temperature) {
-                return Err(format!(
-                    "frame {i}'s temperature is on another grid than frame 0's: a sequence's \
-                     lights need one grid (dimensions, voxel size, origin)"
-                ));
+                return Err(VolumeError::FrameOffGrid { frame: Some(i) });
             }
             for (v, h) in hot.iter_mut().enumerate() {
                 *h = *h || f.voxel_emits(medium, v);
             }
         }
-        let (grid, hot) = layout.ok_or("no frames to light")?;
+        let (grid, hot) = layout.ok_or(VolumeError::NoFrames)?;
         let voxels: Vec<usize> = (0..hot.len()).filter(|&i| hot[i]).collect();
         let lights = voxels
             .iter()
@@ -118,8 +126,7 @@ impl ExplosionLights {
             origin: Some(grid.origin),
             ..Default::default()
         };
-        let hierarchy = LightingGridHierarchy::build(&lights, &settings)
-            .map_err(|e| format!("cannot build the light hierarchy: {e}"))?;
+        let hierarchy = LightingGridHierarchy::build(&lights, &settings)?;
         Ok(ExplosionLights {
             dims: grid.dims,
             voxel_size: h,
@@ -132,13 +139,13 @@ impl ExplosionLights {
 
     /// Sets the intensities to those of `frame` (same grid as at construction) and rebuilds the
     /// hierarchy's intensities, keeping every position.
-    pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), String> {
+    pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), VolumeError> {
         let t = &frame.temperature;
         if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
-            return Err("the flame grid is on another grid than the temperature".into());
+            return Err(VolumeError::FlameOffGrid { frame: None });
         }
         if t.dims != self.dims || t.voxel_size != self.voxel_size || t.origin != self.origin {
-            return Err("frame is on another grid than the lights".into());
+            return Err(VolumeError::FrameOffGrid { frame: None });
         }
         let h3 = self.voxel_size.powi(3);
         let intensities: Vec<Vec3> = self
@@ -149,9 +156,7 @@ impl ExplosionLights {
         for (l, &i) in self.lights.iter_mut().zip(&intensities) {
             l.intensity = i;
         }
-        self.hierarchy
-            .update_intensities(&intensities)
-            .map_err(|e| format!("cannot update the light hierarchy: {e}"))
+        Ok(self.hierarchy.update_intensities(&intensities)?)
     }
 
     /// The lights `S0` (every candidate voxel; cold ones have zero intensity this frame).
@@ -172,70 +177,102 @@ impl ExplosionLights {
         &self.hierarchy
     }
 
-    /// Renders `frame` (whose intensities were set by [`set_frame`](Self::set_frame) or
-    /// [`new`](Self::new)) through `backend`; `progress(rows)` as rows finish.
-    pub fn render(
+    /// This frame's lights through `method` (`alpha`: the hierarchy's α; brute force takes only
+    /// the lights that shine), with the fall-off clamped at the voxel size (`h0 = h`, paper
+    /// Sec. 6.1): what [`render`](crate::render::render) and [`Lights::incident`] take.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::ShadingPoint;
+    /// use lgh_volume::lighting::LightScratch;
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let explosion = ExplosionLights::new(&[&volume], &medium)?;
+    /// let at = ShadingPoint::in_medium(Vec3::new(0.0, 0.5, 0.0));
+    /// let mut incident = |method| -> Result<Vec3, lgh_volume::VolumeError> {
+    ///     let lights = explosion.backend(method, 64.0)?;
+    ///     let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    ///     Ok(lights.incident(&at, &Visibility::None, |_| Vec3::ONE, &mut scratch, &mut stats)?)
+    /// };
+    /// // At α = 64 every light is in level 0 with weight 1: brute force up to rounding.
+    /// let (lgh, brute) = (incident(Method::Lgh)?, incident(Method::Brute)?);
+    /// assert!((lgh - brute).abs().max_element() <= 1e-4 * brute.max_element());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn backend(
         &self,
-        backend: Backend,
-        frame: &Volume,
-        medium: &Medium,
-        camera: &Camera,
-        settings: &MarchSettings,
-        progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<(Image, RenderStats), String> {
-        let b = self.backend(backend)?;
-        let lights = Some((&b, self.voxel_size));
-        render(frame, medium, lights, camera, settings, progress)
-    }
-
-    /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.
-    pub fn render_pixels(
-        &self,
-        backend: Backend,
-        frame: &Volume,
-        medium: &Medium,
-        camera: &Camera,
-        settings: &MarchSettings,
-        pixels: &[[usize; 2]],
-    ) -> Result<(Vec<Vec3>, RenderStats), String> {
-        let b = self.backend(backend)?;
-        let lights = Some((&b, self.voxel_size));
-        render_pixels(frame, medium, lights, camera, settings, pixels)
-    }
-
-    /// The many-lights method of `backend` over this frame's lights (brute force only over the
-    /// lights that shine).
-    fn backend(&self, backend: Backend) -> Result<Selected<'_>, String> {
-        Ok(match backend {
-            Backend::Lgh { alpha } => {
-                Selected::Lgh(LghBackend::new(&self.hierarchy, alpha).map_err(|e| e.to_string())?)
-            }
-            Backend::Brute => {
+        method: Method,
+        alpha: f32,
+    ) -> Result<Lights<FrameBackend<'_>>, VolumeError> {
+        let backend = match method {
+            Method::Lgh => FrameBackend::Lgh(LghBackend::new(&self.hierarchy, alpha)?),
+            Method::Brute => {
                 let lit: Vec<PointLight> = self
                     .lights
                     .iter()
                     .copied()
                     .filter(|l| l.intensity.max_element() > 0.0)
                     .collect();
-                Selected::Brute(BruteForce::new(&lit).map_err(|e| e.to_string())?)
+                FrameBackend::Brute(BruteForce::new(&lit)?)
             }
-        })
+        };
+        Ok(Lights::new(backend, self.voxel_size))
+    }
+
+    /// Renders `frame` (whose intensities were set by [`set_frame`](Self::set_frame) or
+    /// [`new`](Self::new)) through `method` at `alpha`; `progress(rows)` as rows finish.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &self,
+        method: Method,
+        alpha: f32,
+        frame: &Volume,
+        medium: &Medium,
+        camera: &Camera,
+        settings: &MarchSettings,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<(Image, RenderStats), VolumeError> {
+        let lights = self.backend(method, alpha)?;
+        render(frame, medium, Some(&lights), camera, settings, progress)
+    }
+
+    /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_pixels(
+        &self,
+        method: Method,
+        alpha: f32,
+        frame: &Volume,
+        medium: &Medium,
+        camera: &Camera,
+        settings: &MarchSettings,
+        pixels: &[[usize; 2]],
+    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+        let lights = self.backend(method, alpha)?;
+        render_pixels(frame, medium, Some(&lights), camera, settings, pixels)
     }
 }
 
-/// A [`Backend`] made ready: one type for the renderer, whichever method was chosen. (One value
-/// per render, so the variants' size difference costs nothing.)
+/// A [`Method`] made ready over one frame's lights: one type for the renderer, whichever
+/// method was chosen. (One value per render, so the variants' size difference costs nothing.)
 #[allow(clippy::large_enum_variant)]
-enum Selected<'a> {
+#[derive(Clone, Debug)]
+pub enum FrameBackend<'a> {
+    /// The hierarchy at one α.
     Lgh(LghBackend<'a>),
+    /// Every light that shines this frame.
     Brute(BruteForce),
 }
 
-impl ManyLights for Selected<'_> {
+impl ManyLights for FrameBackend<'_> {
     fn name(&self) -> &'static str {
         match self {
-            Selected::Lgh(b) => b.name(),
-            Selected::Brute(b) => b.name(),
+            FrameBackend::Lgh(b) => b.name(),
+            FrameBackend::Brute(b) => b.name(),
         }
     }
 
@@ -245,8 +282,8 @@ impl ManyLights for Selected<'_> {
         shader: &mut S,
     ) -> Result<Illumination, QueryError> {
         match self {
-            Selected::Lgh(b) => b.illuminate(point, shader),
-            Selected::Brute(b) => b.illuminate(point, shader),
+            FrameBackend::Lgh(b) => b.illuminate(point, shader),
+            FrameBackend::Brute(b) => b.illuminate(point, shader),
         }
     }
 }
@@ -254,7 +291,7 @@ impl ManyLights for Selected<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::explosion::procedural;
+    use crate::procedural::procedural;
     use crate::render::Framing;
 
     #[test]
@@ -281,9 +318,12 @@ mod tests {
         let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 12, 8).unwrap();
         let s = MarchSettings::default();
         let none = &|_: usize| {};
-        let back = Backend::Lgh { alpha: 2.0 };
-        let x = seq.render(back, &b, &m, &cam, &s, none).unwrap();
-        let y = alone.render(back, &b, &m, &cam, &s, none).unwrap();
+        let x = seq
+            .render(Method::Lgh, 2.0, &b, &m, &cam, &s, none)
+            .unwrap();
+        let y = alone
+            .render(Method::Lgh, 2.0, &b, &m, &cam, &s, none)
+            .unwrap();
         assert_eq!(x.0.pixels, y.0.pixels);
         assert!(x.0.pixels.iter().any(|p| p.max_element() > 0.0));
     }
@@ -326,12 +366,16 @@ mod tests {
                 shadows,
                 ..Default::default()
             };
-            let render = |b| s.render_pixels(b, &v, &m, &cam, &march, &pixels).unwrap().0;
-            let exact = render(Backend::Brute);
+            let render = |b, alpha| {
+                s.render_pixels(b, alpha, &v, &m, &cam, &march, &pixels)
+                    .unwrap()
+                    .0
+            };
+            let exact = render(Method::Brute, 0.0);
             let errs: Vec<f64> = [2.0f32, 64.0]
                 .iter()
                 .map(|&alpha| {
-                    let got = render(Backend::Lgh { alpha });
+                    let got = render(Method::Lgh, alpha);
                     let num: f64 = got
                         .iter()
                         .zip(&exact)

@@ -1,0 +1,115 @@
+//! The light arriving at one shading point: the paper's eq. (1),
+//! `L(x) = Σ_ℓ Σ_i V(x, p_ℓi) g(d) B_ℓ(d) I_ℓi`, with the lights a many-lights backend selects
+//! and the visibility of [`crate::shadow`] (ARCHITECTURE.md, "lgh-volume").
+//!
+//! [`Lights::incident`] is the one per-point lighting function of the crate: the ray marcher
+//! calls it at every scattering step, and so will the multiple-scattering pass (the fluence at a
+//! voxel) and surface shading (with a BRDF as the response). The core never computes `V`
+//! (ARCHITECTURE.md, "lgh-core"); this is where it is applied.
+
+use lgh_core::glam::Vec3;
+use lgh_core::{falloff, LightSample, ManyLights, QueryError, ShadingPoint};
+
+use crate::shadow::Visibility;
+
+/// The lights a renderer shades with: a many-lights backend and the fall-off clamp of the light
+/// model, `g(d) = 1 / max(d, h0)²` (DESIGN "Lighting"; for explosions `h0` is the voxel size).
+#[derive(Clone, Debug)]
+pub struct Lights<B> {
+    /// The many-lights method.
+    pub backend: B,
+    /// `h0`, where the inverse-square fall-off is clamped.
+    pub h0: f32,
+}
+
+impl<B: ManyLights> Lights<B> {
+    /// `backend`'s lights with the fall-off clamped at `h0`.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{BruteForce, PointLight, ShadingPoint};
+    /// use lgh_volume::lighting::{LightScratch, Lights};
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    ///
+    /// let one = BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::splat(4.0))])?;
+    /// let lights = Lights::new(one, 0.1);
+    /// let at = ShadingPoint::in_medium(Vec3::new(2.0, 0.0, 0.0));
+    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    /// let l = lights.incident(&at, &Visibility::None, |_| Vec3::ONE, &mut scratch, &mut stats)?;
+    /// assert_eq!(l, Vec3::splat(1.0)); // I / d² = 4 / 2²
+    /// assert_eq!((stats.shading_points, stats.lights_evaluated), (1, 1));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn new(backend: B, h0: f32) -> Self {
+        Lights { backend, h0 }
+    }
+
+    /// `Σ_lights f(light) · I · g(d) · V(x, light)` at `point`: every light the backend selects
+    /// (its intensity already weighted by `B_ℓ(d)`), times `response(light)` — the phase
+    /// function or BRDF × cosine towards it, `Vec3::ONE` for the bare incident light — times the
+    /// clamped fall-off `g`, times the visibility `V`. Counted into `stats`; `scratch` holds
+    /// the lights while their visibility is evaluated together, and is reused from call to call.
+    ///
+    /// Each term is `(I · f) · (g · V)`, summed in the backend's order, whatever the visibility:
+    /// the same bits whether `V` is evaluated per light or for all lights at once.
+    pub fn incident(
+        &self,
+        point: &ShadingPoint,
+        visibility: &Visibility,
+        mut response: impl FnMut(&LightSample) -> Vec3,
+        scratch: &mut LightScratch,
+        stats: &mut crate::render::RenderStats,
+    ) -> Result<Vec3, QueryError> {
+        let h0 = self.h0;
+        let term =
+            |l: &LightSample, f: Vec3, v: f32| (l.intensity * f) * (falloff(l.distance, h0) * v);
+        if visibility.is_none() {
+            let sum = self
+                .backend
+                .illuminate(point, &mut |l: &LightSample| term(l, response(l), 1.0))?;
+            stats.shading_points += 1;
+            stats.lights_evaluated += u64::from(sum.lights);
+            return Ok(sum.radiance);
+        }
+        // Gather the lights, then evaluate their visibility together (shadow rays eight abreast).
+        scratch.lights.clear();
+        scratch.responses.clear();
+        let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
+            scratch.lights.push(*l);
+            scratch.responses.push(response(l));
+            Vec3::ZERO
+        })?;
+        stats.shading_points += 1;
+        stats.lights_evaluated += u64::from(sum.lights);
+        stats.shadow_samples += visibility.transmittances(
+            point.position,
+            &scratch.lights,
+            &mut scratch.positions,
+            &mut scratch.visibility,
+        );
+        // Summed in the backend's order, as the backend sums what a shader returns.
+        let mut radiance = Vec3::ZERO;
+        for ((l, &f), &v) in scratch
+            .lights
+            .iter()
+            .zip(&scratch.responses)
+            .zip(&scratch.visibility)
+        {
+            radiance += term(l, f, v);
+        }
+        Ok(radiance)
+    }
+}
+
+/// A shading point's lights, gathered so that their visibility can be evaluated together;
+/// reused from shading point to shading point so that a render allocates per row, not per point.
+#[derive(Clone, Debug, Default)]
+pub struct LightScratch {
+    lights: Vec<LightSample>,
+    /// `f(light)` of each light.
+    responses: Vec<Vec3>,
+    positions: Vec<Vec3>,
+    visibility: Vec<f32>,
+}
