@@ -44,7 +44,7 @@
 //!   whatever the thread count.
 //!
 //! ```
-//! use lgh_volume::explosion::{procedural, Medium};
+//! use lgh_volume::{procedural, Medium};
 //! use lgh_volume::pathtrace::{render, PathSettings};
 //! use lgh_volume::render::{Camera, Framing};
 //! use lgh_volume::lgh_core::glam::Vec3;

@@ -1,0 +1,115 @@
+//! Determinism of whole renders across thread counts, through every crate: a volume render
+//! (lgh-volume's ray marcher with ray-marched shadows through lgh-core's hierarchy, and the path
+//! tracer) and a surface render (lgh-vpl over the light octree and the hierarchy) give the same
+//! pixels, bit for bit, on 1, 2 and 3 rayon threads. The paper's cure for flicker is a renderer
+//! whose output depends only on its input; a farm splits frames over machines with different
+//! core counts, so this is the property it relies on.
+
+use lgh_core::glam::Vec3;
+use lgh_core::octree::{LightOctree, OctreeBackend};
+use lgh_core::{LghBackend, LightingGridHierarchy, ManyLights};
+use lgh_image::Image;
+use lgh_volume::pathtrace::{self, PathSettings};
+use lgh_volume::render::{Camera, Framing, MarchSettings};
+use lgh_volume::{procedural, ExplosionLights, Medium, Method};
+use lgh_vpl::paquette::{self, Surface, TestScene};
+
+/// `f` run on a pool of `threads` rayon threads.
+fn on<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// The pixels' bits, so that `-0.0` against `0.0` or two NaNs count as what they are.
+fn bits(image: &Image) -> Vec<[u32; 3]> {
+    image
+        .pixels
+        .iter()
+        .map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}
+
+/// `render` on 1, 2 and 3 threads: the same bits every time, and not a black image.
+fn same_on_any_thread_count(what: &str, render: impl Fn() -> Image + Sync) {
+    let reference = on(1, &render);
+    assert!(
+        reference.pixels.iter().any(|p| p.max_element() > 0.0),
+        "{what}: the test needs light in the image"
+    );
+    for threads in [2, 3] {
+        assert!(
+            bits(&on(threads, &render)) == bits(&reference),
+            "{what}: pixels differ on {threads} threads"
+        );
+    }
+}
+
+#[test]
+fn volume_renders_are_bit_identical_on_any_thread_count() {
+    let volume = procedural(40, 0.5).unwrap();
+    let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+    let lights = ExplosionLights::new(&[&volume], &medium).unwrap();
+    let (lo, hi) = volume.active_bounds().unwrap();
+    let camera = Camera::frame(lo, hi, 24, 16).unwrap();
+    let march = MarchSettings::default();
+    for (method, alpha) in [(Method::Lgh, 2.0), (Method::Brute, 0.0)] {
+        same_on_any_thread_count(&format!("ray marcher, {method:?}"), || {
+            let none = &|_: usize| {};
+            lights
+                .render(method, alpha, &volume, &medium, &camera, &march, none)
+                .unwrap()
+                .0
+        });
+    }
+    let settings = PathSettings {
+        spp: 4,
+        ..Default::default()
+    };
+    same_on_any_thread_count("path tracer", || {
+        pathtrace::render(&volume, &medium, &camera, &settings, &|_| {}).unwrap()
+    });
+}
+
+#[test]
+fn surface_renders_are_bit_identical_on_any_thread_count() {
+    let built = paquette::build(TestScene::Udem, 256, Surface::Specular, 32, 24).unwrap();
+    let hierarchy = LightingGridHierarchy::build(&built.lights, &Default::default()).unwrap();
+    let octree = LightOctree::build(&built.lights, &Default::default()).unwrap();
+    let lgh = LghBackend::new(&hierarchy, 2.0).unwrap();
+    let tree = OctreeBackend::new(&octree, paquette::PAPER_THRESHOLD).unwrap();
+    same_on_any_thread_count("surface, lgh", || surface(&built, &lgh));
+    same_on_any_thread_count("surface, octree", || surface(&built, &tree));
+}
+
+/// The test scene rendered through `backend`.
+fn surface<B: ManyLights + Sync>(built: &paquette::Built, backend: &B) -> Image {
+    lgh_vpl::render(&built.scene, &built.camera, backend, |_| {})
+        .unwrap()
+        .image
+}
+
+#[test]
+fn a_volume_render_does_not_depend_on_pixel_order() {
+    // The same pixels rendered as a list (another rayon split) equal the full image's.
+    let volume = procedural(32, 0.5).unwrap();
+    let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+    let lights = ExplosionLights::new(&[&volume], &medium).unwrap();
+    let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 12, 8).unwrap();
+    let march = MarchSettings::default();
+    let (image, _) = lights
+        .render(Method::Lgh, 2.0, &volume, &medium, &camera, &march, &|_| {})
+        .unwrap();
+    let pixels: Vec<[usize; 2]> = (0..8).rev().flat_map(|y| (0..12).map(move |x| [x, y])).collect();
+    let (list, _) = lights
+        .render_pixels(Method::Lgh, 2.0, &volume, &medium, &camera, &march, &pixels)
+        .unwrap();
+    for (&[x, y], p) in pixels.iter().zip(&list) {
+        assert_eq!(
+            p.to_array().map(f32::to_bits),
+            image.pixels[y * 12 + x].to_array().map(f32::to_bits)
+        );
+    }
+}
