@@ -6,11 +6,12 @@ use alloc::vec::Vec;
 use glam::Vec3;
 use proptest::prelude::*;
 
-use crate::backend::{BruteForce, ManyLights, ShadingPoint};
+use crate::brute::BruteForce;
 use crate::light::PointLight;
 use crate::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
+use crate::many_lights::{Lobe, ManyLights, ShadingPoint};
 use crate::octree::{LightOctree, OctreeBackend, OctreeSettings};
-use crate::reflection::{reflected, Lobe};
+use crate::reflection::reflected;
 use crate::testsets::{clumped_lights, shading_points};
 use crate::ward::WardBackend;
 

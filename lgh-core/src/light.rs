@@ -3,6 +3,8 @@
 use alloc::vec::Vec;
 use glam::Vec3;
 
+use crate::error::{BuildError, MAX_LIGHTS};
+
 /// Rec. 709 luminance weights: `‖I‖` in the paper (eq. 2) is the luminance of an RGB intensity.
 pub const LUMINANCE_WEIGHTS: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
@@ -29,6 +31,38 @@ impl PointLight {
             intensity,
         }
     }
+}
+
+/// The one validation of a light set, shared by every backend (the hierarchy, brute force — and so
+/// Ward's method —, the light octree and Lightcuts): at most [`MAX_LIGHTS`] lights
+/// ([`check_count`]), finite positions, finite non-negative intensities; the first offending light,
+/// in order, is reported.
+pub(crate) fn validate_lights(lights: &[PointLight]) -> Result<(), BuildError> {
+    check_count(lights.len())?;
+    for (index, l) in lights.iter().enumerate() {
+        if !l.position.is_finite() {
+            return Err(BuildError::NonFinitePosition { index });
+        }
+        validate_intensity(index, l.intensity)?;
+    }
+    Ok(())
+}
+
+/// [`BuildError::TooManyLights`] if `count` exceeds [`MAX_LIGHTS`].
+pub(crate) fn check_count(count: usize) -> Result<(), BuildError> {
+    if count > MAX_LIGHTS {
+        return Err(BuildError::TooManyLights { count });
+    }
+    Ok(())
+}
+
+/// [`BuildError::InvalidIntensity`] for light `index` if a channel of `i` is NaN, infinite or
+/// negative.
+pub(crate) fn validate_intensity(index: usize, i: Vec3) -> Result<(), BuildError> {
+    if !i.is_finite() || i.min_element() < 0.0 {
+        return Err(BuildError::InvalidIntensity { index });
+    }
+    Ok(())
 }
 
 /// A light of the hierarchy: a level-ℓ light `i ∈ S_ℓ` (a grid vertex) or, at level 0, an input light.

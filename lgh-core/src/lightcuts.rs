@@ -31,12 +31,13 @@ use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
 use glam::Vec3;
 
-use crate::backend::{Illumination, LightSample, ManyLights, Material, Shader, ShadingPoint};
 use crate::error::{BuildError, QueryError};
-use crate::light::PointLight;
+use crate::light::{validate_lights, PointLight};
+use crate::many_lights::{
+    Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
+};
+use crate::random::SplitMix64;
 use crate::ranked::Ranked;
-use crate::reflection::Lobe;
-use crate::testsets::SplitMix64;
 
 /// How a cluster's representative light is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -92,7 +93,7 @@ impl LightTree {
         lights: &[PointLight],
         representative: Representative,
     ) -> Result<Self, BuildError> {
-        crate::hierarchy::validate(lights)?;
+        validate_lights(lights)?;
         let mut order: Vec<u32> = (0..lights.len() as u32).collect();
         let mut nodes: Vec<Cluster> = Vec::with_capacity(2 * lights.len());
         let mut ranges: Vec<(usize, usize)> = Vec::with_capacity(2 * lights.len());

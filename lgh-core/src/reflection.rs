@@ -10,23 +10,8 @@
 
 use glam::Vec3;
 
-use crate::backend::{Material, ShadingPoint};
-
-/// Which part of the reflection a light is shaded for.
-///
-/// The light octree treats the diffuse and the specular term separately (§4.4: a virtual light may
-/// stand in for a node's diffuse term while the same node's lights are shaded one by one for the
-/// specular term), so it asks the shader for one term at a time. Other backends ask for [`Lobe::All`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Lobe {
-    /// The whole reflection (or the phase function in a medium).
-    #[default]
-    All,
-    /// Only the diffuse term `k_d (N·L)`.
-    Diffuse,
-    /// Only the specular term `k_s (R·E)^n`.
-    Specular,
-}
+pub use crate::many_lights::Lobe;
+use crate::many_lights::{Material, ShadingPoint};
 
 /// Eq. (1) for one light of intensity `intensity` at `light`: the radiance it reflects at `point`
 /// towards the viewer, restricted to `lobe`. Surfaces need [`ShadingPoint::normal`] (and

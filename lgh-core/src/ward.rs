@@ -19,10 +19,11 @@ use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
 use glam::Vec3;
 
-use crate::backend::{BruteForce, Illumination, LightSample, ManyLights, Shader, ShadingPoint};
+use crate::brute::BruteForce;
 use crate::error::QueryError;
+use crate::many_lights::{Illumination, LightSample, Lobe, ManyLights, Shader, ShadingPoint};
 use crate::ranked::Ranked;
-use crate::reflection::{reflected, Lobe};
+use crate::reflection::reflected;
 
 /// Ward's method over the lights of a [`BruteForce`], with absolute threshold `T`.
 #[derive(Clone, Copy, Debug)]

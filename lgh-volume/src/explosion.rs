@@ -2,8 +2,8 @@
 //! DESIGN.md "Medium", "Lights").
 
 use lgh_core::glam::Vec3;
+use lgh_core::random::fractal_noise;
 use lgh_core::spectrum::BlackbodyTable;
-use lgh_core::testsets::fractal_noise;
 
 use crate::DenseGrid;
 

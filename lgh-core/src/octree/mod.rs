@@ -5,7 +5,7 @@
 //! cell is split at its centre into eight while it holds more than `max_leaf` lights and is less
 //! than `max_depth` deep. Each node keeps
 //! - its virtual light: the summed intensity `I_v = Σ I_i` at the intensity-weighted mean position
-//!   `P_v = Σ ‖I_i‖₁ p_i / Σ ‖I_i‖₁` (DESIGN.md weights by the 1-norm of the RGB intensity; a node of
+//!   `P_v = Σ ‖I_i‖₁ p_i / Σ ‖I_i‖₁` (ARCHITECTURE.md at the repository root weights by the 1-norm of the RGB intensity; a node of
 //!   dark lights sits at their plain mean);
 //! - its *minimal bounding box*: the smallest axis-aligned box of its lights, whose diagonal is the
 //!   `Δd_max` of the error bounds (§4).
@@ -16,7 +16,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::error::BuildError;
-use crate::light::PointLight;
+use crate::light::{validate_lights, PointLight};
 
 mod bounds;
 mod shading;
@@ -102,9 +102,10 @@ impl LightOctree {
             return Err(BuildError::InvalidOctreeSettings {
                 max_leaf: settings.max_leaf,
                 max_depth: settings.max_depth,
+                max: MAX_OCTREE_DEPTH,
             });
         }
-        crate::hierarchy::validate(lights)?;
+        validate_lights(lights)?;
         let mut tree = LightOctree {
             lights: lights.to_vec(),
             nodes: Vec::new(),

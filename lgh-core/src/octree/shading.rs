@@ -20,10 +20,11 @@ use glam::Vec3;
 
 use super::bounds::{diffuse_bound, specular_bound, virtual_cosines, NodeView};
 use super::{LightOctree, OctreeNode};
-use crate::backend::{Illumination, LightSample, ManyLights, Material, Shader, ShadingPoint};
 use crate::error::QueryError;
+use crate::many_lights::{
+    Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
+};
 use crate::ranked::Ranked;
-use crate::reflection::Lobe;
 
 /// Nodes with at most this many lights are summed exactly: evaluating a bound and a virtual light
 /// costs about as much as three or four lights (§4.2.1).

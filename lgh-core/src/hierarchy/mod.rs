@@ -4,16 +4,23 @@ use alloc::vec::Vec;
 use core::cmp::Ordering;
 use glam::Vec3;
 
-use crate::backend::LightSample;
 use crate::blend::{Blending, Ramp};
 use crate::bricks::{Ball, BrickIndex};
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
-use crate::light::{is_reported, luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
+use crate::light::{
+    is_reported, luminance, validate_intensity, validate_lights, Contribution, GridLight, Hit,
+    LevelLights, PointLight,
+};
+use crate::many_lights::{LightSample, Lobe};
 use crate::math::{floor64, level_scale};
 use crate::morton;
 use crate::radix;
+
+mod backend;
+
+pub use backend::LghBackend;
 
 /// The input lights in the hierarchy's order: by Morton code of their level-1 cell, ties broken by
 /// position and intensity bits — a total order on the lights' values, so the build does not depend
@@ -59,30 +66,6 @@ pub struct LightingGridHierarchy {
     cells0_codes: Vec<u64>,
     /// Levels 1..=ℓ_max.
     levels: Vec<Level>,
-}
-
-/// Checks the lights: at most [`MAX_LIGHTS`](crate::error::MAX_LIGHTS), finite positions, finite
-/// non-negative intensities.
-pub(crate) fn validate(lights: &[PointLight]) -> Result<(), BuildError> {
-    if lights.len() > crate::error::MAX_LIGHTS {
-        return Err(BuildError::TooManyLights {
-            count: lights.len(),
-        });
-    }
-    for (index, l) in lights.iter().enumerate() {
-        if !l.position.is_finite() {
-            return Err(BuildError::NonFinitePosition { index });
-        }
-        validate_intensity(index, l.intensity)?;
-    }
-    Ok(())
-}
-
-fn validate_intensity(index: usize, i: Vec3) -> Result<(), BuildError> {
-    if !i.is_finite() || i.min_element() < 0.0 {
-        return Err(BuildError::InvalidIntensity { index });
-    }
-    Ok(())
 }
 
 fn position_bits(p: Vec3) -> [u32; 3] {
@@ -155,7 +138,7 @@ impl LightingGridHierarchy {
     /// grid too fine for the lights' extent. An empty light set gives an empty hierarchy whose
     /// queries report nothing.
     pub fn build(lights: &[PointLight], settings: &GridSettings) -> Result<Self, BuildError> {
-        validate(lights)?;
+        validate_lights(lights)?;
         if !(settings.prune_below.is_finite() && settings.prune_below >= 0.0) {
             return Err(BuildError::InvalidThreshold {
                 threshold: settings.prune_below,
@@ -742,7 +725,7 @@ impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
             size: l.size(index),
             distance: d,
             weight: w,
-            lobe: crate::reflection::Lobe::All,
+            lobe: Lobe::All,
         }))
     }
 }
