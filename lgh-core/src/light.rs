@@ -379,4 +379,44 @@ mod tests {
         assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6);
         assert_eq!(luminance(Vec3::ZERO), 0.0);
     }
+
+    /// The count check every backend's validation starts with (a slice of more than
+    /// `MAX_LIGHTS` lights cannot be allocated in a test, so the check is tested on the length).
+    #[test]
+    fn more_than_max_lights_are_rejected() {
+        assert_eq!(check_count(0), Ok(()));
+        assert_eq!(check_count(MAX_LIGHTS), Ok(()));
+        assert_eq!(
+            check_count(MAX_LIGHTS + 1),
+            Err(BuildError::TooManyLights {
+                count: MAX_LIGHTS + 1
+            })
+        );
+        assert_eq!(
+            check_count(usize::MAX),
+            Err(BuildError::TooManyLights { count: usize::MAX })
+        );
+    }
+
+    #[test]
+    fn the_first_bad_light_is_reported() {
+        let good = PointLight::new(Vec3::ZERO, Vec3::ONE);
+        let nan = PointLight::new(Vec3::new(0.0, f32::NAN, 0.0), Vec3::ONE);
+        let negative = PointLight::new(Vec3::ZERO, Vec3::new(1.0, -1.0, 0.0));
+        let infinite = PointLight::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0));
+        assert_eq!(validate_lights(&[]), Ok(()));
+        assert_eq!(validate_lights(&[good, good]), Ok(()));
+        assert_eq!(
+            validate_lights(&[good, negative, nan]),
+            Err(BuildError::InvalidIntensity { index: 1 })
+        );
+        assert_eq!(
+            validate_lights(&[good, nan, negative]),
+            Err(BuildError::NonFinitePosition { index: 1 })
+        );
+        assert_eq!(
+            validate_lights(&[good, good, infinite]),
+            Err(BuildError::InvalidIntensity { index: 2 })
+        );
+    }
 }
