@@ -18,6 +18,7 @@ pub const MAX_LEVEL: u8 = 21;
 /// Clamped inverse-square fall-off `g(d) = 1 / max(d, h0)²` (paper Sec. 6: distances are clamped to
 /// `h0` to avoid the point-light singularity).
 #[inline(always)]
+#[must_use]
 pub fn falloff(d: f32, h0: f32) -> f32 {
     let c = if d > h0 { d } else { h0 };
     1.0 / (c * c)
@@ -91,22 +92,26 @@ impl Blending {
     }
 
     /// The paper's α.
+    #[must_use]
     pub fn alpha(&self) -> f32 {
         self.alpha
     }
 
     /// Level-1 spacing `h1` this blending was made for.
+    #[must_use]
     pub fn h1(&self) -> f32 {
         self.h1
     }
 
     /// Top level `ℓ_max` this blending was made for.
+    #[must_use]
     pub fn max_level(&self) -> u8 {
         self.max_level
     }
 
     /// Influence radius `r_ℓ = α h_ℓ` (with `h_0 = h_1 / 2`); infinite above [`MAX_LEVEL`].
     #[inline]
+    #[must_use]
     pub fn radius(&self, level: u8) -> f32 {
         self.radius
             .get(level as usize)
@@ -119,6 +124,7 @@ impl Blending {
     /// 1e-6 so that rounding in [`weight`](Self::weight) can never put a non-zero weight outside.
     /// Levels above `ℓ_max` have no support.
     #[inline]
+    #[must_use]
     pub fn support(&self, level: u8) -> (f32, f32) {
         if level > self.max_level {
             return (f32::INFINITY, f32::INFINITY);
@@ -139,6 +145,7 @@ impl Blending {
     /// The blending weight `B_ℓ(d)` of level `level` at distance `d ≥ 0` (eq. 3, Fig. 3).
     /// Zero for levels above `ℓ_max`.
     #[inline(always)]
+    #[must_use]
     pub fn weight(&self, level: u8, d: f32) -> f32 {
         self.ramp(level).weight(d)
     }

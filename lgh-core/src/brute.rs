@@ -38,16 +38,19 @@ impl BruteForce {
     }
 
     /// Number of lights.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.x.len()
     }
 
     /// True if there are no lights.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
     }
 
     /// Position and intensity of light `i` (panics if `i ≥ len()`).
+    #[must_use]
     pub fn light(&self, i: usize) -> (Vec3, Vec3) {
         (
             Vec3::new(self.x[i], self.y[i], self.z[i]),

@@ -10,6 +10,7 @@ pub const LUMINANCE_WEIGHTS: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
 /// Luminance `‖I‖` of an RGB triple (Rec. 709 weights).
 #[inline]
+#[must_use]
 pub fn luminance(rgb: Vec3) -> f32 {
     rgb.dot(LUMINANCE_WEIGHTS)
 }
@@ -25,6 +26,7 @@ pub struct PointLight {
 
 impl PointLight {
     /// A light at `position` with RGB intensity `intensity`.
+    #[must_use]
     pub const fn new(position: Vec3, intensity: Vec3) -> Self {
         PointLight {
             position,
@@ -235,17 +237,20 @@ impl LevelLights {
     }
 
     /// Number of lights.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.position.len()
     }
 
     /// True if the level has no lights.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.position.is_empty()
     }
 
     /// Light `i`. Panics if `i >= len()`.
     #[inline]
+    #[must_use]
     pub fn get(&self, i: usize) -> GridLight {
         GridLight {
             position: self.position(i),
@@ -258,6 +263,7 @@ impl LevelLights {
 
     /// Position (illumination centre) of light `i`.
     #[inline]
+    #[must_use]
     pub fn position(&self, i: usize) -> Vec3 {
         self.position[i]
     }
@@ -265,23 +271,27 @@ impl LevelLights {
     /// True if queries report light `i`: it is not dark and not weaker than the level's
     /// weak-light threshold.
     #[inline]
+    #[must_use]
     pub fn is_reported(&self, i: usize) -> bool {
         is_reported(self.luminance[i], self.threshold)
     }
 
     /// Luminance `‖I‖` of light `i`.
     #[inline]
+    #[must_use]
     pub fn luminance(&self, i: usize) -> f32 {
         self.luminance[i]
     }
 
     /// Intensity of light `i`.
     #[inline]
+    #[must_use]
     pub fn intensity(&self, i: usize) -> Vec3 {
         self.intensity[i]
     }
 
     /// All lights, in index order.
+    #[must_use]
     pub fn iter(&self) -> impl ExactSizeIterator<Item = GridLight> + '_ {
         (0..self.len()).map(|i| self.get(i))
     }

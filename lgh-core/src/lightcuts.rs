@@ -69,6 +69,7 @@ impl Cluster {
     /// Walter's error bound `M_ub G_ub I_C` of the cluster at `point` (its largest channel): no
     /// light of the cluster, nor the cluster shaded at its representative, reflects more there.
     /// Zero for a single light, which is exact; infinite for a point inside the box.
+    #[must_use]
     pub fn error_bound(&self, point: &ShadingPoint) -> f32 {
         match self.children {
             None => 0.0,
@@ -169,11 +170,13 @@ impl LightTree {
     }
 
     /// The lights, in input order.
+    #[must_use]
     pub fn lights(&self) -> &[PointLight] {
         &self.lights
     }
 
     /// The clusters, the root first (empty without lights); children after their parent.
+    #[must_use]
     pub fn clusters(&self) -> &[Cluster] {
         &self.nodes
     }

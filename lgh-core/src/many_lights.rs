@@ -63,6 +63,7 @@ pub struct LightSample {
 impl LightSample {
     /// Input light `index` — a point at full weight — seen from `x`, to be shaded for `lobe`.
     #[inline]
+    #[must_use]
     pub fn point(index: u32, position: Vec3, intensity: Vec3, x: Vec3, lobe: Lobe) -> Self {
         LightSample {
             level: 0,
@@ -115,6 +116,7 @@ pub struct ShadingPoint {
 
 impl ShadingPoint {
     /// A point in a medium (no normal, isotropic phase function).
+    #[must_use]
     pub fn in_medium(position: Vec3) -> Self {
         ShadingPoint {
             position,
@@ -150,6 +152,7 @@ pub struct Illumination {
 /// A many-lights method a renderer can shade through.
 pub trait ManyLights {
     /// Short name, e.g. `"lgh"` or `"brute"`.
+    #[must_use]
     fn name(&self) -> &'static str;
 
     /// Shades `point` with every light the method selects and returns the sum.

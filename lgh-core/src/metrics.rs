@@ -23,6 +23,7 @@ pub struct ErrorStats {
 impl ErrorStats {
     /// Compares two equally long sequences of RGB values by their luminance.
     /// Returns `None` if the lengths differ or the sequences are empty.
+    #[must_use]
     pub fn compare(approx: &[Vec3], reference: &[Vec3]) -> Option<Self> {
         Self::compare_luminance(
             approx.iter().map(|&v| luminance(v) as f64),
@@ -31,6 +32,7 @@ impl ErrorStats {
     }
 
     /// Compares two sequences of scalar values (already luminance).
+    #[must_use]
     pub fn compare_luminance(
         approx: impl ExactSizeIterator<Item = f64>,
         reference: impl ExactSizeIterator<Item = f64>,

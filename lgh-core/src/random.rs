@@ -18,6 +18,7 @@ impl SplitMix64 {
     }
 
     /// SplitMix64's output function: a bijective 64-bit mix, also a good hash of a seed.
+    #[must_use]
     pub fn mix(mut z: u64) -> u64 {
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -61,6 +62,7 @@ fn lattice_hash(x: i32, y: i32, z: i32, seed: u32) -> f32 {
 }
 
 /// Smooth value noise in `[-1, 1]` with unit lattice spacing.
+#[must_use]
 pub fn value_noise(p: Vec3, seed: u32) -> f32 {
     let f = p.floor();
     let t = p - f;
@@ -78,6 +80,7 @@ pub fn value_noise(p: Vec3, seed: u32) -> f32 {
 }
 
 /// Fractal (turbulent) noise: `octaves` of value noise, frequency doubling, amplitude halving.
+#[must_use]
 pub fn fractal_noise(p: Vec3, octaves: u32, seed: u32) -> f32 {
     let mut sum = 0.0;
     let mut amp = 0.5;

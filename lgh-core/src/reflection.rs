@@ -17,6 +17,7 @@ use crate::many_lights::{Material, ShadingPoint};
 /// towards the viewer, restricted to `lobe`. Surfaces need [`ShadingPoint::normal`] (and
 /// [`ShadingPoint::view`] for the specular term); without them the point is shaded as a medium
 /// with the isotropic phase function `1/4π`. A light at the point itself contributes nothing.
+#[must_use]
 pub fn reflected(point: &ShadingPoint, light: Vec3, intensity: Vec3, lobe: Lobe) -> Vec3 {
     let to_light = light - point.position;
     let d2 = to_light.length_squared();

@@ -15,6 +15,7 @@ use crate::spectrum::BlackbodyTable;
 /// `n` lights in four dense clumps over a sparse background, one in eleven dark, random RGB
 /// intensities in `[0, 10)`: what hierarchies find hardest to bound (clusters of very different
 /// size and brightness side by side).
+#[must_use]
 pub fn clumped_lights(n: usize, seed: u64) -> Vec<PointLight> {
     let mut rng = SplitMix64(seed);
     (0..n)
@@ -34,6 +35,7 @@ pub fn clumped_lights(n: usize, seed: u64) -> Vec<PointLight> {
 /// `n` surface and medium points for a light set with bounding box `lo..hi`, placed as
 /// [`query_points`] places them, each with a random unit normal and view direction and, in turn,
 /// a Lambert, a Phong (exponent 1…300) and a medium material.
+#[must_use]
 pub fn shading_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<ShadingPoint> {
     let mut rng = SplitMix64(SplitMix64::mix(seed));
     query_points(lo, hi, n, seed)
@@ -61,6 +63,7 @@ pub fn shading_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<ShadingPoi
 }
 
 /// Benchmark set (a): `n` lights uniform in the unit cube with random RGB intensities in `[0, 1)`.
+#[must_use]
 pub fn uniform_cube(n: usize, seed: u64) -> Vec<PointLight> {
     let mut rng = SplitMix64(seed);
     (0..n)
@@ -77,6 +80,7 @@ pub fn uniform_cube(n: usize, seed: u64) -> Vec<PointLight> {
 /// falls from about 3000 K inside the shell to 1300 K at its rim, with intensity `∝ T⁴ h³`.
 /// At `res = 128` it yields about a million lights. Level-1 grids for this set should use
 /// `h1 = 2 / res` with the origin on a voxel centre, as the paper does for explosions.
+#[must_use]
 pub fn explosion_shell(res: u32) -> Vec<PointLight> {
     let h = 1.0 / res as f32;
     let centre = Vec3::splat(0.5);
@@ -112,6 +116,7 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
 
 /// Benchmark set (c): `n` equal lights along 8 long curves ("light strings") spanning about
 /// 20 × 4 × 10 units.
+#[must_use]
 pub fn light_strings(n: usize) -> Vec<PointLight> {
     const STRINGS: usize = 8;
     let mut out = Vec::with_capacity(n);
@@ -130,6 +135,7 @@ pub fn light_strings(n: usize) -> Vec<PointLight> {
 
 /// `n` query points for a light set with bounding box `lo..hi`: half uniform inside the box, half
 /// uniform in the box scaled by 3 about its centre ("inside and around").
+#[must_use]
 pub fn query_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<Vec3> {
     let mut rng = SplitMix64(seed);
     let c = (lo + hi) * 0.5;

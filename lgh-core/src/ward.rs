@@ -43,6 +43,7 @@ impl<'a> WardBackend<'a> {
     }
 
     /// The threshold `T`.
+    #[must_use]
     pub fn threshold(&self) -> f32 {
         self.threshold
     }

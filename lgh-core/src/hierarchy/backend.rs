@@ -24,11 +24,13 @@ impl<'a> LghBackend<'a> {
     }
 
     /// The hierarchy.
+    #[must_use]
     pub fn hierarchy(&self) -> &'a LightingGridHierarchy {
         self.hierarchy
     }
 
     /// The blending parameters.
+    #[must_use]
     pub fn blending(&self) -> &Blending {
         &self.blending
     }

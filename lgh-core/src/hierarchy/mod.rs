@@ -417,26 +417,31 @@ impl LightingGridHierarchy {
     }
 
     /// Number of input lights.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.level0.len()
     }
 
     /// True if the hierarchy has no lights.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.level0.is_empty()
     }
 
     /// The top level `ℓ_max`.
+    #[must_use]
     pub fn max_level(&self) -> u8 {
         self.placement.max_level
     }
 
     /// Level-1 spacing `h_1`.
+    #[must_use]
     pub fn h1(&self) -> f32 {
         self.placement.h1 as f32
     }
 
     /// Spacing `h_ℓ = 2^(ℓ−1) h_1` of level ℓ (`h_0 = h_1 / 2`).
+    #[must_use]
     pub fn h(&self, level: u8) -> f32 {
         self.h64(level) as f32
     }
@@ -447,23 +452,27 @@ impl LightingGridHierarchy {
     }
 
     /// `h_0 = h_1 / 2`, the clamp distance of the fall-off [`falloff`](crate::falloff).
+    #[must_use]
     pub fn h0(&self) -> f32 {
         self.h(0)
     }
 
     /// The grids' shared origin (a vertex of every level).
+    #[must_use]
     pub fn origin(&self) -> Vec3 {
         let o = self.placement.origin;
         Vec3::new(o[0] as f32, o[1] as f32, o[2] as f32)
     }
 
     /// Weak-light threshold of this hierarchy (0 = no pruning).
+    #[must_use]
     pub fn prune_below(&self) -> f32 {
         self.prune_below
     }
 
     /// The lights of level `level` (level 0: the input lights, in the hierarchy's order).
     /// Empty for levels above `ℓ_max`.
+    #[must_use]
     pub fn level(&self, level: u8) -> &LevelLights {
         static EMPTY: LevelLights = LevelLights::EMPTY;
         if level == 0 {
@@ -477,6 +486,7 @@ impl LightingGridHierarchy {
 
     /// The grid vertex (integer coordinates relative to [`origin`](Self::origin), in units of `h_ℓ`)
     /// of light `index` of level `level ≥ 1`.
+    #[must_use]
     pub fn vertex(&self, level: u8, index: u32) -> Option<[u32; 3]> {
         let l = self.levels.get((level as usize).checked_sub(1)?)?;
         l.topo
@@ -486,6 +496,7 @@ impl LightingGridHierarchy {
     }
 
     /// Index, in the slice given to [`build`](Self::build), of level-0 light `index`.
+    #[must_use]
     pub fn input_index(&self, index: u32) -> Option<usize> {
         self.input.perm.get(index as usize).map(|&i| i as usize)
     }
@@ -493,6 +504,7 @@ impl LightingGridHierarchy {
     /// True if `light` of `level` is reported by queries: not dark, and not weaker than the
     /// weak-light threshold unless it is on the top level (which is never pruned).
     #[inline]
+    #[must_use]
     pub fn is_active(&self, level: u8, light: &GridLight) -> bool {
         is_reported(light.luminance, self.threshold(level))
     }

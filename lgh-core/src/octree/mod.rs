@@ -69,16 +69,19 @@ pub struct OctreeNode {
 
 impl OctreeNode {
     /// Number of lights below the node.
+    #[must_use]
     pub fn count(&self) -> usize {
         (self.end - self.start) as usize
     }
 
     /// Whether the node is a leaf (its lights are summed one by one).
+    #[must_use]
     pub fn is_leaf(&self) -> bool {
         self.children == 0
     }
 
     /// The largest diagonal of the minimal bounding box: `Δd_max` of §4.
+    #[must_use]
     pub fn diagonal(&self) -> f32 {
         (self.min_box.1 - self.min_box.0).length()
     }
@@ -228,32 +231,38 @@ impl LightOctree {
     }
 
     /// The lights, in the tree's order.
+    #[must_use]
     pub fn lights(&self) -> &[PointLight] {
         &self.lights
     }
 
     /// The nodes, the root first (empty without lights).
+    #[must_use]
     pub fn nodes(&self) -> &[OctreeNode] {
         &self.nodes
     }
 
     /// The root, if there are lights.
+    #[must_use]
     pub fn root(&self) -> Option<&OctreeNode> {
         self.nodes.first()
     }
 
     /// The children of `node`.
+    #[must_use]
     pub fn children(&self, node: &OctreeNode) -> &[OctreeNode] {
         let first = node.first_child as usize;
         &self.nodes[first..first + node.children as usize]
     }
 
     /// The lights below `node`.
+    #[must_use]
     pub fn lights_of(&self, node: &OctreeNode) -> &[PointLight] {
         &self.lights[node.start as usize..node.end as usize]
     }
 
     /// The settings it was built with.
+    #[must_use]
     pub fn settings(&self) -> &OctreeSettings {
         &self.settings
     }

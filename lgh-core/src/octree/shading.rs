@@ -107,11 +107,13 @@ impl<'a> OctreeBackend<'a> {
     }
 
     /// The octree.
+    #[must_use]
     pub fn tree(&self) -> &'a LightOctree {
         self.tree
     }
 
     /// The threshold `T`.
+    #[must_use]
     pub fn threshold(&self) -> f32 {
         self.threshold
     }
