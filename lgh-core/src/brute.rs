@@ -23,6 +23,26 @@ pub struct BruteForce {
 
 impl BruteForce {
     /// Validates (as every backend does, [`BuildError`]) and stores the lights.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{BruteForce, BuildError, LightSample, ManyLights, PointLight, ShadingPoint};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let brute = BruteForce::new(&lights)?;
+    /// let mut shader = |s: &LightSample| s.intensity / (s.distance * s.distance);
+    /// let sum = brute.illuminate(&ShadingPoint::in_medium(Vec3::new(1.5, 1.5, -4.0)), &mut shader)?;
+    /// assert_eq!(sum.lights, 64); // every light, every time
+    /// assert!(sum.radiance.x > 0.0);
+    /// // The same validation as every backend.
+    /// let negative = [PointLight::new(Vec3::ZERO, Vec3::new(1.0, -1.0, 0.0))];
+    /// assert_eq!(BruteForce::new(&negative).unwrap_err(), BuildError::InvalidIntensity { index: 0 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(lights: &[PointLight]) -> Result<Self, BuildError> {
         validate_lights(lights)?;
         let mut bf = BruteForce::default();
@@ -60,6 +80,21 @@ impl BruteForce {
 
     /// `Σ_j I_j g(‖x − p_j‖)` with the clamped fall-off `g(d) = 1 / max(d, h0)²`: the unshadowed
     /// light-probe sum, vectorised over lights (8 lanes, in a fixed order, so it is deterministic).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{falloff, BruteForce, PointLight};
+    ///
+    /// let lights = [
+    ///     PointLight::new(Vec3::ZERO, Vec3::ONE),
+    ///     PointLight::new(Vec3::new(3.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 1.0)),
+    /// ];
+    /// let x = Vec3::new(0.0, 2.0, 0.0);
+    /// let sum = BruteForce::new(&lights)?.falloff_sum(x, 0.1)?;
+    /// let want = Vec3::ONE * falloff(2.0, 0.1) + Vec3::new(2.0, 0.0, 1.0) * falloff(13f32.sqrt(), 0.1);
+    /// assert!((sum - want).abs().max_element() < 1e-6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn falloff_sum(&self, x: Vec3, h0: f32) -> Result<Vec3, QueryError> {
         QueryError::check_point(x)?;
         const LANES: usize = 8;

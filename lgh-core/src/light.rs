@@ -9,6 +9,14 @@ use crate::error::{BuildError, MAX_LIGHTS};
 pub const LUMINANCE_WEIGHTS: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
 /// Luminance `‖I‖` of an RGB triple (Rec. 709 weights).
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::luminance;
+///
+/// assert_eq!(luminance(Vec3::X), 0.2126);
+/// assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6); // the weights sum to 1
+/// ```
 #[inline]
 #[must_use]
 pub fn luminance(rgb: Vec3) -> f32 {

@@ -23,6 +23,19 @@ pub struct ErrorStats {
 impl ErrorStats {
     /// Compares two equally long sequences of RGB values by their luminance.
     /// Returns `None` if the lengths differ or the sequences are empty.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::metrics::ErrorStats;
+    ///
+    /// let reference = [Vec3::ONE, Vec3::splat(2.0), Vec3::splat(3.0)];
+    /// let approx = reference.map(|v| v * 1.1); // 10 % too bright everywhere
+    /// let stats = ErrorStats::compare(&approx, &reference).unwrap();
+    /// assert!((stats.max_rel - 0.1).abs() < 1e-6);
+    /// assert!((stats.mean_reference - 2.0).abs() < 1e-6);
+    /// assert_eq!(ErrorStats::compare(&reference, &reference).unwrap().max_abs, 0.0);
+    /// assert!(ErrorStats::compare(&approx[..2], &reference).is_none()); // lengths differ
+    /// ```
     #[must_use]
     pub fn compare(approx: &[Vec3], reference: &[Vec3]) -> Option<Self> {
         Self::compare_luminance(

@@ -7,6 +7,18 @@
 use glam::Vec3;
 
 /// SplitMix64: a small, fast, well-mixed deterministic generator.
+///
+/// ```
+/// use lgh_core::random::SplitMix64;
+///
+/// let mut a = SplitMix64(42);
+/// let mut b = SplitMix64(42);
+/// assert_eq!(a.next_u64(), b.next_u64()); // the same seed, the same numbers, on every machine
+/// for _ in 0..1000 {
+///     let u = a.next_f32();
+///     assert!((0.0..1.0).contains(&u));
+/// }
+/// ```
 #[derive(Clone, Debug)]
 pub struct SplitMix64(pub u64);
 

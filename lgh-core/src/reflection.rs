@@ -17,6 +17,24 @@ use crate::many_lights::{Material, ShadingPoint};
 /// towards the viewer, restricted to `lobe`. Surfaces need [`ShadingPoint::normal`] (and
 /// [`ShadingPoint::view`] for the specular term); without them the point is shaded as a medium
 /// with the isotropic phase function `1/4π`. A light at the point itself contributes nothing.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::reflection::{reflected, Lobe};
+/// use lgh_core::{Material, ShadingPoint};
+///
+/// let point = ShadingPoint {
+///     position: Vec3::ZERO,
+///     normal: Some(Vec3::Z),
+///     view: Some(Vec3::Z),
+///     material: Material::Lambert { albedo: Vec3::splat(0.5) },
+/// };
+/// // A light of intensity 8 straight above at distance 2: k_d (N·L) I / d² = 0.5 · 1 · 8 / 4.
+/// let l = reflected(&point, Vec3::new(0.0, 0.0, 2.0), Vec3::splat(8.0), Lobe::All);
+/// assert_eq!(l, Vec3::splat(1.0));
+/// // Below the surface: nothing.
+/// assert_eq!(reflected(&point, Vec3::new(0.0, 0.0, -2.0), Vec3::ONE, Lobe::All), Vec3::ZERO);
+/// ```
 #[must_use]
 pub fn reflected(point: &ShadingPoint, light: Vec3, intensity: Vec3, lobe: Lobe) -> Vec3 {
     let to_light = light - point.position;

@@ -137,6 +137,29 @@ impl LightingGridHierarchy {
     /// Errors on non-finite positions, non-finite or negative intensities, invalid settings, or a
     /// grid too fine for the lights' extent. An empty light set gives an empty hierarchy whose
     /// queries report nothing.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{BuildError, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.len(), 64);
+    /// // Every level holds all the input intensity (eq. 1: the trilinear weights sum to 1).
+    /// for level in 0..=lgh.max_level() {
+    ///     let total: Vec3 = lgh.level(level).iter().map(|l| l.intensity).sum();
+    ///     assert!((total - Vec3::splat(64.0)).abs().max_element() < 1e-3);
+    /// }
+    /// // Invalid lights are reported with their index.
+    /// let nan = [PointLight::new(Vec3::ONE, Vec3::ONE), PointLight::new(Vec3::NAN, Vec3::ONE)];
+    /// let err = LightingGridHierarchy::build(&nan, &GridSettings::default()).unwrap_err();
+    /// assert_eq!(err, BuildError::NonFinitePosition { index: 1 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn build(lights: &[PointLight], settings: &GridSettings) -> Result<Self, BuildError> {
         validate_lights(lights)?;
         if !(settings.prune_below.is_finite() && settings.prune_below >= 0.0) {
@@ -382,6 +405,32 @@ impl LightingGridHierarchy {
     /// Skips everything that depends only on positions (validation of positions, the sort, the
     /// grids' topology) and re-splats the levels. The result is bit-identical to a fresh build with
     /// the new intensities.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let settings = GridSettings::default();
+    /// let mut lgh = LightingGridHierarchy::build(&lights, &settings)?;
+    /// // The next frame: same positions, new intensities.
+    /// let hotter: Vec<Vec3> = (0..64).map(|i| Vec3::new(1.0, 0.5, i as f32 / 64.0)).collect();
+    /// lgh.update_intensities(&hotter)?;
+    /// let moved: Vec<PointLight> =
+    ///     lights.iter().zip(&hotter).map(|(l, &i)| PointLight::new(l.position, i)).collect();
+    /// let fresh = LightingGridHierarchy::build(&moved, &settings)?;
+    /// // Bit-identical to building afresh.
+    /// let (b1, b2) = (lgh.blending(2.0)?, fresh.blending(2.0)?);
+    /// let x = Vec3::new(5.0, 1.0, -2.0);
+    /// let a = lgh.query_sum(x, &b1, |s| s.intensity)?;
+    /// let b = fresh.query_sum(x, &b2, |s| s.intensity)?;
+    /// assert_eq!(a, b);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn update_intensities(&mut self, intensities: &[Vec3]) -> Result<(), BuildError> {
         let n = self.input.perm.len();
         if intensities.len() != n {
@@ -516,6 +565,18 @@ impl LightingGridHierarchy {
     }
 
     /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight, QueryError};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::ONE, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// assert_eq!(blending.radius(1), 2.0 * lgh.h1()); // r_1 = α h_1
+    /// assert!(matches!(lgh.blending(-1.0), Err(QueryError::InvalidAlpha { .. })));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn blending(&self, alpha: f32) -> Result<Blending, QueryError> {
         Blending::new(alpha, self.h1(), self.max_level())
     }
@@ -605,6 +666,28 @@ impl LightingGridHierarchy {
     /// Visibility `V`, fall-off `g` (see [`falloff`](crate::falloff)), BRDF or phase function are the
     /// caller's. The query allocates nothing; the order of calls is fixed for a given hierarchy, α
     /// and `x`, so sums over them are deterministic.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// let mut calls = 0;
+    /// let n = lgh.query(Vec3::new(10.0, 1.5, 1.5), &blending, |light| {
+    ///     assert!(light.weight > 0.0 && light.weight <= 1.0);
+    ///     calls += 1;
+    /// })?;
+    /// assert_eq!(n, calls);
+    /// // Far from the lights only coarse levels are gathered: fewer calls than lights.
+    /// assert!(calls > 0 && calls < 64);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn query<F: FnMut(&LightSample)>(
         &self,
         x: Vec3,
@@ -617,6 +700,27 @@ impl LightingGridHierarchy {
     /// Like [`query`](Self::query), but sums what `f` returns for each light (radiance, say) and
     /// returns the sum with the number of lights. Prefer this to accumulating into a captured
     /// variable: the running sum stays in registers instead of memory.
+    ///
+    /// With a large α every light is within `r_0` of the point, so only level 0 contributes, at full
+    /// weight: the sum is brute force's.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{falloff, BruteForce, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let x = Vec3::new(1.2, 5.0, 0.7);
+    /// let (sum, n) = lgh.query_sum(x, &lgh.blending(1000.0)?, |s| s.intensity * falloff(s.distance, lgh.h0()))?;
+    /// assert_eq!(n, 64);
+    /// let exact = BruteForce::new(&lights)?.falloff_sum(x, lgh.h0())?;
+    /// assert!(((sum - exact) / exact).abs().max_element() < 1e-5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[inline]
     pub fn query_sum<F: FnMut(&LightSample) -> Vec3>(
         &self,
