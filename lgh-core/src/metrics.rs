@@ -1,5 +1,6 @@
-//! Error metrics of an approximation `A` against a reference `R`, on luminance (DESIGN.md,
-//! "Measuring"). Sums are in `f64`, sequential, so they are deterministic.
+//! Error metrics of an approximation `A` against a reference `R`, on luminance — the paper's
+//! `‖I‖` of eq. (2), Rec. 709 weights — as ARCHITECTURE.md at the repository root describes under
+//! "Measuring". Sums are in `f64`, sequential, so they are deterministic.
 
 use glam::Vec3;
 
