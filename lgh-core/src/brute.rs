@@ -91,7 +91,8 @@ impl BruteForce {
     /// ];
     /// let x = Vec3::new(0.0, 2.0, 0.0);
     /// let sum = BruteForce::new(&lights)?.falloff_sum(x, 0.1)?;
-    /// let want = Vec3::ONE * falloff(2.0, 0.1) + Vec3::new(2.0, 0.0, 1.0) * falloff(13f32.sqrt(), 0.1);
+    /// let want =
+    ///     Vec3::ONE * falloff(2.0, 0.1) + Vec3::new(2.0, 0.0, 1.0) * falloff(13f32.sqrt(), 0.1);
     /// assert!((sum - want).abs().max_element() < 1e-6);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```

@@ -41,7 +41,8 @@ pub enum Lobe {
 pub struct LightSample {
     /// Level ℓ of the light (0 for input lights).
     pub level: u8,
-    /// Index of the light within its level (see [`LightingGridHierarchy::level`](crate::LightingGridHierarchy::level)).
+    /// Index of the light within its level (see
+    /// [`LightingGridHierarchy::level`](crate::LightingGridHierarchy::level)).
     pub index: u32,
     /// Light position (the illumination centre `p_ℓi` for grid lights).
     pub position: Vec3,

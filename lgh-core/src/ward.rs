@@ -33,7 +33,9 @@ use crate::reflection::reflected;
 /// ```
 /// use lgh_core::glam::Vec3;
 /// use lgh_core::reflection::reflected;
-/// use lgh_core::{BruteForce, LightSample, ManyLights, Material, PointLight, ShadingPoint, WardBackend};
+/// use lgh_core::{
+///     BruteForce, LightSample, ManyLights, Material, PointLight, ShadingPoint, WardBackend,
+/// };
 ///
 /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
 /// let lights: Vec<PointLight> = (0..64u32)

@@ -19,7 +19,10 @@ impl<'a> LghBackend<'a> {
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
-    /// use lgh_core::{GridSettings, LghBackend, LightSample, LightingGridHierarchy, ManyLights, PointLight, ShadingPoint};
+    /// use lgh_core::{
+    ///     GridSettings, LghBackend, LightSample, LightingGridHierarchy, ManyLights, PointLight,
+    ///     ShadingPoint,
+    /// };
     ///
     /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
     /// let lights: Vec<PointLight> = (0..64u32)

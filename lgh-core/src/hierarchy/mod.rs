@@ -706,7 +706,9 @@ impl LightingGridHierarchy {
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
-    /// use lgh_core::{falloff, BruteForce, GridSettings, LightingGridHierarchy, PointLight};
+    /// use lgh_core::{
+    ///     falloff, BruteForce, GridSettings, LightSample, LightingGridHierarchy, PointLight,
+    /// };
     ///
     /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
     /// let lights: Vec<PointLight> = (0..64u32)
@@ -715,7 +717,8 @@ impl LightingGridHierarchy {
     ///     .collect();
     /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
     /// let x = Vec3::new(1.2, 5.0, 0.7);
-    /// let (sum, n) = lgh.query_sum(x, &lgh.blending(1000.0)?, |s| s.intensity * falloff(s.distance, lgh.h0()))?;
+    /// let shade = |s: &LightSample| s.intensity * falloff(s.distance, lgh.h0());
+    /// let (sum, n) = lgh.query_sum(x, &lgh.blending(1000.0)?, shade)?;
     /// assert_eq!(n, 64);
     /// let exact = BruteForce::new(&lights)?.falloff_sum(x, lgh.h0())?;
     /// assert!(((sum - exact) / exact).abs().max_element() < 1e-5);
