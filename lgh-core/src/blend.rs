@@ -17,7 +17,15 @@ pub const MAX_LEVEL: u8 = 21;
 
 /// Clamped inverse-square fall-off `g(d) = 1 / max(d, h0)²` (paper Sec. 6: distances are clamped to
 /// `h0` to avoid the point-light singularity).
+///
+/// ```
+/// use lgh_core::falloff;
+///
+/// assert_eq!(falloff(2.0, 0.5), 0.25); // 1 / d²
+/// assert_eq!(falloff(0.1, 0.5), 4.0); // clamped at h0: 1 / h0²
+/// ```
 #[inline(always)]
+#[must_use]
 pub fn falloff(d: f32, h0: f32) -> f32 {
     let c = if d > h0 { d } else { h0 };
     1.0 / (c * c)
@@ -26,6 +34,21 @@ pub fn falloff(d: f32, h0: f32) -> f32 {
 /// α and the influence radii `r_ℓ = α h_ℓ` of one hierarchy: everything a query needs to weight
 /// levels. Make one with [`LightingGridHierarchy::blending`](crate::LightingGridHierarchy::blending)
 /// (or [`Blending::new`]) once, and reuse it for every query.
+///
+/// The weights of all levels are a partition of unity (eq. 3), exactly:
+///
+/// ```
+/// use lgh_core::Blending;
+///
+/// let blending = Blending::new(2.0, 0.5, 4)?; // α = 2, h1 = 0.5, ℓ_max = 4
+/// assert_eq!(blending.radius(0), 0.5); // r_0 = α h_1 / 2
+/// assert_eq!(blending.radius(2), 2.0); // r_2 = α h_2 = α · 2 h_1
+/// for d in [0.0, 0.3, 0.77, 1.5, 2.9, 7.0, 100.0] {
+///     let sum: f32 = (0..=4).map(|l| blending.weight(l, d)).sum();
+///     assert_eq!(sum, 1.0);
+/// }
+/// # Ok::<(), lgh_core::QueryError>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Blending {
     alpha: f32,
@@ -40,6 +63,14 @@ pub struct Blending {
 }
 
 /// Checks the paper's α: a finite number above 0.
+///
+/// ```
+/// use lgh_core::{check_alpha, QueryError};
+///
+/// assert_eq!(check_alpha(2.0), Ok(()));
+/// assert_eq!(check_alpha(0.0), Err(QueryError::InvalidAlpha { alpha: 0.0 }));
+/// assert!(check_alpha(f32::NAN).is_err());
+/// ```
 pub fn check_alpha(alpha: f32) -> Result<(), QueryError> {
     if alpha.is_finite() && alpha > 0.0 {
         Ok(())
@@ -91,22 +122,26 @@ impl Blending {
     }
 
     /// The paper's α.
+    #[must_use]
     pub fn alpha(&self) -> f32 {
         self.alpha
     }
 
     /// Level-1 spacing `h1` this blending was made for.
+    #[must_use]
     pub fn h1(&self) -> f32 {
         self.h1
     }
 
     /// Top level `ℓ_max` this blending was made for.
+    #[must_use]
     pub fn max_level(&self) -> u8 {
         self.max_level
     }
 
     /// Influence radius `r_ℓ = α h_ℓ` (with `h_0 = h_1 / 2`); infinite above [`MAX_LEVEL`].
     #[inline]
+    #[must_use]
     pub fn radius(&self, level: u8) -> f32 {
         self.radius
             .get(level as usize)
@@ -119,6 +154,7 @@ impl Blending {
     /// 1e-6 so that rounding in [`weight`](Self::weight) can never put a non-zero weight outside.
     /// Levels above `ℓ_max` have no support.
     #[inline]
+    #[must_use]
     pub fn support(&self, level: u8) -> (f32, f32) {
         if level > self.max_level {
             return (f32::INFINITY, f32::INFINITY);
@@ -139,6 +175,7 @@ impl Blending {
     /// The blending weight `B_ℓ(d)` of level `level` at distance `d ≥ 0` (eq. 3, Fig. 3).
     /// Zero for levels above `ℓ_max`.
     #[inline(always)]
+    #[must_use]
     pub fn weight(&self, level: u8, d: f32) -> f32 {
         self.ramp(level).weight(d)
     }

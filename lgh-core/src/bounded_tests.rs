@@ -1,16 +1,18 @@
 //! The error-bounded backends against brute force, on the same random scenes: the light octree
 //! and Ward's method keep their absolute bound at every point, Lightcuts keeps each cluster within
-//! its bound, and all three converge to the exact answer as their thresholds shrink.
+//! its bound, and all three converge to the exact answer as their thresholds shrink. And every
+//! backend validates its lights alike.
 
 use alloc::vec::Vec;
 use glam::Vec3;
 use proptest::prelude::*;
 
-use crate::backend::{BruteForce, ManyLights, ShadingPoint};
+use crate::brute::BruteForce;
 use crate::light::PointLight;
 use crate::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
+use crate::many_lights::{Lobe, ManyLights, ShadingPoint};
 use crate::octree::{LightOctree, OctreeBackend, OctreeSettings};
-use crate::reflection::{reflected, Lobe};
+use crate::reflection::reflected;
 use crate::testsets::{clumped_lights, shading_points};
 use crate::ward::WardBackend;
 
@@ -310,4 +312,47 @@ fn degenerate_scenes_are_handled() {
         b.illuminate(&no_normal, &mut shader),
         Err(crate::QueryError::InvalidSurface)
     );
+}
+
+/// Every backend validates a light set with the one shared check (`light::validate_lights`), so
+/// each reports the same error for the same bad light.
+#[test]
+fn every_backend_rejects_bad_lights_alike() {
+    use crate::error::BuildError;
+    use crate::grid::GridSettings;
+    use crate::hierarchy::LightingGridHierarchy;
+
+    let good = PointLight::new(Vec3::ONE, Vec3::ONE);
+    let nan = PointLight::new(Vec3::new(1.0, f32::NAN, 0.0), Vec3::ONE);
+    let negative = PointLight::new(Vec3::ZERO, Vec3::new(0.5, 1.0, -1e-3));
+    for (lights, want) in [
+        (
+            [good, good, nan],
+            BuildError::NonFinitePosition { index: 2 },
+        ),
+        (
+            [good, negative, good],
+            BuildError::InvalidIntensity { index: 1 },
+        ),
+    ] {
+        let errors = [
+            (
+                "lgh",
+                LightingGridHierarchy::build(&lights, &GridSettings::default()).err(),
+            ),
+            // Ward's method shades the lights of a BruteForce, so this is its check too.
+            ("brute", BruteForce::new(&lights).err()),
+            (
+                "octree",
+                LightOctree::build(&lights, &OctreeSettings::default()).err(),
+            ),
+            (
+                "lightcuts",
+                LightTree::build(&lights, Representative::Brightest).err(),
+            ),
+        ];
+        for (name, got) in errors {
+            assert_eq!(got.as_ref(), Some(&want), "{name}");
+        }
+    }
 }

@@ -65,12 +65,14 @@ pub enum BuildError {
         got: usize,
     },
     /// Light-octree settings out of range: `max_leaf` must be at least 1 and `max_depth` at most
-    /// [`MAX_OCTREE_DEPTH`](crate::octree::MAX_OCTREE_DEPTH).
+    /// `max` (the octree's `MAX_OCTREE_DEPTH`).
     InvalidOctreeSettings {
         /** The rejected `max_leaf`. */
         max_leaf: usize,
         /** The rejected `max_depth`. */
         max_depth: u8,
+        /** The deepest `max_depth` allowed. */
+        max: u8,
     },
 }
 
@@ -115,10 +117,10 @@ impl fmt::Display for BuildError {
             BuildError::InvalidOctreeSettings {
                 max_leaf,
                 max_depth,
+                max,
             } => write!(
                 f,
-                "light octree: max_leaf {max_leaf} must be ≥ 1 and max_depth {max_depth} ≤ {}",
-                crate::octree::MAX_OCTREE_DEPTH
+                "light octree: max_leaf {max_leaf} must be ≥ 1 and max_depth {max_depth} ≤ {max}"
             ),
         }
     }

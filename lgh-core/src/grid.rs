@@ -64,6 +64,7 @@ pub(crate) struct Placement {
 }
 
 /// Bounding box `(min, max)` of the lights' positions (±∞ for no lights).
+#[must_use]
 pub fn bounds(lights: &[PointLight]) -> (Vec3, Vec3) {
     lights.iter().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),

@@ -37,7 +37,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! Features: `std` (default) and `rayon` (parallel build; the result is bit-identical to a serial one).
+//! Backends: every many-lights method implements [`ManyLights`] and is re-exported here —
+//! [`LghBackend`], [`BruteForce`], [`OctreeBackend`] (over a [`LightOctree`]),
+//! [`LightcutsBackend`] (over a [`LightTree`]) and [`WardBackend`]; their modules keep the same
+//! paths too (`lgh_core::octree::OctreeBackend`, …).
+//!
+//! Features: `std` (default), `rayon` (parallel build; the result is bit-identical to a serial one)
+//! and `testsets` (off by default: the light sets and query points of the module `testsets`, for
+//! tests and benchmarks only; production randomness is in [`random`]).
 
 #![no_std]
 #![forbid(unsafe_code)]
@@ -47,25 +54,28 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
-mod backend;
 mod blend;
 #[cfg(test)]
 mod bounded_tests;
 mod bricks;
+mod brute;
 mod error;
 mod grid;
 mod hierarchy;
 mod level;
 mod light;
 pub mod lightcuts;
+mod many_lights;
 mod math;
 pub mod metrics;
 pub mod morton;
 pub mod octree;
 mod radix;
+pub mod random;
 mod ranked;
 pub mod reflection;
 pub mod spectrum;
+#[cfg(any(test, feature = "testsets"))]
 pub mod testsets;
 pub mod ward;
 
@@ -74,13 +84,16 @@ pub mod ward;
 #[doc = include_str!("../../README.md")]
 struct ReadmeDoctests;
 
-pub use backend::{
-    probe, BruteForce, Illumination, LghBackend, LightSample, ManyLights, Material, Shader,
-    ShadingPoint,
-};
 pub use blend::{check_alpha, falloff, Blending, MAX_LEVEL};
+pub use brute::BruteForce;
 pub use error::{BuildError, QueryError};
 pub use glam;
 pub use grid::{bounds, GridSettings, LevelSource};
-pub use hierarchy::LightingGridHierarchy;
+pub use hierarchy::{LghBackend, LightingGridHierarchy};
 pub use light::{luminance, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS};
+pub use lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
+pub use many_lights::{
+    probe, Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
+};
+pub use octree::{LightOctree, OctreeBackend, OctreeSettings};
+pub use ward::WardBackend;

@@ -3,11 +3,22 @@
 use alloc::vec::Vec;
 use glam::Vec3;
 
+use crate::error::{BuildError, MAX_LIGHTS};
+
 /// Rec. 709 luminance weights: `‖I‖` in the paper (eq. 2) is the luminance of an RGB intensity.
 pub const LUMINANCE_WEIGHTS: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
 /// Luminance `‖I‖` of an RGB triple (Rec. 709 weights).
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::luminance;
+///
+/// assert_eq!(luminance(Vec3::X), 0.2126);
+/// assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6); // the weights sum to 1
+/// ```
 #[inline]
+#[must_use]
 pub fn luminance(rgb: Vec3) -> f32 {
     rgb.dot(LUMINANCE_WEIGHTS)
 }
@@ -23,12 +34,45 @@ pub struct PointLight {
 
 impl PointLight {
     /// A light at `position` with RGB intensity `intensity`.
+    #[must_use]
     pub const fn new(position: Vec3, intensity: Vec3) -> Self {
         PointLight {
             position,
             intensity,
         }
     }
+}
+
+/// The one validation of a light set, shared by every backend (the hierarchy, brute force — and so
+/// Ward's method —, the light octree and Lightcuts): at most [`MAX_LIGHTS`] lights
+/// ([`check_count`]), finite positions, finite non-negative intensities; the first offending light,
+/// in order, is reported.
+pub(crate) fn validate_lights(lights: &[PointLight]) -> Result<(), BuildError> {
+    check_count(lights.len())?;
+    for (index, l) in lights.iter().enumerate() {
+        if !l.position.is_finite() {
+            return Err(BuildError::NonFinitePosition { index });
+        }
+        validate_intensity(index, l.intensity)?;
+    }
+    Ok(())
+}
+
+/// [`BuildError::TooManyLights`] if `count` exceeds [`MAX_LIGHTS`].
+pub(crate) fn check_count(count: usize) -> Result<(), BuildError> {
+    if count > MAX_LIGHTS {
+        return Err(BuildError::TooManyLights { count });
+    }
+    Ok(())
+}
+
+/// [`BuildError::InvalidIntensity`] for light `index` if a channel of `i` is NaN, infinite or
+/// negative.
+pub(crate) fn validate_intensity(index: usize, i: Vec3) -> Result<(), BuildError> {
+    if !i.is_finite() || i.min_element() < 0.0 {
+        return Err(BuildError::InvalidIntensity { index });
+    }
+    Ok(())
 }
 
 /// A light of the hierarchy: a level-ℓ light `i ∈ S_ℓ` (a grid vertex) or, at level 0, an input light.
@@ -201,17 +245,20 @@ impl LevelLights {
     }
 
     /// Number of lights.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.position.len()
     }
 
     /// True if the level has no lights.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.position.is_empty()
     }
 
     /// Light `i`. Panics if `i >= len()`.
     #[inline]
+    #[must_use]
     pub fn get(&self, i: usize) -> GridLight {
         GridLight {
             position: self.position(i),
@@ -224,6 +271,7 @@ impl LevelLights {
 
     /// Position (illumination centre) of light `i`.
     #[inline]
+    #[must_use]
     pub fn position(&self, i: usize) -> Vec3 {
         self.position[i]
     }
@@ -231,23 +279,27 @@ impl LevelLights {
     /// True if queries report light `i`: it is not dark and not weaker than the level's
     /// weak-light threshold.
     #[inline]
+    #[must_use]
     pub fn is_reported(&self, i: usize) -> bool {
         is_reported(self.luminance[i], self.threshold)
     }
 
     /// Luminance `‖I‖` of light `i`.
     #[inline]
+    #[must_use]
     pub fn luminance(&self, i: usize) -> f32 {
         self.luminance[i]
     }
 
     /// Intensity of light `i`.
     #[inline]
+    #[must_use]
     pub fn intensity(&self, i: usize) -> Vec3 {
         self.intensity[i]
     }
 
     /// All lights, in index order.
+    #[must_use]
     pub fn iter(&self) -> impl ExactSizeIterator<Item = GridLight> + '_ {
         (0..self.len()).map(|i| self.get(i))
     }
@@ -344,5 +396,45 @@ mod tests {
     fn luminance_weights_sum_to_one() {
         assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6);
         assert_eq!(luminance(Vec3::ZERO), 0.0);
+    }
+
+    /// The count check every backend's validation starts with (a slice of more than
+    /// `MAX_LIGHTS` lights cannot be allocated in a test, so the check is tested on the length).
+    #[test]
+    fn more_than_max_lights_are_rejected() {
+        assert_eq!(check_count(0), Ok(()));
+        assert_eq!(check_count(MAX_LIGHTS), Ok(()));
+        assert_eq!(
+            check_count(MAX_LIGHTS + 1),
+            Err(BuildError::TooManyLights {
+                count: MAX_LIGHTS + 1
+            })
+        );
+        assert_eq!(
+            check_count(usize::MAX),
+            Err(BuildError::TooManyLights { count: usize::MAX })
+        );
+    }
+
+    #[test]
+    fn the_first_bad_light_is_reported() {
+        let good = PointLight::new(Vec3::ZERO, Vec3::ONE);
+        let nan = PointLight::new(Vec3::new(0.0, f32::NAN, 0.0), Vec3::ONE);
+        let negative = PointLight::new(Vec3::ZERO, Vec3::new(1.0, -1.0, 0.0));
+        let infinite = PointLight::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0));
+        assert_eq!(validate_lights(&[]), Ok(()));
+        assert_eq!(validate_lights(&[good, good]), Ok(()));
+        assert_eq!(
+            validate_lights(&[good, negative, nan]),
+            Err(BuildError::InvalidIntensity { index: 1 })
+        );
+        assert_eq!(
+            validate_lights(&[good, nan, negative]),
+            Err(BuildError::NonFinitePosition { index: 1 })
+        );
+        assert_eq!(
+            validate_lights(&[good, good, infinite]),
+            Err(BuildError::InvalidIntensity { index: 2 })
+        );
     }
 }

@@ -1,5 +1,6 @@
-//! Error metrics of an approximation `A` against a reference `R`, on luminance (DESIGN.md,
-//! "Measuring"). Sums are in `f64`, sequential, so they are deterministic.
+//! Error metrics of an approximation `A` against a reference `R`, on luminance — the paper's
+//! `‖I‖` of eq. (2), Rec. 709 weights — as ARCHITECTURE.md at the repository root describes under
+//! "Measuring". Sums are in `f64`, sequential, so they are deterministic.
 
 use glam::Vec3;
 
@@ -23,6 +24,20 @@ pub struct ErrorStats {
 impl ErrorStats {
     /// Compares two equally long sequences of RGB values by their luminance.
     /// Returns `None` if the lengths differ or the sequences are empty.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::metrics::ErrorStats;
+    ///
+    /// let reference = [Vec3::ONE, Vec3::splat(2.0), Vec3::splat(3.0)];
+    /// let approx = reference.map(|v| v * 1.1); // 10 % too bright everywhere
+    /// let stats = ErrorStats::compare(&approx, &reference).unwrap();
+    /// assert!((stats.max_rel - 0.1).abs() < 1e-6);
+    /// assert!((stats.mean_reference - 2.0).abs() < 1e-6);
+    /// assert_eq!(ErrorStats::compare(&reference, &reference).unwrap().max_abs, 0.0);
+    /// assert!(ErrorStats::compare(&approx[..2], &reference).is_none()); // lengths differ
+    /// ```
+    #[must_use]
     pub fn compare(approx: &[Vec3], reference: &[Vec3]) -> Option<Self> {
         Self::compare_luminance(
             approx.iter().map(|&v| luminance(v) as f64),
@@ -31,6 +46,7 @@ impl ErrorStats {
     }
 
     /// Compares two sequences of scalar values (already luminance).
+    #[must_use]
     pub fn compare_luminance(
         approx: impl ExactSizeIterator<Item = f64>,
         reference: impl ExactSizeIterator<Item = f64>,

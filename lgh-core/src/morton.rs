@@ -31,12 +31,14 @@ fn compact(v: u64) -> u32 {
 
 /// Interleaves `[x, y, z]` (each ≤ [`MAX_COORD`]) into one code: x in bit 0, y in bit 1, z in bit 2.
 #[inline]
+#[must_use]
 pub fn encode(c: [u32; 3]) -> u64 {
     spread(c[0]) | (spread(c[1]) << 1) | (spread(c[2]) << 2)
 }
 
 /// Inverse of [`encode`].
 #[inline]
+#[must_use]
 pub fn decode(m: u64) -> [u32; 3] {
     [compact(m), compact(m >> 1), compact(m >> 2)]
 }

@@ -10,28 +10,32 @@
 
 use glam::Vec3;
 
-use crate::backend::{Material, ShadingPoint};
-
-/// Which part of the reflection a light is shaded for.
-///
-/// The light octree treats the diffuse and the specular term separately (§4.4: a virtual light may
-/// stand in for a node's diffuse term while the same node's lights are shaded one by one for the
-/// specular term), so it asks the shader for one term at a time. Other backends ask for [`Lobe::All`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Lobe {
-    /// The whole reflection (or the phase function in a medium).
-    #[default]
-    All,
-    /// Only the diffuse term `k_d (N·L)`.
-    Diffuse,
-    /// Only the specular term `k_s (R·E)^n`.
-    Specular,
-}
+pub use crate::many_lights::Lobe;
+use crate::many_lights::{Material, ShadingPoint};
 
 /// Eq. (1) for one light of intensity `intensity` at `light`: the radiance it reflects at `point`
 /// towards the viewer, restricted to `lobe`. Surfaces need [`ShadingPoint::normal`] (and
 /// [`ShadingPoint::view`] for the specular term); without them the point is shaded as a medium
 /// with the isotropic phase function `1/4π`. A light at the point itself contributes nothing.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::reflection::{reflected, Lobe};
+/// use lgh_core::{Material, ShadingPoint};
+///
+/// let point = ShadingPoint {
+///     position: Vec3::ZERO,
+///     normal: Some(Vec3::Z),
+///     view: Some(Vec3::Z),
+///     material: Material::Lambert { albedo: Vec3::splat(0.5) },
+/// };
+/// // A light of intensity 8 straight above at distance 2: k_d (N·L) I / d² = 0.5 · 1 · 8 / 4.
+/// let l = reflected(&point, Vec3::new(0.0, 0.0, 2.0), Vec3::splat(8.0), Lobe::All);
+/// assert_eq!(l, Vec3::splat(1.0));
+/// // Below the surface: nothing.
+/// assert_eq!(reflected(&point, Vec3::new(0.0, 0.0, -2.0), Vec3::ONE, Lobe::All), Vec3::ZERO);
+/// ```
+#[must_use]
 pub fn reflected(point: &ShadingPoint, light: Vec3, intensity: Vec3, lobe: Lobe) -> Vec3 {
     let to_light = light - point.position;
     let d2 = to_light.length_squared();

@@ -20,6 +20,7 @@ fn lobe(x: f64, mu: f64, s1: f64, s2: f64) -> f64 {
 }
 
 /// CIE 1931 colour-matching functions at wavelength `nm` (Wyman et al. 2013, multi-lobe fit).
+#[must_use]
 pub fn cie1931(nm: f64) -> [f64; 3] {
     let x = 1.056 * lobe(nm, 599.8, 37.9, 31.0) + 0.362 * lobe(nm, 442.0, 16.0, 26.7)
         - 0.065 * lobe(nm, 501.1, 20.4, 26.2);
@@ -29,6 +30,7 @@ pub fn cie1931(nm: f64) -> [f64; 3] {
 }
 
 /// Planck's spectral radiance `B(λ, T)` in W / (sr m² m) at wavelength `nm` and temperature `kelvin`.
+#[must_use]
 pub fn planck(nm: f64, kelvin: f64) -> f64 {
     let l = nm * 1e-9;
     let e = libm::expm1(H * C / (l * K * kelvin));
@@ -36,6 +38,7 @@ pub fn planck(nm: f64, kelvin: f64) -> f64 {
 }
 
 /// CIE XYZ of a blackbody at `kelvin`: `∫ B(λ, T) x̄(λ) dλ` etc., in W / (sr m²). Zero for T ≤ 0.
+#[must_use]
 pub fn blackbody_xyz(kelvin: f32) -> [f64; 3] {
     let t = kelvin as f64;
     if t.is_nan() || t <= 0.0 {
@@ -54,6 +57,7 @@ pub fn blackbody_xyz(kelvin: f32) -> [f64; 3] {
 }
 
 /// Linear sRGB (Rec. 709 primaries) of XYZ; negative (out-of-gamut) channels are clamped to 0.
+#[must_use]
 pub fn xyz_to_linear_srgb(xyz: [f64; 3]) -> Vec3 {
     let [x, y, z] = xyz;
     let r = 3.240_454_2 * x - 1.537_138_5 * y - 0.498_531_4 * z;
@@ -63,6 +67,7 @@ pub fn xyz_to_linear_srgb(xyz: [f64; 3]) -> Vec3 {
 }
 
 /// Blackbody radiance at `kelvin` as linear sRGB, in W / (sr m²) (luminance channel = CIE Y).
+#[must_use]
 pub fn blackbody_rgb(kelvin: f32) -> Vec3 {
     xyz_to_linear_srgb(blackbody_xyz(kelvin))
 }
@@ -81,6 +86,7 @@ pub struct BlackbodyTable {
 impl BlackbodyTable {
     /// A table over `[min, max]` kelvin with the given step (all finite, `0 < min < max`,
     /// `step > 0`; at most a million entries).
+    #[must_use]
     pub fn new(min: f32, max: f32, step: f32) -> Option<Self> {
         let valid = min > 0.0 && max > min && step > 0.0 && max.is_finite();
         let n = ((max - min) / step) as usize + 2;
@@ -94,6 +100,7 @@ impl BlackbodyTable {
     }
 
     /// Radiance at `kelvin` (linear sRGB, W / (sr m²)); zero for T ≤ 0 or NaN.
+    #[must_use]
     pub fn radiance(&self, kelvin: f32) -> Vec3 {
         let t = (kelvin - self.min) / self.step;
         if t.is_nan() || t < 0.0 || t >= (self.values.len() - 1) as f32 {

@@ -1,59 +1,21 @@
-//! Deterministic light sets and query points for tests, examples and benchmarks.
+//! Deterministic light sets and query points for tests and benchmarks only (the cargo feature
+//! `testsets`, off by default; lgh-core's own unit tests always have it).
 //!
-//! Everything here is generated from integer hashing (no global RNG, no platform-dependent maths
-//! beyond correctly rounded operations), so every machine gets the same lights.
+//! Everything here is generated from the seeded generators of [`random`](crate::random), so every
+//! machine gets the same lights.
 
 use alloc::vec::Vec;
 use glam::Vec3;
 
-use crate::backend::{Material, ShadingPoint};
 use crate::light::PointLight;
+use crate::many_lights::{Material, ShadingPoint};
+use crate::random::{fractal_noise, SplitMix64};
 use crate::spectrum::BlackbodyTable;
-
-/// SplitMix64: a small, fast, well-mixed deterministic generator.
-#[derive(Clone, Debug)]
-pub struct SplitMix64(pub u64);
-
-impl SplitMix64 {
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        Self::mix(self.0)
-    }
-
-    /// SplitMix64's output function: a bijective 64-bit mix, also a good hash of a seed.
-    pub fn mix(mut z: u64) -> u64 {
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn next_f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
-    }
-
-    /// Uniform in `[lo, hi)` per axis.
-    pub fn next_in(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
-        let t = Vec3::new(self.next_f32(), self.next_f32(), self.next_f32());
-        lo + (hi - lo) * t
-    }
-
-    /// A unit vector, uniform on the sphere (by rejection from the cube).
-    pub fn next_unit(&mut self) -> Vec3 {
-        loop {
-            let v = self.next_in(Vec3::splat(-1.0), Vec3::ONE);
-            let l2 = v.length_squared();
-            if (0.01..1.0).contains(&l2) {
-                return v / crate::math::sqrt(l2);
-            }
-        }
-    }
-}
 
 /// `n` lights in four dense clumps over a sparse background, one in eleven dark, random RGB
 /// intensities in `[0, 10)`: what hierarchies find hardest to bound (clusters of very different
 /// size and brightness side by side).
+#[must_use]
 pub fn clumped_lights(n: usize, seed: u64) -> Vec<PointLight> {
     let mut rng = SplitMix64(seed);
     (0..n)
@@ -73,6 +35,7 @@ pub fn clumped_lights(n: usize, seed: u64) -> Vec<PointLight> {
 /// `n` surface and medium points for a light set with bounding box `lo..hi`, placed as
 /// [`query_points`] places them, each with a random unit normal and view direction and, in turn,
 /// a Lambert, a Phong (exponent 1…300) and a medium material.
+#[must_use]
 pub fn shading_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<ShadingPoint> {
     let mut rng = SplitMix64(SplitMix64::mix(seed));
     query_points(lo, hi, n, seed)
@@ -100,6 +63,7 @@ pub fn shading_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<ShadingPoi
 }
 
 /// Benchmark set (a): `n` lights uniform in the unit cube with random RGB intensities in `[0, 1)`.
+#[must_use]
 pub fn uniform_cube(n: usize, seed: u64) -> Vec<PointLight> {
     let mut rng = SplitMix64(seed);
     (0..n)
@@ -111,54 +75,12 @@ pub fn uniform_cube(n: usize, seed: u64) -> Vec<PointLight> {
         .collect()
 }
 
-fn lattice_hash(x: i32, y: i32, z: i32, seed: u32) -> f32 {
-    let mut h = (x as u32).wrapping_mul(0x8DA6_B343)
-        ^ (y as u32).wrapping_mul(0xD816_3841)
-        ^ (z as u32).wrapping_mul(0xCB1A_B31F)
-        ^ seed.wrapping_mul(0x1656_67B1);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x2C1B_3C6D);
-    h ^= h >> 12;
-    h = h.wrapping_mul(0x297A_2D39);
-    h ^= h >> 15;
-    (h >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
-}
-
-/// Smooth value noise in `[-1, 1]` with unit lattice spacing.
-pub fn value_noise(p: Vec3, seed: u32) -> f32 {
-    let f = p.floor();
-    let t = p - f;
-    let s = t * t * (Vec3::splat(3.0) - 2.0 * t);
-    let (x, y, z) = (f.x as i32, f.y as i32, f.z as i32);
-    let mut acc = 0.0;
-    for k in 0..8 {
-        let (dx, dy, dz) = (k & 1, (k >> 1) & 1, k >> 2);
-        let w = (if dx == 1 { s.x } else { 1.0 - s.x })
-            * (if dy == 1 { s.y } else { 1.0 - s.y })
-            * (if dz == 1 { s.z } else { 1.0 - s.z });
-        acc += w * lattice_hash(x + dx, y + dy, z + dz, seed);
-    }
-    acc
-}
-
-/// Fractal (turbulent) noise: `octaves` of value noise, frequency doubling, amplitude halving.
-pub fn fractal_noise(p: Vec3, octaves: u32, seed: u32) -> f32 {
-    let mut sum = 0.0;
-    let mut amp = 0.5;
-    let mut freq = 1.0;
-    for o in 0..octaves {
-        sum += amp * value_noise(p * freq, seed.wrapping_add(o));
-        amp *= 0.5;
-        freq *= 2.0;
-    }
-    sum
-}
-
 /// Benchmark set (b): explosion-like lights on a `res³` lattice filling the unit cube — one light at
 /// the centre of every voxel of a turbulent fireball shell, coloured by a blackbody temperature that
 /// falls from about 3000 K inside the shell to 1300 K at its rim, with intensity `∝ T⁴ h³`.
 /// At `res = 128` it yields about a million lights. Level-1 grids for this set should use
 /// `h1 = 2 / res` with the origin on a voxel centre, as the paper does for explosions.
+#[must_use]
 pub fn explosion_shell(res: u32) -> Vec<PointLight> {
     let h = 1.0 / res as f32;
     let centre = Vec3::splat(0.5);
@@ -194,6 +116,7 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
 
 /// Benchmark set (c): `n` equal lights along 8 long curves ("light strings") spanning about
 /// 20 × 4 × 10 units.
+#[must_use]
 pub fn light_strings(n: usize) -> Vec<PointLight> {
     const STRINGS: usize = 8;
     let mut out = Vec::with_capacity(n);
@@ -212,6 +135,7 @@ pub fn light_strings(n: usize) -> Vec<PointLight> {
 
 /// `n` query points for a light set with bounding box `lo..hi`: half uniform inside the box, half
 /// uniform in the box scaled by 3 about its centre ("inside and around").
+#[must_use]
 pub fn query_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<Vec3> {
     let mut rng = SplitMix64(seed);
     let c = (lo + hi) * 0.5;

@@ -19,12 +19,45 @@ use alloc::collections::BinaryHeap;
 use alloc::vec::Vec;
 use glam::Vec3;
 
-use crate::backend::{BruteForce, Illumination, LightSample, ManyLights, Shader, ShadingPoint};
+use crate::brute::BruteForce;
 use crate::error::QueryError;
+use crate::many_lights::{Illumination, LightSample, Lobe, ManyLights, Shader, ShadingPoint};
 use crate::ranked::Ranked;
-use crate::reflection::{reflected, Lobe};
+use crate::reflection::reflected;
 
 /// Ward's method over the lights of a [`BruteForce`], with absolute threshold `T`.
+///
+/// Without occlusion Ward's estimate of the untested lights is exact, so the result is brute
+/// force's to within rounding (and always within `T`):
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::reflection::reflected;
+/// use lgh_core::{
+///     BruteForce, LightSample, ManyLights, Material, PointLight, ShadingPoint, WardBackend,
+/// };
+///
+/// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+/// let lights: Vec<PointLight> = (0..64u32)
+///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+///     .map(|p| PointLight::new(p, Vec3::ONE))
+///     .collect();
+/// // A diffuse floor below the lights, shaded with eq. (1) (no shadows here).
+/// let point = ShadingPoint {
+///     position: Vec3::new(1.5, -20.0, 1.5),
+///     normal: Some(Vec3::Y),
+///     view: Some(Vec3::Y),
+///     material: Material::Lambert { albedo: Vec3::splat(0.8) },
+/// };
+/// let shade = |s: &LightSample| reflected(&point, s.position, s.intensity, s.lobe);
+/// let exact = BruteForce::new(&lights)?.illuminate(&point, &mut { shade })?;
+/// let brute = BruteForce::new(&lights)?;
+/// let threshold = 0.01; // about 9 % of the exact value here
+/// let ward = WardBackend::new(&brute, threshold)?.illuminate(&point, &mut { shade })?;
+/// assert!((ward.radiance - exact.radiance).abs().max_element() <= threshold);
+/// assert!(ward.lights < 64); // the lights left untested were not shaded
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct WardBackend<'a> {
     lights: &'a BruteForce,
@@ -42,6 +75,7 @@ impl<'a> WardBackend<'a> {
     }
 
     /// The threshold `T`.
+    #[must_use]
     pub fn threshold(&self) -> f32 {
         self.threshold
     }

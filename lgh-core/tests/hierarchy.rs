@@ -233,7 +233,7 @@ proptest! {
                                   x in (-6.0f32..6.0, -6.0f32..6.0, -6.0f32..6.0)) {
         let x = Vec3::new(x.0, x.1, x.2);
         let mut shuffled = lights.clone();
-        let mut rng = lgh_core::testsets::SplitMix64(seed);
+        let mut rng = lgh_core::random::SplitMix64(seed);
         for i in (1..shuffled.len()).rev() {
             let j = (rng.next_u64() % (i as u64 + 1)) as usize;
             shuffled.swap(i, j);
@@ -305,7 +305,7 @@ proptest! {
         }
         let s = GridSettings { source, h1: Some(0.5), ..Default::default() };
         let mut lgh = LightingGridHierarchy::build(&lights, &s).unwrap();
-        let mut rng = lgh_core::testsets::SplitMix64(seed);
+        let mut rng = lgh_core::random::SplitMix64(seed);
         let next: Vec<PointLight> = lights.iter()
             .map(|l| PointLight::new(l.position, Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 3.0))
             .collect();

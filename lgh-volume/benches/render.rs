@@ -8,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use lgh_volume::lgh_core::glam::Vec3;
-use lgh_volume::lgh_core::testsets::SplitMix64;
+use lgh_volume::lgh_core::random::SplitMix64;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::shadow::ShadowGrid;

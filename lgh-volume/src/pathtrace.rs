@@ -59,7 +59,7 @@
 //! ```
 
 use lgh_core::glam::Vec3;
-use lgh_core::testsets::SplitMix64;
+use lgh_core::random::SplitMix64;
 use lgh_image::Image;
 use rayon::prelude::*;
 

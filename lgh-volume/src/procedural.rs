@@ -2,7 +2,7 @@
 //! the default scene of `lgh demo` and the benchmarks.
 
 use lgh_core::glam::Vec3;
-use lgh_core::testsets::fractal_noise;
+use lgh_core::random::fractal_noise;
 
 use crate::error::{check_setting, VolumeError};
 use crate::medium::Volume;

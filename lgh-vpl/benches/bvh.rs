@@ -12,7 +12,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use lgh_vpl::lgh_core::glam::Vec3;
-use lgh_vpl::lgh_core::testsets::SplitMix64;
+use lgh_vpl::lgh_core::random::SplitMix64;
 use lgh_vpl::{Bvh, Camera, Mesh, Ray};
 
 use bvh::aabb::{Aabb, Bounded};

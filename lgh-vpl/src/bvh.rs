@@ -526,7 +526,7 @@ impl Builder {
 mod tests {
     use super::*;
     use crate::mesh::Triangle;
-    use lgh_core::testsets::SplitMix64;
+    use lgh_core::random::SplitMix64;
     use lgh_core::Material;
 
     const GREY: Material = Material::Lambert {

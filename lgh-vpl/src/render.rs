@@ -153,8 +153,8 @@ where
 mod tests {
     use super::*;
     use crate::mesh::Mesh;
+    use lgh_core::random::SplitMix64;
     use lgh_core::reflection::Lobe;
-    use lgh_core::testsets::SplitMix64;
     use lgh_core::{BruteForce, Illumination, Material, PointLight, Shader};
 
     const FLOOR: Material = Material::Phong {

@@ -21,7 +21,7 @@
 
 use glam::Vec3;
 
-use crate::backend::ShadingPoint;
+use crate::many_lights::ShadingPoint;
 
 /// The geometry of a node seen from a point: `d`, `Δd_max`, `Δθ_max` and the unit direction to
 /// the virtual light.
@@ -98,10 +98,10 @@ pub(crate) fn virtual_cosines(point: &ShadingPoint, normal: Vec3, dir: Vec3) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::Material;
     use crate::light::PointLight;
-    use crate::reflection::{reflected, Lobe};
-    use crate::testsets::SplitMix64;
+    use crate::many_lights::{Lobe, Material};
+    use crate::random::SplitMix64;
+    use crate::reflection::reflected;
     use alloc::vec::Vec;
     use proptest::prelude::*;
 

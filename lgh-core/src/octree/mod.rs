@@ -5,8 +5,9 @@
 //! cell is split at its centre into eight while it holds more than `max_leaf` lights and is less
 //! than `max_depth` deep. Each node keeps
 //! - its virtual light: the summed intensity `I_v = Σ I_i` at the intensity-weighted mean position
-//!   `P_v = Σ ‖I_i‖₁ p_i / Σ ‖I_i‖₁` (DESIGN.md weights by the 1-norm of the RGB intensity; a node of
-//!   dark lights sits at their plain mean);
+//!   `P_v = Σ ‖I_i‖₁ p_i / Σ ‖I_i‖₁` (§3.2 weights by intensity; for RGB intensities the weight is
+//!   their 1-norm, as ARCHITECTURE.md at the repository root records; a node of dark lights sits
+//!   at their plain mean);
 //! - its *minimal bounding box*: the smallest axis-aligned box of its lights, whose diagonal is the
 //!   `Δd_max` of the error bounds (§4).
 //!
@@ -16,7 +17,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::error::BuildError;
-use crate::light::PointLight;
+use crate::light::{validate_lights, PointLight};
 
 mod bounds;
 mod shading;
@@ -69,16 +70,19 @@ pub struct OctreeNode {
 
 impl OctreeNode {
     /// Number of lights below the node.
+    #[must_use]
     pub fn count(&self) -> usize {
         (self.end - self.start) as usize
     }
 
     /// Whether the node is a leaf (its lights are summed one by one).
+    #[must_use]
     pub fn is_leaf(&self) -> bool {
         self.children == 0
     }
 
     /// The largest diagonal of the minimal bounding box: `Δd_max` of §4.
+    #[must_use]
     pub fn diagonal(&self) -> f32 {
         (self.min_box.1 - self.min_box.0).length()
     }
@@ -97,14 +101,33 @@ pub struct LightOctree {
 impl LightOctree {
     /// Builds the octree of `lights` (positions finite, intensities finite and ≥ 0). No lights
     /// make an empty tree.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{LightOctree, OctreeSettings, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let tree = LightOctree::build(&lights, &OctreeSettings { max_leaf: 8, max_depth: 16 })?;
+    /// let root = tree.root().unwrap();
+    /// assert_eq!(root.count(), 64);
+    /// assert_eq!(root.light.intensity, Vec3::splat(64.0)); // the virtual light: Σ I_i …
+    /// assert_eq!(root.light.position, Vec3::splat(1.5)); // … at their ‖I‖₁-weighted mean
+    /// assert!(tree.nodes().iter().all(|n| !n.is_leaf() || n.count() <= 8));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn build(lights: &[PointLight], settings: &OctreeSettings) -> Result<Self, BuildError> {
         if settings.max_leaf == 0 || settings.max_depth > MAX_OCTREE_DEPTH {
             return Err(BuildError::InvalidOctreeSettings {
                 max_leaf: settings.max_leaf,
                 max_depth: settings.max_depth,
+                max: MAX_OCTREE_DEPTH,
             });
         }
-        crate::hierarchy::validate(lights)?;
+        validate_lights(lights)?;
         let mut tree = LightOctree {
             lights: lights.to_vec(),
             nodes: Vec::new(),
@@ -227,32 +250,38 @@ impl LightOctree {
     }
 
     /// The lights, in the tree's order.
+    #[must_use]
     pub fn lights(&self) -> &[PointLight] {
         &self.lights
     }
 
     /// The nodes, the root first (empty without lights).
+    #[must_use]
     pub fn nodes(&self) -> &[OctreeNode] {
         &self.nodes
     }
 
     /// The root, if there are lights.
+    #[must_use]
     pub fn root(&self) -> Option<&OctreeNode> {
         self.nodes.first()
     }
 
     /// The children of `node`.
+    #[must_use]
     pub fn children(&self, node: &OctreeNode) -> &[OctreeNode] {
         let first = node.first_child as usize;
         &self.nodes[first..first + node.children as usize]
     }
 
     /// The lights below `node`.
+    #[must_use]
     pub fn lights_of(&self, node: &OctreeNode) -> &[PointLight] {
         &self.lights[node.start as usize..node.end as usize]
     }
 
     /// The settings it was built with.
+    #[must_use]
     pub fn settings(&self) -> &OctreeSettings {
         &self.settings
     }

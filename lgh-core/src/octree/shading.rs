@@ -20,10 +20,11 @@ use glam::Vec3;
 
 use super::bounds::{diffuse_bound, specular_bound, virtual_cosines, NodeView};
 use super::{LightOctree, OctreeNode};
-use crate::backend::{Illumination, LightSample, ManyLights, Material, Shader, ShadingPoint};
 use crate::error::QueryError;
+use crate::many_lights::{
+    Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
+};
 use crate::ranked::Ranked;
-use crate::reflection::Lobe;
 
 /// Nodes with at most this many lights are summed exactly: evaluating a bound and a virtual light
 /// costs about as much as three or four lights (§4.2.1).
@@ -38,6 +39,38 @@ pub const EXACT_SUM_LIGHTS: usize = 3;
 /// Lights are presented to the shader as [`LightSample`]s: input lights with `level` 0 and
 /// `index` into [`LightOctree::lights`]; virtual lights with `level` 1, `index` of the node in
 /// [`LightOctree::nodes`] and `size` its box diagonal. Each carries the [`Lobe`] it is shaded for.
+///
+/// Within its threshold of brute force:
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::reflection::reflected;
+/// use lgh_core::{
+///     BruteForce, LightOctree, LightSample, ManyLights, Material, OctreeBackend, OctreeSettings,
+///     PointLight, ShadingPoint,
+/// };
+///
+/// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+/// let lights: Vec<PointLight> = (0..64u32)
+///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+///     .map(|p| PointLight::new(p, Vec3::ONE))
+///     .collect();
+/// // A diffuse floor below the lights, shaded with eq. (1) (no shadows here).
+/// let point = ShadingPoint {
+///     position: Vec3::new(1.5, -20.0, 1.5),
+///     normal: Some(Vec3::Y),
+///     view: Some(Vec3::Y),
+///     material: Material::Lambert { albedo: Vec3::splat(0.8) },
+/// };
+/// let shade = |s: &LightSample| reflected(&point, s.position, s.intensity, s.lobe);
+/// let exact = BruteForce::new(&lights)?.illuminate(&point, &mut { shade })?;
+/// let tree = LightOctree::build(&lights, &OctreeSettings::default())?;
+/// let threshold = 0.01; // about 9 % of the exact value here
+/// let octree = OctreeBackend::new(&tree, threshold)?.illuminate(&point, &mut { shade })?;
+/// assert!((octree.radiance - exact.radiance).abs().max_element() <= threshold);
+/// assert!(octree.lights < 64);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct OctreeBackend<'a> {
     tree: &'a LightOctree,
@@ -106,11 +139,13 @@ impl<'a> OctreeBackend<'a> {
     }
 
     /// The octree.
+    #[must_use]
     pub fn tree(&self) -> &'a LightOctree {
         self.tree
     }
 
     /// The threshold `T`.
+    #[must_use]
     pub fn threshold(&self) -> f32 {
         self.threshold
     }

@@ -439,7 +439,7 @@ mod tests {
     /// lights are hidden (cut off). Returns the shading points and each one's lights.
     fn ray_sets(v: &Volume) -> Vec<(Vec3, Vec<Vec3>)> {
         let (lo, hi) = v.density.bounds();
-        let mut rng = lgh_core::testsets::SplitMix64(11);
+        let mut rng = lgh_core::random::SplitMix64(11);
         let margin = (hi - lo) * 0.2;
         (0..60)
             .map(|s| {
@@ -464,7 +464,7 @@ mod tests {
     }
 
     fn random_volume() -> Volume {
-        let mut rng = lgh_core::testsets::SplitMix64(5);
+        let mut rng = lgh_core::random::SplitMix64(5);
         let values: Vec<f32> = (0..23 * 17 * 29).map(|_| rng.next_f32() * 3.0).collect();
         volume([23, 17, 29], |i, j, k| values[(k * 17 + j) * 23 + i])
     }

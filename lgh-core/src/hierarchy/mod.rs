@@ -4,16 +4,23 @@ use alloc::vec::Vec;
 use core::cmp::Ordering;
 use glam::Vec3;
 
-use crate::backend::LightSample;
 use crate::blend::{Blending, Ramp};
 use crate::bricks::{Ball, BrickIndex};
 use crate::error::{BuildError, QueryError};
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
-use crate::light::{is_reported, luminance, Contribution, GridLight, Hit, LevelLights, PointLight};
+use crate::light::{
+    is_reported, luminance, validate_intensity, validate_lights, Contribution, GridLight, Hit,
+    LevelLights, PointLight,
+};
+use crate::many_lights::{LightSample, Lobe};
 use crate::math::{floor64, level_scale};
 use crate::morton;
 use crate::radix;
+
+mod backend;
+
+pub use backend::LghBackend;
 
 /// The input lights in the hierarchy's order: by Morton code of their level-1 cell, ties broken by
 /// position and intensity bits — a total order on the lights' values, so the build does not depend
@@ -59,30 +66,6 @@ pub struct LightingGridHierarchy {
     cells0_codes: Vec<u64>,
     /// Levels 1..=ℓ_max.
     levels: Vec<Level>,
-}
-
-/// Checks the lights: at most [`MAX_LIGHTS`](crate::error::MAX_LIGHTS), finite positions, finite
-/// non-negative intensities.
-pub(crate) fn validate(lights: &[PointLight]) -> Result<(), BuildError> {
-    if lights.len() > crate::error::MAX_LIGHTS {
-        return Err(BuildError::TooManyLights {
-            count: lights.len(),
-        });
-    }
-    for (index, l) in lights.iter().enumerate() {
-        if !l.position.is_finite() {
-            return Err(BuildError::NonFinitePosition { index });
-        }
-        validate_intensity(index, l.intensity)?;
-    }
-    Ok(())
-}
-
-fn validate_intensity(index: usize, i: Vec3) -> Result<(), BuildError> {
-    if !i.is_finite() || i.min_element() < 0.0 {
-        return Err(BuildError::InvalidIntensity { index });
-    }
-    Ok(())
 }
 
 fn position_bits(p: Vec3) -> [u32; 3] {
@@ -154,8 +137,31 @@ impl LightingGridHierarchy {
     /// Errors on non-finite positions, non-finite or negative intensities, invalid settings, or a
     /// grid too fine for the lights' extent. An empty light set gives an empty hierarchy whose
     /// queries report nothing.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{BuildError, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.len(), 64);
+    /// // Every level holds all the input intensity (eq. 1: the trilinear weights sum to 1).
+    /// for level in 0..=lgh.max_level() {
+    ///     let total: Vec3 = lgh.level(level).iter().map(|l| l.intensity).sum();
+    ///     assert!((total - Vec3::splat(64.0)).abs().max_element() < 1e-3);
+    /// }
+    /// // Invalid lights are reported with their index.
+    /// let nan = [PointLight::new(Vec3::ONE, Vec3::ONE), PointLight::new(Vec3::NAN, Vec3::ONE)];
+    /// let err = LightingGridHierarchy::build(&nan, &GridSettings::default()).unwrap_err();
+    /// assert_eq!(err, BuildError::NonFinitePosition { index: 1 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn build(lights: &[PointLight], settings: &GridSettings) -> Result<Self, BuildError> {
-        validate(lights)?;
+        validate_lights(lights)?;
         if !(settings.prune_below.is_finite() && settings.prune_below >= 0.0) {
             return Err(BuildError::InvalidThreshold {
                 threshold: settings.prune_below,
@@ -399,6 +405,32 @@ impl LightingGridHierarchy {
     /// Skips everything that depends only on positions (validation of positions, the sort, the
     /// grids' topology) and re-splats the levels. The result is bit-identical to a fresh build with
     /// the new intensities.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let settings = GridSettings::default();
+    /// let mut lgh = LightingGridHierarchy::build(&lights, &settings)?;
+    /// // The next frame: same positions, new intensities.
+    /// let hotter: Vec<Vec3> = (0..64).map(|i| Vec3::new(1.0, 0.5, i as f32 / 64.0)).collect();
+    /// lgh.update_intensities(&hotter)?;
+    /// let moved: Vec<PointLight> =
+    ///     lights.iter().zip(&hotter).map(|(l, &i)| PointLight::new(l.position, i)).collect();
+    /// let fresh = LightingGridHierarchy::build(&moved, &settings)?;
+    /// // Bit-identical to building afresh.
+    /// let (b1, b2) = (lgh.blending(2.0)?, fresh.blending(2.0)?);
+    /// let x = Vec3::new(5.0, 1.0, -2.0);
+    /// let a = lgh.query_sum(x, &b1, |s| s.intensity)?;
+    /// let b = fresh.query_sum(x, &b2, |s| s.intensity)?;
+    /// assert_eq!(a, b);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn update_intensities(&mut self, intensities: &[Vec3]) -> Result<(), BuildError> {
         let n = self.input.perm.len();
         if intensities.len() != n {
@@ -434,26 +466,31 @@ impl LightingGridHierarchy {
     }
 
     /// Number of input lights.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.level0.len()
     }
 
     /// True if the hierarchy has no lights.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.level0.is_empty()
     }
 
     /// The top level `ℓ_max`.
+    #[must_use]
     pub fn max_level(&self) -> u8 {
         self.placement.max_level
     }
 
     /// Level-1 spacing `h_1`.
+    #[must_use]
     pub fn h1(&self) -> f32 {
         self.placement.h1 as f32
     }
 
     /// Spacing `h_ℓ = 2^(ℓ−1) h_1` of level ℓ (`h_0 = h_1 / 2`).
+    #[must_use]
     pub fn h(&self, level: u8) -> f32 {
         self.h64(level) as f32
     }
@@ -464,23 +501,27 @@ impl LightingGridHierarchy {
     }
 
     /// `h_0 = h_1 / 2`, the clamp distance of the fall-off [`falloff`](crate::falloff).
+    #[must_use]
     pub fn h0(&self) -> f32 {
         self.h(0)
     }
 
     /// The grids' shared origin (a vertex of every level).
+    #[must_use]
     pub fn origin(&self) -> Vec3 {
         let o = self.placement.origin;
         Vec3::new(o[0] as f32, o[1] as f32, o[2] as f32)
     }
 
     /// Weak-light threshold of this hierarchy (0 = no pruning).
+    #[must_use]
     pub fn prune_below(&self) -> f32 {
         self.prune_below
     }
 
     /// The lights of level `level` (level 0: the input lights, in the hierarchy's order).
     /// Empty for levels above `ℓ_max`.
+    #[must_use]
     pub fn level(&self, level: u8) -> &LevelLights {
         static EMPTY: LevelLights = LevelLights::EMPTY;
         if level == 0 {
@@ -494,6 +535,7 @@ impl LightingGridHierarchy {
 
     /// The grid vertex (integer coordinates relative to [`origin`](Self::origin), in units of `h_ℓ`)
     /// of light `index` of level `level ≥ 1`.
+    #[must_use]
     pub fn vertex(&self, level: u8, index: u32) -> Option<[u32; 3]> {
         let l = self.levels.get((level as usize).checked_sub(1)?)?;
         l.topo
@@ -503,6 +545,7 @@ impl LightingGridHierarchy {
     }
 
     /// Index, in the slice given to [`build`](Self::build), of level-0 light `index`.
+    #[must_use]
     pub fn input_index(&self, index: u32) -> Option<usize> {
         self.input.perm.get(index as usize).map(|&i| i as usize)
     }
@@ -510,6 +553,7 @@ impl LightingGridHierarchy {
     /// True if `light` of `level` is reported by queries: not dark, and not weaker than the
     /// weak-light threshold unless it is on the top level (which is never pruned).
     #[inline]
+    #[must_use]
     pub fn is_active(&self, level: u8, light: &GridLight) -> bool {
         is_reported(light.luminance, self.threshold(level))
     }
@@ -521,6 +565,18 @@ impl LightingGridHierarchy {
     }
 
     /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight, QueryError};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::ONE, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// assert_eq!(blending.radius(1), 2.0 * lgh.h1()); // r_1 = α h_1
+    /// assert!(matches!(lgh.blending(-1.0), Err(QueryError::InvalidAlpha { .. })));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn blending(&self, alpha: f32) -> Result<Blending, QueryError> {
         Blending::new(alpha, self.h1(), self.max_level())
     }
@@ -610,6 +666,28 @@ impl LightingGridHierarchy {
     /// Visibility `V`, fall-off `g` (see [`falloff`](crate::falloff)), BRDF or phase function are the
     /// caller's. The query allocates nothing; the order of calls is fixed for a given hierarchy, α
     /// and `x`, so sums over them are deterministic.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// let mut calls = 0;
+    /// let n = lgh.query(Vec3::new(10.0, 1.5, 1.5), &blending, |light| {
+    ///     assert!(light.weight > 0.0 && light.weight <= 1.0);
+    ///     calls += 1;
+    /// })?;
+    /// assert_eq!(n, calls);
+    /// // Far from the lights only coarse levels are gathered: fewer calls than lights.
+    /// assert!(calls > 0 && calls < 64);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn query<F: FnMut(&LightSample)>(
         &self,
         x: Vec3,
@@ -622,6 +700,30 @@ impl LightingGridHierarchy {
     /// Like [`query`](Self::query), but sums what `f` returns for each light (radiance, say) and
     /// returns the sum with the number of lights. Prefer this to accumulating into a captured
     /// variable: the running sum stays in registers instead of memory.
+    ///
+    /// With a large α every light is within `r_0` of the point, so only level 0 contributes, at full
+    /// weight: the sum is brute force's.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{
+    ///     falloff, BruteForce, GridSettings, LightSample, LightingGridHierarchy, PointLight,
+    /// };
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let x = Vec3::new(1.2, 5.0, 0.7);
+    /// let shade = |s: &LightSample| s.intensity * falloff(s.distance, lgh.h0());
+    /// let (sum, n) = lgh.query_sum(x, &lgh.blending(1000.0)?, shade)?;
+    /// assert_eq!(n, 64);
+    /// let exact = BruteForce::new(&lights)?.falloff_sum(x, lgh.h0())?;
+    /// assert!(((sum - exact) / exact).abs().max_element() < 1e-5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[inline]
     pub fn query_sum<F: FnMut(&LightSample) -> Vec3>(
         &self,
@@ -742,7 +844,7 @@ impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
             size: l.size(index),
             distance: d,
             weight: w,
-            lobe: crate::reflection::Lobe::All,
+            lobe: Lobe::All,
         }))
     }
 }
