@@ -113,11 +113,13 @@ pub fn run(args: &CoreBenchArgs) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     say!("{text}");
     if let Some(out) = &args.out {
-        lgh_image::write_atomic(out, |w| w.write_all(text.as_bytes()))?;
+        lgh_image::write_atomic(out, |w| w.write_all(text.as_bytes()))
+            .map_err(|e| e.to_string())?;
     }
     if let Some(md) = &args.markdown {
         let table = markdown(&report);
-        lgh_image::write_atomic(md, |w| w.write_all(table.as_bytes()))?;
+        lgh_image::write_atomic(md, |w| w.write_all(table.as_bytes()))
+            .map_err(|e| e.to_string())?;
     }
     Ok(())
 }

@@ -126,7 +126,7 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
     for &a in &args.alphas {
         crate::check_alpha(a)?;
     }
-    lgh_volume::render::check_image_size(args.width, args.height)?;
+    lgh_volume::render::check_image_size(args.width, args.height).map_err(|e| e.to_string())?;
     if args.pixels == 0 {
         return Err("--pixels must be at least 1".into());
     }
@@ -148,7 +148,8 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     say!("{text}");
     if let Some(out) = &args.out {
-        lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))?;
+        lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))
+            .map_err(|e| e.to_string())?;
     }
     Ok(())
 }

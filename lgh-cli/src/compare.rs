@@ -21,8 +21,8 @@ pub struct CompareArgs {
 
 /// Runs `lgh compare`.
 pub fn run(args: &CompareArgs) -> Result<(), String> {
-    let a = lgh_image::read_exr(&args.image)?;
-    let r = lgh_image::read_exr(&args.reference)?;
+    let a = lgh_image::read_exr(&args.image).map_err(|e| e.to_string())?;
+    let r = lgh_image::read_exr(&args.reference).map_err(|e| e.to_string())?;
     let stats = lgh_image::compare(&a, &r).ok_or_else(|| {
         format!(
             "{} is {}×{} but {} is {}×{}",
@@ -42,7 +42,7 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         args.image.with_file_name(format!("{stem}-diff.png"))
     });
     // Full red at the largest error, so the map always uses its whole range.
-    lgh_image::difference_png(&diff, &a, &r, stats.max_abs as f32)?;
+    lgh_image::difference_png(&diff, &a, &r, stats.max_abs as f32).map_err(|e| e.to_string())?;
     if args.json {
         say!(
             "{}",

@@ -52,7 +52,7 @@ pub fn demo_medium() -> Medium {
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> Result<(), String> {
     crate::check_alpha(args.alpha)?;
-    lgh_volume::render::check_image_size(args.width, args.height)?;
+    lgh_volume::render::check_image_size(args.width, args.height).map_err(|e| e.to_string())?;
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP)?;
     let t = Instant::now();

@@ -167,7 +167,7 @@ fn frame_out(out: &Path, frame: Option<u32>) -> PathBuf {
 /// Runs `lgh explosion`.
 pub fn run(args: &ExplosionArgs) -> Result<(), String> {
     crate::check_alpha(args.alpha)?;
-    lgh_volume::render::check_image_size(args.width, args.height)?;
+    lgh_volume::render::check_image_size(args.width, args.height).map_err(|e| e.to_string())?;
     output::check_out(&args.out)?;
     let march = args
         .march

@@ -173,8 +173,8 @@ pub fn write_exr_png(
     exposure: Option<f32>,
 ) -> Result<PathBuf, String> {
     let png = out.with_extension("png");
-    lgh_image::write_exr(out, image, attrs)?;
+    lgh_image::write_exr(out, image, attrs).map_err(|e| e.to_string())?;
     let exposure = exposure.unwrap_or_else(|| lgh_image::auto_exposure(image));
-    lgh_image::write_png(&png, image, exposure)?;
+    lgh_image::write_png(&png, image, exposure).map_err(|e| e.to_string())?;
     Ok(png)
 }

@@ -139,7 +139,7 @@ pub fn run(args: &ProbesArgs) -> Result<(), String> {
             .columns
             .push(values.iter().map(|v| v[c] as f64).collect());
     }
-    lgh_image::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
+    lgh_image::write_atomic(&args.out, |w| ply::write(w, &cloud)).map_err(|e| e.to_string())?;
     say!(
         "{} probes from {} lights with {} (alpha {}, h1 {:.4}, levels 0..={}): {:.1} lights per probe; read {:.2} s, build {:.3} s, evaluate {:.3} s -> {}",
         points.len(),
