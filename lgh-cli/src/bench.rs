@@ -166,7 +166,7 @@ fn markdown(report: &Value) -> String {
 
 fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, crate::Error> {
     let lights = &set.lights;
-    let build = || LightingGridHierarchy::build(lights, &set.settings).map_err(|e| e.to_string());
+    let build = || LightingGridHierarchy::build(lights, &set.settings);
     let mut build_s = serde_json::Map::new();
     let mut lgh = None;
     for threads in [1usize, 2] {

@@ -8,6 +8,8 @@ use std::fmt;
 
 use lgh_core::glam::Vec3;
 
+use crate::ImageError;
+
 /// Why a camera could not be set up.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CameraError {
@@ -19,8 +21,14 @@ pub enum CameraError {
     UpAlongView,
     /// The vertical field of view (degrees) is not in (0, 180).
     FieldOfView(f32),
-    /// The image size is outside 1 to [`MAX_IMAGE_SIDE`](crate::MAX_IMAGE_SIDE) pixels per side.
-    ImageSize(String),
+    /// The image size is outside 1 to [`MAX_IMAGE_SIDE`](crate::MAX_IMAGE_SIDE) pixels per side
+    /// (the [`ImageError::Size`] of [`check_image_size`](crate::check_image_size)).
+    ImageSize {
+        /// The width asked for.
+        width: usize,
+        /// The height asked for.
+        height: usize,
+    },
 }
 
 impl fmt::Display for CameraError {
@@ -38,7 +46,10 @@ impl fmt::Display for CameraError {
                 f,
                 "camera: vertical field of view {fov}° must be in (0, 180) degrees"
             ),
-            CameraError::ImageSize(message) => write!(f, "camera: {message}"),
+            // The message of the image-size check, which is the rule.
+            &CameraError::ImageSize { width, height } => {
+                write!(f, "camera: {}", ImageError::Size { width, height })
+            }
         }
     }
 }
@@ -61,6 +72,27 @@ impl Pinhole {
     /// A camera at `eye` looking at `target`, with `up` roughly up (any vector not parallel to
     /// the view), a vertical field of view of `fov_y_degrees` and a `width × height` image
     /// (checked with [`check_image_size`](crate::check_image_size)).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_image::{CameraError, Pinhole};
+    ///
+    /// let camera = Pinhole::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 90.0, 3, 3)?;
+    /// // The centre pixel's ray leaves the eye straight at the target.
+    /// let (origin, dir) = camera.ray(1, 1);
+    /// assert_eq!(origin, Vec3::new(0.0, 0.0, 5.0));
+    /// assert!((dir - Vec3::NEG_Z).length() < 1e-6);
+    /// // The top-left pixel looks left and up.
+    /// let (_, corner) = camera.ray(0, 0);
+    /// assert!(corner.x < 0.0 && corner.y > 0.0);
+    ///
+    /// let e = Pinhole::new(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 90.0, 3, 3).unwrap_err();
+    /// assert_eq!(e, CameraError::EyeAtTarget);
+    /// let e = Pinhole::new(Vec3::Z, Vec3::ZERO, Vec3::Y, 90.0, 0, 3).unwrap_err();
+    /// assert_eq!(e, CameraError::ImageSize { width: 0, height: 3 });
+    /// assert!(e.to_string().starts_with("camera: image size 0x3"));
+    /// # Ok::<(), CameraError>(())
+    /// ```
     pub fn new(
         eye: Vec3,
         target: Vec3,
@@ -85,7 +117,8 @@ impl Pinhole {
         if !(fov_y_degrees > 0.0 && fov_y_degrees < 180.0 && tan_half_fov.is_finite()) {
             return Err(CameraError::FieldOfView(fov_y_degrees));
         }
-        crate::check_image_size(width, height).map_err(CameraError::ImageSize)?;
+        crate::check_image_size(width, height)
+            .map_err(|_| CameraError::ImageSize { width, height })?;
         let right = side.normalize();
         Ok(Pinhole {
             eye,
@@ -99,16 +132,19 @@ impl Pinhole {
     }
 
     /// The eye position: the origin of every ray.
+    #[must_use]
     pub fn eye(&self) -> Vec3 {
         self.eye
     }
 
     /// Image width in pixels.
+    #[must_use]
     pub fn width(&self) -> usize {
         self.width
     }
 
     /// Image height in pixels.
+    #[must_use]
     pub fn height(&self) -> usize {
         self.height
     }
@@ -116,6 +152,7 @@ impl Pinhole {
     /// The unit direction of the ray through pixel position `(x, y)`, in pixels from the image's
     /// top-left corner (x right, y down): pixel `(px, py)`'s centre is at `(px + 0.5, py + 0.5)`.
     /// Positions outside the image give directions outside the field of view, not an error.
+    #[must_use]
     pub fn direction(&self, x: f32, y: f32) -> Vec3 {
         // The renderers' images depend on this exact arithmetic: keep the order of operations.
         let aspect = self.width as f32 / self.height as f32;
@@ -127,6 +164,7 @@ impl Pinhole {
     /// The ray `(origin, unit direction)` through the centre of pixel `(px, py)` (x right, y down):
     /// the eye and [`direction`](Self::direction)`(px + 0.5, py + 0.5)`. Pixels outside the image
     /// give rays outside the field of view, not an error.
+    #[must_use]
     pub fn ray(&self, px: usize, py: usize) -> (Vec3, Vec3) {
         (self.eye, self.direction(px as f32 + 0.5, py as f32 + 0.5))
     }
@@ -224,8 +262,12 @@ mod tests {
             );
         }
         for (w, h) in [(0, 8), (8, 0), (crate::MAX_IMAGE_SIDE + 1, 8)] {
-            assert!(
-                matches!(ok(e, t, up, 60.0, w, h), Err(CameraError::ImageSize(_))),
+            assert_eq!(
+                ok(e, t, up, 60.0, w, h),
+                Err(CameraError::ImageSize {
+                    width: w,
+                    height: h
+                }),
                 "{w}x{h}"
             );
         }

@@ -5,25 +5,34 @@
 //! header attributes ([`write_exr`], [`read_exr`]), a tone-mapped sRGB PNG to look at
 //! ([`write_png`]), the comparison of two images on luminance ([`compare`], [`difference_png`]),
 //! input files read up to a size limit ([`read_limited`]), and the pinhole camera the images
-//! are seen through ([`Pinhole`], in [`camera`]).
+//! are seen through ([`Pinhole`], in [`camera`]). Everything that can fail for an image says
+//! why with an [`ImageError`].
 //!
-//! ```no_run
-//! use lgh_image::{write_exr, write_png, Image};
+//! ```
 //! use lgh_core::glam::Vec3;
+//! use lgh_image::{read_exr, read_exr_attributes, write_exr, write_png, Image};
 //!
+//! let dir = tempfile::tempdir()?;
 //! let mut img = Image::new(64, 32);
 //! img.set(10, 5, Vec3::new(1.0, 0.5, 0.25));
-//! write_exr("out.exr".as_ref(), &img, &[("renderer".into(), "lgh".into())])?;
-//! write_png("out.png".as_ref(), &img, 1.0)?;
-//! # Ok::<(), String>(())
+//! let exr = dir.path().join("out.exr");
+//! write_exr(&exr, &img, &[("renderer".into(), "lgh".into())])?;
+//! write_png(&dir.path().join("out.png"), &img, 1.0)?;
+//!
+//! // EXR is lossless: the same floats come back, and the attributes with them.
+//! assert_eq!(read_exr(&exr)?, img);
+//! assert_eq!(read_exr_attributes(&exr)?, [("renderer".to_string(), "lgh".to_string())]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod camera;
+mod error;
 
 pub use camera::{CameraError, Pinhole};
+pub use error::ImageError;
 
 use std::io::{BufWriter, Read, Write};
 use std::path::Path;
@@ -45,6 +54,7 @@ pub struct Image {
 
 impl Image {
     /// A black image.
+    #[must_use]
     pub fn new(width: usize, height: usize) -> Self {
         Image {
             width,
@@ -54,6 +64,7 @@ impl Image {
     }
 
     /// Pixel `(x, y)`.
+    #[must_use]
     pub fn get(&self, x: usize, y: usize) -> Vec3 {
         self.pixels[y * self.width + x]
     }
@@ -67,15 +78,25 @@ impl Image {
 /// The largest image side, in pixels: a 16384² image of RGB floats takes 3 GiB.
 pub const MAX_IMAGE_SIDE: usize = 16384;
 
-/// Checks an image size: 1 to [`MAX_IMAGE_SIDE`] pixels per side.
-pub fn check_image_size(width: usize, height: usize) -> Result<(), String> {
+/// Checks an image size: 1 to [`MAX_IMAGE_SIDE`] pixels per side, else [`ImageError::Size`].
+///
+/// ```
+/// use lgh_image::{check_image_size, ImageError, MAX_IMAGE_SIDE};
+///
+/// assert!(check_image_size(640, 480).is_ok());
+/// let e = check_image_size(0, 480).unwrap_err();
+/// assert!(matches!(e, ImageError::Size { width: 0, height: 480 }));
+/// assert_eq!(
+///     e.to_string(),
+///     format!("image size 0x480: width and height must be 1 to {MAX_IMAGE_SIDE}")
+/// );
+/// ```
+pub fn check_image_size(width: usize, height: usize) -> Result<(), ImageError> {
     let ok = |n: usize| (1..=MAX_IMAGE_SIDE).contains(&n);
     if ok(width) && ok(height) {
         Ok(())
     } else {
-        Err(format!(
-            "image size {width}x{height}: width and height must be 1 to {MAX_IMAGE_SIDE}"
-        ))
+        Err(ImageError::Size { width, height })
     }
 }
 
@@ -111,10 +132,13 @@ pub fn read_limited(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
 
 /// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
 /// if everything succeeded. On any error the temporary file is removed and `path` is untouched.
+///
+/// Errors: [`ImageError::TempFile`] if the temporary file cannot be created,
+/// [`ImageError::Write`] if `write`, the flush, the sync or the rename fails.
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<(), String> {
+) -> Result<(), ImageError> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -123,24 +147,38 @@ pub fn write_atomic(
         .prefix(".lgh-")
         .suffix(".tmp")
         .tempfile_in(dir)
-        .map_err(|e| format!("cannot create a temporary file in {}: {e}", dir.display()))?;
+        .map_err(|source| ImageError::TempFile {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
+    let write_error = |source| ImageError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
     {
         let mut w = BufWriter::new(tmp.as_file());
-        write(&mut w)
-            .and_then(|_| w.flush())
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        write(&mut w).and_then(|_| w.flush()).map_err(write_error)?;
     }
-    tmp.as_file()
-        .sync_all()
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    tmp.persist(path)
-        .map_err(|e| format!("cannot write {}: {}", path.display(), e.error))?;
+    tmp.as_file().sync_all().map_err(write_error)?;
+    tmp.persist(path).map_err(|e| write_error(e.error))?;
     Ok(())
+}
+
+/// [`ImageError::Empty`] if `image` has no pixels.
+fn check_not_empty(path: &Path, image: &Image) -> Result<(), ImageError> {
+    if image.width == 0 || image.height == 0 {
+        Err(ImageError::Empty {
+            path: path.to_path_buf(),
+        })
+    } else {
+        Ok(())
+    }
 }
 
 /// An exposure for [`tonemap`] that puts the 99th percentile of the non-black pixels' luminance
 /// at 4 (tone-mapped to 80% of white), so a few blazing pixels do not darken the whole image;
 /// 1 for a black image.
+#[must_use]
 pub fn auto_exposure(image: &Image) -> f32 {
     let mut l: Vec<f32> = image
         .pixels
@@ -157,20 +195,33 @@ pub fn auto_exposure(image: &Image) -> f32 {
 }
 
 /// Writes a linear float RGB OpenEXR (ZIP-compressed, lossless) with `attributes` as text
-/// attributes in its header, atomically.
+/// attributes in its header, atomically ([`write_atomic`]).
+///
+/// Errors: [`ImageError::Empty`] for an image without pixels, [`ImageError::EncodeExr`], and
+/// those of [`write_atomic`].
+///
+/// ```
+/// use lgh_image::{read_exr, write_exr, Image, ImageError};
+///
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("black.exr");
+/// write_exr(&path, &Image::new(4, 2), &[])?;
+/// assert_eq!(read_exr(&path)?, Image::new(4, 2));
+/// // Nothing is written for an empty image.
+/// let empty = dir.path().join("empty.exr");
+/// let e = write_exr(&empty, &Image::new(0, 0), &[]).unwrap_err();
+/// assert!(matches!(e, ImageError::Empty { .. }));
+/// assert!(!empty.exists());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_exr(
     path: &Path,
     image: &Image,
     attributes: &[(String, String)],
-) -> Result<(), String> {
+) -> Result<(), ImageError> {
     use exr::meta::attribute::{AttributeValue, Text};
     use exr::prelude::*;
-    if image.width == 0 || image.height == 0 {
-        return Err(format!(
-            "cannot write {}: the image is empty",
-            path.display()
-        ));
-    }
+    check_not_empty(path, image)?;
     let mut layer_attributes = LayerAttributes::named("rgb");
     layer_attributes.software_name = Some(Text::from("lgh"));
     for (k, v) in attributes {
@@ -192,12 +243,30 @@ pub fn write_exr(
     Image::from_layer(layer)
         .write()
         .to_buffered(&mut bytes)
-        .map_err(|e| format!("cannot encode {}: {e}", path.display()))?;
+        .map_err(|source| ImageError::EncodeExr {
+            path: path.to_path_buf(),
+            source,
+        })?;
     write_atomic(path, |w| w.write_all(bytes.get_ref()))
 }
 
 /// Reads the RGB channels of an OpenEXR file (first layer; missing channels are zero).
-pub fn read_exr(path: &Path) -> Result<Image, String> {
+///
+/// Errors: [`ImageError::ReadExr`], whose [`source`](std::error::Error::source) is the
+/// decoder's error.
+///
+/// ```
+/// use std::error::Error;
+/// use lgh_image::{read_exr, ImageError};
+///
+/// let dir = tempfile::tempdir()?;
+/// let e = read_exr(&dir.path().join("missing.exr")).unwrap_err();
+/// assert!(matches!(e, ImageError::ReadExr { .. }));
+/// assert!(e.to_string().starts_with("cannot read "));
+/// assert!(e.source().is_some());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_exr(path: &Path) -> Result<Image, ImageError> {
     use exr::prelude::*;
     let img = read_first_rgba_layer_from_file(
         path,
@@ -206,20 +275,28 @@ pub fn read_exr(path: &Path) -> Result<Image, String> {
             img.set(pos.x(), pos.y(), Vec3::new(r, g, b))
         },
     )
-    .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    .map_err(|source| read_exr_error(path, source))?;
     Ok(img.layer_data.channel_data.pixels)
+}
+
+fn read_exr_error(path: &Path, source: exr::error::Error) -> ImageError {
+    ImageError::ReadExr {
+        path: path.to_path_buf(),
+        source,
+    }
 }
 
 /// The text attributes of an OpenEXR file's first header (what [`write_exr`] stored), sorted by
 /// name.
-pub fn read_exr_attributes(path: &Path) -> Result<Vec<(String, String)>, String> {
+///
+/// Errors: [`ImageError::ReadExr`], [`ImageError::NoHeader`].
+pub fn read_exr_attributes(path: &Path) -> Result<Vec<(String, String)>, ImageError> {
     use exr::meta::attribute::AttributeValue;
     let meta = exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let header = meta
-        .headers
-        .first()
-        .ok_or_else(|| format!("{}: no header", path.display()))?;
+        .map_err(|source| read_exr_error(path, source))?;
+    let header = meta.headers.first().ok_or_else(|| ImageError::NoHeader {
+        path: path.to_path_buf(),
+    })?;
     let mut out: Vec<(String, String)> = header
         .own_attributes
         .other
@@ -236,6 +313,19 @@ pub fn read_exr_attributes(path: &Path) -> Result<Vec<(String, String)>, String>
 
 /// Linear to sRGB-encoded 8 bits, after multiplying by `exposure` and the Reinhard curve on
 /// luminance (which keeps hue while compressing highlights).
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::tonemap;
+///
+/// assert_eq!(tonemap(Vec3::ZERO, 1.0), [0, 0, 0]);
+/// // Grey stays grey; brighter is lighter but never clips to white.
+/// let [r, g, b] = tonemap(Vec3::splat(0.5), 1.0);
+/// assert!(r == g && g == b);
+/// let [bright, ..] = tonemap(Vec3::splat(100.0), 1.0);
+/// assert!(r < bright && bright < 255);
+/// ```
+#[must_use]
 pub fn tonemap(v: Vec3, exposure: f32) -> [u8; 3] {
     let v = (v * exposure).max(Vec3::ZERO);
     let l = luminance(v);
@@ -252,28 +342,31 @@ pub fn tonemap(v: Vec3, exposure: f32) -> [u8; 3] {
     [encode(v.x), encode(v.y), encode(v.z)]
 }
 
-fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<(), String> {
-    write_atomic(path, |w| {
-        let mut enc = png::Encoder::new(w, width as u32, height as u32);
+/// Encodes 8-bit sRGB `rgb` as PNG in memory, then writes it to `path` atomically.
+fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<(), ImageError> {
+    let mut bytes = Vec::new();
+    let encode = |bytes: &mut Vec<u8>| -> Result<(), png::EncodingError> {
+        let mut enc = png::Encoder::new(bytes, width as u32, height as u32);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
         enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let mut writer = enc.write_header().map_err(std::io::Error::other)?;
-        writer
-            .write_image_data(rgb)
-            .map_err(std::io::Error::other)?;
-        writer.finish().map_err(std::io::Error::other)
-    })
+        let mut writer = enc.write_header()?;
+        writer.write_image_data(rgb)?;
+        writer.finish()
+    };
+    encode(&mut bytes).map_err(|source| ImageError::EncodePng {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    write_atomic(path, |w| w.write_all(&bytes))
 }
 
 /// Writes a tone-mapped sRGB PNG (see [`tonemap`]) atomically.
-pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<(), String> {
-    if image.width == 0 || image.height == 0 {
-        return Err(format!(
-            "cannot write {}: the image is empty",
-            path.display()
-        ));
-    }
+///
+/// Errors: [`ImageError::Empty`] for an image without pixels, [`ImageError::EncodePng`], and
+/// those of [`write_atomic`].
+pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<(), ImageError> {
+    check_not_empty(path, image)?;
     let rgb: Vec<u8> = image
         .pixels
         .iter()
@@ -284,6 +377,22 @@ pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<(), String
 
 /// Compares `a` against the reference `r` on luminance (DESIGN.md "Measuring": relative RMSE,
 /// max and mean absolute error). `None` if their sizes differ or they are empty.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{compare, Image};
+///
+/// let mut r = Image::new(2, 2);
+/// r.pixels.fill(Vec3::ONE);
+/// let mut a = r.clone();
+/// a.set(1, 0, Vec3::splat(3.0));
+/// // One pixel of four off by 2: RMSE sqrt(4 / 4) = 1 over a mean of 1.
+/// let s = compare(&a, &r).unwrap();
+/// assert!((s.rel_rmse - 1.0).abs() < 1e-6);
+/// assert!((s.max_abs - 2.0).abs() < 1e-6 && (s.mean_abs - 0.5).abs() < 1e-6);
+/// assert!(compare(&a, &Image::new(4, 1)).is_none());
+/// ```
+#[must_use]
 pub fn compare(a: &Image, r: &Image) -> Option<ErrorStats> {
     if (a.width, a.height) != (r.width, r.height) {
         return None;
@@ -303,12 +412,26 @@ pub struct Error8Bit {
 }
 
 /// `v` quantised to 8 bits as [`Error8Bit`] does it.
+#[must_use]
 pub fn quantize_8bit(v: f32) -> u8 {
     // NaN goes to 0 (`as` saturates and maps NaN to 0).
     (255.0 * v.clamp(0.0, 1.0)).round() as u8
 }
 
 /// [`Error8Bit`] of `a` against `r`; `None` if their sizes differ or they are empty.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{error_8bit, Error8Bit, Image};
+///
+/// let r = Image::new(2, 1);
+/// let mut a = r.clone();
+/// // 2/255 in red is two levels; 10 is clamped to 1, so 255 levels in blue.
+/// a.set(0, 0, Vec3::new(2.0 / 255.0, 0.0, 10.0));
+/// assert_eq!(error_8bit(&a, &r), Some(Error8Bit { max: 255, mean: 257.0 / 6.0 }));
+/// assert_eq!(error_8bit(&a, &Image::new(1, 2)), None);
+/// ```
+#[must_use]
 pub fn error_8bit(a: &Image, r: &Image) -> Option<Error8Bit> {
     if (a.width, a.height) != (r.width, r.height) || a.pixels.is_empty() {
         return None;
@@ -329,9 +452,15 @@ pub fn error_8bit(a: &Image, r: &Image) -> Option<Error8Bit> {
 
 /// A false-colour map of `|a − r|` on luminance: black for no error, through blue, green and
 /// yellow to red at `max_error` and above. Written atomically.
-pub fn difference_png(path: &Path, a: &Image, r: &Image, max_error: f32) -> Result<(), String> {
+///
+/// Errors: [`ImageError::SizeMismatch`] if `a` and `r` differ in size, [`ImageError::EncodePng`],
+/// and those of [`write_atomic`].
+pub fn difference_png(path: &Path, a: &Image, r: &Image, max_error: f32) -> Result<(), ImageError> {
     if (a.width, a.height) != (r.width, r.height) {
-        return Err("the images differ in size".into());
+        return Err(ImageError::SizeMismatch {
+            image: (a.width, a.height),
+            reference: (r.width, r.height),
+        });
     }
     let ramp = [
         Vec3::new(0.0, 0.0, 0.0),

@@ -59,6 +59,7 @@ pub struct Ray {
 
 impl Ray {
     /// The ray from `origin` along `dir` (any non-zero length; `t` is in units of it), unbounded.
+    #[must_use]
     pub fn new(origin: Vec3, dir: Vec3) -> Ray {
         let a = dir.abs();
         let kz = if a.x >= a.y && a.x >= a.z {
@@ -81,6 +82,7 @@ impl Ray {
     }
 
     /// The open segment from `origin` to `target` (`dir = target − origin`, `t_max = 1`).
+    #[must_use]
     pub fn segment(origin: Vec3, target: Vec3) -> Ray {
         Ray {
             t_max: 1.0,
@@ -89,16 +91,19 @@ impl Ray {
     }
 
     /// The ray's origin.
+    #[must_use]
     pub fn origin(&self) -> Vec3 {
         self.origin
     }
 
     /// The ray's direction (as given, not normalised).
+    #[must_use]
     pub fn dir(&self) -> Vec3 {
         self.dir
     }
 
     /// The end of the ray's parameter range (exclusive).
+    #[must_use]
     pub fn t_max(&self) -> f32 {
         self.t_max
     }
@@ -114,6 +119,7 @@ impl Ray {
 
     /// `(t, u, v)` where the ray meets the triangle `corners` for `0 < t < t_max`, either side;
     /// `(u, v)` are the barycentric weights of corners 1 and 2. Watertight (see the module docs).
+    #[must_use]
     pub fn hit_triangle(&self, corners: &[Vec3; 3], t_max: f32) -> Option<(f32, f32, f32)> {
         let [kx, ky, kz] = self.k;
         let s = self.shear;
@@ -225,6 +231,7 @@ pub struct Bvh {
 
 impl Bvh {
     /// Builds the hierarchy over `mesh`'s triangles.
+    #[must_use]
     pub fn new(mesh: &Mesh) -> Bvh {
         Bvh::build(mesh.triangles().len(), |id| mesh.corners(id))
     }
@@ -266,11 +273,13 @@ impl Bvh {
     }
 
     /// Number of nodes.
+    #[must_use]
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
     /// Depth of the tree (1 for a single leaf, 0 for an empty tree).
+    #[must_use]
     pub fn depth(&self) -> usize {
         let mut deepest = 0;
         let mut stack = Vec::new();
@@ -289,6 +298,23 @@ impl Bvh {
     }
 
     /// The closest hit along `ray` for `0 < t < ray.t_max()`, or `None`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_vpl::{Bvh, Mesh, Ray, DEFAULT_MATERIAL};
+    ///
+    /// // The unit cube, seen from x = -5.
+    /// let mesh = Mesh::cuboid(Vec3::ZERO, Vec3::ONE, DEFAULT_MATERIAL)?;
+    /// let bvh = Bvh::new(&mesh);
+    /// let hit = bvh.intersect(&Ray::new(Vec3::new(-5.0, 0.5, 0.5), Vec3::X)).unwrap();
+    /// assert!((hit.t - 5.0).abs() < 1e-6);
+    /// assert_eq!(mesh.face_normal(hit.triangle), -Vec3::X);
+    /// // Beside the cube, or stopped short of it: no hit.
+    /// assert!(bvh.intersect(&Ray::new(Vec3::new(-5.0, 2.0, 0.5), Vec3::X)).is_none());
+    /// assert!(!bvh.occluded(Vec3::new(-5.0, 0.5, 0.5), Vec3::new(-1.0, 0.5, 0.5)));
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    #[must_use]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let mut best = None;
         self.traverse(ray, |t_max, i| {
@@ -308,6 +334,7 @@ impl Bvh {
     /// query, for shadow rays: move both ends slightly off the surfaces they lie on, the one the
     /// ray leaves and, for a VPL, the one it ends on). False when `origin == target` or either is
     /// not finite.
+    #[must_use]
     pub fn occluded(&self, origin: Vec3, target: Vec3) -> bool {
         let ray = Ray::segment(origin, target);
         let mut hit = false;

@@ -286,6 +286,30 @@ impl Mesh {
     /// [`lgh_image::MAX_INPUT_BYTES`], a parse error (text that is not UTF-8 included), a face
     /// index out of range, non-finite coordinates, negative or non-finite material values, no
     /// triangle of non-zero area.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::Material;
+    /// use lgh_vpl::Mesh;
+    ///
+    /// let dir = tempfile::tempdir()?;
+    /// std::fs::write(dir.path().join("red.mtl"), "newmtl red\nKd 0.8 0.1 0.1\n")?;
+    /// let obj = dir.path().join("square.obj");
+    /// std::fs::write(
+    ///     &obj,
+    ///     "mtllib red.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3 4\n",
+    /// )?;
+    /// let mesh = Mesh::load_obj(&obj)?;
+    /// // The quad is triangulated as a fan; no Ks makes the material Lambertian.
+    /// assert_eq!(mesh.triangles().len(), 2);
+    /// assert_eq!(mesh.bounds(), (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));
+    /// assert_eq!(
+    ///     mesh.material(0),
+    ///     Material::Lambert { albedo: Vec3::new(0.8, 0.1, 0.1) }
+    /// );
+    /// assert!(Mesh::load_obj(&dir.path().join("missing.obj")).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
         let text = read_text(path)?;
         // Before tobj, which panics on some indices out of range.
@@ -330,31 +354,37 @@ impl Mesh {
     }
 
     /// Vertex positions.
+    #[must_use]
     pub fn positions(&self) -> &[Vec3] {
         &self.positions
     }
 
     /// Vertex normals (as given; not necessarily unit length).
+    #[must_use]
     pub fn normals(&self) -> &[Vec3] {
         &self.normals
     }
 
     /// The triangles, none of zero area.
+    #[must_use]
     pub fn triangles(&self) -> &[Triangle] {
         &self.triangles
     }
 
     /// The materials.
+    #[must_use]
     pub fn materials(&self) -> &[Material] {
         &self.materials
     }
 
     /// Zero-area triangles dropped when the mesh was built (summed over [`append`](Self::append)).
+    #[must_use]
     pub fn degenerate_skipped(&self) -> usize {
         self.degenerate_skipped
     }
 
     /// The three corners of triangle `t` (panics if `t` is out of range).
+    #[must_use]
     pub fn corners(&self, t: u32) -> [Vec3; 3] {
         self.triangles[t as usize]
             .vertices
@@ -362,11 +392,13 @@ impl Mesh {
     }
 
     /// The material of triangle `t` (panics if `t` is out of range).
+    #[must_use]
     pub fn material(&self, t: u32) -> Material {
         self.materials[self.triangles[t as usize].material as usize]
     }
 
     /// The unit face normal of triangle `t`, on the side its corners turn counter-clockwise.
+    #[must_use]
     pub fn face_normal(&self, t: u32) -> Vec3 {
         face_normal(self.corners(t))
     }
@@ -374,6 +406,7 @@ impl Mesh {
     /// The unit shading normal of triangle `t` at barycentric `(u, v)` (the weights of corners 1
     /// and 2): the interpolated vertex normals, or the face normal where the triangle has none or
     /// they interpolate to zero. Not oriented: the renderer turns it towards the viewer.
+    #[must_use]
     pub fn shading_normal(&self, t: u32, u: f32, v: f32) -> Vec3 {
         let Some([a, b, c]) = self.triangles[t as usize].normals else {
             return self.face_normal(t);
@@ -390,12 +423,14 @@ impl Mesh {
     }
 
     /// The point at barycentric `(u, v)` of triangle `t` (the weights of corners 1 and 2).
+    #[must_use]
     pub fn point(&self, t: u32, u: f32, v: f32) -> Vec3 {
         let [a, b, c] = self.corners(t);
         a * (1.0 - u - v) + b * u + c * v
     }
 
     /// The bounding box `(lo, hi)` of the vertices the triangles use.
+    #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.triangles
             .iter()

@@ -65,6 +65,7 @@ impl TestScene {
     pub const ALL: [TestScene; 3] = [TestScene::Strings, TestScene::Udem, TestScene::Cluster];
 
     /// The command-line name.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             TestScene::Strings => "strings",
@@ -74,6 +75,7 @@ impl TestScene {
     }
 
     /// The paper's name.
+    #[must_use]
     pub fn title(self) -> &'static str {
         match self {
             TestScene::Strings => "Light Strings",
@@ -104,6 +106,7 @@ pub enum Surface {
 
 impl Surface {
     /// The command-line name.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Surface::Diffuse => "diffuse",
@@ -391,6 +394,7 @@ pub struct PaperRow {
 type PaperNumbers = (f64, f64, f64, f64);
 
 /// The paper's Tables 2 (diffuse) and 3 (specular), as printed.
+#[must_use]
 pub fn paper_table() -> Vec<PaperRow> {
     use Surface::{Diffuse, Specular};
     use TestScene::{Cluster, Strings, Udem};

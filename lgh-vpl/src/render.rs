@@ -36,11 +36,13 @@ pub struct Rendered {
 
 impl Rendered {
     /// Lights (or clusters) shaded, summed over the pixels.
+    #[must_use]
     pub fn lights_shaded(&self) -> u64 {
         self.lights_map.iter().map(|&c| u64::from(c)).sum()
     }
 
     /// Mean lights shaded per shaded pixel (0 when no pixel was shaded).
+    #[must_use]
     pub fn mean_lights(&self) -> f64 {
         if self.pixels_shaded == 0 {
             0.0
@@ -84,6 +86,33 @@ impl std::error::Error for RenderError {
 
 /// Renders `scene` through `backend` with eq. (1), unoccluded (see the module docs).
 /// `progress(rows)` is called as rows finish, with the number just finished.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::{BruteForce, PointLight};
+/// use lgh_vpl::{render, Camera, Mesh, Scene, DEFAULT_MATERIAL};
+///
+/// // A floor filling the view of a camera looking straight down, one light above it.
+/// let floor = Mesh::quad(
+///     [Vec3::new(-9.0, 0.0, 9.0), Vec3::new(9.0, 0.0, 9.0), Vec3::new(9.0, 0.0, -9.0), Vec3::new(-9.0, 0.0, -9.0)],
+///     DEFAULT_MATERIAL,
+/// )?;
+/// let scene = Scene::new(floor);
+/// let light = [PointLight::new(Vec3::new(0.0, 2.0, 0.0), Vec3::splat(10.0))];
+/// let backend = BruteForce::new(&light)?;
+/// let camera = Camera::new(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, 40.0, 8, 6)?;
+/// let rows = std::sync::atomic::AtomicUsize::new(0);
+/// let rendered = render(&scene, &camera, &backend, |n| {
+///     rows.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+/// })?;
+/// assert_eq!(rows.into_inner(), 6);
+/// assert_eq!((rendered.image.width, rendered.image.height), (8, 6));
+/// // Every pixel sees the lit floor, through its one light.
+/// assert_eq!(rendered.pixels_shaded, 48);
+/// assert_eq!(rendered.mean_lights(), 1.0);
+/// assert!(rendered.image.pixels.iter().all(|p| p.min_element() > 0.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn render<B: ManyLights + Sync>(
     scene: &Scene,
     camera: &Camera,

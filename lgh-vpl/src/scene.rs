@@ -15,23 +15,27 @@ pub struct Scene {
 
 impl Scene {
     /// Builds the BVH over `mesh`.
+    #[must_use]
     pub fn new(mesh: Mesh) -> Scene {
         let bvh = Bvh::new(&mesh);
         Scene { mesh, bvh }
     }
 
     /// The mesh.
+    #[must_use]
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
     }
 
     /// The BVH over the mesh.
+    #[must_use]
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
 
     /// The surface point seen along the ray from `origin` in direction `dir`, if any: see
     /// [`surface`](Self::surface).
+    #[must_use]
     pub fn first_hit(&self, origin: Vec3, dir: Vec3) -> Option<ShadingPoint> {
         let ray = Ray::new(origin, dir);
         let hit = self.bvh.intersect(&ray)?;
@@ -44,6 +48,7 @@ impl Scene {
     /// decides (flipped when `n·dir > 0`); the shading normal is first turned into the face
     /// normal's hemisphere, so vertex normals that disagree with the winding cannot put it on
     /// the other side.
+    #[must_use]
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> ShadingPoint {
         let (mesh, t) = (&self.mesh, hit.triangle);
         let face = mesh.face_normal(t);

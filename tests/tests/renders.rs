@@ -102,7 +102,10 @@ fn a_volume_render_does_not_depend_on_pixel_order() {
     let (image, _) = lights
         .render(Method::Lgh, 2.0, &volume, &medium, &camera, &march, &|_| {})
         .unwrap();
-    let pixels: Vec<[usize; 2]> = (0..8).rev().flat_map(|y| (0..12).map(move |x| [x, y])).collect();
+    let pixels: Vec<[usize; 2]> = (0..8)
+        .rev()
+        .flat_map(|y| (0..12).map(move |x| [x, y]))
+        .collect();
     let (list, _) = lights
         .render_pixels(Method::Lgh, 2.0, &volume, &medium, &camera, &march, &pixels)
         .unwrap();
