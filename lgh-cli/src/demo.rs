@@ -111,10 +111,10 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         args.alpha
     );
     say!(
-        "  render     {}x{}, shadows {:?}: {:.1} s, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
+        "  render     {}x{}, shadows {}: {:.1} s, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
         args.width,
         args.height,
-        args.march.shadows,
+        args.march.shadows.name(),
         written.seconds,
         stats.shading_points,
         stats.lights_per_point(),

@@ -375,7 +375,7 @@ pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<(), ImageE
     write_png_rgb8(path, image.width, image.height, &rgb)
 }
 
-/// Compares `a` against the reference `r` on luminance (DESIGN.md "Measuring": relative RMSE,
+/// Compares `a` against the reference `r` on luminance (ARCHITECTURE.md, "Measuring": relative RMSE,
 /// max and mean absolute error). `None` if their sizes differ or they are empty.
 ///
 /// ```

@@ -7,7 +7,7 @@
 //!   against the official library; [`cache`] places a cache's frames on one grid (Blender's
 //!   adaptive-domain offset) with Blender's grid names; [`grid`]: the dense grids.
 //! - [`medium`]: one frame's density and temperature ([`Volume`]) and how they absorb, scatter
-//!   and emit ([`Medium`]: Planck's or Blender's emission); [`procedural`]: the embedded
+//!   and emit ([`Medium`]: Planck's or Blender's emission); [`procedural`](mod@procedural): the embedded
 //!   explosion.
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
 //!   per-frame intensities, through the lighting grid hierarchy or brute force ([`Method`]).

@@ -10,7 +10,7 @@
 use lgh_core::glam::Vec3;
 use lgh_core::{falloff, LightSample, ManyLights, QueryError, ShadingPoint};
 
-use crate::shadow::Visibility;
+use crate::shadow::{ShadowQuery, Visibility};
 
 /// The lights a renderer shades with: a many-lights backend and the fall-off clamp of the light
 /// model, `g(d) = 1 / max(d, h0)²` (DESIGN "Lighting"; for explosions `h0` is the voxel size).
@@ -52,8 +52,9 @@ impl<B: ManyLights> Lights<B> {
     /// clamped fall-off `g`, times the visibility `V`. Counted into `stats`; `scratch` holds
     /// the lights while their visibility is evaluated together, and is reused from call to call.
     ///
-    /// Each term is `(I · f) · (g · V)`, summed in the backend's order, whatever the visibility:
-    /// the same bits whether `V` is evaluated per light or for all lights at once.
+    /// Each term is `(I · f) · (g · V)`, summed in the backend's order, whatever the visibility
+    /// (`V = 1` without shadows): the same bits whether `V` is evaluated per light or for all
+    /// lights at once.
     pub fn incident(
         &self,
         point: &ShadingPoint,
@@ -75,29 +76,22 @@ impl<B: ManyLights> Lights<B> {
         }
         // Gather the lights, then evaluate their visibility together (shadow rays eight abreast).
         scratch.lights.clear();
-        scratch.responses.clear();
+        scratch.unshadowed.clear();
         let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
-            scratch.lights.push(*l);
-            scratch.responses.push(response(l));
+            scratch.lights.push(l);
+            scratch
+                .unshadowed
+                .push((l.intensity * response(l), falloff(l.distance, h0)));
             Vec3::ZERO
         })?;
         stats.shading_points += 1;
         stats.lights_evaluated += u64::from(sum.lights);
-        stats.shadow_samples += visibility.transmittances(
-            point.position,
-            &scratch.lights,
-            &mut scratch.positions,
-            &mut scratch.visibility,
-        );
+        stats.shadow_samples +=
+            visibility.transmittances(point.position, &scratch.lights, &mut scratch.visibility);
         // Summed in the backend's order, as the backend sums what a shader returns.
         let mut radiance = Vec3::ZERO;
-        for ((l, &f), &v) in scratch
-            .lights
-            .iter()
-            .zip(&scratch.responses)
-            .zip(&scratch.visibility)
-        {
-            radiance += term(l, f, v);
+        for (&(weighted, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
+            radiance += weighted * (g * v);
         }
         Ok(radiance)
     }
@@ -107,9 +101,8 @@ impl<B: ManyLights> Lights<B> {
 /// reused from shading point to shading point so that a render allocates per row, not per point.
 #[derive(Clone, Debug, Default)]
 pub struct LightScratch {
-    lights: Vec<LightSample>,
-    /// `f(light)` of each light.
-    responses: Vec<Vec3>,
-    positions: Vec<Vec3>,
+    lights: ShadowQuery,
+    /// `I · f(light)` and the fall-off `g(d)` of each light.
+    unshadowed: Vec<(Vec3, f32)>,
     visibility: Vec<f32>,
 }

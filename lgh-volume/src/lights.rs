@@ -179,7 +179,7 @@ impl ExplosionLights {
 
     /// This frame's lights through `method` (`alpha`: the hierarchy's α; brute force takes only
     /// the lights that shine), with the fall-off clamped at the voxel size (`h0 = h`, paper
-    /// Sec. 6.1): what [`render`](crate::render::render) and [`Lights::incident`] take.
+    /// Sec. 6.1): what [`render`](fn@crate::render::render) and [`Lights::incident`] take.
     ///
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;

@@ -108,7 +108,7 @@ pub enum EmissionModel {
 /// Stefan–Boltzmann constant σ in W / (m² K⁴).
 const STEFAN_BOLTZMANN: f32 = 5.670_374e-8;
 
-/// The participating medium (DESIGN.md "Medium"): `σ_a = κ_a ρ`, `σ_s = κ_s ρ`, isotropic phase
+/// The participating medium (ARCHITECTURE.md, "Medium"): `σ_a = κ_a ρ`, `σ_s = κ_s ρ`, isotropic phase
 /// function, and emission `j = k_e · blackbody(T)` (W / (m³ sr), linear sRGB) where `T > T_min`,
 /// with `T` = temperature scale × the temperature grid's value.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,5 +1,5 @@
 //! The physical reference: an unbiased volumetric path tracer on the ray marcher's grids
-//! (DESIGN.md "References" (b)).
+//! (ARCHITECTURE.md, "References" (b)).
 //!
 //! It solves exactly the model of [`crate::render::Marcher::march`],
 //! `dL/ds = −σ_t L + j + σ_s/(4π) ∫ L dω`, with `σ_t = (κ_a + κ_s) ρ(x)` and `σ_s = κ_s ρ(x)`

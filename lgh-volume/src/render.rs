@@ -541,6 +541,49 @@ mod tests {
         }
     }
 
+    /// A backend whose every query fails, as a backend does on a point it cannot shade.
+    struct Failing;
+
+    impl ManyLights for Failing {
+        fn name(&self) -> &'static str {
+            "failing"
+        }
+
+        fn illuminate<S: lgh_core::Shader>(
+            &self,
+            _: &ShadingPoint,
+            _: &mut S,
+        ) -> Result<lgh_core::Illumination, lgh_core::QueryError> {
+            Err(lgh_core::QueryError::NonFinitePoint)
+        }
+    }
+
+    #[test]
+    fn a_failed_lighting_query_is_an_error_not_a_dark_pixel() {
+        // The marcher used to drop the query's error and render on as if the point had no
+        // light; now the render fails with the query's error as its source.
+        let v = slab_volume(0.0);
+        let m = Medium::new(1.0, 1.0, 0.0, 0.0).unwrap();
+        let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 4, 3).unwrap();
+        for shadows in [Shadows::None, Shadows::RayMarch] {
+            let s = MarchSettings {
+                shadows,
+                ..Default::default()
+            };
+            let lights = Lights::new(Failing, 0.1);
+            let e = render(&v, &m, Some(&lights), &camera, &s, &|_| {}).unwrap_err();
+            assert!(
+                matches!(e, VolumeError::Query(lgh_core::QueryError::NonFinitePoint)),
+                "{shadows:?}: {e}"
+            );
+            assert!(std::error::Error::source(&e).is_some());
+        }
+        // Without lights nothing is queried, and the render succeeds.
+        assert!(
+            render::<Failing>(&v, &m, None, &camera, &MarchSettings::default(), &|_| {}).is_ok()
+        );
+    }
+
     #[test]
     fn bad_march_settings_are_errors() {
         let v = slab_volume(0.0);

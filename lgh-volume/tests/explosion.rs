@@ -12,7 +12,7 @@ use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
 use lgh_volume::{ExplosionLights, Method};
 
-/// Relative RMSE (luminance, DESIGN.md "Measuring") of the *scattered* light: `a` and `r`
+/// Relative RMSE (luminance, ARCHITECTURE.md "Measuring") of the *scattered* light: `a` and `r`
 /// minus the emission-only image `e`. The emission is computed identically by both, so leaving
 /// it in would only dilute the error of what the hierarchy approximates.
 fn scatter_rel_rmse(a: &Image, r: &Image, e: &Image) -> f64 {

@@ -9,7 +9,7 @@
 //! eq. (1) and, as in that paper, no occlusion between lights and surfaces
 //! ([`render`](mod@render)).
 //!
-//! **Not here yet** (DESIGN.md "lgh-vpl", paper Sec. 6.4, Fig. 13): virtual point lights traced
+//! **Not here yet** (ARCHITECTURE.md, "Where new work goes"; paper Sec. 6.4, Fig. 13): virtual point lights traced
 //! from emitters, shadow rays to the lights (the BVH's [`Bvh::occluded`] is ready for them),
 //! clamping of the VPL singularity, and the α = 1, 4, 16 experiment. Those are a later issue;
 //! nothing in this crate pretends to do them.

@@ -79,27 +79,52 @@ impl Visibility {
         matches!(self, Visibility::None)
     }
 
-    /// `V(x, light)` for each of `lights` into `out` (resized to match), in order; returns the
-    /// density samples taken. `positions` is a buffer the caller reuses.
-    pub fn transmittances(
-        &self,
-        x: Vec3,
-        lights: &[LightSample],
-        positions: &mut Vec<Vec3>,
-        out: &mut Vec<f32>,
-    ) -> u64 {
+    /// `V(x, light)` for each light of `lights` into `out` (resized to match), in the order
+    /// they were pushed; returns the density samples taken.
+    pub fn transmittances(&self, x: Vec3, lights: &ShadowQuery, out: &mut Vec<f32>) -> u64 {
         match self {
             Visibility::None => {
                 out.clear();
                 out.resize(lights.len(), 1.0);
                 0
             }
-            Visibility::RayMarched(grid) => {
-                positions.clear();
-                positions.extend(lights.iter().map(|l| l.position));
-                grid.transmittances(x, positions, out)
-            }
+            Visibility::RayMarched(grid) => grid.transmittances(x, &lights.positions, out),
         }
+    }
+}
+
+/// The lights whose visibility one shading point needs, pushed as a many-lights backend returns
+/// them ([`LightSample`]) and kept in the form the visibility methods read: only what they use,
+/// structure of arrays, so that gathering the hundreds of lights of a shading point stays in
+/// cache (a method that needs a light's level, index or size stores it here too). Reused from
+/// shading point to shading point.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowQuery {
+    positions: Vec<Vec3>,
+}
+
+impl ShadowQuery {
+    /// Empties the query for the next shading point (keeps its memory).
+    pub fn clear(&mut self) {
+        self.positions.clear();
+    }
+
+    /// Adds `light`.
+    #[inline]
+    pub fn push(&mut self, light: &LightSample) {
+        self.positions.push(light.position);
+    }
+
+    /// Number of lights.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// True if no light was pushed.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
     }
 }
 
