@@ -97,6 +97,7 @@ pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], VolumeError> {
 
 /// The config file Blender writes beside a frame: `…/data/fluid_data_NNNN.vdb` →
 /// `…/config/config_NNNN.uni`.
+#[must_use]
 pub fn blender_config_path(vdb_path: &Path) -> Option<PathBuf> {
     let name = vdb_path.file_name()?.to_str()?;
     let (start, end) = frame_digits(name)?;
@@ -311,12 +312,14 @@ impl Sequence {
     }
 
     /// Voxels of the common grid per axis.
+    #[must_use]
     pub fn dims(&self) -> [usize; 3] {
         [0, 1, 2].map(|k| (i64::from(self.hi[k]) - i64::from(self.lo[k]) + 1) as usize)
     }
 
     /// Voxel size (the x axis of the transform; a frame whose voxels are not cubes is an error
     /// when it is read).
+    #[must_use]
     pub fn voxel_size(&self) -> f32 {
         self.transform[0][0] as f32
     }
@@ -345,21 +348,25 @@ impl Sequence {
     }
 
     /// Number of frames.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.paths.len()
     }
 
     /// Whether there are no frames (never: [`open`](Self::open) refuses none).
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.paths.is_empty()
     }
 
     /// The frames' files.
+    #[must_use]
     pub fn paths(&self) -> &[PathBuf] {
         &self.paths
     }
 
     /// World box of the common grid (voxel faces): every frame's grids cover it.
+    #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let h = self.voxel_size();
         let lo = DenseGrid::world_position(&self.transform, self.lo);

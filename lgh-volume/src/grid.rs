@@ -21,6 +21,7 @@ pub struct DenseGrid {
 
 impl DenseGrid {
     /// A grid of zeros.
+    #[must_use]
     pub fn zeros(dims: [usize; 3], voxel_size: f32, origin: Vec3) -> Self {
         DenseGrid {
             dims,
@@ -32,23 +33,27 @@ impl DenseGrid {
 
     /// Linear index of voxel `(i, j, k)`.
     #[inline]
+    #[must_use]
     pub fn index(&self, i: usize, j: usize, k: usize) -> usize {
         (k * self.dims[1] + j) * self.dims[0] + i
     }
 
     /// Value of voxel `(i, j, k)`.
     #[inline]
+    #[must_use]
     pub fn get(&self, i: usize, j: usize, k: usize) -> f32 {
         self.data[self.index(i, j, k)]
     }
 
     /// World position of the centre of voxel `(i, j, k)`.
     #[inline]
+    #[must_use]
     pub fn centre(&self, i: usize, j: usize, k: usize) -> Vec3 {
         self.origin + Vec3::new(i as f32, j as f32, k as f32) * self.voxel_size
     }
 
     /// World-space box covered by the voxels (their outer faces).
+    #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let half = Vec3::splat(0.5 * self.voxel_size);
         let d = Vec3::new(
@@ -61,6 +66,7 @@ impl DenseGrid {
 
     /// World-space box of the voxels with a value above zero (their outer faces), or `None` when
     /// there are none: what a camera should frame.
+    #[must_use]
     pub fn active_bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut lo = [usize::MAX; 3];
         let mut hi = [0usize; 3];
@@ -84,6 +90,7 @@ impl DenseGrid {
     /// Trilinear interpolation between voxel centres at world position `p`. Inside the grid's
     /// [`bounds`](Self::bounds) the half voxel beyond the outermost centres takes their values
     /// (each voxel fills its cell, so a uniform grid is uniform up to its faces); outside, zero.
+    #[must_use]
     pub fn sample(&self, p: Vec3) -> f32 {
         let u = (p - self.origin) / self.voxel_size;
         let n = Vec3::new(
@@ -101,6 +108,7 @@ impl DenseGrid {
     /// clamped to the outermost centres: [`sample`](Self::sample) without its bounds test, for
     /// callers that clipped their ray to the grid's bounds already.
     #[inline]
+    #[must_use]
     pub fn sample_voxel(&self, u: Vec3) -> f32 {
         let [nx, ny, nz] = self.dims;
         let max = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);

@@ -160,11 +160,13 @@ impl ExplosionLights {
     }
 
     /// The lights `S0` (every candidate voxel; cold ones have zero intensity this frame).
+    #[must_use]
     pub fn lights(&self) -> &[PointLight] {
         &self.lights
     }
 
     /// Number of lights with non-zero intensity this frame.
+    #[must_use]
     pub fn lit(&self) -> usize {
         self.lights
             .iter()
@@ -173,6 +175,7 @@ impl ExplosionLights {
     }
 
     /// The hierarchy over the lights.
+    #[must_use]
     pub fn hierarchy(&self) -> &LightingGridHierarchy {
         &self.hierarchy
     }

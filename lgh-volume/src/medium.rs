@@ -22,6 +22,7 @@ pub struct Volume {
 
 impl Volume {
     /// A frame of density and temperature, without a flame factor.
+    #[must_use]
     pub fn new(density: DenseGrid, temperature: DenseGrid) -> Self {
         Volume {
             density,
@@ -31,6 +32,7 @@ impl Volume {
     }
 
     /// Emission `j(x)` at world position `x` (trilinear temperature and flame).
+    #[must_use]
     pub fn emission(&self, medium: &Medium, x: Vec3) -> Vec3 {
         let j = medium.emission_at(self.temperature.sample(x));
         match &self.flame {
@@ -40,6 +42,7 @@ impl Volume {
     }
 
     /// Emission of voxel `idx` of the temperature grid (at its centre).
+    #[must_use]
     pub fn voxel_emission(&self, medium: &Medium, idx: usize) -> Vec3 {
         let j = medium.emission_at(self.temperature.data[idx]);
         match &self.flame {
@@ -49,6 +52,7 @@ impl Volume {
     }
 
     /// How many voxels emit ([`voxel_emits`](Self::voxel_emits)): the lights `S0` of this frame.
+    #[must_use]
     pub fn emitting_voxels(&self, medium: &Medium) -> usize {
         (0..self.temperature.data.len())
             .filter(|&i| self.voxel_emits(medium, i))
@@ -56,11 +60,13 @@ impl Volume {
     }
 
     /// Whether voxel `idx` is a light: its [`voxel_emission`](Self::voxel_emission) is not zero.
+    #[must_use]
     pub fn voxel_emits(&self, medium: &Medium, idx: usize) -> bool {
         self.voxel_emission(medium, idx).max_element() > 0.0
     }
 
     /// World box of the voxels with smoke or emission: what a camera should frame.
+    #[must_use]
     pub fn active_bounds(&self) -> Option<(Vec3, Vec3)> {
         union(
             self.density.active_bounds(),
@@ -79,6 +85,7 @@ fn union(a: Option<(Vec3, Vec3)>, b: Option<(Vec3, Vec3)>) -> Option<(Vec3, Vec3
 
 /// `acc` grown by `frame`'s [`active_bounds`](Volume::active_bounds): [`framing_bounds`] one
 /// frame at a time.
+#[must_use]
 pub fn grow_framing(acc: Option<(Vec3, Vec3)>, frame: &Volume) -> Option<(Vec3, Vec3)> {
     union(acc, frame.active_bounds())
 }
@@ -86,6 +93,7 @@ pub fn grow_framing(acc: Option<(Vec3, Vec3)>, frame: &Volume) -> Option<(Vec3, 
 /// What a camera should frame for a sequence: the union of the frames'
 /// [`active_bounds`](Volume::active_bounds), or the first frame's whole grid when no frame has
 /// smoke or emission (`None` for no frames).
+#[must_use]
 pub fn framing_bounds(frames: &[&Volume]) -> Option<(Vec3, Vec3)> {
     let active = frames.iter().fold(None, |acc, v| grow_framing(acc, v));
     active.or_else(|| frames.first().map(|v| v.density.bounds()))
@@ -168,6 +176,7 @@ impl Medium {
     }
 
     /// The same medium with another emission model.
+    #[must_use]
     pub fn with_model(mut self, model: EmissionModel) -> Self {
         self.model = model;
         self
@@ -175,6 +184,7 @@ impl Medium {
 
     /// Whether a voxel whose temperature grid holds `value` emits (`T` hotter than `T_min` and
     /// than 0 K).
+    #[must_use]
     pub fn emits(&self, value: f32) -> bool {
         let kelvin = value * self.temperature_scale;
         kelvin > self.min_temperature && kelvin > 0.0
@@ -182,6 +192,7 @@ impl Medium {
 
     /// Emission `j(T)` for the temperature grid's `value`, in W / (m³ sr) (zero at or below
     /// `T_min`).
+    #[must_use]
     pub fn emission_at(&self, value: f32) -> Vec3 {
         if !self.emits(value) {
             return Vec3::ZERO;
@@ -204,6 +215,7 @@ impl Medium {
     }
 
     /// Extinction `σ_t = (κ_a + κ_s) ρ`.
+    #[must_use]
     pub fn extinction(&self, density: f32) -> f32 {
         (self.absorption + self.scattering) * density
     }

@@ -271,6 +271,7 @@ impl Majorants {
 
     /// The majorant `σ̄` (per unit length) of the block containing `p`; 0 outside the density
     /// grid's box. Every extinction sampled in that block is at most this.
+    #[must_use]
     pub fn at(&self, p: Vec3) -> f32 {
         match self.block_of(p) {
             Some(i) => self.sigma[i],
@@ -279,11 +280,13 @@ impl Majorants {
     }
 
     /// Whether the block containing `p` can emit (has its majorant raised for emission).
+    #[must_use]
     pub fn emissive_at(&self, p: Vec3) -> bool {
         self.block_of(p).is_some_and(|i| self.emissive[i])
     }
 
     /// Number of blocks per axis.
+    #[must_use]
     pub fn dims(&self) -> [usize; 3] {
         self.dims
     }
@@ -401,6 +404,7 @@ fn isotropic(rng: &mut SplitMix64) -> Vec3 {
 
 /// The random-number generator of stream `index` (a pixel) under `seed`: a hash of both, so it
 /// never depends on which thread runs the pixel.
+#[must_use]
 pub fn pixel_rng(seed: u64, index: u64) -> SplitMix64 {
     SplitMix64(SplitMix64::mix(
         SplitMix64::mix(seed) ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15),

@@ -135,6 +135,7 @@ pub enum Up {
 
 impl Up {
     /// The up vector.
+    #[must_use]
     pub fn vector(self) -> Vec3 {
         self.basis().1
     }

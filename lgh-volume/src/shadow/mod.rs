@@ -164,6 +164,7 @@ impl ShadowGrid {
     /// The shadow rays of `volume`'s density in `medium`, marched with steps of at most
     /// `step_voxels` voxels and cut off at transmittance `cutoff` (see
     /// [`transmittance`](Self::transmittance)).
+    #[must_use]
     pub fn new(volume: &Volume, medium: &Medium, step_voxels: f32, cutoff: f32) -> Self {
         let g = &volume.density;
         let [nx, ny, nz] = g.dims;
@@ -235,6 +236,7 @@ impl ShadowGrid {
     /// below the cut-off and returns 0: a light that dim behind smoke is taken as fully hidden,
     /// an error below the cut-off times its unshadowed contribution. Also returns the number of
     /// density samples taken.
+    #[must_use]
     pub fn transmittance(&self, a: Vec3, b: Vec3) -> (f32, u32) {
         match self.ray(a, b) {
             Some(ray) => self.march(&ray),

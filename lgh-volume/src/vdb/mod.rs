@@ -100,6 +100,7 @@ impl ValueType {
     }
 
     /// The name OpenVDB uses (`float`, `vec3s`, …).
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             ValueType::Float => "float",
@@ -112,6 +113,7 @@ impl ValueType {
     }
 
     /// Components per value (1 or 3).
+    #[must_use]
     pub fn components(self) -> usize {
         match self {
             ValueType::Vec3s | ValueType::Vec3d => 3,
@@ -255,12 +257,14 @@ pub struct GridStats {
 
 impl Grid {
     /// Components per voxel.
+    #[must_use]
     pub fn components(&self) -> usize {
         self.value_type.components()
     }
 
     /// The scalar a voxel's components stand for: the value itself, or a vector's length
     /// (computed in f64).
+    #[must_use]
     pub fn scalar(values: &[f32]) -> f64 {
         match values {
             [v] => *v as f64,
@@ -273,6 +277,7 @@ impl Grid {
     }
 
     /// Index-space box `(lo, hi)` (inclusive) of the active voxels and tiles, if any.
+    #[must_use]
     pub fn active_bbox(&self) -> Option<([i32; 3], [i32; 3])> {
         let mut bbox: Option<([i32; 3], [i32; 3])> = None;
         let mut grow = |lo: [i32; 3], hi: [i32; 3]| {
@@ -297,6 +302,7 @@ impl Grid {
     }
 
     /// Statistics of the active values (vector grids: of [`Grid::scalar`]).
+    #[must_use]
     pub fn stats(&self) -> GridStats {
         let c = self.components();
         let scalar = Grid::scalar;
@@ -341,6 +347,7 @@ pub struct VdbFile {
 
 impl VdbFile {
     /// The grid called `name`.
+    #[must_use]
     pub fn grid(&self, name: &str) -> Option<&Grid> {
         self.grids.iter().find(|g| g.name == name)
     }
