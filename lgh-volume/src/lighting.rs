@@ -53,7 +53,7 @@ impl<B: ManyLights> Lights<B> {
     /// the lights while their visibility is evaluated together, and is reused from call to call.
     ///
     /// Each term is `(I · f) · (g · V)`, summed in the backend's order, whatever the visibility
-    /// (`V = 1` without shadows): the same bits whether `V` is evaluated per light or for all
+    /// (`V = 1` without shadows, where `g · 1 = g` exactly): the same bits whether `V` is evaluated per light or for all
     /// lights at once.
     pub fn incident(
         &self,

@@ -65,7 +65,7 @@ use rayon::prelude::*;
 
 use crate::error::VolumeError;
 use crate::medium::{Medium, Volume};
-use crate::render::{shade_pixels, Camera};
+use crate::render::{image, shade_pixels, Camera};
 use crate::DenseGrid;
 
 /// Path-tracing parameters.
@@ -489,15 +489,6 @@ pub fn render_with_variance(
     let mean = image(camera, pixels.iter().map(|p| p.0));
     let variance = image(camera, pixels.iter().map(|p| p.1));
     Ok((mean, variance))
-}
-
-/// An image of `camera`'s size from its pixels in order.
-fn image(camera: &Camera, pixels: impl Iterator<Item = Vec3>) -> Image {
-    Image {
-        width: camera.width(),
-        height: camera.height(),
-        pixels: pixels.collect(),
-    }
 }
 
 /// Mean and variance of the mean of each pixel of `pixels` (`None`: the whole image), through

@@ -477,9 +477,17 @@ pub fn render<B: ManyLights + Sync>(
 ) -> Result<(Image, RenderStats), VolumeError> {
     let marcher = Marcher::for_lights(volume, medium, settings, lights)?;
     let (pixels, stats) = march_pixels(&marcher, lights, camera, None, progress)?;
-    let mut image = Image::new(camera.width(), camera.height());
-    image.pixels = pixels;
-    Ok((image, stats))
+    Ok((image(camera, pixels.into_iter()), stats))
+}
+
+/// An image of `camera`'s size from its pixels in order (what [`shade_pixels`] returns for the
+/// whole image), without a black image to overwrite first.
+pub(crate) fn image(camera: &Camera, pixels: impl Iterator<Item = Vec3>) -> Image {
+    Image {
+        width: camera.width(),
+        height: camera.height(),
+        pixels: pixels.collect(),
+    }
 }
 
 /// The pixels `(x, y)` of `pixels` only, exactly as [`render`] computes them, in parallel: for
