@@ -8,7 +8,7 @@ use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing};
 use lgh_volume::{procedural, ExplosionLights, Medium, Method};
 
-use crate::output::{self, MarchArgs};
+use crate::output::{self, MarchArgs, Shadowing};
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
@@ -73,9 +73,25 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         ("alpha", args.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
+    let shadowing = Shadowing::prepare(
+        &lights,
+        Method::Lgh,
+        args.alpha,
+        &volume,
+        &medium,
+        &march,
+        args.quiet,
+    )?;
+    let mut extra = extra;
+    extra.extend(shadowing.header());
+    let shadows = shadowing.visibility.shadows();
+    let precompute_s = shadowing.seconds;
+    let cube_maps = shadowing.cube_maps().map(|m| m.table().to_vec());
+    let cube_bytes = shadowing.cube_maps().map_or(0, |m| m.bytes());
     let written = output::render_and_write(
         |progress| {
-            let (image, stats) = lights.render(
+            let (image, stats) = shadowing.render(
+                &lights,
                 Method::Lgh,
                 args.alpha,
                 &volume,
@@ -110,12 +126,16 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         h.h1(),
         args.alpha
     );
+    if let Some(table) = &cube_maps {
+        output::say_cube_maps(table, cube_bytes, precompute_s)?;
+    }
     say!(
-        "  render     {}x{}, shadows {}: {:.1} s, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
+        "  render     {}x{}, shadows {}: {:.1} s ({:.1} s with the shadows' precompute), {} shading points, {:.1} lights each, {:.1} shadow samples per light",
         args.width,
         args.height,
-        args.march.shadows.name(),
+        shadows.name(),
         written.seconds,
+        written.seconds + precompute_s,
         stats.shading_points,
         stats.lights_per_point(),
         stats.shadow_samples as f64 / stats.lights_evaluated.max(1) as f64

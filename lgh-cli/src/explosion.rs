@@ -11,7 +11,7 @@ use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::{ExplosionLights, Method};
 
-use crate::output::{self, MarchArgs};
+use crate::output::{self, MarchArgs, Shadowing};
 use crate::progress;
 
 /// The renderer behind the image (`--backend`): the ray marcher with the library's
@@ -323,10 +323,25 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
                 (None, "pathtrace")
             }
         };
-        let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, method) {
+        let shadowing = match (&lights, method) {
             (Some(lights), Some(method)) => {
-                let (image, stats) = lights.render(
-                    method, args.alpha, volume, &medium, &camera, &march, progress,
+                let s = Shadowing::prepare(
+                    lights, method, args.alpha, volume, &medium, &march, args.quiet,
+                )?;
+                extra.extend(s.header());
+                Some(s)
+            }
+            _ => None,
+        };
+        let precompute_s = shadowing.as_ref().map_or(0.0, |s| s.seconds);
+        let cube_mb = shadowing
+            .as_ref()
+            .and_then(|s| s.cube_maps())
+            .map(|m| m.bytes() as f64 / 1e6);
+        let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, method, shadowing) {
+            (Some(lights), Some(method), Some(shadowing)) => {
+                let (image, stats) = shadowing.render(
+                    lights, method, args.alpha, volume, &medium, &camera, &march, progress,
                 )?;
                 Ok((image, Some(stats)))
             }
@@ -351,9 +366,12 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             name,
             extra,
         )?;
-        let work = written.stats.map_or(String::new(), |st| {
+        let mut work = written.stats.map_or(String::new(), |st| {
             format!(", {:.1} lights per shading point", st.lights_per_point())
         });
+        if let Some(mb) = cube_mb {
+            work += &format!(", cube maps {mb:.1} MB traced in {precompute_s:.2} s");
+        }
         say!(
             "  {}: {lit} lights, {name} {:.1} s{work} -> {}, {}",
             path.file_name().and_then(|n| n.to_str()).unwrap_or("?"),

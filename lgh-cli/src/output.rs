@@ -5,15 +5,30 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
-use lgh_volume::render::{MarchSettings, RenderStats};
-use lgh_volume::Shadows;
+use lgh_volume::render::{Camera, MarchSettings, Marcher, RenderStats};
+use lgh_volume::shadow::{CubeMapSettings, CubeMaps, Depths, LevelMaps};
+use lgh_volume::{ExplosionLights, Medium, Method, Shadows, Visibility, Volume};
 
 /// The ray marcher's options, shared by the render commands.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MarchArgs {
-    /// Shadows of the lights (backends lgh and brute).
-    #[arg(long, value_enum, default_value_t = Shadows::RayMarch)]
+    /// Shadows of the lights: the paper's precomputed deep-shadow cube maps, shadow rays marched
+    /// to every light (the exact reference), or none. Brute force has no hierarchy to make
+    /// cube maps for: it ray-marches.
+    #[arg(long, value_enum, default_value_t = Shadows::CubeMap)]
     pub shadows: Shadows,
+    /// Memory the cube maps may take, in GB (maps that would need more are refused before any
+    /// work) [default: 8 GiB, or 3/4 of the available memory if less]
+    #[arg(long)]
+    pub shadow_memory: Option<f64>,
+    /// Cube maps store optical depth sampled at their four distances, as the paper does,
+    /// instead of the least-squares fit that leaks less light through smoke.
+    #[arg(long)]
+    pub sampled_depths: bool,
+    /// Cube maps trace coarse lights as points through the plain density instead of as volume
+    /// lights through the prefiltered density (eq. 6): the flickering variant of the paper.
+    #[arg(long)]
+    pub point_shadows: bool,
     /// Step along camera rays, in voxels (smaller is more accurate and slower).
     #[arg(long, default_value_t = 1.0)]
     pub step: f32,
@@ -27,15 +42,149 @@ impl MarchArgs {
     /// The marcher's settings, checked ([`MarchSettings::check`]); `default_shadow_step` applies
     /// without `--shadow-step`.
     pub fn settings(&self, default_shadow_step: f32) -> Result<MarchSettings, crate::Error> {
+        let budget = match self.shadow_memory {
+            Some(gb) if gb.is_finite() && gb > 0.0 && gb <= 1e6 => (gb * 1e9) as u64,
+            Some(gb) => {
+                return Err(format!("--shadow-memory {gb} must be a positive number of GB").into())
+            }
+            None => default_shadow_memory(),
+        };
         let settings = MarchSettings {
             shadows: self.shadows,
             step_voxels: self.step,
             shadow_step_voxels: self.shadow_step.unwrap_or(default_shadow_step),
+            cube_maps: CubeMapSettings {
+                prefilter: !self.point_shadows,
+                depths: if self.sampled_depths {
+                    Depths::Sampled
+                } else {
+                    Depths::Fitted
+                },
+                memory_budget: budget,
+                ..Default::default()
+            },
             ..Default::default()
         };
         settings.check()?;
         Ok(settings)
     }
+}
+
+/// The cube maps' default memory: 8 GiB, or 3/4 of the memory available now if less (read
+/// from `/proc/meminfo` where there is one).
+fn default_shadow_memory() -> u64 {
+    let cap = 8u64 << 30;
+    let available = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|m| {
+            m.lines()
+                .find(|l| l.starts_with("MemAvailable:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+        })
+        .map(|kib| kib * 1024 / 4 * 3);
+    available.map_or(cap, |a| a.min(cap))
+}
+
+/// A frame's visibility made ready, with what it took: the cube maps' precompute is timed and
+/// shown apart from the render.
+pub struct Shadowing {
+    /// The visibility to render with.
+    pub visibility: Visibility,
+    /// Seconds spent making it (the cube maps' tracing).
+    pub seconds: f64,
+}
+
+impl Shadowing {
+    /// The visibility `march.shadows` asks for, for `lights` through `method` at `alpha` on
+    /// `volume`, under a progress bar over the lights whose cube maps are traced.
+    #[allow(clippy::too_many_arguments)]
+    pub fn prepare(
+        lights: &ExplosionLights,
+        method: Method,
+        alpha: f32,
+        volume: &Volume,
+        medium: &Medium,
+        march: &MarchSettings,
+        quiet: bool,
+    ) -> Result<Shadowing, crate::Error> {
+        let t = Instant::now();
+        let cube = march.shadows == Shadows::CubeMap && method == Method::Lgh;
+        let total = if cube {
+            let blending = lights.hierarchy().blending(alpha)?;
+            CubeMaps::plan(lights.hierarchy(), &blending, &volume.density)
+                .levels
+                .iter()
+                .map(|l| l.lights as u64)
+                .sum()
+        } else {
+            0
+        };
+        let bar = crate::progress::bar(total, "shadow maps", quiet || !cube);
+        let visibility =
+            lights.visibility(method, alpha, volume, medium, march, &|n| bar.inc(n as u64))?;
+        bar.finish_and_clear();
+        Ok(Shadowing {
+            visibility,
+            seconds: t.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// The cube maps, if these shadows are cube maps.
+    pub fn cube_maps(&self) -> Option<&CubeMaps> {
+        match &self.visibility {
+            Visibility::CubeMaps(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// EXR header entries: the shadows used and, for cube maps, their bytes and precompute.
+    pub fn header(&self) -> Vec<(&'static str, String)> {
+        let mut out = vec![("shadows", self.visibility.shadows().name().to_string())];
+        if let Some(m) = self.cube_maps() {
+            out.push(("shadow_bytes", m.bytes().to_string()));
+            out.push(("shadow_precompute_seconds", format!("{:.3}", self.seconds)));
+        }
+        out
+    }
+
+    /// Renders `lights` (through `method` at `alpha`) on `volume` with these shadows.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        self,
+        lights: &ExplosionLights,
+        method: Method,
+        alpha: f32,
+        volume: &Volume,
+        medium: &Medium,
+        camera: &Camera,
+        march: &MarchSettings,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<(Image, RenderStats), crate::Error> {
+        let backend = lights.backend(method, alpha)?;
+        let marcher = Marcher::with_visibility(volume, medium, march, self.visibility)?;
+        Ok(marcher.render(Some(&backend), camera, progress)?)
+    }
+}
+
+/// Prints a level-by-level table of cube maps (the paper's Table 1 rows) to stderr.
+pub fn say_cube_maps(table: &[LevelMaps], bytes: u64, seconds: f64) -> Result<(), crate::Error> {
+    say!(
+        "  shadows    cube maps: {:.1} MB for {} lights, traced in {seconds:.2} s",
+        bytes as f64 / 1e6,
+        table.iter().map(|l| l.lights).sum::<usize>()
+    );
+    for l in table {
+        say!(
+            "    level {:>2}: {:>7} lights, {:>4} cells per face side, depths to {:.3}, {:>9.2} MB, {:.2} s",
+            l.level,
+            l.lights,
+            l.cells,
+            l.reach,
+            l.bytes as f64 / 1e6,
+            l.seconds
+        );
+    }
+    Ok(())
 }
 
 /// Checks that the output is an `.exr` path and that its folder exists, before any work.
@@ -121,7 +270,6 @@ fn settings_attributes(
     extra: &[(&str, String)],
 ) -> Vec<(String, String)> {
     let march = [
-        ("shadows", march.shadows.name().to_string()),
         ("step_voxels", march.step_voxels.to_string()),
         ("shadow_step_voxels", march.shadow_step_voxels.to_string()),
         ("min_transmittance", march.min_transmittance.to_string()),

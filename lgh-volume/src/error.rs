@@ -106,6 +106,16 @@ pub enum VolumeError {
         /// Its dimensions, where known.
         dims: Option<[usize; 3]>,
     },
+    /// The deep-shadow cube maps a render asks for would not fit in the memory allowed them
+    /// (found before any map is traced).
+    ShadowMemory {
+        /// Bytes the maps would take.
+        needed: u64,
+        /// Bytes allowed.
+        budget: u64,
+        /// The paper's α they were planned for.
+        alpha: f32,
+    },
     /// A file could not be read.
     Io {
         /// The file.
@@ -242,6 +252,18 @@ impl fmt::Display for VolumeError {
                     (None, None) => write!(f, "more than the {max} voxels a dense grid may hold"),
                 }
             }
+            E::ShadowMemory {
+                needed,
+                budget,
+                alpha,
+            } => write!(
+                f,
+                "the deep-shadow cube maps at alpha {alpha} would need {:.2} GB, more than the \
+                 {:.2} GB allowed them: lower --alpha, raise --shadow-memory, or use --shadows \
+                 raymarch",
+                *needed as f64 / 1e9,
+                *budget as f64 / 1e9
+            ),
             E::Io { path, source } => write!(f, "{}: {source}", path.display()),
             E::Vdb { path, source } => write!(f, "{}: {source}", path.display()),
             E::BlenderConfig { path, reason } => write!(f, "{}: {reason}", path.display()),

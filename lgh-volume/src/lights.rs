@@ -21,7 +21,8 @@ use crate::lighting::Lights;
 use crate::medium::{Medium, Volume};
 #[cfg(test)]
 use crate::render::Shadows;
-use crate::render::{render, render_pixels, Camera, MarchSettings, RenderStats};
+use crate::render::{Camera, MarchSettings, Marcher, RenderStats};
+use crate::shadow::{CubeMaps, Visibility};
 use crate::DenseGrid;
 
 /// Which many-lights method shades the scattering (`--backend` of the CLI). The hierarchy's
@@ -226,6 +227,55 @@ impl ExplosionLights {
         Ok(Lights::new(backend, self.voxel_size))
     }
 
+    /// The visibility `settings.shadows` asks for, for this frame's lights through `method` at
+    /// `alpha`: with [`Shadows::CubeMap`](crate::Shadows::CubeMap) and the hierarchy, its
+    /// deep-shadow cube maps ([`CubeMaps::build`]: refused before any work if they would not
+    /// fit `settings.cube_maps.memory_budget`; `progress(n)` as `n` more lights' maps are
+    /// done); brute force, which has no hierarchy, ray-marches.
+    pub fn visibility(
+        &self,
+        method: Method,
+        alpha: f32,
+        frame: &Volume,
+        medium: &Medium,
+        settings: &MarchSettings,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<Visibility, VolumeError> {
+        settings.check()?;
+        if settings.shadows == crate::Shadows::CubeMap && method == Method::Lgh {
+            let blending = self.hierarchy.blending(alpha)?;
+            let maps = CubeMaps::build(
+                &self.hierarchy,
+                &blending,
+                frame,
+                medium,
+                &settings.cube_maps,
+                progress,
+            )?;
+            return Ok(Visibility::CubeMaps(maps));
+        }
+        Ok(Visibility::new(
+            settings.shadows,
+            frame,
+            medium,
+            settings.shadow_step_voxels,
+            settings.min_transmittance,
+        ))
+    }
+
+    /// The marcher of `frame` with the visibility of [`visibility`](Self::visibility).
+    fn marcher<'a>(
+        &self,
+        method: Method,
+        alpha: f32,
+        frame: &'a Volume,
+        medium: &'a Medium,
+        settings: &MarchSettings,
+    ) -> Result<Marcher<'a>, VolumeError> {
+        let visibility = self.visibility(method, alpha, frame, medium, settings, &|_| {})?;
+        Marcher::with_visibility(frame, medium, settings, visibility)
+    }
+
     /// Renders `frame` (whose intensities were set by [`set_frame`](Self::set_frame) or
     /// [`new`](Self::new)) through `method` at `alpha`; `progress(rows)` as rows finish.
     #[allow(clippy::too_many_arguments)]
@@ -240,7 +290,8 @@ impl ExplosionLights {
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(Image, RenderStats), VolumeError> {
         let lights = self.backend(method, alpha)?;
-        render(frame, medium, Some(&lights), camera, settings, progress)
+        self.marcher(method, alpha, frame, medium, settings)?
+            .render(Some(&lights), camera, progress)
     }
 
     /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.
@@ -256,7 +307,8 @@ impl ExplosionLights {
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
         let lights = self.backend(method, alpha)?;
-        render_pixels(frame, medium, Some(&lights), camera, settings, pixels)
+        self.marcher(method, alpha, frame, medium, settings)?
+            .render_pixels(Some(&lights), camera, pixels)
     }
 }
 

@@ -914,6 +914,7 @@ mod tests {
                 shadow_step_voxels: 2.0 * step,
                 min_transmittance: 1e-9,
                 shadows: Shadows::RayMarch,
+                ..Default::default()
             };
             Marcher::new(vol, &m, &s)
                 .unwrap()

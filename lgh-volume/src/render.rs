@@ -20,7 +20,7 @@ use crate::error::{check_setting, VolumeError};
 use crate::lighting::{LightScratch, Lights};
 use crate::medium::{Medium, Volume};
 pub use crate::shadow::Shadows;
-use crate::shadow::Visibility;
+use crate::shadow::{CubeMapSettings, Visibility};
 
 /// The one image-size rule of every renderer (it lives in lgh-image).
 pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
@@ -162,6 +162,8 @@ pub struct MarchSettings {
     pub min_transmittance: f32,
     /// Shadowing of the lights.
     pub shadows: Shadows,
+    /// How cube maps are traced (with `shadows: CubeMap` and a hierarchy).
+    pub cube_maps: CubeMapSettings,
 }
 
 impl MarchSettings {
@@ -206,6 +208,7 @@ impl Default for MarchSettings {
             shadow_step_voxels: 1.0,
             min_transmittance: 1e-3,
             shadows: Shadows::RayMarch,
+            cube_maps: CubeMapSettings::default(),
         }
     }
 }
@@ -274,18 +277,56 @@ impl<'a> Marcher<'a> {
         settings: &MarchSettings,
     ) -> Result<Self, VolumeError> {
         settings.check()?;
+        let visibility = Visibility::new(
+            settings.shadows,
+            volume,
+            medium,
+            settings.shadow_step_voxels,
+            settings.min_transmittance,
+        );
+        Marcher::with_visibility(volume, medium, settings, visibility)
+    }
+
+    /// [`new`](Self::new) with a visibility made by the caller (the cube maps of a hierarchy,
+    /// say) instead of the one `settings.shadows` asks for.
+    pub fn with_visibility(
+        volume: &'a Volume,
+        medium: &'a Medium,
+        settings: &MarchSettings,
+        visibility: Visibility,
+    ) -> Result<Self, VolumeError> {
+        settings.check()?;
         Ok(Marcher {
             volume,
             medium,
-            settings: *settings,
-            visibility: Visibility::new(
-                settings.shadows,
-                volume,
-                medium,
-                settings.shadow_step_voxels,
-                settings.min_transmittance,
-            ),
+            settings: MarchSettings {
+                shadows: visibility.shadows(),
+                ..*settings
+            },
+            visibility,
         })
+    }
+
+    /// Renders the image of `camera` with single scattering from `lights` (if given), rows in
+    /// parallel; `progress(rows)` as rows finish. See [`render`].
+    pub fn render<B: ManyLights + Sync>(
+        &self,
+        lights: Option<&Lights<B>>,
+        camera: &Camera,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<(Image, RenderStats), VolumeError> {
+        let (pixels, stats) = march_pixels(self, lights, camera, None, progress)?;
+        Ok((image(camera, pixels.into_iter()), stats))
+    }
+
+    /// The pixels `(x, y)` of `pixels` only, exactly as [`render`](Self::render) computes them.
+    pub fn render_pixels<B: ManyLights + Sync>(
+        &self,
+        lights: Option<&Lights<B>>,
+        camera: &Camera,
+        pixels: &[[usize; 2]],
+    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+        march_pixels(self, lights, camera, Some(pixels), &|_| {})
     }
 
     /// [`new`](Self::new) for a render whose lights are `lights`: without them there is
@@ -475,9 +516,7 @@ pub fn render<B: ManyLights + Sync>(
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<(Image, RenderStats), VolumeError> {
-    let marcher = Marcher::for_lights(volume, medium, settings, lights)?;
-    let (pixels, stats) = march_pixels(&marcher, lights, camera, None, progress)?;
-    Ok((image(camera, pixels.into_iter()), stats))
+    Marcher::for_lights(volume, medium, settings, lights)?.render(lights, camera, progress)
 }
 
 /// An image of `camera`'s size from its pixels in order (what [`shade_pixels`] returns for the
@@ -501,8 +540,7 @@ pub fn render_pixels<B: ManyLights + Sync>(
     settings: &MarchSettings,
     pixels: &[[usize; 2]],
 ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
-    let marcher = Marcher::for_lights(volume, medium, settings, lights)?;
-    march_pixels(&marcher, lights, camera, Some(pixels), &|_| {})
+    Marcher::for_lights(volume, medium, settings, lights)?.render_pixels(lights, camera, pixels)
 }
 
 #[cfg(test)]

@@ -7,7 +7,11 @@
 //! position — the paper's deep-shadow cube maps are per light of every level — plugs in here as
 //! one more variant.
 //!
-//! The reference today is ray-marched transmittance `V = e^{−∫σ_t}` from the shading point to
+//! Three choices: none, the ray-marched reference, and the paper's deep-shadow cube maps
+//! ([`CubeMaps`], module `deep`: precomputed per light of every level, traced through the
+//! prefiltered density of module `prefilter` in the texel layout of module `cube`).
+//!
+//! The reference is ray-marched transmittance `V = e^{−∫σ_t}` from the shading point to
 //! each light (the exact visibility of the paper's eq. 1 for a point light in smoke). Shadow rays
 //! are where a render with shadows spends its time (every shading point marches one to each of
 //! the hundreds of lights the hierarchy returns), so the density gets a copy laid out for them:
@@ -21,10 +25,21 @@ use lgh_core::LightSample;
 
 use crate::medium::{Medium, Volume};
 
+pub mod cube;
+pub mod deep;
+pub mod prefilter;
+
+pub use deep::{CubeMapPlan, CubeMapSettings, CubeMaps, Depths, LevelMaps};
+pub use prefilter::DensityPyramid;
+
 /// How lights are shadowed: the user's choice (`--shadows` of `lgh demo` and `lgh explosion`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Shadows {
+    /// The paper's deep-shadow cube maps, precomputed per light of every level of the
+    /// hierarchy (Sec. 4). Backends without a hierarchy (brute force) ray-march instead.
+    #[cfg_attr(feature = "clap", value(name = "cubemap"))]
+    CubeMap,
     /// Transmittance ray-marched to every light (exact shadows).
     #[default]
     #[cfg_attr(feature = "clap", value(name = "raymarch"))]
@@ -34,10 +49,11 @@ pub enum Shadows {
 }
 
 impl Shadows {
-    /// The name on the command line and in EXR headers (`raymarch`, `none`).
+    /// The name on the command line and in EXR headers (`cubemap`, `raymarch`, `none`).
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
+            Shadows::CubeMap => "cubemap",
             Shadows::RayMarch => "raymarch",
             Shadows::None => "none",
         }
@@ -52,11 +68,15 @@ pub enum Visibility {
     None,
     /// Transmittance ray-marched through the density (exact up to the step and cut-off).
     RayMarched(ShadowGrid),
+    /// Deep-shadow cube maps of a hierarchy's lights (paper Sec. 4).
+    CubeMaps(CubeMaps),
 }
 
 impl Visibility {
     /// `shadows` for `volume` in `medium`, shadow rays marched in steps of at most `step_voxels`
     /// voxels and cut off at transmittance `cutoff` (see [`ShadowGrid::transmittance`]).
+    /// Cube maps are made for a hierarchy ([`CubeMaps::build`], then
+    /// [`Visibility::CubeMaps`]); asked for here, without one, the shadows are ray-marched.
     #[must_use]
     pub fn new(
         shadows: Shadows,
@@ -67,7 +87,7 @@ impl Visibility {
     ) -> Self {
         match shadows {
             Shadows::None => Visibility::None,
-            Shadows::RayMarch => {
+            Shadows::RayMarch | Shadows::CubeMap => {
                 Visibility::RayMarched(ShadowGrid::new(volume, medium, step_voxels, cutoff))
             }
         }
@@ -89,6 +109,28 @@ impl Visibility {
                 0
             }
             Visibility::RayMarched(grid) => grid.transmittances(x, &lights.positions, out),
+            Visibility::CubeMaps(maps) => {
+                out.clear();
+                out.extend(
+                    lights
+                        .positions
+                        .iter()
+                        .zip(&lights.ids)
+                        .map(|(&p, &(level, index))| maps.transmittance(x, level, index, p)),
+                );
+                0
+            }
+        }
+    }
+
+    /// The shadows actually used (`Shadows::RayMarch` for cube maps asked of a backend without
+    /// a hierarchy).
+    #[must_use]
+    pub fn shadows(&self) -> Shadows {
+        match self {
+            Visibility::None => Shadows::None,
+            Visibility::RayMarched(_) => Shadows::RayMarch,
+            Visibility::CubeMaps(_) => Shadows::CubeMap,
         }
     }
 }
@@ -101,18 +143,22 @@ impl Visibility {
 #[derive(Clone, Debug, Default)]
 pub struct ShadowQuery {
     positions: Vec<Vec3>,
+    /// Level and index of each light (what the cube maps are kept by).
+    ids: Vec<(u8, u32)>,
 }
 
 impl ShadowQuery {
     /// Empties the query for the next shading point (keeps its memory).
     pub fn clear(&mut self) {
         self.positions.clear();
+        self.ids.clear();
     }
 
     /// Adds `light`.
     #[inline]
     pub fn push(&mut self, light: &LightSample) {
         self.positions.push(light.position);
+        self.ids.push((light.level, light.index));
     }
 
     /// Number of lights.
