@@ -49,11 +49,14 @@ impl MarchArgs {
             }
             None => default_shadow_memory(),
         };
+        let shadow_step = self.shadow_step.unwrap_or(default_shadow_step);
         let settings = MarchSettings {
             shadows: self.shadows,
             step_voxels: self.step,
-            shadow_step_voxels: self.shadow_step.unwrap_or(default_shadow_step),
+            shadow_step_voxels: shadow_step,
             cube_maps: CubeMapSettings {
+                // The texel rays step as the shadow rays do where the prefilter allows no more.
+                step_voxels: shadow_step,
                 prefilter: !self.point_shadows,
                 depths: if self.sampled_depths {
                     Depths::Sampled
@@ -111,11 +114,13 @@ impl Shadowing {
         let cube = march.shadows == Shadows::CubeMap && method == Method::Lgh;
         let total = if cube {
             let blending = lights.hierarchy().blending(alpha)?;
-            CubeMaps::plan(lights.hierarchy(), &blending, &volume.density)
-                .levels
-                .iter()
-                .map(|l| l.lights as u64)
-                .sum()
+            CubeMaps::plan(
+                lights.hierarchy(),
+                &blending,
+                &volume.density,
+                &march.cube_maps,
+            )
+            .lights() as u64
         } else {
             0
         };
@@ -175,10 +180,11 @@ pub fn say_cube_maps(table: &[LevelMaps], bytes: u64, seconds: f64) -> Result<()
     );
     for l in table {
         say!(
-            "    level {:>2}: {:>7} lights, {:>4} cells per face side, depths to {:.3}, {:>9.2} MB, {:.2} s",
+            "    level {:>2}: {:>7} lights, up to {:>4} cells per face side, {:>10} texels, depths to {:.3}, {:>9.2} MB, {:.2} s",
             l.level,
             l.lights,
             l.cells,
+            l.texels,
             l.reach,
             l.bytes as f64 / 1e6,
             l.seconds

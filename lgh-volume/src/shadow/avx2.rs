@@ -26,7 +26,8 @@ pub(super) fn transmittances(
     lights: &[Vec3],
     out: &mut [f32],
 ) -> Option<u64> {
-    let fits = i32::try_from(grid.data.len()).is_ok() && grid.data.len() >= grid.span;
+    let fits =
+        i32::try_from(grid.grid.data.len()).is_ok() && grid.grid.data.len() >= grid.grid.span;
     if !fits || !std::arch::is_x86_feature_detected!("avx2") || out.len() != lights.len() {
         return None;
     }
@@ -124,8 +125,8 @@ fn setup(grid: &ShadowGrid, x: Vec3, lights: &[Vec3; LANES]) -> Option<Rays> {
     if _mm256_movemask_ps(inside) != 0xff {
         return None;
     }
-    let pa = (x - grid.origin) * grid.inv_voxel_size;
-    let inv_voxel = _mm256_set1_ps(grid.inv_voxel_size);
+    let pa = (x - grid.grid.origin) * grid.grid.inv_voxel_size;
+    let inv_voxel = _mm256_set1_ps(grid.grid.inv_voxel_size);
     let seg =
         [0, 1, 2].map(|a| _mm256_mul_ps(_mm256_sub_ps(b[a], _mm256_set1_ps(x[a])), inv_voxel));
     // glam's Vec3A::length: (x² + y²) + z², then the square root.
@@ -221,15 +222,15 @@ fn march8(grid: &ShadowGrid, rays: &Rays, index: [usize; LANES], out: &mut [f32]
     let max_sum = rays.max_sum;
     let steps = to_array(n).into_iter().fold(0.0f32, f32::max) as u32;
 
-    let [nx, ny, _] = grid.dims;
+    let [nx, ny, _] = grid.grid.dims;
     let (dj, dk) = (nx, nx * ny);
     // The eight neighbours' offsets from a sample's base voxel, in `trilinear`'s order.
     let offsets = [0, 1, dj, dj + 1, dk, dk + 1, dk + dj, dk + dj + 1];
     // Bases from 0 to len − span keep every neighbour inside the grid (checked by the caller:
     // span ≤ len < 2^31).
-    let max_base = _mm256_set1_epi32((grid.data.len() - grid.span) as i32);
+    let max_base = _mm256_set1_epi32((grid.grid.data.len() - grid.grid.span) as i32);
     let (nx, ny) = (_mm256_set1_epi32(nx as i32), _mm256_set1_epi32(ny as i32));
-    let data = grid.data.as_ptr();
+    let data = grid.grid.data.as_ptr();
 
     let mut sum = _mm256_setzero_ps();
     let mut active = _mm256_castsi256_ps(_mm256_set1_epi32(-1));

@@ -40,6 +40,7 @@ use lgh_core::{Blending, LightingGridHierarchy};
 use rayon::prelude::*;
 
 use super::cube;
+use super::empty::EmptySpace;
 use super::prefilter::DensityPyramid;
 use crate::error::VolumeError;
 use crate::grid::DenseGrid;
@@ -50,9 +51,6 @@ pub const TAU_MAX: f32 = 16.0;
 
 /// Quantisation steps per unit of optical depth.
 const QUANT: f32 = 65535.0 / TAU_MAX;
-
-/// A light without a map (dark, or pruned: queries never return it).
-const NO_MAP: u32 = u32::MAX;
 
 /// What the four depths of a texel hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -97,8 +95,11 @@ pub struct LevelMaps {
     pub level: u8,
     /// Lights with a map (those the queries can return).
     pub lights: usize,
-    /// Cells per face side `R`.
+    /// The paper's cells per face side, `R = ⌈2 r_ℓ / h⌉` (the most any light of the level gets;
+    /// see [`CubeMaps::plan`]).
     pub cells: u32,
+    /// Texels of all the level's maps.
+    pub texels: u64,
     /// Distance of the last stored depth `D`.
     pub reach: f32,
     /// Bytes of the level's maps and index.
@@ -114,6 +115,8 @@ pub struct CubeMapPlan {
     pub levels: Vec<LevelMaps>,
     /// Bytes of the density pyramid the maps are traced through (freed after tracing).
     pub pyramid_bytes: u64,
+    /// Each level's maps: (light index, centre, size, cells per face side).
+    maps: Vec<Vec<Planned>>,
 }
 
 impl CubeMapPlan {
@@ -122,16 +125,43 @@ impl CubeMapPlan {
     pub fn bytes(&self) -> u64 {
         self.levels.iter().map(|l| l.bytes).sum()
     }
+
+    /// Lights with a map, over all levels.
+    #[must_use]
+    pub fn lights(&self) -> usize {
+        self.levels.iter().map(|l| l.lights).sum()
+    }
 }
+
+/// One light's map as planned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Planned {
+    index: u32,
+    centre: Vec3,
+    size: f32,
+    cells: u32,
+}
+
+/// Where a light's map is: its first texel and its cells per face side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Slot {
+    offset: u32,
+    cells: u32,
+}
+
+/// A light without a map (dark, or pruned: queries never return it).
+const NO_MAP: Slot = Slot {
+    offset: u32::MAX,
+    cells: 0,
+};
 
 /// One level's maps.
 #[derive(Clone, Debug)]
 struct Level {
-    cells: u32,
     /// 4 / D: quarters of the reach per unit distance.
     inv_quarter: f32,
-    /// First texel of each light's map, or [`NO_MAP`].
-    offsets: Vec<u32>,
+    /// Each light's map, or [`NO_MAP`].
+    slots: Vec<Slot>,
     /// Quantised `τ` at the four depths, `6 (R + 1)²` texels per map.
     texels: Vec<[u16; 4]>,
 }
@@ -143,18 +173,9 @@ pub struct CubeMaps {
     table: Vec<LevelMaps>,
 }
 
-/// The lights of `level` that queries return, with their index, centre and size.
-fn active(h: &LightingGridHierarchy, level: u8) -> Vec<(u32, Vec3, f32)> {
-    h.level(level)
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| h.is_active(level, l))
-        .map(|(i, l)| (i as u32, l.position, l.size))
-        .collect()
-}
-
-/// `R` and `D` of `level`: cells `h` wide at `r_ℓ`, depths to `2 r_ℓ`; the top level, or a
-/// level reaching beyond the box, to the box's diagonal (and no finer than `h` there).
+/// The paper's `R` and `D` of `level`: cells `h` wide at `r_ℓ`, depths to `2 r_ℓ`; the top
+/// level, or a level reaching beyond the box, to the box's diagonal (and no finer than `h`
+/// there).
 fn resolution(blending: &Blending, level: u8, h: f32, diagonal: f32) -> (u32, f32) {
     let r = blending.radius(level);
     let top = level == blending.max_level();
@@ -167,40 +188,87 @@ fn resolution(blending: &Blending, level: u8, h: f32, diagonal: f32) -> (u32, f3
     (cells.min(1e6) as u32, reach)
 }
 
+/// The filter width `δ(d)` of eq. 6 for a light of size `s` and blending radius `r` (0, the
+/// plain density, for points — `prefilter` off — and beyond `r`).
+#[inline]
+fn filter_width(prefilter: bool, d: f32, s: f32, r: f32, h0: f32) -> f32 {
+    if prefilter && d < r {
+        (1.0 - d / r) * s + (d / r) * h0
+    } else {
+        0.0
+    }
+}
+
 impl CubeMaps {
     /// The maps [`build`](Self::build) would make for `hierarchy` at `blending`'s α over
-    /// `density`, level by level, with their exact sizes: cheap (no tracing).
+    /// `density` with `settings`, level by level, with their exact sizes: cheap (no tracing).
+    ///
+    /// Each light's map gets the paper's resolution (cells `h` wide at `r_ℓ`) or less where
+    /// that adds nothing: neighbouring texels at distance `d` are `2d/R` apart, and the density
+    /// a texel ray reads there is filtered over `δ_eff(d) = max(δ(d), h)` (eq. 6; the voxels
+    /// themselves beyond `r_ℓ`), so `R = 2d/δ_eff(d)` resolves everything the ray can see up to
+    /// `d`, and `2d/δ_eff(d)` grows with `d`. Rays see nothing new past the smoke: `d` is the
+    /// smaller of `r_ℓ` and the distance to the farthest corner of the smoke's box (grown by the
+    /// filter's reach). For a level-0 light, or any light whose rays reach `r_ℓ` in smoke, this
+    /// is the paper's `2 r_ℓ / h`; for a coarse light in the middle of the smoke, whose rays
+    /// leave the smoke while its filter is still wide, far less.
     #[must_use]
     pub fn plan(
         hierarchy: &LightingGridHierarchy,
         blending: &Blending,
         density: &DenseGrid,
+        settings: &CubeMapSettings,
     ) -> CubeMapPlan {
         let h = density.voxel_size;
         let (lo, hi) = density.bounds();
         let diagonal = (hi - lo).length();
-        let levels = (0..=hierarchy.max_level())
-            .map(|level| {
-                let lights = hierarchy
-                    .level(level)
-                    .iter()
-                    .filter(|l| hierarchy.is_active(level, l))
-                    .count();
-                let (cells, reach) = resolution(blending, level, h, diagonal);
-                let texels = cube::texels(cells) as u64 * lights as u64;
-                LevelMaps {
-                    level,
-                    lights,
-                    cells,
-                    reach,
-                    bytes: texels * 8 + hierarchy.level(level).len() as u64 * 4,
-                    seconds: 0.0,
-                }
-            })
-            .collect();
+        let smoke = density.active_bounds();
+        let mut levels = Vec::new();
+        let mut maps = Vec::new();
+        for level in 0..=hierarchy.max_level() {
+            let (cells, reach) = resolution(blending, level, h, diagonal);
+            let r = blending.radius(level);
+            let planned: Vec<Planned> = hierarchy
+                .level(level)
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| hierarchy.is_active(level, l))
+                .map(|(i, l)| {
+                    let (p, s) = (l.position, l.size);
+                    let far = smoke.map_or(0.0, |(a, b)| {
+                        let grow = Vec3::splat(3.0 * s.max(h));
+                        ((a - grow - p).abs().max((b + grow - p).abs())).length()
+                    });
+                    let d = r.min(far);
+                    let width = filter_width(settings.prefilter, d, s, r, h).max(h);
+                    let own = (2.0 * d / width).ceil().clamp(1.0, cells as f32) as u32;
+                    Planned {
+                        index: i as u32,
+                        centre: p,
+                        size: s,
+                        cells: own,
+                    }
+                })
+                .collect();
+            let texels: u64 = planned.iter().map(|m| cube::texels(m.cells) as u64).sum();
+            levels.push(LevelMaps {
+                level,
+                lights: planned.len(),
+                cells,
+                texels,
+                reach,
+                bytes: texels * 8 + hierarchy.level(level).len() as u64 * 8,
+                seconds: 0.0,
+            });
+            maps.push(planned);
+        }
+        // The pyramid: a padded copy of the density, a full-resolution level, then 1/8 of the
+        // previous each (at most 8/7 of the full-resolution level), padded.
+        let padded = density.dims.iter().map(|&n| n as u64 + 4).product::<u64>() * 4;
         CubeMapPlan {
             levels,
-            pyramid_bytes: density.data.len() as u64 * 4 * 8 / 7,
+            pyramid_bytes: padded + padded * 8 / 7,
+            maps,
         }
     }
 
@@ -223,10 +291,10 @@ impl CubeMaps {
             "must be 0.01 to 64 voxels",
         )?;
         let density = &volume.density;
-        let plan = CubeMaps::plan(hierarchy, blending, density);
+        let plan = CubeMaps::plan(hierarchy, blending, density, settings);
         let needed = plan.bytes() + plan.pyramid_bytes;
         if needed > settings.memory_budget
-            || plan.levels.iter().any(|l| l.bytes / 8 >= u64::from(NO_MAP))
+            || plan.levels.iter().any(|l| l.texels >= u64::from(u32::MAX))
         {
             return Err(VolumeError::ShadowMemory {
                 needed,
@@ -240,8 +308,11 @@ impl CubeMaps {
             .fold(0.0f32, f32::max);
         let pyramid = DensityPyramid::new(density, if settings.prefilter { max_size } else { 0.0 });
         let (lo, hi) = density.bounds();
+        let empty = EmptySpace::new(density);
         let tracer = Tracer {
             pyramid: &pyramid,
+            empty: &empty,
+            skip_empty: true,
             kappa: medium.extinction(1.0),
             lo,
             hi,
@@ -252,31 +323,46 @@ impl CubeMaps {
         };
         let mut levels = Vec::new();
         let mut table = Vec::new();
-        for row in &plan.levels {
+        for (row, planned) in plan.levels.iter().zip(&plan.maps) {
             let t = Instant::now();
-            let lights = active(hierarchy, row.level);
-            let per_map = cube::texels(row.cells);
-            let mut offsets = vec![NO_MAP; hierarchy.level(row.level).len()];
-            for (n, &(i, _, _)) in lights.iter().enumerate() {
-                offsets[i as usize] = (n * per_map) as u32;
+            let mut slots = vec![NO_MAP; hierarchy.level(row.level).len()];
+            let mut offset = 0usize;
+            for m in planned {
+                slots[m.index as usize] = Slot {
+                    offset: offset as u32,
+                    cells: m.cells,
+                };
+                offset += cube::texels(m.cells);
             }
-            let mut texels = vec![[0u16; 4]; lights.len() * per_map];
+            let mut texels = vec![[0u16; 4]; offset];
+            // Each light's slice of the texels, in order.
+            let mut rest: &mut [[u16; 4]] = &mut texels;
+            let mut jobs = Vec::with_capacity(planned.len());
+            for m in planned {
+                let (map, tail) = rest.split_at_mut(cube::texels(m.cells));
+                jobs.push((map, *m));
+                rest = tail;
+            }
             let r = blending.radius(row.level);
-            // Batches of lights so that progress is reported as the work goes (the maps of a
-            // batch are traced in parallel; each map depends only on its light).
-            let batch = (1 << 20) / per_map.max(1) + 1;
-            for (maps, lights) in texels.chunks_mut(batch * per_map).zip(lights.chunks(batch)) {
-                maps.par_chunks_mut(per_map)
-                    .zip(lights.par_iter())
-                    .for_each(|(map, &(_, p, s))| {
-                        tracer.trace_map(map, p, s, r, row.reach, row.cells);
-                    });
-                progress(lights.len());
+            // Batches of about a million texels, so that progress is reported as the work goes
+            // (the maps of a batch are traced in parallel; each map depends only on its light).
+            let mut jobs = jobs.into_iter().peekable();
+            while jobs.peek().is_some() {
+                let mut batch = Vec::new();
+                let mut size = 0;
+                while let Some(job) = jobs.next_if(|_| size < 1 << 20) {
+                    size += job.0.len();
+                    batch.push(job);
+                }
+                let n = batch.len();
+                batch.into_par_iter().for_each(|(map, m)| {
+                    tracer.trace_map(map, m.centre, m.size, r, row.reach, m.cells);
+                });
+                progress(n);
             }
             levels.push(Level {
-                cells: row.cells,
                 inv_quarter: 4.0 / row.reach,
-                offsets,
+                slots,
                 texels,
             });
             table.push(LevelMaps {
@@ -305,6 +391,12 @@ impl CubeMaps {
         self.table.iter().map(|l| l.lights).sum()
     }
 
+    /// Bytes of all the maps ([`bytes`](Self::bytes)) per light with a map.
+    #[must_use]
+    pub fn bytes_per_light(&self) -> f64 {
+        self.bytes() as f64 / self.lights().max(1) as f64
+    }
+
     /// Transmittance `e^{−τ}` from light `index` of `level`, centred at `centre`, to `x`: `τ`
     /// interpolated bilinearly between the texels around the direction and linearly between
     /// the depths around the distance (0 at the light, constant beyond the last depth). A light
@@ -315,17 +407,17 @@ impl CubeMaps {
         let Some(l) = self.levels.get(level as usize) else {
             return 1.0;
         };
-        let off = l.offsets.get(index as usize).copied().unwrap_or(NO_MAP);
+        let slot = l.slots.get(index as usize).copied().unwrap_or(NO_MAP);
         let v = x - centre;
         let d = v.length();
-        if off == NO_MAP || d.is_nan() || d <= 0.0 {
+        if slot == NO_MAP || d.is_nan() || d <= 0.0 {
             return 1.0;
         }
-        let f = cube::footprint(v, l.cells);
-        let map = &l.texels[off as usize..];
+        let f = cube::footprint(v, slot.cells);
+        let map = &l.texels[slot.offset as usize..];
         let q = d * l.inv_quarter;
         let k = (q as usize).min(4);
-        let depth = |k: usize| cube::bilinear(&f, l.cells, |t| f32::from(map[t][k]));
+        let depth = |k: usize| cube::bilinear(&f, slot.cells, |t| f32::from(map[t][k]));
         let quantised = if k >= 4 {
             depth(3)
         } else {
@@ -340,6 +432,9 @@ impl CubeMaps {
 /// What tracing a texel ray needs.
 struct Tracer<'a> {
     pyramid: &'a DensityPyramid,
+    empty: &'a EmptySpace,
+    /// Jump over empty space (off only to test that it changes nothing).
+    skip_empty: bool,
     /// `σ_t` per unit density.
     kappa: f32,
     /// The density's box.
@@ -369,19 +464,17 @@ impl Tracer<'_> {
         }
     }
 
-    /// The filter width `δ(d)` of eq. 6 (0, the plain density, for points and beyond `r`).
+    /// The filter width `δ(d)` of eq. 6 ([`filter_width`]).
     #[inline]
     fn width(&self, d: f32, s: f32, r: f32) -> f32 {
-        if self.prefilter && d < r {
-            (1.0 - d / r) * s + (d / r) * self.h0
-        } else {
-            0.0
-        }
+        filter_width(self.prefilter, d, s, r, self.h0)
     }
 
     /// The four depths of the ray from `p` along `dir` (unit), for a light of size `s` and
     /// radius `r`, depths at `reach/4 … reach`: midpoint rule over the part of each quarter
-    /// inside the density's box, in steps of `max(min_step, δ/2)`.
+    /// inside the density's box, in steps of `max(min_step, δ/2)`. Samples in empty space are
+    /// jumped over (they would add exactly 0); once `τ` passes [`TAU_MAX`] the rest of the ray
+    /// is not traced (every later depth is stored as `TAU_MAX` anyway).
     fn trace(&self, p: Vec3, dir: Vec3, s: f32, r: f32, reach: f32) -> [f32; 4] {
         let Some((t0, t1)) = crate::grid::slab(p, dir, self.lo, self.hi) else {
             return [0.0; 4];
@@ -393,14 +486,25 @@ impl Tracer<'_> {
         for (k, at_k) in at.iter_mut().enumerate() {
             let a = (k as f32 * quarter).max(t0);
             let b = ((k + 1) as f32 * quarter).min(t1);
-            if b > a {
+            if b > a && tau <= TAU_MAX {
                 let widest = self.width(a, s, r).min(self.width(b, s, r));
                 let step = self.min_step.max(0.5 * widest);
-                let n = ((b - a) / step).ceil().max(1.0);
-                let dt = (b - a) / n;
-                for i in 0..n as u32 {
+                let n = ((b - a) / step).ceil().max(1.0) as u32;
+                let dt = (b - a) / n as f32;
+                let mut i = 0;
+                while i < n {
                     let d = a + (i as f32 + 0.5) * dt;
-                    let rho = self.pyramid.sample(p + dir * d, self.width(d, s, r));
+                    let x = p + dir * d;
+                    let width = self.width(d, s, r);
+                    // The lookup at width δ reads voxels within 3·max(δ, h) (the two levels'
+                    // tents and their samples' spacing); δ only narrows along the ray, or stays
+                    // below h. Clear that far and further: skip the samples within the margin.
+                    let margin = self.empty.clearance(x) - 3.0 * width.max(self.h0);
+                    if self.skip_empty && margin >= 0.0 {
+                        i += (margin / dt) as u32 + 1;
+                        continue;
+                    }
+                    let rho = self.pyramid.sample(x, width);
                     let dtau = self.kappa * rho * dt;
                     if self.depths == Depths::Fitted && rho > 0.0 {
                         // The sample stands for the step: τ at its middle, weight ρ·V²·dt.
@@ -408,6 +512,10 @@ impl Tracer<'_> {
                         fit.add(d / quarter, mid, rho * (-2.0 * mid).exp() * dt);
                     }
                     tau += dtau;
+                    i += 1;
+                    if tau > TAU_MAX {
+                        break;
+                    }
                 }
             }
             *at_k = tau;
@@ -474,5 +582,234 @@ impl Fit {
             x[k] = d[k] - c[k] * x[k + 1];
         }
         x.map(|v| v as f32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lgh_core::{GridSettings, PointLight};
+
+    /// A volume of `n`³ voxels of size 1/16 centred on the origin, density `f(centre)`.
+    fn volume(n: usize, f: impl Fn(Vec3) -> f32) -> Volume {
+        let h = 1.0 / 16.0;
+        let origin = Vec3::splat(-0.5 * h * (n - 1) as f32);
+        let mut density = DenseGrid::zeros([n; 3], h, origin);
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    let idx = density.index(i, j, k);
+                    density.data[idx] = f(density.centre(i, j, k));
+                }
+            }
+        }
+        let temperature = density.clone();
+        Volume::new(density, temperature)
+    }
+
+    /// One light at `p`, on the volume's grid (`h1 = 2h`), blended at `alpha`.
+    fn one_light(v: &Volume, p: Vec3, alpha: f32) -> (LightingGridHierarchy, Blending) {
+        let h = v.density.voxel_size;
+        let settings = GridSettings {
+            h1: Some(2.0 * h),
+            origin: Some(v.density.origin),
+            ..Default::default()
+        };
+        let lgh =
+            LightingGridHierarchy::build(&[PointLight::new(p, Vec3::ONE)], &settings).unwrap();
+        let b = lgh.blending(alpha).unwrap();
+        (lgh, b)
+    }
+
+    fn settings(depths: Depths) -> CubeMapSettings {
+        CubeMapSettings {
+            depths,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn in_a_homogeneous_medium_the_map_is_beer_lambert_up_to_quantisation() {
+        // τ(d) = σ_t d along every ray inside the box: linear in d (the four depths interpolate
+        // it exactly, sampled or fitted), the same in every direction (bilinear is exact), the
+        // midpoint rule exact. What remains is the 16-bit quantisation, ≤ TAU_MAX/131070 =
+        // 1.22e-4 in τ, so |V_map/V − 1| ≤ 1.3e-4, plus f32 rounding (τ ≤ 3: ~1e-6).
+        let v = volume(32, |_| 1.5);
+        let m = Medium::new(1.0, 1.0, 0.0, 0.0).unwrap(); // σ_t = 3 per unit density... ×1.5
+        let p = Vec3::new(0.013, -0.021, 0.007);
+        let (lgh, b) = one_light(&v, p, 4.0); // r_0 = 4h, depths to 8h = 0.5: inside the box
+        for depths in [Depths::Fitted, Depths::Sampled] {
+            let maps = CubeMaps::build(&lgh, &b, &v, &m, &settings(depths), &|_| {}).unwrap();
+            let mut rng = lgh_core::random::SplitMix64(2);
+            for _ in 0..2000 {
+                let x = p + rng.next_in(Vec3::splat(-0.3), Vec3::splat(0.3));
+                let d = (x - p).length();
+                let want = (-m.extinction(1.5) * d.min(0.5)).exp();
+                let got = maps.transmittance(x, 0, 0, p);
+                assert!(
+                    (got / want - 1.0).abs() < 1.3e-4 + 2e-6,
+                    "{depths:?} d = {d}: {got} vs {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn along_texel_directions_sampled_depths_err_by_the_interpolation_bound() {
+        // ρ = 1 + 4x: linear, so trilinear lookups and the midpoint rule are exact, and along a
+        // texel's direction ω from p, τ(d) = σ_t (ρ(p) d + 2 ω_x d²) is quadratic. The four
+        // sampled depths interpolate it with error ≤ Q²/8 · |τ''| = Q² σ_t |ω_x| / 2 (Q the
+        // spacing of the depths); plus quantisation (1.22e-4).
+        let v = volume(40, |c| 1.0 + 4.0 * c.x);
+        let m = Medium::new(1.0, 0.0, 0.0, 0.0).unwrap();
+        let p = Vec3::new(0.02, 0.01, -0.03);
+        let (lgh, b) = one_light(&v, p, 4.0);
+        let maps = CubeMaps::build(&lgh, &b, &v, &m, &settings(Depths::Sampled), &|_| {}).unwrap();
+        let slot = maps.levels[0].slots[0];
+        let reach = 4.0 / maps.levels[0].inv_quarter;
+        let q = reach / 4.0;
+        let sigma = m.extinction(1.0);
+        let mut worst = 0.0f32;
+        for face in 0..6 {
+            for j in 0..cube::side(slot.cells) {
+                for i in 0..cube::side(slot.cells) {
+                    let w = cube::direction(face, i, j, slot.cells).normalize();
+                    for t in 1..40 {
+                        let d = reach * t as f32 / 40.0;
+                        let x = p + w * d;
+                        let exact = sigma * ((1.0 + 4.0 * p.x) * d + 2.0 * w.x * d * d);
+                        let got = -maps.transmittance(x, 0, 0, p).ln();
+                        let bound = q * q * sigma * w.x.abs() / 2.0 + 1.22e-4 + 1e-5;
+                        assert!((got - exact).abs() <= bound, "{w} d {d}: {got} vs {exact}");
+                        worst = worst.max((got - exact).abs() / bound);
+                    }
+                }
+            }
+        }
+        // The bound is attained in order of magnitude (midway between depths), not loose.
+        assert!(worst > 0.5, "{worst}");
+    }
+
+    #[test]
+    fn the_fit_is_exact_for_piecewise_linear_depth_and_closer_than_samples_behind_a_shell() {
+        // Exact: τ piecewise linear with knots at the depths (any positive weights).
+        let tau =
+            |q: f32| 0.3 * q.min(1.0) + 1.1 * (q - 1.0).clamp(0.0, 2.0) + 0.2 * (q - 3.0).max(0.0);
+        let mut fit = Fit::default();
+        for i in 0..400 {
+            let q = (i as f32 + 0.5) / 100.0;
+            fit.add(q, tau(q), 0.5 + (i % 7) as f32);
+        }
+        let knots = fit.solve([tau(1.0), tau(2.0), tau(3.0), tau(4.0)], 1e-9);
+        for (k, &t) in knots.iter().enumerate() {
+            assert!((t - tau(k as f32 + 1.0)).abs() < 1e-5, "{k}: {t}");
+        }
+        // A thin dense shell at q ∈ [1.4, 1.6], shading points (weight) all around it: the
+        // sampled depths' chord misses τ around the shell; the fit's weighted squared error is
+        // no larger (it is the least-squares optimum over the same piecewise-linear functions,
+        // which include the chord; the ridge of 10⁻⁹ is negligible).
+        let shell = |q: f32| 2.0 * ((q - 1.4).clamp(0.0, 0.2) / 0.2);
+        let mut fit = Fit::default();
+        let samples: Vec<f32> = (0..400).map(|i| (i as f32 + 0.5) / 100.0).collect();
+        for &q in &samples {
+            fit.add(q, shell(q), 1.0);
+        }
+        let sampled = [shell(1.0), shell(2.0), shell(3.0), shell(4.0)];
+        let fitted = fit.solve(sampled, 1e-9);
+        let err = |k: [f32; 4]| -> f32 {
+            samples
+                .iter()
+                .map(|&q| {
+                    let i = (q as usize).min(3);
+                    let lo = if i == 0 { 0.0 } else { k[i - 1] };
+                    let t = lo + (k[i] - lo) * (q - i as f32);
+                    (t - shell(q)).powi(2)
+                })
+                .sum()
+        };
+        assert!(
+            err(fitted) < err(sampled),
+            "{} vs {}",
+            err(fitted),
+            err(sampled)
+        );
+    }
+
+    #[test]
+    fn jumping_over_empty_space_changes_no_bit() {
+        // Smoke in a few blobs with empty space between: rays from lights of every size, with
+        // and without jumps, must give the same four depths bit for bit.
+        let v = volume(36, |c| {
+            let blob = |o: Vec3, r: f32| (1.0 - (c - o).length() / r).max(0.0) * 3.0;
+            blob(Vec3::new(0.6, 0.5, 0.4), 0.4) + blob(Vec3::new(-0.7, -0.6, 0.0), 0.3)
+        });
+        let m = Medium::new(2.0, 1.0, 0.0, 0.0).unwrap();
+        let pyramid = DensityPyramid::new(&v.density, 1.0);
+        let empty = EmptySpace::new(&v.density);
+        let (lo, hi) = v.density.bounds();
+        let tracer = |skip_empty| Tracer {
+            pyramid: &pyramid,
+            empty: &empty,
+            skip_empty,
+            kappa: m.extinction(1.0),
+            lo,
+            hi,
+            h0: v.density.voxel_size,
+            min_step: v.density.voxel_size,
+            prefilter: true,
+            depths: Depths::Fitted,
+        };
+        let (with, without) = (tracer(true), tracer(false));
+        let mut rng = lgh_core::random::SplitMix64(6);
+        let mut shadowed = 0;
+        for i in 0..3000 {
+            let p = rng.next_in(lo, hi);
+            let dir = rng.next_in(Vec3::splat(-1.0), Vec3::splat(1.0)).normalize();
+            let s = [0.0, 0.05, 0.3][i % 3];
+            let r = [0.25, 0.5, 1.0][i % 3];
+            let a = with.trace(p, dir, s, r, 2.0 * r);
+            let b = without.trace(p, dir, s, r, 2.0 * r);
+            assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "{p} {dir}");
+            shadowed += usize::from(a[3] > 0.0);
+        }
+        assert!(shadowed > 300, "{shadowed}");
+    }
+
+    #[test]
+    fn maps_do_not_depend_on_the_thread_count_and_oversized_plans_are_refused() {
+        let v = crate::procedural(32, 0.5).unwrap();
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let lights = crate::ExplosionLights::new(&[&v], &m).unwrap();
+        let lgh = lights.hierarchy();
+        let b = lgh.blending(2.0).unwrap();
+        let build = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| CubeMaps::build(lgh, &b, &v, &m, &settings(Depths::Fitted), &|_| {}))
+                .unwrap()
+        };
+        let one = build(1);
+        let three = build(3);
+        assert!(one.lights() > 100);
+        for (a, b) in one.levels.iter().zip(&three.levels) {
+            assert_eq!(a.slots, b.slots);
+            assert_eq!(a.texels, b.texels);
+        }
+        // The plan's bytes are what was built; a budget one byte short refuses before tracing.
+        let plan = CubeMaps::plan(lgh, &b, &v.density, &settings(Depths::Fitted));
+        assert_eq!(plan.bytes(), one.bytes());
+        let tight = CubeMapSettings {
+            memory_budget: plan.bytes() + plan.pyramid_bytes - 1,
+            ..Default::default()
+        };
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let err = CubeMaps::build(lgh, &b, &v, &m, &tight, &|_| {
+            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        })
+        .unwrap_err();
+        assert!(matches!(err, VolumeError::ShadowMemory { .. }), "{err}");
+        assert_eq!(calls.into_inner(), 0);
     }
 }

@@ -27,6 +27,7 @@ use crate::medium::{Medium, Volume};
 
 pub mod cube;
 pub mod deep;
+mod empty;
 pub mod prefilter;
 
 pub use deep::{CubeMapPlan, CubeMapSettings, CubeMaps, Depths, LevelMaps};
@@ -181,43 +182,30 @@ mod avx2;
 /// low mantissa bits hold.
 const ROUND: f32 = 8_388_608.0;
 
-/// The density, padded by one voxel on every side with its border values, and the medium's
-/// extinction per unit density: what [`transmittance`](Self::transmittance) reads.
+/// A grid padded by one voxel on every side with its border values, so that a trilinear lookup
+/// anywhere in its box is a clamp-free read of eight neighbours: what shadow rays and cube-map
+/// texel rays read.
 #[derive(Clone, Debug)]
-pub struct ShadowGrid {
+pub struct PaddedGrid {
     /// Padded values, x fastest.
     data: Vec<f32>,
-    /// Padded dimensions (the density's plus 2).
+    /// Padded dimensions (the grid's plus 2).
     dims: [usize; 3],
     /// Values from a voxel to its far neighbour `(+1, +1, +1)`, inclusive.
     span: usize,
     /// World position of the centre of padded voxel `(0, 0, 0)`.
     origin: Vec3,
     inv_voxel_size: f32,
-    /// The density grid's box (voxel faces), where shadow rays are marched.
-    lo: Vec3,
-    hi: Vec3,
-    /// `σ_t` per unit density times the voxel size: optical depth per voxel of path per unit
-    /// density.
-    kappa_voxel: f32,
-    /// 1 / the longest step along a shadow ray, in voxels.
-    inv_step_voxels: f32,
-    /// Optical depth `ln(1/cutoff)` past which a light counts as hidden.
-    max_tau: f32,
 }
 
-impl ShadowGrid {
-    /// The shadow rays of `volume`'s density in `medium`, marched with steps of at most
-    /// `step_voxels` voxels and cut off at transmittance `cutoff` (see
-    /// [`transmittance`](Self::transmittance)).
+impl PaddedGrid {
+    /// `g` padded (an empty grid stays empty).
     #[must_use]
-    pub fn new(volume: &Volume, medium: &Medium, step_voxels: f32, cutoff: f32) -> Self {
-        let g = &volume.density;
+    pub fn new(g: &crate::DenseGrid) -> Self {
         let [nx, ny, nz] = g.dims;
         let dims = [nx + 2, ny + 2, nz + 2];
         // Padded index p maps to the clamped source index p − 1 (the border value repeats, as
-        // the density's own trilinear lookup clamps to its outermost centres). An empty grid
-        // stays empty.
+        // the grid's own trilinear lookup clamps to its outermost centres).
         let src = |p: usize, n: usize| p.saturating_sub(1).min(n.saturating_sub(1));
         let mut data = Vec::new();
         if !g.data.is_empty() {
@@ -229,29 +217,33 @@ impl ShadowGrid {
                 }
             }
         }
-        let (lo, hi) = g.bounds();
-        ShadowGrid {
+        PaddedGrid {
             data,
             dims,
             span: dims[0] * dims[1] + dims[0] + 2,
             origin: g.origin - Vec3::splat(g.voxel_size),
             inv_voxel_size: 1.0 / g.voxel_size,
-            lo,
-            hi,
-            kappa_voxel: medium.extinction(1.0) * g.voxel_size,
-            inv_step_voxels: 1.0 / step_voxels,
-            max_tau: if cutoff > 0.0 {
-                -cutoff.ln()
-            } else {
-                f32::INFINITY
-            },
         }
     }
 
-    /// Trilinear density at `p`, in padded voxel units, for `p` in the grid's box (padded
-    /// `[0.5, n + 0.5]` per axis, `n` the density's size) give or take rounding.
+    /// World position `x` in padded voxel units.
     #[inline(always)]
-    fn sample(&self, p: Vec3A) -> f32 {
+    #[must_use]
+    pub fn local(&self, x: Vec3) -> Vec3A {
+        Vec3A::from((x - self.origin) * self.inv_voxel_size)
+    }
+
+    /// Whether the grid holds no values.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// Trilinear value at `p`, in padded voxel units, for `p` in the grid's box (padded
+    /// `[0.5, n + 0.5]` per axis, `n` the grid's size) give or take rounding.
+    #[inline(always)]
+    #[must_use]
+    pub fn sample(&self, p: Vec3A) -> f32 {
         // floor(p) without a saturating float-to-integer conversion: adding 2^23 rounds p − ½
         // (exact) to the nearest integer, whose value sits in the float's low mantissa bits.
         // At an integer p the tie may round down to p − 1, with weight 1: the same value.
@@ -271,10 +263,56 @@ impl ShadowGrid {
         match self.data.get(b..b.wrapping_add(self.span)) {
             Some(c) => crate::grid::trilinear(c, 1, nx, nx * ny, w.into()),
             None => {
-                debug_assert!(false, "shadow sample outside the padded grid: {p}");
+                debug_assert!(false, "sample outside the padded grid: {p}");
                 0.0
             }
         }
+    }
+}
+
+/// The density padded ([`PaddedGrid`]) and the medium's extinction per unit density: what
+/// [`transmittance`](Self::transmittance) reads.
+#[derive(Clone, Debug)]
+pub struct ShadowGrid {
+    grid: PaddedGrid,
+    /// The density grid's box (voxel faces), where shadow rays are marched.
+    lo: Vec3,
+    hi: Vec3,
+    /// `σ_t` per unit density times the voxel size: optical depth per voxel of path per unit
+    /// density.
+    kappa_voxel: f32,
+    /// 1 / the longest step along a shadow ray, in voxels.
+    inv_step_voxels: f32,
+    /// Optical depth `ln(1/cutoff)` past which a light counts as hidden.
+    max_tau: f32,
+}
+
+impl ShadowGrid {
+    /// The shadow rays of `volume`'s density in `medium`, marched with steps of at most
+    /// `step_voxels` voxels and cut off at transmittance `cutoff` (see
+    /// [`transmittance`](Self::transmittance)).
+    #[must_use]
+    pub fn new(volume: &Volume, medium: &Medium, step_voxels: f32, cutoff: f32) -> Self {
+        let g = &volume.density;
+        let (lo, hi) = g.bounds();
+        ShadowGrid {
+            grid: PaddedGrid::new(g),
+            lo,
+            hi,
+            kappa_voxel: medium.extinction(1.0) * g.voxel_size,
+            inv_step_voxels: 1.0 / step_voxels,
+            max_tau: if cutoff > 0.0 {
+                -cutoff.ln()
+            } else {
+                f32::INFINITY
+            },
+        }
+    }
+
+    /// Trilinear density at `p`, in padded voxel units (see [`PaddedGrid::sample`]).
+    #[inline(always)]
+    fn sample(&self, p: Vec3A) -> f32 {
+        self.grid.sample(p)
     }
 
     /// Transmittance `e^{−∫σ_t}` from `a` to `b`, midpoint rule with steps of at most the step
@@ -323,7 +361,7 @@ impl ShadowGrid {
     /// Sets up the march from `a` to `b`, or `None` when nothing shadows it (it misses the box,
     /// has no length, or the grid is empty).
     fn ray(&self, a: Vec3, b: Vec3) -> Option<Ray> {
-        if self.data.is_empty() {
+        if self.grid.is_empty() {
             return None;
         }
         // Shading points and lights are usually both inside the box: no clipping needed.
@@ -341,8 +379,8 @@ impl ShadowGrid {
             }
         };
         // Everything in padded voxel units from here: one square root and two divisions a ray.
-        let pa = Vec3A::from((a - self.origin) * self.inv_voxel_size);
-        let seg = Vec3A::from((b - a) * self.inv_voxel_size);
+        let pa = self.grid.local(a);
+        let seg = Vec3A::from((b - a) * self.grid.inv_voxel_size);
         let len = seg.length();
         if len.is_nan() || len <= 0.0 {
             return None;
@@ -426,9 +464,9 @@ mod tests {
                 for c in 0..=16 {
                     let t = Vec3::new(a as f32 / 20.0, b as f32 / 12.0, c as f32 / 16.0);
                     let x = lo + (hi - lo) * t;
-                    let p = (x - g.origin) * g.inv_voxel_size;
+                    let p = g.grid.local(x);
                     let u = (x - v.density.origin) / v.density.voxel_size;
-                    worst = worst.max((g.sample(p.into()) - v.density.sample_voxel(u)).abs());
+                    worst = worst.max((g.sample(p) - v.density.sample_voxel(u)).abs());
                 }
             }
         }

@@ -22,16 +22,19 @@
 
 use lgh_core::glam::Vec3;
 
+use super::PaddedGrid;
 use crate::grid::DenseGrid;
 
 /// The density filtered at widths `h, 2h, 4h, …` (see the module docs).
 #[derive(Clone, Debug)]
 pub struct DensityPyramid {
     /// Level `m` has tent half-width `2^m h` and sample spacing `max(2^(m−1), 1) h`; level 0 is
-    /// the density.
-    levels: Vec<DenseGrid>,
-    /// The voxel size `h`.
-    h: f32,
+    /// the density. Padded for clamp-free lookups.
+    levels: Vec<PaddedGrid>,
+    /// Each level's (unpadded) dimensions.
+    dims: Vec<[usize; 3]>,
+    /// `1 / h`, `h` the voxel size.
+    inv_h: f32,
 }
 
 impl DensityPyramid {
@@ -54,19 +57,25 @@ impl DensityPyramid {
     #[must_use]
     pub fn new(density: &DenseGrid, max_width: f32) -> Self {
         let h = density.voxel_size;
-        let mut levels = vec![density.clone()];
+        let mut levels = vec![PaddedGrid::new(density)];
+        let mut dims = vec![density.dims];
         // Level m (width 2^m h) is added while level m − 1 is narrower than asked for and has
         // not collapsed to a few samples along every axis.
         for m in 1..24u32 {
-            let previous = levels.last().expect("level 0");
-            let collapsed = previous.dims.iter().all(|&n| n <= 2);
+            let collapsed = dims.last().is_some_and(|d| d.iter().all(|&n| n <= 2));
             if collapsed || h * (1u64 << (m - 1)) as f32 >= max_width {
                 break;
             }
             let width = 1usize << m;
-            levels.push(tent_filtered(density, width, width / 2));
+            let level = tent_filtered(density, width, width / 2);
+            dims.push(level.dims);
+            levels.push(PaddedGrid::new(&level));
         }
-        DensityPyramid { levels, h }
+        DensityPyramid {
+            levels,
+            dims,
+            inv_h: 1.0 / h,
+        }
     }
 
     /// Number of levels (level 0 is the density itself).
@@ -75,16 +84,17 @@ impl DensityPyramid {
         self.levels.len()
     }
 
-    /// Level `m`'s grid: the density filtered by the tent of half-width `2^m h`.
+    /// Samples per axis of level `m` (the density's for level 0).
     #[must_use]
-    pub fn level(&self, m: usize) -> Option<&DenseGrid> {
-        self.levels.get(m)
+    pub fn dims(&self, m: usize) -> Option<[usize; 3]> {
+        self.dims.get(m).copied()
     }
 
-    /// Bytes the filtered levels hold (level 0, the density itself, not counted).
-    #[must_use]
-    pub fn extra_bytes(&self) -> usize {
-        self.levels[1..].iter().map(|l| l.data.len() * 4).sum()
+    /// The value of level `m` (tent of half-width `2^m h`) at `p`.
+    #[inline(always)]
+    fn at(&self, m: usize, p: Vec3) -> f32 {
+        let g = &self.levels[m];
+        g.sample(g.local(p))
     }
 
     /// The density filtered with the tent of half-width `width` (world units) at `p`, for `p`
@@ -93,23 +103,22 @@ impl DensityPyramid {
     #[inline]
     #[must_use]
     pub fn sample(&self, p: Vec3, width: f32) -> f32 {
-        let at = |m: usize| {
-            let g = &self.levels[m];
-            g.sample_voxel((p - g.origin) / g.voxel_size)
-        };
-        if width <= self.h {
-            return at(0);
+        let ratio = width * self.inv_h;
+        // A NaN width reads the plain density too.
+        if ratio.is_nan() || ratio <= 1.0 {
+            return self.at(0, p);
         }
-        // Width w lies between level m (2^m h) and m + 1: m = ⌊log2(w / h)⌋.
-        let ratio = width / self.h;
-        let m = (ratio.log2().floor() as usize).min(self.levels.len() - 1);
-        if m + 1 >= self.levels.len() {
-            return at(self.levels.len() - 1);
+        // ratio = 2^m (1 + t): m is its binary exponent, t its mantissa's fraction, both exact
+        // (ratio > 1 is a normal float).
+        let bits = ratio.to_bits();
+        let m = ((bits >> 23) as usize).saturating_sub(127);
+        let top = self.levels.len() - 1;
+        if m >= top {
+            return self.at(top, p);
         }
-        let lo = (1u64 << m) as f32;
-        let t = ((ratio - lo) / lo).clamp(0.0, 1.0);
-        let a = at(m);
-        a + (at(m + 1) - a) * t
+        let t = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) - 1.0;
+        let a = self.at(m, p);
+        a + (self.at(m + 1, p) - a) * t
     }
 }
 
@@ -144,7 +153,13 @@ fn filter_axis(
     spacing: usize,
 ) -> (Vec<f32>, [usize; 3]) {
     let n = dims[axis];
-    let m = if n == 0 { 0 } else { (n - 1) / spacing + 1 };
+    // Samples from voxel 0's centre to at least the grid's far face (n − ½ voxels), so that a
+    // lookup anywhere in the density's box interpolates between samples.
+    let m = if n == 0 {
+        0
+    } else {
+        (n - 1).div_ceil(spacing) + 1
+    };
     let mut out_dims = dims;
     out_dims[axis] = m;
     // The tent's weights, the same for every output sample: 1 − |k|/width for |k| < width.
@@ -231,24 +246,30 @@ mod tests {
         let g = grid([19, 13, 11], |i, j, k| values[(k * 13 + j) * 19 + i]);
         let p = DensityPyramid::new(&g, 0.8);
         assert_eq!(p.levels(), 4);
+        let (lo, hi) = g.bounds();
+        let mut checked = 0;
         for m in 1..p.levels() {
-            let level = p.level(m).unwrap();
             let spacing = (1usize << m) / 2;
-            for k in 0..level.dims[2] {
-                for j in 0..level.dims[1] {
-                    for i in 0..level.dims[0] {
+            let [nx, ny, nz] = p.dims(m).unwrap();
+            for k in 0..nz {
+                for j in 0..ny {
+                    for i in 0..nx {
+                        let x = g.origin
+                            + Vec3::new(i as f32, j as f32, k as f32) * 0.1 * spacing as f32;
+                        if !(x.cmplt(hi).all() && x.cmpge(lo).all()) {
+                            continue; // samples beyond the far face, kept for interpolation only
+                        }
                         let want = direct(&g, [i * spacing, j * spacing, k * spacing], 1 << m);
-                        let got = f64::from(level.get(i, j, k));
-                        // f32 sums of at most 15 terms per axis: a few ulps of the values (≤ 4).
+                        // The lookup at the level's width and sample position returns the
+                        // sample: f32 sums of at most 15 terms per axis, a few ulps of values ≤ 4.
+                        let got = f64::from(p.sample(x, 0.1 * (1 << m) as f32));
                         assert!((got - want).abs() < 2e-5, "level {m} ({i},{j},{k})");
-                        // And the lookup at its width and position returns it.
-                        let x = level.centre(i, j, k);
-                        let s = f64::from(p.sample(x, 0.1 * (1 << m) as f32));
-                        assert!((s - want).abs() < 2e-5, "lookup level {m} ({i},{j},{k})");
+                        checked += 1;
                     }
                 }
             }
         }
+        assert!(checked > 19 * 13 * 11, "{checked}");
     }
 
     #[test]
@@ -268,10 +289,9 @@ mod tests {
         for _ in 0..500 {
             let x = r2.next_in(lo, hi);
             let w = r2.next_f32() * 0.1;
-            assert_eq!(
-                q.sample(x, w),
-                v.sample_voxel((x - v.origin) / v.voxel_size)
-            );
+            // The same trilinear interpolation, up to the rounding of its weights (values ≤ 3).
+            let want = v.sample_voxel((x - v.origin) / v.voxel_size);
+            assert!((q.sample(x, w) - want).abs() < 4e-6, "{x} {w}");
         }
     }
 
