@@ -64,7 +64,6 @@ impl MarchArgs {
                     Depths::Fitted
                 },
                 memory_budget: budget,
-                ..Default::default()
             },
             ..Default::default()
         };
