@@ -15,6 +15,14 @@ use lgh_core::glam::Vec3;
 
 use super::{transmittance, Ray, ShadowGrid, ROUND};
 
+/// Asks the CPU to bring `r`'s cache line into every level of the cache (SSE, baseline on
+/// x86-64: no feature check needed).
+#[inline(always)]
+pub(super) fn prefetch<T>(r: &T) {
+    // SAFETY: a prefetch is a hint that never faults, and `r` is a valid reference anyway.
+    unsafe { _mm_prefetch::<_MM_HINT_T0>((r as *const T).cast::<i8>()) }
+}
+
 /// Rays marched together, one per lane of a 256-bit register.
 const LANES: usize = 8;
 

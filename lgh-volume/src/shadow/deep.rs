@@ -404,20 +404,72 @@ impl CubeMaps {
     #[inline]
     #[must_use]
     pub fn transmittance(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> f32 {
-        let Some(l) = self.levels.get(level as usize) else {
-            return 1.0;
-        };
+        self.locate(x, level, index, centre)
+            .map_or(1.0, |at| self.interpolate(&at))
+    }
+
+    /// [`transmittance`](Self::transmittance) for each light (`centres` with their level and
+    /// index in `ids`) into `out`, bit for bit. The lights' texels are scattered over the maps,
+    /// so the loads are what costs: they are located a batch at a time and their cache lines
+    /// requested ahead of the interpolation, so that the memory system fetches a batch's lines
+    /// together instead of one after another.
+    pub fn transmittances(&self, x: Vec3, centres: &[Vec3], ids: &[(u8, u32)], out: &mut Vec<f32>) {
+        const BATCH: usize = 16;
+        out.clear();
+        out.reserve(centres.len());
+        for (centres, ids) in centres.chunks(BATCH).zip(ids.chunks(BATCH)) {
+            let mut found = [None; BATCH];
+            for ((f, &c), &(level, index)) in found.iter_mut().zip(centres).zip(ids) {
+                *f = self.locate(x, level, index, c);
+                if let Some(at) = f {
+                    let texels = &self.levels[at.level as usize].texels;
+                    let s = cube::side(at.cells);
+                    super::prefetch(texels, at.first);
+                    super::prefetch(texels, at.first + s);
+                }
+            }
+            out.extend(
+                found[..centres.len()]
+                    .iter()
+                    .map(|f| f.as_ref().map_or(1.0, |at| self.interpolate(at))),
+            );
+        }
+    }
+
+    /// Where the texels of light `index` of `level` that `x` reads are, or `None` for an
+    /// unshadowed light (no map, or `x` on the light).
+    #[inline]
+    fn locate(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> Option<Located> {
+        let l = self.levels.get(level as usize)?;
         let slot = l.slots.get(index as usize).copied().unwrap_or(NO_MAP);
         let v = x - centre;
         let d = v.length();
         if slot == NO_MAP || d.is_nan() || d <= 0.0 {
-            return 1.0;
+            return None;
         }
         let f = cube::footprint(v, slot.cells);
-        let map = &l.texels[slot.offset as usize..];
-        let q = d * l.inv_quarter;
+        Some(Located {
+            level,
+            cells: slot.cells,
+            first: slot.offset as usize + f.first,
+            tx: f.tx,
+            ty: f.ty,
+            q: d * l.inv_quarter,
+        })
+    }
+
+    /// The transmittance at a located lookup.
+    #[inline]
+    fn interpolate(&self, at: &Located) -> f32 {
+        let map = &self.levels[at.level as usize].texels;
+        let f = cube::Footprint {
+            first: at.first,
+            tx: at.tx,
+            ty: at.ty,
+        };
+        let q = at.q;
         let k = (q as usize).min(4);
-        let depth = |k: usize| cube::bilinear(&f, slot.cells, |t| f32::from(map[t][k]));
+        let depth = |k: usize| cube::bilinear(&f, at.cells, |t| f32::from(map[t][k]));
         let quantised = if k >= 4 {
             depth(3)
         } else {
@@ -427,6 +479,18 @@ impl CubeMaps {
         };
         (-quantised * (1.0 / QUANT)).exp()
     }
+}
+
+/// A lookup located in the maps: the first of its four texels (an index into its level's
+/// texels), the bilinear weights and the distance in quarters of the reach.
+#[derive(Clone, Copy, Debug)]
+struct Located {
+    level: u8,
+    cells: u32,
+    first: usize,
+    tx: f32,
+    ty: f32,
+    q: f32,
 }
 
 /// What tracing a texel ray needs.

@@ -111,14 +111,7 @@ impl Visibility {
             }
             Visibility::RayMarched(grid) => grid.transmittances(x, &lights.positions, out),
             Visibility::CubeMaps(maps) => {
-                out.clear();
-                out.extend(
-                    lights
-                        .positions
-                        .iter()
-                        .zip(&lights.ids)
-                        .map(|(&p, &(level, index))| maps.transmittance(x, level, index, p)),
-                );
+                maps.transmittances(x, &lights.positions, &lights.ids, out);
                 0
             }
         }
@@ -177,6 +170,18 @@ impl ShadowQuery {
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+
+/// Asks the CPU to bring `slice[index]`'s cache line in (a hint: nothing happens for an index
+/// out of range or on other CPUs). What the cube maps' lookups use to overlap their loads.
+#[inline(always)]
+fn prefetch<T>(slice: &[T], index: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(r) = slice.get(index) {
+        avx2::prefetch(r);
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (slice, index);
+}
 
 /// 2^23: a float in [−2^22, 2^22] plus this is rounded to the nearest integer, which the sum's
 /// low mantissa bits hold.
