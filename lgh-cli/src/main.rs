@@ -15,6 +15,7 @@ macro_rules! say {
 
 mod bench;
 mod bench_explosion;
+mod bench_table1;
 mod compare;
 mod demo;
 mod explosion;
@@ -70,6 +71,9 @@ enum BenchCommand {
     Core(bench::CoreBenchArgs),
     /// The explosion renderer: LGH at several α against brute force and the path tracer.
     Explosion(bench_explosion::ExplosionBenchArgs),
+    /// The paper's Table 1 for one procedural frame: lights, cube-map bytes and precompute
+    /// seconds per level, render seconds, against ray-marched and no shadows in the same run.
+    Table1(bench_table1::Table1Args),
 }
 
 /// The CLI's error: any library's typed error or a message, shown as one line by `main`.
@@ -119,6 +123,9 @@ fn main() {
         Command::Bench {
             which: BenchCommand::Explosion(a),
         } => bench_explosion::run(a),
+        Command::Bench {
+            which: BenchCommand::Table1(a),
+        } => bench_table1::run(a),
     };
     if let Err(e) = result {
         eprintln!("lgh: error: {e}");

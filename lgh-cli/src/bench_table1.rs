@@ -1,0 +1,197 @@
+//! `lgh bench table1`: the paper's Table 1 for one frame of the procedural explosion — lights
+//! per level, deep-shadow cube-map bytes per level, precompute and render seconds — and the same
+//! frame rendered with the other shadows (ray-marched, none) in the same run, so that the
+//! speed-ups are ratios of one machine's times. JSON on stdout (and `--out`), a markdown table
+//! with `--markdown`.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use lgh_volume::medium::framing_bounds;
+use lgh_volume::render::{Camera, Framing, MarchSettings};
+use lgh_volume::{procedural, ExplosionLights, Method, Shadows};
+use serde_json::{json, Value};
+
+use crate::output::{MarchArgs, Shadowing};
+
+/// Arguments of `lgh bench table1`.
+#[derive(Debug, clap::Args)]
+pub struct Table1Args {
+    /// Voxels per side of the procedural explosion (the paper's Fig. 8 frame has about 19M
+    /// voxels: 267).
+    #[arg(long, default_value_t = 128)]
+    pub resolution: usize,
+    /// Seconds after ignition.
+    #[arg(long, default_value_t = 0.5)]
+    pub time: f32,
+    /// Image width.
+    #[arg(long, default_value_t = 640)]
+    pub width: usize,
+    /// Image height.
+    #[arg(long, default_value_t = 360)]
+    pub height: usize,
+    /// The paper's α.
+    #[arg(long, default_value_t = 2.0)]
+    pub alpha: f32,
+    /// The frame is also rendered with these shadows, for the ratios (empty: none).
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "raymarch,none"
+    )]
+    pub compare: Vec<Shadows>,
+    #[command(flatten)]
+    pub march: MarchArgs,
+    /// Print a markdown table after the JSON.
+    #[arg(long)]
+    pub markdown: bool,
+    /// Write the JSON here (atomically) as well as to stdout.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Peak resident memory of this process so far, bytes (Linux; `None` elsewhere).
+fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    Some(line.split_whitespace().nth(1)?.parse::<u64>().ok()? * 1024)
+}
+
+/// Runs the benchmark.
+pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
+    crate::check_alpha(args.alpha)?;
+    lgh_volume::render::check_image_size(args.width, args.height)?;
+    let march = args.march.settings(crate::demo::DEMO_SHADOW_STEP)?;
+    let t = Instant::now();
+    let volume = procedural(args.resolution, args.time)?;
+    let medium = crate::demo::demo_medium();
+    let volume_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let lights = ExplosionLights::new(&[&volume], &medium)?;
+    let hierarchy_s = t.elapsed().as_secs_f64();
+    let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
+    let camera = Camera::frame(lo, hi, args.width, args.height)?;
+
+    // Each shadow choice: (name, precompute s, render s, image, cube maps' rows and bytes).
+    let mut runs = Vec::new();
+    let mut choices = vec![march.shadows];
+    choices.extend(args.compare.iter().filter(|&&s| s != march.shadows));
+    for shadows in choices {
+        let settings = MarchSettings { shadows, ..march };
+        let shadowing = Shadowing::prepare(
+            &lights,
+            Method::Lgh,
+            args.alpha,
+            &volume,
+            &medium,
+            &settings,
+            true,
+        )?;
+        let precompute = shadowing.seconds;
+        let table = shadowing.cube_maps().map(|m| m.table().to_vec());
+        let t = Instant::now();
+        let (image, stats) = shadowing.render(
+            &lights,
+            Method::Lgh,
+            args.alpha,
+            &volume,
+            &medium,
+            &camera,
+            &settings,
+            &|_| {},
+        )?;
+        let render = t.elapsed().as_secs_f64();
+        eprintln!(
+            "  {}: precompute {precompute:.2} s, render {render:.2} s",
+            shadows.name()
+        );
+        runs.push((shadows, precompute, render, image, table, stats));
+    }
+
+    let first = &runs[0];
+    let total = |r: &(Shadows, f64, f64, _, _, _)| r.1 + r.2;
+    let mut shadows = serde_json::Map::new();
+    for r in &runs {
+        let mut o = json!({
+            "precompute_seconds": r.1,
+            "render_seconds": r.2,
+            "total_seconds": total(r),
+            "lights_per_shading_point": r.5.lights_per_point(),
+        });
+        if r.0 != first.0 {
+            let err = lgh_image::compare(&first.3, &r.3).map(|e| e.rel_rmse);
+            o["rel_rmse_of_first_against_this"] = json!(err);
+            o["first_speedup"] = json!(total(r) / total(first));
+        }
+        shadows.insert(r.0.name().to_string(), o);
+    }
+    let levels: Vec<Value> = first.4.as_ref().map_or(Vec::new(), |table| {
+        table
+            .iter()
+            .map(|l| {
+                json!({
+                    "level": l.level,
+                    "lights": l.lights,
+                    "cells": l.cells,
+                    "texels": l.texels,
+                    "shadow_bytes": l.bytes,
+                    "precompute_seconds": l.seconds,
+                })
+            })
+            .collect()
+    });
+    let h = lights.hierarchy();
+    let lights_per_level: Vec<usize> = (0..=h.max_level())
+        .map(|l| h.level(l).iter().filter(|g| h.is_active(l, g)).count())
+        .collect();
+    let report = json!({
+        "scene": {
+            "kind": "procedural explosion",
+            "resolution": args.resolution,
+            "voxels": volume.density.data.len(),
+            "time": args.time,
+            "lights": lights.lit(),
+        },
+        "alpha": args.alpha,
+        "width": args.width,
+        "height": args.height,
+        "threads": rayon::current_num_threads(),
+        "volume_seconds": volume_s,
+        "hierarchy_seconds": hierarchy_s,
+        "lights_per_level": lights_per_level,
+        "shadows": shadows,
+        "first": first.0.name(),
+        "cube_maps": levels,
+        "shadow_bytes": first.4.as_ref().map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
+        "peak_memory_bytes": peak_memory(),
+    });
+    let text = serde_json::to_string_pretty(&report)?;
+    say!("{text}");
+    if let Some(out) = &args.out {
+        lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))?;
+    }
+    if args.markdown {
+        say!("");
+        say!("| level | lights | cube-map bytes | precompute s |");
+        say!("|---|---|---|---|");
+        for l in first.4.iter().flatten() {
+            say!(
+                "| S{} | {} | {:.1} MB | {:.2} |",
+                l.level,
+                l.lights,
+                l.bytes as f64 / 1e6,
+                l.seconds
+            );
+        }
+        for r in &runs {
+            say!(
+                "| {} | | precompute {:.1} s | render {:.1} s |",
+                r.0.name(),
+                r.1,
+                r.2
+            );
+        }
+    }
+    Ok(())
+}
