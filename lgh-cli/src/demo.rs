@@ -73,6 +73,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         ("alpha", args.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
+    let cpu0 = output::cpu_seconds();
     let shadowing = Shadowing::prepare(
         &lights,
         Method::Lgh,
@@ -82,6 +83,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         &march,
         args.quiet,
     )?;
+    let cpu1 = output::cpu_seconds();
     let mut extra = extra;
     extra.extend(shadowing.header());
     let shadows = shadowing.visibility.shadows();
@@ -111,6 +113,13 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         extra,
     )?;
     let stats = written.stats.unwrap_or_default();
+    let cpu2 = output::cpu_seconds();
+    let cpu = match (cpu0, cpu1, cpu2) {
+        (Some(a), Some(b), Some(c)) => {
+            format!(" (CPU: {:.1} s shadows, {:.1} s render)", b - a, c - b)
+        }
+        _ => String::new(),
+    };
 
     let h = lights.hierarchy();
     say!("lgh demo: a procedural explosion lit by its own hot voxels");
@@ -130,7 +139,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         output::say_cube_maps(table, cube_bytes, precompute_s)?;
     }
     say!(
-        "  render     {}x{}, shadows {}: {:.1} s ({:.1} s with the shadows' precompute), {} shading points, {:.1} lights each, {:.1} shadow samples per light",
+        "  render     {}x{}, shadows {}: {:.1} s ({:.1} s with the shadows' precompute){cpu}, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
         args.width,
         args.height,
         shadows.name(),

@@ -87,6 +87,19 @@ fn default_shadow_memory() -> u64 {
     available.map_or(cap, |a| a.min(cap))
 }
 
+/// CPU seconds this process has used so far (user + system, all threads), from
+/// `/proc/self/stat` (Linux; `None` elsewhere): what a time on a shared machine should be
+/// judged by next to the wall-clock seconds.
+pub fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which may hold spaces, so skip past its ')'): utime and
+    // stime are the 12th and 13th, in clock ticks of 1/100 s on Linux.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
+    Some(ticks as f64 / 100.0)
+}
+
 /// A frame's visibility made ready, with what it took: the cube maps' precompute is timed and
 /// shown apart from the render.
 pub struct Shadowing {

@@ -13,15 +13,9 @@ use core::arch::x86_64::*;
 
 use lgh_core::glam::Vec3;
 
+use super::deep::{CubeMaps, INV_QUANT};
+use super::lookup::{Slot, EXP2, NO_MAP};
 use super::{transmittance, Ray, ShadowGrid, ROUND};
-
-/// Asks the CPU to bring `r`'s cache line into every level of the cache (SSE, baseline on
-/// x86-64: no feature check needed).
-#[inline(always)]
-pub(super) fn prefetch<T>(r: &T) {
-    // SAFETY: a prefetch is a hint that never faults, and `r` is a valid reference anyway.
-    unsafe { _mm_prefetch::<_MM_HINT_T0>((r as *const T).cast::<i8>()) }
-}
 
 /// Rays marched together, one per lane of a 256-bit register.
 const LANES: usize = 8;
@@ -327,4 +321,250 @@ mod tests {
             assert!(got.iter().all(|b| (0..=max_base).contains(b)), "{got:?}");
         }
     }
+}
+
+/// [`CubeMaps::transmittances`] with AVX2, eight lights abreast: `false` (and nothing written)
+/// when this CPU lacks AVX2 or the maps are too large for 32-bit gather offsets. Each lane does
+/// exactly the operations of `lookup::quantised_depth` and `lookup::exp_neg`, so the results
+/// are the same bit for bit; the four texels of each lane come in through gathered loads.
+pub(super) fn cube_transmittances(
+    maps: &CubeMaps,
+    x: Vec3,
+    centres: &[Vec3],
+    ids: &[(u8, u32)],
+    out: &mut [f32],
+) -> bool {
+    let texels = maps.texels();
+    // Offsets are gathered in units of two bytes: 4 per texel, plus one, must fit an i32.
+    let fits = texels.len() >= 2 && texels.len() < (i32::MAX as usize) / 4 - 1;
+    if !fits
+        || !std::arch::is_x86_feature_detected!("avx2")
+        || out.len() != centres.len()
+        || ids.len() != centres.len()
+    {
+        return false;
+    }
+    let n = centres.len();
+    let whole = n - n % LANES;
+    // Groups of chunks: every chunk of a group is located and its texels' cache lines are
+    // requested, then the group's texels are gathered. The lookups of a shading point read
+    // lines scattered over the maps; requested together, their fetches overlap.
+    const GROUP: usize = 8;
+    let mut located = [None; GROUP];
+    for group in (0..whole).step_by(LANES * GROUP) {
+        let end = (group + LANES * GROUP).min(whole);
+        for (g, first) in (group..end).step_by(LANES).enumerate() {
+            let mut c = [[0.0f32; LANES]; 3];
+            let mut slots = [NO_MAP; LANES];
+            let mut inv_quarter = [0.0f32; LANES];
+            for l in 0..LANES {
+                let p = centres[first + l];
+                c[0][l] = p.x;
+                c[1][l] = p.y;
+                c[2][l] = p.z;
+                let (level, index) = ids[first + l];
+                (slots[l], inv_quarter[l]) = maps.slot_of(level, index);
+            }
+            // SAFETY: the CPU supports AVX2, checked above.
+            located[g] = Some(unsafe { locate8(texels, x, &c, &slots, &inv_quarter) });
+        }
+        for (g, first) in (group..end).step_by(LANES).enumerate() {
+            let at = located[g].take().expect("located above");
+            // SAFETY: the CPU supports AVX2, checked above; `at` was located in `texels`.
+            let v = unsafe { finish8(texels, &at) };
+            out[first..first + LANES].copy_from_slice(&v);
+        }
+    }
+    for i in whole..n {
+        let (level, index) = ids[i];
+        out[i] = maps.transmittance(x, level, index, centres[i]);
+    }
+    true
+}
+
+/// Eight lookups located: the two-byte index of each lane's first texel pair, the offsets to
+/// its neighbours, the interpolation weights and which lanes are valid (see [`locate8`]).
+#[derive(Clone, Copy)]
+struct Located8 {
+    base: __m256i,
+    side4: __m256i,
+    four: __m256i,
+    tx: __m256,
+    ty: __m256,
+    f: __m256,
+    k0: __m256,
+    valid: __m256,
+}
+
+/// The first half of eight lookups of `lookup::quantised_depth`: where each lane's texels are,
+/// lane by lane the same operations in the same order; their cache lines are requested.
+#[target_feature(enable = "avx2")]
+fn locate8(
+    texels: &[[u16; 4]],
+    x: Vec3,
+    c: &[[f32; LANES]; 3],
+    slots: &[Slot; LANES],
+    inv_quarter: &[f32; LANES],
+) -> Located8 {
+    let ld = |a: &[f32; LANES]| unsafe { _mm256_loadu_ps(a.as_ptr()) };
+    let zero = _mm256_setzero_ps();
+    let one = _mm256_set1_ps(1.0);
+    let vx = _mm256_sub_ps(_mm256_set1_ps(x.x), ld(&c[0]));
+    let vy = _mm256_sub_ps(_mm256_set1_ps(x.y), ld(&c[1]));
+    let vz = _mm256_sub_ps(_mm256_set1_ps(x.z), ld(&c[2]));
+    let d = _mm256_sqrt_ps(_mm256_add_ps(
+        _mm256_add_ps(_mm256_mul_ps(vx, vx), _mm256_mul_ps(vy, vy)),
+        _mm256_mul_ps(vz, vz),
+    ));
+    let offsets: [i32; LANES] = core::array::from_fn(|l| slots[l].offset as i32);
+    let cells_u: [i32; LANES] = core::array::from_fn(|l| slots[l].cells as i32);
+    let has_map: [i32; LANES] = core::array::from_fn(|l| -i32::from(slots[l] != NO_MAP));
+    let li = |a: &[i32; LANES]| unsafe { _mm256_loadu_si256(a.as_ptr().cast()) };
+    // Valid lanes: a map, d finite and > 0 (d < ∞ and d > 0 are both false for NaN).
+    let valid = _mm256_and_ps(
+        _mm256_castsi256_ps(li(&has_map)),
+        _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(d, zero),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(d, _mm256_set1_ps(f32::INFINITY)),
+        ),
+    );
+    let abs = |v: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), v);
+    let (ax, ay, az) = (abs(vx), abs(vy), abs(vz));
+    let x_major = _mm256_and_ps(
+        _mm256_cmp_ps::<_CMP_GE_OQ>(ax, ay),
+        _mm256_cmp_ps::<_CMP_GE_OQ>(ax, az),
+    );
+    let y_major = _mm256_andnot_ps(x_major, _mm256_cmp_ps::<_CMP_GE_OQ>(ay, az));
+    // blendv(a, b, m): b where m, else a. z-major by default, then y, then x.
+    let pick = |xv: __m256, yv: __m256, zv: __m256| {
+        _mm256_blendv_ps(_mm256_blendv_ps(zv, yv, y_major), xv, x_major)
+    };
+    let major = pick(vx, vy, vz);
+    let u = pick(vy, vz, vx);
+    let w = pick(vz, vx, vy);
+    let axis = _mm256_castps_si256(pick(
+        _mm256_castsi256_ps(_mm256_set1_epi32(0)),
+        _mm256_castsi256_ps(_mm256_set1_epi32(1)),
+        _mm256_castsi256_ps(_mm256_set1_epi32(2)),
+    ));
+    let negative = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LT_OQ>(major, zero));
+    // 2·axis + (major < 0): the mask is −1 where negative.
+    let face = _mm256_sub_epi32(_mm256_add_epi32(axis, axis), negative);
+    let inv = _mm256_div_ps(one, abs(major));
+    let cells_i = li(&cells_u);
+    let cells = _mm256_cvtepi32_ps(cells_i);
+    let half = _mm256_mul_ps(_mm256_set1_ps(0.5), cells);
+    let gx = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(u, inv), one), half);
+    let gy = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(w, inv), one), half);
+    let max = _mm256_sub_ps(cells, one);
+    // max(0) then min(max), as the scalar code: the same result for every non-NaN g.
+    let clampi = |g: __m256| _mm256_min_ps(_mm256_max_ps(g, zero), max);
+    let cxi = _mm256_cvttps_epi32(clampi(gx));
+    let cyi = _mm256_cvttps_epi32(clampi(gy));
+    let unit = |t: __m256| _mm256_min_ps(_mm256_max_ps(t, zero), one);
+    let tx = unit(_mm256_sub_ps(gx, _mm256_cvtepi32_ps(cxi)));
+    let ty = unit(_mm256_sub_ps(gy, _mm256_cvtepi32_ps(cyi)));
+    let side = _mm256_add_epi32(cells_i, _mm256_set1_epi32(1));
+    let first = _mm256_add_epi32(
+        li(&offsets),
+        _mm256_add_epi32(
+            _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(face, side), cyi), side),
+            cxi,
+        ),
+    );
+    let q = _mm256_min_ps(_mm256_mul_ps(d, ld(inv_quarter)), _mm256_set1_ps(4.0));
+    let k = _mm256_min_epi32(_mm256_cvttps_epi32(q), _mm256_set1_epi32(3));
+    let f = unit(_mm256_sub_ps(q, _mm256_cvtepi32_ps(k)));
+    let kk = _mm256_max_epi32(
+        _mm256_sub_epi32(k, _mm256_set1_epi32(1)),
+        _mm256_setzero_si256(),
+    );
+    let k0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(k, _mm256_setzero_si256()));
+    // Index of the pair (kk, kk + 1) of each corner, in two-byte units; invalid lanes read
+    // texel 0 (in bounds: there are at least two texels) and are discarded below.
+    let vi = _mm256_castps_si256(valid);
+    let base = _mm256_and_si256(_mm256_add_epi32(_mm256_slli_epi32::<2>(first), kk), vi);
+    let side4 = _mm256_and_si256(_mm256_slli_epi32::<2>(side), vi);
+    let four = _mm256_and_si256(_mm256_set1_epi32(4), vi);
+    // Request each lane's two texel rows (cy and cy + 1): a prefetch is a hint that never
+    // faults, and every index is inside `texels` anyway.
+    let mut rows = [[0i32; LANES]; 2];
+    // SAFETY: `rows` holds sixteen i32.
+    unsafe {
+        _mm256_storeu_si256(rows[0].as_mut_ptr().cast(), base);
+        _mm256_storeu_si256(rows[1].as_mut_ptr().cast(), _mm256_add_epi32(base, side4));
+    }
+    let bytes = texels.as_ptr().cast::<i8>();
+    for &i in rows.iter().flatten() {
+        _mm_prefetch::<_MM_HINT_T0>(bytes.wrapping_add(2 * i as usize));
+    }
+    Located8 {
+        base,
+        side4,
+        four,
+        tx,
+        ty,
+        f,
+        k0,
+        valid,
+    }
+}
+
+/// The second half of eight lookups: the texels gathered and interpolated, then `exp_neg`.
+#[target_feature(enable = "avx2")]
+fn finish8(texels: &[[u16; 4]], at: &Located8) -> [f32; LANES] {
+    let Located8 {
+        base,
+        side4,
+        four,
+        tx,
+        ty,
+        f,
+        k0,
+        valid,
+    } = *at;
+    let zero = _mm256_setzero_ps();
+    let one = _mm256_set1_ps(1.0);
+    let ptr = texels.as_ptr().cast::<i32>();
+    // SAFETY: every valid lane's four texels lie in its map (cx, cy ≤ R − 1, face ≤ 5), inside
+    // `texels`; a 4-byte read at a two-byte index i ≤ 4 len − 2 stays inside; invalid lanes
+    // read index 0..=4 + 4·side masked to 0.
+    let gather = |i: __m256i| unsafe { _mm256_i32gather_epi32::<2>(ptr, i) };
+    let pair = |g: __m256i| {
+        let a = _mm256_cvtepi32_ps(_mm256_and_si256(g, _mm256_set1_epi32(0xffff)));
+        let b = _mm256_cvtepi32_ps(_mm256_srli_epi32::<16>(g));
+        (_mm256_blendv_ps(a, zero, k0), _mm256_blendv_ps(b, a, k0))
+    };
+    let (l00, h00) = pair(gather(base));
+    let (l10, h10) = pair(gather(_mm256_add_epi32(base, four)));
+    let (l01, h01) = pair(gather(_mm256_add_epi32(base, side4)));
+    let (l11, h11) = pair(gather(_mm256_add_epi32(
+        _mm256_add_epi32(base, side4),
+        four,
+    )));
+    let lerp =
+        |a: __m256, b: __m256, t: __m256| _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t));
+    let lo = lerp(lerp(l00, l10, tx), lerp(l01, l11, tx), ty);
+    let hi = lerp(lerp(h00, h10, tx), lerp(h01, h11, tx), ty);
+    let tau = _mm256_mul_ps(lerp(lo, hi, f), _mm256_set1_ps(INV_QUANT));
+    // exp_neg(τ).
+    let z = _mm256_mul_ps(
+        _mm256_sub_ps(zero, tau),
+        _mm256_set1_ps(core::f32::consts::LOG2_E),
+    );
+    let n = _mm256_cvttps_epi32(z);
+    let fr = _mm256_sub_ps(z, _mm256_cvtepi32_ps(n));
+    let mut p = _mm256_set1_ps(EXP2[5]);
+    for c in [EXP2[4], EXP2[3], EXP2[2], EXP2[1], EXP2[0]] {
+        p = _mm256_add_ps(_mm256_mul_ps(p, fr), _mm256_set1_ps(c));
+    }
+    let e = _mm256_castsi256_ps(_mm256_add_epi32(
+        _mm256_castps_si256(p),
+        _mm256_slli_epi32::<23>(n),
+    ));
+    let v = _mm256_blendv_ps(one, e, valid);
+    let mut out = [0.0f32; LANES];
+    // SAFETY: `out` holds eight floats.
+    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
+    out
 }

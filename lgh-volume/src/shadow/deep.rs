@@ -41,6 +41,7 @@ use rayon::prelude::*;
 
 use super::cube;
 use super::empty::EmptySpace;
+use super::lookup::{self, Slot, NO_MAP};
 use super::prefilter::DensityPyramid;
 use crate::error::VolumeError;
 use crate::grid::DenseGrid;
@@ -142,34 +143,21 @@ struct Planned {
     cells: u32,
 }
 
-/// Where a light's map is: its first texel and its cells per face side.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Slot {
-    offset: u32,
-    cells: u32,
-}
-
-/// A light without a map (dark, or pruned: queries never return it).
-const NO_MAP: Slot = Slot {
-    offset: u32::MAX,
-    cells: 0,
-};
-
 /// One level's maps.
 #[derive(Clone, Debug)]
 struct Level {
     /// 4 / D: quarters of the reach per unit distance.
     inv_quarter: f32,
-    /// Each light's map, or [`NO_MAP`].
+    /// Each light's map in [`CubeMaps`]' texels, or [`NO_MAP`].
     slots: Vec<Slot>,
-    /// Quantised `τ` at the four depths, `6 (R + 1)²` texels per map.
-    texels: Vec<[u16; 4]>,
 }
 
 /// The deep-shadow cube maps of one frame's hierarchy at one α (see the module docs).
 #[derive(Clone, Debug)]
 pub struct CubeMaps {
     levels: Vec<Level>,
+    /// Every map of every level: quantised `τ` at the four depths, `6 (R + 1)²` texels a map.
+    texels: Vec<[u16; 4]>,
     table: Vec<LevelMaps>,
 }
 
@@ -294,7 +282,7 @@ impl CubeMaps {
         let plan = CubeMaps::plan(hierarchy, blending, density, settings);
         let needed = plan.bytes() + plan.pyramid_bytes;
         if needed > settings.memory_budget
-            || plan.levels.iter().any(|l| l.texels >= u64::from(u32::MAX))
+            || plan.levels.iter().map(|l| l.texels).sum::<u64>() >= u64::from(u32::MAX)
         {
             return Err(VolumeError::ShadowMemory {
                 needed,
@@ -323,23 +311,22 @@ impl CubeMaps {
         };
         let mut levels = Vec::new();
         let mut table = Vec::new();
+        let total: u64 = plan.levels.iter().map(|l| l.texels).sum();
+        let mut texels = vec![[0u16; 4]; total as usize];
+        let mut rest: &mut [[u16; 4]] = &mut texels;
+        let mut offset = 0usize;
         for (row, planned) in plan.levels.iter().zip(&plan.maps) {
             let t = Instant::now();
             let mut slots = vec![NO_MAP; hierarchy.level(row.level).len()];
-            let mut offset = 0usize;
+            // Each light's slice of the texels, in order.
+            let mut jobs = Vec::with_capacity(planned.len());
             for m in planned {
                 slots[m.index as usize] = Slot {
                     offset: offset as u32,
                     cells: m.cells,
                 };
-                offset += cube::texels(m.cells);
-            }
-            let mut texels = vec![[0u16; 4]; offset];
-            // Each light's slice of the texels, in order.
-            let mut rest: &mut [[u16; 4]] = &mut texels;
-            let mut jobs = Vec::with_capacity(planned.len());
-            for m in planned {
-                let (map, tail) = rest.split_at_mut(cube::texels(m.cells));
+                let (map, tail) = core::mem::take(&mut rest).split_at_mut(cube::texels(m.cells));
+                offset += map.len();
                 jobs.push((map, *m));
                 rest = tail;
             }
@@ -363,14 +350,17 @@ impl CubeMaps {
             levels.push(Level {
                 inv_quarter: 4.0 / row.reach,
                 slots,
-                texels,
             });
             table.push(LevelMaps {
                 seconds: t.elapsed().as_secs_f64(),
                 ..*row
             });
         }
-        Ok(CubeMaps { levels, table })
+        Ok(CubeMaps {
+            levels,
+            texels,
+            table,
+        })
     }
 
     /// Table 1's rows for these maps: lights, resolution, bytes and tracing seconds per level.
@@ -404,94 +394,51 @@ impl CubeMaps {
     #[inline]
     #[must_use]
     pub fn transmittance(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> f32 {
-        self.locate(x, level, index, centre)
-            .map_or(1.0, |at| self.interpolate(&at))
+        let (slot, inv_quarter) = self.slot(level, index);
+        lookup::quantised_depth(&self.texels, slot, inv_quarter, x, centre)
+            .map_or(1.0, |q| lookup::exp_neg(q * (1.0 / QUANT)))
     }
 
-    /// [`transmittance`](Self::transmittance) for each light (`centres` with their level and
-    /// index in `ids`) into `out`, bit for bit. The lights' texels are scattered over the maps,
-    /// so the loads are what costs: they are located a batch at a time and their cache lines
-    /// requested ahead of the interpolation, so that the memory system fetches a batch's lines
-    /// together instead of one after another.
-    pub fn transmittances(&self, x: Vec3, centres: &[Vec3], ids: &[(u8, u32)], out: &mut Vec<f32>) {
-        const BATCH: usize = 16;
-        out.clear();
-        out.reserve(centres.len());
-        for (centres, ids) in centres.chunks(BATCH).zip(ids.chunks(BATCH)) {
-            let mut found = [None; BATCH];
-            for ((f, &c), &(level, index)) in found.iter_mut().zip(centres).zip(ids) {
-                *f = self.locate(x, level, index, c);
-                if let Some(at) = f {
-                    let texels = &self.levels[at.level as usize].texels;
-                    let s = cube::side(at.cells);
-                    super::prefetch(texels, at.first);
-                    super::prefetch(texels, at.first + s);
-                }
-            }
-            out.extend(
-                found[..centres.len()]
-                    .iter()
-                    .map(|f| f.as_ref().map_or(1.0, |at| self.interpolate(at))),
-            );
-        }
-    }
-
-    /// Where the texels of light `index` of `level` that `x` reads are, or `None` for an
-    /// unshadowed light (no map, or `x` on the light).
+    /// Light `index` of `level`'s map and its level's 4 / reach ([`NO_MAP`] if it has none).
     #[inline]
-    fn locate(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> Option<Located> {
-        let l = self.levels.get(level as usize)?;
-        let slot = l.slots.get(index as usize).copied().unwrap_or(NO_MAP);
-        let v = x - centre;
-        let d = v.length();
-        if slot == NO_MAP || d.is_nan() || d <= 0.0 {
-            return None;
-        }
-        let f = cube::footprint(v, slot.cells);
-        Some(Located {
-            level,
-            cells: slot.cells,
-            first: slot.offset as usize + f.first,
-            tx: f.tx,
-            ty: f.ty,
-            q: d * l.inv_quarter,
+    fn slot(&self, level: u8, index: u32) -> (Slot, f32) {
+        self.levels.get(level as usize).map_or((NO_MAP, 0.0), |l| {
+            (
+                l.slots.get(index as usize).copied().unwrap_or(NO_MAP),
+                l.inv_quarter,
+            )
         })
     }
 
-    /// The transmittance at a located lookup.
+    /// [`transmittance`](Self::transmittance) for each light (`centres` with their level and
+    /// index in `ids`) into `out`, bit for bit: eight abreast with AVX2 where the CPU has it
+    /// (module `avx2`), one by one elsewhere.
+    pub fn transmittances(&self, x: Vec3, centres: &[Vec3], ids: &[(u8, u32)], out: &mut Vec<f32>) {
+        out.clear();
+        out.resize(centres.len(), 1.0);
+        #[cfg(target_arch = "x86_64")]
+        if super::avx2::cube_transmittances(self, x, centres, ids, out) {
+            return;
+        }
+        for ((o, &c), &(level, index)) in out.iter_mut().zip(centres).zip(ids) {
+            *o = self.transmittance(x, level, index, c);
+        }
+    }
+
+    /// The maps' texels and the slot and 4 / reach of each light of `ids` (for module `avx2`).
+    pub(super) fn texels(&self) -> &[[u16; 4]] {
+        &self.texels
+    }
+
+    /// What module `avx2` needs of light `(level, index)`: its slot and its level's 4 / reach.
     #[inline]
-    fn interpolate(&self, at: &Located) -> f32 {
-        let map = &self.levels[at.level as usize].texels;
-        let f = cube::Footprint {
-            first: at.first,
-            tx: at.tx,
-            ty: at.ty,
-        };
-        let q = at.q;
-        let k = (q as usize).min(4);
-        let depth = |k: usize| cube::bilinear(&f, at.cells, |t| f32::from(map[t][k]));
-        let quantised = if k >= 4 {
-            depth(3)
-        } else {
-            let lo = if k == 0 { 0.0 } else { depth(k - 1) };
-            let hi = depth(k);
-            lo + (hi - lo) * (q - k as f32)
-        };
-        (-quantised * (1.0 / QUANT)).exp()
+    pub(super) fn slot_of(&self, level: u8, index: u32) -> (Slot, f32) {
+        self.slot(level, index)
     }
 }
 
-/// A lookup located in the maps: the first of its four texels (an index into its level's
-/// texels), the bilinear weights and the distance in quarters of the reach.
-#[derive(Clone, Copy, Debug)]
-struct Located {
-    level: u8,
-    cells: u32,
-    first: usize,
-    tx: f32,
-    ty: f32,
-    q: f32,
-}
+/// Quantisation steps per unit of optical depth, for module `avx2`.
+pub(super) const INV_QUANT: f32 = 1.0 / QUANT;
 
 /// What tracing a texel ray needs.
 struct Tracer<'a> {
@@ -840,6 +787,50 @@ mod tests {
     }
 
     #[test]
+    fn batched_lookups_are_the_one_by_one_lookups_bit_for_bit() {
+        // Every level's lights, looked up from points all over the box and beyond, in batches of
+        // every length (AVX2 eights and the scalar rest), with lights without a map (index out
+        // of range, a level above the top), points on a light and non-finite points among them.
+        let v = crate::procedural(32, 0.5).unwrap();
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let lights = crate::ExplosionLights::new(&[&v], &m).unwrap();
+        let lgh = lights.hierarchy();
+        let b = lgh.blending(2.0).unwrap();
+        let maps = CubeMaps::build(lgh, &b, &v, &m, &settings(Depths::Fitted), &|_| {}).unwrap();
+        let (lo, hi) = v.density.bounds();
+        let mut rng = lgh_core::random::SplitMix64(12);
+        let mut all: Vec<(Vec3, (u8, u32))> = Vec::new();
+        for level in 0..=lgh.max_level() {
+            for (i, l) in lgh.level(level).iter().enumerate() {
+                all.push((l.position, (level, i as u32)));
+            }
+        }
+        all.push((Vec3::ZERO, (0, u32::MAX)));
+        all.push((Vec3::ZERO, (lgh.max_level() + 1, 0)));
+        let (mut shadowed, mut out) = (0, Vec::new());
+        for s in 0..300 {
+            let x = match s % 50 {
+                0 => Vec3::NAN,
+                1 => all[s].0,
+                _ => rng.next_in(lo - 0.2, hi + 0.2),
+            };
+            let count = (s * 13) % 70;
+            let batch: Vec<(Vec3, (u8, u32))> = (0..count)
+                .map(|i| all[(s * 977 + i * 31) % all.len()])
+                .collect();
+            let centres: Vec<Vec3> = batch.iter().map(|b| b.0).collect();
+            let ids: Vec<(u8, u32)> = batch.iter().map(|b| b.1).collect();
+            maps.transmittances(x, &centres, &ids, &mut out);
+            for (&(c, (level, index)), &t) in batch.iter().zip(&out) {
+                let want = maps.transmittance(x, level, index, c);
+                assert_eq!(t.to_bits(), want.to_bits(), "{x} {level} {index}");
+                shadowed += usize::from(t < 0.99);
+            }
+        }
+        assert!(shadowed > 500, "{shadowed}");
+    }
+
+    #[test]
     fn maps_do_not_depend_on_the_thread_count_and_oversized_plans_are_refused() {
         let v = crate::procedural(32, 0.5).unwrap();
         let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
@@ -859,8 +850,8 @@ mod tests {
         assert!(one.lights() > 100);
         for (a, b) in one.levels.iter().zip(&three.levels) {
             assert_eq!(a.slots, b.slots);
-            assert_eq!(a.texels, b.texels);
         }
+        assert_eq!(one.texels, three.texels);
         // The plan's bytes are what was built; a budget one byte short refuses before tracing.
         let plan = CubeMaps::plan(lgh, &b, &v.density, &settings(Depths::Fitted));
         assert_eq!(plan.bytes(), one.bytes());

@@ -28,6 +28,7 @@ use crate::medium::{Medium, Volume};
 pub mod cube;
 pub mod deep;
 mod empty;
+mod lookup;
 pub mod prefilter;
 
 pub use deep::{CubeMapPlan, CubeMapSettings, CubeMaps, Depths, LevelMaps};
@@ -170,18 +171,6 @@ impl ShadowQuery {
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
-
-/// Asks the CPU to bring `slice[index]`'s cache line in (a hint: nothing happens for an index
-/// out of range or on other CPUs). What the cube maps' lookups use to overlap their loads.
-#[inline(always)]
-fn prefetch<T>(slice: &[T], index: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(r) = slice.get(index) {
-        avx2::prefetch(r);
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (slice, index);
-}
 
 /// 2^23: a float in [−2^22, 2^22] plus this is rounded to the nearest integer, which the sum's
 /// low mantissa bits hold.
