@@ -469,7 +469,7 @@ impl Tracer<'_> {
                     let dir = cube::direction(face, i, j, cells).normalize();
                     let tau = self.trace(p, dir, s, r, reach);
                     map[(face * side + j) * side + i] =
-                        tau.map(|t| (t.clamp(0.0, TAU_MAX) * QUANT).round() as u16);
+                        tau.map(|t| (t.clamp(0.0, TAU_MAX) * QUANT + 0.5) as u16);
                 }
             }
         }
@@ -494,6 +494,7 @@ impl Tracer<'_> {
         let mut tau = 0.0f32;
         let mut at = [0.0f32; 4];
         let mut fit = Fit::default();
+        let mut look_again = 0.0f32;
         for (k, at_k) in at.iter_mut().enumerate() {
             let a = (k as f32 * quarter).max(t0);
             let b = ((k + 1) as f32 * quarter).min(t1);
@@ -510,17 +511,25 @@ impl Tracer<'_> {
                     // The lookup at width δ reads voxels within 3·max(δ, h) (the two levels'
                     // tents and their samples' spacing); δ only narrows along the ray, or stays
                     // below h. Clear that far and further: skip the samples within the margin.
-                    let margin = self.empty.clearance(x) - 3.0 * width.max(self.h0);
-                    if self.skip_empty && margin >= 0.0 {
-                        i += (margin / dt) as u32 + 1;
-                        continue;
+                    // In smoke, the next half block cannot be clear: look again after it.
+                    if self.skip_empty && d >= look_again {
+                        let margin = self.empty.clearance(x) - 3.0 * width.max(self.h0);
+                        if margin >= 0.0 {
+                            i += (margin / dt) as u32 + 1;
+                            continue;
+                        }
+                        look_again = d + 0.5 * self.empty.block();
                     }
                     let rho = self.pyramid.sample(x, width);
                     let dtau = self.kappa * rho * dt;
                     if self.depths == Depths::Fitted && rho > 0.0 {
                         // The sample stands for the step: τ at its middle, weight ρ·V²·dt.
                         let mid = tau + 0.5 * dtau;
-                        fit.add(d / quarter, mid, rho * (-2.0 * mid).exp() * dt);
+                        fit.add(
+                            d / quarter,
+                            mid,
+                            rho * lookup::exp_neg((2.0 * mid).min(80.0)) * dt,
+                        );
                     }
                     tau += dtau;
                     i += 1;

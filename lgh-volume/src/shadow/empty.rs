@@ -69,6 +69,12 @@ impl EmptySpace {
         }
     }
 
+    /// The side of a block, world units.
+    #[must_use]
+    pub fn block(&self) -> f32 {
+        self.block
+    }
+
     /// A distance around `x` (world units, ≥ 0) within which, in every direction, every voxel
     /// centre is empty: `(D − 1)` blocks for a block `D` blocks from the smoke (0 in or next to
     /// smoke, and for points outside the grid's blocks).
