@@ -1,5 +1,6 @@
 //! `lgh demo`: renders the embedded procedural explosion, lit by its own hot voxels through the
-//! lighting grid hierarchy with ray-marched shadows, to a linear EXR and a PNG beside it.
+//! lighting grid hierarchy with the paper's deep-shadow cube maps (`--shadows raymarch` for the
+//! exact reference), to a linear EXR and a PNG beside it.
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -11,15 +11,16 @@
 //!   explosion.
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
 //!   per-frame intensities, through the lighting grid hierarchy or brute force ([`Method`]).
-//! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: today
-//!   ray-marched or none); [`lighting`]: the one per-point lighting function,
-//!   [`Lights::incident`] (eq. 1 with `V`).
+//! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: the
+//!   paper's deep-shadow cube maps over prefiltered density (Sec. 4, eq. 6), ray-marched, or
+//!   none); [`lighting`]: the one per-point lighting function, [`Lights::incident`] (eq. 1
+//!   with `V`).
 //! - [`render`]: camera and ray marcher (emission + single scattering) and the one pixel loop;
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
 //! - [`error`]: [`VolumeError`], the crate's one error type.
 //!
-//! Deep-shadow cube maps and multiple scattering (Secs. 4, 5) are not written yet; they plug
-//! into [`Visibility`] and [`Lights::incident`]. The lighting itself lives in [`lgh_core`].
+//! Multiple scattering (Sec. 5) is not written yet; it plugs into [`Lights::incident`]. The
+//! lighting itself lives in [`lgh_core`].
 //!
 //! ```
 //! use lgh_volume::render::{Camera, Framing, MarchSettings};
