@@ -323,7 +323,14 @@ fn demo_renders_an_exr_and_a_png() {
     };
     assert_eq!(get("lgh:backend"), "lgh");
     assert_eq!(get("lgh:alpha"), "2");
-    assert_eq!(get("lgh:shadows"), "raymarch");
+    // The paper's deep-shadow cube maps by default, with their bytes and precompute time.
+    assert_eq!(get("lgh:shadows"), "cubemap");
+    assert!(get("lgh:shadow_bytes").parse::<u64>().unwrap() > 0);
+    assert!(get("lgh:shadow_precompute_seconds").parse::<f64>().unwrap() >= 0.0);
+    assert!(
+        text.contains("cube maps:") && text.contains("level  0:"),
+        "{text}"
+    );
     // The demo's own shadow step, and the camera step's default.
     assert_eq!(get("lgh:shadow_step_voxels"), "2");
     assert_eq!(get("lgh:step_voxels"), "1");
@@ -343,6 +350,17 @@ fn demo_renders_an_exr_and_a_png() {
         (vec!["demo", "--shadow-step", "0"], "shadow step"),
         (vec!["demo", "--step", "100"], "step 100"),
         (vec!["demo", "--step", "nan"], "step NaN"),
+        // Cube maps that would not fit the memory allowed them: refused before any tracing.
+        (
+            vec!["demo", "--alpha", "64"],
+            "cube maps at alpha 64 would need",
+        ),
+        (vec!["demo", "--shadow-memory", "0.001"], "cube maps"),
+        (vec!["demo", "--shadow-memory", "0"], "--shadow-memory 0"),
+        (
+            vec!["demo", "--shadow-memory", "nan"],
+            "--shadow-memory NaN",
+        ),
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
             .args(&bad)
