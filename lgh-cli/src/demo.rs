@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing};
-use lgh_volume::{procedural, ExplosionLights, Medium, Method};
+use lgh_volume::{explosion, ExplosionLights, Medium, Method};
 
 use crate::output::{self, MarchArgs, Shadowing};
 
@@ -56,7 +56,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP)?;
     let t = Instant::now();
-    let volume = procedural(args.resolution, args.time)?;
+    let volume = explosion(args.resolution, args.time)?;
     let medium = demo_medium();
     let lights = ExplosionLights::new(&[&volume], &medium)?;
     let setup_s = t.elapsed().as_secs_f64();

@@ -69,5 +69,5 @@ pub use grid::DenseGrid;
 pub use lighting::Lights;
 pub use lights::{ExplosionLights, Method};
 pub use medium::{EmissionModel, Medium, Volume};
-pub use procedural::procedural;
+pub use procedural::{explosion, procedural, Explosion};
 pub use shadow::{Shadows, Visibility};
