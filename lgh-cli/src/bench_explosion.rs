@@ -14,9 +14,9 @@ use std::path::PathBuf;
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_volume::cache::{self, GridNames};
+use lgh_volume::explosion;
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
-use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::{ExplosionLights, Method};
 use serde_json::{json, Value};
@@ -24,7 +24,7 @@ use serde_json::{json, Value};
 /// Arguments of `lgh bench explosion`.
 #[derive(Debug, clap::Args)]
 pub struct ExplosionBenchArgs {
-    /// Scenes: p128 and p256 (the procedural explosion at t = 0.5 s), fire56 (the dev Blender
+    /// Scenes: p128 and p256 (the demo's procedural explosion at t = 0.5 s), fire56 (the dev Blender
     /// frame 0056 from ../shared/data, skipped with a message when absent).
     #[arg(long, value_delimiter = ',', default_value = "p128,p256,fire56")]
     pub scenes: Vec<String>,
@@ -66,8 +66,8 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Erro
     let demo = crate::demo::demo_medium();
     Ok(Some(match key {
         "p128" | "p256" => Scene {
-            name: format!("procedural_{}", &key[1..]),
-            volume: procedural(key[1..].parse().expect("p128 or p256"), 0.5)?,
+            name: format!("explosion_{}", &key[1..]),
+            volume: explosion(key[1..].parse().expect("p128 or p256"), 0.5)?,
             medium: demo,
             up: Up::Y,
         },

@@ -1,4 +1,4 @@
-//! `lgh bench table1`: the paper's Table 1 for one frame of the procedural explosion — lights
+//! `lgh bench table1`: the paper's Table 1 for one frame of the procedural explosion (the demo's scene, [`lgh_volume::procedural::explosion`]) — lights
 //! per level, deep-shadow cube-map bytes per level, precompute and render seconds — and the same
 //! frame rendered with the other shadows (ray-marched, none) in the same run, so that the
 //! speed-ups are ratios of one machine's times. JSON on stdout (and `--out`), a markdown table
@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::{procedural, ExplosionLights, Method, Shadows};
+use lgh_volume::{explosion, ExplosionLights, Method, Shadows};
 use serde_json::{json, Value};
 
 use crate::output::{MarchArgs, Shadowing};
@@ -64,7 +64,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     lgh_volume::render::check_image_size(args.width, args.height)?;
     let march = args.march.settings(crate::demo::DEMO_SHADOW_STEP)?;
     let t = Instant::now();
-    let volume = procedural(args.resolution, args.time)?;
+    let volume = explosion(args.resolution, args.time)?;
     let medium = crate::demo::demo_medium();
     let volume_s = t.elapsed().as_secs_f64();
     let t = Instant::now();

@@ -314,8 +314,9 @@ pub fn header_attributes<'a>(
     attrs
 }
 
-/// Writes the EXR (with `attrs` in its header) and the PNG beside it, tone-mapped at `exposure`
-/// (`None`: automatic); returns the PNG's path.
+/// Writes the EXR (with `attrs` in its header, linear) and the PNG beside it, tone-mapped with
+/// the filmic curve at `exposure` (`None`: automatic), which keeps a fire's highlights apart;
+/// returns the PNG's path.
 pub fn write_exr_png(
     out: &Path,
     image: &Image,
@@ -325,6 +326,6 @@ pub fn write_exr_png(
     let png = out.with_extension("png");
     lgh_image::write_exr(out, image, attrs)?;
     let exposure = exposure.unwrap_or_else(|| lgh_image::auto_exposure(image));
-    lgh_image::write_png(&png, image, exposure)?;
+    lgh_image::write_png_with(&png, image, exposure, lgh_image::ToneCurve::Filmic)?;
     Ok(png)
 }

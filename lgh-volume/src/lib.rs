@@ -8,7 +8,7 @@
 //!   adaptive-domain offset) with Blender's grid names; [`grid`]: the dense grids.
 //! - [`medium`]: one frame's density and temperature ([`Volume`]) and how they absorb, scatter
 //!   and emit ([`Medium`]: Planck's or Blender's emission); [`procedural`](mod@procedural): the embedded
-//!   explosion.
+//!   explosions ([`explosion`], the demo's, and the older [`procedural`](fn@procedural)).
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
 //!   per-frame intensities, through the lighting grid hierarchy or brute force ([`Method`]).
 //! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: the
@@ -70,5 +70,5 @@ pub use grid::DenseGrid;
 pub use lighting::Lights;
 pub use lights::{ExplosionLights, Method};
 pub use medium::{EmissionModel, Medium, Volume};
-pub use procedural::procedural;
+pub use procedural::{explosion, procedural, Explosion};
 pub use shadow::{Shadows, Visibility};
