@@ -1,8 +1,8 @@
 //! `lgh bench table1`: the paper's Table 1 for one frame of the procedural explosion (the
 //! demo's scene, [`lgh_volume::procedural::explosion`]) — lights per level, deep-shadow
-//! cube-map bytes per level, precompute and render seconds — and the same frame rendered with the other shadows (ray-marched, none) in the same run, so that the
-//! speed-ups are ratios of one machine's times. JSON on stdout (and `--out`), a markdown table
-//! with `--markdown`.
+//! cube-map bytes per level, precompute and render seconds — and the same frame rendered with
+//! the other shadows (ray-marched, none) in the same run, so that the speed-ups are ratios of
+//! one machine's times. JSON on stdout (and `--out`), a markdown table with `--markdown`.
 
 use std::path::PathBuf;
 use std::time::Instant;
