@@ -3,9 +3,10 @@
 //! in how each light's visibility is found.
 
 use lgh_image::Image;
-use lgh_volume::medium::{Medium, Volume};
+use lgh_volume::cache::{self, GridNames};
+use lgh_volume::medium::{EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
-use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
 use lgh_volume::shadow::{CubeMapSettings, Depths};
 use lgh_volume::{ExplosionLights, Method};
 
@@ -144,21 +145,12 @@ fn flicker(a: &[Image], r: &[Image]) -> f64 {
     sum / (a.len() - 1) as f64 / mean_r
 }
 
-/// The flicker comparison on 7 frames of the procedural explosion, 1/25 s apart: the
-/// hierarchy at α = 2 with ray-marched shadows, with cube maps, and with cube maps of coarse
-/// lights as points, each against brute force with ray-marched shadows. Slow (brute force on
-/// every frame): `cargo test --release -p lgh-volume --test cube_maps -- --ignored --nocapture`.
-#[test]
-#[ignore]
-fn flicker_of_cube_map_shadows_on_a_procedural_sequence() {
-    let m = medium();
-    let frames: Vec<Volume> = (0..7)
-        .map(|i| procedural(48, 0.5 + i as f32 / 25.0).unwrap())
-        .collect();
+/// The hierarchy at α = 2 over `frames` with ray-marched shadows, with cube maps, and with cube
+/// maps of coarse lights as points: the flicker of each against brute force with ray-marched
+/// shadows (the exact answer of the same light model).
+fn flicker_of_variants(frames: &[Volume], m: &Medium, camera: &Camera) -> [f64; 3] {
     let refs: Vec<&Volume> = frames.iter().collect();
-    let mut lights = ExplosionLights::new(&refs, &m).unwrap();
-    let bounds = lgh_volume::medium::framing_bounds(&refs).unwrap();
-    let camera = Camera::frame(bounds.0, bounds.1, 48, 27).unwrap();
+    let mut lights = ExplosionLights::new(&refs, m).unwrap();
     let march = |shadows, prefilter| MarchSettings {
         shadows,
         cube_maps: CubeMapSettings {
@@ -186,21 +178,37 @@ fn flicker_of_cube_map_shadows_on_a_procedural_sequence() {
         ),
     ];
     let mut images: Vec<Vec<Image>> = vec![Vec::new(); variants.len()];
-    for f in &frames {
-        lights.set_frame(f, &m).unwrap();
+    for f in frames {
+        lights.set_frame(f, m).unwrap();
         for (k, (_, method, settings)) in variants.iter().enumerate() {
             let img = lights
-                .render(*method, 2.0, f, &m, &camera, settings, &|_| {})
+                .render(*method, 2.0, f, m, camera, settings, &|_| {})
                 .unwrap()
                 .0;
             images[k].push(img);
         }
     }
-    let reference = &images[3];
-    let f: Vec<f64> = (0..3).map(|k| flicker(&images[k], reference)).collect();
+    let f = [0, 1, 2].map(|k| flicker(&images[k], &images[3]));
     for (k, (name, _, _)) in variants.iter().take(3).enumerate() {
         eprintln!("{name}: flicker {:.6}", f[k]);
     }
+    f
+}
+
+/// The flicker comparison on 7 frames of the procedural explosion, 1/25 s apart. Slow
+/// (brute force on every frame):
+/// `cargo test --release -p lgh-volume --test cube_maps -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn flicker_of_cube_map_shadows_on_a_procedural_sequence() {
+    let m = medium();
+    let frames: Vec<Volume> = (0..7)
+        .map(|i| procedural(48, 0.5 + i as f32 / 25.0).unwrap())
+        .collect();
+    let refs: Vec<&Volume> = frames.iter().collect();
+    let bounds = lgh_volume::medium::framing_bounds(&refs).unwrap();
+    let camera = Camera::frame(bounds.0, bounds.1, 48, 27).unwrap();
+    let f = flicker_of_variants(&frames, &m, &camera);
     // The bound: cube maps flicker at most 10% more than ray-marched shadows.
     assert!(
         f[1] <= 1.1 * f[0],
@@ -208,4 +216,75 @@ fn flicker_of_cube_map_shadows_on_a_procedural_sequence() {
         f[1],
         f[0]
     );
+}
+
+/// The same on the dev Blender fire's frames 50–56 (skipped without `../shared/data`), with
+/// Blender's emission and smoke 200× denser than Blender's default (tests/explosion.rs), so
+/// that the shadows matter.
+#[test]
+#[ignore]
+fn flicker_of_cube_map_shadows_on_the_real_fire() {
+    let Some(paths) = (50..=56)
+        .map(lgh_tests::fire_frame)
+        .collect::<Option<Vec<_>>>()
+    else {
+        return;
+    };
+    let frames = cache::load(&paths, &GridNames::default(), true).unwrap();
+    let m = fire_medium();
+    let refs: Vec<&Volume> = frames.iter().collect();
+    let (lo, hi) = lgh_volume::medium::framing_bounds(&refs).unwrap();
+    let camera = Camera::frame_up(lo, hi, 32, 20, Up::Z).unwrap();
+    let f = flicker_of_variants(&frames, &m, &camera);
+    assert!(
+        f[1] <= 1.1 * f[0],
+        "cube maps {} against ray-marched {}",
+        f[1],
+        f[0]
+    );
+}
+
+/// Blender's emission with smoke 200× denser than its default (as tests/explosion.rs).
+fn fire_medium() -> Medium {
+    Medium::new(100.0, 100.0, 1.0, 800.0)
+        .unwrap()
+        .with_temperature_scale(1000.0)
+        .unwrap()
+        .with_model(EmissionModel::Blender)
+}
+
+#[test]
+fn cube_map_shadows_match_ray_marched_shadows_on_a_real_frame() {
+    let Some(path) = lgh_tests::fire_frame(56) else {
+        return;
+    };
+    let v = cache::load(&[path], &GridNames::default(), true)
+        .unwrap()
+        .remove(0);
+    let m = fire_medium();
+    let lights = ExplosionLights::new(&[&v], &m).unwrap();
+    let (lo, hi) = v.active_bounds().unwrap();
+    let camera = Camera::frame_up(lo, hi, 32, 20, Up::Z).unwrap();
+    let settings = |shadows| MarchSettings {
+        shadows,
+        ..Default::default()
+    };
+    let render = |shadows| {
+        lights
+            .render(
+                Method::Lgh,
+                2.0,
+                &v,
+                &m,
+                &camera,
+                &settings(shadows),
+                &|_| {},
+            )
+            .unwrap()
+            .0
+    };
+    let (cube, marched) = (render(Shadows::CubeMap), render(Shadows::RayMarch));
+    let whole = lgh_image::compare(&cube, &marched).unwrap().rel_rmse;
+    eprintln!("fire frame 0056: cube maps against ray-marched shadows, relative RMSE {whole:.5}");
+    assert!(whole < WHOLE_IMAGE, "{whole}");
 }
