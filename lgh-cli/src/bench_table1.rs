@@ -136,6 +136,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
                     "cells": l.cells,
                     "texels": l.texels,
                     "shadow_bytes": l.bytes,
+                    "density_samples": l.samples,
                     "precompute_seconds": l.seconds,
                 })
             })

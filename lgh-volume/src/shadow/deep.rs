@@ -105,6 +105,8 @@ pub struct LevelMaps {
     pub reach: f32,
     /// Bytes of the level's maps and index.
     pub bytes: u64,
+    /// Density samples taken tracing them (0 in a plan).
+    pub samples: u64,
     /// Seconds spent tracing them (0 in a plan).
     pub seconds: f64,
 }
@@ -246,6 +248,7 @@ impl CubeMaps {
                 texels,
                 reach,
                 bytes: texels * 8 + hierarchy.level(level).len() as u64 * 8,
+                samples: 0,
                 seconds: 0.0,
             });
             maps.push(planned);
@@ -331,6 +334,7 @@ impl CubeMaps {
                 rest = tail;
             }
             let r = blending.radius(row.level);
+            let mut samples = 0u64;
             // Batches of about a million texels, so that progress is reported as the work goes
             // (the maps of a batch are traced in parallel; each map depends only on its light).
             let mut jobs = jobs.into_iter().peekable();
@@ -342,9 +346,10 @@ impl CubeMaps {
                     batch.push(job);
                 }
                 let n = batch.len();
-                batch.into_par_iter().for_each(|(map, m)| {
-                    tracer.trace_map(map, m.centre, m.size, r, row.reach, m.cells);
-                });
+                samples += batch
+                    .into_par_iter()
+                    .map(|(map, m)| tracer.trace_map(map, m.centre, m.size, r, row.reach, m.cells))
+                    .sum::<u64>();
                 progress(n);
             }
             levels.push(Level {
@@ -352,6 +357,7 @@ impl CubeMaps {
                 slots,
             });
             table.push(LevelMaps {
+                samples,
                 seconds: t.elapsed().as_secs_f64(),
                 ..*row
             });
@@ -460,19 +466,31 @@ struct Tracer<'a> {
 }
 
 impl Tracer<'_> {
-    /// Traces the map of the light at `p` of size `s`, blending radius `r`, depths to `reach`.
-    fn trace_map(&self, map: &mut [[u16; 4]], p: Vec3, s: f32, r: f32, reach: f32, cells: u32) {
+    /// Traces the map of the light at `p` of size `s`, blending radius `r`, depths to `reach`;
+    /// returns the density samples taken.
+    fn trace_map(
+        &self,
+        map: &mut [[u16; 4]],
+        p: Vec3,
+        s: f32,
+        r: f32,
+        reach: f32,
+        cells: u32,
+    ) -> u64 {
         let side = cube::side(cells);
+        let mut samples = 0u64;
         for face in 0..6 {
             for j in 0..side {
                 for i in 0..side {
                     let dir = cube::direction(face, i, j, cells).normalize();
-                    let tau = self.trace(p, dir, s, r, reach);
+                    let (tau, n) = self.trace(p, dir, s, r, reach);
+                    samples += u64::from(n);
                     map[(face * side + j) * side + i] =
                         tau.map(|t| (t.clamp(0.0, TAU_MAX) * QUANT + 0.5) as u16);
                 }
             }
         }
+        samples
     }
 
     /// The filter width `δ(d)` of eq. 6 ([`filter_width`]).
@@ -486,10 +504,11 @@ impl Tracer<'_> {
     /// inside the density's box, in steps of `max(min_step, δ/2)`. Samples in empty space are
     /// jumped over (they would add exactly 0); once `τ` passes [`TAU_MAX`] the rest of the ray
     /// is not traced (every later depth is stored as `TAU_MAX` anyway).
-    fn trace(&self, p: Vec3, dir: Vec3, s: f32, r: f32, reach: f32) -> [f32; 4] {
+    fn trace(&self, p: Vec3, dir: Vec3, s: f32, r: f32, reach: f32) -> ([f32; 4], u32) {
         let Some((t0, t1)) = crate::grid::slab(p, dir, self.lo, self.hi) else {
-            return [0.0; 4];
+            return ([0.0; 4], 0);
         };
+        let mut samples = 0u32;
         let quarter = reach / 4.0;
         let mut tau = 0.0f32;
         let mut at = [0.0f32; 4];
@@ -511,16 +530,18 @@ impl Tracer<'_> {
                     // The lookup at width δ reads voxels within 3·max(δ, h) (the two levels'
                     // tents and their samples' spacing); δ only narrows along the ray, or stays
                     // below h. Clear that far and further: skip the samples within the margin.
-                    // In smoke, the next half block cannot be clear: look again after it.
+                    // In or near smoke: look again two blocks further on (a clear stretch shorter
+                    // than that is sampled, which only costs time).
                     if self.skip_empty && d >= look_again {
                         let margin = self.empty.clearance(x) - 3.0 * width.max(self.h0);
                         if margin >= 0.0 {
                             i += (margin / dt) as u32 + 1;
                             continue;
                         }
-                        look_again = d + 0.5 * self.empty.block();
+                        look_again = d + 2.0 * self.empty.block();
                     }
                     let rho = self.pyramid.sample(x, width);
+                    samples += 1;
                     let dtau = self.kappa * rho * dt;
                     if self.depths == Depths::Fitted && rho > 0.0 {
                         // The sample stands for the step: τ at its middle, weight ρ·V²·dt.
@@ -540,10 +561,11 @@ impl Tracer<'_> {
             }
             *at_k = tau;
         }
-        match self.depths {
+        let depths = match self.depths {
             Depths::Sampled => at,
             Depths::Fitted => fit.solve(at, 1e-6 * quarter),
-        }
+        };
+        (depths, samples)
     }
 }
 
@@ -787,8 +809,8 @@ mod tests {
             let dir = rng.next_in(Vec3::splat(-1.0), Vec3::splat(1.0)).normalize();
             let s = [0.0, 0.05, 0.3][i % 3];
             let r = [0.25, 0.5, 1.0][i % 3];
-            let a = with.trace(p, dir, s, r, 2.0 * r);
-            let b = without.trace(p, dir, s, r, 2.0 * r);
+            let a = with.trace(p, dir, s, r, 2.0 * r).0;
+            let b = without.trace(p, dir, s, r, 2.0 * r).0;
             assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "{p} {dir}");
             shadowed += usize::from(a[3] > 0.0);
         }
