@@ -8,7 +8,7 @@ use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing};
 use lgh_volume::{procedural, ExplosionLights, Medium, Method};
 
-use crate::output::{self, MarchArgs, Shadowing};
+use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
@@ -33,6 +33,8 @@ pub struct DemoArgs {
     pub alpha: f32,
     #[command(flatten)]
     pub march: MarchArgs,
+    #[command(flatten)]
+    pub scatter: ScatterArgs,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -55,6 +57,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     lgh_volume::render::check_image_size(args.width, args.height)?;
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP)?;
+    args.scatter.check()?;
     let t = Instant::now();
     let volume = procedural(args.resolution, args.time)?;
     let medium = demo_medium();
@@ -73,8 +76,20 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         ("alpha", args.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
-    let shadowing = Shadowing::prepare(
+    let scatter = Scatter::run(
+        &args.scatter,
         &lights,
+        Method::Lgh,
+        args.alpha,
+        &volume,
+        &medium,
+        &march,
+        &camera,
+        args.quiet,
+    )?;
+    let render_lights = scatter.lights(&lights);
+    let shadowing = Shadowing::prepare(
+        render_lights,
         Method::Lgh,
         args.alpha,
         &volume,
@@ -84,6 +99,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     )?;
     let mut extra = extra;
     extra.extend(shadowing.header());
+    extra.extend(scatter.header());
     let shadows = shadowing.visibility.shadows();
     let precompute_s = shadowing.seconds;
     let cube_maps = shadowing.cube_maps().map(|m| m.table().to_vec());
@@ -91,7 +107,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     let written = output::render_and_write(
         |progress| {
             let (image, stats) = shadowing.render(
-                &lights,
+                render_lights,
                 Method::Lgh,
                 args.alpha,
                 &volume,
@@ -126,6 +142,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         h.h1(),
         args.alpha
     );
+    scatter.say()?;
     if let Some(table) = &cube_maps {
         output::say_cube_maps(table, cube_bytes, precompute_s)?;
     }
