@@ -10,7 +10,7 @@ use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing};
 use lgh_volume::{explosion, ExplosionLights, Medium, Method};
 
-use crate::output::{self, MarchArgs, Shadowing};
+use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
@@ -35,6 +35,8 @@ pub struct DemoArgs {
     pub alpha: f32,
     #[command(flatten)]
     pub march: MarchArgs,
+    #[command(flatten)]
+    pub scatter: ScatterArgs,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -58,6 +60,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     lgh_volume::render::check_image_size(args.width, args.height)?;
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP)?;
+    args.scatter.check()?;
     let t = Instant::now();
     let volume = explosion(args.resolution, args.time)?;
     let medium = demo_medium();
@@ -76,9 +79,21 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         ("alpha", args.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
+    let scatter = Scatter::run(
+        &args.scatter,
+        &lights,
+        Method::Lgh,
+        args.alpha,
+        &volume,
+        &medium,
+        &march,
+        &camera,
+        args.quiet,
+    )?;
+    let render_lights = scatter.lights(&lights);
     let cpu0 = output::cpu_seconds();
     let shadowing = Shadowing::prepare(
-        &lights,
+        render_lights,
         Method::Lgh,
         args.alpha,
         &volume,
@@ -89,6 +104,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     let cpu1 = output::cpu_seconds();
     let mut extra = extra;
     extra.extend(shadowing.header());
+    extra.extend(scatter.header());
     let shadows = shadowing.visibility.shadows();
     let precompute_s = shadowing.seconds;
     let cube_maps = shadowing.cube_maps().map(|m| m.table().to_vec());
@@ -96,7 +112,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     let written = output::render_and_write(
         |progress| {
             let (image, stats) = shadowing.render(
-                &lights,
+                render_lights,
                 Method::Lgh,
                 args.alpha,
                 &volume,
@@ -138,6 +154,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         h.h1(),
         args.alpha
     );
+    scatter.say()?;
     if let Some(table) = &cube_maps {
         output::say_cube_maps(table, cube_bytes, precompute_s)?;
     }

@@ -11,7 +11,7 @@ use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::{ExplosionLights, Method};
 
-use crate::output::{self, MarchArgs, Shadowing};
+use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 use crate::progress;
 
 /// The renderer behind the image (`--backend`): the ray marcher with the library's
@@ -104,6 +104,8 @@ pub struct ExplosionArgs {
     pub alpha: f32,
     #[command(flatten)]
     pub march: MarchArgs,
+    #[command(flatten)]
+    pub scatter: ScatterArgs,
     /// Paths per pixel (backend pathtrace).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
@@ -188,6 +190,13 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
     let march = args
         .march
         .settings(MarchSettings::default().shadow_step_voxels)?;
+    args.scatter.check()?;
+    if args.backend == BackendArg::Pathtrace && args.scatter.scatter_depth > 0 {
+        return Err(
+            "--scatter-depth is the ray marcher's: the path tracer scatters up to --max-scatter times"
+                .into(),
+        );
+    }
     if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
         return Err(format!("--albedo {} must be in 0..=1", args.albedo).into());
     }
@@ -323,15 +332,33 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
                 (None, "pathtrace")
             }
         };
-        let shadowing = match (&lights, method) {
+        let (shadowing, scatter) = match (&lights, method) {
             (Some(lights), Some(method)) => {
+                let scatter = Scatter::run(
+                    &args.scatter,
+                    lights,
+                    method,
+                    args.alpha,
+                    volume,
+                    &medium,
+                    &march,
+                    &camera,
+                    args.quiet,
+                )?;
                 let s = Shadowing::prepare(
-                    lights, method, args.alpha, volume, &medium, &march, args.quiet,
+                    scatter.lights(lights),
+                    method,
+                    args.alpha,
+                    volume,
+                    &medium,
+                    &march,
+                    args.quiet,
                 )?;
                 extra.extend(s.header());
-                Some(s)
+                extra.extend(scatter.header());
+                (Some(s), Some(scatter))
             }
-            _ => None,
+            _ => (None, None),
         };
         let precompute_s = shadowing.as_ref().map_or(0.0, |s| s.seconds);
         let cube_mb = shadowing
@@ -340,6 +367,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             .map(|m| m.bytes() as f64 / 1e6);
         let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, method, shadowing) {
             (Some(lights), Some(method), Some(shadowing)) => {
+                let lights = scatter.as_ref().map_or(lights, |s| s.lights(lights));
                 let (image, stats) = shadowing.render(
                     lights, method, args.alpha, volume, &medium, &camera, &march, progress,
                 )?;
@@ -379,6 +407,9 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             out.display(),
             written.png.display()
         );
+        if let Some(s) = &scatter {
+            s.say()?;
+        }
     }
     Ok(())
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use lgh_image::Image;
 use lgh_volume::render::{Camera, MarchSettings, Marcher, RenderStats};
+use lgh_volume::scattering::{self, ScatterPlan, Scattered, Shares};
 use lgh_volume::shadow::{CubeMapSettings, CubeMaps, Depths, LevelMaps};
 use lgh_volume::{ExplosionLights, Medium, Method, Shadows, Visibility, Volume};
 
@@ -69,6 +70,186 @@ impl MarchArgs {
         };
         settings.check()?;
         Ok(settings)
+    }
+}
+
+/// Multiple scattering (paper Sec. 5), shared by the render commands.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ScatterArgs {
+    /// Depths of scattered light (paper Sec. 5): 0 is single scattering; n adds lights for
+    /// light scattered 1..=n times, so paths of up to n + 1 scattering events (the paper's
+    /// Fig. 7 uses 4). At most 16.
+    #[arg(long, default_value_t = 0)]
+    pub scatter_depth: usize,
+    /// Also report each depth's share of the image (renders the emission and each depth's
+    /// lights alone: n + 2 more renders).
+    #[arg(long)]
+    pub scatter_shares: bool,
+}
+
+impl ScatterArgs {
+    /// Checks the depth before any work.
+    pub fn check(&self) -> Result<(), crate::Error> {
+        scattering::check_depth(self.scatter_depth).map_err(|_| {
+            format!(
+                "--scatter-depth {} must be 0 to {}",
+                self.scatter_depth,
+                scattering::MAX_SCATTER_DEPTH
+            )
+        })?;
+        if self.scatter_shares && self.scatter_depth == 0 {
+            return Err("--scatter-shares needs --scatter-depth 1 or more".into());
+        }
+        Ok(())
+    }
+}
+
+/// A frame's multiple-scattering pass, if asked for, with what it took.
+pub struct Scatter {
+    /// The pass (`None` at depth 0).
+    pub scattered: Option<Scattered>,
+    /// Each depth's share of the image, if asked for.
+    pub shares: Option<Shares>,
+    /// Seconds of the pass (shares not included).
+    pub seconds: f64,
+}
+
+impl Scatter {
+    /// Runs the pass `args` asks for over `lights` (through `method` at `alpha`, the shadows of
+    /// `march`) under a progress bar over the voxels, and the shares if asked for.
+    #[allow(clippy::too_many_arguments)]
+    pub fn run(
+        args: &ScatterArgs,
+        lights: &ExplosionLights,
+        method: Method,
+        alpha: f32,
+        volume: &Volume,
+        medium: &Medium,
+        march: &MarchSettings,
+        camera: &Camera,
+        quiet: bool,
+    ) -> Result<Scatter, crate::Error> {
+        let t = Instant::now();
+        if args.scatter_depth == 0 {
+            return Ok(Scatter {
+                scattered: None,
+                shares: None,
+                seconds: 0.0,
+            });
+        }
+        let plan = ScatterPlan::new(lights, volume, args.scatter_depth)?;
+        let total = (plan.depth * plan.lights_per_depth) as u64;
+        let bar = crate::progress::bar(total, "scattering", quiet);
+        let scattered = scattering::scatter(
+            lights,
+            args.scatter_depth,
+            method,
+            alpha,
+            volume,
+            medium,
+            march,
+            &|n| bar.inc(n as u64),
+        )?;
+        bar.finish_and_clear();
+        let seconds = t.elapsed().as_secs_f64();
+        let shares = if args.scatter_shares {
+            let rows = (args.scatter_depth + 2) * camera.height();
+            let bar = crate::progress::bar(rows as u64, "scatter shares", quiet);
+            let shares = scattered.shares(method, alpha, volume, medium, camera, march, &|r| {
+                bar.inc(r as u64)
+            })?;
+            bar.finish_and_clear();
+            Some(shares)
+        } else {
+            None
+        };
+        Ok(Scatter {
+            scattered: Some(scattered),
+            shares,
+            seconds,
+        })
+    }
+
+    /// The lights to render with: the merged lights of the pass, or `emission` without one.
+    pub fn lights<'a>(&'a self, emission: &'a ExplosionLights) -> &'a ExplosionLights {
+        self.scattered.as_ref().map_or(emission, Scattered::lights)
+    }
+
+    /// The shares as fractions of their sum: emission, then depths 0..=n.
+    fn fractions(shares: &Shares) -> Vec<f64> {
+        let parts: Vec<f64> = std::iter::once(shares.emission)
+            .chain(shares.depths.iter().copied())
+            .collect();
+        let sum: f64 = parts.iter().sum();
+        parts
+            .iter()
+            .map(|p| p / sum.max(f64::MIN_POSITIVE))
+            .collect()
+    }
+
+    /// EXR header entries: the depth, and with a pass its seconds per depth and the shares.
+    pub fn header(&self) -> Vec<(&'static str, String)> {
+        let Some(s) = &self.scattered else {
+            return vec![("scatter_depth", "0".to_string())];
+        };
+        let list = |v: &mut dyn Iterator<Item = String>| v.collect::<Vec<_>>().join(",");
+        let mut out = vec![
+            ("scatter_depth", s.depths().len().to_string()),
+            ("scatter_seconds", format!("{:.3}", self.seconds)),
+            (
+                "scatter_depth_seconds",
+                list(&mut s.depths().iter().map(|d| format!("{:.3}", d.seconds))),
+            ),
+            ("scatter_lights", s.lights().lights().len().to_string()),
+        ];
+        if let Some(shares) = &self.shares {
+            let f = Scatter::fractions(shares);
+            out.push((
+                "scatter_shares",
+                list(&mut f.iter().map(|x| format!("{x:.5}"))),
+            ));
+        }
+        out
+    }
+
+    /// The summary lines of the pass (nothing at depth 0).
+    pub fn say(&self) -> Result<(), crate::Error> {
+        let Some(s) = &self.scattered else {
+            return Ok(());
+        };
+        let d = s.depths();
+        say!(
+            "  scattering {} depths (up to {} scattering events): {} lights a depth, {} merged lights; {:.2} s",
+            d.len(),
+            d.len() + 1,
+            d.first().map_or(0, |r| r.lights),
+            s.lights().lights().len(),
+            self.seconds
+        );
+        for r in d {
+            say!(
+                "    depth {:>2}: {:.2} s ({:.2} s shadows of the depth before), power {:.4e}, {:.1} lights per voxel",
+                r.depth,
+                r.seconds,
+                r.shadow_seconds,
+                r.power,
+                r.stats.lights_per_point()
+            );
+        }
+        if let Some(shares) = &self.shares {
+            let f = Scatter::fractions(shares);
+            let depths: Vec<String> = f[1..]
+                .iter()
+                .enumerate()
+                .map(|(k, x)| format!("depth {k} {:.2}%", 100.0 * x))
+                .collect();
+            say!(
+                "    shares of the image: emission {:.2}%, {}",
+                100.0 * f[0],
+                depths.join(", ")
+            );
+        }
+        Ok(())
     }
 }
 

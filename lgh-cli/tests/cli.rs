@@ -289,6 +289,19 @@ fn bench_core_prints_json() {
     );
 }
 
+/// The EXR header of `out`: a lookup of its attributes by name that fails the test on a
+/// missing one.
+fn header(out: &Path) -> impl Fn(&str) -> String {
+    let attrs = lgh_image::read_exr_attributes(out).unwrap();
+    move |k: &str| {
+        attrs
+            .iter()
+            .find(|(n, _)| n == k)
+            .map(|(_, v)| v.clone())
+            .unwrap_or_else(|| panic!("no {k} in {attrs:?}"))
+    }
+}
+
 #[test]
 fn demo_renders_an_exr_and_a_png() {
     let dir = tempfile::tempdir().unwrap();
@@ -313,14 +326,7 @@ fn demo_renders_an_exr_and_a_png() {
     assert!(img.pixels.iter().any(|p| p.max_element() > 0.0));
     assert!(img.pixels.iter().all(|p| p.is_finite()));
     assert!(dir.path().join("demo.png").is_file());
-    let attrs = lgh_image::read_exr_attributes(&out).unwrap();
-    let get = |k: &str| {
-        attrs
-            .iter()
-            .find(|(n, _)| n == k)
-            .map(|(_, v)| v.clone())
-            .unwrap_or_else(|| panic!("no {k} in {attrs:?}"))
-    };
+    let get = header(&out);
     assert_eq!(get("lgh:backend"), "lgh");
     assert_eq!(get("lgh:alpha"), "2");
     // The paper's deep-shadow cube maps by default, with their bytes and precompute time.
@@ -373,6 +379,75 @@ fn demo_renders_an_exr_and_a_png() {
         assert!(err.contains(names), "{bad:?}: {err} should name {names}");
     }
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
+    // Too deep: one line naming the flag, before any work (no output, and for lgh explosion
+    // before the cache is even looked for).
+    let work = tempfile::tempdir().unwrap();
+    for bad in [
+        vec!["demo", "--scatter-depth", "17"],
+        vec!["demo", "--scatter-depth", "1000000", "--resolution", "512"],
+        vec![
+            "explosion",
+            "--vdb",
+            "/no/such/cache_0001.vdb",
+            "--out",
+            "x.exr",
+            "--scatter-depth",
+            "17",
+        ],
+        vec!["demo", "--scatter-shares"],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
+            .args(&bad)
+            .current_dir(work.path())
+            .output()
+            .unwrap();
+        assert!(!o.status.success(), "{bad:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
+        assert!(err.contains("--scatter-depth"), "{bad:?}: {err}");
+    }
+    assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
+
+    // Two depths with their shares: the summary's lines and the header's entries.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scatter.exr");
+    let o = lgh(&[
+        "demo",
+        "--resolution",
+        "32",
+        "--width",
+        "16",
+        "--height",
+        "10",
+        "--scatter-depth",
+        "2",
+        "--scatter-shares",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("scattering 2 depths"), "{text}");
+    assert!(text.contains("shares of the image"), "{text}");
+    let get = header(&out);
+    assert_eq!(get("lgh:scatter_depth"), "2");
+    assert_eq!(get("lgh:scatter_depth_seconds").split(',').count(), 2);
+    // Emission, then depths 0, 1, 2: fractions of their sum.
+    let shares: Vec<f64> = get("lgh:scatter_shares")
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(shares.len(), 4);
+    assert!(
+        (shares.iter().sum::<f64>() - 1.0).abs() < 1e-4,
+        "{shares:?}"
+    );
+    assert!(shares.iter().all(|&x| x > 0.0), "{shares:?}");
 }
 
 #[test]

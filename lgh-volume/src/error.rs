@@ -116,6 +116,19 @@ pub enum VolumeError {
         /// The paper's α they were planned for.
         alpha: f32,
     },
+    /// Multiple scattering needs the density on the lights' grid (scattered lights sit at the
+    /// density's voxel centres and merge with the emission light of the same voxel).
+    DensityOffGrid,
+    /// The lights of a multiple-scattering pass would not fit in the memory allowed (found
+    /// before any work).
+    ScatterMemory {
+        /// Bytes the pass's lights would take.
+        needed: u64,
+        /// Bytes allowed (the cube maps' budget).
+        budget: u64,
+        /// The scattering depth asked for.
+        depth: usize,
+    },
     /// A file could not be read.
     Io {
         /// The file.
@@ -261,6 +274,22 @@ impl fmt::Display for VolumeError {
                 "the deep-shadow cube maps at alpha {alpha} would need {:.2} GB, more than the \
                  {:.2} GB allowed them: lower --alpha, raise --shadow-memory, or use --shadows \
                  raymarch",
+                *needed as f64 / 1e9,
+                *budget as f64 / 1e9
+            ),
+            E::DensityOffGrid => write!(
+                f,
+                "multiple scattering needs the density on the temperature's grid (dimensions, \
+                 voxel size, origin): its lights sit at voxel centres"
+            ),
+            E::ScatterMemory {
+                needed,
+                budget,
+                depth,
+            } => write!(
+                f,
+                "multiple scattering to depth {depth} would need {:.2} GB for its lights, more \
+                 than the {:.2} GB allowed: lower --scatter-depth or raise --shadow-memory",
                 *needed as f64 / 1e9,
                 *budget as f64 / 1e9
             ),

@@ -17,10 +17,12 @@
 //!   with `V`).
 //! - [`render`]: camera and ray marcher (emission + single scattering) and the one pixel loop;
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
+//! - [`scattering`]: multiple scattering (Sec. 5): scattered lights at every voxel with smoke,
+//!   depth by depth, merged with the emission lights into one light per voxel.
 //! - [`error`]: [`VolumeError`], the crate's one error type.
 //!
-//! Multiple scattering (Sec. 5) is not written yet; it plugs into [`Lights::incident`]. The
-//! lighting itself lives in [`lgh_core`].
+//! Deep-shadow cube maps (Sec. 4) plug into [`Visibility`], multiple scattering (Sec. 5) calls
+//! [`Lights::incident`] at every voxel with smoke. The lighting itself lives in [`lgh_core`].
 //!
 //! ```
 //! use lgh_volume::render::{Camera, Framing, MarchSettings};
@@ -62,6 +64,7 @@ pub mod medium;
 pub mod pathtrace;
 pub mod procedural;
 pub mod render;
+pub mod scattering;
 pub mod shadow;
 pub mod vdb;
 

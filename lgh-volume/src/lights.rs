@@ -114,17 +114,41 @@ impl ExplosionLights {
         }
         let (grid, hot) = layout.ok_or(VolumeError::NoFrames)?;
         let voxels: Vec<usize> = (0..hot.len()).filter(|&i| hot[i]).collect();
+        let dark = vec![Vec3::ZERO; voxels.len()];
+        ExplosionLights::at_voxels(&grid, voxels, &dark, None)
+    }
+
+    /// Lights at the centres of `voxels` (linear indices, ascending, into `grid`'s layout: its
+    /// dimensions, voxel size and origin; its values are not read) with `intensities`, built into
+    /// the hierarchy of the paper's explosions: `h1 = 2h`, level-1 vertices on voxel centres
+    /// (Sec. 6.1), top level `max_level` (`None`: chosen from the lights). The one constructor of
+    /// every explosion light set: the emission lights of [`from_frames`](Self::from_frames) and
+    /// the scattered and merged lights of [`crate::scattering`], which must share one grid.
+    pub(crate) fn at_voxels(
+        grid: &DenseGrid,
+        voxels: Vec<usize>,
+        intensities: &[Vec3],
+        max_level: Option<u8>,
+    ) -> Result<Self, VolumeError> {
+        if intensities.len() != voxels.len() {
+            return Err(VolumeError::Lights(lgh_core::BuildError::LengthMismatch {
+                expected: voxels.len(),
+                got: intensities.len(),
+            }));
+        }
         let lights = voxels
             .iter()
-            .map(|&idx| {
+            .zip(intensities)
+            .map(|(&idx, &intensity)| {
                 let [i, j, k] = crate::grid::unflatten(idx, grid.dims);
-                PointLight::new(grid.centre(i, j, k), Vec3::ZERO)
+                PointLight::new(grid.centre(i, j, k), intensity)
             })
             .collect::<Vec<_>>();
         let h = grid.voxel_size;
         let settings = GridSettings {
             h1: Some(2.0 * h),
             origin: Some(grid.origin),
+            max_level,
             ..Default::default()
         };
         let hierarchy = LightingGridHierarchy::build(&lights, &settings)?;
@@ -138,6 +162,26 @@ impl ExplosionLights {
         })
     }
 
+    /// Whether `grid` has the lights' layout (dimensions, voxel size, origin).
+    pub(crate) fn on_grid(&self, grid: &DenseGrid) -> bool {
+        grid.dims == self.dims && grid.voxel_size == self.voxel_size && grid.origin == self.origin
+    }
+
+    /// Linear voxel index of each light, ascending.
+    pub(crate) fn voxels(&self) -> &[usize] {
+        &self.voxels
+    }
+
+    /// Replaces the intensities (one per light, in the order of [`lights`](Self::lights)),
+    /// keeping every position: the hierarchy's cheap rebuild.
+    pub(crate) fn set_intensities(&mut self, intensities: &[Vec3]) -> Result<(), VolumeError> {
+        self.hierarchy.update_intensities(intensities)?;
+        for (l, &i) in self.lights.iter_mut().zip(intensities) {
+            l.intensity = i;
+        }
+        Ok(())
+    }
+
     /// Sets the intensities to those of `frame` (same grid as at construction) and rebuilds the
     /// hierarchy's intensities, keeping every position.
     pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), VolumeError> {
@@ -145,7 +189,7 @@ impl ExplosionLights {
         if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
             return Err(VolumeError::FlameOffGrid { frame: None });
         }
-        if t.dims != self.dims || t.voxel_size != self.voxel_size || t.origin != self.origin {
+        if !self.on_grid(t) {
             return Err(VolumeError::FrameOffGrid { frame: None });
         }
         let h3 = self.voxel_size.powi(3);
@@ -154,10 +198,7 @@ impl ExplosionLights {
             .iter()
             .map(|&idx| frame.voxel_emission(medium, idx) * h3)
             .collect();
-        for (l, &i) in self.lights.iter_mut().zip(&intensities) {
-            l.intensity = i;
-        }
-        Ok(self.hierarchy.update_intensities(&intensities)?)
+        self.set_intensities(&intensities)
     }
 
     /// The lights `S0` (every candidate voxel; cold ones have zero intensity this frame).

@@ -1,6 +1,7 @@
 //! Determinism of whole renders across thread counts, through every crate: a volume render
-//! (lgh-volume's ray marcher with ray-marched shadows through lgh-core's hierarchy, and the path
-//! tracer) and a surface render (lgh-vpl over the light octree and the hierarchy) give the same
+//! (lgh-volume's ray marcher with ray-marched shadows through lgh-core's hierarchy, with and
+//! without the multiple-scattering pass, and the path tracer) and a surface render (lgh-vpl
+//! over the light octree and the hierarchy) give the same
 //! pixels, bit for bit, on 1, 2 and 3 rayon threads. The paper's cure for flicker is a renderer
 //! whose output depends only on its input; a farm splits frames over machines with different
 //! core counts, so this is the property it relies on.
@@ -11,7 +12,8 @@ use lgh_core::{LghBackend, LightingGridHierarchy, ManyLights};
 use lgh_image::Image;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::{procedural, ExplosionLights, Medium, Method};
+use lgh_volume::scattering::scatter;
+use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
 use lgh_vpl::paquette::{self, Surface, TestScene};
 
 /// `f` run on a pool of `threads` rayon threads.
@@ -70,6 +72,38 @@ fn volume_renders_are_bit_identical_on_any_thread_count() {
     };
     same_on_any_thread_count("path tracer", || {
         pathtrace::render(&volume, &medium, &camera, &settings, &|_| {}).unwrap()
+    });
+}
+
+#[test]
+fn multiple_scattering_is_bit_identical_on_any_thread_count() {
+    // The scattering pass (fluence at every voxel with smoke in chunks of 1024 voxels: three
+    // chunks here, shared out differently on each pool; cube maps per depth) and the render
+    // with its merged lights. (With ray-marched shadows, or brute force, the pass takes this
+    // test past its time; what could depend on the pool — the chunks, the cube maps' batches,
+    // the pixel loop — is the same code.)
+    let volume = procedural(32, 0.5).unwrap();
+    let medium = Medium::new(1.0, 9.0, 1e-4, 1000.0).unwrap();
+    let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+    let (lo, hi) = volume.active_bounds().unwrap();
+    let camera = Camera::frame(lo, hi, 16, 10).unwrap();
+    let march = MarchSettings {
+        shadows: Shadows::CubeMap,
+        ..Default::default()
+    };
+    same_on_any_thread_count("scattering", || {
+        let none = &|_: usize| {};
+        let (m, a) = (Method::Lgh, 2.0);
+        let s = scatter(&emission, 1, m, a, &volume, &medium, &march, none).unwrap();
+        let lights = s.lights();
+        let (mut image, _) = lights
+            .render(m, a, &volume, &medium, &camera, &march, none)
+            .unwrap();
+        // The merged lights' intensities too, as more pixels.
+        image
+            .pixels
+            .extend(lights.lights().iter().map(|l| l.intensity));
+        image
     });
 }
 

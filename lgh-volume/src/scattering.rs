@@ -1,0 +1,1017 @@
+//! Multiple scattering: light that scatters more than once in the smoke (paper Sec. 5;
+//! ARCHITECTURE.md, "Where each part of the papers lives").
+//!
+//! The paper's lights `S^0_ℓ` (the emission lights of [`ExplosionLights`]) light the smoke
+//! directly: the marcher's single scattering. Sec. 5 adds virtual point lights for the light
+//! that has scattered: the depth-`k` lights `S^k_0` sit at the centre of every voxel with smoke
+//! density, with intensity
+//!
+//! `I^k(x) = h³ σ_s(x) / (4π) · Φ^{k−1}(x)`,
+//!
+//! where `Φ^{k−1}(x)` is the shadowed fluence at `x` of the depth-`(k−1)` lights — exactly what
+//! [`Lights::incident`] returns with the response `1` at [`ShadingPoint::in_medium`]`(x)`
+//! (`Σ I · g(d) · V` over the lights the backend selects, eq. 1 with visibility), `h³` the voxel's
+//! volume and `σ_s/(4π)` the isotropic phase function times the scattering coefficient. Each
+//! depth is built into a hierarchy of its own ("the higher levels `S^k_ℓ` … in the same way as
+//! explained in Section 3") with its own shadows (the same [`Shadows`](crate::Shadows) choice and
+//! settings as the render: deep-shadow cube maps by default), which lights the next depth.
+//!
+//! All lights of all depths sit at voxel centres of the simulation grid, so — as the paper
+//! does — the lights of one voxel are merged into one light: the voxel's emission light plus its
+//! scattered lights of depths `1..=n`. The merged set ([`Scattered::lights`]) is what the final
+//! render shades with; with `n` scattered depths the image holds paths of up to `n + 1`
+//! scattering events (the paper's Fig. 7 uses `n = 4`). The merged hierarchy uses the emission
+//! lights' grid (`h1 = 2h`, level-1 vertices on voxel centres, and their top level `ℓ_max`), so a
+//! voxel that neither emits nor scatters adds exactly nothing: with `σ_s = 0` the merged lights
+//! render the single-scattering image bit for bit.
+//!
+//! **Determinism.** Each voxel's fluence depends only on the voxel and the previous depth's
+//! lights; voxels are processed in fixed chunks of [`CHUNK_VOXELS`] (rayon), each chunk with its
+//! own scratch (nothing is allocated per voxel), and the only sums across voxels are integer
+//! counts and the per-depth power, summed in voxel order. The merged intensity of a voxel is
+//! summed in depth order. The result is the same bit for bit on any thread count.
+//!
+//! **Memory.** The pass's lights are planned ([`ScatterPlan`]) and checked against the cube
+//! maps' budget (`MarchSettings::cube_maps.memory_budget`) before any work; each depth's cube
+//! maps are checked against it when they are built.
+//!
+//! ```
+//! use lgh_volume::render::{Camera, Framing, MarchSettings};
+//! use lgh_volume::scattering::scatter;
+//! use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+//!
+//! let volume = procedural(32, 0.5)?;
+//! let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+//! let emission = ExplosionLights::new(&[&volume], &medium)?;
+//! let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+//! // Two scattered depths: paths of up to three scattering events.
+//! let scattered = scatter(&emission, 2, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+//! assert_eq!(scattered.depths().len(), 2);
+//! let camera = Camera::frame(volume.active_bounds().unwrap().0, volume.active_bounds().unwrap().1, 16, 9)?;
+//! let (image, _) = scattered.lights().render(Method::Lgh, 2.0, &volume, &medium, &camera, &settings, &|_| {})?;
+//! assert_eq!(image.pixels.len(), 16 * 9);
+//! # Ok::<(), lgh_volume::VolumeError>(())
+//! ```
+
+use std::time::Instant;
+
+use lgh_core::glam::Vec3;
+use lgh_core::ShadingPoint;
+use rayon::prelude::*;
+
+use crate::error::VolumeError;
+use crate::lighting::{LightScratch, Lights};
+use crate::lights::{ExplosionLights, Method};
+use crate::medium::{Medium, Volume};
+use crate::render::{Camera, MarchSettings, RenderStats};
+
+/// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
+/// each depth costs a hierarchy, its shadows and a fluence pass over the smoke, while the light
+/// it adds shrinks like `albedo^k`.
+pub const MAX_SCATTER_DEPTH: usize = 16;
+
+/// Voxels per parallel job of the fluence pass: a fixed split, so that nothing depends on the
+/// thread count, large enough that a job's scratch is reused over many voxels.
+pub const CHUNK_VOXELS: usize = 1024;
+
+/// Bytes planned per light of a depth's (or the merged) light set: its voxel index (8), the
+/// point light (24), and the hierarchy — level 0 (44 a light), the sorted input (36) and the
+/// levels above, planned at one vertex of 72 bytes per light (a level-1 grid of `h1 = 2h` over
+/// voxel lights has about one vertex per 8 lights where the smoke is solid, and the levels above
+/// fewer still; the test `the_memory_plan_covers_what_the_pass_holds` checks the vertices).
+pub const BYTES_PER_LIGHT: u64 = 8 + 24 + 44 + 36 + 72;
+
+/// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`VolumeError::InvalidCount`]: checked
+/// before any work.
+///
+/// ```
+/// use lgh_volume::scattering::check_depth;
+///
+/// assert_eq!(check_depth(4)?, 4);
+/// assert_eq!(
+///     check_depth(17).unwrap_err().to_string(),
+///     "scatter depth 17 must be 0 to 16"
+/// );
+/// # Ok::<(), lgh_volume::VolumeError>(())
+/// ```
+pub fn check_depth(depth: usize) -> Result<usize, VolumeError> {
+    if depth > MAX_SCATTER_DEPTH {
+        return Err(VolumeError::InvalidCount {
+            name: "scatter depth",
+            value: depth,
+            rule: "must be 0 to 16",
+        });
+    }
+    Ok(depth)
+}
+
+/// What a scattering pass will hold, found before any work: its lights and their bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScatterPlan {
+    /// Scattered depths `n`.
+    pub depth: usize,
+    /// Lights of each scattered depth: the voxels with smoke density.
+    pub lights_per_depth: usize,
+    /// Lights of the merged set: the voxels that emit (in any frame of the emission lights) or
+    /// have smoke.
+    pub merged_lights: usize,
+    /// Bytes of the pass's lights: one depth's light set at a time, the per-depth intensities
+    /// of every voxel of the merged set (kept for [`Scattered::depth_lights`]) and the merged set.
+    pub bytes: u64,
+}
+
+impl ScatterPlan {
+    /// The plan of [`scatter`] to `depth` scattered depths from `emission` in `frame`: checks the
+    /// depth ([`check_depth`]) and that the density lies on the lights' grid
+    /// ([`VolumeError::DensityOffGrid`]); counts voxels, nothing more.
+    ///
+    /// ```
+    /// use lgh_volume::scattering::ScatterPlan;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let plan = ScatterPlan::new(&emission, &volume, 4)?;
+    /// let smoke = volume.density.data.iter().filter(|&&r| r > 0.0).count();
+    /// assert_eq!(plan.lights_per_depth, smoke);
+    /// assert!(plan.check(1 << 30).is_ok());
+    /// assert!(plan.check(1000).is_err()); // refused before any work
+    /// assert!(ScatterPlan::new(&emission, &volume, 17).is_err());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn new(
+        emission: &ExplosionLights,
+        frame: &Volume,
+        depth: usize,
+    ) -> Result<Self, VolumeError> {
+        check_depth(depth)?;
+        if !emission.on_grid(&frame.density) {
+            return Err(VolumeError::DensityOffGrid);
+        }
+        let dense = frame.density.data.iter().filter(|&&r| r > 0.0).count();
+        let merged = merge_count(emission.voxels(), &frame.density.data);
+        let (d, m, n) = (dense as u64, merged as u64, depth as u64);
+        let bytes = if depth == 0 {
+            0
+        } else {
+            // One depth's lights and its new intensities; every depth's intensities on the
+            // merged voxels, their sum and the merged lights.
+            d * (BYTES_PER_LIGHT + 12 + 8) + m * (12 * (n + 2) + BYTES_PER_LIGHT)
+        };
+        Ok(ScatterPlan {
+            depth,
+            lights_per_depth: dense,
+            merged_lights: merged,
+            bytes,
+        })
+    }
+
+    /// `Ok` if the plan fits in `budget` bytes, else [`VolumeError::ScatterMemory`].
+    ///
+    /// ```
+    /// use lgh_volume::scattering::ScatterPlan;
+    ///
+    /// let plan = ScatterPlan { depth: 4, lights_per_depth: 10, merged_lights: 12, bytes: 5000 };
+    /// assert!(plan.check(5000).is_ok());
+    /// assert!(plan.check(4999).unwrap_err().to_string().contains("--scatter-depth"));
+    /// ```
+    pub fn check(&self, budget: u64) -> Result<(), VolumeError> {
+        if self.bytes > budget {
+            return Err(VolumeError::ScatterMemory {
+                needed: self.bytes,
+                budget,
+                depth: self.depth,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Voxels that emit (`hot`, ascending) or have smoke (`density > 0`).
+fn merge_count(hot: &[usize], density: &[f32]) -> usize {
+    let dense = density.iter().filter(|&&r| r > 0.0).count();
+    dense + hot.iter().filter(|&&v| density[v] <= 0.0).count()
+}
+
+/// What one scattered depth took and gave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthReport {
+    /// The depth `k ≥ 1`.
+    pub depth: usize,
+    /// Its lights (voxels with smoke; dark ones included).
+    pub lights: usize,
+    /// Seconds spent on the shadows of the depth-`(k−1)` lights that light it.
+    pub shadow_seconds: f64,
+    /// Seconds spent on the whole depth: shadows, fluence and its hierarchy.
+    pub seconds: f64,
+    /// Luminance of the depth's summed intensity, `‖Σ I^k‖` (summed in voxel order, in f64).
+    pub power: f64,
+    /// The fluence queries' counts (one shading point per voxel).
+    pub stats: RenderStats,
+}
+
+/// The result of [`scatter`]: the merged lights the final render shades with, and each depth's
+/// intensities and report.
+#[derive(Clone, Debug)]
+pub struct Scattered {
+    merged: ExplosionLights,
+    /// Intensities of each depth `0..=n` on the merged voxels (depth 0: the emission).
+    per_depth: Vec<Vec<Vec3>>,
+    reports: Vec<DepthReport>,
+    /// The top level of the emission lights, which every light set of the pass shares.
+    max_level: u8,
+}
+
+/// The multiple-scattering pass (paper Sec. 5; see the module docs): `depth` scattered depths
+/// of the `emission` lights in `frame` and `medium`, each depth's fluence through `method` at
+/// `alpha` with the shadows of `settings`, merged into one light per voxel. Checked before any
+/// work: the depth ([`check_depth`]), the density's grid, the settings, and the plan's memory
+/// against `settings.cube_maps.memory_budget` ([`ScatterPlan`]). `progress(n)` as `n` more
+/// voxels' fluence is done (`depth × lights_per_depth` in all). Depth 0 returns the emission
+/// lights as they are.
+///
+/// ```
+/// use lgh_volume::render::MarchSettings;
+/// use lgh_volume::scattering::scatter;
+/// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+///
+/// let volume = procedural(32, 0.5)?;
+/// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+/// let emission = ExplosionLights::new(&[&volume], &medium)?;
+/// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+/// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+/// // One merged light per voxel that emits or has smoke; the scattered light is there.
+/// assert!(s.lights().lights().len() > emission.lights().len());
+/// assert!(s.depths()[0].power > 0.0);
+/// # Ok::<(), lgh_volume::VolumeError>(())
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn scatter(
+    emission: &ExplosionLights,
+    depth: usize,
+    method: Method,
+    alpha: f32,
+    frame: &Volume,
+    medium: &Medium,
+    settings: &MarchSettings,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Scattered, VolumeError> {
+    let plan = ScatterPlan::new(emission, frame, depth)?;
+    settings.check()?;
+    lgh_core::check_alpha(alpha)?;
+    plan.check(settings.cube_maps.memory_budget)?;
+    let max_level = emission.hierarchy().max_level();
+    if depth == 0 {
+        return Ok(Scattered {
+            merged: emission.clone(),
+            per_depth: vec![emission.lights().iter().map(|l| l.intensity).collect()],
+            reports: Vec::new(),
+            max_level,
+        });
+    }
+    let grid = &frame.density;
+    let dense: Vec<usize> = (0..grid.data.len())
+        .filter(|&v| grid.data[v] > 0.0)
+        .collect();
+    let (voxels, hot_slots, dense_slots) = merge(emission.voxels(), &dense);
+    let mut per_depth = Vec::with_capacity(depth + 1);
+    let mut emitted = vec![Vec3::ZERO; voxels.len()];
+    for (l, &s) in emission.lights().iter().zip(&hot_slots) {
+        emitted[s] = l.intensity;
+    }
+    per_depth.push(emitted);
+
+    // Every depth k ≥ 1 at the same voxels: one hierarchy, rebuilt with each depth's intensities.
+    let mut scattered = ExplosionLights::at_voxels(
+        grid,
+        dense.clone(),
+        &vec![Vec3::ZERO; dense.len()],
+        Some(max_level),
+    )?;
+    let pass = Fluence {
+        method,
+        alpha,
+        frame,
+        medium,
+        settings,
+        voxels: &dense,
+        progress,
+    };
+    let mut next = vec![Vec3::ZERO; dense.len()];
+    let mut reports = Vec::with_capacity(depth);
+    for k in 1..=depth {
+        let t = Instant::now();
+        let source = if k == 1 { emission } else { &scattered };
+        let (stats, shadow_seconds) = pass.run(source, &mut next)?;
+        scattered.set_intensities(&next)?;
+        let mut on_merged = vec![Vec3::ZERO; voxels.len()];
+        for (&i, &s) in next.iter().zip(&dense_slots) {
+            on_merged[s] = i;
+        }
+        per_depth.push(on_merged);
+        let total = next.iter().fold([0.0f64; 3], |a, i| {
+            [0, 1, 2].map(|c| a[c] + f64::from(i[c]))
+        });
+        reports.push(DepthReport {
+            depth: k,
+            lights: dense.len(),
+            shadow_seconds,
+            seconds: t.elapsed().as_secs_f64(),
+            power: lgh_core::LUMINANCE_WEIGHTS
+                .to_array()
+                .iter()
+                .zip(total)
+                .map(|(&w, t)| f64::from(w) * t)
+                .sum(),
+            stats,
+        });
+    }
+    drop(scattered);
+    // The paper's merge: one light per voxel, its depths summed in order.
+    let merged_intensities: Vec<Vec3> = (0..voxels.len())
+        .map(|s| per_depth.iter().fold(Vec3::ZERO, |a, d| a + d[s]))
+        .collect();
+    let merged = ExplosionLights::at_voxels(grid, voxels, &merged_intensities, Some(max_level))?;
+    Ok(Scattered {
+        merged,
+        per_depth,
+        reports,
+        max_level,
+    })
+}
+
+/// The sorted union of `hot` and `dense` (both ascending), with each one's slot in it.
+fn merge(hot: &[usize], dense: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+    let mut voxels = Vec::with_capacity(hot.len() + dense.len());
+    let (mut hot_slots, mut dense_slots) = (Vec::with_capacity(hot.len()), Vec::new());
+    dense_slots.reserve(dense.len());
+    let (mut a, mut b) = (0, 0);
+    while a < hot.len() || b < dense.len() {
+        let v = match (hot.get(a), dense.get(b)) {
+            (Some(&h), Some(&d)) => h.min(d),
+            (Some(&h), None) => h,
+            (None, Some(&d)) => d,
+            (None, None) => unreachable!("the loop runs while one is left"),
+        };
+        if hot.get(a) == Some(&v) {
+            hot_slots.push(voxels.len());
+            a += 1;
+        }
+        if dense.get(b) == Some(&v) {
+            dense_slots.push(voxels.len());
+            b += 1;
+        }
+        voxels.push(v);
+    }
+    (voxels, hot_slots, dense_slots)
+}
+
+/// One depth's fluence pass: what stays the same from depth to depth.
+struct Fluence<'a> {
+    method: Method,
+    alpha: f32,
+    frame: &'a Volume,
+    medium: &'a Medium,
+    settings: &'a MarchSettings,
+    /// The voxels with smoke, ascending.
+    voxels: &'a [usize],
+    progress: &'a (dyn Fn(usize) + Sync),
+}
+
+impl Fluence<'_> {
+    /// `out[i] = h³ σ_s(x_i)/(4π) · Φ(x_i)` for each voxel `x_i`, with `Φ` the shadowed fluence
+    /// of `source` (shadows built here, as the settings ask). Returns the queries' counts and
+    /// the seconds spent on the shadows.
+    fn run(
+        &self,
+        source: &ExplosionLights,
+        out: &mut [Vec3],
+    ) -> Result<(RenderStats, f64), VolumeError> {
+        let t = Instant::now();
+        let visibility = source.visibility(
+            self.method,
+            self.alpha,
+            self.frame,
+            self.medium,
+            self.settings,
+            &|_| {},
+        )?;
+        let shadow_seconds = t.elapsed().as_secs_f64();
+        let lights: Lights<_> = source.backend(self.method, self.alpha)?;
+        let grid = &self.frame.density;
+        let h3 = grid.voxel_size.powi(3);
+        let phase = 1.0 / (4.0 * std::f32::consts::PI);
+        let chunks: Vec<Result<RenderStats, VolumeError>> = out
+            .par_chunks_mut(CHUNK_VOXELS)
+            .zip(self.voxels.par_chunks(CHUNK_VOXELS))
+            .map(|(out, voxels)| {
+                let mut scratch = LightScratch::default();
+                let mut stats = RenderStats::default();
+                for (o, &v) in out.iter_mut().zip(voxels) {
+                    let [i, j, k] = crate::grid::unflatten(v, grid.dims);
+                    let at = ShadingPoint::in_medium(grid.centre(i, j, k));
+                    let fluence = lights.incident(
+                        &at,
+                        &visibility,
+                        |_| Vec3::ONE,
+                        &mut scratch,
+                        &mut stats,
+                    )?;
+                    let sigma_s = self.medium.scattering * grid.data[v];
+                    *o = fluence * (h3 * sigma_s * phase);
+                }
+                (self.progress)(voxels.len());
+                Ok(stats)
+            })
+            .collect();
+        let mut stats = RenderStats::default();
+        for c in chunks {
+            stats.add(&c?);
+        }
+        Ok((stats, shadow_seconds))
+    }
+}
+
+/// How the image splits by where its light comes from: the luminance summed over an image's
+/// pixels of the emission alone, and of what each depth's lights add (see
+/// [`Scattered::shares`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shares {
+    /// `Σ_px ‖E‖`: the emission seen through the smoke, no scattering.
+    pub emission: f64,
+    /// `Σ_px ‖R_k − E‖` for `k = 0..=n`, `R_k` the image lit by depth `k`'s lights alone (depth
+    /// 0: single scattering of the emission lights).
+    pub depths: Vec<f64>,
+}
+
+impl Scattered {
+    /// The merged lights (one per voxel that emits or has smoke): what the final render shades
+    /// with, through [`ExplosionLights::backend`], [`visibility`](ExplosionLights::visibility)
+    /// and [`render`](ExplosionLights::render). (Their [`set_frame`](ExplosionLights::set_frame)
+    /// would replace the merged intensities with a frame's emission.)
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// // The merged hierarchy is on the emission lights' grid.
+    /// assert_eq!(s.lights().hierarchy().h1(), emission.hierarchy().h1());
+    /// assert_eq!(s.lights().hierarchy().max_level(), emission.hierarchy().max_level());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    #[must_use]
+    pub fn lights(&self) -> &ExplosionLights {
+        &self.merged
+    }
+
+    /// One report per scattered depth `1..=n`.
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+    /// let s = scatter(&emission, 2, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// let d = s.depths();
+    /// assert_eq!((d[0].depth, d[1].depth), (1, 2));
+    /// assert_eq!(d[0].stats.shading_points, d[0].lights as u64); // one query per voxel
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    #[must_use]
+    pub fn depths(&self) -> &[DepthReport] {
+        &self.reports
+    }
+
+    /// The intensities of depth `k` (0: the emission) on the merged lights' voxels, in the order
+    /// of [`lights`](Self::lights)' lights; `None` past the last depth.
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// // A merged light is its voxel's depths summed in order.
+    /// let (e, one) = (s.intensities(0).unwrap(), s.intensities(1).unwrap());
+    /// for ((l, &a), &b) in s.lights().lights().iter().zip(e).zip(one) {
+    ///     assert_eq!(l.intensity, a + b);
+    /// }
+    /// assert!(s.intensities(2).is_none());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    #[must_use]
+    pub fn intensities(&self, depth: usize) -> Option<&[Vec3]> {
+        self.per_depth.get(depth).map(Vec::as_slice)
+    }
+
+    /// The lights of depth `k` alone (0: the emission lights) on the merged lights' voxels and
+    /// grid: what [`shares`](Self::shares) renders. Depth 0 renders the single-scattering image
+    /// bit for bit (the added voxels are dark, the grid is the emission lights').
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// assert_eq!(s.depth_lights(0)?.lit(), emission.lit());
+    /// assert!(s.depth_lights(2).is_err());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn depth_lights(&self, depth: usize) -> Result<ExplosionLights, VolumeError> {
+        let intensities = self.intensities(depth).ok_or(VolumeError::InvalidCount {
+            name: "scatter depth",
+            value: depth,
+            rule: "is past the pass's last depth",
+        })?;
+        let mut lights = self.merged.clone();
+        lights.set_intensities(intensities)?;
+        debug_assert_eq!(lights.hierarchy().max_level(), self.max_level);
+        Ok(lights)
+    }
+
+    /// Each depth's share of `camera`'s image (the `--scatter-shares` report, kept apart from
+    /// the render): renders the emission alone and each depth's lights alone
+    /// ([`depth_lights`](Self::depth_lights)) through `method` at `alpha` with the shadows of
+    /// `settings` — `n + 2` renders. For brute force the parts add up to the merged image up to
+    /// rounding (the marcher is linear in the lights' intensities); the hierarchy's centres are
+    /// weighted by luminance, so for it they add up approximately. `progress(rows)` as rows
+    /// finish, over all the renders.
+    ///
+    /// ```
+    /// use lgh_volume::render::{Camera, Framing, MarchSettings};
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
+    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// let (lo, hi) = volume.active_bounds().unwrap();
+    /// let camera = Camera::frame(lo, hi, 8, 6)?;
+    /// let shares = s.shares(Method::Lgh, 2.0, &volume, &medium, &camera, &settings, &|_| {})?;
+    /// assert_eq!(shares.depths.len(), 2);
+    /// assert!(shares.emission > 0.0 && shares.depths.iter().all(|&d| d > 0.0));
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn shares(
+        &self,
+        method: Method,
+        alpha: f32,
+        frame: &Volume,
+        medium: &Medium,
+        camera: &Camera,
+        settings: &MarchSettings,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<Shares, VolumeError> {
+        let (emitted, _) = crate::render::render::<lgh_core::BruteForce>(
+            frame, medium, None, camera, settings, progress,
+        )?;
+        let luminance = |p: Vec3| f64::from(lgh_core::luminance(p));
+        let mut depths = Vec::with_capacity(self.per_depth.len());
+        for k in 0..self.per_depth.len() {
+            let lights = self.depth_lights(k)?;
+            let (image, _) =
+                lights.render(method, alpha, frame, medium, camera, settings, progress)?;
+            depths.push(
+                image
+                    .pixels
+                    .iter()
+                    .zip(&emitted.pixels)
+                    .map(|(&r, &e)| luminance(r) - luminance(e))
+                    .sum(),
+            );
+        }
+        Ok(Shares {
+            emission: emitted.pixels.iter().map(|&p| luminance(p)).sum(),
+            depths,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural::procedural;
+    use crate::render::Framing;
+    use crate::shadow::{ShadowGrid, Shadows};
+    use crate::DenseGrid;
+
+    /// A ball of smoke (density falling linearly from 1 at the centre to 0 at radius 0.8) with
+    /// a hot core (up to 2500 K inside radius 0.35), on `n³` voxels filling `[-1, 1]³`.
+    fn blob(n: usize) -> Volume {
+        let h = 2.0 / n as f32;
+        let origin = Vec3::splat(-1.0 + 0.5 * h);
+        let mut density = DenseGrid::zeros([n; 3], h, origin);
+        let mut temperature = density.clone();
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    let r = density.centre(i, j, k).length();
+                    let idx = density.index(i, j, k);
+                    density.data[idx] = (1.0 - r / 0.8).max(0.0);
+                    temperature.data[idx] = 2500.0 * (1.0 - r / 0.35).max(0.0);
+                }
+            }
+        }
+        Volume::new(density, temperature)
+    }
+
+    fn bits(v: &[Vec3]) -> Vec<[u32; 3]> {
+        v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+    }
+
+    const NONE: &(dyn Fn(usize) + Sync) = &|_| {};
+
+    /// The pass with `settings` and no progress.
+    #[allow(clippy::too_many_arguments)]
+    fn pass(
+        emission: &ExplosionLights,
+        depth: usize,
+        method: Method,
+        alpha: f32,
+        volume: &Volume,
+        medium: &Medium,
+        settings: &MarchSettings,
+    ) -> Scattered {
+        scatter(
+            emission, depth, method, alpha, volume, medium, settings, NONE,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn with_albedo_zero_the_merged_lights_render_single_scattering_bit_for_bit() {
+        // The pass runs in a medium that does not scatter (κ_s = 0, the same extinction as the
+        // render's, so the same shadows): every scattered light is computed — one fluence query
+        // per voxel with smoke, per depth — and is exactly dark. The merged set then holds
+        // those dark lights beside the emission lights (more lights, another hierarchy and
+        // other cube maps over it); rendered in a medium that *does* scatter, it must give the
+        // single-scattering image bit for bit. (Rendered in the albedo-0 medium itself the
+        // marcher would never query the lights, and the test would prove nothing.)
+        //
+        // The smoke reaches far beyond the fire (radius 0.8 against 0.35), so that lights
+        // chosen on their own would take a higher top level (5 against 3) and another image:
+        // the merged set must keep the emission lights' grid.
+        let volume = blob(24);
+        let render_medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let pass_medium = Medium::new(8.0, 0.0, 1e-4, 1000.0).unwrap();
+        let emission = ExplosionLights::new(&[&volume], &render_medium).unwrap();
+        let (lo, hi) = volume.active_bounds().unwrap();
+        let camera = Camera::frame(lo, hi, 20, 12).unwrap();
+        let smoke = volume.density.data.iter().filter(|&&r| r > 0.0).count() as u64;
+        for (method, shadows) in [
+            (Method::Lgh, Shadows::CubeMap),
+            (Method::Lgh, Shadows::RayMarch),
+            (Method::Brute, Shadows::RayMarch),
+        ] {
+            let settings = MarchSettings {
+                shadows,
+                ..Default::default()
+            };
+            let s = pass(&emission, 2, method, 2.0, &volume, &pass_medium, &settings);
+            for d in s.depths() {
+                assert_eq!(
+                    d.stats.shading_points, smoke,
+                    "{method:?}: every voxel queried"
+                );
+                assert_eq!(d.power, 0.0);
+            }
+            assert!(s.lights().lights().len() as u64 >= smoke);
+            let own = ExplosionLights::at_voxels(
+                &volume.density,
+                s.lights().voxels().to_vec(),
+                &vec![Vec3::ZERO; s.lights().lights().len()],
+                None,
+            )
+            .unwrap();
+            assert!(own.hierarchy().max_level() > emission.hierarchy().max_level());
+            assert!(s.lights().lights().len() > emission.lights().len());
+            assert_eq!(s.lights().lit(), emission.lit());
+            let render = |lights: &ExplosionLights| {
+                lights
+                    .render(
+                        method,
+                        2.0,
+                        &volume,
+                        &render_medium,
+                        &camera,
+                        &settings,
+                        NONE,
+                    )
+                    .unwrap()
+                    .0
+            };
+            let single = render(&emission);
+            assert!(single.pixels.iter().any(|p| p.max_element() > 0.0));
+            assert!(
+                bits(&render(s.lights()).pixels) == bits(&single.pixels),
+                "{method:?}, {shadows:?}: the images differ"
+            );
+        }
+    }
+
+    #[test]
+    fn each_depth_scales_exactly_as_the_albedo_to_its_power() {
+        // At a fixed extinction σ_t, `I^k = h³ σ_s/(4π) Φ^{k−1}` is linear in the depth-(k−1)
+        // intensities and in σ_s, and the shadows depend on σ_t only; so scaling κ_s by c scales
+        // depth k by c^k. With c a power of two every rounding commutes with the scaling
+        // (and the hierarchy's centres are ratios of luminance-weighted sums, unchanged), so the
+        // identity holds bit for bit: I^k(κ_s / 2^m) = I^k(κ_s) / 2^{mk}, for the hierarchy with
+        // its cube maps as for brute force. The depths' light shrinks geometrically with the
+        // albedo (1 and 1/4 here).
+        let media = [(0.0, 4.0), (3.0, 1.0)].map(|(a, s)| Medium::new(a, s, 1e-4, 1000.0).unwrap());
+        for (method, shadows, volume) in [
+            (Method::Lgh, Shadows::CubeMap, blob(16)),
+            (Method::Brute, Shadows::RayMarch, blob(12)),
+        ] {
+            let emission = ExplosionLights::new(&[&volume], &media[0]).unwrap();
+            let settings = MarchSettings {
+                shadows,
+                ..Default::default()
+            };
+            let runs: Vec<Scattered> = media
+                .iter()
+                .map(|m| pass(&emission, 3, method, 2.0, &volume, m, &settings))
+                .collect();
+            // κ_s / 4: depth k scaled by 4^{-k}.
+            for run in &runs[1..] {
+                for k in 0..=3 {
+                    let scale = 0.25f32.powi(k as i32);
+                    let want: Vec<Vec3> = runs[0]
+                        .intensities(k)
+                        .unwrap()
+                        .iter()
+                        .map(|&i| i * scale)
+                        .collect();
+                    assert_eq!(
+                        bits(run.intensities(k).unwrap()),
+                        bits(&want),
+                        "{method:?}: depth {k}"
+                    );
+                }
+            }
+            // And the light is there to scale: each depth adds some.
+            assert!(runs[0].depths().iter().all(|d| d.power > 0.0), "{method:?}");
+        }
+    }
+
+    #[test]
+    fn brute_force_depths_match_a_direct_sum_and_lgh_at_huge_alpha_matches_brute_force() {
+        // The reference: every depth-k light computed here by the definition, in f64, with
+        // the ray-marched transmittance V(x, p) of the same ShadowGrid (so that V is the same
+        // bits): I^k(x) = h³ σ_s(x)/(4π) Σ_p I^{k−1}(p) V(x, p) / max(|x − p|, h)².
+        let volume = blob(12);
+        let medium = Medium::new(1.0, 3.0, 1e-4, 1000.0).unwrap();
+        let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        let settings = MarchSettings::default(); // ray-marched shadows
+        let depth = 3;
+        let brute = pass(
+            &emission,
+            depth,
+            Method::Brute,
+            1.0,
+            &volume,
+            &medium,
+            &settings,
+        );
+        let grid = ShadowGrid::new(
+            &volume,
+            &medium,
+            settings.shadow_step_voxels,
+            settings.min_transmittance,
+        );
+        let d = &volume.density;
+        let h = f64::from(d.voxel_size);
+        let voxels = brute.lights().voxels().to_vec();
+        let centre = |v: usize| {
+            let [i, j, k] = crate::grid::unflatten(v, d.dims);
+            d.centre(i, j, k)
+        };
+        let mut previous: Vec<[f64; 3]> = brute
+            .intensities(0)
+            .unwrap()
+            .iter()
+            .map(|i| i.to_array().map(f64::from))
+            .collect();
+        // Each light's f32 result is a sum of N non-negative terms (N lights of the depth
+        // before), each a product of a few rounded factors: relative error ≤ (N + 12) u per
+        // depth (u = 2⁻²⁴; any summation order), carried on to the next depth, where all terms
+        // stay non-negative: ≤ k (N + 12) u at depth k.
+        let u = f64::from(f32::EPSILON) / 2.0;
+        let n = voxels.len() as f64;
+        let mut worst = 0.0f64;
+        for k in 1..=depth {
+            let got = brute.intensities(k).unwrap();
+            let bound = k as f64 * (n + 12.0) * u;
+            let mut next = vec![[0.0f64; 3]; voxels.len()];
+            for (s, &v) in voxels.iter().enumerate() {
+                let rho = d.data[v];
+                if rho <= 0.0 {
+                    assert_eq!(got[s], Vec3::ZERO);
+                    continue;
+                }
+                let x = centre(v);
+                let mut sum = [0.0f64; 3];
+                for (q, &w) in voxels.iter().enumerate() {
+                    if previous[q] == [0.0; 3] {
+                        continue;
+                    }
+                    let p = centre(w);
+                    let dist = f64::from(x.distance(p)).max(h);
+                    let vis = f64::from(grid.transmittance(x, p).0);
+                    for c in 0..3 {
+                        sum[c] += previous[q][c] * vis / (dist * dist);
+                    }
+                }
+                let factor =
+                    h.powi(3) * f64::from(medium.scattering * rho) / (4.0 * std::f64::consts::PI);
+                for c in 0..3 {
+                    next[s][c] = sum[c] * factor;
+                    let err = (f64::from(got[s][c]) - next[s][c]).abs();
+                    worst = worst.max(err / next[s][c].max(f64::MIN_POSITIVE));
+                    assert!(
+                        err <= bound * next[s][c],
+                        "depth {k}, voxel {v}: {} vs {}",
+                        got[s][c],
+                        next[s][c]
+                    );
+                }
+            }
+            previous = next;
+        }
+        assert!(previous.iter().any(|p| p[1] > 0.0));
+        eprintln!("brute-force pass against the direct sum: worst relative error {worst:.2e}");
+
+        // At α = 64, r_0 = 64 h exceeds the grid's diagonal (12√3 h ≈ 21 h): every light is in
+        // level 0 with weight B_0 = 1 and the hierarchy sums the same terms as brute force, in
+        // another order. Both are within k (N + 12) u of the exact sum.
+        let lgh = pass(
+            &emission,
+            depth,
+            Method::Lgh,
+            64.0,
+            &volume,
+            &medium,
+            &settings,
+        );
+        for k in 1..=depth {
+            let bound = 2.0 * k as f64 * (n + 12.0) * u;
+            let (a, b) = (lgh.intensities(k).unwrap(), brute.intensities(k).unwrap());
+            for (x, y) in a.iter().zip(b) {
+                for c in 0..3 {
+                    let err = f64::from((x[c] - y[c]).abs());
+                    assert!(err <= bound * f64::from(y[c]), "depth {k}: {x} vs {y}");
+                }
+            }
+        }
+        // The merged lights shade as brute force does, up to rounding, through both.
+        assert_eq!(lgh.lights().voxels(), brute.lights().voxels());
+    }
+
+    #[test]
+    fn the_shares_add_up_to_the_image_for_brute_force() {
+        // The marcher is linear in the lights' intensities: without shadows (V = 1) and with
+        // brute force, emission + Σ_k (R_k − E) is the merged image up to rounding. Each
+        // pixel's scattered light is a sum of N non-negative terms per step (N ≤ merged
+        // lights): relative error ≤ (N + 12) u of its value, for the merged image and each of
+        // the n + 2 parts; their sum errs by at most (n + 3) (N + 12) u of the total.
+        let volume = blob(12);
+        let medium = Medium::new(1.0, 3.0, 1e-4, 1000.0).unwrap();
+        let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        let settings = MarchSettings {
+            shadows: Shadows::None,
+            ..Default::default()
+        };
+        let (m, a) = (Method::Brute, 1.0);
+        let s = pass(&emission, 2, m, a, &volume, &medium, &settings);
+        let camera = Camera::frame(Vec3::splat(-0.8), Vec3::splat(0.8), 16, 12).unwrap();
+        let args = (&volume, &medium, &camera, &settings);
+        let shares = s
+            .shares(m, a, args.0, args.1, args.2, args.3, NONE)
+            .unwrap();
+        let lights = s.lights();
+        let (image, _) = lights
+            .render(m, a, args.0, args.1, args.2, args.3, NONE)
+            .unwrap();
+        let total: f64 = image
+            .pixels
+            .iter()
+            .map(|&p| f64::from(lgh_core::luminance(p)))
+            .sum();
+        let parts = shares.emission + shares.depths.iter().sum::<f64>();
+        let u = f64::from(f32::EPSILON) / 2.0;
+        let n = s.lights().lights().len() as f64;
+        let bound = 5.0 * (n + 12.0) * u;
+        assert!(
+            (parts - total).abs() <= bound * total,
+            "{parts} vs {total} ({shares:?})"
+        );
+        // Every depth adds light. (Without shadows nothing bounds the ratio of one depth to
+        // the last: unshadowed, the model does not conserve energy.)
+        assert!(shares.depths.iter().all(|&d| d > 0.0), "{shares:?}");
+    }
+
+    #[test]
+    fn bad_passes_are_refused_before_any_work() {
+        let volume = procedural(32, 0.5).unwrap();
+        let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        let work = std::sync::atomic::AtomicUsize::new(0);
+        let progress = |n: usize| {
+            work.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        };
+        let run = |depth, settings: &MarchSettings, frame: &Volume| {
+            scatter(
+                &emission,
+                depth,
+                Method::Lgh,
+                2.0,
+                frame,
+                &medium,
+                settings,
+                &progress,
+            )
+            .map(|_| ())
+        };
+        let ok = MarchSettings::default();
+        let e = run(17, &ok, &volume).unwrap_err();
+        assert!(
+            matches!(e, VolumeError::InvalidCount { value: 17, .. }),
+            "{e}"
+        );
+        let small = MarchSettings {
+            cube_maps: crate::shadow::CubeMapSettings {
+                memory_budget: 100_000,
+                ..Default::default()
+            },
+            ..ok
+        };
+        let e = run(4, &small, &volume).unwrap_err();
+        assert!(
+            matches!(e, VolumeError::ScatterMemory { depth: 4, .. }),
+            "{e}"
+        );
+        let mut moved = volume.clone();
+        moved.density.origin += Vec3::splat(0.01);
+        assert!(matches!(
+            run(1, &ok, &moved).unwrap_err(),
+            VolumeError::DensityOffGrid
+        ));
+        assert_eq!(work.into_inner(), 0, "no voxel's fluence was computed");
+    }
+
+    #[test]
+    fn the_memory_plan_covers_what_the_pass_holds() {
+        // BYTES_PER_LIGHT plans one vertex of the levels ≥ 1 per light: check it on the
+        // procedural explosion's smoke and on a thin scatter of lights (every 5th voxel).
+        let volume = procedural(48, 0.5).unwrap();
+        let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        let settings = MarchSettings {
+            shadows: Shadows::None,
+            ..Default::default()
+        };
+        let s = pass(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings);
+        let plan = ScatterPlan::new(&emission, &volume, 1).unwrap();
+        assert_eq!(plan.merged_lights, s.lights().lights().len());
+        let h = s.lights().hierarchy();
+        let vertices: usize = (1..=h.max_level()).map(|l| h.level(l).len()).sum();
+        assert!(
+            vertices <= h.len(),
+            "{vertices} vertices, {} lights",
+            h.len()
+        );
+        let sparse: Vec<usize> = (0..volume.density.data.len()).step_by(5).collect();
+        let dark = vec![Vec3::ZERO; sparse.len()];
+        let thin = ExplosionLights::at_voxels(&volume.density, sparse, &dark, None).unwrap();
+        let h = thin.hierarchy();
+        let vertices: usize = (1..=h.max_level()).map(|l| h.level(l).len()).sum();
+        assert!(
+            vertices <= h.len(),
+            "{vertices} vertices, {} lights",
+            h.len()
+        );
+    }
+}
