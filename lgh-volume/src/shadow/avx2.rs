@@ -13,9 +13,10 @@ use core::arch::x86_64::*;
 
 use lgh_core::glam::Vec3;
 
-use super::deep::{CubeMaps, INV_QUANT};
+use super::deep::{CubeMaps, Depths, Fit, Tracer, INV_QUANT, TAU_MAX};
 use super::lookup::{Slot, EXP2, NO_MAP};
-use super::{transmittance, Ray, ShadowGrid, ROUND};
+use super::prefilter::Mix;
+use super::{transmittance, PaddedGrid, Ray, ShadowGrid, ROUND};
 
 /// Rays marched together, one per lane of a 256-bit register.
 const LANES: usize = 8;
@@ -215,6 +216,55 @@ fn clamped_base([i, j, k]: [__m256i; 3], nx: __m256i, ny: __m256i, max_base: __m
     _mm256_min_epi32(_mm256_max_epi32(base, _mm256_setzero_si256()), max_base)
 }
 
+/// What gathering trilinear samples of a [`PaddedGrid`] eight at a time needs.
+struct Gathers {
+    /// The eight neighbours' offsets from a sample's base voxel, in `trilinear`'s order.
+    offsets: [usize; 8],
+    /// Bases from 0 to len − span keep every neighbour inside the grid.
+    max_base: __m256i,
+    nx: __m256i,
+    ny: __m256i,
+    data: *const f32,
+}
+
+impl Gathers {
+    /// For `grid`, which must hold `span ≤ len < 2^31` values (checked by the callers).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn new(grid: &PaddedGrid) -> Self {
+        let [nx, ny, _] = grid.dims;
+        let (dj, dk) = (nx, nx * ny);
+        Gathers {
+            offsets: [0, 1, dj, dj + 1, dk, dk + 1, dk + dj, dk + dj + 1],
+            max_base: _mm256_set1_epi32((grid.data.len() - grid.span) as i32),
+            nx: _mm256_set1_epi32(nx as i32),
+            ny: _mm256_set1_epi32(ny as i32),
+            data: grid.data.as_ptr(),
+        }
+    }
+
+    /// [`PaddedGrid::sample`] of eight points in padded voxel units, bit for bit (points outside
+    /// the padded box read clamped garbage rather than nothing: mask them).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn sample(&self, [px, py, pz]: [__m256; 3]) -> __m256 {
+        let (ix, wx) = floor(px);
+        let (iy, wy) = floor(py);
+        let (iz, wz) = floor(pz);
+        let base = clamped_base([ix, iy, iz], self.nx, self.ny, self.max_base);
+        // SAFETY: every base is in 0..=len − span and every offset below span, so each gathered
+        // element is inside the grid's data, whose pointer this is.
+        let c = self
+            .offsets
+            .map(|o| unsafe { _mm256_i32gather_ps::<4>(self.data.add(o), base) });
+        let x00 = lerp(c[0], c[1], wx);
+        let x10 = lerp(c[2], c[3], wx);
+        let x01 = lerp(c[4], c[5], wx);
+        let x11 = lerp(c[6], c[7], wx);
+        lerp(lerp(x00, x10, wy), lerp(x01, x11, wy), wz)
+    }
+}
+
 /// [`ShadowGrid::march`] of eight rays; writes ray `l`'s transmittance to `out[index[l]]` and
 /// returns the samples taken.
 #[target_feature(enable = "avx2")]
@@ -224,16 +274,7 @@ fn march8(grid: &ShadowGrid, rays: &Rays, index: [usize; LANES], out: &mut [f32]
     let max_sum = rays.max_sum;
     let steps = to_array(n).into_iter().fold(0.0f32, f32::max) as u32;
 
-    let [nx, ny, _] = grid.grid.dims;
-    let (dj, dk) = (nx, nx * ny);
-    // The eight neighbours' offsets from a sample's base voxel, in `trilinear`'s order.
-    let offsets = [0, 1, dj, dj + 1, dk, dk + 1, dk + dj, dk + dj + 1];
-    // Bases from 0 to len − span keep every neighbour inside the grid (checked by the caller:
-    // span ≤ len < 2^31).
-    let max_base = _mm256_set1_epi32((grid.grid.data.len() - grid.grid.span) as i32);
-    let (nx, ny) = (_mm256_set1_epi32(nx as i32), _mm256_set1_epi32(ny as i32));
-    let data = grid.grid.data.as_ptr();
-
+    let g = Gathers::new(&grid.grid);
     let mut sum = _mm256_setzero_ps();
     let mut active = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
     let mut hidden = _mm256_setzero_ps();
@@ -241,19 +282,11 @@ fn march8(grid: &ShadowGrid, rays: &Rays, index: [usize; LANES], out: &mut [f32]
     for i in 0..steps {
         // A lane past its end re-reads its last sample, masked out of the sum.
         let t = _mm256_min_ps(_mm256_set1_ps(i as f32), last);
-        let (ix, wx) = floor(_mm256_add_ps(px, _mm256_mul_ps(dx, t)));
-        let (iy, wy) = floor(_mm256_add_ps(py, _mm256_mul_ps(dy, t)));
-        let (iz, wz) = floor(_mm256_add_ps(pz, _mm256_mul_ps(dz, t)));
-        let base = clamped_base([ix, iy, iz], nx, ny, max_base);
-        // SAFETY: every base is in 0..=len − span and every offset below span, so each gathered
-        // element is inside `grid.data`, whose pointer this is.
-        let c = offsets.map(|o| unsafe { _mm256_i32gather_ps::<4>(data.add(o), base) });
-        let x00 = lerp(c[0], c[1], wx);
-        let x10 = lerp(c[2], c[3], wx);
-        let x01 = lerp(c[4], c[5], wx);
-        let x11 = lerp(c[6], c[7], wx);
-        let density = lerp(lerp(x00, x10, wy), lerp(x01, x11, wy), wz);
-
+        let density = g.sample([
+            _mm256_add_ps(px, _mm256_mul_ps(dx, t)),
+            _mm256_add_ps(py, _mm256_mul_ps(dy, t)),
+            _mm256_add_ps(pz, _mm256_mul_ps(dz, t)),
+        ]);
         sum = _mm256_blendv_ps(sum, _mm256_add_ps(sum, density), active);
         samples += u64::from((_mm256_movemask_ps(active) as u32).count_ones());
         let over = _mm256_and_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(sum, max_sum), active);
@@ -567,4 +600,266 @@ fn finish8(texels: &[[u16; 4]], at: &Located8) -> [f32; LANES] {
     // SAFETY: `out` holds eight floats.
     unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
     out
+}
+
+/// `lookup::exp_neg` of eight values, bit for bit.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn exp_neg8(y: __m256) -> __m256 {
+    let z = _mm256_mul_ps(
+        _mm256_sub_ps(_mm256_setzero_ps(), y),
+        _mm256_set1_ps(core::f32::consts::LOG2_E),
+    );
+    let n = _mm256_cvttps_epi32(z);
+    let f = _mm256_sub_ps(z, _mm256_cvtepi32_ps(n));
+    let mut p = _mm256_set1_ps(EXP2[5]);
+    for c in [EXP2[4], EXP2[3], EXP2[2], EXP2[1], EXP2[0]] {
+        p = _mm256_add_ps(_mm256_mul_ps(p, f), _mm256_set1_ps(c));
+    }
+    _mm256_castsi256_ps(_mm256_add_epi32(
+        _mm256_castps_si256(p),
+        _mm256_slli_epi32::<23>(n),
+    ))
+}
+
+/// Eight texel rays of one light (`dirs`, unit) traced abreast: `Tracer::trace` lane by lane,
+/// the same operations in the same order, so the depths are the same bit for bit (the sample
+/// counts may differ: lanes jump over empty space together, only where all of them can). The
+/// rays share the light's step schedule, so each step's distance, filter width and pyramid
+/// levels are the same for all eight; only the positions differ. `None` without AVX2 or when a
+/// pyramid level is too large for 32-bit gather offsets.
+pub(super) fn trace8(
+    tracer: &Tracer<'_>,
+    p: Vec3,
+    dirs: &[Vec3; LANES],
+    s: f32,
+    r: f32,
+    reach: f32,
+) -> Option<[([f32; 4], u32); LANES]> {
+    let pyramid = tracer.pyramid;
+    let fits = (0..pyramid.levels()).all(|m| {
+        let g = pyramid.grid(m);
+        i32::try_from(g.data.len()).is_ok() && g.data.len() >= g.span
+    });
+    if !fits || !std::arch::is_x86_feature_detected!("avx2") {
+        return None;
+    }
+    // SAFETY: the CPU supports AVX2, checked above; every level fits 32-bit offsets.
+    Some(unsafe { trace8_avx2(tracer, p, dirs, s, r, reach) })
+}
+
+/// Eight f64 accumulators of `deep::Fit` (lanes 0–3 and 4–7).
+#[derive(Clone, Copy)]
+struct Acc8([__m256d; 2]);
+
+impl Acc8 {
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn zero() -> Self {
+        Acc8([_mm256_setzero_pd(); 2])
+    }
+
+    /// `self += (w·a)·b` lane by lane, `a` the same for every lane, `b` per lane.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn add(&mut self, w: &[__m256d; 2], a: f64, b: &[__m256d; 2]) {
+        let a = _mm256_set1_pd(a);
+        for h in 0..2 {
+            self.0[h] = _mm256_add_pd(self.0[h], _mm256_mul_pd(_mm256_mul_pd(w[h], a), b[h]));
+        }
+    }
+
+    /// `self += (w·a)·a` lane by lane.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn add_square(&mut self, w: &[__m256d; 2], a: f64) {
+        let a = _mm256_set1_pd(a);
+        for h in 0..2 {
+            self.0[h] = _mm256_add_pd(self.0[h], _mm256_mul_pd(_mm256_mul_pd(w[h], a), a));
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn lanes(&self) -> [f64; LANES] {
+        let mut out = [0.0f64; LANES];
+        // SAFETY: `out` holds eight f64.
+        unsafe {
+            _mm256_storeu_pd(out.as_mut_ptr(), self.0[0]);
+            _mm256_storeu_pd(out.as_mut_ptr().add(4), self.0[1]);
+        }
+        out
+    }
+}
+
+/// Eight f32 lanes as two halves of f64.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn widen(v: __m256) -> [__m256d; 2] {
+    [
+        _mm256_cvtps_pd(_mm256_castps256_ps128(v)),
+        _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(v)),
+    ]
+}
+
+#[target_feature(enable = "avx2")]
+fn trace8_avx2(
+    tracer: &Tracer<'_>,
+    p: Vec3,
+    dirs: &[Vec3; LANES],
+    s: f32,
+    r: f32,
+    reach: f32,
+) -> [([f32; 4], u32); LANES] {
+    let quarter = reach / 4.0;
+    let p_inside = tracer.inside(p);
+    let pyramid = tracer.pyramid;
+    let dir = [
+        from_array(dirs.map(|d| d.x)),
+        from_array(dirs.map(|d| d.y)),
+        from_array(dirs.map(|d| d.z)),
+    ];
+    let origin = [p.x, p.y, p.z].map(|c| _mm256_set1_ps(c));
+    let (lo, hi) = (tracer.lo, tracer.hi);
+    let fitted = tracer.depths == Depths::Fitted;
+    let zero = _mm256_setzero_ps();
+    let mut samples = [0u32; LANES];
+    let mut tau = zero;
+    let mut at = [zero; 4];
+    let (mut diag, mut upper, mut rhs) = ([Acc8::zero(); 4], [Acc8::zero(); 3], [Acc8::zero(); 4]);
+    let mut look_again = 0.0f32;
+    let mut live = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    for (k, at_k) in at.iter_mut().enumerate() {
+        if _mm256_movemask_ps(live) != 0 {
+            let (a, n, dt) = tracer.schedule(k, quarter, s, r);
+            let mut i = 0;
+            while i < n {
+                let d = a + (i as f32 + 0.5) * dt;
+                let dv = _mm256_set1_ps(d);
+                // x = p + dir·d, as Vec3's `p + dir * d`.
+                let x = [0, 1, 2].map(|c| _mm256_add_ps(origin[c], _mm256_mul_ps(dir[c], dv)));
+                let mut inside = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+                for c in 0..3 {
+                    inside = _mm256_and_ps(
+                        inside,
+                        _mm256_and_ps(
+                            _mm256_cmp_ps::<_CMP_GE_OQ>(x[c], _mm256_set1_ps(lo[c])),
+                            _mm256_cmp_ps::<_CMP_LE_OQ>(x[c], _mm256_set1_ps(hi[c])),
+                        ),
+                    );
+                }
+                if p_inside {
+                    live = _mm256_and_ps(live, inside); // a convex box is not entered again
+                }
+                let active = _mm256_and_ps(live, inside);
+                let active_bits = _mm256_movemask_ps(active);
+                if _mm256_movemask_ps(live) == 0 {
+                    break;
+                }
+                if active_bits == 0 {
+                    i += 1;
+                    continue;
+                }
+                let width = tracer.width(d, s, r);
+                if tracer.skip_empty && d >= look_again {
+                    // The lanes jump together, as far as the least clear of them allows.
+                    let xs = x.map(|v| to_array(v));
+                    let mut margin = f32::INFINITY;
+                    for l in (0..LANES).filter(|l| active_bits & (1 << l) != 0) {
+                        let xl = Vec3::new(xs[0][l], xs[1][l], xs[2][l]);
+                        margin =
+                            margin.min(tracer.empty.clearance(xl) - 3.0 * width.max(tracer.h0));
+                    }
+                    if margin >= 0.0 {
+                        i += (margin / dt) as u32 + 1;
+                        continue;
+                    }
+                    look_again = d + 2.0 * tracer.empty.block();
+                }
+                let at_level = |m: usize| {
+                    let g = pyramid.grid(m);
+                    // PaddedGrid::local: (x − origin) · 1/h, component by component.
+                    let local = [0, 1, 2].map(|c| {
+                        _mm256_mul_ps(
+                            _mm256_sub_ps(x[c], _mm256_set1_ps(g.origin[c])),
+                            _mm256_set1_ps(g.inv_voxel_size),
+                        )
+                    });
+                    Gathers::new(g).sample(local)
+                };
+                let rho = match pyramid.mix(width) {
+                    Mix::One(m) => at_level(m),
+                    Mix::Two(m, t) => {
+                        let a = at_level(m);
+                        lerp(a, at_level(m + 1), _mm256_set1_ps(t))
+                    }
+                };
+                let rho = _mm256_and_ps(rho, active);
+                for (l, c) in samples.iter_mut().enumerate() {
+                    *c += u32::from(active_bits & (1 << l) != 0);
+                }
+                let dtau = _mm256_mul_ps(
+                    _mm256_mul_ps(_mm256_set1_ps(tracer.kappa), rho),
+                    _mm256_set1_ps(dt),
+                );
+                if fitted {
+                    let sampled = _mm256_and_ps(active, _mm256_cmp_ps::<_CMP_GT_OQ>(rho, zero));
+                    if _mm256_movemask_ps(sampled) != 0 {
+                        let mid = _mm256_add_ps(tau, _mm256_mul_ps(_mm256_set1_ps(0.5), dtau));
+                        let e = exp_neg8(_mm256_min_ps(
+                            _mm256_mul_ps(_mm256_set1_ps(2.0), mid),
+                            _mm256_set1_ps(80.0),
+                        ));
+                        let w = _mm256_mul_ps(_mm256_mul_ps(rho, e), _mm256_set1_ps(dt));
+                        // Lanes not sampled add (0·a)·b = 0: their sums do not change.
+                        let (w, mid) = (widen(_mm256_and_ps(w, sampled)), widen(mid));
+                        // deep::Fit::add with the step's q, the same for all lanes.
+                        let q = d / quarter;
+                        let fk = (q as usize).min(3);
+                        let t = f64::from(q - fk as f32).clamp(0.0, 1.0);
+                        diag[fk].add_square(&w, t);
+                        rhs[fk].add(&w, t, &mid);
+                        if fk > 0 {
+                            diag[fk - 1].add_square(&w, 1.0 - t);
+                            rhs[fk - 1].add(&w, 1.0 - t, &mid);
+                            let u = _mm256_set1_pd(t);
+                            for (h, wh) in w.iter().enumerate() {
+                                let v =
+                                    _mm256_mul_pd(_mm256_mul_pd(*wh, _mm256_set1_pd(1.0 - t)), u);
+                                upper[fk - 1].0[h] = _mm256_add_pd(upper[fk - 1].0[h], v);
+                            }
+                        }
+                    }
+                }
+                tau = _mm256_blendv_ps(tau, _mm256_add_ps(tau, dtau), active);
+                i += 1;
+                let over = _mm256_and_ps(
+                    active,
+                    _mm256_cmp_ps::<_CMP_GT_OQ>(tau, _mm256_set1_ps(TAU_MAX)),
+                );
+                live = _mm256_andnot_ps(over, live);
+            }
+        }
+        *at_k = tau;
+    }
+    let at = at.map(|v| to_array(v));
+    let (diag, upper, rhs) = (
+        diag.map(|a| a.lanes()),
+        upper.map(|a| a.lanes()),
+        rhs.map(|a| a.lanes()),
+    );
+    core::array::from_fn(|l| {
+        let sampled = [at[0][l], at[1][l], at[2][l], at[3][l]];
+        let depths = if fitted {
+            Fit {
+                diag: diag.map(|a| a[l]),
+                upper: upper.map(|a| a[l]),
+                rhs: rhs.map(|a| a[l]),
+            }
+            .solve(sampled, 1e-6 * quarter)
+        } else {
+            sampled
+        };
+        (depths, samples[l])
+    })
 }

@@ -103,10 +103,22 @@ impl DensityPyramid {
     #[inline]
     #[must_use]
     pub fn sample(&self, p: Vec3, width: f32) -> f32 {
+        match self.mix(width) {
+            Mix::One(m) => self.at(m, p),
+            Mix::Two(m, t) => {
+                let a = self.at(m, p);
+                a + (self.at(m + 1, p) - a) * t
+            }
+        }
+    }
+
+    /// Which levels a lookup at `width` reads, and how much of the coarser one.
+    #[inline]
+    pub(super) fn mix(&self, width: f32) -> Mix {
         let ratio = width * self.inv_h;
         // A NaN width reads the plain density too.
         if ratio.is_nan() || ratio <= 1.0 {
-            return self.at(0, p);
+            return Mix::One(0);
         }
         // ratio = 2^m (1 + t): m is its binary exponent, t its mantissa's fraction, both exact
         // (ratio > 1 is a normal float).
@@ -114,12 +126,22 @@ impl DensityPyramid {
         let m = ((bits >> 23) as usize).saturating_sub(127);
         let top = self.levels.len() - 1;
         if m >= top {
-            return self.at(top, p);
+            return Mix::One(top);
         }
-        let t = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) - 1.0;
-        let a = self.at(m, p);
-        a + (self.at(m + 1, p) - a) * t
+        Mix::Two(m, f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) - 1.0)
     }
+
+    /// Level `m`, padded (for module `avx2`).
+    pub(super) fn grid(&self, m: usize) -> &PaddedGrid {
+        &self.levels[m]
+    }
+}
+
+/// The levels a lookup reads: one, or two with the weight of the second.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Mix {
+    One(usize),
+    Two(usize, f32),
 }
 
 /// The tent of half-width `width` voxels over `density`'s voxels, sampled every `spacing` voxels
