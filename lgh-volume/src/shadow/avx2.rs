@@ -664,18 +664,8 @@ impl Acc8 {
     #[target_feature(enable = "avx2")]
     fn add(&mut self, w: &[__m256d; 2], a: f64, b: &[__m256d; 2]) {
         let a = _mm256_set1_pd(a);
-        for h in 0..2 {
-            self.0[h] = _mm256_add_pd(self.0[h], _mm256_mul_pd(_mm256_mul_pd(w[h], a), b[h]));
-        }
-    }
-
-    /// `self += (w·a)·a` lane by lane.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn add_square(&mut self, w: &[__m256d; 2], a: f64) {
-        let a = _mm256_set1_pd(a);
-        for h in 0..2 {
-            self.0[h] = _mm256_add_pd(self.0[h], _mm256_mul_pd(_mm256_mul_pd(w[h], a), a));
+        for ((s, w), b) in self.0.iter_mut().zip(w).zip(b) {
+            *s = _mm256_add_pd(*s, _mm256_mul_pd(_mm256_mul_pd(*w, a), *b));
         }
     }
 
@@ -817,17 +807,13 @@ fn trace8_avx2(
                         let q = d / quarter;
                         let fk = (q as usize).min(3);
                         let t = f64::from(q - fk as f32).clamp(0.0, 1.0);
-                        diag[fk].add_square(&w, t);
+                        let (t_all, u_all) = ([_mm256_set1_pd(t); 2], [_mm256_set1_pd(1.0 - t); 2]);
+                        diag[fk].add(&w, t, &t_all);
                         rhs[fk].add(&w, t, &mid);
                         if fk > 0 {
-                            diag[fk - 1].add_square(&w, 1.0 - t);
+                            diag[fk - 1].add(&w, 1.0 - t, &u_all);
                             rhs[fk - 1].add(&w, 1.0 - t, &mid);
-                            let u = _mm256_set1_pd(t);
-                            for (h, wh) in w.iter().enumerate() {
-                                let v =
-                                    _mm256_mul_pd(_mm256_mul_pd(*wh, _mm256_set1_pd(1.0 - t)), u);
-                                upper[fk - 1].0[h] = _mm256_add_pd(upper[fk - 1].0[h], v);
-                            }
+                            upper[fk - 1].add(&w, 1.0 - t, &t_all);
                         }
                     }
                 }

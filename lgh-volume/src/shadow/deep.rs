@@ -503,10 +503,10 @@ impl Tracer<'_> {
                 t += 8;
             }
         }
-        for t in t..texels {
+        for (t, texel) in map.iter_mut().enumerate().take(texels).skip(t) {
             let (tau, n) = self.trace(p, direction(t), s, r, reach);
             samples += u64::from(n);
-            map[t] = quantise(tau);
+            *texel = quantise(tau);
         }
         samples
     }
