@@ -10,7 +10,7 @@ use crate::grid::DenseGrid;
 const BLOCK: usize = 4;
 
 /// The Chebyshev distance, in blocks of [`BLOCK`]³ voxels, from every block to the nearest block
-/// holding a voxel with density (0 for such a block; capped at 255).
+/// holding a voxel with a non-zero density (0 for such a block; capped at 255).
 #[derive(Clone, Debug)]
 pub struct EmptySpace {
     distance: Vec<u8>,
@@ -23,7 +23,8 @@ pub struct EmptySpace {
 }
 
 impl EmptySpace {
-    /// The field of `density` (values ≤ 0 are empty).
+    /// The field of `density` (only values of exactly 0 are empty, so that whatever the input,
+    /// a jump skips only samples that would read zeros).
     #[must_use]
     pub fn new(density: &DenseGrid) -> Self {
         let dims = density.dims.map(|n| n.div_ceil(BLOCK).max(1));
@@ -32,7 +33,7 @@ impl EmptySpace {
         let mut d = vec![u16::MAX; dims.iter().product()];
         let [nx, ny, _] = density.dims;
         for (idx, &v) in density.data.iter().enumerate() {
-            if v > 0.0 {
+            if v != 0.0 {
                 let (i, j, k) = (idx % nx, (idx / nx) % ny, idx / (nx * ny));
                 d[(k / BLOCK * by + j / BLOCK) * bx + i / BLOCK] = 0;
             }
