@@ -580,21 +580,7 @@ fn finish8(texels: &[[u16; 4]], at: &Located8) -> [f32; LANES] {
     let lo = lerp(lerp(l00, l10, tx), lerp(l01, l11, tx), ty);
     let hi = lerp(lerp(h00, h10, tx), lerp(h01, h11, tx), ty);
     let tau = _mm256_mul_ps(lerp(lo, hi, f), _mm256_set1_ps(INV_QUANT));
-    // exp_neg(τ).
-    let z = _mm256_mul_ps(
-        _mm256_sub_ps(zero, tau),
-        _mm256_set1_ps(core::f32::consts::LOG2_E),
-    );
-    let n = _mm256_cvttps_epi32(z);
-    let fr = _mm256_sub_ps(z, _mm256_cvtepi32_ps(n));
-    let mut p = _mm256_set1_ps(EXP2[5]);
-    for c in [EXP2[4], EXP2[3], EXP2[2], EXP2[1], EXP2[0]] {
-        p = _mm256_add_ps(_mm256_mul_ps(p, fr), _mm256_set1_ps(c));
-    }
-    let e = _mm256_castsi256_ps(_mm256_add_epi32(
-        _mm256_castps_si256(p),
-        _mm256_slli_epi32::<23>(n),
-    ));
+    let e = exp_neg8(tau);
     let v = _mm256_blendv_ps(one, e, valid);
     let mut out = [0.0f32; LANES];
     // SAFETY: `out` holds eight floats.

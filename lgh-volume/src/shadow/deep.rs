@@ -704,6 +704,14 @@ mod tests {
         (lgh, b)
     }
 
+    /// The older demo's explosion at 32³, its lights and their hierarchy's blending at α = 2.
+    fn demo32() -> (Volume, Medium, crate::ExplosionLights) {
+        let v = crate::procedural(32, 0.5).unwrap();
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let lights = crate::ExplosionLights::new(&[&v], &m).unwrap();
+        (v, m, lights)
+    }
+
     fn settings(depths: Depths) -> CubeMapSettings {
         CubeMapSettings {
             depths,
@@ -873,9 +881,7 @@ mod tests {
         // Every level's lights, looked up from points all over the box and beyond, in batches of
         // every length (AVX2 eights and the scalar rest), with lights without a map (index out
         // of range, a level above the top), points on a light and non-finite points among them.
-        let v = crate::procedural(32, 0.5).unwrap();
-        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let lights = crate::ExplosionLights::new(&[&v], &m).unwrap();
+        let (v, m, lights) = demo32();
         let lgh = lights.hierarchy();
         let b = lgh.blending(2.0).unwrap();
         let maps = CubeMaps::build(lgh, &b, &v, &m, &settings(Depths::Fitted), &|_| {}).unwrap();
@@ -963,9 +969,7 @@ mod tests {
 
     #[test]
     fn maps_do_not_depend_on_the_thread_count_and_oversized_plans_are_refused() {
-        let v = crate::procedural(32, 0.5).unwrap();
-        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let lights = crate::ExplosionLights::new(&[&v], &m).unwrap();
+        let (v, m, lights) = demo32();
         let lgh = lights.hierarchy();
         let b = lgh.blending(2.0).unwrap();
         let build = |threads| {
