@@ -704,6 +704,38 @@ mod tests {
         (lgh, b)
     }
 
+    /// Two blobs of smoke (peak density `peak`) with empty space between, on an `n`³ grid.
+    fn blobs(n: usize, a: Vec3, b: Vec3, peak: f32) -> Volume {
+        volume(n, |c| {
+            let blob = |o: Vec3, r: f32| (1.0 - (c - o).length() / r).max(0.0) * peak;
+            blob(a, 0.4) + blob(b, 0.3)
+        })
+    }
+
+    /// A tracer through `pyramid` of `v` in a medium of extinction `kappa` per unit density.
+    fn tracer<'a>(
+        pyramid: &'a DensityPyramid,
+        empty: &'a EmptySpace,
+        v: &Volume,
+        kappa: f32,
+        (skip_empty, simd, depths): (bool, bool, Depths),
+    ) -> Tracer<'a> {
+        let (lo, hi) = v.density.bounds();
+        Tracer {
+            pyramid,
+            empty,
+            skip_empty,
+            simd,
+            kappa,
+            lo,
+            hi,
+            h0: v.density.voxel_size,
+            min_step: v.density.voxel_size,
+            prefilter: true,
+            depths,
+        }
+    }
+
     /// The older demo's explosion at 32³, its lights and their hierarchy's blending at α = 2.
     fn demo32() -> (Volume, Medium, crate::ExplosionLights) {
         let v = crate::procedural(32, 0.5).unwrap();
@@ -839,26 +871,24 @@ mod tests {
     fn jumping_over_empty_space_changes_no_bit() {
         // Smoke in a few blobs with empty space between: rays from lights of every size, with
         // and without jumps, must give the same four depths bit for bit.
-        let v = volume(36, |c| {
-            let blob = |o: Vec3, r: f32| (1.0 - (c - o).length() / r).max(0.0) * 3.0;
-            blob(Vec3::new(0.6, 0.5, 0.4), 0.4) + blob(Vec3::new(-0.7, -0.6, 0.0), 0.3)
-        });
+        let v = blobs(
+            36,
+            Vec3::new(0.6, 0.5, 0.4),
+            Vec3::new(-0.7, -0.6, 0.0),
+            3.0,
+        );
         let m = Medium::new(2.0, 1.0, 0.0, 0.0).unwrap();
         let pyramid = DensityPyramid::new(&v.density, 1.0);
         let empty = EmptySpace::new(&v.density);
         let (lo, hi) = v.density.bounds();
-        let tracer = |skip_empty| Tracer {
-            pyramid: &pyramid,
-            empty: &empty,
-            skip_empty,
-            simd: false,
-            kappa: m.extinction(1.0),
-            lo,
-            hi,
-            h0: v.density.voxel_size,
-            min_step: v.density.voxel_size,
-            prefilter: true,
-            depths: Depths::Fitted,
+        let tracer = |skip| {
+            tracer(
+                &pyramid,
+                &empty,
+                &v,
+                m.extinction(1.0),
+                (skip, false, Depths::Fitted),
+            )
         };
         let (with, without) = (tracer(true), tracer(false));
         let mut rng = lgh_core::random::SplitMix64(6);
@@ -922,10 +952,12 @@ mod tests {
     fn texel_rays_eight_abreast_are_the_one_by_one_rays_bit_for_bit() {
         // Lights of every size inside and outside the box, in smoke with empty space between
         // blobs, both depth rules: whole maps traced with and without AVX2 must agree.
-        let v = volume(30, |c| {
-            let blob = |o: Vec3, r: f32| (1.0 - (c - o).length() / r).max(0.0) * 6.0;
-            blob(Vec3::new(0.3, 0.2, 0.1), 0.4) + blob(Vec3::new(-0.5, -0.4, 0.0), 0.3)
-        });
+        let v = blobs(
+            30,
+            Vec3::new(0.3, 0.2, 0.1),
+            Vec3::new(-0.5, -0.4, 0.0),
+            6.0,
+        );
         let m = Medium::new(2.0, 1.0, 0.0, 0.0).unwrap();
         let pyramid = DensityPyramid::new(&v.density, 0.5);
         let empty = EmptySpace::new(&v.density);
@@ -933,18 +965,14 @@ mod tests {
         let mut rng = lgh_core::random::SplitMix64(31);
         let mut compared = 0;
         for depths in [Depths::Fitted, Depths::Sampled] {
-            let tracer = |simd| Tracer {
-                pyramid: &pyramid,
-                empty: &empty,
-                skip_empty: true,
-                simd,
-                kappa: m.extinction(1.0),
-                lo,
-                hi,
-                h0: v.density.voxel_size,
-                min_step: v.density.voxel_size,
-                prefilter: true,
-                depths,
+            let tracer = |simd| {
+                tracer(
+                    &pyramid,
+                    &empty,
+                    &v,
+                    m.extinction(1.0),
+                    (true, simd, depths),
+                )
             };
             let (fast, slow) = (tracer(true), tracer(false));
             for i in 0..24 {
