@@ -2,7 +2,9 @@
 //! (40³, 32×18, ray-marched shadows) through the lighting grid hierarchy at α = 1, 2, 4, through
 //! brute force over every light, and path-traced (single scattering, 16 paths per pixel); and the
 //! per-frame light update of a sequence; and shadow rays alone, one by one and together, through
-//! the demo's 128³ volume.
+//! the demo's 128³ volume; and the deep-shadow cube maps (paper Sec. 4) of the demo's explosion
+//! at 64³: traced, and looked up for the lights a render asks about, against ray-marched shadow
+//! rays to the same lights.
 //! `lgh bench explosion` measures the large scenes and the errors; these are the quick,
 //! statistically careful timings.
 
@@ -11,8 +13,8 @@ use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::lgh_core::random::SplitMix64;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::shadow::ShadowGrid;
-use lgh_volume::{procedural, ExplosionLights, Medium, Method};
+use lgh_volume::shadow::{CubeMapSettings, CubeMaps, ShadowGrid};
+use lgh_volume::{explosion, procedural, ExplosionLights, Medium, Method};
 
 fn renders(c: &mut Criterion) {
     let volume = procedural(40, 0.5).unwrap();
@@ -122,5 +124,67 @@ fn shadow_rays(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, renders, shadow_rays);
+/// The cube maps of the demo's explosion at 64³ (its medium, α = 2, texel rays in 2-voxel steps
+/// as `lgh demo`'s): tracing them all, and the visibility of the lights the hierarchy returns at
+/// 200 random points of the smoke's box, through the maps and through shadow rays (2-voxel
+/// steps, cut off at 10⁻³) — the two ways a render can ask the same question.
+fn cube_maps(c: &mut Criterion) {
+    let volume = explosion(64, 0.5).unwrap();
+    let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+    let lights = ExplosionLights::new(&[&volume], &medium).unwrap();
+    let lgh = lights.hierarchy();
+    let blending = lgh.blending(2.0).unwrap();
+    let settings = CubeMapSettings {
+        step_voxels: 2.0,
+        ..Default::default()
+    };
+    let mut g = c.benchmark_group("cube_maps_64");
+    g.sample_size(10);
+    g.bench_function("trace", |b| {
+        b.iter(|| CubeMaps::build(lgh, &blending, &volume, &medium, &settings, &|_| {}).unwrap())
+    });
+    let maps = CubeMaps::build(lgh, &blending, &volume, &medium, &settings, &|_| {}).unwrap();
+    let grid = ShadowGrid::new(&volume, &medium, 2.0, 1e-3);
+    let (lo, hi) = volume.active_bounds().unwrap();
+    let mut rng = SplitMix64(3);
+    // Each point's lights as the hierarchy returns them: centres, (level, index).
+    let queries: Vec<(Vec3, Vec<Vec3>, Vec<(u8, u32)>)> = (0..200)
+        .map(|_| {
+            let x = rng.next_in(lo, hi);
+            let (mut centres, mut ids) = (Vec::new(), Vec::new());
+            lgh.query(x, &blending, |l| {
+                centres.push(l.position);
+                ids.push((l.level, l.index));
+            })
+            .unwrap();
+            (x, centres, ids)
+        })
+        .collect();
+    let lookups: usize = queries.iter().map(|q| q.1.len()).sum();
+    eprintln!("cube_maps_64: {lookups} lights at 200 points");
+    let mut out = Vec::new();
+    g.bench_function("lookups_200_points", |b| {
+        b.iter(|| {
+            let mut sum = 0.0f32;
+            for (x, centres, ids) in &queries {
+                maps.transmittances(*x, centres, ids, &mut out);
+                sum += out.iter().sum::<f32>();
+            }
+            sum
+        })
+    });
+    g.bench_function("shadow_rays_200_points", |b| {
+        b.iter(|| {
+            let mut sum = 0.0f32;
+            for (x, centres, _) in &queries {
+                grid.transmittances(*x, centres, &mut out);
+                sum += out.iter().sum::<f32>();
+            }
+            sum
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, renders, shadow_rays, cube_maps);
 criterion_main!(benches);
