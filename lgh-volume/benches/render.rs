@@ -124,6 +124,9 @@ fn shadow_rays(c: &mut Criterion) {
     g.finish();
 }
 
+/// A shading point and its lights: centres and (level, index).
+type Query = (Vec3, Vec<Vec3>, Vec<(u8, u32)>);
+
 /// The cube maps of the demo's explosion at 64³ (its medium, α = 2, texel rays in 2-voxel steps
 /// as `lgh demo`'s): tracing them all, and the visibility of the lights the hierarchy returns at
 /// 200 random points of the smoke's box, through the maps and through shadow rays (2-voxel
@@ -148,7 +151,7 @@ fn cube_maps(c: &mut Criterion) {
     let (lo, hi) = volume.active_bounds().unwrap();
     let mut rng = SplitMix64(3);
     // Each point's lights as the hierarchy returns them: centres, (level, index).
-    let queries: Vec<(Vec3, Vec<Vec3>, Vec<(u8, u32)>)> = (0..200)
+    let queries: Vec<Query> = (0..200)
         .map(|_| {
             let x = rng.next_in(lo, hi);
             let (mut centres, mut ids) = (Vec::new(), Vec::new());
