@@ -442,7 +442,7 @@ impl<'a> Marcher<'a> {
 const TILE: usize = 8;
 
 /// The one pixel loop of every renderer in the crate: `shade(scratch, x, y)` for each pixel of
-/// `camera`'s image (`pixels: None`: bands of [`TILE`] rows in parallel, each walked tile by
+/// `camera`'s image (`pixels: None`: bands of 8 rows in parallel, each walked tile by
 /// tile, `progress(rows)` as each band finishes) or of a list (`Some`, in parallel, no
 /// progress), results in pixel order. Each band (or rayon split of a list) makes its scratch
 /// with `init`; pixels are independent, so nothing depends on the thread count or the order.
