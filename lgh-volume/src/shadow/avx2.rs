@@ -396,7 +396,7 @@ pub(super) fn cube_transmittances(
                 c[1][l] = p.y;
                 c[2][l] = p.z;
                 let (level, index) = ids[first + l];
-                (slots[l], inv_quarter[l]) = maps.slot_of(level, index);
+                (slots[l], inv_quarter[l]) = maps.slot(level, index);
             }
             // SAFETY: the CPU supports AVX2, checked above.
             located[g] = Some(unsafe { locate8(texels, x, &c, &slots, &inv_quarter) });

@@ -388,12 +388,6 @@ impl CubeMaps {
         self.table.iter().map(|l| l.lights).sum()
     }
 
-    /// Bytes of all the maps ([`bytes`](Self::bytes)) per light with a map.
-    #[must_use]
-    pub fn bytes_per_light(&self) -> f64 {
-        self.bytes() as f64 / self.lights().max(1) as f64
-    }
-
     /// Transmittance `e^{−τ}` from light `index` of `level`, centred at `centre`, to `x`: `τ`
     /// interpolated bilinearly between the texels around the direction and linearly between
     /// the depths around the distance (0 at the light, constant beyond the last depth). A light
@@ -408,7 +402,7 @@ impl CubeMaps {
 
     /// Light `index` of `level`'s map and its level's 4 / reach ([`NO_MAP`] if it has none).
     #[inline]
-    fn slot(&self, level: u8, index: u32) -> (Slot, f32) {
+    pub(super) fn slot(&self, level: u8, index: u32) -> (Slot, f32) {
         self.levels.get(level as usize).map_or((NO_MAP, 0.0), |l| {
             (
                 l.slots.get(index as usize).copied().unwrap_or(NO_MAP),
@@ -432,15 +426,9 @@ impl CubeMaps {
         }
     }
 
-    /// The maps' texels and the slot and 4 / reach of each light of `ids` (for module `avx2`).
+    /// Every map's texels, in one array (for module `avx2`).
     pub(super) fn texels(&self) -> &[[u16; 4]] {
         &self.texels
-    }
-
-    /// What module `avx2` needs of light `(level, index)`: its slot and its level's 4 / reach.
-    #[inline]
-    pub(super) fn slot_of(&self, level: u8, index: u32) -> (Slot, f32) {
-        self.slot(level, index)
     }
 }
 
@@ -906,8 +894,14 @@ mod tests {
         assert!(shadowed > 300, "{shadowed}");
     }
 
+    #[cfg(target_arch = "x86_64")]
     #[test]
     fn batched_lookups_are_the_one_by_one_lookups_bit_for_bit() {
+        // Without AVX2 both sides are the one-by-one code: nothing to compare.
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("SKIPPED: this CPU has no AVX2");
+            return;
+        }
         // Every level's lights, looked up from points all over the box and beyond, in batches of
         // every length (AVX2 eights and the scalar rest), with lights without a map (index out
         // of range, a level above the top), points on a light and non-finite points among them.
@@ -948,8 +942,14 @@ mod tests {
         assert!(shadowed > 500, "{shadowed}");
     }
 
+    #[cfg(target_arch = "x86_64")]
     #[test]
     fn texel_rays_eight_abreast_are_the_one_by_one_rays_bit_for_bit() {
+        // Without AVX2 both sides are the one-by-one code: nothing to compare.
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("SKIPPED: this CPU has no AVX2");
+            return;
+        }
         // Lights of every size inside and outside the box, in smoke with empty space between
         // blobs, both depth rules: whole maps traced with and without AVX2 must agree.
         let v = blobs(

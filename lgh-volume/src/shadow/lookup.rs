@@ -5,6 +5,8 @@
 
 use lgh_core::glam::Vec3;
 
+use super::cube;
+
 /// Where a light's map is: its first texel in the maps' one texel array, and its cells per
 /// face side; `offset == u32::MAX` for a light without a map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,50 +72,27 @@ pub(super) fn quantised_depth(
     if slot == NO_MAP || !d.is_finite() || d <= 0.0 {
         return None;
     }
-    // The face: the largest component's axis (x before y before z on ties) and its sign.
-    let (ax, ay, az) = (vx.abs(), vy.abs(), vz.abs());
-    let x_major = ax >= ay && ax >= az;
-    let y_major = !x_major && ay >= az;
-    let (major, u, w, axis) = if x_major {
-        (vx, vy, vz, 0)
-    } else if y_major {
-        (vy, vz, vx, 1)
-    } else {
-        (vz, vx, vy, 2)
+    // The texels around the direction: `cube::footprint`'s face and weights, in this map.
+    let at = cube::footprint(Vec3::new(vx, vy, vz), slot.cells);
+    let at = cube::Footprint {
+        first: slot.offset as usize + at.first,
+        ..at
     };
-    let face = 2 * axis + u32::from(major < 0.0);
-    let inv = 1.0 / major.abs();
-    let cells = slot.cells as f32;
-    let half = 0.5 * cells;
-    let gx = (u * inv + 1.0) * half;
-    let gy = (w * inv + 1.0) * half;
-    let max = cells - 1.0;
-    let cx = gx.clamp(0.0, max) as u32;
-    let cy = gy.clamp(0.0, max) as u32;
-    let tx = (gx - cx as f32).clamp(0.0, 1.0);
-    let ty = (gy - cy as f32).clamp(0.0, 1.0);
-    let side = slot.cells + 1;
-    let first = (slot.offset + (face * side + cy) * side + cx) as usize;
-    let side = side as usize;
     // The two depths around the distance: knots 0 (τ = 0 at the light), 1..4 stored.
     let q = (d * inv_quarter).min(4.0);
     let k = (q as u32).min(3);
     let f = (q - k as f32).clamp(0.0, 1.0);
     let kk = k.saturating_sub(1) as usize;
-    let pair = |t: usize| {
-        let (a, b) = (f32::from(texels[t][kk]), f32::from(texels[t][kk + 1]));
+    let lo = cube::bilinear(&at, slot.cells, |t| {
         if k == 0 {
-            (0.0, a)
+            0.0
         } else {
-            (a, b)
+            f32::from(texels[t][kk])
         }
-    };
-    let (l00, h00) = pair(first);
-    let (l10, h10) = pair(first + 1);
-    let (l01, h01) = pair(first + side);
-    let (l11, h11) = pair(first + side + 1);
-    let lo = lerp(lerp(l00, l10, tx), lerp(l01, l11, tx), ty);
-    let hi = lerp(lerp(h00, h10, tx), lerp(h01, h11, tx), ty);
+    });
+    let hi = cube::bilinear(&at, slot.cells, |t| {
+        f32::from(texels[t][kk + usize::from(k > 0)])
+    });
     Some(lerp(lo, hi, f))
 }
 
