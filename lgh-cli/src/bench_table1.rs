@@ -7,32 +7,18 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_volume::medium::framing_bounds;
-use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::{explosion, ExplosionLights, Method, Shadows};
+use lgh_volume::render::MarchSettings;
+use lgh_volume::{Method, Shadows};
 use serde_json::{json, Value};
 
+use crate::demo::{Scene, SceneArgs};
 use crate::output::{MarchArgs, Shadowing};
 
 /// Arguments of `lgh bench table1`.
 #[derive(Debug, clap::Args)]
 pub struct Table1Args {
-    /// Voxels per side of the procedural explosion (the paper's Fig. 8 frame has about 19M
-    /// voxels: 267).
-    #[arg(long, default_value_t = 128)]
-    pub resolution: usize,
-    /// Seconds after ignition.
-    #[arg(long, default_value_t = 0.5)]
-    pub time: f32,
-    /// Image width.
-    #[arg(long, default_value_t = 640)]
-    pub width: usize,
-    /// Image height.
-    #[arg(long, default_value_t = 360)]
-    pub height: usize,
-    /// The paper's α.
-    #[arg(long, default_value_t = 2.0)]
-    pub alpha: f32,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// The frame is also rendered with these shadows, for the ratios (empty: none).
     #[arg(
         long,
@@ -51,6 +37,25 @@ pub struct Table1Args {
     pub out: Option<PathBuf>,
 }
 
+/// One shadow choice's render of the frame.
+struct Run {
+    shadows: Shadows,
+    /// Seconds making the visibility (the cube maps' tracing).
+    precompute: f64,
+    /// Seconds rendering.
+    render: f64,
+    image: lgh_image::Image,
+    /// The cube maps' Table-1 rows, for cube maps.
+    table: Option<Vec<lgh_volume::shadow::LevelMaps>>,
+    stats: lgh_volume::render::RenderStats,
+}
+
+impl Run {
+    fn total(&self) -> f64 {
+        self.precompute + self.render
+    }
+}
+
 /// Peak resident memory of this process so far, bytes (Linux; `None` elsewhere).
 fn peak_memory() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -60,20 +65,18 @@ fn peak_memory() -> Option<u64> {
 
 /// Runs the benchmark.
 pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
-    crate::check_alpha(args.alpha)?;
-    lgh_volume::render::check_image_size(args.width, args.height)?;
+    args.scene.check()?;
     let march = args.march.settings(crate::demo::DEMO_SHADOW_STEP)?;
-    let t = Instant::now();
-    let volume = explosion(args.resolution, args.time)?;
-    let medium = crate::demo::demo_medium();
-    let volume_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let lights = ExplosionLights::new(&[&volume], &medium)?;
-    let hierarchy_s = t.elapsed().as_secs_f64();
-    let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
-    let camera = Camera::frame(lo, hi, args.width, args.height)?;
+    let Scene {
+        volume,
+        medium,
+        lights,
+        camera,
+        volume_seconds: volume_s,
+        lights_seconds: hierarchy_s,
+    } = args.scene.build()?;
+    let scene = &args.scene;
 
-    // Each shadow choice: (name, precompute s, render s, image, cube maps' rows and bytes).
     let mut runs = Vec::new();
     let mut choices = vec![march.shadows];
     choices.extend(args.compare.iter().filter(|&&s| s != march.shadows));
@@ -82,7 +85,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         let shadowing = Shadowing::prepare(
             &lights,
             Method::Lgh,
-            args.alpha,
+            scene.alpha,
             &volume,
             &medium,
             &settings,
@@ -94,7 +97,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         let (image, stats) = shadowing.render(
             &lights,
             Method::Lgh,
-            args.alpha,
+            scene.alpha,
             &volume,
             &medium,
             &camera,
@@ -106,27 +109,33 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
             "  {}: precompute {precompute:.2} s, render {render:.2} s",
             shadows.name()
         );
-        runs.push((shadows, precompute, render, image, table, stats));
+        runs.push(Run {
+            shadows,
+            precompute,
+            render,
+            image,
+            table,
+            stats,
+        });
     }
 
     let first = &runs[0];
-    let total = |r: &(Shadows, f64, f64, _, _, _)| r.1 + r.2;
     let mut shadows = serde_json::Map::new();
     for r in &runs {
         let mut o = json!({
-            "precompute_seconds": r.1,
-            "render_seconds": r.2,
-            "total_seconds": total(r),
-            "lights_per_shading_point": r.5.lights_per_point(),
+            "precompute_seconds": r.precompute,
+            "render_seconds": r.render,
+            "total_seconds": r.total(),
+            "lights_per_shading_point": r.stats.lights_per_point(),
         });
-        if r.0 != first.0 {
-            let err = lgh_image::compare(&first.3, &r.3).map(|e| e.rel_rmse);
+        if r.shadows != first.shadows {
+            let err = lgh_image::compare(&first.image, &r.image).map(|e| e.rel_rmse);
             o["rel_rmse_of_first_against_this"] = json!(err);
-            o["first_speedup"] = json!(total(r) / total(first));
+            o["first_speedup"] = json!(r.total() / first.total());
         }
-        shadows.insert(r.0.name().to_string(), o);
+        shadows.insert(r.shadows.name().to_string(), o);
     }
-    let levels: Vec<Value> = first.4.as_ref().map_or(Vec::new(), |table| {
+    let levels: Vec<Value> = first.table.as_ref().map_or(Vec::new(), |table| {
         table
             .iter()
             .map(|l| {
@@ -149,22 +158,22 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     let report = json!({
         "scene": {
             "kind": "procedural explosion",
-            "resolution": args.resolution,
+            "resolution": scene.resolution,
             "voxels": volume.density.data.len(),
-            "time": args.time,
+            "time": scene.time,
             "lights": lights.lit(),
         },
-        "alpha": args.alpha,
-        "width": args.width,
-        "height": args.height,
+        "alpha": scene.alpha,
+        "width": scene.width,
+        "height": scene.height,
         "threads": rayon::current_num_threads(),
         "volume_seconds": volume_s,
         "hierarchy_seconds": hierarchy_s,
         "lights_per_level": lights_per_level,
         "shadows": shadows,
-        "first": first.0.name(),
+        "first": first.shadows.name(),
         "cube_maps": levels,
-        "shadow_bytes": first.4.as_ref().map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
+        "shadow_bytes": first.table.as_ref().map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
         "peak_memory_bytes": peak_memory(),
     });
     let text = serde_json::to_string_pretty(&report)?;
@@ -176,7 +185,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         say!("");
         say!("| level | lights | cube-map bytes | precompute s |");
         say!("|---|---|---|---|");
-        for l in first.4.iter().flatten() {
+        for l in first.table.iter().flatten() {
             say!(
                 "| S{} | {} | {:.1} MB | {:.2} |",
                 l.level,
@@ -188,9 +197,9 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         for r in &runs {
             say!(
                 "| {} | | precompute {:.1} s | render {:.1} s |",
-                r.0.name(),
-                r.1,
-                r.2
+                r.shadows.name(),
+                r.precompute,
+                r.render
             );
         }
     }

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing};
-use lgh_volume::{explosion, ExplosionLights, Medium, Method};
+use lgh_volume::{explosion, ExplosionLights, Medium, Method, Volume};
 
 use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 
@@ -18,7 +18,22 @@ pub struct DemoArgs {
     /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
     #[arg(long, default_value = "demo.exr")]
     pub out: PathBuf,
-    /// Voxels per side of the procedural explosion (32 to 512).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub march: MarchArgs,
+    #[command(flatten)]
+    pub scatter: ScatterArgs,
+    /// Don't show progress.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The demo's scene and view: what `lgh demo` and `lgh bench table1` render.
+#[derive(Debug, clap::Args)]
+pub struct SceneArgs {
+    /// Voxels per side of the procedural explosion (32 to 512; the paper's Fig. 8 frame has about
+    /// 19M voxels: 267).
     #[arg(long, default_value_t = 128)]
     pub resolution: usize,
     /// Seconds after ignition (0 to 10; the fireball grows over the first second and cools after).
@@ -33,13 +48,49 @@ pub struct DemoArgs {
     /// The paper's α.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
-    #[command(flatten)]
-    pub march: MarchArgs,
-    #[command(flatten)]
-    pub scatter: ScatterArgs,
-    /// Don't show progress.
-    #[arg(long)]
-    pub quiet: bool,
+}
+
+/// The demo's frame made ready: the volume, its medium, its lights (with their hierarchy), the
+/// camera, and the seconds the volume and the lights took.
+pub struct Scene {
+    pub volume: Volume,
+    pub medium: Medium,
+    pub lights: ExplosionLights,
+    pub camera: Camera,
+    pub volume_seconds: f64,
+    pub lights_seconds: f64,
+}
+
+impl SceneArgs {
+    /// Checks α and the image size (before any work).
+    pub fn check(&self) -> Result<(), crate::Error> {
+        crate::check_alpha(self.alpha)?;
+        Ok(lgh_volume::render::check_image_size(
+            self.width,
+            self.height,
+        )?)
+    }
+
+    /// The procedural explosion, its lights and a camera framing it.
+    pub fn build(&self) -> Result<Scene, crate::Error> {
+        let t = Instant::now();
+        let volume = explosion(self.resolution, self.time)?;
+        let medium = demo_medium();
+        let volume_seconds = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let lights = ExplosionLights::new(&[&volume], &medium)?;
+        let lights_seconds = t.elapsed().as_secs_f64();
+        let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
+        let camera = Camera::frame(lo, hi, self.width, self.height)?;
+        Ok(Scene {
+            volume,
+            medium,
+            lights,
+            camera,
+            volume_seconds,
+            lights_seconds,
+        })
+    }
 }
 
 /// The demo's shadow-ray step, in voxels. Halving the shadow rays' samples changes the demo's
@@ -56,34 +107,36 @@ pub fn demo_medium() -> Medium {
 
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
-    crate::check_alpha(args.alpha)?;
-    lgh_volume::render::check_image_size(args.width, args.height)?;
+    args.scene.check()?;
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP)?;
     args.scatter.check()?;
-    let t = Instant::now();
-    let volume = explosion(args.resolution, args.time)?;
-    let medium = demo_medium();
-    let lights = ExplosionLights::new(&[&volume], &medium)?;
-    let setup_s = t.elapsed().as_secs_f64();
-    let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
-    let camera = Camera::frame(lo, hi, args.width, args.height)?;
+    let Scene {
+        volume,
+        medium,
+        lights,
+        camera,
+        volume_seconds,
+        lights_seconds,
+    } = args.scene.build()?;
+    let setup_s = volume_seconds + lights_seconds;
+    let scene = &args.scene;
     let extra = vec![
         (
             "scene",
             format!(
                 "procedural explosion {}^3, t = {} s",
-                args.resolution, args.time
+                scene.resolution, scene.time
             ),
         ),
-        ("alpha", args.alpha.to_string()),
+        ("alpha", scene.alpha.to_string()),
         ("lights", lights.lit().to_string()),
     ];
     let scatter = Scatter::run(
         &args.scatter,
         &lights,
         Method::Lgh,
-        args.alpha,
+        scene.alpha,
         &volume,
         &medium,
         &march,
@@ -95,7 +148,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     let shadowing = Shadowing::prepare(
         render_lights,
         Method::Lgh,
-        args.alpha,
+        scene.alpha,
         &volume,
         &medium,
         &march,
@@ -114,7 +167,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
             let (image, stats) = shadowing.render(
                 render_lights,
                 Method::Lgh,
-                args.alpha,
+                scene.alpha,
                 &volume,
                 &medium,
                 &camera,
@@ -123,7 +176,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
             )?;
             Ok((image, Some(stats)))
         },
-        args.height,
+        scene.height,
         "rendering",
         args.quiet,
         &args.out,
@@ -144,15 +197,15 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     say!("lgh demo: a procedural explosion lit by its own hot voxels");
     say!(
         "  volume     {0}^3 voxels at t = {1} s, {2} lights (one per voxel above 1000 K); set up in {setup_s:.2} s",
-        args.resolution,
-        args.time,
+        scene.resolution,
+        scene.time,
         lights.lit()
     );
     say!(
         "  hierarchy  levels 0..={}, h1 = {:.4}, alpha {}",
         h.max_level(),
         h.h1(),
-        args.alpha
+        scene.alpha
     );
     scatter.say()?;
     if let Some(table) = &cube_maps {
@@ -160,8 +213,8 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     }
     say!(
         "  render     {}x{}, shadows {}: {:.1} s ({:.1} s with the shadows' precompute){cpu}, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
-        args.width,
-        args.height,
+        scene.width,
+        scene.height,
         shadows.name(),
         written.seconds,
         written.seconds + precompute_s,
