@@ -54,6 +54,38 @@ fn fill(res: usize, voxel: impl Fn(Vec3) -> (f32, f32) + Sync) -> Volume {
     Volume::new(density, temperature)
 }
 
+/// A smooth test scene: a ball of smoke on `n³` voxels over `[-1, 1]³`, density 1 at the centre
+/// falling linearly to 0 at radius 0.8, around a hot core of `core_kelvin` at the centre falling
+/// linearly to 0 K at radius `core_radius`. Small and exactly reproducible: what the scattering
+/// tests and their path-traced comparison shade.
+///
+/// ```
+/// use lgh_volume::procedural::ball;
+///
+/// let v = ball(16, 0.35, 2500.0);
+/// assert_eq!(v.density.dims, [16; 3]);
+/// let hottest = v.temperature.data.iter().fold(0.0f32, |a, &t| a.max(t));
+/// assert!(hottest > 2000.0 && hottest <= 2500.0);
+/// ```
+#[must_use]
+pub fn ball(n: usize, core_radius: f32, core_kelvin: f32) -> Volume {
+    let h = 2.0 / n as f32;
+    let origin = Vec3::splat(-1.0 + 0.5 * h);
+    let mut density = DenseGrid::zeros([n; 3], h, origin);
+    let mut temperature = density.clone();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let r = density.centre(i, j, k).length();
+                let idx = density.index(i, j, k);
+                density.data[idx] = (1.0 - r / 0.8).max(0.0);
+                temperature.data[idx] = core_kelvin * (1.0 - r / core_radius).max(0.0);
+            }
+        }
+    }
+    Volume::new(density, temperature)
+}
+
 /// A deterministic procedural fireball on a `res³` grid filling the cube `[-1, 1]³`, at time
 /// `time` (0 = ignition, 1 = one second later): a turbulent ball of smoke whose radius grows
 /// from 0.35 to 0.7 while its hot core (up to 3400 K) expands and cools. `res` must be in

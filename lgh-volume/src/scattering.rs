@@ -616,26 +616,10 @@ mod tests {
     use crate::procedural::procedural;
     use crate::render::Framing;
     use crate::shadow::{ShadowGrid, Shadows};
-    use crate::DenseGrid;
 
-    /// A ball of smoke (density falling linearly from 1 at the centre to 0 at radius 0.8) with
-    /// a hot core (up to 2500 K inside radius 0.35), on `n³` voxels filling `[-1, 1]³`.
+    /// A ball of smoke with a hot core (up to 2500 K inside radius 0.35), `n³` voxels.
     fn blob(n: usize) -> Volume {
-        let h = 2.0 / n as f32;
-        let origin = Vec3::splat(-1.0 + 0.5 * h);
-        let mut density = DenseGrid::zeros([n; 3], h, origin);
-        let mut temperature = density.clone();
-        for k in 0..n {
-            for j in 0..n {
-                for i in 0..n {
-                    let r = density.centre(i, j, k).length();
-                    let idx = density.index(i, j, k);
-                    density.data[idx] = (1.0 - r / 0.8).max(0.0);
-                    temperature.data[idx] = 2500.0 * (1.0 - r / 0.35).max(0.0);
-                }
-            }
-        }
-        Volume::new(density, temperature)
+        crate::procedural::ball(n, 0.35, 2500.0)
     }
 
     fn bits(v: &[Vec3]) -> Vec<[u32; 3]> {

@@ -37,18 +37,9 @@ fn render(
 /// Relative RMSE of the whole image and of the scattered light alone (the image minus the
 /// emission-only render `e`, which both share exactly).
 fn errors(a: &Image, r: &Image, e: &Image) -> (f64, f64) {
-    let sub = |x: &Image| Image {
-        pixels: x
-            .pixels
-            .iter()
-            .zip(&e.pixels)
-            .map(|(p, q)| *p - *q)
-            .collect(),
-        ..x.clone()
-    };
     (
         lgh_image::compare(a, r).unwrap().rel_rmse,
-        lgh_image::compare(&sub(a), &sub(r)).unwrap().rel_rmse,
+        lgh_tests::scatter_rel_rmse(a, r, e),
     )
 }
 

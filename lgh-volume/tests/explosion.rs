@@ -2,7 +2,7 @@
 //! light (the exact answer of the same light model) on a procedural volume and a real Blender
 //! frame, and a 7-frame sequence of the real cache rendered bit-identically on 1 and 2 threads.
 
-use lgh_tests::fire_frame;
+use lgh_tests::{fire_frame, scatter_rel_rmse};
 use std::path::PathBuf;
 
 use lgh_image::Image;
@@ -11,22 +11,6 @@ use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
 use lgh_volume::{ExplosionLights, Method};
-
-/// Relative RMSE (luminance, ARCHITECTURE.md "Measuring") of the *scattered* light: `a` and `r`
-/// minus the emission-only image `e`. The emission is computed identically by both, so leaving
-/// it in would only dilute the error of what the hierarchy approximates.
-fn scatter_rel_rmse(a: &Image, r: &Image, e: &Image) -> f64 {
-    let sub = |x: &Image| Image {
-        pixels: x
-            .pixels
-            .iter()
-            .zip(&e.pixels)
-            .map(|(p, q)| *p - *q)
-            .collect(),
-        ..x.clone()
-    };
-    lgh_image::compare(&sub(a), &sub(r)).unwrap().rel_rmse
-}
 
 /// Renders `volume` with brute force and with the hierarchy at α = 1, 2, 4; returns the
 /// scattered light's relative RMSE at each α.

@@ -30,3 +30,21 @@ pub fn fire_frame(n: u32) -> Option<PathBuf> {
         None
     }
 }
+
+/// Relative RMSE (luminance, ARCHITECTURE.md "Measuring") of the *scattered* light: `a` and `r`
+/// minus the emission-only image `e`. The emission is computed identically by both renders, so
+/// leaving it in would only dilute the error of what the lights approximate.
+pub fn scatter_rel_rmse(a: &lgh_image::Image, r: &lgh_image::Image, e: &lgh_image::Image) -> f64 {
+    let sub = |x: &lgh_image::Image| lgh_image::Image {
+        pixels: x
+            .pixels
+            .iter()
+            .zip(&e.pixels)
+            .map(|(p, q)| *p - *q)
+            .collect(),
+        ..x.clone()
+    };
+    lgh_image::compare(&sub(a), &sub(r))
+        .expect("images of one size")
+        .rel_rmse
+}

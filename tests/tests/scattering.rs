@@ -15,27 +15,13 @@ use lgh_image::Image;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::scattering::scatter;
-use lgh_volume::{DenseGrid, ExplosionLights, Medium, Method, Shadows, Volume};
+use lgh_volume::{ExplosionLights, Medium, Method, Shadows, Volume};
 
 /// A ball of smoke (density 1 at the centre falling linearly to 0 at radius 0.8) around a large
 /// hot core (3000 K at the centre, above 1000 K inside radius 0.47: the path tracer, which has no
 /// light model, finds a large emitter quickly), `n³` voxels over `[-1, 1]³`.
 fn blob(n: usize) -> Volume {
-    let h = 2.0 / n as f32;
-    let origin = Vec3::splat(-1.0 + 0.5 * h);
-    let mut density = DenseGrid::zeros([n; 3], h, origin);
-    let mut temperature = density.clone();
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let r = density.centre(i, j, k).length();
-                let idx = density.index(i, j, k);
-                density.data[idx] = (1.0 - r / 0.8).max(0.0);
-                temperature.data[idx] = 3000.0 * (1.0 - r / 0.7).max(0.0);
-            }
-        }
-    }
-    Volume::new(density, temperature)
+    lgh_volume::procedural::ball(n, 0.7, 3000.0)
 }
 
 fn mean_luminance(image: &Image) -> f64 {
