@@ -22,7 +22,7 @@ use crate::medium::{Medium, Volume};
 #[cfg(test)]
 use crate::render::Shadows;
 use crate::render::{Camera, MarchSettings, Marcher, RenderStats};
-use crate::shadow::{CubeMaps, Visibility};
+use crate::shadow::{CubeMaps, Visibility, VolumeRays};
 use crate::DenseGrid;
 
 /// Which many-lights method shades the scattering (`--backend` of the CLI). The hierarchy's
@@ -294,6 +294,17 @@ impl ExplosionLights {
                 progress,
             )?;
             return Ok(Visibility::CubeMaps(maps));
+        }
+        if settings.shadows == crate::Shadows::RayMarchVolumes && method == Method::Lgh {
+            return Ok(Visibility::VolumeRays(VolumeRays::new(
+                &self.hierarchy,
+                &self.hierarchy.blending(alpha)?,
+                frame,
+                medium,
+                &settings.cube_maps,
+                settings.shadow_step_voxels,
+                settings.min_transmittance,
+            )));
         }
         Ok(Visibility::new(
             settings.shadows,

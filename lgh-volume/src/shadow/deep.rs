@@ -181,7 +181,7 @@ fn resolution(blending: &Blending, level: u8, h: f32, diagonal: f32) -> (u32, f3
 /// The filter width `δ(d)` of eq. 6 for a light of size `s` and blending radius `r` (0, the
 /// plain density, for points — `prefilter` off — and beyond `r`).
 #[inline]
-fn filter_width(prefilter: bool, d: f32, s: f32, r: f32, h0: f32) -> f32 {
+pub(super) fn filter_width(prefilter: bool, d: f32, s: f32, r: f32, h0: f32) -> f32 {
     if prefilter && d < r {
         (1.0 - d / r) * s + (d / r) * h0
     } else {

@@ -30,9 +30,11 @@ pub mod deep;
 mod empty;
 mod lookup;
 pub mod prefilter;
+pub mod volume_rays;
 
 pub use deep::{CubeMapPlan, CubeMapSettings, CubeMaps, Depths, LevelMaps};
 pub use prefilter::DensityPyramid;
+pub use volume_rays::VolumeRays;
 
 /// How lights are shadowed: the user's choice (`--shadows` of `lgh demo` and `lgh explosion`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -46,6 +48,11 @@ pub enum Shadows {
     #[default]
     #[cfg_attr(feature = "clap", value(name = "raymarch"))]
     RayMarch,
+    /// The cube maps' own model without the maps, their same-model reference: transmittance
+    /// ray-marched from every light's centre through the density prefiltered for it (eq. 6;
+    /// coarse lights as volume lights). Slow. Backends without a hierarchy ray-march instead.
+    #[cfg_attr(feature = "clap", value(name = "raymarch-volumes"))]
+    RayMarchVolumes,
     /// No shadows.
     None,
 }
@@ -57,6 +64,7 @@ impl Shadows {
         match self {
             Shadows::CubeMap => "cubemap",
             Shadows::RayMarch => "raymarch",
+            Shadows::RayMarchVolumes => "raymarch-volumes",
             Shadows::None => "none",
         }
     }
@@ -72,6 +80,8 @@ pub enum Visibility {
     RayMarched(ShadowGrid),
     /// Deep-shadow cube maps of a hierarchy's lights (paper Sec. 4).
     CubeMaps(CubeMaps),
+    /// The cube maps' model ray-marched, without the maps (their same-model reference).
+    VolumeRays(VolumeRays),
 }
 
 impl Visibility {
@@ -89,7 +99,7 @@ impl Visibility {
     ) -> Self {
         match shadows {
             Shadows::None => Visibility::None,
-            Shadows::RayMarch | Shadows::CubeMap => {
+            Shadows::RayMarch | Shadows::CubeMap | Shadows::RayMarchVolumes => {
                 Visibility::RayMarched(ShadowGrid::new(volume, medium, step_voxels, cutoff))
             }
         }
@@ -115,6 +125,9 @@ impl Visibility {
                 maps.transmittances(x, &lights.positions, &lights.ids, out);
                 0
             }
+            Visibility::VolumeRays(rays) => {
+                rays.transmittances(x, &lights.positions, &lights.ids, out)
+            }
         }
     }
 
@@ -126,6 +139,7 @@ impl Visibility {
             Visibility::None => Shadows::None,
             Visibility::RayMarched(_) => Shadows::RayMarch,
             Visibility::CubeMaps(_) => Shadows::CubeMap,
+            Visibility::VolumeRays(_) => Shadows::RayMarchVolumes,
         }
     }
 }
