@@ -1,6 +1,8 @@
 //! Deep-shadow cube maps (paper Sec. 4) against ray-marched shadows of the same lights: whole
 //! renders of the procedural explosion through the hierarchy at the paper's α = 2, differing only
-//! in how each light's visibility is found.
+//! in how each light's visibility is found — shadow rays to points (`Shadows::RayMarch`), and the
+//! maps' own model marched without the maps (`Shadows::RayMarchVolumes`, which isolates their
+//! discretisation).
 
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};

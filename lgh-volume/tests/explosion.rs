@@ -95,6 +95,11 @@ fn lgh_matches_brute_force_on_a_procedural_explosion() {
     let shadows = Shadows::RayMarch;
     let errors = errors_by_alpha(&v, &m, &cam, shadows);
     check(&errors, shadows, "procedural 40³, shadows");
+    // Coarse lights as volume lights (the cube maps' model, marched): brute force's lights are
+    // all points, so this is the error of the hierarchy with the prefilter.
+    let shadows = Shadows::RayMarchVolumes;
+    let errors = errors_by_alpha(&v, &m, &cam, shadows);
+    check(&errors, shadows, "procedural 40³, volume-light shadows");
 }
 
 #[test]

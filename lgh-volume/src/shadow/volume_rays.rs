@@ -171,16 +171,22 @@ mod tests {
     use crate::DenseGrid;
     use lgh_core::{GridSettings, PointLight};
 
-    /// In a density linear in space the prefilter changes nothing (a symmetric tent of a linear
-    /// function is the function), and the midpoint rule is exact: the reference is
-    /// `e^{−σ_t ρ(midpoint) d}` to any point, for a point light and for a coarse one alike, as is
-    /// the point-light march.
-    #[test]
-    fn a_linear_density_gives_beer_lambert_for_every_light() {
-        // A 4-unit box, the lights and the point well inside it (the widest filter stays inside
-        // the box, where the tent of a linear function is the function).
+    /// 64 lights on a 4³ lattice of spacing 0.2 around the origin, and its blending at α = 2.
+    fn lattice() -> (LightingGridHierarchy, Blending) {
+        let lights: Vec<PointLight> = (0..64)
+            .map(|i| {
+                let c = |k: u32| -0.3 + 0.2 * ((i >> (2 * k)) & 3) as f32;
+                PointLight::new(Vec3::new(c(0), c(1), c(2)), Vec3::ONE)
+            })
+            .collect();
+        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
+        let blending = lgh.blending(2.0).unwrap();
+        (lgh, blending)
+    }
+
+    /// A 4-unit box of 32³ voxels centred on the origin, density `rho(voxel centre)`.
+    fn box_of(rho: impl Fn(Vec3) -> f32) -> Volume {
         let (n, h) = (32usize, 0.125f32);
-        let rho = |p: Vec3| 0.5 + 0.1 * p.x - 0.05 * p.y + 0.08 * p.z;
         let mut density = DenseGrid::zeros([n; 3], h, Vec3::splat(-0.5 * h * (n - 1) as f32));
         for k in 0..n {
             for j in 0..n {
@@ -190,16 +196,20 @@ mod tests {
                 }
             }
         }
-        let volume = Volume::new(density.clone(), density);
+        Volume::new(density.clone(), density)
+    }
+
+    /// In a density linear in space the prefilter changes nothing (a symmetric tent of a linear
+    /// function is the function), and the midpoint rule is exact: the reference is
+    /// `e^{−σ_t ρ(midpoint) d}` to any point, for a point light and for a coarse one alike, as is
+    /// the point-light march. The lights and the point lie well inside the box, so the widest
+    /// filter stays inside it, where the tent of a linear function is the function.
+    #[test]
+    fn a_linear_density_gives_beer_lambert_for_every_light() {
+        let rho = |p: Vec3| 0.5 + 0.1 * p.x - 0.05 * p.y + 0.08 * p.z;
+        let volume = box_of(rho);
         let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let lights: Vec<PointLight> = (0..64)
-            .map(|i| {
-                let c = |k: u32| -0.3 + 0.2 * ((i >> (2 * k)) & 3) as f32;
-                PointLight::new(Vec3::new(c(0), c(1), c(2)), Vec3::ONE)
-            })
-            .collect();
-        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
-        let blending = lgh.blending(2.0).unwrap();
+        let (lgh, blending) = lattice();
         let rays = VolumeRays::new(
             &lgh,
             &blending,
@@ -236,14 +246,7 @@ mod tests {
     /// shadow than through the plain density.
     #[test]
     fn coarse_lights_see_the_prefiltered_density() {
-        let lights: Vec<PointLight> = (0..64)
-            .map(|i| {
-                let c = |k: u32| -0.3 + 0.2 * ((i >> (2 * k)) & 3) as f32;
-                PointLight::new(Vec3::new(c(0), c(1), c(2)), Vec3::ONE)
-            })
-            .collect();
-        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
-        let blending = lgh.blending(2.0).unwrap();
+        let (lgh, blending) = lattice();
         let (level, index) = (1..=lgh.max_level())
             .flat_map(|l| (0..lgh.level(l).len()).map(move |i| (l, i)))
             .find(|&(l, i)| lgh.level(l).get(i).size > 0.2)
@@ -251,22 +254,13 @@ mod tests {
         let p = lgh.level(level).get(index).position;
         let dir = Vec3::new(1.0, 0.2, 0.1).normalize();
         let (x, blob) = (p + dir, p + 0.15 * dir);
-        let (n, h) = (32usize, 0.125f32);
-        let mut density = DenseGrid::zeros([n; 3], h, Vec3::splat(-0.5 * h * (n - 1) as f32));
-        for k in 0..n {
-            for j in 0..n {
-                for i in 0..n {
-                    let idx = density.index(i, j, k);
-                    let c = density.centre(i, j, k);
-                    density.data[idx] = if (c - blob).abs().max_element() < 0.1 {
-                        4.0
-                    } else {
-                        0.0
-                    };
-                }
+        let volume = box_of(|c| {
+            if (c - blob).abs().max_element() < 0.1 {
+                4.0
+            } else {
+                0.0
             }
-        }
-        let volume = Volume::new(density.clone(), density);
+        });
         let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
         let settings = |prefilter| CubeMapSettings {
             prefilter,
