@@ -302,6 +302,50 @@ fn header(out: &Path) -> impl Fn(&str) -> String {
     }
 }
 
+/// `--shadows raymarch-volumes`, the cube maps' model marched without the maps: named in the
+/// header, and with `--point-shadows` (every light a point through the plain density) the same
+/// image as the point-light march up to rounding (they march the same segments from opposite
+/// ends).
+#[test]
+fn demo_marches_the_cube_maps_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "demo",
+            "--resolution",
+            "32",
+            "--width",
+            "16",
+            "--height",
+            "9",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = lgh(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let volumes = render("v.exr", &["--shadows", "raymarch-volumes"]);
+    assert_eq!(header(&volumes)("lgh:shadows"), "raymarch-volumes");
+    let points = render(
+        "p.exr",
+        &["--shadows", "raymarch-volumes", "--point-shadows"],
+    );
+    let marched = render("m.exr", &["--shadows", "raymarch"]);
+    let (a, b) = (
+        lgh_image::read_exr(&points).unwrap(),
+        lgh_image::read_exr(&marched).unwrap(),
+    );
+    let rel = lgh_image::compare(&a, &b).unwrap().rel_rmse;
+    assert!(rel < 1e-5, "{rel}");
+    // The prefilter does change the image (coarse lights as volumes).
+    let v = lgh_image::read_exr(&volumes).unwrap();
+    assert!(lgh_image::compare(&v, &b).unwrap().rel_rmse > 1e-4);
+}
+
 #[test]
 fn demo_renders_an_exr_and_a_png() {
     let dir = tempfile::tempdir().unwrap();
