@@ -13,6 +13,25 @@ fn lgh(args: &[&str]) -> Output {
         .expect("run lgh")
 }
 
+/// `lgh demo` at 32³ voxels, `width × height`, quiet, written to `out`, with `extra` arguments.
+fn small_demo(out: &Path, (width, height): (usize, usize), extra: &[&str]) -> Output {
+    let (w, h) = (width.to_string(), height.to_string());
+    let mut args = vec![
+        "demo",
+        "--resolution",
+        "32",
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    lgh(&args)
+}
+
 fn write_binary_ply(path: &Path, props: &[&str], rows: &[Vec<f32>]) {
     let mut b = format!(
         "ply\nformat binary_little_endian 1.0\nelement vertex {}\n",
@@ -311,20 +330,7 @@ fn demo_marches_the_cube_maps_model() {
     let dir = tempfile::tempdir().unwrap();
     let render = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let mut args = vec![
-            "demo",
-            "--resolution",
-            "32",
-            "--width",
-            "16",
-            "--height",
-            "9",
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        let o = lgh(&args);
+        let o = small_demo(&out, (16, 9), extra);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         out
     };
@@ -350,18 +356,7 @@ fn demo_marches_the_cube_maps_model() {
 fn demo_renders_an_exr_and_a_png() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo.exr");
-    let o = lgh(&[
-        "demo",
-        "--resolution",
-        "32",
-        "--width",
-        "24",
-        "--height",
-        "16",
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
+    let o = small_demo(&out, (24, 16), &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("lights each"), "{text}");
@@ -459,21 +454,11 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
     // Two depths with their shares: the summary's lines and the header's entries.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("scatter.exr");
-    let o = lgh(&[
-        "demo",
-        "--resolution",
-        "32",
-        "--width",
-        "16",
-        "--height",
-        "10",
-        "--scatter-depth",
-        "2",
-        "--scatter-shares",
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
+    let o = small_demo(
+        &out,
+        (16, 10),
+        &["--scatter-depth", "2", "--scatter-shares"],
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("scattering 2 depths"), "{text}");
