@@ -371,6 +371,7 @@ fn demo_renders_an_exr_and_a_png() {
     // The paper's deep-shadow cube maps by default, with their bytes and precompute time.
     assert_eq!(get("lgh:shadows"), "cubemap");
     assert!(get("lgh:shadow_bytes").parse::<u64>().unwrap() > 0);
+    assert_eq!(get("lgh:shadow_depths"), "4");
     assert!(get("lgh:shadow_precompute_seconds").parse::<f64>().unwrap() >= 0.0);
     assert!(
         text.contains("cube maps:") && text.contains("level  0:"),
@@ -401,6 +402,10 @@ fn demo_renders_an_exr_and_a_png() {
             "cube maps at alpha 64 would need",
         ),
         (vec!["demo", "--shadow-memory", "0.001"], "cube maps"),
+        (
+            vec!["demo", "--shadow-depths", "9"],
+            "depths per texel 9 must be 2 to 8",
+        ),
         (vec!["demo", "--shadow-memory", "0"], "--shadow-memory 0"),
         (
             vec!["demo", "--shadow-memory", "nan"],

@@ -13,7 +13,7 @@ use core::arch::x86_64::*;
 
 use lgh_core::glam::Vec3;
 
-use super::deep::{CubeMaps, Depths, Fit, Tracer, INV_QUANT, TAU_MAX};
+use super::deep::{CubeMaps, Depths, Fit, Tracer, INV_QUANT, MAX_DEPTHS, TAU_MAX};
 use super::lookup::{Slot, EXP2, NO_MAP};
 use super::prefilter::Mix;
 use super::{transmittance, PaddedGrid, Ray, ShadowGrid, ROUND};
@@ -367,9 +367,9 @@ pub(super) fn cube_transmittances(
     ids: &[(u8, u32)],
     out: &mut [f32],
 ) -> bool {
-    let texels = maps.texels();
-    // Offsets are gathered in units of two bytes: 4 per texel, plus one, must fit an i32.
-    let fits = texels.len() >= 2 && texels.len() < (i32::MAX as usize) / 4 - 1;
+    let (texels, depths) = (maps.texels(), maps.depths_per_texel());
+    // Offsets are gathered in units of two bytes (one depth): every index must fit an i32.
+    let fits = texels.len() >= 2 && texels.len() < i32::MAX as usize - 1;
     if !fits
         || !std::arch::is_x86_feature_detected!("avx2")
         || out.len() != centres.len()
@@ -389,17 +389,17 @@ pub(super) fn cube_transmittances(
         for (g, first) in (group..end).step_by(LANES).enumerate() {
             let mut c = [[0.0f32; LANES]; 3];
             let mut slots = [NO_MAP; LANES];
-            let mut inv_quarter = [0.0f32; LANES];
+            let mut inv_spacing = [0.0f32; LANES];
             for l in 0..LANES {
                 let p = centres[first + l];
                 c[0][l] = p.x;
                 c[1][l] = p.y;
                 c[2][l] = p.z;
                 let (level, index) = ids[first + l];
-                (slots[l], inv_quarter[l]) = maps.slot(level, index);
+                (slots[l], inv_spacing[l]) = maps.slot(level, index);
             }
             // SAFETY: the CPU supports AVX2, checked above.
-            located[g] = Some(unsafe { locate8(texels, x, &c, &slots, &inv_quarter) });
+            located[g] = Some(unsafe { locate8(texels, depths, x, &c, &slots, &inv_spacing) });
         }
         for (g, first) in (group..end).step_by(LANES).enumerate() {
             let at = located[g].take().expect("located above");
@@ -433,11 +433,12 @@ struct Located8 {
 /// lane by lane the same operations in the same order; their cache lines are requested.
 #[target_feature(enable = "avx2")]
 fn locate8(
-    texels: &[[u16; 4]],
+    texels: &[u16],
+    depths: usize,
     x: Vec3,
     c: &[[f32; LANES]; 3],
     slots: &[Slot; LANES],
-    inv_quarter: &[f32; LANES],
+    inv_spacing: &[f32; LANES],
 ) -> Located8 {
     let ld = |a: &[f32; LANES]| unsafe { _mm256_loadu_ps(a.as_ptr()) };
     let zero = _mm256_setzero_ps();
@@ -505,8 +506,11 @@ fn locate8(
             cxi,
         ),
     );
-    let q = _mm256_min_ps(_mm256_mul_ps(d, ld(inv_quarter)), _mm256_set1_ps(4.0));
-    let k = _mm256_min_epi32(_mm256_cvttps_epi32(q), _mm256_set1_epi32(3));
+    let q = _mm256_min_ps(
+        _mm256_mul_ps(d, ld(inv_spacing)),
+        _mm256_set1_ps(depths as f32),
+    );
+    let k = _mm256_min_epi32(_mm256_cvttps_epi32(q), _mm256_set1_epi32(depths as i32 - 1));
     let f = unit(_mm256_sub_ps(q, _mm256_cvtepi32_ps(k)));
     let kk = _mm256_max_epi32(
         _mm256_sub_epi32(k, _mm256_set1_epi32(1)),
@@ -516,9 +520,13 @@ fn locate8(
     // Index of the pair (kk, kk + 1) of each corner, in two-byte units; invalid lanes read
     // texel 0 (in bounds: there are at least two texels) and are discarded below.
     let vi = _mm256_castps_si256(valid);
-    let base = _mm256_and_si256(_mm256_add_epi32(_mm256_slli_epi32::<2>(first), kk), vi);
-    let side4 = _mm256_and_si256(_mm256_slli_epi32::<2>(side), vi);
-    let four = _mm256_and_si256(_mm256_set1_epi32(4), vi);
+    let per_texel = _mm256_set1_epi32(depths as i32);
+    let base = _mm256_and_si256(
+        _mm256_add_epi32(_mm256_mullo_epi32(first, per_texel), kk),
+        vi,
+    );
+    let side4 = _mm256_and_si256(_mm256_mullo_epi32(side, per_texel), vi);
+    let four = _mm256_and_si256(per_texel, vi);
     // Request each lane's two texel rows (cy and cy + 1): a prefetch is a hint that never
     // faults, and every index is inside `texels` anyway.
     let mut rows = [[0i32; LANES]; 2];
@@ -545,7 +553,7 @@ fn locate8(
 
 /// The second half of eight lookups: the texels gathered and interpolated, then `exp_neg`.
 #[target_feature(enable = "avx2")]
-fn finish8(texels: &[[u16; 4]], at: &Located8) -> [f32; LANES] {
+fn finish8(texels: &[u16], at: &Located8) -> [f32; LANES] {
     let Located8 {
         base,
         side4,
@@ -560,8 +568,8 @@ fn finish8(texels: &[[u16; 4]], at: &Located8) -> [f32; LANES] {
     let one = _mm256_set1_ps(1.0);
     let ptr = texels.as_ptr().cast::<i32>();
     // SAFETY: every valid lane's four texels lie in its map (cx, cy ≤ R − 1, face ≤ 5), inside
-    // `texels`; a 4-byte read at a two-byte index i ≤ 4 len − 2 stays inside; invalid lanes
-    // read index 0..=4 + 4·side masked to 0.
+    // `texels`; a 4-byte read at a two-byte index i = texel·n + kk (kk ≤ n − 2, n ≥ 2) reads
+    // depths kk and kk + 1 of that texel, inside; invalid lanes read index 0 (masked to 0).
     let gather = |i: __m256i| unsafe { _mm256_i32gather_epi32::<2>(ptr, i) };
     let pair = |g: __m256i| {
         let a = _mm256_cvtepi32_ps(_mm256_and_si256(g, _mm256_set1_epi32(0xffff)));
@@ -621,7 +629,7 @@ pub(super) fn trace8(
     s: f32,
     r: f32,
     reach: f32,
-) -> Option<[([f32; 4], u32); LANES]> {
+) -> Option<[([f32; MAX_DEPTHS], u32); LANES]> {
     let pyramid = tracer.pyramid;
     let fits = (0..pyramid.levels()).all(|m| {
         let g = pyramid.grid(m);
@@ -686,8 +694,9 @@ fn trace8_avx2(
     s: f32,
     r: f32,
     reach: f32,
-) -> [([f32; 4], u32); LANES] {
-    let quarter = reach / 4.0;
+) -> [([f32; MAX_DEPTHS], u32); LANES] {
+    let depths = tracer.n;
+    let spacing = reach / depths as f32;
     let p_inside = tracer.inside(p);
     let pyramid = tracer.pyramid;
     let dir = [
@@ -701,13 +710,17 @@ fn trace8_avx2(
     let zero = _mm256_setzero_ps();
     let mut samples = [0u32; LANES];
     let mut tau = zero;
-    let mut at = [zero; 4];
-    let (mut diag, mut upper, mut rhs) = ([Acc8::zero(); 4], [Acc8::zero(); 3], [Acc8::zero(); 4]);
+    let mut at = [zero; MAX_DEPTHS];
+    let (mut diag, mut upper, mut rhs) = (
+        [Acc8::zero(); MAX_DEPTHS],
+        [Acc8::zero(); MAX_DEPTHS - 1],
+        [Acc8::zero(); MAX_DEPTHS],
+    );
     let mut look_again = 0.0f32;
     let mut live = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-    for (k, at_k) in at.iter_mut().enumerate() {
+    for (k, at_k) in at.iter_mut().enumerate().take(depths) {
         if _mm256_movemask_ps(live) != 0 {
-            let (a, n, dt) = tracer.schedule(k, quarter, s, r);
+            let (a, n, dt) = tracer.schedule(k, spacing, s, r);
             let mut i = 0;
             while i < n {
                 let d = a + (i as f32 + 0.5) * dt;
@@ -790,8 +803,8 @@ fn trace8_avx2(
                         // Lanes not sampled add (0·a)·b = 0: their sums do not change.
                         let (w, mid) = (widen(_mm256_and_ps(w, sampled)), widen(mid));
                         // deep::Fit::add with the step's q, the same for all lanes.
-                        let q = d / quarter;
-                        let fk = (q as usize).min(3);
+                        let q = d / spacing;
+                        let fk = (q as usize).min(depths - 1);
                         let t = f64::from(q - fk as f32).clamp(0.0, 1.0);
                         let (t_all, u_all) = ([_mm256_set1_pd(t); 2], [_mm256_set1_pd(1.0 - t); 2]);
                         diag[fk].add(&w, t, &t_all);
@@ -821,17 +834,18 @@ fn trace8_avx2(
         rhs.map(|a| a.lanes()),
     );
     core::array::from_fn(|l| {
-        let sampled = [at[0][l], at[1][l], at[2][l], at[3][l]];
-        let depths = if fitted {
+        let sampled: [f32; MAX_DEPTHS] = core::array::from_fn(|k| at[k][l]);
+        let values = if fitted {
             Fit {
+                n: depths,
                 diag: diag.map(|a| a[l]),
                 upper: upper.map(|a| a[l]),
                 rhs: rhs.map(|a| a[l]),
             }
-            .solve(sampled, 1e-6 * quarter)
+            .solve(&sampled, 1e-6 * spacing)
         } else {
             sampled
         };
-        (depths, samples[l])
+        (values, samples[l])
     })
 }

@@ -50,6 +50,9 @@ use crate::medium::{Medium, Volume};
 /// The largest optical depth a texel stores (`V = e^{−16} ≈ 1.1·10⁻⁷`).
 pub const TAU_MAX: f32 = 16.0;
 
+/// The most depths a texel can store ([`CubeMapSettings::depth_count`]).
+pub const MAX_DEPTHS: usize = 8;
+
 /// Quantisation steps per unit of optical depth.
 const QUANT: f32 = 65535.0 / TAU_MAX;
 
@@ -72,8 +75,11 @@ pub struct CubeMapSettings {
     /// every light as a point through the plain density (the flickering variant the paper
     /// compares against).
     pub prefilter: bool,
-    /// What the four depths hold.
+    /// What the depths hold.
     pub depths: Depths,
+    /// Depths per texel, `2..=`[`MAX_DEPTHS`]: the paper's four (`D/4 … D`), or more at
+    /// `D/n … D` for a shadow that follows thin shells of smoke more closely (two bytes each).
+    pub depth_count: usize,
     /// Bytes the maps may take; a plan above it is refused before any work.
     pub memory_budget: u64,
 }
@@ -84,6 +90,7 @@ impl Default for CubeMapSettings {
             step_voxels: 1.0,
             prefilter: true,
             depths: Depths::Fitted,
+            depth_count: 4,
             memory_budget: 8 << 30,
         }
     }
@@ -148,8 +155,8 @@ struct Planned {
 /// One level's maps.
 #[derive(Clone, Debug)]
 struct Level {
-    /// 4 / D: quarters of the reach per unit distance.
-    inv_quarter: f32,
+    /// n / D: spacings of the depths per unit distance.
+    inv_spacing: f32,
     /// Each light's map in [`CubeMaps`]' texels, or [`NO_MAP`].
     slots: Vec<Slot>,
 }
@@ -158,8 +165,11 @@ struct Level {
 #[derive(Clone, Debug)]
 pub struct CubeMaps {
     levels: Vec<Level>,
-    /// Every map of every level: quantised `τ` at the four depths, `6 (R + 1)²` texels a map.
-    texels: Vec<[u16; 4]>,
+    /// Every map of every level: quantised `τ` at the depths, `per_texel` values a texel,
+    /// `6 (R + 1)²` texels a map.
+    texels: Vec<u16>,
+    /// Depths a texel.
+    per_texel: usize,
     table: Vec<LevelMaps>,
 }
 
@@ -247,7 +257,8 @@ impl CubeMaps {
                 cells,
                 texels,
                 reach,
-                bytes: texels * 8 + hierarchy.level(level).len() as u64 * 8,
+                bytes: texels * 2 * settings.depth_count as u64
+                    + hierarchy.level(level).len() as u64 * 8,
                 samples: 0,
                 seconds: 0.0,
             });
@@ -281,6 +292,12 @@ impl CubeMaps {
             settings.step_voxels,
             "must be 0.01 to 64 voxels",
         )?;
+        crate::error::check_setting(
+            (2..=MAX_DEPTHS).contains(&settings.depth_count),
+            "cube maps: depths per texel",
+            settings.depth_count as f32,
+            "must be 2 to 8",
+        )?;
         let density = &volume.density;
         let plan = CubeMaps::plan(hierarchy, blending, density, settings);
         let needed = plan.bytes() + plan.pyramid_bytes;
@@ -312,12 +329,14 @@ impl CubeMaps {
             min_step: settings.step_voxels * h,
             prefilter: settings.prefilter,
             depths: settings.depths,
+            n: settings.depth_count,
         };
         let mut levels = Vec::new();
         let mut table = Vec::new();
         let total: u64 = plan.levels.iter().map(|l| l.texels).sum();
-        let mut texels = vec![[0u16; 4]; total as usize];
-        let mut rest: &mut [[u16; 4]] = &mut texels;
+        let n = settings.depth_count;
+        let mut texels = vec![0u16; total as usize * n];
+        let mut rest: &mut [u16] = &mut texels;
         let mut offset = 0usize;
         for (row, planned) in plan.levels.iter().zip(&plan.maps) {
             let t = Instant::now();
@@ -329,8 +348,9 @@ impl CubeMaps {
                     offset: offset as u32,
                     cells: m.cells,
                 };
-                let (map, tail) = core::mem::take(&mut rest).split_at_mut(cube::texels(m.cells));
-                offset += map.len();
+                let (map, tail) =
+                    core::mem::take(&mut rest).split_at_mut(cube::texels(m.cells) * n);
+                offset += map.len() / n;
                 jobs.push((map, *m));
                 rest = tail;
             }
@@ -354,7 +374,7 @@ impl CubeMaps {
                 progress(n);
             }
             levels.push(Level {
-                inv_quarter: 4.0 / row.reach,
+                inv_spacing: n as f32 / row.reach,
                 slots,
             });
             table.push(LevelMaps {
@@ -366,6 +386,7 @@ impl CubeMaps {
         Ok(CubeMaps {
             levels,
             texels,
+            per_texel: n,
             table,
         })
     }
@@ -395,8 +416,8 @@ impl CubeMaps {
     #[inline]
     #[must_use]
     pub fn transmittance(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> f32 {
-        let (slot, inv_quarter) = self.slot(level, index);
-        lookup::quantised_depth(&self.texels, slot, inv_quarter, x, centre)
+        let (slot, inv_spacing) = self.slot(level, index);
+        lookup::quantised_depth(&self.texels, self.per_texel, slot, inv_spacing, x, centre)
             .map_or(1.0, |q| lookup::exp_neg(q * (1.0 / QUANT)))
     }
 
@@ -406,7 +427,7 @@ impl CubeMaps {
         self.levels.get(level as usize).map_or((NO_MAP, 0.0), |l| {
             (
                 l.slots.get(index as usize).copied().unwrap_or(NO_MAP),
-                l.inv_quarter,
+                l.inv_spacing,
             )
         })
     }
@@ -427,8 +448,14 @@ impl CubeMaps {
     }
 
     /// Every map's texels, in one array (for module `avx2`).
-    pub(super) fn texels(&self) -> &[[u16; 4]] {
+    pub(super) fn texels(&self) -> &[u16] {
         &self.texels
+    }
+
+    /// Depths a texel.
+    #[must_use]
+    pub fn depths_per_texel(&self) -> usize {
+        self.per_texel
     }
 }
 
@@ -452,6 +479,8 @@ pub(super) struct Tracer<'a> {
     pub(super) min_step: f32,
     pub(super) prefilter: bool,
     pub(super) depths: Depths,
+    /// Depths a texel.
+    pub(super) n: usize,
     /// Trace eight rays abreast with AVX2 where the CPU has it (off to test that it changes
     /// nothing).
     pub(super) simd: bool,
@@ -460,15 +489,7 @@ pub(super) struct Tracer<'a> {
 impl Tracer<'_> {
     /// Traces the map of the light at `p` of size `s`, blending radius `r`, depths to `reach`;
     /// returns the density samples taken.
-    fn trace_map(
-        &self,
-        map: &mut [[u16; 4]],
-        p: Vec3,
-        s: f32,
-        r: f32,
-        reach: f32,
-        cells: u32,
-    ) -> u64 {
+    fn trace_map(&self, map: &mut [u16], p: Vec3, s: f32, r: f32, reach: f32, cells: u32) -> u64 {
         let side = cube::side(cells);
         let mut samples = 0u64;
         let texels = 6 * side * side;
@@ -486,17 +507,23 @@ impl Tracer<'_> {
                 };
                 for (l, (tau, n)) in rays.into_iter().enumerate().take(texels - t) {
                     samples += u64::from(n);
-                    map[t + l] = quantise(tau);
+                    quantise(&tau[..self.n], self.texel(map, t + l));
                 }
                 t += 8;
             }
         }
-        for (t, texel) in map.iter_mut().enumerate().take(texels).skip(t) {
+        for t in t..texels {
             let (tau, n) = self.trace(p, direction(t), s, r, reach);
             samples += u64::from(n);
-            *texel = quantise(tau);
+            quantise(&tau[..self.n], self.texel(map, t));
         }
         samples
+    }
+
+    /// Texel `t`'s depths in `map`.
+    #[inline]
+    fn texel<'m>(&self, map: &'m mut [u16], t: usize) -> &'m mut [u16] {
+        &mut map[t * self.n..(t + 1) * self.n]
     }
 
     /// The filter width `δ(d)` of eq. 6 ([`filter_width`]).
@@ -513,18 +540,18 @@ impl Tracer<'_> {
     /// or `τ` has passed [`TAU_MAX`], the rest is not traced (every later depth is stored as it
     /// is, or as `TAU_MAX`). Module `avx2` traces eight rays of a light abreast with exactly
     /// these operations.
-    fn trace(&self, p: Vec3, dir: Vec3, s: f32, r: f32, reach: f32) -> ([f32; 4], u32) {
-        let quarter = reach / 4.0;
+    fn trace(&self, p: Vec3, dir: Vec3, s: f32, r: f32, reach: f32) -> ([f32; MAX_DEPTHS], u32) {
+        let spacing = reach / self.n as f32;
         let p_inside = self.inside(p);
         let mut samples = 0u32;
         let mut tau = 0.0f32;
-        let mut at = [0.0f32; 4];
-        let mut fit = Fit::default();
+        let mut at = [0.0f32; MAX_DEPTHS];
+        let mut fit = Fit::new(self.n);
         let mut look_again = 0.0f32;
         let mut live = true;
-        for (k, at_k) in at.iter_mut().enumerate() {
+        for (k, at_k) in at.iter_mut().enumerate().take(self.n) {
             if live {
-                let (a, n, dt) = self.schedule(k, quarter, s, r);
+                let (a, n, dt) = self.schedule(k, spacing, s, r);
                 let mut i = 0;
                 while i < n {
                     let d = a + (i as f32 + 0.5) * dt;
@@ -555,7 +582,7 @@ impl Tracer<'_> {
                         // The sample stands for the step: τ at its middle, weight ρ·V²·dt.
                         let mid = tau + 0.5 * dtau;
                         let w = rho * lookup::exp_neg((2.0 * mid).min(80.0)) * dt;
-                        fit.add(d / quarter, mid, w);
+                        fit.add(d / spacing, mid, w);
                     }
                     tau += dtau;
                     i += 1;
@@ -569,15 +596,17 @@ impl Tracer<'_> {
         }
         let depths = match self.depths {
             Depths::Sampled => at,
-            Depths::Fitted => fit.solve(at, 1e-6 * quarter),
+            Depths::Fitted => fit.solve(&at, 1e-6 * spacing),
         };
         (depths, samples)
     }
 
-    /// Quarter `k`'s steps, the same for every ray of a light: its start, the step count and
-    /// the step, `max(min_step, δ/2)` with `δ` the narrower filter width at its two ends.
+    /// Interval `k`'s steps (between depths `k` and `k + 1`, `spacing` apart), the same for
+    /// every ray of a light: its start, the step count and the step, `max(min_step, δ/2)` with
+    /// `δ` the narrower filter width at its two ends.
     #[inline]
-    pub(super) fn schedule(&self, k: usize, quarter: f32, s: f32, r: f32) -> (f32, u32, f32) {
+    pub(super) fn schedule(&self, k: usize, spacing: f32, s: f32, r: f32) -> (f32, u32, f32) {
+        let quarter = spacing;
         let a = k as f32 * quarter;
         let b = (k + 1) as f32 * quarter;
         let widest = self.width(a, s, r).min(self.width(b, s, r));
@@ -593,28 +622,42 @@ impl Tracer<'_> {
     }
 }
 
-/// The four depths as stored: `τ` clamped to `[0, TAU_MAX]`, rounded to 16 bits.
-fn quantise(tau: [f32; 4]) -> [u16; 4] {
-    tau.map(|t| (t.clamp(0.0, TAU_MAX) * QUANT + 0.5) as u16)
+/// The depths as stored in `out`: `τ` clamped to `[0, TAU_MAX]`, rounded to 16 bits.
+fn quantise(tau: &[f32], out: &mut [u16]) {
+    for (o, &t) in out.iter_mut().zip(tau) {
+        *o = (t.clamp(0.0, TAU_MAX) * QUANT + 0.5) as u16;
+    }
 }
 
-/// The weighted least-squares fit of a piecewise-linear `τ(q)` through `(0, 0)` and four knots
-/// at `q = 1, 2, 3, 4` (distances in quarters of the reach): normal equations of the hat basis,
+/// The weighted least-squares fit of a piecewise-linear `τ(q)` through `(0, 0)` and `n` knots
+/// at `q = 1 … n` (distances in spacings of the depths): normal equations of the hat basis,
 /// tridiagonal.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Fit {
+    /// Knots.
+    pub(super) n: usize,
     /// Diagonal and upper diagonal of the normal matrix.
-    pub(super) diag: [f64; 4],
-    pub(super) upper: [f64; 3],
-    pub(super) rhs: [f64; 4],
+    pub(super) diag: [f64; MAX_DEPTHS],
+    pub(super) upper: [f64; MAX_DEPTHS - 1],
+    pub(super) rhs: [f64; MAX_DEPTHS],
 }
 
 impl Fit {
-    /// Adds a sample of `tau` at `q` quarters with weight `w`.
+    /// No samples yet, `n` knots.
+    pub(super) fn new(n: usize) -> Self {
+        Fit {
+            n,
+            diag: [0.0; MAX_DEPTHS],
+            upper: [0.0; MAX_DEPTHS - 1],
+            rhs: [0.0; MAX_DEPTHS],
+        }
+    }
+
+    /// Adds a sample of `tau` at `q` spacings with weight `w`.
     #[inline]
     fn add(&mut self, q: f32, tau: f32, w: f32) {
         // q in [k, k + 1]: hats k (weight 1 − t, absent for k = 0) and k + 1 (weight t).
-        let k = (q as usize).min(3);
+        let k = (q as usize).min(self.n - 1);
         let t = f64::from(q - k as f32).clamp(0.0, 1.0);
         let (w, tau) = (f64::from(w), f64::from(tau));
         let hi = k; // knot k + 1 is index k
@@ -630,26 +673,29 @@ impl Fit {
 
     /// The knots' values, pulled towards `sampled` (the traced values at the knots) with weight
     /// `ridge`, which decides wherever the samples leave a knot free (no smoke near it).
-    pub(super) fn solve(mut self, sampled: [f32; 4], ridge: f32) -> [f32; 4] {
-        for (k, &s) in sampled.iter().enumerate() {
+    pub(super) fn solve(mut self, sampled: &[f32], ridge: f32) -> [f32; MAX_DEPTHS] {
+        let n = self.n;
+        for (k, &s) in sampled.iter().enumerate().take(n) {
             self.diag[k] += f64::from(ridge);
             self.rhs[k] += f64::from(ridge) * f64::from(s);
         }
         // Thomas algorithm (the matrix is symmetric positive definite: no pivoting needed).
-        let mut c = [0.0f64; 3];
-        let mut d = [0.0f64; 4];
-        c[0] = self.upper[0] / self.diag[0];
+        let mut c = [0.0f64; MAX_DEPTHS];
+        let mut d = [0.0f64; MAX_DEPTHS];
+        if n > 1 {
+            c[0] = self.upper[0] / self.diag[0];
+        }
         d[0] = self.rhs[0] / self.diag[0];
-        for k in 1..4 {
+        for k in 1..n {
             let m = self.diag[k] - self.upper[k - 1] * c[k - 1];
-            if k < 3 {
+            if k + 1 < n {
                 c[k] = self.upper[k] / m;
             }
             d[k] = (self.rhs[k] - self.upper[k - 1] * d[k - 1]) / m;
         }
-        let mut x = [0.0f64; 4];
-        x[3] = d[3];
-        for k in (0..3).rev() {
+        let mut x = [0.0f64; MAX_DEPTHS];
+        x[n - 1] = d[n - 1];
+        for k in (0..n - 1).rev() {
             x[k] = d[k] - c[k] * x[k + 1];
         }
         x.map(|v| v as f32)
@@ -721,6 +767,7 @@ mod tests {
             min_step: v.density.voxel_size,
             prefilter: true,
             depths,
+            n: 4,
         }
     }
 
@@ -749,8 +796,16 @@ mod tests {
         let m = Medium::new(1.0, 1.0, 0.0, 0.0).unwrap(); // σ_t = 3 per unit density... ×1.5
         let p = Vec3::new(0.013, -0.021, 0.007);
         let (lgh, b) = one_light(&v, p, 4.0); // r_0 = 4h, depths to 8h = 0.5: inside the box
-        for depths in [Depths::Fitted, Depths::Sampled] {
-            let maps = CubeMaps::build(&lgh, &b, &v, &m, &settings(depths), &|_| {}).unwrap();
+        for (depths, n) in [
+            (Depths::Fitted, 4),
+            (Depths::Sampled, 4),
+            (Depths::Fitted, 8),
+        ] {
+            let settings = CubeMapSettings {
+                depth_count: n,
+                ..settings(depths)
+            };
+            let maps = CubeMaps::build(&lgh, &b, &v, &m, &settings, &|_| {}).unwrap();
             let mut rng = lgh_core::random::SplitMix64(2);
             for _ in 0..2000 {
                 let x = p + rng.next_in(Vec3::splat(-0.3), Vec3::splat(0.3));
@@ -759,7 +814,7 @@ mod tests {
                 let got = maps.transmittance(x, 0, 0, p);
                 assert!(
                     (got / want - 1.0).abs() < 1.3e-4 + 2e-6,
-                    "{depths:?} d = {d}: {got} vs {want}"
+                    "{depths:?} {n} depths, d = {d}: {got} vs {want}"
                 );
             }
         }
@@ -782,7 +837,7 @@ mod tests {
             let maps =
                 CubeMaps::build(&lgh, &b, &v, &m, &settings(Depths::Sampled), &|_| {}).unwrap();
             let slot = maps.levels[0].slots[0];
-            let reach = 4.0 / maps.levels[0].inv_quarter;
+            let reach = 4.0 / maps.levels[0].inv_spacing;
             let q = reach / 4.0;
             let sigma = m.extinction(1.0);
             let mut worst = 0.0f32;
@@ -815,13 +870,13 @@ mod tests {
         // Exact: τ piecewise linear with knots at the depths (any positive weights).
         let tau =
             |q: f32| 0.3 * q.min(1.0) + 1.1 * (q - 1.0).clamp(0.0, 2.0) + 0.2 * (q - 3.0).max(0.0);
-        let mut fit = Fit::default();
+        let mut fit = Fit::new(4);
         for i in 0..400 {
             let q = (i as f32 + 0.5) / 100.0;
             fit.add(q, tau(q), 0.5 + (i % 7) as f32);
         }
-        let knots = fit.solve([tau(1.0), tau(2.0), tau(3.0), tau(4.0)], 1e-9);
-        for (k, &t) in knots.iter().enumerate() {
+        let knots = fit.solve(&[tau(1.0), tau(2.0), tau(3.0), tau(4.0)], 1e-9);
+        for (k, &t) in knots.iter().take(4).enumerate() {
             assert!((t - tau(k as f32 + 1.0)).abs() < 1e-5, "{k}: {t}");
         }
         // A thin dense shell at q ∈ [1.4, 1.6], shading points (weight) all around it: the
@@ -829,13 +884,14 @@ mod tests {
         // no larger (it is the least-squares optimum over the same piecewise-linear functions,
         // which include the chord; the ridge of 10⁻⁹ is negligible).
         let shell = |q: f32| 2.0 * ((q - 1.4).clamp(0.0, 0.2) / 0.2);
-        let mut fit = Fit::default();
+        let mut fit = Fit::new(4);
         let samples: Vec<f32> = (0..400).map(|i| (i as f32 + 0.5) / 100.0).collect();
         for &q in &samples {
             fit.add(q, shell(q), 1.0);
         }
         let sampled = [shell(1.0), shell(2.0), shell(3.0), shell(4.0)];
-        let fitted = fit.solve(sampled, 1e-9);
+        let fitted = fit.solve(&sampled, 1e-9);
+        let fitted: [f32; 4] = fitted[..4].try_into().unwrap();
         let err = |k: [f32; 4]| -> f32 {
             samples
                 .iter()
@@ -908,7 +964,24 @@ mod tests {
         let (v, m, lights) = demo32();
         let lgh = lights.hierarchy();
         let b = lgh.blending(2.0).unwrap();
-        let maps = CubeMaps::build(lgh, &b, &v, &m, &settings(Depths::Fitted), &|_| {}).unwrap();
+        for n in [4, 8] {
+            batched_lookups_match(&v, &m, lgh, &b, n);
+        }
+    }
+
+    /// [`batched_lookups_are_the_one_by_one_lookups_bit_for_bit`] with `n` depths a texel.
+    fn batched_lookups_match(
+        v: &Volume,
+        m: &Medium,
+        lgh: &LightingGridHierarchy,
+        b: &Blending,
+        n: usize,
+    ) {
+        let settings = CubeMapSettings {
+            depth_count: n,
+            ..settings(Depths::Fitted)
+        };
+        let maps = CubeMaps::build(lgh, b, v, m, &settings, &|_| {}).unwrap();
         let (lo, hi) = v.density.bounds();
         let mut rng = lgh_core::random::SplitMix64(12);
         let mut all: Vec<(Vec3, (u8, u32))> = Vec::new();
@@ -935,7 +1008,11 @@ mod tests {
             maps.transmittances(x, &centres, &ids, &mut out);
             for (&(c, (level, index)), &t) in batch.iter().zip(&out) {
                 let want = maps.transmittance(x, level, index, c);
-                assert_eq!(t.to_bits(), want.to_bits(), "{x} {level} {index}");
+                assert_eq!(
+                    t.to_bits(),
+                    want.to_bits(),
+                    "{n} depths: {x} {level} {index}"
+                );
                 shadowed += usize::from(t < 0.99);
             }
         }
@@ -964,9 +1041,15 @@ mod tests {
         let (lo, hi) = v.density.bounds();
         let mut rng = lgh_core::random::SplitMix64(31);
         let mut compared = 0;
-        for depths in [Depths::Fitted, Depths::Sampled] {
-            let tracer = |simd| {
-                tracer(
+        for (depths, n) in [
+            (Depths::Fitted, 4),
+            (Depths::Sampled, 4),
+            (Depths::Fitted, 8),
+            (Depths::Sampled, 8),
+        ] {
+            let tracer = |simd| Tracer {
+                n,
+                ..tracer(
                     &pyramid,
                     &empty,
                     &v,
@@ -984,12 +1067,12 @@ mod tests {
                 let s = [0.0, 0.03, 0.12, 0.4][i % 4];
                 let r = [0.125, 0.25, 0.5][i % 3];
                 let cells = [3u32, 4, 9][i % 3];
-                let mut a = vec![[0u16; 4]; cube::texels(cells)];
+                let mut a = vec![0u16; cube::texels(cells) * n];
                 let mut b = a.clone();
                 fast.trace_map(&mut a, p, s, r, 2.0 * r, cells);
                 slow.trace_map(&mut b, p, s, r, 2.0 * r, cells);
-                assert_eq!(a, b, "{depths:?} light {i} at {p}");
-                compared += a.iter().filter(|t| t[3] > 0).count();
+                assert_eq!(a, b, "{depths:?} {n} depths: light {i} at {p}");
+                compared += a.chunks(n).filter(|t| t[n - 1] > 0).count();
             }
         }
         assert!(compared > 1000, "{compared}");

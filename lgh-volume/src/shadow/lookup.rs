@@ -56,14 +56,16 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
 }
 
 /// The quantised optical depth at `x` of the light centred at `c` whose map is `slot` in
-/// `texels`, with `inv_quarter` = 4 / its reach, or `None` when the light is unshadowed there (no
-/// map, `x` on the light or not finite). See `CubeMaps::transmittance` for the interpolation.
+/// `texels` (`n` depths a texel), with `inv_spacing` = n / its reach, or `None` when the light
+/// is unshadowed there (no map, `x` on the light or not finite). See
+/// `CubeMaps::transmittance` for the interpolation.
 #[inline(always)]
 #[must_use]
 pub(super) fn quantised_depth(
-    texels: &[[u16; 4]],
+    texels: &[u16],
+    n: usize,
     slot: Slot,
-    inv_quarter: f32,
+    inv_spacing: f32,
     x: Vec3,
     c: Vec3,
 ) -> Option<f32> {
@@ -78,20 +80,20 @@ pub(super) fn quantised_depth(
         first: slot.offset as usize + at.first,
         ..at
     };
-    // The two depths around the distance: knots 0 (τ = 0 at the light), 1..4 stored.
-    let q = (d * inv_quarter).min(4.0);
-    let k = (q as u32).min(3);
+    // The two depths around the distance: knots 0 (τ = 0 at the light), 1..=n stored.
+    let q = (d * inv_spacing).min(n as f32);
+    let k = (q as u32).min(n as u32 - 1);
     let f = (q - k as f32).clamp(0.0, 1.0);
     let kk = k.saturating_sub(1) as usize;
     let lo = cube::bilinear(&at, slot.cells, |t| {
         if k == 0 {
             0.0
         } else {
-            f32::from(texels[t][kk])
+            f32::from(texels[t * n + kk])
         }
     });
     let hi = cube::bilinear(&at, slot.cells, |t| {
-        f32::from(texels[t][kk + usize::from(k > 0)])
+        f32::from(texels[t * n + kk + usize::from(k > 0)])
     });
     Some(lerp(lo, hi, f))
 }
