@@ -5,7 +5,7 @@
 //! once per frame, at a resolution fixed by `r_ℓ`: a cube map whose cells are `h` (a voxel) wide
 //! at distance `r_ℓ`, where `B_ℓ` peaks — `R = ⌈2 r_ℓ / h⌉` cells per face side, `24 (r_ℓ/h)²` in
 //! all — each texel storing the optical depth `τ` along its direction at four distances
-//! `D/4, D/2, 3D/4, D` (`D = 2 r_ℓ`; the top level, whose lights reach everything, and any level
+//! `D/4, D/2, 3D/4, D` (or `n` at `D/n … D`, [`CubeMapSettings::depth_count`]; `D = 2 r_ℓ`; the top level, whose lights reach everything, and any level
 //! whose `2 r_ℓ` exceeds the density's box, take the box's diagonal). A lookup interpolates
 //! bilinearly between texels (seamless across faces, [`super::cube`]) and linearly between
 //! the depths, so the shadow is continuous in the shading point and in the light's position.
@@ -28,7 +28,11 @@
 //!
 //! **Storage.** `τ` is quantised to 16 bits on `[0, TAU_MAX]`: an absolute error of at most
 //! `TAU_MAX / 131070 ≈ 1.2·10⁻⁴` in `τ`, a relative error of at most that in `V`; depths beyond
-//! `TAU_MAX` (`V < 1.1·10⁻⁷`) are stored as `TAU_MAX`. Eight bytes a texel.
+//! `TAU_MAX` (`V < 1.1·10⁻⁷`) are stored as `TAU_MAX`. Two bytes a depth: eight a texel with
+//! the paper's four depths. On the demo's explosion, whose dense soot rim is a rise of `τ` by
+//! several units within two or three voxels, levels 3 and 4 (depths 8 and 16 voxels apart)
+//! cannot place that rise: 8.65% relative RMSE of the image against the same model marched
+//! (`super::volume_rays`), 2.76% with eight depths (README, "Shadows").
 //!
 //! The maps are traced in parallel (rayon), one light at a time, each into its own slice: the
 //! result does not depend on the thread count. Nothing is allocated per texel.
