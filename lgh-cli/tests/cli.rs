@@ -403,8 +403,8 @@ fn demo_renders_an_exr_and_a_png() {
         ),
         (vec!["demo", "--shadow-memory", "0.001"], "cube maps"),
         (
-            vec!["demo", "--shadow-depths", "9"],
-            "depths per texel 9 must be 2 to 8",
+            vec!["demo", "--shadow-depths", "17"],
+            "depths per texel 17 must be 2 to 16",
         ),
         (vec!["demo", "--shadow-memory", "0"], "--shadow-memory 0"),
         (
