@@ -70,11 +70,12 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     let Scene {
         volume,
         medium,
-        lights,
+        mut lights,
         camera,
         volume_seconds: volume_s,
         lights_seconds: hierarchy_s,
     } = args.scene.build()?;
+    lights.set_prune(args.march.prune)?;
     let scene = &args.scene;
 
     let mut runs = Vec::new();

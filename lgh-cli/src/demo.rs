@@ -114,11 +114,12 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     let Scene {
         volume,
         medium,
-        lights,
+        mut lights,
         camera,
         volume_seconds,
         lights_seconds,
     } = args.scene.build()?;
+    lights.set_prune(args.march.prune)?;
     let setup_s = volume_seconds + lights_seconds;
     let scene = &args.scene;
     let extra = vec![
@@ -130,6 +131,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
             ),
         ),
         ("alpha", scene.alpha.to_string()),
+        ("prune", args.march.prune.to_string()),
         ("lights", lights.lit().to_string()),
     ];
     let scatter = Scatter::run(

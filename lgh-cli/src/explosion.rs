@@ -266,7 +266,9 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             Ok(v)
         });
         if needs_lights {
-            lights = Some(ExplosionLights::from_frames(frames_read, &medium)?);
+            let mut all = ExplosionLights::from_frames(frames_read, &medium)?;
+            all.set_prune(args.march.prune)?;
+            lights = Some(all);
         } else {
             for v in frames_read {
                 v?;
@@ -323,6 +325,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             BackendArg::March(m) => {
                 if m == Method::Lgh {
                     extra.push(("alpha", args.alpha.to_string()));
+                    extra.push(("prune", args.march.prune.to_string()));
                 }
                 (Some(m), m.name())
             }

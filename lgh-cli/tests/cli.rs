@@ -368,6 +368,7 @@ fn demo_renders_an_exr_and_a_png() {
     let get = header(&out);
     assert_eq!(get("lgh:backend"), "lgh");
     assert_eq!(get("lgh:alpha"), "2");
+    assert_eq!(get("lgh:prune"), "0");
     // The paper's deep-shadow cube maps by default, with their bytes and precompute time.
     assert_eq!(get("lgh:shadows"), "cubemap");
     assert!(get("lgh:shadow_bytes").parse::<u64>().unwrap() > 0);
@@ -407,6 +408,7 @@ fn demo_renders_an_exr_and_a_png() {
             "depths per texel 17 must be 2 to 16",
         ),
         (vec!["demo", "--shadow-memory", "0"], "--shadow-memory 0"),
+        (vec!["demo", "--prune", "1"], "--prune 1 must be a fraction"),
         (
             vec!["demo", "--shadow-memory", "nan"],
             "--shadow-memory NaN",

@@ -314,6 +314,15 @@ impl LevelLights {
         &self.luminance
     }
 
+    /// Sets the weak-light threshold: the lights weaker than it are no longer reported.
+    pub(crate) fn set_threshold(&mut self, threshold: f32) {
+        self.threshold = threshold;
+        for i in 0..self.len() {
+            let p = self.scanned(self.position[i], self.luminance[i]);
+            (self.x[i], self.y[i], self.z[i]) = (p.x, p.y, p.z);
+        }
+    }
+
     /// Replaces the intensity (and luminance) of light `i`.
     pub(crate) fn set_intensity(&mut self, i: usize, intensity: Vec3) {
         self.intensity[i] = intensity;

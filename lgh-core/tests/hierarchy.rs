@@ -558,6 +558,37 @@ fn weak_lights_leave_fine_levels_but_reach_the_top() {
     let total: f64 = lights.iter().map(|l| luminance(l.intensity) as f64).sum();
     let top_sum: f64 = lgh.level(top).iter().map(|g| g.luminance as f64).sum();
     assert!((top_sum - total).abs() < 1e-4 * total);
+
+    // Setting the threshold afterwards gives the hierarchy built with it, bit for bit, and
+    // setting it back to 0 the one built without; before and after new intensities.
+    let unpruned = GridSettings {
+        prune_below: 0.0,
+        ..s
+    };
+    let mut later = LightingGridHierarchy::build(&lights, &unpruned).unwrap();
+    let same_levels = |a: &LightingGridHierarchy, b: &LightingGridHierarchy| {
+        (0..=a.max_level()).all(|l| a.level(l) == b.level(l))
+    };
+    assert!(!same_levels(&later, &lgh));
+    later.set_prune_below(1e-3).unwrap();
+    assert!(same_levels(&later, &lgh));
+    let brighter: Vec<Vec3> = lights.iter().map(|l| l.intensity * 2.0).collect();
+    later.update_intensities(&brighter).unwrap();
+    let mut rebuilt = lights.clone();
+    for (l, &i) in rebuilt.iter_mut().zip(&brighter) {
+        l.intensity = i;
+    }
+    assert!(same_levels(
+        &later,
+        &LightingGridHierarchy::build(&rebuilt, &s).unwrap()
+    ));
+    later.set_prune_below(0.0).unwrap();
+    assert!(same_levels(
+        &later,
+        &LightingGridHierarchy::build(&rebuilt, &unpruned).unwrap()
+    ));
+    assert!(later.set_prune_below(-1.0).is_err());
+    assert_eq!(later.prune_below(), 0.0);
 }
 
 #[test]

@@ -58,6 +58,9 @@ pub struct ExplosionLights {
     voxels: Vec<usize>,
     lights: Vec<PointLight>,
     hierarchy: LightingGridHierarchy,
+    /// Weak-light pruning, a fraction of the frame's brightest light (see
+    /// [`set_prune`](ExplosionLights::set_prune)).
+    prune: f32,
 }
 
 /// Whether two grids have one layout (dimensions, voxel size, origin): what keeps the lights'
@@ -159,7 +162,58 @@ impl ExplosionLights {
             voxels,
             lights,
             hierarchy,
+            prune: 0.0,
         })
+    }
+
+    /// Prunes weak lights, as the paper does "for additional optimization" (Sec. 6): the
+    /// hierarchy's queries skip, on every level but the top one, the lights whose luminance is
+    /// below `fraction` of the brightest light of the frame (their energy still reaches the
+    /// coarser levels, built from all lights). Re-applied to each new frame's intensities. 0 (the
+    /// default) prunes nothing; a fraction outside `[0, 1)` is an error.
+    ///
+    /// ```
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let mut lights = ExplosionLights::new(&[&volume], &medium)?;
+    /// let active = |l: &ExplosionLights| {
+    ///     let h = l.hierarchy();
+    ///     h.level(0).iter().filter(|g| h.is_active(0, g)).count()
+    /// };
+    /// let all = active(&lights);
+    /// lights.set_prune(1e-2)?;
+    /// assert!(active(&lights) < all);
+    /// assert!(lights.set_prune(1.0).is_err());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn set_prune(&mut self, fraction: f32) -> Result<(), VolumeError> {
+        crate::error::check_setting(
+            (0.0..1.0).contains(&fraction),
+            "weak-light pruning",
+            fraction,
+            "must be a fraction of the brightest light in [0, 1)",
+        )?;
+        self.prune = fraction;
+        self.apply_prune()
+    }
+
+    /// The pruning fraction of [`set_prune`](Self::set_prune).
+    #[must_use]
+    pub fn prune(&self) -> f32 {
+        self.prune
+    }
+
+    /// Sets the hierarchy's threshold from the current intensities.
+    fn apply_prune(&mut self) -> Result<(), VolumeError> {
+        let brightest = self
+            .lights
+            .iter()
+            .map(|l| lgh_core::luminance(l.intensity))
+            .fold(0.0f32, f32::max);
+        self.hierarchy.set_prune_below(self.prune * brightest)?;
+        Ok(())
     }
 
     /// Whether `grid` has the lights' layout (dimensions, voxel size, origin).
@@ -178,6 +232,9 @@ impl ExplosionLights {
         self.hierarchy.update_intensities(intensities)?;
         for (l, &i) in self.lights.iter_mut().zip(intensities) {
             l.intensity = i;
+        }
+        if self.prune > 0.0 {
+            self.apply_prune()?;
         }
         Ok(())
     }
@@ -400,6 +457,29 @@ mod tests {
     use super::*;
     use crate::procedural::procedural;
     use crate::render::Framing;
+
+    #[test]
+    fn pruning_follows_each_frames_brightest_light() {
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let a = procedural(32, 0.2).unwrap();
+        let b = procedural(32, 0.8).unwrap();
+        let mut seq = ExplosionLights::new(&[&a, &b], &m).unwrap();
+        seq.set_frame(&a, &m).unwrap();
+        seq.set_prune(1e-3).unwrap();
+        let brightest = |l: &ExplosionLights| {
+            l.lights()
+                .iter()
+                .map(|p| lgh_core::luminance(p.intensity))
+                .fold(0.0f32, f32::max)
+        };
+        assert_eq!(seq.hierarchy().prune_below(), 1e-3 * brightest(&seq));
+        seq.set_frame(&b, &m).unwrap();
+        assert_eq!(seq.hierarchy().prune_below(), 1e-3 * brightest(&seq));
+        assert!(seq.hierarchy().prune_below() > 0.0);
+        // A bad fraction changes nothing.
+        assert!(seq.set_prune(f32::NAN).is_err());
+        assert_eq!(seq.prune(), 1e-3);
+    }
 
     #[test]
     fn a_sequence_frame_matches_the_frames_own_lights() {

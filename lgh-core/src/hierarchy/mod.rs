@@ -519,6 +519,48 @@ impl LightingGridHierarchy {
         self.prune_below
     }
 
+    /// Changes the weak-light threshold ([`GridSettings::prune_below`]; the paper prunes "lights
+    /// weaker than a small threshold from the lower levels", Sec. 6): queries then skip the
+    /// lights below it on every level but the top one, exactly as if the hierarchy had been
+    /// built with it (the levels themselves are built from all lights and do not change).
+    /// A renderer can so set a threshold relative to a frame's brightest light after
+    /// [`update_intensities`](Self::update_intensities). An invalid threshold (negative, NaN,
+    /// infinite) is an error and changes nothing.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::splat(if p.x == 0.0 { 0.01 } else { 1.0 })))
+    ///     .collect();
+    /// let mut lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let (b, x) = (lgh.blending(2.0)?, Vec3::new(1.5, 1.5, 1.5));
+    /// let all = lgh.query(x, &b, |_| {})?;
+    /// lgh.set_prune_below(0.1)?;
+    /// assert!(lgh.query(x, &b, |_| {})? < all); // the dim lights at x = 0 are skipped
+    /// assert!(lgh.set_prune_below(f32::NAN).is_err());
+    /// assert_eq!(lgh.prune_below(), 0.1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn set_prune_below(&mut self, prune_below: f32) -> Result<(), BuildError> {
+        if !(prune_below.is_finite() && prune_below >= 0.0) {
+            return Err(BuildError::InvalidThreshold {
+                threshold: prune_below,
+            });
+        }
+        self.prune_below = prune_below;
+        let top = self.placement.max_level;
+        self.level0
+            .set_threshold(level_threshold(0, top, prune_below));
+        for (l, level) in self.levels.iter_mut().enumerate() {
+            let threshold = level_threshold(l as u8 + 1, top, prune_below);
+            level.lights.set_threshold(threshold);
+        }
+        Ok(())
+    }
+
     /// The lights of level `level` (level 0: the input lights, in the hierarchy's order).
     /// Empty for levels above `ℓ_max`.
     #[must_use]
