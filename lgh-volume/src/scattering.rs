@@ -289,6 +289,8 @@ pub fn scatter(
         &vec![Vec3::ZERO; dense.len()],
         Some(max_level),
     )?;
+    // The emission lights' weak-light pruning carries over, to each depth and to the merge.
+    scattered.set_prune(emission.prune())?;
     let pass = Fluence {
         method,
         alpha,
@@ -332,7 +334,9 @@ pub fn scatter(
     let merged_intensities: Vec<Vec3> = (0..voxels.len())
         .map(|s| per_depth.iter().fold(Vec3::ZERO, |a, d| a + d[s]))
         .collect();
-    let merged = ExplosionLights::at_voxels(grid, voxels, &merged_intensities, Some(max_level))?;
+    let mut merged =
+        ExplosionLights::at_voxels(grid, voxels, &merged_intensities, Some(max_level))?;
+    merged.set_prune(emission.prune())?;
     Ok(Scattered {
         merged,
         per_depth,
@@ -643,6 +647,28 @@ mod tests {
             emission, depth, method, alpha, volume, medium, settings, NONE,
         )
         .unwrap()
+    }
+
+    #[test]
+    fn the_emission_lights_pruning_carries_over_to_the_merged_lights() {
+        let volume = blob(16);
+        let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let mut emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        emission.set_prune(1e-3).unwrap();
+        let settings = MarchSettings {
+            shadows: Shadows::RayMarch,
+            ..Default::default()
+        };
+        let s = pass(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings);
+        let merged = s.lights();
+        assert_eq!(merged.prune(), 1e-3);
+        let brightest = merged
+            .lights()
+            .iter()
+            .map(|l| lgh_core::luminance(l.intensity))
+            .fold(0.0f32, f32::max);
+        assert_eq!(merged.hierarchy().prune_below(), 1e-3 * brightest);
+        assert!(brightest > 0.0);
     }
 
     #[test]
