@@ -5,8 +5,9 @@
 //! once per frame, at a resolution fixed by `r_ℓ`: a cube map whose cells are `h` (a voxel) wide
 //! at distance `r_ℓ`, where `B_ℓ` peaks — `R = ⌈2 r_ℓ / h⌉` cells per face side, `24 (r_ℓ/h)²` in
 //! all — each texel storing the optical depth `τ` along its direction at four distances
-//! `D/4, D/2, 3D/4, D` (or `n` at `D/n … D`, [`CubeMapSettings::depth_count`]; `D = 2 r_ℓ`; the top level, whose lights reach everything, and any level
-//! whose `2 r_ℓ` exceeds the density's box, take the box's diagonal). A lookup interpolates
+//! `D/4, D/2, 3D/4, D` (or `n` at `D/n … D`, [`CubeMapSettings::depth_count`]; `D = 2 r_ℓ`;
+//! the top level, whose lights reach everything, and any level whose `2 r_ℓ` exceeds the
+//! density's box, take the box's diagonal). A lookup interpolates
 //! bilinearly between texels (seamless across faces, [`super::cube`]) and linearly between
 //! the depths, so the shadow is continuous in the shading point and in the light's position.
 //!
@@ -338,8 +339,8 @@ impl CubeMaps {
         let mut levels = Vec::new();
         let mut table = Vec::new();
         let total: u64 = plan.levels.iter().map(|l| l.texels).sum();
-        let n = settings.depth_count;
-        let mut texels = vec![0u16; total as usize * n];
+        let per_texel = settings.depth_count;
+        let mut texels = vec![0u16; total as usize * per_texel];
         let mut rest: &mut [u16] = &mut texels;
         let mut offset = 0usize;
         for (row, planned) in plan.levels.iter().zip(&plan.maps) {
@@ -353,8 +354,8 @@ impl CubeMaps {
                     cells: m.cells,
                 };
                 let (map, tail) =
-                    core::mem::take(&mut rest).split_at_mut(cube::texels(m.cells) * n);
-                offset += map.len() / n;
+                    core::mem::take(&mut rest).split_at_mut(cube::texels(m.cells) * per_texel);
+                offset += map.len() / per_texel;
                 jobs.push((map, *m));
                 rest = tail;
             }
@@ -378,7 +379,7 @@ impl CubeMaps {
                 progress(n);
             }
             levels.push(Level {
-                inv_spacing: n as f32 / row.reach,
+                inv_spacing: per_texel as f32 / row.reach,
                 slots,
             });
             table.push(LevelMaps {
@@ -390,7 +391,7 @@ impl CubeMaps {
         Ok(CubeMaps {
             levels,
             texels,
-            per_texel: n,
+            per_texel,
             table,
         })
     }
