@@ -165,6 +165,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
             "lights": lights.lit(),
         },
         "alpha": scene.alpha,
+        "prune": args.march.prune,
         "width": scene.width,
         "height": scene.height,
         "threads": rayon::current_num_threads(),

@@ -13,6 +13,19 @@ fn lgh(args: &[&str]) -> Output {
         .expect("run lgh")
 }
 
+/// `lgh args` run in `dir` fails with one line of error that contains `names`.
+fn assert_refused(dir: &Path, args: &[&str], names: &str) {
+    let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(!o.status.success(), "{args:?}");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+    assert!(err.contains(names), "{args:?}: {err} should name {names}");
+}
+
 /// `lgh demo` at 32³ voxels, `width × height`, quiet, written to `out`, with `extra` arguments.
 fn small_demo(out: &Path, (width, height): (usize, usize), extra: &[&str]) -> Output {
     let (w, h) = (width.to_string(), height.to_string());
@@ -352,6 +365,44 @@ fn demo_marches_the_cube_maps_model() {
     assert!(lgh_image::compare(&v, &b).unwrap().rel_rmse > 1e-4);
 }
 
+/// `lgh bench table1` on a small frame: JSON with the settings, a cube-map row per level and
+/// a render per shadow choice; pruning reaches it (fewer level-0 lights have maps).
+#[test]
+fn bench_table1_prints_the_rows_and_the_settings() {
+    let table = |prune: &str| -> serde_json::Value {
+        let o = lgh(&[
+            "bench",
+            "table1",
+            "--resolution",
+            "32",
+            "--width",
+            "16",
+            "--height",
+            "9",
+            "--compare",
+            "none",
+            "--prune",
+            prune,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let (all, pruned) = (table("0"), table("1e-3"));
+    assert_eq!(all["prune"], 0.0);
+    assert!((pruned["prune"].as_f64().unwrap() - 1e-3).abs() < 1e-9);
+    for t in [&all, &pruned] {
+        assert!(t["shadows"]["cubemap"].is_object() && t["shadows"]["none"].is_object());
+        assert!(t["cube_maps"].as_array().unwrap().len() > 1);
+    }
+    let level0 = |t: &serde_json::Value| t["cube_maps"][0]["lights"].as_u64().unwrap();
+    assert!(
+        level0(&pruned) < level0(&all),
+        "{} {}",
+        level0(&pruned),
+        level0(&all)
+    );
+}
+
 #[test]
 fn demo_renders_an_exr_and_a_png() {
     let dir = tempfile::tempdir().unwrap();
@@ -414,15 +465,7 @@ fn demo_renders_an_exr_and_a_png() {
             "--shadow-memory NaN",
         ),
     ] {
-        let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
-            .args(&bad)
-            .current_dir(work.path())
-            .output()
-            .unwrap();
-        assert!(!o.status.success(), "{bad:?}");
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
-        assert!(err.contains(names), "{bad:?}: {err} should name {names}");
+        assert_refused(work.path(), &bad, names);
     }
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
 }
@@ -446,15 +489,7 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
         ],
         vec!["demo", "--scatter-shares"],
     ] {
-        let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
-            .args(&bad)
-            .current_dir(work.path())
-            .output()
-            .unwrap();
-        assert!(!o.status.success(), "{bad:?}");
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
-        assert!(err.contains("--scatter-depth"), "{bad:?}: {err}");
+        assert_refused(work.path(), &bad, "--scatter-depth");
     }
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
 

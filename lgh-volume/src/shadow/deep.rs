@@ -61,7 +61,7 @@ pub const MAX_DEPTHS: usize = 16;
 /// Quantisation steps per unit of optical depth.
 const QUANT: f32 = 65535.0 / TAU_MAX;
 
-/// What the four depths of a texel hold.
+/// What the depths of a texel hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Depths {
     /// The least-squares fit of the traced `τ`, weighted by density × `V²` (see the module docs).
@@ -316,10 +316,7 @@ impl CubeMaps {
             });
         }
         let h = density.voxel_size;
-        let max_size = (0..=hierarchy.max_level())
-            .flat_map(|l| hierarchy.level(l).iter().map(|g| g.size))
-            .fold(0.0f32, f32::max);
-        let pyramid = DensityPyramid::new(density, if settings.prefilter { max_size } else { 0.0 });
+        let pyramid = DensityPyramid::for_hierarchy(density, hierarchy, settings.prefilter);
         let (lo, hi) = density.bounds();
         let empty = EmptySpace::new(density);
         let tracer = Tracer {
@@ -537,9 +534,10 @@ impl Tracer<'_> {
         filter_width(self.prefilter, d, s, r, self.h0)
     }
 
-    /// The four depths of the ray from `p` along `dir` (unit), for a light of size `s` and
-    /// radius `r`, depths at `reach/4 … reach`, and the density samples taken: midpoint rule
-    /// over each quarter ([`Tracer::schedule`]: the same steps for every ray of a light),
+    /// The `n` depths of the ray from `p` along `dir` (unit), for a light of size `s` and
+    /// radius `r`, depths at `reach/n … reach` (the first `n` of the array), and the density
+    /// samples taken: midpoint rule between consecutive depths ([`Tracer::schedule`]: the same
+    /// steps for every ray of a light),
     /// samples outside the density's box adding nothing. Samples in empty space are jumped
     /// over (they would add exactly 0); once the ray has left the box (for a light inside it),
     /// or `τ` has passed [`TAU_MAX`], the rest is not traced (every later depth is stored as it
@@ -611,19 +609,18 @@ impl Tracer<'_> {
     /// `δ` the narrower filter width at its two ends.
     #[inline]
     pub(super) fn schedule(&self, k: usize, spacing: f32, s: f32, r: f32) -> (f32, u32, f32) {
-        let quarter = spacing;
-        let a = k as f32 * quarter;
-        let b = (k + 1) as f32 * quarter;
+        let a = k as f32 * spacing;
+        let b = (k + 1) as f32 * spacing;
         let widest = self.width(a, s, r).min(self.width(b, s, r));
         let step = self.min_step.max(0.5 * widest);
-        let n = (quarter / step).ceil().max(1.0) as u32;
-        (a, n, quarter / n as f32)
+        let n = (spacing / step).ceil().max(1.0) as u32;
+        (a, n, spacing / n as f32)
     }
 
     /// Whether `x` is in the density's box (faces included).
     #[inline]
     pub(super) fn inside(&self, x: Vec3) -> bool {
-        x.cmpge(self.lo).all() && x.cmple(self.hi).all()
+        super::in_box(x, self.lo, self.hi)
     }
 }
 

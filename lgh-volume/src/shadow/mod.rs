@@ -144,6 +144,12 @@ impl Visibility {
     }
 }
 
+/// Whether `p` is in the box `lo..=hi` (faces included): where the density is.
+#[inline]
+fn in_box(p: Vec3, lo: Vec3, hi: Vec3) -> bool {
+    p.cmpge(lo).all() && p.cmple(hi).all()
+}
+
 /// The lights whose visibility one shading point needs, pushed as a many-lights backend returns
 /// them ([`LightSample`]) and kept in the form the visibility methods read: only what they use,
 /// structure of arrays, so that gathering the hundreds of lights of a shading point stays in
@@ -363,7 +369,7 @@ impl ShadowGrid {
 
     /// Whether `p` is in the grid's box (faces included).
     fn inside(&self, p: Vec3) -> bool {
-        p.cmpge(self.lo).all() && p.cmple(self.hi).all()
+        in_box(p, self.lo, self.hi)
     }
 
     /// Sets up the march from `a` to `b`, or `None` when nothing shadows it (it misses the box,

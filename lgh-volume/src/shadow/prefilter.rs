@@ -78,6 +78,24 @@ impl DensityPyramid {
         }
     }
 
+    /// The pyramid the lights of `hierarchy` need: up to the widest light's size `s_ℓi` (the
+    /// widest filter of eq. 6) with `prefilter`, the density alone without.
+    #[must_use]
+    pub fn for_hierarchy(
+        density: &DenseGrid,
+        hierarchy: &lgh_core::LightingGridHierarchy,
+        prefilter: bool,
+    ) -> Self {
+        let widest = if prefilter {
+            (0..=hierarchy.max_level())
+                .flat_map(|l| hierarchy.level(l).iter().map(|g| g.size))
+                .fold(0.0f32, f32::max)
+        } else {
+            0.0
+        };
+        DensityPyramid::new(density, widest)
+    }
+
     /// Number of levels (level 0 is the density itself).
     #[must_use]
     pub fn levels(&self) -> usize {

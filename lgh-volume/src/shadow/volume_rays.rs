@@ -34,8 +34,9 @@ pub struct VolumeRays {
     /// Step along a ray, world units.
     step: f32,
     prefilter: bool,
-    /// A light whose transmittance falls below this counts as hidden (as in the point march).
-    cutoff: f32,
+    /// A light whose optical depth exceeds this (transmittance below the cut-off) counts as
+    /// hidden, as in the point march.
+    tau_cut: f32,
     /// Per level: `r_ℓ` and every light's size `s_ℓi`.
     levels: Vec<(f32, Vec<f32>)>,
 }
@@ -75,27 +76,23 @@ impl VolumeRays {
         cutoff: f32,
     ) -> Self {
         let density = &volume.density;
-        let h = density.voxel_size;
         let levels: Vec<(f32, Vec<f32>)> = (0..=hierarchy.max_level())
             .map(|l| {
                 let sizes = hierarchy.level(l).iter().map(|g| g.size).collect();
                 (blending.radius(l), sizes)
             })
             .collect();
-        let max_size = levels
-            .iter()
-            .flat_map(|(_, s)| s.iter().copied())
-            .fold(0.0f32, f32::max);
         let (lo, hi) = density.bounds();
         VolumeRays {
-            pyramid: DensityPyramid::new(density, if settings.prefilter { max_size } else { 0.0 }),
+            pyramid: DensityPyramid::for_hierarchy(density, hierarchy, settings.prefilter),
             kappa: medium.extinction(1.0),
             lo,
             hi,
-            h0: h,
-            step: step_voxels.clamp(0.01, 64.0) * h,
+            h0: density.voxel_size,
+            step: step_voxels.clamp(0.01, 64.0) * density.voxel_size,
             prefilter: settings.prefilter,
-            cutoff,
+            // e^{−τ} < cutoff ⇔ τ > −ln cutoff.
+            tau_cut: -cutoff.max(f32::MIN_POSITIVE).ln(),
             levels,
         }
     }
@@ -145,19 +142,17 @@ impl VolumeRays {
         // At most ~10⁶ steps (a ray across a 512³ box in 0.01-voxel steps is 8.9·10⁴).
         let n = (dist / self.step).ceil().clamp(1.0, 1e6) as u32;
         let dt = dist / n as f32;
-        // e^{−τ} < cutoff ⇔ τ > −ln cutoff.
-        let tau_cut = -self.cutoff.max(f32::MIN_POSITIVE).ln();
         let (mut tau, mut samples) = (0.0f32, 0u32);
         for i in 0..n {
             let d = (i as f32 + 0.5) * dt;
             let y = centre + dir * d;
-            if !(y.cmpge(self.lo).all() && y.cmple(self.hi).all()) {
+            if !super::in_box(y, self.lo, self.hi) {
                 continue;
             }
             let width = filter_width(self.prefilter, d, s, *r, self.h0);
             tau += self.kappa * self.pyramid.sample(y, width) * dt;
             samples += 1;
-            if tau > tau_cut {
+            if tau > self.tau_cut {
                 return (0.0, samples);
             }
         }
