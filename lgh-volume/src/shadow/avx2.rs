@@ -827,25 +827,35 @@ fn trace8_avx2(
         }
         *at_k = tau;
     }
-    let at = at.map(|v| to_array(v));
-    let (diag, upper, rhs) = (
-        diag.map(|a| a.lanes()),
-        upper.map(|a| a.lanes()),
-        rhs.map(|a| a.lanes()),
-    );
-    core::array::from_fn(|l| {
-        let sampled: [f32; MAX_DEPTHS] = core::array::from_fn(|k| at[k][l]);
-        let values = if fitted {
-            Fit {
-                n: depths,
-                diag: diag.map(|a| a[l]),
-                upper: upper.map(|a| a[l]),
-                rhs: rhs.map(|a| a[l]),
+    // Only the first `depths` entries are in use: convert and copy those alone.
+    let mut out = [([0.0f32; MAX_DEPTHS], 0u32); LANES];
+    for (k, v) in at.iter().enumerate().take(depths) {
+        for (o, x) in out.iter_mut().zip(to_array(*v)) {
+            o.0[k] = x;
+        }
+    }
+    for (o, &n) in out.iter_mut().zip(&samples) {
+        o.1 = n;
+    }
+    if fitted {
+        let mut fits = [Fit::new(depths); LANES];
+        for k in 0..depths {
+            let (d, r) = (diag[k].lanes(), rhs[k].lanes());
+            let u = if k + 1 < depths {
+                upper[k].lanes()
+            } else {
+                [0.0; LANES]
+            };
+            for (l, fit) in fits.iter_mut().enumerate() {
+                (fit.diag[k], fit.rhs[k]) = (d[l], r[l]);
+                if k + 1 < depths {
+                    fit.upper[k] = u[l];
+                }
             }
-            .solve(&sampled, 1e-6 * spacing)
-        } else {
-            sampled
-        };
-        (values, samples[l])
-    })
+        }
+        for (o, fit) in out.iter_mut().zip(fits) {
+            o.0 = fit.solve(&o.0[..depths], 1e-6 * spacing);
+        }
+    }
+    out
 }
