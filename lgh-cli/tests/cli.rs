@@ -1,49 +1,14 @@
 //! End-to-end tests of the `lgh` binary.
 
+mod common;
+
+use common::{assert_refused, lgh, small_demo};
+
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_tests::fire_frame;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn lgh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lgh"))
-        .args(args)
-        .output()
-        .expect("run lgh")
-}
-
-/// `lgh args` run in `dir` fails with one line of error that contains `names`.
-fn assert_refused(dir: &Path, args: &[&str], names: &str) {
-    let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(!o.status.success(), "{args:?}");
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
-    assert!(err.contains(names), "{args:?}: {err} should name {names}");
-}
-
-/// `lgh demo` at 32³ voxels, `width × height`, quiet, written to `out`, with `extra` arguments.
-fn small_demo(out: &Path, (width, height): (usize, usize), extra: &[&str]) -> Output {
-    let (w, h) = (width.to_string(), height.to_string());
-    let mut args = vec![
-        "demo",
-        "--resolution",
-        "32",
-        "--width",
-        &w,
-        "--height",
-        &h,
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    lgh(&args)
-}
+use std::process::Output;
 
 fn write_binary_ply(path: &Path, props: &[&str], rows: &[Vec<f32>]) {
     let mut b = format!(

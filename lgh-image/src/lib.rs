@@ -133,6 +133,10 @@ pub fn read_limited(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
 /// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
 /// if everything succeeded. On any error the temporary file is removed and `path` is untouched.
 ///
+/// The file gets the permissions a plain [`File::create`](std::fs::File::create) would give it
+/// (on Unix `0o666 & !umask`), not the temporary file's private `0o600`: frames written on a
+/// render farm must be readable by the compositor's user.
+///
 /// Errors: [`ImageError::TempFile`] if the temporary file cannot be created,
 /// [`ImageError::Write`] if `write`, the flush, the sync or the rename fails.
 pub fn write_atomic(
@@ -143,9 +147,12 @@ pub fn write_atomic(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let tmp = tempfile::Builder::new()
-        .prefix(".lgh-")
-        .suffix(".tmp")
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".lgh-").suffix(".tmp");
+    // `open(2)` masks the mode with the umask, exactly as for a plain `File::create`.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let tmp = builder
         .tempfile_in(dir)
         .map_err(|source| ImageError::TempFile {
             dir: dir.to_path_buf(),
@@ -658,6 +665,24 @@ mod tests {
         assert!(!q.exists());
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         assert!(write_png(&q, &Image::new(0, 0), 1.0).is_err());
+    }
+
+    /// The written file's mode is a plain `File::create`'s in the same folder under the same
+    /// umask, whatever that umask is; the CLI tests pin it under umasks 022 and 027.
+    #[cfg(unix)]
+    #[test]
+    fn written_files_get_the_permissions_of_a_plain_create() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        let plain = dir.path().join("plain");
+        std::fs::File::create(&plain).unwrap();
+        let written = dir.path().join("written.png");
+        write_png(&written, &gradient(), 1.0).unwrap();
+        assert_eq!(mode(&written), mode(&plain));
+        // Replacing a file gives it the same mode again, not the temporary file's 0600.
+        write_png(&written, &gradient(), 2.0).unwrap();
+        assert_eq!(mode(&written), mode(&plain));
     }
 
     #[test]
