@@ -11,7 +11,8 @@ pub struct CompareArgs {
     pub image: PathBuf,
     /// The reference (linear OpenEXR of the same size).
     pub reference: PathBuf,
-    /// Print JSON: {"rel_rmse", "max_abs", "mean_abs"} (luminance).
+    /// Print JSON: {"rel_rmse", "max_abs", "mean_abs"} (luminance; rel_rmse is null when the
+    /// reference is black).
     #[arg(long)]
     pub json: bool,
     /// Where to write the false-colour difference PNG (default: IMAGE with `-diff.png`).
@@ -23,6 +24,16 @@ pub struct CompareArgs {
 pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     let a = lgh_image::read_exr(&args.image)?;
     let r = lgh_image::read_exr(&args.reference)?;
+    // A NaN or an infinity would make every figure below NaN: name the pixel instead.
+    for (path, img) in [(&args.image, &a), (&args.reference, &r)] {
+        if let Some(((x, y), v)) = lgh_image::first_non_finite(img) {
+            return Err(format!(
+                "{}: pixel ({x}, {y}) is {v}, not finite; no error can be measured on it",
+                path.display()
+            )
+            .into());
+        }
+    }
     let stats = lgh_image::compare(&a, &r).ok_or_else(|| {
         format!(
             "{} is {}×{} but {} is {}×{}",
@@ -43,10 +54,21 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     });
     // Full red at the largest error, so the map always uses its whole range.
     lgh_image::difference_png(&diff, &a, &r, stats.max_abs as f32)?;
+    // Relative to a black reference, an error means nothing: JSON null, and said in words.
+    let black = stats.mean_reference <= 0.0;
     if args.json {
+        let rel = if black { None } else { Some(stats.rel_rmse) };
         say!(
             "{}",
-            json!({"rel_rmse": stats.rel_rmse, "max_abs": stats.max_abs, "mean_abs": stats.mean_abs})
+            json!({"rel_rmse": rel, "max_abs": stats.max_abs, "mean_abs": stats.mean_abs})
+        );
+    } else if black {
+        say!(
+            "relative RMSE undefined: the reference {} is black (mean luminance 0); max abs {:.4e}, mean abs {:.4e} (luminance); difference: {}",
+            args.reference.display(),
+            stats.max_abs,
+            stats.mean_abs,
+            diff.display()
         );
     } else {
         say!(

@@ -11,6 +11,7 @@ use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::{ExplosionLights, Method};
 
+use crate::dark;
 use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 use crate::progress;
 
@@ -125,6 +126,10 @@ pub struct ExplosionArgs {
     /// The world's up axis (Blender: z).
     #[arg(long, value_enum, default_value_t = UpArg::Z)]
     pub up: UpArg,
+    /// Render even when no frame has a light. Without it, a run whose frames are all dark is
+    /// an error that says why (which grid, which flag) before any work.
+    #[arg(long)]
+    pub allow_dark: bool,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -248,20 +253,27 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
         UpArg::Z => Up::Z,
     };
     // One pass over the frames, one in memory at a time, for what depends on all of them: the
-    // lights (every voxel hot in any frame; the path tracer needs none) and the framing. Neither
-    // depends on the order, so the pass starts with the last frame, which opening the sequence
-    // has just read, and that frame is kept for its render.
+    // lights (every voxel hot in any frame; the path tracer needs none), the framing, and
+    // whether any frame has a light at all. None depends on the order, so the pass starts with
+    // the last frame, which opening the sequence has just read, and that frame is kept for its
+    // render.
     let needs_lights = args.backend != BackendArg::Pathtrace;
     let mut framing = None;
+    let mut all_dark = None;
     let last = Rc::new(last);
     let mut kept = Some(Rc::clone(&last));
     let mut lights = None;
-    if needs_lights || args.camera.is_none() {
+    {
         let bar = progress::bar(seq.len() as u64, "reading frames", args.quiet);
         let others = (0..seq.len() - 1).map(|i| seq.frame(i).map(Rc::new));
+        let mut any_lit = false;
         let frames_read = std::iter::once(Ok(last)).chain(others).map(|v| {
             let v = v?;
             framing = grow_framing(framing, &v);
+            if !any_lit {
+                all_dark = dark::why_no_lights(&v, &medium, &names);
+                any_lit = all_dark.is_none();
+            }
             bar.inc(1);
             Ok(v)
         });
@@ -275,6 +287,13 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             }
         }
         bar.finish_and_clear();
+    }
+    if let Some(why) = &all_dark {
+        let what = format!("no light in any of the {} frame(s): {why}", seq.len());
+        if !args.allow_dark {
+            return Err(format!("{what}; --allow-dark renders it anyway").into());
+        }
+        eprintln!("lgh: warning: {what}");
     }
     let load_s = t.elapsed().as_secs_f64();
     let camera = match &args.camera {
@@ -308,6 +327,12 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             Some(l) => l.lit(),
             None => volume.emitting_voxels(&medium),
         };
+        if lit == 0 && all_dark.is_none() {
+            // Other frames have lights: this one is dark, say why and go on.
+            if let Some(why) = dark::why_no_lights(volume, &medium, &names) {
+                eprintln!("lgh: warning: {}: no lights: {why}", path.display());
+            }
+        }
         let mut extra = vec![
             ("source", path.display().to_string()),
             ("lights", lit.to_string()),

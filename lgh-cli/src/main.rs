@@ -17,6 +17,7 @@ mod bench;
 mod bench_explosion;
 mod bench_table1;
 mod compare;
+mod dark;
 mod demo;
 mod explosion;
 mod inspect;

@@ -24,6 +24,16 @@ pub enum ImageError {
         /// The file it was to be written to.
         path: PathBuf,
     },
+    /// An image holding a NaN or infinite pixel is never written: a file with one would poison
+    /// every compositing step after it.
+    NonFinite {
+        /// The file it was to be written to.
+        path: PathBuf,
+        /// The first such pixel, `(x, y)`, in rows from the top.
+        pixel: (usize, usize),
+        /// Its value.
+        value: lgh_core::glam::Vec3,
+    },
     /// Two images compared pixel by pixel differ in size ([`difference_png`]).
     ///
     /// [`difference_png`]: crate::difference_png
@@ -85,6 +95,14 @@ impl fmt::Display for ImageError {
             ImageError::Empty { path } => {
                 write!(f, "cannot write {}: the image is empty", path.display())
             }
+            ImageError::NonFinite { path, pixel, value } => write!(
+                f,
+                "cannot write {}: pixel ({}, {}) is {value}, not finite (the render overflowed, \
+                 or its input holds non-finite values)",
+                path.display(),
+                pixel.0,
+                pixel.1
+            ),
             ImageError::SizeMismatch { .. } => write!(f, "the images differ in size"),
             ImageError::TempFile { dir, source } => write!(
                 f,
@@ -119,6 +137,7 @@ impl std::error::Error for ImageError {
             ImageError::EncodePng { source, .. } => Some(source),
             ImageError::Size { .. }
             | ImageError::Empty { .. }
+            | ImageError::NonFinite { .. }
             | ImageError::SizeMismatch { .. }
             | ImageError::NoHeader { .. } => None,
         }

@@ -171,15 +171,39 @@ pub fn write_atomic(
     Ok(())
 }
 
-/// [`ImageError::Empty`] if `image` has no pixels.
-fn check_not_empty(path: &Path, image: &Image) -> Result<(), ImageError> {
+/// Whether `image` may be written to `path`: [`ImageError::Empty`] if it has no pixels,
+/// [`ImageError::NonFinite`] naming the first NaN or infinite pixel.
+fn check_writable(path: &Path, image: &Image) -> Result<(), ImageError> {
     if image.width == 0 || image.height == 0 {
-        Err(ImageError::Empty {
+        return Err(ImageError::Empty {
             path: path.to_path_buf(),
-        })
-    } else {
-        Ok(())
+        });
     }
+    match first_non_finite(image) {
+        Some((pixel, value)) => Err(ImageError::NonFinite {
+            path: path.to_path_buf(),
+            pixel,
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The first pixel, in reading order, holding a NaN or an infinity: `((x, y), value)`.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{first_non_finite, Image};
+///
+/// let mut img = Image::new(3, 2);
+/// assert_eq!(first_non_finite(&img), None);
+/// img.set(2, 1, Vec3::new(f32::INFINITY, 0.0, 0.0));
+/// assert_eq!(first_non_finite(&img), Some(((2, 1), Vec3::new(f32::INFINITY, 0.0, 0.0))));
+/// ```
+#[must_use]
+pub fn first_non_finite(image: &Image) -> Option<((usize, usize), Vec3)> {
+    let i = image.pixels.iter().position(|p| !p.is_finite())?;
+    Some(((i % image.width, i / image.width), image.pixels[i]))
 }
 
 /// An exposure for [`tonemap`] that puts the 99th percentile of the non-black pixels' luminance
@@ -204,10 +228,12 @@ pub fn auto_exposure(image: &Image) -> f32 {
 /// Writes a linear float RGB OpenEXR (ZIP-compressed, lossless) with `attributes` as text
 /// attributes in its header, atomically ([`write_atomic`]).
 ///
-/// Errors: [`ImageError::Empty`] for an image without pixels, [`ImageError::EncodeExr`], and
-/// those of [`write_atomic`].
+/// Errors: [`ImageError::Empty`] for an image without pixels, [`ImageError::NonFinite`] for one
+/// holding a NaN or infinite pixel (nothing is written), [`ImageError::EncodeExr`], and those of
+/// [`write_atomic`].
 ///
 /// ```
+/// use lgh_core::glam::Vec3;
 /// use lgh_image::{read_exr, write_exr, Image, ImageError};
 ///
 /// let dir = tempfile::tempdir()?;
@@ -219,6 +245,12 @@ pub fn auto_exposure(image: &Image) -> f32 {
 /// let e = write_exr(&empty, &Image::new(0, 0), &[]).unwrap_err();
 /// assert!(matches!(e, ImageError::Empty { .. }));
 /// assert!(!empty.exists());
+/// // Nor for one holding a NaN: the error names the first such pixel.
+/// let mut nan = Image::new(4, 2);
+/// nan.set(3, 1, Vec3::new(0.0, f32::NAN, 1.0));
+/// let e = write_exr(&path, &nan, &[]).unwrap_err();
+/// assert!(matches!(e, ImageError::NonFinite { pixel: (3, 1), .. }));
+/// assert_eq!(read_exr(&path)?, Image::new(4, 2)); // the file before is untouched
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn write_exr(
@@ -228,7 +260,7 @@ pub fn write_exr(
 ) -> Result<(), ImageError> {
     use exr::meta::attribute::{AttributeValue, Text};
     use exr::prelude::*;
-    check_not_empty(path, image)?;
+    check_writable(path, image)?;
     let mut layer_attributes = LayerAttributes::named("rgb");
     layer_attributes.software_name = Some(Text::from("lgh"));
     for (k, v) in attributes {
@@ -456,8 +488,9 @@ fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Resul
 /// Writes a tone-mapped sRGB PNG (see [`tonemap`]) atomically: [`write_png_with`] and
 /// [`ToneCurve::Reinhard`].
 ///
-/// Errors: [`ImageError::Empty`] for an image without pixels, [`ImageError::EncodePng`], and
-/// those of [`write_atomic`].
+/// Errors: [`ImageError::Empty`] for an image without pixels, [`ImageError::NonFinite`] for one
+/// holding a NaN or infinite pixel (nothing is written), [`ImageError::EncodePng`], and those of
+/// [`write_atomic`].
 pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<(), ImageError> {
     write_png_with(path, image, exposure, ToneCurve::Reinhard)
 }
@@ -484,7 +517,7 @@ pub fn write_png_with(
     exposure: f32,
     curve: ToneCurve,
 ) -> Result<(), ImageError> {
-    check_not_empty(path, image)?;
+    check_writable(path, image)?;
     let rgb: Vec<u8> = image
         .pixels
         .iter()
@@ -665,6 +698,19 @@ mod tests {
         assert!(!q.exists());
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         assert!(write_png(&q, &Image::new(0, 0), 1.0).is_err());
+        // An infinite pixel: a one-line error naming it, and nothing written.
+        let mut inf = gradient();
+        inf.set(36, 20, Vec3::new(f32::INFINITY, 0.0, 0.0));
+        inf.set(5, 20, Vec3::new(0.0, 0.0, f32::NEG_INFINITY));
+        let e = write_png(&q, &inf, 1.0).unwrap_err();
+        assert!(
+            e.to_string().starts_with(&format!(
+                "cannot write {}: pixel (5, 20) is [0, 0, -inf], not finite",
+                q.display()
+            )),
+            "{e}"
+        );
+        assert!(!q.exists());
     }
 
     /// The written file's mode is a plain `File::create`'s in the same folder under the same

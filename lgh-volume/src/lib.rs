@@ -72,6 +72,6 @@ pub use error::VolumeError;
 pub use grid::DenseGrid;
 pub use lighting::Lights;
 pub use lights::{ExplosionLights, Method};
-pub use medium::{EmissionModel, Medium, Volume};
+pub use medium::{EmissionModel, Medium, Volume, MAX_EMISSION};
 pub use procedural::{explosion, procedural, Explosion};
 pub use shadow::{Shadows, Visibility};

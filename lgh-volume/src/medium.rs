@@ -116,6 +116,30 @@ pub enum EmissionModel {
 /// Stefan–Boltzmann constant σ in W / (m² K⁴).
 const STEFAN_BOLTZMANN: f32 = 5.670_374e-8;
 
+/// The largest emission [`Medium::emission_at`] returns, per channel: an `f32`'s largest value
+/// over 8, so that the colour (channels up to 4.7 times the luminance) times it stays finite.
+/// A render that sums such values overflows anyway, and the image writers refuse it.
+pub const MAX_EMISSION: f32 = f32::MAX / 8.0;
+
+/// `v` with every channel above [`MAX_EMISSION`] (∞ included) set to it. Not `Vec3::min`, which
+/// would turn a NaN into `MAX_EMISSION` too and hide a bug the tests must see.
+fn saturate(v: Vec3) -> Vec3 {
+    let max = Vec3::splat(MAX_EMISSION);
+    Vec3::select(v.cmpgt(max), max, v)
+}
+
+/// The Blender model's colour is that of a blackbody at no less than this. Colder, the sRGB
+/// colour of a blackbody is the gamut's red (from about 700 K its chromaticity lies beyond the
+/// red primary) until the colour-matching fit's tails (Wyman et al. 2013, `lgh_core::spectrum`)
+/// turn it orange near 400 K and green below 250 K, and below about 150 K its luminance
+/// underflows an `f32`: a colour normalised by it was NaN. The default `T_min` (800 K) is above.
+const COLD_COLOUR_KELVIN: f32 = 600.0;
+
+/// The Blender model's colour is that of a blackbody at no more than this: hotter, a
+/// blackbody's colour has converged to the Rayleigh–Jeans limit (to well under 1%), and its
+/// radiance in an `f32` overflows near 10²⁸ K.
+const HOT_COLOUR_KELVIN: f32 = 1e6;
+
 /// The participating medium (ARCHITECTURE.md, "Medium"): `σ_a = κ_a ρ`, `σ_s = κ_s ρ`, isotropic phase
 /// function, and emission `j = k_e · blackbody(T)` (W / (m³ sr), linear sRGB) where `T > T_min`,
 /// with `T` = temperature scale × the temperature grid's value.
@@ -182,34 +206,41 @@ impl Medium {
         self
     }
 
-    /// Whether a voxel whose temperature grid holds `value` emits (`T` hotter than `T_min` and
-    /// than 0 K).
+    /// Whether a voxel whose temperature grid holds `value` emits (`T` finite, hotter than
+    /// `T_min` and than 0 K).
     #[must_use]
     pub fn emits(&self, value: f32) -> bool {
         let kelvin = value * self.temperature_scale;
-        kelvin > self.min_temperature && kelvin > 0.0
+        kelvin > self.min_temperature && kelvin > 0.0 && kelvin.is_finite()
     }
 
     /// Emission `j(T)` for the temperature grid's `value`, in W / (m³ sr) (zero at or below
-    /// `T_min`).
+    /// `T_min`): finite and non-negative for every `value` (a property test over the whole `f32`
+    /// range, below); what does not fit an `f32` is held at [`MAX_EMISSION`].
     #[must_use]
     pub fn emission_at(&self, value: f32) -> Vec3 {
-        if !self.emits(value) {
+        if !self.emits(value) || self.emission == 0.0 {
             return Vec3::ZERO;
         }
         let kelvin = value * self.temperature_scale;
-        let b = self.table.radiance(kelvin);
         match self.model {
-            EmissionModel::Planck => b * self.emission,
+            EmissionModel::Planck => {
+                saturate(saturate(self.table.radiance(kelvin)) * self.emission)
+            }
             EmissionModel::Blender => {
-                let y = lgh_core::luminance(b);
-                if y > 0.0 {
-                    let t2 = kelvin * kelvin;
-                    let total = 1e-6 * STEFAN_BOLTZMANN / core::f32::consts::PI * t2 * t2;
-                    b * (self.emission * total / y)
-                } else {
-                    Vec3::ZERO
-                }
+                // c(T), the colour normalised to luminance 1, from the colour temperature held
+                // in [COLD_COLOUR_KELVIN, HOT_COLOUR_KELVIN], where the luminance is a normal
+                // f32 and the colour means something (see the constants).
+                let tc = kelvin.clamp(COLD_COLOUR_KELVIN, HOT_COLOUR_KELVIN);
+                let b = self.table.radiance(tc);
+                let c = b / lgh_core::luminance(b);
+                // k_e 10⁻⁶ σ T⁴ / π in f64: T⁴ overflows an f32 above 1.4·10⁹ K.
+                let t2 = f64::from(kelvin).powi(2);
+                let total = f64::from(self.emission) * 1e-6 * f64::from(STEFAN_BOLTZMANN)
+                    / core::f64::consts::PI
+                    * t2
+                    * t2;
+                c * total.min(f64::from(MAX_EMISSION)) as f32
             }
         }
     }
@@ -225,8 +256,74 @@ impl Medium {
 mod tests {
     use super::*;
 
+    use proptest::prelude::*;
+
     #[test]
     fn bad_media_are_errors() {
         assert!(Medium::new(-1.0, 0.0, 0.0, 0.0).is_err());
+    }
+
+    /// A medium with `k_e = emission`, sharing one blackbody table (building it is slow).
+    fn medium(model: EmissionModel, emission: f32, min_temperature: f32) -> Medium {
+        static BASE: std::sync::OnceLock<Medium> = std::sync::OnceLock::new();
+        let mut m = BASE
+            .get_or_init(|| Medium::new(1.0, 1.0, 1.0, 0.0).unwrap())
+            .clone()
+            .with_model(model);
+        (m.emission, m.min_temperature) = (emission, min_temperature);
+        m
+    }
+
+    /// The cold voxels of the issue-16 report: `--min-temperature 100` with the Blender model
+    /// wrote NaN pixels (a colour normalised by a luminance that underflows). Now a cold voxel
+    /// emits a tiny amount of the gamut's red, continuous with the hotter voxels' colour.
+    #[test]
+    fn cold_voxels_emit_a_little_finite_red() {
+        let m = medium(EmissionModel::Blender, 1.0, 0.0);
+        for kelvin in [0.01, 1.0, 50.0, 100.0, 149.0, 300.0, 599.0] {
+            let j = m.emission_at(kelvin);
+            assert!(j.is_finite() && j.x > 0.0, "{kelvin} K: {j}");
+            assert_eq!((j.y, j.z), (0.0, 0.0), "{kelvin} K: {j}");
+        }
+        // Continuous across the held colour's edge, and T⁴ below it.
+        let (a, b) = (m.emission_at(599.999), m.emission_at(600.001));
+        assert!(
+            (a - b).abs().max_element() <= 1e-4 * b.max_element(),
+            "{a} {b}"
+        );
+        let (c, d) = (m.emission_at(100.0), m.emission_at(200.0));
+        assert!((d.x / c.x - 16.0).abs() < 1e-4, "{c} {d}");
+    }
+
+    proptest! {
+        /// No temperature an `f32` can hold, no emission scale the CLI accepts, no model: the
+        /// emission is finite and non-negative, and zero at or below `T_min`.
+        #[test]
+        fn emission_is_finite_over_the_whole_temperature_range(
+            bits in any::<u32>(),
+            emission in prop_oneof![Just(0.0f32), 1e-12f32..1e12, Just(f32::MAX)],
+            min_temperature in prop_oneof![Just(0.0f32), 0.0f32..5000.0],
+            blender in any::<bool>(),
+        ) {
+            let value = f32::from_bits(bits);
+            let model = if blender { EmissionModel::Blender } else { EmissionModel::Planck };
+            let m = medium(model, emission, min_temperature);
+            let j = m.emission_at(value);
+            prop_assert!(j.is_finite() && j.min_element() >= 0.0, "{value} K: {j}");
+            if value.partial_cmp(&min_temperature) != Some(std::cmp::Ordering::Greater) {
+                prop_assert_eq!(j, Vec3::ZERO);
+            }
+        }
+
+        /// The same over the temperatures of fires and colder, sampled densely on a log scale.
+        #[test]
+        fn emission_is_finite_from_0_to_100000_kelvin(
+            log_kelvin in -40.0f32..5.0,
+            blender in any::<bool>(),
+        ) {
+            let model = if blender { EmissionModel::Blender } else { EmissionModel::Planck };
+            let j = medium(model, 1.0, 0.0).emission_at(10f32.powf(log_kelvin));
+            prop_assert!(j.is_finite() && j.min_element() >= 0.0, "{j}");
+        }
     }
 }
