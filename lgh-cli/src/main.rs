@@ -23,7 +23,6 @@ mod explosion;
 mod inspect;
 mod output;
 mod paquette;
-mod ply;
 mod probes;
 mod progress;
 

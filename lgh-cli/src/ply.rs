@@ -132,8 +132,15 @@ pub struct PointCloud {
 
 impl PointCloud {
     /// Number of vertices.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.columns.first().map_or(0, |c| c.len())
+    }
+
+    /// True if there are no vertices.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 
     /// The column of property `name`, which must exist and be a float or double.

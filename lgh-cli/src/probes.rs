@@ -9,7 +9,8 @@ use lgh_core::{
 };
 use rayon::prelude::*;
 
-use crate::{ply, progress};
+use crate::progress;
+use lgh_cli::ply;
 use lgh_volume::Method;
 
 /// Arguments of `lgh probes`.

@@ -306,15 +306,42 @@ pub fn write_exr(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_exr(path: &Path) -> Result<Image, ImageError> {
+    let bytes = read_limited(path, MAX_INPUT_BYTES)
+        .map_err(|e| read_exr_error(path, exr::error::Error::Io(e)))?;
+    decode_exr(path, &bytes)
+}
+
+/// [`read_exr`] of a file's `bytes` already in memory, named `path` in errors: what the fuzz
+/// target `exr` drives. The size the header declares is checked ([`check_image_size`]) before
+/// anything is allocated for the pixels.
+///
+/// ```
+/// use lgh_image::{decode_exr, ImageError};
+/// use std::path::Path;
+///
+/// let e = decode_exr(Path::new("junk.exr"), b"not an exr").unwrap_err();
+/// assert!(matches!(e, ImageError::ReadExr { .. }));
+/// ```
+pub fn decode_exr(path: &Path, bytes: &[u8]) -> Result<Image, ImageError> {
     use exr::prelude::*;
-    let img = read_first_rgba_layer_from_file(
-        path,
-        |resolution, _| crate::Image::new(resolution.width(), resolution.height()),
-        |img: &mut crate::Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            img.set(pos.x(), pos.y(), Vec3::new(r, g, b))
-        },
-    )
-    .map_err(|source| read_exr_error(path, source))?;
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|source| read_exr_error(path, source))?;
+    for header in &meta.headers {
+        check_image_size(header.layer_size.width(), header.layer_size.height())?;
+    }
+    let img = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| crate::Image::new(resolution.width(), resolution.height()),
+            |img: &mut crate::Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                img.set(pos.x(), pos.y(), Vec3::new(r, g, b))
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|source| read_exr_error(path, source))?;
     Ok(img.layer_data.channel_data.pixels)
 }
 

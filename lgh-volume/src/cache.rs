@@ -77,11 +77,25 @@ pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], VolumeError> {
         path: path.to_path_buf(),
         source,
     })?;
+    parse_blender_offset(path, &bytes)
+}
+
+/// [`read_blender_offset`] of a config file's `bytes` already in memory, named `path` in
+/// errors: what the fuzz target `uni` drives.
+///
+/// ```
+/// use lgh_volume::cache::parse_blender_offset;
+/// use std::path::Path;
+///
+/// let e = parse_blender_offset(Path::new("config_0001.uni"), b"not gzip").unwrap_err();
+/// assert!(e.to_string().contains("not a gzip file"), "{e}");
+/// ```
+pub fn parse_blender_offset(path: &Path, bytes: &[u8]) -> Result<[i32; 3], VolumeError> {
     let bad = |reason: String| VolumeError::BlenderConfig {
         path: path.to_path_buf(),
         reason,
     };
-    let raw = gunzip(&bytes).map_err(bad)?;
+    let raw = gunzip(bytes).map_err(bad)?;
     if raw.len() != 204 || &raw[200..204] != b"C01\0" {
         return Err(bad(
             "not a Blender fluid config (expected 204 bytes ending in C01)".into(),

@@ -312,9 +312,40 @@ impl Mesh {
     /// ```
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
         let text = read_text(path)?;
-        // Before tobj, which panics on some indices out of range.
-        let normals_everywhere = check_faces(path, &text)?;
         let folder = path.parent().unwrap_or(Path::new(""));
+        Mesh::parse_obj(path, &text, |name| {
+            let mtl = folder.join(name);
+            let text = read_text(&mtl)?;
+            Ok((mtl, text))
+        })
+    }
+
+    /// [`load_obj`](Self::load_obj) of OBJ `text` already in memory, named `path` in errors;
+    /// `mtl(name)` gives each `mtllib` file's path (for errors) and text. The same checks, the
+    /// same errors: what the fuzz target `obj` drives.
+    ///
+    /// ```
+    /// use lgh_core::Material;
+    /// use lgh_vpl::{Mesh, MeshError};
+    /// use std::path::{Path, PathBuf};
+    ///
+    /// let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl grey\nf 1 2 3\n";
+    /// let mtl = |name: &str| Ok((PathBuf::from(name), "newmtl grey\nKd 0.5 0.5 0.5\n".into()));
+    /// let mesh = Mesh::parse_obj(Path::new("memory.obj"), obj, mtl)?;
+    /// assert_eq!(mesh.triangles().len(), 1);
+    /// // tobj would panic on `Kd 0.5`; this is a parse error naming the line.
+    /// let bad = |name: &str| Ok((PathBuf::from(name), "newmtl grey\nKd 0.5\n".into()));
+    /// let e = Mesh::parse_obj(Path::new("memory.obj"), obj, bad).unwrap_err();
+    /// assert!(e.to_string().contains("line 2: Kd needs three numbers"), "{e}");
+    /// # Ok::<(), MeshError>(())
+    /// ```
+    pub fn parse_obj(
+        path: &Path,
+        text: &str,
+        mtl: impl Fn(&str) -> Result<(PathBuf, String), MeshError>,
+    ) -> Result<Mesh, MeshError> {
+        // Before tobj, which panics on some indices out of range.
+        let normals_everywhere = check_faces(path, text)?;
         // The first MTL error, with its path: tobj only keeps a bare error code.
         let mtl_error: RefCell<Option<MeshError>> = RefCell::new(None);
         let options = tobj::LoadOptions {
@@ -324,14 +355,14 @@ impl Mesh {
             ignore_lines: true,
         };
         let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |name| {
-            let mtl = folder.join(name);
             let keep = |e: MeshError| {
                 mtl_error.borrow_mut().get_or_insert(e);
             };
-            match read_mtl(&mtl) {
-                Ok(text) => tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
+            let name = name.to_string_lossy();
+            match mtl(&name).and_then(|(path, text)| check_mtl(&path, text).map(|t| (path, t))) {
+                Ok((path, text)) => tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
                     keep(MeshError::Parse {
-                        path: mtl.clone(),
+                        path,
                         message: e.to_string(),
                     })
                 }),
@@ -516,10 +547,9 @@ fn read_text(path: &Path) -> Result<String, MeshError> {
     })
 }
 
-/// Reads the MTL file `path`, checking its colour statements for their three numbers: `tobj`
+/// The MTL `text` of `path`, its colour statements checked for their three numbers: `tobj`
 /// 4.0.5 panics on `Kd 0.5`.
-fn read_mtl(path: &Path) -> Result<String, MeshError> {
-    let text = read_text(path)?;
+fn check_mtl(path: &Path, text: String) -> Result<String, MeshError> {
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
