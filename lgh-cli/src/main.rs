@@ -95,7 +95,38 @@ pub(crate) fn check_alpha(alpha: f32) -> Result<(), crate::Error> {
     Ok(lgh_core::check_alpha(alpha)?)
 }
 
+/// SIGINT and SIGTERM stop `lgh` at once, with the conventional exit codes (130, 143): a
+/// watcher thread waits for the file being written, if any (a frame's EXR and PNG together),
+/// and exits. Every file written before is whole, none after is begun, and no temporary file is
+/// left: a sequence interrupted mid-way keeps each finished frame.
+#[cfg(unix)]
+fn exit_on_signals() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("lgh: warning: cannot watch for SIGINT and SIGTERM: {e}");
+            return;
+        }
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            let _frame = output::hold_outputs();
+            let _file = lgh_image::hold_writes();
+            let (name, code) = if signal == SIGINT {
+                ("SIGINT", 130)
+            } else {
+                ("SIGTERM", 143)
+            };
+            eprintln!("\nlgh: stopped by {name}; every file written so far is complete");
+            std::process::exit(code);
+        }
+    });
+}
+
 fn main() {
+    #[cfg(unix)]
+    exit_on_signals();
     let cli = Cli::parse();
     if let Some(t) = cli.threads {
         if t == 0 {

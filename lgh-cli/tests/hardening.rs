@@ -188,3 +188,242 @@ fn a_run_without_lights_says_why() {
     let img = lgh_image::read_exr(&out).unwrap();
     assert!(img.pixels.iter().all(|p| *p == lgh_core::glam::Vec3::ZERO));
 }
+
+/// Starts `lgh args` in `dir`, waits until `ready()` holds (at most 60 s) while it still runs,
+/// sends it `signal` (`INT` or `TERM`) and waits for it: its exit code and the seconds from the
+/// signal to its exit.
+#[cfg(unix)]
+fn interrupt(dir: &Path, args: &[&str], ready: impl Fn() -> bool, signal: &str) -> (i32, f64) {
+    use std::time::{Duration, Instant};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lgh"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !ready() {
+        assert!(start.elapsed() < Duration::from_secs(60), "never ready");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "lgh finished before the signal: give it more work"
+    );
+    let sent = Instant::now();
+    let kill = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let status = child.wait().unwrap();
+    (
+        status.code().expect("exited, not killed"),
+        sent.elapsed().as_secs_f64(),
+    )
+}
+
+/// Files in `dir` whose name starts with `.lgh-`: temporary files of atomic writes.
+fn temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".lgh-"))
+        .collect()
+}
+
+/// SIGINT during a render: `lgh` stops within a second with exit code 130, and writes nothing
+/// (the image was not finished: no output, no temporary file).
+#[cfg(unix)]
+#[test]
+fn sigint_stops_a_render_at_once_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "demo",
+        "--resolution",
+        "64",
+        "--width",
+        "320",
+        "--height",
+        "180",
+        "--quiet",
+        "--out",
+        "demo.exr",
+    ];
+    let begun = std::time::Instant::now();
+    let ready = || begun.elapsed().as_secs_f64() > 1.0;
+    let (code, seconds) = interrupt(dir.path(), &args, ready, "INT");
+    assert_eq!(code, 130);
+    assert!(seconds < 1.0, "stopped {seconds:.2} s after the signal");
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+/// SIGTERM in the middle of a sequence: exit code 143, every finished frame kept whole (its EXR
+/// readable, its PNG beside it), no temporary file, and the frames after it not begun.
+#[cfg(unix)]
+#[test]
+fn sigterm_keeps_every_finished_frame_of_a_sequence() {
+    let Some(f56) = lgh_tests::fire_frame(56) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "explosion",
+        "--vdb",
+        f56.to_str().unwrap(),
+        "--frames",
+        "50..56",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--quiet",
+        "--out",
+        "fire.exr",
+    ];
+    let first_png = dir.path().join("fire_0050.png");
+    let (code, seconds) = interrupt(dir.path(), &args, || first_png.exists(), "TERM");
+    assert_eq!(code, 143);
+    assert!(seconds < 1.0, "stopped {seconds:.2} s after the signal");
+    assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
+    let mut finished = 0;
+    for f in 50..=56 {
+        let exr = dir.path().join(format!("fire_{f:04}.exr"));
+        let png = exr.with_extension("png");
+        assert_eq!(
+            exr.exists(),
+            png.exists(),
+            "frame {f}: EXR and PNG go together"
+        );
+        if exr.exists() {
+            let img = lgh_image::read_exr(&exr).unwrap();
+            assert_eq!((img.width, img.height), (96, 64));
+            finished += 1;
+        }
+    }
+    assert!((1..7).contains(&finished), "{finished} frames finished");
+}
+
+/// A tmpfs of `kib` KiB mounted on a fresh folder, unmounted when dropped; `None` (after saying
+/// SKIPPED) where this process may not mount (not root, no CAP_SYS_ADMIN).
+#[cfg(target_os = "linux")]
+struct Scratch {
+    dir: tempfile::TempDir,
+}
+
+#[cfg(target_os = "linux")]
+impl Scratch {
+    fn mount(kib: u32) -> Option<Scratch> {
+        let dir = tempfile::tempdir().unwrap();
+        let ok = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={kib}k"), "tmpfs"])
+            .arg(dir.path())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !ok {
+            eprintln!("SKIPPED: cannot mount a tmpfs here (needs root or CAP_SYS_ADMIN)");
+            return None;
+        }
+        Some(Scratch { dir })
+    }
+
+    fn path(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// Remounts it read-only.
+    fn read_only(&self) {
+        let s = Command::new("mount")
+            .args(["-o", "remount,ro"])
+            .arg(self.path())
+            .status()
+            .unwrap();
+        assert!(s.success());
+    }
+}
+
+#[cfg(target_os = "linux")]
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(self.dir.path()).status();
+    }
+}
+
+/// `lgh demo` into `dir`, over a previous `demo.exr` and `demo.png`: it fails with one line
+/// naming the file and the system's reason, and the previous files are untouched, with no
+/// temporary file beside them.
+#[cfg(target_os = "linux")]
+fn assert_refused_whole(dir: &Path, previous: &[u8], reason: &str) {
+    let out = dir.join("demo.exr");
+    let o = common::small_demo(&out, (64, 36), &[]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(reason), "{err}");
+    for f in ["demo.exr", "demo.png"] {
+        assert_eq!(std::fs::read(dir.join(f)).unwrap(), previous, "{f}");
+    }
+    assert_eq!(temporary_files(dir), Vec::<String>::new());
+}
+
+/// A full disk while writing: a clear error, the previous files of that name untouched.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_keeps_the_previous_output() {
+    let Some(disk) = Scratch::mount(48) else {
+        return;
+    };
+    let previous = b"the previous frame".repeat(100);
+    for f in ["demo.exr", "demo.png"] {
+        std::fs::write(disk.path().join(f), &previous).unwrap();
+    }
+    // The image needs more than the space left (64×36 floats, compressed, plus the PNG).
+    std::fs::write(disk.path().join("filler"), vec![7u8; 40 << 10]).unwrap();
+    assert_refused_whole(disk.path(), &previous, "No space left on device");
+}
+
+/// A read-only output folder: a clear error, the previous files untouched.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_read_only_folder_keeps_the_previous_output() {
+    let Some(disk) = Scratch::mount(256) else {
+        return;
+    };
+    let previous = b"the previous frame".to_vec();
+    for f in ["demo.exr", "demo.png"] {
+        std::fs::write(disk.path().join(f), &previous).unwrap();
+    }
+    disk.read_only();
+    assert_refused_whole(
+        disk.path(),
+        &previous,
+        "Read-only file system (os error 30)\n",
+    );
+}
+
+/// Two processes rendering to the same name at once: the EXR left is one of them whole (it
+/// reads back, with one process's header), never a mix, and no temporary file is left.
+#[test]
+fn two_writers_of_one_name_leave_one_whole_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo.exr");
+    let run = |alpha: &'static str| {
+        let out = out.clone();
+        std::thread::spawn(move || common::small_demo(&out, (64, 36), &["--alpha", alpha]))
+    };
+    for _ in 0..3 {
+        let (a, b) = (run("1"), run("4"));
+        for o in [a.join().unwrap(), b.join().unwrap()] {
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        let img = lgh_image::read_exr(&out).unwrap();
+        assert_eq!((img.width, img.height), (64, 36));
+        let attrs = lgh_image::read_exr_attributes(&out).unwrap();
+        let alpha = attrs.iter().find(|(k, _)| k == "lgh:alpha").unwrap();
+        assert!(alpha.1 == "1" || alpha.1 == "4", "{alpha:?}");
+        assert_eq!(temporary_files(dir.path()), Vec::<String>::new());
+    }
+}

@@ -106,8 +106,9 @@ impl fmt::Display for ImageError {
             ImageError::SizeMismatch { .. } => write!(f, "the images differ in size"),
             ImageError::TempFile { dir, source } => write!(
                 f,
-                "cannot create a temporary file in {}: {source}",
-                dir.display()
+                "cannot create a temporary file in {}: {}",
+                dir.display(),
+                system_reason(source)
             ),
             ImageError::Write { path, source } => {
                 write!(f, "cannot write {}: {source}", path.display())
@@ -124,6 +125,16 @@ impl fmt::Display for ImageError {
             }
             ImageError::NoHeader { path } => write!(f, "{}: no header", path.display()),
         }
+    }
+}
+
+/// What the system said, without the name of the temporary file `tempfile` adds to it (a file
+/// that was never created means nothing to the reader).
+fn system_reason(e: &std::io::Error) -> String {
+    let text = e.to_string();
+    match text.split_once(" at path \"") {
+        Some((reason, _)) => reason.to_string(),
+        None => text,
     }
 }
 

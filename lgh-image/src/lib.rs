@@ -130,6 +130,29 @@ pub fn read_limited(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Held by every [`write_atomic`] while its file is written, and by [`hold_writes`].
+static WRITING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Waits for the file [`write_atomic`] is writing, if any, and keeps any other write from
+/// starting while the guard lives: a program that exits holding it (on SIGINT, say) leaves
+/// neither a temporary file nor half a file behind. Writes from several threads also take
+/// turns through it.
+///
+/// ```
+/// let dir = tempfile::tempdir()?;
+/// {
+///     let _held = lgh_image::hold_writes();
+///     // ... exiting here would leave every file whole.
+/// }
+/// lgh_image::write_atomic(&dir.path().join("a.txt"), |w| w.write_all(b"after"))?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn hold_writes() -> std::sync::MutexGuard<'static, ()> {
+    WRITING
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 /// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
 /// if everything succeeded. On any error the temporary file is removed and `path` is untouched.
 ///
@@ -143,6 +166,7 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<(), ImageError> {
+    let _writing = hold_writes();
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
