@@ -54,6 +54,6 @@ pub mod scene;
 pub use bvh::{Bvh, Hit, Ray};
 pub use lgh_core;
 pub use lgh_image::camera::{CameraError, Pinhole as Camera};
-pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL};
+pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL, MAX_LINE_BYTES};
 pub use render::{render, render_with_shader, RenderError, Rendered};
 pub use scene::Scene;

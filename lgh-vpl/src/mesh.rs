@@ -530,21 +530,75 @@ fn check_exponent(exponent: f32) -> Result<(), &'static str> {
 /// The text of `path`, read up to [`lgh_image::MAX_INPUT_BYTES`]; bytes that are not UTF-8 are
 /// a parse error.
 fn read_text(path: &Path) -> Result<String, MeshError> {
-    let bytes = lgh_image::read_limited(path, lgh_image::MAX_INPUT_BYTES).map_err(|error| {
-        match error.kind() {
-            std::io::ErrorKind::FileTooLarge => MeshError::TooLarge {
-                path: path.to_owned(),
-            },
-            _ => MeshError::Io {
-                path: path.to_owned(),
-                error,
-            },
-        }
+    let io = |error: std::io::Error| MeshError::Io {
+        path: path.to_owned(),
+        error,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    if file.metadata().map_err(io)?.len() > lgh_image::MAX_INPUT_BYTES {
+        return Err(MeshError::TooLarge {
+            path: path.to_owned(),
+        });
+    }
+    // `take`: what reports no size (a FIFO) is still never read past the limit.
+    let limited = std::io::Read::take(file, lgh_image::MAX_INPUT_BYTES + 1);
+    let bytes = read_lines_limited(limited, MAX_LINE_BYTES).map_err(|e| match e {
+        LineError::Io(error) => io(error),
+        LineError::TooLong { line } => MeshError::Parse {
+            path: path.to_owned(),
+            message: format!("line {line} is longer than {MAX_LINE_BYTES} bytes"),
+        },
     })?;
+    if bytes.len() as u64 > lgh_image::MAX_INPUT_BYTES {
+        return Err(MeshError::TooLarge {
+            path: path.to_owned(),
+        });
+    }
     String::from_utf8(bytes).map_err(|e| MeshError::Parse {
         path: path.to_owned(),
         message: format!("not UTF-8 text ({e})"),
     })
+}
+
+/// The longest line an OBJ or MTL file may have: 1 MiB (the longest statement of a real file is
+/// a face of a few hundred corners, a few kilobytes).
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Why [`read_lines_limited`] stopped.
+enum LineError {
+    Io(std::io::Error),
+    /// Line `line` (from 1) is longer than the limit.
+    TooLong {
+        line: usize,
+    },
+}
+
+/// Reads `r` to the end in blocks, stopping as soon as a line is longer than `max_line` bytes:
+/// a file of one 4 GiB line is refused after 1 MiB of it, not after reading it all.
+fn read_lines_limited(mut r: impl std::io::Read, max_line: usize) -> Result<Vec<u8>, LineError> {
+    let mut out = Vec::new();
+    let mut block = vec![0u8; 1 << 16];
+    let (mut line, mut run) = (1usize, 0usize);
+    loop {
+        let n = match r.read(&mut block) {
+            Ok(0) => return Ok(out),
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(LineError::Io(e)),
+        };
+        for &b in &block[..n] {
+            if b == b'\n' {
+                line += 1;
+                run = 0;
+            } else {
+                run += 1;
+                if run > max_line {
+                    return Err(LineError::TooLong { line });
+                }
+            }
+        }
+        out.extend_from_slice(&block[..n]);
+    }
 }
 
 /// The MTL `text` of `path`, its colour statements checked for their three numbers: `tobj`

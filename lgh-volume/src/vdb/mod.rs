@@ -45,7 +45,25 @@ pub enum VdbError {
     },
     /// A feature of the file this reader does not support (grid type, map type, codec).
     Unsupported(String),
+    /// The file holds more tiles or leaves than [`MAX_TILES`] or [`MAX_LEAVES`]: reading it would
+    /// take more memory than a machine has, whatever the file's own size.
+    TooLarge {
+        /// `"tiles"` or `"leaves"`.
+        what: &'static str,
+        /// The limit it passes.
+        limit: usize,
+    },
 }
+
+/// The most tiles a file may hold, all grids and instances together: 2²², 128 MiB in memory.
+/// A tile costs one bit of a node's mask in the file, so a 130 MB file can declare 10⁹ of them;
+/// real caches hold thousands.
+pub const MAX_TILES: usize = 1 << 22;
+
+/// The most leaves a file may hold, all grids and instances together: 2²¹ leaves of 512
+/// values, 2³⁰ voxels (four times the largest dense grid lgh renders, `MAX_DENSE_VOXELS`) and
+/// 4 GiB of floats. A leaf of constant values compresses to a few dozen bytes in the file.
+pub const MAX_LEAVES: usize = 1 << 21;
 
 impl fmt::Display for VdbError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -63,6 +81,10 @@ impl fmt::Display for VdbError {
                 write!(f, "malformed file at byte {offset}: {what}")
             }
             VdbError::Unsupported(what) => write!(f, "unsupported: {what}"),
+            VdbError::TooLarge { what, limit } => write!(
+                f,
+                "the file holds more than {limit} {what}, more than this reader keeps in memory"
+            ),
         }
     }
 }
@@ -380,6 +402,7 @@ pub fn parse(bytes: &[u8]) -> Result<VdbFile, VdbError> {
     skip_metadata(&mut c)?; // file-level metadata
     let count = c.count(16)?;
     let mut grids: Vec<Grid> = Vec::with_capacity(count);
+    let mut budget = Budget::default();
     for _ in 0..count {
         let name = strip_unique_suffix(&c.string()?);
         let tree_type = c.string()?;
@@ -396,14 +419,17 @@ pub fn parse(bytes: &[u8]) -> Result<VdbFile, VdbError> {
         }
         let (value_type, half) = parse_tree_type(&tree_type)?;
         c.seek(grid_pos as u64)?;
-        let mut grid = read_grid(&mut c, name, value_type, half, !parent.is_empty())?;
+        let mut grid = read_grid(&mut c, name, value_type, half, !parent.is_empty(), budget)?;
         if !parent.is_empty() {
             let src = grids.iter().find(|g| g.name == parent).ok_or_else(|| {
                 VdbError::Unsupported(format!("instance of unknown grid '{parent}'"))
             })?;
+            // Checked before the copy: many instances of one big grid would multiply it.
+            budget.with(src)?;
             grid.leaves = src.leaves.clone();
             grid.tiles = src.tiles.clone();
         }
+        budget = budget.with(&grid)?;
         if c.pos() as u64 > end_pos as u64 {
             return Err(bad(&c, "a grid that runs past its end offset"));
         }
@@ -516,6 +542,38 @@ struct TreeCtx {
     half: bool,
     compression: u32,
     background: [f32; 3],
+    /// Tiles and leaves of the file's grids before this one.
+    before: Budget,
+}
+
+/// Tiles and leaves held so far, against [`MAX_TILES`] and [`MAX_LEAVES`].
+#[derive(Clone, Copy, Debug, Default)]
+struct Budget {
+    tiles: usize,
+    leaves: usize,
+}
+
+impl Budget {
+    /// What `grid` adds to `self`, or [`VdbError::TooLarge`].
+    fn with(self, grid: &Grid) -> Result<Budget, VdbError> {
+        let b = Budget {
+            tiles: self.tiles + grid.tiles.len(),
+            leaves: self.leaves + grid.leaves.len(),
+        };
+        if b.tiles > MAX_TILES {
+            Err(VdbError::TooLarge {
+                what: "tiles",
+                limit: MAX_TILES,
+            })
+        } else if b.leaves > MAX_LEAVES {
+            Err(VdbError::TooLarge {
+                what: "leaves",
+                limit: MAX_LEAVES,
+            })
+        } else {
+            Ok(b)
+        }
+    }
 }
 
 fn read_grid(
@@ -524,6 +582,7 @@ fn read_grid(
     value_type: ValueType,
     half: bool,
     instance: bool,
+    before: Budget,
 ) -> Result<Grid, VdbError> {
     let compression = c.u32()?;
     let meta = read_metadata(c)?;
@@ -558,6 +617,7 @@ fn read_grid(
         half,
         compression,
         background: grid.background,
+        before,
     };
     let num_tiles = c.count(12 + full + 1)?;
     let num_children = c.count(12)?;
@@ -568,12 +628,20 @@ fn read_grid(
         let mut value = [0.0; 3];
         value[..comps].copy_from_slice(&v);
         let active = c.u8()? != 0;
+        // Aligned like the root's children: then `origin + 4095` never overflows an i32.
+        if origin.iter().any(|&o| o % 4096 != 0) {
+            return Err(VdbError::Malformed {
+                offset: c.pos() as u64,
+                what: "a root tile that is not aligned to its size",
+            });
+        }
         grid.tiles.push(Tile {
             origin,
             edge: 4096,
             value,
             active,
         });
+        ctx.before.with(&grid)?;
     }
     for _ in 0..num_children {
         let origin = [c.i32()?, c.i32()?, c.i32()?];
@@ -647,6 +715,7 @@ fn read_internal(
                     value,
                     active,
                 });
+                ctx.before.with(grid)?;
             }
         }
     }
@@ -661,6 +730,7 @@ fn read_internal(
                     mask,
                     values: Vec::new(),
                 });
+                ctx.before.with(grid)?;
             }
         }
     }
