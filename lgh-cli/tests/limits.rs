@@ -6,6 +6,8 @@ mod common;
 
 use std::process::{Command, Output};
 
+use lgh_volume::vdb::synthetic::{tiled_file, Storage};
+
 /// `lgh args` and its peak resident memory in MiB.
 fn lgh_peak_rss(args: &[&str]) -> (Output, f64) {
     let o = Command::new("python3")
@@ -54,60 +56,6 @@ fn assert_refused_within(args: &[&str], names: &str, seconds: f64, mib: f64) {
     assert!(peak < mib, "peak RSS {peak:.1} MiB");
 }
 
-/// A length-prefixed string as OpenVDB writes it.
-fn string(b: &mut Vec<u8>, s: &str) {
-    b.extend((s.len() as u32).to_le_bytes());
-    b.extend(s.as_bytes());
-}
-
-/// A float OpenVDB file (format 224, zip) with one grid, `density`, whose root holds the tiles
-/// `root_tiles` (4096³ voxels each) and declares `declared` children, of which the first
-/// `written` are written: level-2 nodes whose 32³ slots are all active tiles of 128³ voxels.
-fn crafted_vdb(root_tiles: &[[i32; 3]], declared: u32, written: u32) -> Vec<u8> {
-    let mut b = 0x5644_4220i64.to_le_bytes().to_vec();
-    b.extend(224u32.to_le_bytes());
-    b.extend([10u32, 0].iter().flat_map(|v| v.to_le_bytes()));
-    b.push(1); // grid offsets
-    b.extend([b'0'; 36]); // UUID
-    b.extend(0u32.to_le_bytes()); // no file metadata
-    b.extend(1u32.to_le_bytes()); // one grid
-    string(&mut b, "density");
-    string(&mut b, "Tree_float_5_4_3");
-    string(&mut b, "");
-    let offsets = b.len();
-    b.extend([0u8; 24]); // grid, block and end positions: set below
-    let grid_pos = b.len() as i64;
-    b.extend(1u32.to_le_bytes()); // COMPRESS_ZIP
-    b.extend(0u32.to_le_bytes()); // no grid metadata
-    string(&mut b, "UniformScaleMap");
-    b.extend([0.1f64; 6].iter().flat_map(|v| v.to_le_bytes())); // scale, voxel size
-    b.extend([0u8; 72]); // inverse scales
-    b.extend(1u32.to_le_bytes()); // buffers
-    b.extend(0f32.to_le_bytes()); // background
-    b.extend((root_tiles.len() as u32).to_le_bytes());
-    b.extend(declared.to_le_bytes());
-    for t in root_tiles {
-        b.extend(t.iter().flat_map(|v| v.to_le_bytes()));
-        b.extend(1f32.to_le_bytes());
-        b.push(1); // active
-    }
-    let ones: Vec<u8> = (0..32768).flat_map(|_| 1f32.to_le_bytes()).collect();
-    let values = miniz_oxide::deflate::compress_to_vec_zlib(&ones, 6);
-    for i in 0..written {
-        b.extend([i as i32 * 4096, 0, 0].iter().flat_map(|v| v.to_le_bytes()));
-        b.extend([0u8; 4096]); // no children
-        b.extend([0xffu8; 4096]); // every slot an active tile
-        b.push(0); // every value stored
-        b.extend((values.len() as i64).to_le_bytes());
-        b.extend(&values);
-    }
-    let end = b.len() as i64;
-    for (k, v) in [grid_pos, end, end].iter().enumerate() {
-        b[offsets + 8 * k..offsets + 8 * k + 8].copy_from_slice(&v.to_le_bytes());
-    }
-    b
-}
-
 /// A complete VDB file of 253 MB holding 10⁹ active tiles (30,518 nodes of 32³ tiles: one bit
 /// each in a mask, and a compressed constant): kept, they would take 32 GB. `lgh inspect`
 /// refuses the file as soon as it passes the reader's tile limit; its memory is the file's
@@ -116,7 +64,7 @@ fn crafted_vdb(root_tiles: &[[i32; 3]], declared: u32, written: u32) -> Vec<u8> 
 fn a_billion_tiles_are_refused_in_bounded_memory() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("tiles.vdb");
-    std::fs::write(&path, crafted_vdb(&[], 30_518, 30_518)).unwrap();
+    std::fs::write(&path, tiled_file(Storage::Zip, &[], 30_518, 30_518)).unwrap();
     let p = path.to_str().unwrap();
     assert_refused_within(&["inspect", p], "more than 4194304 tiles", 10.0, 640.0);
 }
@@ -128,7 +76,7 @@ fn a_grid_of_2_96_voxels_is_refused_before_any_allocation() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("huge.vdb");
     let ends = [[i32::MIN; 3], [i32::MAX - 4095; 3]];
-    std::fs::write(&path, crafted_vdb(&ends, 0, 0)).unwrap();
+    std::fs::write(&path, tiled_file(Storage::Zip, &ends, 0, 0)).unwrap();
     let p = path.to_str().unwrap();
     let o = common::lgh(&["inspect", p]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

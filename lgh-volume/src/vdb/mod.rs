@@ -12,6 +12,7 @@
 
 mod compress;
 mod cursor;
+pub mod synthetic;
 
 use std::fmt;
 use std::path::Path;
