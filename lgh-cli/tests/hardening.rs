@@ -212,8 +212,14 @@ fn interrupt(dir: &Path, args: &[&str], ready: impl Fn() -> bool, signal: &str) 
         "lgh finished before the signal: give it more work"
     );
     let sent = Instant::now();
-    let kill = Command::new("kill")
-        .args([format!("-{signal}"), child.id().to_string()])
+    // The shell's own `kill`: no package needed.
+    let kill = Command::new("sh")
+        .args([
+            "-c",
+            "kill -s \"$0\" \"$1\"",
+            signal,
+            &child.id().to_string(),
+        ])
         .status()
         .unwrap();
     assert!(kill.success());
