@@ -9,10 +9,14 @@
 //! eq. (1) and, as in that paper, no occlusion between lights and surfaces
 //! ([`render`](mod@render)).
 //!
-//! **Not here yet** (ARCHITECTURE.md, "Where new work goes"; paper Sec. 6.4, Fig. 13): virtual point lights traced
-//! from emitters, shadow rays to the lights (the BVH's [`Bvh::occluded`] is ready for them),
-//! clamping of the VPL singularity, and the α = 1, 4, 16 experiment. Those are a later issue;
-//! nothing in this crate pretends to do them.
+//! The primary lights of a scene — emissive faces (MTL `Ke`) as area lights, or point, spot and
+//! sun lights given on the command line — are [`primary`]; the virtual point lights traced
+//! from them, deterministic and energy-conserving, are [`vpl`].
+//!
+//! **Not here yet** (issue 14; paper Sec. 6.4, Figs. 11, 13): shading the VPLs through the
+//! hierarchy with shadow rays (the BVH's [`Bvh::occluded`] is ready for them; coarse lights as
+//! volume lights sampled with σ²), clamping of the VPL singularity, direct light with shadows,
+//! `lgh gi` and the α = 1, 4, 16 experiment. Nothing in this crate pretends to do them.
 //!
 //! ```
 //! use lgh_core::glam::Vec3;
@@ -48,8 +52,10 @@
 pub mod bvh;
 pub mod mesh;
 pub mod paquette;
+pub mod primary;
 pub mod render;
 pub mod scene;
+pub mod vpl;
 
 pub use bvh::{Bvh, Hit, Ray};
 pub use lgh_core;

@@ -140,6 +140,8 @@ pub struct Mesh {
     normals: Vec<Vec3>,
     triangles: Vec<Triangle>,
     materials: Vec<Material>,
+    /// Emitted radiance `L_e` of each material (W / (sr m²), MTL `Ke`): zero for most.
+    emission: Vec<Vec3>,
     degenerate_skipped: usize,
 }
 
@@ -195,11 +197,13 @@ impl Mesh {
                 degenerate: degenerate_skipped,
             });
         }
+        let emission = vec![Vec3::ZERO; materials.len()];
         Ok(Mesh {
             positions,
             normals,
             triangles,
             materials,
+            emission,
             degenerate_skipped,
         })
     }
@@ -263,6 +267,7 @@ impl Mesh {
         self.positions.extend(other.positions);
         self.normals.extend(other.normals);
         self.materials.extend(other.materials);
+        self.emission.extend(other.emission);
         self.degenerate_skipped += other.degenerate_skipped;
         Ok(())
     }
@@ -278,8 +283,8 @@ impl Mesh {
     ///
     /// MTL mapping: `Kd` → diffuse reflectance, `Ks` → specular reflectance, `Ns` → Phong
     /// exponent; `Ks` absent or zero gives [`Material::Lambert`] with albedo `Kd`, otherwise
-    /// [`Material::Phong`]. Other MTL statements (`Ka`, `Ke`, `Ni`, `illum`, textures) are
-    /// ignored. A missing `Kd` is [`DEFAULT_MATERIAL`]'s albedo; a missing `Ns` is 1. Faces
+    /// [`Material::Phong`]; `Ke` → emitted radiance ([`Mesh::emission`], area lights). Other MTL
+    /// statements (`Ka`, `Ni`, `illum`, textures) are ignored. A missing `Kd` is [`DEFAULT_MATERIAL`]'s albedo; a missing `Ns` is 1. Faces
     /// without `usemtl`, or naming a material no MTL file defines, get [`DEFAULT_MATERIAL`].
     ///
     /// Errors: a missing or unreadable OBJ or MTL file, a file larger than
@@ -382,6 +387,53 @@ impl Mesh {
         // Every MTL file loaded (their errors returned above), so this is Ok or "none named".
         let materials = materials.unwrap_or_default();
         from_tobj(&models, &materials, normals_everywhere)
+    }
+
+    /// Makes material `material` emit radiance `radiance` (W / (sr m²)) from the front of its
+    /// faces, as MTL's `Ke`: its triangles become area lights (`crate::primary`).
+    ///
+    /// Errors: [`MeshError::IndexOutOfRange`] for a material the mesh does not have,
+    /// [`MeshError::InvalidMaterial`] for a negative or non-finite radiance.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::Material;
+    /// use lgh_vpl::Mesh;
+    ///
+    /// let white = Material::Lambert { albedo: Vec3::splat(0.8) };
+    /// let corners = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, 1.0), Vec3::Z];
+    /// let mut lamp = Mesh::quad(corners, white)?;
+    /// lamp.set_emission(0, Vec3::splat(5.0))?;
+    /// assert_eq!(lamp.emission(0), Vec3::splat(5.0));
+    /// assert!(lamp.set_emission(0, Vec3::new(1.0, -1.0, 0.0)).is_err());
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    pub fn set_emission(&mut self, material: u32, radiance: Vec3) -> Result<(), MeshError> {
+        if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
+            return Err(MeshError::InvalidMaterial {
+                name: format!("#{material}"),
+                reason: "emission must be finite and not negative",
+            });
+        }
+        let slot = self
+            .emission
+            .get_mut(material as usize)
+            .ok_or(MeshError::IndexOutOfRange { triangle: 0 })?;
+        *slot = radiance;
+        Ok(())
+    }
+
+    /// Radiance emitted by triangle `t` (its material's `Ke`; zero for most).
+    #[must_use]
+    pub fn emission(&self, t: u32) -> Vec3 {
+        self.emission[self.triangles[t as usize].material as usize]
+    }
+
+    /// Area of triangle `t`.
+    #[must_use]
+    pub fn area(&self, t: u32) -> f32 {
+        let [a, b, c] = self.corners(t);
+        0.5 * (b - a).cross(c - a).length()
     }
 
     /// Vertex positions.
@@ -731,7 +783,18 @@ fn from_tobj(
             });
         }
     }
-    Mesh::new(positions, normals, triangles, materials)
+    let mut mesh = Mesh::new(positions, normals, triangles, materials)?;
+    for (i, m) in mtls.iter().enumerate() {
+        if let Some(ke) = m.emissive {
+            mesh.set_emission(i as u32, Vec3::from(ke)).map_err(|_| {
+                MeshError::InvalidMaterial {
+                    name: m.name.clone(),
+                    reason: "emission (Ke) must be finite and not negative",
+                }
+            })?;
+        }
+    }
+    Ok(mesh)
 }
 
 #[cfg(test)]
