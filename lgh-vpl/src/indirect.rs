@@ -1,0 +1,358 @@
+//! Indirect light from virtual point lights, shaded with visibility (paper Sec. 6.4, Figs. 11,
+//! 13): what a surface point receives from the VPLs a many-lights backend hands it.
+//!
+//! The hierarchy aggregates lights as isotropic points, so each VPL enters it as a point of the
+//! isotropic intensity `Φ ρ / 2π` ([`point_lights`]): what carries its flux into the half-space
+//! in front of its surface, where everything it lights is. Shading restores what the aggregation
+//! lost where it can:
+//!
+//! - a level-0 light is the VPL itself: its cosine lobe is restored (the factor
+//!   `2 max(0, n_v·ω)`, so its flux is unchanged) and one shadow ray through the BVH decides
+//!   whether it is seen;
+//! - a coarser light stands for many VPLs spread with variance `σ²` (eq. 4): it is a volume
+//!   light, shaded as `k` points at `p + σ ⊙ g_j`, each with `1/k` of the intensity and a shadow
+//!   ray of its own, where the `g_j` are standard-normal offsets drawn from a sequence seeded by
+//!   the light's level and index — the same pattern for that light at every pixel and every
+//!   frame, so the soft shadows do not flicker (Fig. 11d; `k = 0` shades it as a point, Fig. 11c).
+//!
+//! Surfaces reflect physically: Lambert `ρ/π`, Phong `k_d/π + k_s (n+2)/2π (R·E)^n`. The VPL
+//! singularity is clamped with the core's rule, `1 / max(d, h0)²`: a VPL closer than `h0` to the
+//! point it lights gives what it would at `h0`, which drops the short-range part of the light
+//! (the bright blotches of unclamped VPLs near corners).
+
+use lgh_core::glam::Vec3;
+use lgh_core::random::SplitMix64;
+use lgh_core::{LightSample, Material, PointLight, ShadingPoint};
+
+use crate::scene::Scene;
+use crate::vpl::Vpl;
+
+/// The hierarchy's input lights for `vpls`: each at its VPL's position with the isotropic
+/// intensity `Φ ρ / 2π` that carries its cosine lobe's flux into the half-space in front of it.
+#[must_use]
+pub fn point_lights(vpls: &[Vpl]) -> Vec<PointLight> {
+    vpls.iter()
+        .map(|v| {
+            PointLight::new(
+                v.position,
+                v.power * v.albedo / (2.0 * std::f32::consts::PI),
+            )
+        })
+        .collect()
+}
+
+/// How the VPLs are shaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IndirectSettings {
+    /// The singularity clamp `h0`: distances below it count as `h0`.
+    pub h0: f32,
+    /// Shadow samples `k` of a coarse (volume) light; 0 shades it as a point (Fig. 11c).
+    pub shadow_samples: u32,
+    /// Offset of shadow rays from the surfaces they leave, against self-shadowing.
+    pub epsilon: f32,
+}
+
+/// Shades the VPLs of `vpls` at surface points of `scene`.
+pub struct Indirect<'a> {
+    scene: &'a Scene,
+    vpls: &'a [Vpl],
+    settings: IndirectSettings,
+}
+
+impl<'a> Indirect<'a> {
+    /// A shader for `vpls` in `scene`.
+    #[must_use]
+    pub fn new(scene: &'a Scene, vpls: &'a [Vpl], settings: IndirectSettings) -> Self {
+        Indirect {
+            scene,
+            vpls,
+            settings,
+        }
+    }
+
+    /// The radiance `light` sends towards the viewer from `point`, visibility included. `vpl`
+    /// is the index in the VPL slice of a level-0 light (a backend's own index for brute force,
+    /// `LightingGridHierarchy::input_index` for the hierarchy); coarser lights ignore it.
+    #[must_use]
+    pub fn shade(&self, point: &ShadingPoint, light: &LightSample, vpl: Option<usize>) -> Vec3 {
+        let Some(normal) = point.normal else {
+            return Vec3::ZERO;
+        };
+        let from = point.position + normal * self.settings.epsilon;
+        if light.level == 0 {
+            let Some(v) = vpl.and_then(|i| self.vpls.get(i)) else {
+                return Vec3::ZERO;
+            };
+            let to_point = point.position - v.position;
+            let d = to_point.length();
+            if d == 0.0 {
+                return Vec3::ZERO;
+            }
+            let lobe = 2.0 * v.normal.dot(to_point / d).max(0.0);
+            if lobe == 0.0 {
+                return Vec3::ZERO;
+            }
+            let source = v.position + v.normal * self.settings.epsilon;
+            if self.scene.bvh().occluded(from, source) {
+                return Vec3::ZERO;
+            }
+            return self.reflect(point, normal, v.position, light.intensity * lobe);
+        }
+        let k = self.settings.shadow_samples;
+        if k == 0 || light.variance == Vec3::ZERO {
+            if self.scene.bvh().occluded(from, light.position) {
+                return Vec3::ZERO;
+            }
+            return self.reflect(point, normal, light.position, light.intensity);
+        }
+        let sigma = light.variance.max(Vec3::ZERO).map(f32::sqrt);
+        let mut rng = SplitMix64(SplitMix64::mix(
+            (u64::from(light.level) << 32) | u64::from(light.index),
+        ));
+        let share = light.intensity / k as f32;
+        let mut sum = Vec3::ZERO;
+        for _ in 0..k {
+            let q = light.position + sigma * gaussian3(&mut rng);
+            if !self.scene.bvh().occluded(from, q) {
+                sum += self.reflect(point, normal, q, share);
+            }
+        }
+        sum
+    }
+
+    /// Radiance reflected towards the viewer at `point` (unit `normal`) from a point light of
+    /// intensity `intensity` at `light`, with the clamped fall-off.
+    fn reflect(&self, point: &ShadingPoint, normal: Vec3, light: Vec3, intensity: Vec3) -> Vec3 {
+        let to_light = light - point.position;
+        let d = to_light.length();
+        if d == 0.0 {
+            return Vec3::ZERO;
+        }
+        let l = to_light / d;
+        let cos = normal.dot(l);
+        if cos <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let brdf = brdf(point, normal, l);
+        brdf * intensity * (cos * lgh_core::falloff(d, self.settings.h0))
+    }
+}
+
+/// The physical BRDF of `point` for light from the unit direction `l`.
+fn brdf(point: &ShadingPoint, normal: Vec3, l: Vec3) -> Vec3 {
+    use std::f32::consts::PI;
+    match point.material {
+        Material::Lambert { albedo } => albedo / PI,
+        Material::Phong { kd, ks, exponent } => {
+            let spec = point.view.map_or(0.0, |view| {
+                let r = 2.0 * normal.dot(l) * normal - l;
+                (exponent + 2.0) / (2.0 * PI) * r.dot(view).max(0.0).powf(exponent)
+            });
+            kd / PI + ks * spec
+        }
+        Material::Isotropic => Vec3::ZERO,
+    }
+}
+
+/// Three independent standard-normal numbers (Box–Muller).
+fn gaussian3(rng: &mut SplitMix64) -> Vec3 {
+    let mut pair = || {
+        let u = 1.0 - rng.next_f32(); // (0, 1]
+        let v = rng.next_f32();
+        let r = (-2.0 * u.ln()).sqrt();
+        let t = std::f32::consts::TAU * v;
+        (r * t.cos(), r * t.sin())
+    };
+    let (a, b) = pair();
+    let (c, _) = pair();
+    Vec3::new(a, b, c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+    use crate::primary::PrimaryLight;
+    use crate::render::render_with_shader;
+    use crate::vpl::{trace, VplSettings};
+    use crate::Camera;
+    use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy};
+
+    /// A room: floor, back wall and left wall of a 2-unit box, and a block on the floor that
+    /// casts shadows, lit by a lamp near the ceiling.
+    fn room() -> (Scene, Vec<Vpl>) {
+        let grey = Material::Lambert {
+            albedo: Vec3::splat(0.7),
+        };
+        let red = Material::Lambert {
+            albedo: Vec3::new(0.7, 0.1, 0.1),
+        };
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let mut mesh = Mesh::quad(
+            [
+                v(-1., 0., 1.),
+                v(1., 0., 1.),
+                v(1., 0., -1.),
+                v(-1., 0., -1.),
+            ],
+            grey,
+        )
+        .unwrap();
+        mesh.append(
+            Mesh::quad(
+                [
+                    v(-1., 0., -1.),
+                    v(1., 0., -1.),
+                    v(1., 2., -1.),
+                    v(-1., 2., -1.),
+                ],
+                grey,
+            )
+            .unwrap(),
+        )
+        .unwrap();
+        mesh.append(
+            Mesh::quad(
+                [
+                    v(-1., 0., 1.),
+                    v(-1., 0., -1.),
+                    v(-1., 2., -1.),
+                    v(-1., 2., 1.),
+                ],
+                red,
+            )
+            .unwrap(),
+        )
+        .unwrap();
+        mesh.append(Mesh::cuboid(v(0.1, 0.0, -0.4), v(0.6, 0.8, 0.1), grey).unwrap())
+            .unwrap();
+        let scene = Scene::new(mesh);
+        let lamp = PrimaryLight::Point {
+            position: v(-0.3, 1.8, 0.3),
+            intensity: Vec3::splat(2.0),
+        };
+        let settings = VplSettings {
+            count: 4000,
+            max_bounces: 2,
+            seed: 4,
+        };
+        let vpls = trace(&scene, &[lamp], &settings).unwrap().vpls;
+        (scene, vpls)
+    }
+
+    /// With α so large that every VPL is inside level 0's influence region, the hierarchy
+    /// hands each point every VPL at full weight: its image equals brute force over every VPL
+    /// with the same shadow rays and shading, up to the order of the sums (tolerance 10⁻⁵).
+    /// (At α = 1, 4, 16 this room's error is 129%, 54% and 41%: the isotropic aggregation of
+    /// cosine-lobed VPLs; issue 14 is open on it.)
+    #[test]
+    fn the_hierarchy_equals_brute_force_when_every_vpl_is_level_0() {
+        let (scene, vpls) = room();
+        let lights = point_lights(&vpls);
+        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
+        let settings = IndirectSettings {
+            h0: lgh.h0(),
+            shadow_samples: 9,
+            epsilon: 1e-4,
+        };
+        let shader = Indirect::new(&scene, &vpls, settings);
+        let camera = Camera::new(
+            Vec3::new(0.4, 1.2, 3.0),
+            Vec3::new(0.0, 0.6, 0.0),
+            Vec3::Y,
+            50.0,
+            24,
+            18,
+        )
+        .unwrap();
+        let brute = BruteForce::new(&lights).unwrap();
+        let exact = render_with_shader(
+            &scene,
+            &camera,
+            &brute,
+            |p, s| shader.shade(p, s, Some(s.index as usize)),
+            |_| {},
+        )
+        .unwrap();
+        let backend = LghBackend::new(&lgh, 256.0).unwrap();
+        let shade = |p: &ShadingPoint, s: &LightSample| {
+            let vpl = if s.level == 0 {
+                lgh.input_index(s.index)
+            } else {
+                None
+            };
+            shader.shade(p, s, vpl)
+        };
+        let got = render_with_shader(&scene, &camera, &backend, shade, |_| {}).unwrap();
+        assert_eq!(got.mean_lights(), vpls.len() as f64);
+        let e = lgh_image::compare(&got.image, &exact.image)
+            .unwrap()
+            .rel_rmse;
+        assert!(e < 1e-5, "{e}");
+        assert!(exact.image.pixels.iter().any(|p| p.x > 0.0));
+    }
+
+    /// A VPL lights only the side its normal faces, and a wall between hides it.
+    #[test]
+    fn a_vpl_lights_its_front_and_is_hidden_by_walls() {
+        let grey = Material::Lambert {
+            albedo: Vec3::splat(0.5),
+        };
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let wall = Mesh::quad(
+            [
+                v(-1., 0.5, -1.),
+                v(1., 0.5, -1.),
+                v(1., 0.5, 1.),
+                v(-1., 0.5, 1.),
+            ],
+            grey,
+        )
+        .unwrap();
+        let scene = Scene::new(wall);
+        let vpl = Vpl {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            normal: Vec3::NEG_Y,
+            power: Vec3::ONE,
+            albedo: Vec3::ONE,
+            bounce: 1,
+        };
+        let lights = point_lights(&[vpl]);
+        let settings = IndirectSettings {
+            h0: 0.01,
+            shadow_samples: 9,
+            epsilon: 1e-4,
+        };
+        let shader = Indirect::new(&scene, std::slice::from_ref(&vpl), settings);
+        let at = |y: f32, n: Vec3| ShadingPoint {
+            position: Vec3::new(0.2, y, 0.0),
+            normal: Some(n),
+            view: Some(n),
+            material: grey,
+        };
+        let sample = |x: Vec3| {
+            LightSample::point(
+                0,
+                lights[0].position,
+                lights[0].intensity,
+                x,
+                lgh_core::Lobe::All,
+            )
+        };
+        // Facing the VPL, below it, above the wall: lit.
+        let lit = at(0.75, Vec3::Y);
+        assert!(shader.shade(&lit, &sample(lit.position), Some(0)).x > 0.0);
+        // Below the wall: hidden.
+        let hidden = at(0.25, Vec3::Y);
+        assert_eq!(
+            shader.shade(&hidden, &sample(hidden.position), Some(0)),
+            Vec3::ZERO
+        );
+        // Above the VPL, behind its lobe: dark.
+        let behind = at(1.5, Vec3::NEG_Y);
+        assert_eq!(
+            shader.shade(&behind, &sample(behind.position), Some(0)),
+            Vec3::ZERO
+        );
+    }
+}
