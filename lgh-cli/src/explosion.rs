@@ -156,7 +156,12 @@ fn parse_frames(s: &str) -> Result<(u32, u32), crate::Error> {
     Ok((a, b))
 }
 
-fn parse_camera(s: &str, up: Vec3, width: usize, height: usize) -> Result<Camera, crate::Error> {
+pub(crate) fn parse_camera(
+    s: &str,
+    up: Vec3,
+    width: usize,
+    height: usize,
+) -> Result<Camera, crate::Error> {
     let v: Vec<f32> = s
         .split(',')
         .map(|x| x.trim().parse::<f32>())

@@ -20,6 +20,7 @@ mod compare;
 mod dark;
 mod demo;
 mod explosion;
+mod gi;
 mod inspect;
 mod output;
 mod paquette;
@@ -49,6 +50,9 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Render frames of a simulation cache (OpenVDB), lit by its own fire (EXR + PNG).
     Explosion(Box<explosion::ExplosionArgs>),
+    /// Indirect illumination of an OBJ scene from virtual point lights, with shadow rays
+    /// (EXR + PNG). Work in progress (issue 14): the hierarchy's error is not yet acceptable.
+    Gi(gi::GiArgs),
     /// Evaluate unshadowed lighting L(x) = Σ B·I·g(d) at every point of a PLY point cloud.
     Probes(probes::ProbesArgs),
     /// Describe the grids of an OpenVDB file (type, voxel size, active voxels, bounds, statistics).
@@ -144,6 +148,7 @@ fn main() {
     let result = match &cli.command {
         Command::Demo(a) => demo::run(a),
         Command::Explosion(a) => explosion::run(a),
+        Command::Gi(a) => gi::run(a),
         Command::Probes(a) => probes::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Compare(a) => compare::run(a),

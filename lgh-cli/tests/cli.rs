@@ -742,3 +742,55 @@ fn paquette_refuses_bad_input_before_any_work() {
         assert!(out.stdout.is_empty(), "{args:?} printed a result");
     }
 }
+
+/// `lgh gi` lights the Cornell box from its lamp's VPLs (brute force and the hierarchy write
+/// their settings in the header), and refuses a scene without a light and a malformed --light in
+/// one line.
+#[test]
+fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let cornell = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data/meshes/cornellbox_original/CornellBox-Original.obj");
+    let small = dir.path().join("small.obj");
+    std::fs::write(&small, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let s = small.to_str().unwrap();
+    assert_refused(
+        dir.path(),
+        &["gi", "--obj", s, "--out", "x.exr"],
+        "no --light",
+    );
+    assert_refused(
+        dir.path(),
+        &["gi", "--obj", s, "--light", "point:0,1", "--out", "x.exr"],
+        "point:X,Y,Z,R,G,B",
+    );
+    if !cornell.exists() {
+        eprintln!("SKIPPED: {} is not here", cornell.display());
+        return;
+    }
+    for backend in ["brute", "lgh"] {
+        let out = dir.path().join(format!("{backend}.exr"));
+        let o = lgh(&[
+            "gi",
+            "--obj",
+            cornell.to_str().unwrap(),
+            "--vpls",
+            "300",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--backend",
+            backend,
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let img = lgh_image::read_exr(&out).unwrap();
+        assert!(img.pixels.iter().any(|p| p.x > 0.0), "{backend}");
+        let get = header(&out);
+        assert_eq!(get("lgh:backend"), backend);
+        assert!(get("lgh:vpls").parse::<usize>().unwrap() >= 300);
+    }
+}
