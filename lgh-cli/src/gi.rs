@@ -39,6 +39,9 @@ pub struct GiArgs {
     /// Shadow samples of a coarse light (Fig. 11d uses 9; 0 shades it as a point, Fig. 11c).
     #[arg(long, default_value_t = 9)]
     pub shadow_samples: u32,
+    /// No shadow rays: every VPL reaches every point it faces.
+    #[arg(long)]
+    pub no_shadows: bool,
     /// Many-lights method.
     #[arg(long, value_enum, default_value_t = Method::Lgh)]
     pub backend: Method,
@@ -101,6 +104,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
             h0: lgh.h0(),
             shadow_samples: args.shadow_samples,
             epsilon: 1e-4 * (hi - lo).length(),
+            shadows: !args.no_shadows,
         },
     );
     let bar = progress::bar(args.height as u64, "rendering", args.quiet);
@@ -131,6 +135,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
         ("bounces", args.bounces.to_string()),
         ("seed", args.seed.to_string()),
         ("shadow_samples", args.shadow_samples.to_string()),
+        ("shadows", (!args.no_shadows).to_string()),
         ("h0", lgh.h0().to_string()),
         ("render_seconds", format!("{render_s:.3}")),
     ];

@@ -50,6 +50,9 @@ pub struct IndirectSettings {
     pub shadow_samples: u32,
     /// Offset of shadow rays from the surfaces they leave, against self-shadowing.
     pub epsilon: f32,
+    /// Whether to trace shadow rays at all (false: every light is seen, as in Paquette et al.'s
+    /// experiments; it separates the error of the volume lights' shadows from the rest).
+    pub shadows: bool,
 }
 
 /// Shades the VPLs of `vpls` at surface points of `scene`.
@@ -79,6 +82,7 @@ impl<'a> Indirect<'a> {
             return Vec3::ZERO;
         };
         let from = point.position + normal * self.settings.epsilon;
+        let occluded = |to: Vec3| self.settings.shadows && self.scene.bvh().occluded(from, to);
         if light.level == 0 {
             let Some(v) = vpl.and_then(|i| self.vpls.get(i)) else {
                 return Vec3::ZERO;
@@ -93,14 +97,14 @@ impl<'a> Indirect<'a> {
                 return Vec3::ZERO;
             }
             let source = v.position + v.normal * self.settings.epsilon;
-            if self.scene.bvh().occluded(from, source) {
+            if occluded(source) {
                 return Vec3::ZERO;
             }
             return self.reflect(point, normal, v.position, light.intensity * lobe);
         }
         let k = self.settings.shadow_samples;
         if k == 0 || light.variance == Vec3::ZERO {
-            if self.scene.bvh().occluded(from, light.position) {
+            if occluded(light.position) {
                 return Vec3::ZERO;
             }
             return self.reflect(point, normal, light.position, light.intensity);
@@ -113,7 +117,7 @@ impl<'a> Indirect<'a> {
         let mut sum = Vec3::ZERO;
         for _ in 0..k {
             let q = light.position + sigma * gaussian3(&mut rng);
-            if !self.scene.bvh().occluded(from, q) {
+            if !occluded(q) {
                 sum += self.reflect(point, normal, q, share);
             }
         }
@@ -254,6 +258,7 @@ mod tests {
             h0: lgh.h0(),
             shadow_samples: 9,
             epsilon: 1e-4,
+            shadows: true,
         };
         let shader = Indirect::new(&scene, &vpls, settings);
         let camera = Camera::new(
@@ -322,6 +327,7 @@ mod tests {
             h0: 0.01,
             shadow_samples: 9,
             epsilon: 1e-4,
+            shadows: true,
         };
         let shader = Indirect::new(&scene, std::slice::from_ref(&vpl), settings);
         let at = |y: f32, n: Vec3| ShadingPoint {
