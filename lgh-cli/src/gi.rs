@@ -7,12 +7,22 @@ use std::time::Instant;
 use lgh_core::{BruteForce, GridSettings, LghBackend, LightSample, LightingGridHierarchy};
 use lgh_volume::render::{Camera, Framing, Up};
 use lgh_volume::Method;
-use lgh_vpl::indirect::{point_lights, Indirect, IndirectSettings};
+use lgh_vpl::indirect::{point_lights, Indirect, IndirectSettings, NormalBuckets};
 use lgh_vpl::primary::{area_lights, PrimaryLight};
+use lgh_vpl::render::render_points;
 use lgh_vpl::vpl::{trace, VplSettings};
 use lgh_vpl::{render_with_shader, Mesh, Scene};
 
 use crate::{output, progress};
+
+/// `--aggregation`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Aggregation {
+    /// One hierarchy per dominant normal axis, coarse lights with their bucket's lobe.
+    Buckets,
+    /// The paper's: one hierarchy, VPLs aggregated as isotropic points.
+    Isotropic,
+}
 
 /// Arguments of `lgh gi`.
 #[derive(Debug, clap::Args)]
@@ -42,6 +52,11 @@ pub struct GiArgs {
     /// No shadow rays: every VPL reaches every point it faces.
     #[arg(long)]
     pub no_shadows: bool,
+    /// How the hierarchy aggregates the VPLs' cosine lobes: `buckets`, one hierarchy per
+    /// dominant normal axis whose coarse lights keep their mean normal's lobe (beyond the
+    /// paper; it wins: README), or `isotropic`, the paper's one hierarchy of isotropic points.
+    #[arg(long, value_enum, default_value_t = Aggregation::Buckets)]
+    pub aggregation: Aggregation,
     /// Many-lights method.
     #[arg(long, value_enum, default_value_t = Method::Lgh)]
     pub backend: Method,
@@ -109,8 +124,18 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     );
     let bar = progress::bar(args.height as u64, "rendering", args.quiet);
     let t = Instant::now();
-    let rendered = match args.backend {
-        Method::Lgh => {
+    let rendered = match (args.backend, args.aggregation) {
+        (Method::Lgh, Aggregation::Buckets) => {
+            let buckets = NormalBuckets::build(&traced.vpls, &GridSettings::default())?;
+            crate::check_alpha(args.alpha)?;
+            render_points(
+                &scene,
+                &camera,
+                |p| buckets.illuminate(p, args.alpha, &shader),
+                |n| bar.inc(n as u64),
+            )?
+        }
+        (Method::Lgh, Aggregation::Isotropic) => {
             let backend = LghBackend::new(&lgh, args.alpha)?;
             let shade = |p: &lgh_core::ShadingPoint, s: &LightSample| {
                 let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
@@ -118,7 +143,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
             };
             render_with_shader(&scene, &camera, &backend, shade, |n| bar.inc(n as u64))?
         }
-        Method::Brute => {
+        (Method::Brute, _) => {
             let backend = BruteForce::new(&point)?;
             let shade = |p: &lgh_core::ShadingPoint, s: &LightSample| {
                 shader.shade(p, s, Some(s.index as usize))
@@ -141,6 +166,11 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     ];
     if args.backend == Method::Lgh {
         settings.push(("alpha", args.alpha.to_string()));
+        let aggregation = match args.aggregation {
+            Aggregation::Buckets => "buckets",
+            Aggregation::Isotropic => "isotropic",
+        };
+        settings.push(("aggregation", aggregation.to_string()));
     }
     let attrs = output::header_attributes(args.backend.name(), &settings);
     let png = output::write_exr_png(&args.out, &rendered.image, &attrs, None)?;

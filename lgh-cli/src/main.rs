@@ -51,7 +51,7 @@ enum Command {
     /// Render frames of a simulation cache (OpenVDB), lit by its own fire (EXR + PNG).
     Explosion(Box<explosion::ExplosionArgs>),
     /// Indirect illumination of an OBJ scene from virtual point lights, with shadow rays
-    /// (EXR + PNG). Work in progress (issue 14): the hierarchy's error is not yet acceptable.
+    /// (EXR + PNG).
     Gi(gi::GiArgs),
     /// Evaluate unshadowed lighting L(x) = Σ B·I·g(d) at every point of a PLY point cloud.
     Probes(probes::ProbesArgs),

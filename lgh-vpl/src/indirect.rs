@@ -22,7 +22,10 @@
 
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
-use lgh_core::{LightSample, Material, PointLight, ShadingPoint};
+use lgh_core::{
+    BuildError, GridSettings, Illumination, LightSample, LightingGridHierarchy, Material,
+    PointLight, QueryError, ShadingPoint,
+};
 
 use crate::scene::Scene;
 use crate::vpl::Vpl;
@@ -78,6 +81,19 @@ impl<'a> Indirect<'a> {
     /// `LightingGridHierarchy::input_index` for the hierarchy); coarser lights ignore it.
     #[must_use]
     pub fn shade(&self, point: &ShadingPoint, light: &LightSample, vpl: Option<usize>) -> Vec3 {
+        self.shade_oriented(point, light, vpl, None)
+    }
+
+    /// [`shade`](Self::shade), with the coarse light emitting the cosine lobe about `lobe` (the
+    /// mean normal of the VPLs it stands for, [`NormalBuckets`]) instead of isotropically.
+    #[must_use]
+    pub fn shade_oriented(
+        &self,
+        point: &ShadingPoint,
+        light: &LightSample,
+        vpl: Option<usize>,
+        lobe: Option<Vec3>,
+    ) -> Vec3 {
         let Some(normal) = point.normal else {
             return Vec3::ZERO;
         };
@@ -102,12 +118,18 @@ impl<'a> Indirect<'a> {
             }
             return self.reflect(point, normal, v.position, light.intensity * lobe);
         }
+        // The coarse light's own lobe, if it has one: 2 max(0, n̄·ω) towards the point.
+        let toward = |q: Vec3| match lobe {
+            Some(n) => 2.0 * n.dot((point.position - q).normalize_or_zero()).max(0.0),
+            None => 1.0,
+        };
         let k = self.settings.shadow_samples;
         if k == 0 || light.variance == Vec3::ZERO {
             if occluded(light.position) {
                 return Vec3::ZERO;
             }
-            return self.reflect(point, normal, light.position, light.intensity);
+            let f = toward(light.position);
+            return self.reflect(point, normal, light.position, light.intensity * f);
         }
         let sigma = light.variance.max(Vec3::ZERO).map(f32::sqrt);
         let mut rng = SplitMix64(SplitMix64::mix(
@@ -116,9 +138,17 @@ impl<'a> Indirect<'a> {
         let share = light.intensity / k as f32;
         let mut sum = Vec3::ZERO;
         for _ in 0..k {
-            let q = light.position + sigma * gaussian3(&mut rng);
-            if !occluded(q) {
-                sum += self.reflect(point, normal, q, share);
+            let mut offset = sigma * gaussian3(&mut rng);
+            if let Some(n) = lobe {
+                // In front of the surfaces the light stands for: mirrored to the lobe's side,
+                // and lifted off the surface as a VPL's own shadow ray is.
+                let behind = offset.dot(n).min(0.0);
+                offset += n * (self.settings.epsilon - 2.0 * behind);
+            }
+            let q = light.position + offset;
+            let f = toward(q);
+            if f > 0.0 && !occluded(q) {
+                sum += self.reflect(point, normal, q, share * f);
             }
         }
         sum
@@ -139,6 +169,81 @@ impl<'a> Indirect<'a> {
         }
         let brdf = brdf(point, normal, l);
         brdf * intensity * (cos * lgh_core::falloff(d, self.settings.h0))
+    }
+}
+
+/// An orientation-aware aggregation, beyond the paper: the VPLs split by the axis their normal
+/// points along most (±x, ±y, ±z), one hierarchy per bucket, whose coarse lights emit the cosine
+/// lobe about their bucket's mean normal. In rooms of axis-aligned walls each bucket's normals
+/// agree, and the lobe the isotropic aggregation loses is kept at every level.
+pub struct NormalBuckets {
+    buckets: Vec<Bucket>,
+}
+
+/// The VPLs of one bucket.
+struct Bucket {
+    /// Index in the VPL slice of each of the bucket's lights.
+    vpl: Vec<u32>,
+    /// Unit mean normal of its VPLs.
+    normal: Vec3,
+    lgh: LightingGridHierarchy,
+}
+
+impl NormalBuckets {
+    /// Builds one hierarchy per non-empty bucket of `vpls`, with `settings`.
+    ///
+    /// Errors: those of [`LightingGridHierarchy::build`].
+    pub fn build(vpls: &[Vpl], settings: &GridSettings) -> Result<Self, BuildError> {
+        let lights = point_lights(vpls);
+        let mut members: [Vec<u32>; 6] = Default::default();
+        for (i, v) in vpls.iter().enumerate() {
+            let a = v.normal.abs();
+            let axis = if a.x >= a.y && a.x >= a.z {
+                0
+            } else if a.y >= a.z {
+                1
+            } else {
+                2
+            };
+            let side = usize::from(v.normal[axis] < 0.0);
+            members[2 * axis + side].push(i as u32);
+        }
+        let mut buckets = Vec::new();
+        for vpl in members.into_iter().filter(|m| !m.is_empty()) {
+            let own: Vec<PointLight> = vpl.iter().map(|&i| lights[i as usize]).collect();
+            let normal = vpl
+                .iter()
+                .map(|&i| vpls[i as usize].normal)
+                .sum::<Vec3>()
+                .normalize_or_zero();
+            let lgh = LightingGridHierarchy::build(&own, settings)?;
+            buckets.push(Bucket { vpl, normal, lgh });
+        }
+        Ok(NormalBuckets { buckets })
+    }
+
+    /// What `point` receives from every bucket at α = `alpha`, shaded by `shader`.
+    ///
+    /// Errors: those of the hierarchies' queries.
+    pub fn illuminate(
+        &self,
+        point: &ShadingPoint,
+        alpha: f32,
+        shader: &Indirect<'_>,
+    ) -> Result<Illumination, QueryError> {
+        let mut radiance = Vec3::ZERO;
+        let mut lights = 0;
+        for b in &self.buckets {
+            let blending = b.lgh.blending(alpha)?;
+            lights += b.lgh.query(point.position, &blending, |s| {
+                let vpl = (s.level == 0)
+                    .then(|| b.lgh.input_index(s.index))
+                    .flatten()
+                    .map(|i| b.vpl[i] as usize);
+                radiance += shader.shade_oriented(point, s, vpl, Some(b.normal));
+            })?;
+        }
+        Ok(Illumination { radiance, lights })
     }
 }
 
@@ -247,8 +352,8 @@ mod tests {
     /// With α so large that every VPL is inside level 0's influence region, the hierarchy
     /// hands each point every VPL at full weight: its image equals brute force over every VPL
     /// with the same shadow rays and shading, up to the order of the sums (tolerance 10⁻⁵).
-    /// (At α = 1, 4, 16 this room's error is 129%, 54% and 41%: the isotropic aggregation of
-    /// cosine-lobed VPLs; issue 14 is open on it.)
+    /// (At α = 1, 4, 16 the isotropic aggregation errs by tens of percent here, the normal
+    /// buckets by 28%, 1.7% and 0.6%: `normal_buckets_beat_isotropic_aggregation`.)
     #[test]
     fn the_hierarchy_equals_brute_force_when_every_vpl_is_level_0() {
         let (scene, vpls) = room();
@@ -295,6 +400,76 @@ mod tests {
             .rel_rmse;
         assert!(e < 1e-5, "{e}");
         assert!(exact.image.pixels.iter().any(|p| p.x > 0.0));
+    }
+
+    /// The orientation-aware aggregation against the paper's isotropic one, both against brute
+    /// force over every VPL with the same shadow rays, at α = 1, 4, 16 in the room. Measured
+    /// (32×24): isotropic 78%, 55%, 42%; buckets 28%, 1.7%, 0.60%. Without shadow rays (40×30)
+    /// the buckets gave 27%, 2.0%, 0.09%: what is left is the hierarchy's own approximation
+    /// (with isotropic VPLs and no shadows the single hierarchy gives 1.6% and 0.08% at
+    /// α = 4, 16: its lobe loss is what the buckets remove). Asserted:
+    /// the buckets win at every α, and meet issue 14's targets, ≤ 3% at α = 4 and ≤ 1% at α = 16.
+    #[test]
+    fn normal_buckets_beat_isotropic_aggregation() {
+        let (scene, vpls) = room();
+        let lights = point_lights(&vpls);
+        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
+        let buckets = NormalBuckets::build(&vpls, &GridSettings::default()).unwrap();
+        let settings = IndirectSettings {
+            h0: lgh.h0(),
+            shadow_samples: 9,
+            epsilon: 1e-4,
+            shadows: true,
+        };
+        let shader = Indirect::new(&scene, &vpls, settings);
+        let camera = Camera::new(
+            Vec3::new(0.4, 1.2, 3.0),
+            Vec3::new(0.0, 0.6, 0.0),
+            Vec3::Y,
+            50.0,
+            32,
+            24,
+        )
+        .unwrap();
+        let brute = BruteForce::new(&lights).unwrap();
+        let exact = render_with_shader(
+            &scene,
+            &camera,
+            &brute,
+            |p, s| shader.shade(p, s, Some(s.index as usize)),
+            |_| {},
+        )
+        .unwrap();
+        for alpha in [1.0f32, 4.0, 16.0] {
+            let backend = LghBackend::new(&lgh, alpha).unwrap();
+            let shade = |p: &ShadingPoint, s: &LightSample| {
+                let vpl = if s.level == 0 {
+                    lgh.input_index(s.index)
+                } else {
+                    None
+                };
+                shader.shade(p, s, vpl)
+            };
+            let iso = render_with_shader(&scene, &camera, &backend, shade, |_| {}).unwrap();
+            let oriented = crate::render::render_points(
+                &scene,
+                &camera,
+                |p| buckets.illuminate(p, alpha, &shader),
+                |_| {},
+            )
+            .unwrap();
+            let e =
+                |r: &crate::Rendered| lgh_image::compare(&r.image, &exact.image).unwrap().rel_rmse;
+            let (iso, oriented) = (e(&iso), e(&oriented));
+            println!("alpha {alpha}: isotropic {iso:.4}, buckets {oriented:.4}");
+            assert!(oriented < iso, "α = {alpha}: {oriented} against {iso}");
+            let target = match alpha {
+                4.0 => 0.03,
+                16.0 => 0.01,
+                _ => 1.0,
+            };
+            assert!(oriented <= target, "α = {alpha}: {oriented}");
+        }
     }
 
     /// A VPL lights only the side its normal faces, and a wall between hides it.

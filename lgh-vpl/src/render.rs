@@ -15,7 +15,7 @@ use std::fmt;
 
 use lgh_core::glam::Vec3;
 use lgh_core::reflection::reflected;
-use lgh_core::{LightSample, ManyLights, QueryError, ShadingPoint};
+use lgh_core::{Illumination, LightSample, ManyLights, QueryError, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
@@ -141,6 +141,25 @@ where
     B: ManyLights + Sync,
     F: Fn(&ShadingPoint, &LightSample) -> Vec3 + Sync,
 {
+    render_points(
+        scene,
+        camera,
+        |point| backend.illuminate(point, &mut |light: &LightSample| shade(point, light)),
+        progress,
+    )
+}
+
+/// The render loop itself: `illuminate(point)` is what each pixel's surface point receives
+/// (a backend's sum, or several backends' together).
+pub fn render_points<F>(
+    scene: &Scene,
+    camera: &Camera,
+    illuminate: F,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Rendered, RenderError>
+where
+    F: Fn(&ShadingPoint) -> Result<Illumination, QueryError> + Sync,
+{
     let width = camera.width();
     let mut image = Image::new(width, camera.height());
     let mut lights_map = vec![0u32; image.pixels.len()];
@@ -156,9 +175,7 @@ where
                 let Some(point) = scene.first_hit(origin, dir) else {
                     continue;
                 };
-                let sum = backend
-                    .illuminate(&point, &mut |light: &LightSample| shade(&point, light))
-                    .map_err(|error| RenderError::Query { x, y, error })?;
+                let sum = illuminate(&point).map_err(|error| RenderError::Query { x, y, error })?;
                 *px = sum.radiance;
                 *cost = sum.lights;
                 pixels += 1;
