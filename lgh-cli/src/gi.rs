@@ -92,8 +92,20 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     let mut lights = area_lights(&mesh);
     let emissive = lights.len();
     lights.extend(given);
+    if lights.is_empty() {
+        return Err(lgh_vpl::vpl::VplError::NoLights.into());
+    }
     let (lo, hi) = mesh.bounds();
     let triangles = mesh.triangles().len();
+    let defaulted = (0..triangles as u32)
+        .filter(|&t| mesh.material(t) == lgh_vpl::DEFAULT_MATERIAL)
+        .count();
+    if defaulted > 0 {
+        eprintln!(
+            "lgh gi: {defaulted} of {triangles} triangles have no material (no MTL, or one that \
+             does not define theirs): they are Lambertian with albedo 0.5"
+        );
+    }
     let scene = Scene::new(mesh);
     let camera = match &args.camera {
         Some(s) => {

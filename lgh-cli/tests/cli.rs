@@ -764,6 +764,27 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
         &["gi", "--obj", s, "--light", "point:0,1", "--out", "x.exr"],
         "point:X,Y,Z,R,G,B",
     );
+    // A mesh without materials renders, and says they were defaulted.
+    let out = dir.path().join("small.exr");
+    let o = lgh(&[
+        "gi",
+        "--obj",
+        s,
+        "--light",
+        "point:0.2,0.2,1,1,1,1",
+        "--vpls",
+        "10",
+        "--width",
+        "4",
+        "--height",
+        "4",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("1 of 1 triangles have no material"), "{err}");
     if !cornell.exists() {
         eprintln!("SKIPPED: {} is not here", cornell.display());
         return;
