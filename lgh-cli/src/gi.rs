@@ -4,14 +4,16 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_core::{BruteForce, GridSettings, LghBackend, LightSample, LightingGridHierarchy};
+use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy};
 use lgh_volume::render::{Camera, Framing, Up};
 use lgh_volume::Method;
-use lgh_vpl::indirect::{point_lights, Indirect, IndirectSettings, NormalBuckets};
+use lgh_vpl::indirect::{
+    point_lights, render_brute, render_buckets, render_lgh, Indirect, IndirectSettings,
+    NormalBuckets,
+};
 use lgh_vpl::primary::{area_lights, PrimaryLight};
-use lgh_vpl::render::render_points;
 use lgh_vpl::vpl::{trace, VplSettings};
-use lgh_vpl::{render_with_shader, Mesh, Scene};
+use lgh_vpl::{Mesh, Scene};
 
 use crate::{output, progress};
 
@@ -136,31 +138,19 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     );
     let bar = progress::bar(args.height as u64, "rendering", args.quiet);
     let t = Instant::now();
+    let progress = |n: usize| bar.inc(n as u64);
     let rendered = match (args.backend, args.aggregation) {
         (Method::Lgh, Aggregation::Buckets) => {
             let buckets = NormalBuckets::build(&traced.vpls, &GridSettings::default())?;
-            crate::check_alpha(args.alpha)?;
-            render_points(
-                &scene,
-                &camera,
-                |p| buckets.illuminate(p, args.alpha, &shader),
-                |n| bar.inc(n as u64),
-            )?
+            render_buckets(&scene, &camera, &buckets, args.alpha, &shader, progress)?
         }
         (Method::Lgh, Aggregation::Isotropic) => {
             let backend = LghBackend::new(&lgh, args.alpha)?;
-            let shade = |p: &lgh_core::ShadingPoint, s: &LightSample| {
-                let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
-                shader.shade(p, s, vpl)
-            };
-            render_with_shader(&scene, &camera, &backend, shade, |n| bar.inc(n as u64))?
+            render_lgh(&scene, &camera, &backend, &shader, progress)?
         }
         (Method::Brute, _) => {
-            let backend = BruteForce::new(&point)?;
-            let shade = |p: &lgh_core::ShadingPoint, s: &LightSample| {
-                shader.shade(p, s, Some(s.index as usize))
-            };
-            render_with_shader(&scene, &camera, &backend, shade, |n| bar.inc(n as u64))?
+            let brute = BruteForce::new(&point)?;
+            render_brute(&scene, &camera, &brute, &shader, progress)?
         }
     };
     bar.finish_and_clear();
