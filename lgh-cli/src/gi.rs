@@ -1,10 +1,11 @@
-//! `lgh gi`: indirect illumination of an OBJ scene from virtual point lights (paper Sec. 6.4,
-//! Fig. 13), shaded through the hierarchy or brute force with shadow rays.
+//! `lgh gi` and `lgh bench gi`: indirect illumination of an OBJ scene from virtual point lights
+//! (paper Sec. 6.4, Fig. 13), shaded through the hierarchy or brute force with shadow rays.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy};
+use lgh_core::glam::Vec3;
+use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
 use lgh_volume::render::{Camera, Framing, Up};
 use lgh_volume::Method;
 use lgh_vpl::indirect::{
@@ -12,8 +13,9 @@ use lgh_vpl::indirect::{
     NormalBuckets,
 };
 use lgh_vpl::primary::{area_lights, PrimaryLight};
-use lgh_vpl::vpl::{trace, VplSettings};
-use lgh_vpl::{Mesh, Scene};
+use lgh_vpl::vpl::{trace, VplSettings, Vpls};
+use lgh_vpl::{Mesh, Rendered, Scene};
+use serde_json::json;
 
 use crate::{output, progress};
 
@@ -26,9 +28,18 @@ pub enum Aggregation {
     Isotropic,
 }
 
-/// Arguments of `lgh gi`.
+impl Aggregation {
+    fn name(self) -> &'static str {
+        match self {
+            Aggregation::Buckets => "buckets",
+            Aggregation::Isotropic => "isotropic",
+        }
+    }
+}
+
+/// What `lgh gi` and `lgh bench gi` share: the scene, its lights and VPLs, the shading.
 #[derive(Debug, clap::Args)]
-pub struct GiArgs {
+pub struct SceneArgs {
     /// The scene (OBJ, with its MTL files beside it; emissive `Ke` faces are area lights).
     #[arg(long)]
     pub obj: PathBuf,
@@ -45,9 +56,6 @@ pub struct GiArgs {
     /// Seed of the light paths.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// The paper's α (backend lgh).
-    #[arg(long, default_value_t = 4.0)]
-    pub alpha: f32,
     /// Shadow samples of a coarse light (Fig. 11d uses 9; 0 shades it as a point, Fig. 11c).
     #[arg(long, default_value_t = 9)]
     pub shadow_samples: u32,
@@ -59,9 +67,6 @@ pub struct GiArgs {
     /// paper; it wins: README), or `isotropic`, the paper's one hierarchy of isotropic points.
     #[arg(long, value_enum, default_value_t = Aggregation::Buckets)]
     pub aggregation: Aggregation,
-    /// Many-lights method.
-    #[arg(long, value_enum, default_value_t = Method::Lgh)]
-    pub backend: Method,
     /// Image width in pixels.
     #[arg(long, default_value_t = 640)]
     pub width: usize,
@@ -71,120 +76,279 @@ pub struct GiArgs {
     /// Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (default: the scene's box, seen from +z, y up).
     #[arg(long, allow_negative_numbers = true)]
     pub camera: Option<String>,
-    /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
-    #[arg(long)]
-    pub out: PathBuf,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
 }
 
-/// Runs `lgh gi`.
-pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
-    crate::check_alpha(args.alpha)?;
-    lgh_volume::render::check_image_size(args.width, args.height)?;
-    output::check_out(&args.out)?;
-    let given: Vec<PrimaryLight> = args
-        .lights
-        .iter()
-        .map(|s| s.parse())
-        .collect::<Result<_, _>>()?;
-    let t = Instant::now();
-    let mesh = Mesh::load_obj(&args.obj)?;
-    let mut lights = area_lights(&mesh);
-    let emissive = lights.len();
-    lights.extend(given);
-    if lights.is_empty() {
-        return Err(lgh_vpl::vpl::VplError::NoLights.into());
-    }
-    let (lo, hi) = mesh.bounds();
-    let triangles = mesh.triangles().len();
-    let defaulted = (0..triangles as u32)
-        .filter(|&t| mesh.material(t) == lgh_vpl::DEFAULT_MATERIAL)
-        .count();
-    if defaulted > 0 {
-        eprintln!(
-            "lgh gi: {defaulted} of {triangles} triangles have no material (no MTL, or one that \
-             does not define theirs): they are Lambertian with albedo 0.5"
-        );
-    }
-    let scene = Scene::new(mesh);
-    let camera = match &args.camera {
-        Some(s) => {
-            crate::explosion::parse_camera(s, lgh_core::glam::Vec3::Y, args.width, args.height)?
+/// Arguments of `lgh gi`.
+#[derive(Debug, clap::Args)]
+pub struct GiArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The paper's α (backend lgh).
+    #[arg(long, default_value_t = 4.0)]
+    pub alpha: f32,
+    /// Many-lights method.
+    #[arg(long, value_enum, default_value_t = Method::Lgh)]
+    pub backend: Method,
+    /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Arguments of `lgh bench gi`.
+#[derive(Debug, clap::Args)]
+pub struct BenchGiArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The α values to run, comma-separated (the paper's Fig. 13: 1, 4, 16).
+    #[arg(long, default_value = "1,4,16")]
+    pub alphas: String,
+    /// Shading points (about): the image is rendered at the resolution of that many pixels,
+    /// framed as `--width × --height`, by brute force and by the hierarchy alike.
+    #[arg(long, default_value_t = 4096)]
+    pub pixels: usize,
+    /// Folder for the images and their difference images (`gi-brute.exr`, `gi-alpha-A.exr`,
+    /// `gi-alpha-A-diff.png`); none written without it.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// A scene ready to shade: its VPLs, their hierarchy, the camera.
+struct Prepared {
+    scene: Scene,
+    traced: Vpls,
+    point: Vec<PointLight>,
+    lgh: LightingGridHierarchy,
+    camera: Camera,
+    settings: IndirectSettings,
+    primary: usize,
+    emissive: usize,
+    triangles: usize,
+}
+
+impl Prepared {
+    /// Loads the scene, gathers its lights, traces the VPLs and builds their hierarchy, for an
+    /// image of `width × height`.
+    fn new(args: &SceneArgs, width: usize, height: usize) -> Result<Self, crate::Error> {
+        lgh_volume::render::check_image_size(width, height)?;
+        let given: Vec<PrimaryLight> = args
+            .lights
+            .iter()
+            .map(|s| s.parse())
+            .collect::<Result<_, _>>()?;
+        let mesh = Mesh::load_obj(&args.obj)?;
+        let mut lights = area_lights(&mesh);
+        let emissive = lights.len();
+        lights.extend(given);
+        if lights.is_empty() {
+            return Err(lgh_vpl::vpl::VplError::NoLights.into());
         }
-        None => Camera::frame_up(lo, hi, args.width, args.height, Up::Y)?,
-    };
-    let settings = VplSettings {
-        count: args.vpls,
-        max_bounces: args.bounces,
-        seed: args.seed,
-    };
-    let traced = trace(&scene, &lights, &settings)?;
-    let load_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let point = point_lights(&traced.vpls);
-    let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
-    let build_s = t.elapsed().as_secs_f64();
-    let shader = Indirect::new(
-        &scene,
-        &traced.vpls,
-        IndirectSettings {
+        let (lo, hi) = mesh.bounds();
+        let triangles = mesh.triangles().len();
+        let defaulted = (0..triangles as u32)
+            .filter(|&t| mesh.material(t) == lgh_vpl::DEFAULT_MATERIAL)
+            .count();
+        if defaulted > 0 {
+            eprintln!(
+                "lgh gi: {defaulted} of {triangles} triangles have no material (no MTL, or one \
+                 that does not define theirs): they are Lambertian with albedo 0.5"
+            );
+        }
+        let scene = Scene::new(mesh);
+        let camera = match &args.camera {
+            Some(s) => crate::explosion::parse_camera(s, Vec3::Y, width, height)?,
+            None => Camera::frame_up(lo, hi, width, height, Up::Y)?,
+        };
+        let vpl_settings = VplSettings {
+            count: args.vpls,
+            max_bounces: args.bounces,
+            seed: args.seed,
+        };
+        let traced = trace(&scene, &lights, &vpl_settings)?;
+        let point = point_lights(&traced.vpls);
+        let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
+        let settings = IndirectSettings {
             h0: lgh.h0(),
             shadow_samples: args.shadow_samples,
             epsilon: 1e-4 * (hi - lo).length(),
             shadows: !args.no_shadows,
-        },
-    );
-    let bar = progress::bar(args.height as u64, "rendering", args.quiet);
+        };
+        Ok(Prepared {
+            scene,
+            traced,
+            point,
+            lgh,
+            camera,
+            settings,
+            primary: lights.len(),
+            emissive,
+            triangles,
+        })
+    }
+
+    fn shader(&self) -> Indirect<'_> {
+        Indirect::new(&self.scene, &self.traced.vpls, self.settings)
+    }
+
+    /// The image by `method` (and `aggregation`, at `alpha`, for the hierarchy).
+    fn render(
+        &self,
+        shader: &Indirect<'_>,
+        method: Method,
+        aggregation: Aggregation,
+        alpha: f32,
+        progress: impl Fn(usize) + Sync,
+    ) -> Result<Rendered, crate::Error> {
+        let (scene, camera) = (&self.scene, &self.camera);
+        Ok(match (method, aggregation) {
+            (Method::Lgh, Aggregation::Buckets) => {
+                let buckets = NormalBuckets::build(&self.traced.vpls, &GridSettings::default())?;
+                crate::check_alpha(alpha)?;
+                render_buckets(scene, camera, &buckets, alpha, shader, progress)?
+            }
+            (Method::Lgh, Aggregation::Isotropic) => {
+                let backend = LghBackend::new(&self.lgh, alpha)?;
+                render_lgh(scene, camera, &backend, shader, progress)?
+            }
+            (Method::Brute, _) => {
+                let brute = BruteForce::new(&self.point)?;
+                render_brute(scene, camera, &brute, shader, progress)?
+            }
+        })
+    }
+
+    /// Header attributes common to every image of this scene.
+    fn settings(&self, args: &SceneArgs) -> Vec<(&'static str, String)> {
+        vec![
+            ("obj", args.obj.display().to_string()),
+            ("vpls", self.traced.vpls.len().to_string()),
+            ("light_paths", self.traced.paths.to_string()),
+            ("bounces", args.bounces.to_string()),
+            ("seed", args.seed.to_string()),
+            ("shadow_samples", args.shadow_samples.to_string()),
+            ("shadows", (!args.no_shadows).to_string()),
+            ("h0", self.lgh.h0().to_string()),
+        ]
+    }
+}
+
+/// Runs `lgh gi`.
+pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
+    crate::check_alpha(args.alpha)?;
+    output::check_out(&args.out)?;
+    let s = &args.scene;
     let t = Instant::now();
-    let progress = |n: usize| bar.inc(n as u64);
-    let rendered = match (args.backend, args.aggregation) {
-        (Method::Lgh, Aggregation::Buckets) => {
-            let buckets = NormalBuckets::build(&traced.vpls, &GridSettings::default())?;
-            render_buckets(&scene, &camera, &buckets, args.alpha, &shader, progress)?
-        }
-        (Method::Lgh, Aggregation::Isotropic) => {
-            let backend = LghBackend::new(&lgh, args.alpha)?;
-            render_lgh(&scene, &camera, &backend, &shader, progress)?
-        }
-        (Method::Brute, _) => {
-            let brute = BruteForce::new(&point)?;
-            render_brute(&scene, &camera, &brute, &shader, progress)?
-        }
-    };
+    let p = Prepared::new(s, s.width, s.height)?;
+    let prepare_s = t.elapsed().as_secs_f64();
+    let shader = p.shader();
+    let bar = progress::bar(s.height as u64, "rendering", s.quiet);
+    let t = Instant::now();
+    let rendered = p.render(&shader, args.backend, s.aggregation, args.alpha, |n| {
+        bar.inc(n as u64)
+    })?;
     bar.finish_and_clear();
     let render_s = t.elapsed().as_secs_f64();
-    let mut settings = vec![
-        ("obj", args.obj.display().to_string()),
-        ("vpls", traced.vpls.len().to_string()),
-        ("light_paths", traced.paths.to_string()),
-        ("bounces", args.bounces.to_string()),
-        ("seed", args.seed.to_string()),
-        ("shadow_samples", args.shadow_samples.to_string()),
-        ("shadows", (!args.no_shadows).to_string()),
-        ("h0", lgh.h0().to_string()),
-        ("render_seconds", format!("{render_s:.3}")),
-    ];
+    let mut settings = p.settings(s);
+    settings.push(("render_seconds", format!("{render_s:.3}")));
     if args.backend == Method::Lgh {
         settings.push(("alpha", args.alpha.to_string()));
-        let aggregation = match args.aggregation {
-            Aggregation::Buckets => "buckets",
-            Aggregation::Isotropic => "isotropic",
-        };
-        settings.push(("aggregation", aggregation.to_string()));
+        settings.push(("aggregation", s.aggregation.name().to_string()));
     }
     let attrs = output::header_attributes(args.backend.name(), &settings);
     let png = output::write_exr_png(&args.out, &rendered.image, &attrs, None)?;
     say!(
-        "lgh gi: {triangles} triangles, {} primary lights ({emissive} emissive faces), {} VPLs from {} paths; traced in {load_s:.2} s, hierarchy {build_s:.2} s; {} {render_s:.1} s, {:.1} lights per point -> {}, {}",
-        lights.len(),
-        traced.vpls.len(),
-        traced.paths,
+        "lgh gi: {} triangles, {} primary lights ({} emissive faces), {} VPLs from {} paths, traced and built in {prepare_s:.2} s; {} {render_s:.1} s, {:.1} lights and {:.1} shadow rays per point -> {}, {}",
+        p.triangles,
+        p.primary,
+        p.emissive,
+        p.traced.vpls.len(),
+        p.traced.paths,
         args.backend.name(),
         rendered.mean_lights(),
+        shader.shadow_rays() as f64 / rendered.pixels_shaded.max(1) as f64,
         args.out.display(),
         png.display()
+    );
+    Ok(())
+}
+
+/// Runs `lgh bench gi`: brute force over every VPL and the hierarchy at each α on the same
+/// pixels, in the same run; JSON on stdout.
+pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
+    let s = &args.scene;
+    let alphas: Vec<f32> = args
+        .alphas
+        .split(',')
+        .map(|a| a.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--alphas {}: expected numbers like 1,4,16", args.alphas))?;
+    for &a in &alphas {
+        crate::check_alpha(a)?;
+    }
+    if let Some(dir) = &args.out {
+        if !dir.is_dir() {
+            return Err(format!("--out {}: not a folder", dir.display()).into());
+        }
+    }
+    // The framing of --width × --height at about --pixels pixels.
+    let aspect = s.width as f64 / s.height as f64;
+    let height = ((args.pixels as f64 / aspect).sqrt().round() as usize).max(1);
+    let width = ((height as f64 * aspect).round() as usize).max(1);
+    let p = Prepared::new(s, width, height)?;
+    let write = |name: &str, r: &Rendered, extra: &[(&'static str, String)]| {
+        if let Some(dir) = &args.out {
+            let mut settings = p.settings(s);
+            settings.extend_from_slice(extra);
+            let attrs = output::header_attributes(name, &settings);
+            output::write_exr_png(&dir.join(format!("gi-{name}.exr")), &r.image, &attrs, None)?;
+        }
+        Ok::<(), crate::Error>(())
+    };
+    let timed = |method, alpha| {
+        let shader = p.shader();
+        let bar = progress::bar(height as u64, "rendering", s.quiet);
+        let t = Instant::now();
+        let r = p.render(&shader, method, s.aggregation, alpha, |n| bar.inc(n as u64));
+        bar.finish_and_clear();
+        r.map(|r| (r, t.elapsed().as_secs_f64(), shader.shadow_rays()))
+    };
+    let (exact, brute_s, brute_rays) = timed(Method::Brute, 0.0)?;
+    write("brute", &exact, &[])?;
+    let per_pixel = |n: u64, r: &Rendered| n as f64 / r.pixels_shaded.max(1) as f64;
+    let mut runs = Vec::new();
+    for &alpha in &alphas {
+        let (r, seconds, rays) = timed(Method::Lgh, alpha)?;
+        let rel = lgh_image::compare(&r.image, &exact.image).map_or(f64::NAN, |e| e.rel_rmse);
+        let name = format!("alpha-{alpha}");
+        write(&name, &r, &[("alpha", alpha.to_string())])?;
+        if let Some(dir) = &args.out {
+            let diff = dir.join(format!("gi-{name}-diff.png"));
+            let max = lgh_image::compare(&r.image, &exact.image).map_or(0.0, |e| e.max_abs);
+            lgh_image::difference_png(&diff, &r.image, &exact.image, max as f32)?;
+        }
+        runs.push(json!({
+            "alpha": alpha,
+            "lights_per_point": r.mean_lights(),
+            "shadow_rays_per_pixel": per_pixel(rays, &r),
+            "seconds": seconds,
+            "brute_seconds": brute_s,
+            "rel_rmse": if rel.is_finite() { Some(rel) } else { None },
+        }));
+    }
+    say!(
+        "{}",
+        json!({
+            "scene": s.obj.display().to_string(),
+            "vpls": p.traced.vpls.len(),
+            "aggregation": s.aggregation.name(),
+            "pixels": exact.pixels_shaded,
+            "width": width,
+            "height": height,
+            "brute_shadow_rays_per_pixel": per_pixel(brute_rays, &exact),
+            "runs": runs,
+        })
     );
     Ok(())
 }

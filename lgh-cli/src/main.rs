@@ -52,7 +52,7 @@ enum Command {
     Explosion(Box<explosion::ExplosionArgs>),
     /// Indirect illumination of an OBJ scene from virtual point lights, with shadow rays
     /// (EXR + PNG).
-    Gi(gi::GiArgs),
+    Gi(Box<gi::GiArgs>),
     /// Evaluate unshadowed lighting L(x) = Σ B·I·g(d) at every point of a PLY point cloud.
     Probes(probes::ProbesArgs),
     /// Describe the grids of an OpenVDB file (type, voxel size, active voxels, bounds, statistics).
@@ -78,6 +78,9 @@ enum BenchCommand {
     /// The paper's Table 1 for one procedural frame: lights, cube-map bytes and precompute
     /// seconds per level, render seconds, against ray-marched and no shadows in the same run.
     Table1(bench_table1::Table1Args),
+    /// Indirect light from VPLs (the paper's Fig. 13): the hierarchy at several α against brute
+    /// force over every VPL, on the same pixels, in the same run.
+    Gi(gi::BenchGiArgs),
 }
 
 /// The CLI's error: any library's typed error or a message, shown as one line by `main`.
@@ -149,6 +152,9 @@ fn main() {
         Command::Demo(a) => demo::run(a),
         Command::Explosion(a) => explosion::run(a),
         Command::Gi(a) => gi::run(a),
+        Command::Bench {
+            which: BenchCommand::Gi(a),
+        } => gi::bench(a),
         Command::Probes(a) => probes::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Compare(a) => compare::run(a),

@@ -815,3 +815,56 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
         assert!(get("lgh:vpls").parse::<usize>().unwrap() >= 300);
     }
 }
+
+/// `lgh bench gi` prints the JSON keys for each α, measured against brute force on the
+/// same pixels, and writes the images and their difference images.
+#[test]
+fn bench_gi_prints_the_runs_against_brute_force() {
+    let cornell = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data/meshes/cornellbox_original/CornellBox-Original.obj");
+    if !cornell.exists() {
+        eprintln!("SKIPPED: {} is not here", cornell.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = lgh(&[
+        "bench",
+        "gi",
+        "--obj",
+        cornell.to_str().unwrap(),
+        "--vpls",
+        "300",
+        "--pixels",
+        "64",
+        "--alphas",
+        "1,4",
+        "--quiet",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["vpls"].as_u64().unwrap() >= 300, "{v}");
+    assert!(v["scene"]
+        .as_str()
+        .unwrap()
+        .ends_with("CornellBox-Original.obj"));
+    let runs = v["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2);
+    for (run, alpha) in runs.iter().zip([1.0, 4.0]) {
+        assert_eq!(run["alpha"].as_f64().unwrap(), alpha);
+        for key in [
+            "lights_per_point",
+            "shadow_rays_per_pixel",
+            "seconds",
+            "brute_seconds",
+        ] {
+            assert!(run[key].as_f64().unwrap() > 0.0, "{key}: {run}");
+        }
+        let e = run["rel_rmse"].as_f64().unwrap();
+        assert!(e.is_finite() && e >= 0.0, "{run}");
+        let diff = dir.path().join(format!("gi-alpha-{alpha}-diff.png"));
+        assert!(diff.is_file(), "{}", diff.display());
+    }
+    assert!(dir.path().join("gi-brute.exr").is_file());
+}

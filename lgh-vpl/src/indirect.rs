@@ -65,6 +65,8 @@ pub struct Indirect<'a> {
     scene: &'a Scene,
     vpls: &'a [Vpl],
     settings: IndirectSettings,
+    /// Shadow rays traced so far.
+    rays: std::sync::atomic::AtomicU64,
 }
 
 impl<'a> Indirect<'a> {
@@ -75,7 +77,14 @@ impl<'a> Indirect<'a> {
             scene,
             vpls,
             settings,
+            rays: std::sync::atomic::AtomicU64::new(0),
         }
+    }
+
+    /// Shadow rays this shader has traced.
+    #[must_use]
+    pub fn shadow_rays(&self) -> u64 {
+        self.rays.load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// The radiance `light` sends towards the viewer from `point`, visibility included. `vpl`
@@ -100,7 +109,13 @@ impl<'a> Indirect<'a> {
             return Vec3::ZERO;
         };
         let from = point.position + normal * self.settings.epsilon;
-        let occluded = |to: Vec3| self.settings.shadows && self.scene.bvh().occluded(from, to);
+        let occluded = |to: Vec3| {
+            if !self.settings.shadows {
+                return false;
+            }
+            self.rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            self.scene.bvh().occluded(from, to)
+        };
         if light.level == 0 {
             let Some(v) = vpl.and_then(|i| self.vpls.get(i)) else {
                 return Vec3::ZERO;
