@@ -121,6 +121,8 @@ struct Prepared {
     traced: Vpls,
     point: Vec<PointLight>,
     lgh: LightingGridHierarchy,
+    /// The normal buckets' hierarchies, built once when `--aggregation buckets`.
+    buckets: Option<NormalBuckets>,
     camera: Camera,
     settings: IndirectSettings,
     primary: usize,
@@ -169,6 +171,13 @@ impl Prepared {
         let traced = trace(&scene, &lights, &vpl_settings)?;
         let point = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
+        let buckets = match args.aggregation {
+            Aggregation::Buckets => Some(NormalBuckets::build(
+                &traced.vpls,
+                &GridSettings::default(),
+            )?),
+            Aggregation::Isotropic => None,
+        };
         let settings = IndirectSettings {
             h0: lgh.h0(),
             shadow_samples: args.shadow_samples,
@@ -180,6 +189,7 @@ impl Prepared {
             traced,
             point,
             lgh,
+            buckets,
             camera,
             settings,
             primary: lights.len(),
@@ -192,23 +202,21 @@ impl Prepared {
         Indirect::new(&self.scene, &self.traced.vpls, self.settings)
     }
 
-    /// The image by `method` (and `aggregation`, at `alpha`, for the hierarchy).
+    /// The image by `method` (the hierarchy with the aggregation it was prepared for, at
+    /// `alpha`).
     fn render(
         &self,
         shader: &Indirect<'_>,
         method: Method,
-        aggregation: Aggregation,
         alpha: f32,
         progress: impl Fn(usize) + Sync,
     ) -> Result<Rendered, crate::Error> {
         let (scene, camera) = (&self.scene, &self.camera);
-        Ok(match (method, aggregation) {
-            (Method::Lgh, Aggregation::Buckets) => {
-                let buckets = NormalBuckets::build(&self.traced.vpls, &GridSettings::default())?;
-                crate::check_alpha(alpha)?;
-                render_buckets(scene, camera, &buckets, alpha, shader, progress)?
+        Ok(match (method, &self.buckets) {
+            (Method::Lgh, Some(buckets)) => {
+                render_buckets(scene, camera, &buckets.at(alpha)?, shader, progress)?
             }
-            (Method::Lgh, Aggregation::Isotropic) => {
+            (Method::Lgh, None) => {
                 let backend = LghBackend::new(&self.lgh, alpha)?;
                 render_lgh(scene, camera, &backend, shader, progress)?
             }
@@ -245,9 +253,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     let shader = p.shader();
     let bar = progress::bar(s.height as u64, "rendering", s.quiet);
     let t = Instant::now();
-    let rendered = p.render(&shader, args.backend, s.aggregation, args.alpha, |n| {
-        bar.inc(n as u64)
-    })?;
+    let rendered = p.render(&shader, args.backend, args.alpha, |n| bar.inc(n as u64))?;
     bar.finish_and_clear();
     let render_s = t.elapsed().as_secs_f64();
     let mut settings = p.settings(s);
@@ -310,7 +316,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
         let shader = p.shader();
         let bar = progress::bar(height as u64, "rendering", s.quiet);
         let t = Instant::now();
-        let r = p.render(&shader, method, s.aggregation, alpha, |n| bar.inc(n as u64));
+        let r = p.render(&shader, method, alpha, |n| bar.inc(n as u64));
         bar.finish_and_clear();
         r.map(|r| (r, t.elapsed().as_secs_f64(), shader.shadow_rays()))
     };

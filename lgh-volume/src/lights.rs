@@ -205,14 +205,20 @@ impl ExplosionLights {
         self.prune
     }
 
-    /// Sets the hierarchy's threshold from the current intensities.
-    fn apply_prune(&mut self) -> Result<(), VolumeError> {
-        let brightest = self
-            .lights
+    /// Luminance of the frame's brightest light: what [`set_prune`](Self::set_prune)'s fraction
+    /// is of.
+    #[must_use]
+    pub fn brightest(&self) -> f32 {
+        self.lights
             .iter()
             .map(|l| lgh_core::luminance(l.intensity))
-            .fold(0.0f32, f32::max);
-        self.hierarchy.set_prune_below(self.prune * brightest)?;
+            .fold(0.0f32, f32::max)
+    }
+
+    /// Sets the hierarchy's threshold from the current intensities.
+    fn apply_prune(&mut self) -> Result<(), VolumeError> {
+        self.hierarchy
+            .set_prune_below(self.prune * self.brightest())?;
         Ok(())
     }
 
@@ -466,15 +472,9 @@ mod tests {
         let mut seq = ExplosionLights::new(&[&a, &b], &m).unwrap();
         seq.set_frame(&a, &m).unwrap();
         seq.set_prune(1e-3).unwrap();
-        let brightest = |l: &ExplosionLights| {
-            l.lights()
-                .iter()
-                .map(|p| lgh_core::luminance(p.intensity))
-                .fold(0.0f32, f32::max)
-        };
-        assert_eq!(seq.hierarchy().prune_below(), 1e-3 * brightest(&seq));
+        assert_eq!(seq.hierarchy().prune_below(), 1e-3 * seq.brightest());
         seq.set_frame(&b, &m).unwrap();
-        assert_eq!(seq.hierarchy().prune_below(), 1e-3 * brightest(&seq));
+        assert_eq!(seq.hierarchy().prune_below(), 1e-3 * seq.brightest());
         assert!(seq.hierarchy().prune_below() > 0.0);
         // A bad fraction changes nothing.
         assert!(seq.set_prune(f32::NAN).is_err());

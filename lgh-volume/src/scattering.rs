@@ -662,11 +662,7 @@ mod tests {
         let s = pass(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings);
         let merged = s.lights();
         assert_eq!(merged.prune(), 1e-3);
-        let brightest = merged
-            .lights()
-            .iter()
-            .map(|l| lgh_core::luminance(l.intensity))
-            .fold(0.0f32, f32::max);
+        let brightest = merged.brightest();
         assert_eq!(merged.hierarchy().prune_below(), 1e-3 * brightest);
         assert!(brightest > 0.0);
     }

@@ -392,8 +392,8 @@ impl Mesh {
     /// Makes material `material` emit radiance `radiance` (W / (sr m²)) from the front of its
     /// faces, as MTL's `Ke`: its triangles become area lights (`crate::primary`).
     ///
-    /// Errors: [`MeshError::IndexOutOfRange`] for a material the mesh does not have,
-    /// [`MeshError::InvalidMaterial`] for a negative or non-finite radiance.
+    /// Errors: [`MeshError::InvalidMaterial`] for a material the mesh does not have, or a
+    /// negative or non-finite radiance.
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
@@ -406,6 +406,7 @@ impl Mesh {
     /// lamp.set_emission(0, Vec3::splat(5.0))?;
     /// assert_eq!(lamp.emission(0), Vec3::splat(5.0));
     /// assert!(lamp.set_emission(0, Vec3::new(1.0, -1.0, 0.0)).is_err());
+    /// assert!(lamp.set_emission(1, Vec3::ONE).is_err()); // one material only
     /// # Ok::<(), lgh_vpl::MeshError>(())
     /// ```
     pub fn set_emission(&mut self, material: u32, radiance: Vec3) -> Result<(), MeshError> {
@@ -418,7 +419,10 @@ impl Mesh {
         let slot = self
             .emission
             .get_mut(material as usize)
-            .ok_or(MeshError::IndexOutOfRange { triangle: 0 })?;
+            .ok_or(MeshError::InvalidMaterial {
+                name: format!("#{material}"),
+                reason: "the mesh has no such material",
+            })?;
         *slot = radiance;
         Ok(())
     }
