@@ -8,6 +8,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
 use lgh_volume::render::{Camera, Framing, Up};
 use lgh_volume::Method;
+use lgh_vpl::direct::{render_direct, Direct, DirectSettings};
 use lgh_vpl::indirect::{
     point_lights, render_brute, render_buckets, render_lgh, Indirect, IndirectSettings,
     NormalBuckets,
@@ -92,6 +93,14 @@ pub struct GiArgs {
     /// Many-lights method.
     #[arg(long, value_enum, default_value_t = Method::Lgh)]
     pub backend: Method,
+    /// Only the VPLs' indirect light (what `lgh bench gi` compares): no direct light from the
+    /// primary lights, no emitters seen.
+    #[arg(long)]
+    pub no_direct: bool,
+    /// Strata per side of an area light's direct-light pattern: N² shadow rays per emissive
+    /// triangle and shading point, a pattern fixed per surface point (no flicker).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub area_strata: u32,
     /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
     #[arg(long)]
     pub out: PathBuf,
@@ -125,7 +134,8 @@ struct Prepared {
     buckets: Option<NormalBuckets>,
     camera: Camera,
     settings: IndirectSettings,
-    primary: usize,
+    /// The primary lights: emissive triangles, then `--light`s.
+    lights: Vec<PrimaryLight>,
     emissive: usize,
     triangles: usize,
 }
@@ -192,7 +202,7 @@ impl Prepared {
             buckets,
             camera,
             settings,
-            primary: lights.len(),
+            lights,
             emissive,
             triangles,
         })
@@ -253,11 +263,31 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     let shader = p.shader();
     let bar = progress::bar(s.height as u64, "rendering", s.quiet);
     let t = Instant::now();
-    let rendered = p.render(&shader, args.backend, args.alpha, |n| bar.inc(n as u64))?;
+    let mut rendered = p.render(&shader, args.backend, args.alpha, |n| bar.inc(n as u64))?;
     bar.finish_and_clear();
     let render_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let direct_settings = DirectSettings {
+        area_strata: args.area_strata,
+        epsilon: p.settings.epsilon,
+    };
+    let direct = Direct::new(&p.scene, &p.lights, direct_settings);
+    if !args.no_direct {
+        let bar = progress::bar(s.height as u64, "direct light", s.quiet);
+        let lit = render_direct(&p.scene, &p.camera, &direct, |n| bar.inc(n as u64))?;
+        bar.finish_and_clear();
+        for (px, d) in rendered.image.pixels.iter_mut().zip(&lit.image.pixels) {
+            *px += *d;
+        }
+    }
+    let direct_s = t.elapsed().as_secs_f64();
     let mut settings = p.settings(s);
     settings.push(("render_seconds", format!("{render_s:.3}")));
+    settings.push(("direct", (!args.no_direct).to_string()));
+    if !args.no_direct {
+        settings.push(("area_strata", args.area_strata.to_string()));
+        settings.push(("direct_seconds", format!("{direct_s:.3}")));
+    }
     if args.backend == Method::Lgh {
         settings.push(("alpha", args.alpha.to_string()));
         settings.push(("aggregation", s.aggregation.name().to_string()));
@@ -265,15 +295,23 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     let attrs = output::header_attributes(args.backend.name(), &settings);
     let png = output::write_exr_png(&args.out, &rendered.image, &attrs, None)?;
     say!(
-        "lgh gi: {} triangles, {} primary lights ({} emissive faces), {} VPLs from {} paths, traced and built in {prepare_s:.2} s; {} {render_s:.1} s, {:.1} lights and {:.1} shadow rays per point -> {}, {}",
+        "lgh gi: {} triangles, {} primary lights ({} emissive faces), {} VPLs from {} paths, traced and built in {prepare_s:.2} s; indirect by {} {render_s:.1} s, {:.1} lights and {:.1} shadow rays per point; {} -> {}, {}",
         p.triangles,
-        p.primary,
+        p.lights.len(),
         p.emissive,
         p.traced.vpls.len(),
         p.traced.paths,
         args.backend.name(),
         rendered.mean_lights(),
         shader.shadow_rays() as f64 / rendered.pixels_shaded.max(1) as f64,
+        if args.no_direct {
+            "no direct light".to_string()
+        } else {
+            format!(
+                "direct light {direct_s:.1} s, {} shadow rays per point",
+                direct.rays_per_point()
+            )
+        },
         args.out.display(),
         png.display()
     );
@@ -349,6 +387,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "scene": s.obj.display().to_string(),
             "vpls": p.traced.vpls.len(),
             "aggregation": s.aggregation.name(),
+            "component": "indirect",
             "pixels": exact.pixels_shaded,
             "width": width,
             "height": height,

@@ -789,9 +789,10 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
         eprintln!("SKIPPED: {} is not here", cornell.display());
         return;
     }
-    for backend in ["brute", "lgh"] {
-        let out = dir.path().join(format!("{backend}.exr"));
-        let o = lgh(&[
+    let mut total = Vec::new();
+    for (backend, direct) in [("brute", true), ("lgh", true), ("lgh", false)] {
+        let out = dir.path().join(format!("{backend}-{direct}.exr"));
+        let mut args = vec![
             "gi",
             "--obj",
             cornell.to_str().unwrap(),
@@ -801,19 +802,32 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
             "16",
             "--height",
             "16",
+            "--camera",
+            "0,1,3.9,0,1,0,39",
             "--backend",
             backend,
             "--quiet",
             "--out",
             out.to_str().unwrap(),
-        ]);
+        ];
+        if !direct {
+            args.push("--no-direct");
+        }
+        let o = lgh(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let img = lgh_image::read_exr(&out).unwrap();
         assert!(img.pixels.iter().any(|p| p.x > 0.0), "{backend}");
+        total.push(img.pixels.iter().map(|p| p.x as f64).sum::<f64>());
         let get = header(&out);
         assert_eq!(get("lgh:backend"), backend);
+        assert_eq!(get("lgh:direct"), direct.to_string());
         assert!(get("lgh:vpls").parse::<usize>().unwrap() >= 300);
+        // The lamp (Ke 17, 12, 4) is in view: seen only with the direct light.
+        let brightest = img.pixels.iter().map(|p| p.x).fold(0.0, f32::max);
+        assert_eq!(brightest >= 17.0, direct, "{backend} {direct}: {brightest}");
     }
+    // The direct light adds to the indirect light.
+    assert!(total[1] > total[2], "{total:?}");
 }
 
 /// `lgh bench gi` prints the JSON keys for each α, measured against brute force on the

@@ -26,9 +26,10 @@ use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
 use lgh_core::{
     Blending, BruteForce, BuildError, GridSettings, Illumination, LghBackend, LightSample,
-    LightingGridHierarchy, Material, PointLight, QueryError, ShadingPoint,
+    LightingGridHierarchy, PointLight, QueryError, ShadingPoint,
 };
 
+use crate::brdf::brdf;
 use crate::render::{render_points, render_with_shader, RenderError, Rendered};
 use crate::scene::Scene;
 use crate::vpl::Vpl;
@@ -359,22 +360,6 @@ pub fn render_buckets(
     render_points(scene, camera, |p| buckets.illuminate(p, shader), progress)
 }
 
-/// The physical BRDF of `point` for light from the unit direction `l`.
-fn brdf(point: &ShadingPoint, normal: Vec3, l: Vec3) -> Vec3 {
-    use std::f32::consts::PI;
-    match point.material {
-        Material::Lambert { albedo } => albedo / PI,
-        Material::Phong { kd, ks, exponent } => {
-            let spec = point.view.map_or(0.0, |view| {
-                let r = 2.0 * normal.dot(l) * normal - l;
-                (exponent + 2.0) / (2.0 * PI) * r.dot(view).max(0.0).powf(exponent)
-            });
-            kd / PI + ks * spec
-        }
-        Material::Isotropic => Vec3::ZERO,
-    }
-}
-
 /// Three independent standard-normal numbers (Box–Muller).
 fn gaussian3(rng: &mut SplitMix64) -> Vec3 {
     let mut pair = || {
@@ -395,6 +380,7 @@ mod tests {
     use crate::mesh::Mesh;
     use crate::primary::PrimaryLight;
     use crate::vpl::{trace, VplSettings};
+    use lgh_core::Material;
 
     /// A room: floor, back wall and left wall of a 2-unit box, and a block on the floor that
     /// casts shadows, lit by a lamp near the ceiling.

@@ -54,7 +54,9 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod brdf;
 pub mod bvh;
+pub mod direct;
 pub mod indirect;
 pub mod mesh;
 pub mod paquette;

@@ -516,6 +516,27 @@ impl Mesh {
         a * (1.0 - u - v) + b * u + c * v
     }
 
+    /// The point of triangle `t` at `(s, r)` of the unit square, mapped so that uniform `(s, r)`
+    /// give points uniform in area (`u = √s (1 − r)`, `v = √s r`): how light paths leave an
+    /// area light and how its direct light is sampled.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_vpl::{Mesh, DEFAULT_MATERIAL};
+    ///
+    /// // A unit square; its triangle 0 has corners 0, x and x + y.
+    /// let square = Mesh::quad([Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y], DEFAULT_MATERIAL)?;
+    /// assert_eq!(square.sample_point(0, 0.0, 0.5), Vec3::ZERO); // s = 0: corner 0
+    /// assert_eq!(square.sample_point(0, 1.0, 0.0), Vec3::X); // s = 1, r = 0: corner 1
+    /// assert_eq!(square.sample_point(0, 1.0, 1.0), Vec3::X + Vec3::Y); // corner 2
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    #[must_use]
+    pub fn sample_point(&self, t: u32, s: f32, r: f32) -> Vec3 {
+        let su = s.sqrt();
+        self.point(t, su * (1.0 - r), su * r)
+    }
+
     /// The bounding box `(lo, hi)` of the vertices the triangles use.
     #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {

@@ -19,6 +19,7 @@ use lgh_core::{Illumination, LightSample, ManyLights, QueryError, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
+use crate::bvh::Ray;
 use crate::scene::Scene;
 use crate::Camera;
 
@@ -149,8 +150,8 @@ where
     )
 }
 
-/// The render loop itself: `illuminate(point)` is what each pixel's surface point receives
-/// (a backend's sum, or several backends' together).
+/// The render loop of a many-lights backend: `illuminate(point)` is what each pixel's surface
+/// point receives (a backend's sum, or several backends' together).
 pub fn render_points<F>(
     scene: &Scene,
     camera: &Camera,
@@ -160,30 +161,48 @@ pub fn render_points<F>(
 where
     F: Fn(&ShadingPoint) -> Result<Illumination, QueryError> + Sync,
 {
+    render_surfaces(scene, camera, |point, _| illuminate(point), progress)
+}
+
+/// The render loop itself: `illuminate(point, triangle)` is what each pixel's surface point,
+/// on mesh triangle `triangle`, sends to the camera.
+pub fn render_surfaces<F>(
+    scene: &Scene,
+    camera: &Camera,
+    illuminate: F,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Rendered, RenderError>
+where
+    F: Fn(&ShadingPoint, u32) -> Result<Illumination, QueryError> + Sync,
+{
     let width = camera.width();
     let mut image = Image::new(width, camera.height());
     let mut lights_map = vec![0u32; image.pixels.len()];
-    let rows: Vec<Result<u64, RenderError>> = image
-        .pixels
-        .par_chunks_mut(width)
-        .zip(lights_map.par_chunks_mut(width))
-        .enumerate()
-        .map(|(y, (row, costs))| {
-            let mut pixels = 0u64;
-            for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
-                let (origin, dir) = camera.ray(x, y);
-                let Some(point) = scene.first_hit(origin, dir) else {
-                    continue;
-                };
-                let sum = illuminate(&point).map_err(|error| RenderError::Query { x, y, error })?;
-                *px = sum.radiance;
-                *cost = sum.lights;
-                pixels += 1;
-            }
-            progress(1);
-            Ok(pixels)
-        })
-        .collect();
+    let rows: Vec<Result<u64, RenderError>> =
+        image
+            .pixels
+            .par_chunks_mut(width)
+            .zip(lights_map.par_chunks_mut(width))
+            .enumerate()
+            .map(|(y, (row, costs))| {
+                let mut pixels = 0u64;
+                for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
+                    let (origin, dir) = camera.ray(x, y);
+                    let ray = Ray::new(origin, dir);
+                    let Some(hit) = scene.bvh().intersect(&ray) else {
+                        continue;
+                    };
+                    let point = scene.surface(&ray, &hit);
+                    let sum = illuminate(&point, hit.triangle)
+                        .map_err(|error| RenderError::Query { x, y, error })?;
+                    *px = sum.radiance;
+                    *cost = sum.lights;
+                    pixels += 1;
+                }
+                progress(1);
+                Ok(pixels)
+            })
+            .collect();
     let mut pixels_shaded = 0;
     for row in rows {
         pixels_shaded += row?;

@@ -14,9 +14,9 @@
 
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
-use lgh_core::Material;
 use rayon::prelude::*;
 
+use crate::brdf::diffuse_albedo;
 use crate::primary::PrimaryLight;
 use crate::scene::Scene;
 
@@ -253,11 +253,7 @@ impl Emitter<'_> {
             let Some(point) = self.scene.first_hit(origin, dir) else {
                 break;
             };
-            let albedo = match point.material {
-                Material::Lambert { albedo } => albedo,
-                Material::Phong { kd, .. } => kd,
-                Material::Isotropic => Vec3::ZERO,
-            };
+            let albedo = diffuse_albedo(&point.material);
             let normal = point.normal.unwrap_or(-dir);
             if albedo == Vec3::ZERO {
                 break;
@@ -300,10 +296,7 @@ impl Emitter<'_> {
             }
             PrimaryLight::Area { triangle, .. } => {
                 let mesh = self.scene.mesh();
-                let [p0, p1, p2] = mesh.corners(triangle);
-                let (u, v) = (rng.next_f32(), rng.next_f32());
-                let su = u.sqrt();
-                let p = p0 * (1.0 - su) + p1 * (su * (1.0 - v)) + p2 * (su * v);
+                let p = mesh.sample_point(triangle, rng.next_f32(), rng.next_f32());
                 let n = mesh.face_normal(triangle);
                 (p + n * self.eps, cosine(n, rng))
             }
@@ -329,6 +322,7 @@ fn cosine(normal: Vec3, rng: &mut SplitMix64) -> Vec3 {
 mod tests {
     use super::*;
     use crate::mesh::Mesh;
+    use lgh_core::Material;
     use std::f32::consts::PI;
 
     const GREY: Material = Material::Lambert {
