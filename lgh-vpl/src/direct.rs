@@ -171,7 +171,7 @@ impl<'a> Direct<'a> {
         let emitter = mesh.face_normal(t);
         let weight = mesh.area(t) / (n * n) as f32;
         let p = point.position;
-        let mut rng = SplitMix64(pattern_seed(p, t));
+        let mut rng = SplitMix64(point_seed(p, u64::from(t)));
         let inv = 1.0 / n as f32;
         let mut sum = Vec3::ZERO;
         for i in 0..n {
@@ -200,14 +200,13 @@ impl<'a> Direct<'a> {
     }
 }
 
-/// The seed of the area-light pattern at `p` for triangle `t`: from the bits of both, so the
-/// pattern belongs to the surface point, not to the pixel order or the thread.
-fn pattern_seed(p: Vec3, t: u32) -> u64 {
-    let mut h = SplitMix64::mix(u64::from(t));
-    for c in p.to_array() {
-        h = SplitMix64::mix(h ^ u64::from(c.to_bits()));
-    }
-    h
+/// A seed for a sequence belonging to the surface point `p` (and `salt`: the triangle of an
+/// area light's pattern, say): from their bits, so it depends on neither the pixel order nor
+/// the thread.
+pub(crate) fn point_seed(p: Vec3, salt: u64) -> u64 {
+    p.to_array().iter().fold(SplitMix64::mix(salt), |h, c| {
+        SplitMix64::mix(h ^ u64::from(c.to_bits()))
+    })
 }
 
 /// The direct light the camera sees: each pixel's surface lit by [`Direct::shade`], and the

@@ -61,6 +61,7 @@ pub mod indirect;
 pub mod mesh;
 pub mod paquette;
 pub mod primary;
+pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod vpl;
