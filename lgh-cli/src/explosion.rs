@@ -121,7 +121,7 @@ pub struct ExplosionArgs {
     pub height: usize,
     /// Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (eye, target, vertical field of view in degrees; default:
     /// framed on the smoke of all frames, seen from the front).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
     /// The world's up axis (Blender: z).
     #[arg(long, value_enum, default_value_t = UpArg::Z)]

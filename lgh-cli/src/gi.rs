@@ -5,15 +5,16 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
+use lgh_core::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
 use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
 use lgh_volume::render::{Camera, Framing, Up};
-use lgh_volume::Method;
 use lgh_vpl::direct::{render_direct, Direct, DirectSettings};
 use lgh_vpl::indirect::{
-    point_lights, render_brute, render_buckets, render_lgh, Indirect, IndirectSettings,
+    point_lights, render_buckets, render_input_lights, render_lgh, Indirect, IndirectSettings,
     NormalBuckets,
 };
 use lgh_vpl::primary::{area_lights, PrimaryLight};
+use lgh_vpl::representatives::Representatives;
 use lgh_vpl::vpl::{trace, VplSettings, Vpls};
 use lgh_vpl::{Mesh, Rendered, Scene};
 use serde_json::json;
@@ -27,6 +28,47 @@ pub enum Aggregation {
     Buckets,
     /// The paper's: one hierarchy, VPLs aggregated as isotropic points.
     Isotropic,
+}
+
+/// `lgh gi --backend`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GiBackend {
+    /// The lighting grid hierarchy at `--alpha`.
+    Lgh,
+    /// Every VPL: the exact answer of the same model.
+    Brute,
+    /// Lightcuts (Walter et al. 2005) at `--lightcuts-error`, each cluster shaded as its
+    /// representative VPL.
+    Lightcuts,
+}
+
+impl GiBackend {
+    fn name(self) -> &'static str {
+        match self {
+            GiBackend::Lgh => "lgh",
+            GiBackend::Brute => "brute",
+            GiBackend::Lightcuts => "lightcuts",
+        }
+    }
+}
+
+/// `--coarse-shadows`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CoarseShadows {
+    /// The paper's (Fig. 11d): k points drawn with the light's variance σ² (eq. 4).
+    Gaussian,
+    /// Beyond the paper: k of the VPLs the light stands for, drawn once per light by weight,
+    /// each shaded with its own lobe and shadow ray.
+    Representatives,
+}
+
+impl CoarseShadows {
+    fn name(self) -> &'static str {
+        match self {
+            CoarseShadows::Gaussian => "gaussian",
+            CoarseShadows::Representatives => "representatives",
+        }
+    }
 }
 
 impl Aggregation {
@@ -60,6 +102,10 @@ pub struct SceneArgs {
     /// Shadow samples of a coarse light (Fig. 11d uses 9; 0 shades it as a point, Fig. 11c).
     #[arg(long, default_value_t = 9)]
     pub shadow_samples: u32,
+    /// How a coarse light's k shadow samples are placed: `gaussian` (the paper's, with its
+    /// variance) or `representatives` (k of its own VPLs, beyond the paper).
+    #[arg(long, value_enum, default_value_t = CoarseShadows::Gaussian)]
+    pub coarse_shadows: CoarseShadows,
     /// No shadow rays: every VPL reaches every point it faces.
     #[arg(long)]
     pub no_shadows: bool,
@@ -68,6 +114,10 @@ pub struct SceneArgs {
     /// paper; it wins: README), or `isotropic`, the paper's one hierarchy of isotropic points.
     #[arg(long, value_enum, default_value_t = Aggregation::Buckets)]
     pub aggregation: Aggregation,
+    /// Lightcuts' relative error ε (Walter et al.'s 2%), for `--backend lightcuts` and
+    /// `lgh bench gi --lightcuts`.
+    #[arg(long, default_value_t = 0.02)]
+    pub lightcuts_error: f32,
     /// Image width in pixels.
     #[arg(long, default_value_t = 640)]
     pub width: usize,
@@ -75,7 +125,7 @@ pub struct SceneArgs {
     #[arg(long, default_value_t = 360)]
     pub height: usize,
     /// Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (default: the scene's box, seen from +z, y up).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
     /// Don't show progress.
     #[arg(long)]
@@ -91,8 +141,8 @@ pub struct GiArgs {
     #[arg(long, default_value_t = 4.0)]
     pub alpha: f32,
     /// Many-lights method.
-    #[arg(long, value_enum, default_value_t = Method::Lgh)]
-    pub backend: Method,
+    #[arg(long, value_enum, default_value_t = GiBackend::Lgh)]
+    pub backend: GiBackend,
     /// Only the VPLs' indirect light (what `lgh bench gi` compares): no direct light from the
     /// primary lights, no emitters seen.
     #[arg(long)]
@@ -118,6 +168,9 @@ pub struct BenchGiArgs {
     /// framed as `--width × --height`, by brute force and by the hierarchy alike.
     #[arg(long, default_value_t = 4096)]
     pub pixels: usize,
+    /// Also run Lightcuts (at `--lightcuts-error`) on the same pixels: the JSON's `lightcuts`.
+    #[arg(long)]
+    pub lightcuts: bool,
     /// Folder for the images and their difference images (`gi-brute.exr`, `gi-alpha-A.exr`,
     /// `gi-alpha-A-diff.png`); none written without it.
     #[arg(long)]
@@ -130,8 +183,15 @@ struct Prepared {
     traced: Vpls,
     point: Vec<PointLight>,
     lgh: LightingGridHierarchy,
+    /// Lightcuts' ε.
+    lightcuts_error: f32,
+    /// Representative VPLs of the single hierarchy's coarse lights (`--coarse-shadows
+    /// representatives`, `--aggregation isotropic`).
+    reps: Option<Representatives>,
     /// The normal buckets' hierarchies, built once when `--aggregation buckets`.
     buckets: Option<NormalBuckets>,
+    /// Lightcuts' light tree over the VPLs, when asked for.
+    tree: Option<LightTree>,
     camera: Camera,
     settings: IndirectSettings,
     /// The primary lights: emissive triangles, then `--light`s.
@@ -143,7 +203,19 @@ struct Prepared {
 impl Prepared {
     /// Loads the scene, gathers its lights, traces the VPLs and builds their hierarchy, for an
     /// image of `width × height`.
-    fn new(args: &SceneArgs, width: usize, height: usize) -> Result<Self, crate::Error> {
+    fn new(
+        args: &SceneArgs,
+        width: usize,
+        height: usize,
+        lightcuts: bool,
+    ) -> Result<Self, crate::Error> {
+        if !(args.lightcuts_error.is_finite() && args.lightcuts_error > 0.0) {
+            return Err(format!(
+                "--lightcuts-error {}: expected a positive number (0.02 is 2%)",
+                args.lightcuts_error
+            )
+            .into());
+        }
         lgh_volume::render::check_image_size(width, height)?;
         let given: Vec<PrimaryLight> = args
             .lights
@@ -181,12 +253,30 @@ impl Prepared {
         let traced = trace(&scene, &lights, &vpl_settings)?;
         let point = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
-        let buckets = match args.aggregation {
-            Aggregation::Buckets => Some(NormalBuckets::build(
-                &traced.vpls,
-                &GridSettings::default(),
-            )?),
-            Aggregation::Isotropic => None,
+        let k = args.shadow_samples;
+        let representatives = args.coarse_shadows == CoarseShadows::Representatives;
+        let (buckets, reps) = match args.aggregation {
+            Aggregation::Buckets => {
+                let b = NormalBuckets::build(&traced.vpls, &GridSettings::default())?;
+                (
+                    Some(if representatives {
+                        b.with_representatives(k)
+                    } else {
+                        b
+                    }),
+                    None,
+                )
+            }
+            Aggregation::Isotropic => (
+                None,
+                representatives.then(|| Representatives::build(&lgh, k)),
+            ),
+        };
+        let tree = if lightcuts {
+            let seed = Representative::Stochastic { seed: args.seed };
+            Some(LightTree::build(&point, seed)?)
+        } else {
+            None
         };
         let settings = IndirectSettings {
             h0: lgh.h0(),
@@ -199,7 +289,10 @@ impl Prepared {
             traced,
             point,
             lgh,
+            reps,
             buckets,
+            tree,
+            lightcuts_error: args.lightcuts_error,
             camera,
             settings,
             lights,
@@ -217,22 +310,41 @@ impl Prepared {
     fn render(
         &self,
         shader: &Indirect<'_>,
-        method: Method,
+        method: GiBackend,
         alpha: f32,
         progress: impl Fn(usize) + Sync,
     ) -> Result<Rendered, crate::Error> {
         let (scene, camera) = (&self.scene, &self.camera);
         Ok(match (method, &self.buckets) {
-            (Method::Lgh, Some(buckets)) => {
+            (GiBackend::Lgh, Some(buckets)) => {
                 render_buckets(scene, camera, &buckets.at(alpha)?, shader, progress)?
             }
-            (Method::Lgh, None) => {
+            (GiBackend::Lgh, None) => {
                 let backend = LghBackend::new(&self.lgh, alpha)?;
-                render_lgh(scene, camera, &backend, shader, progress)?
+                render_lgh(
+                    scene,
+                    camera,
+                    &backend,
+                    self.reps.as_ref(),
+                    shader,
+                    progress,
+                )?
             }
-            (Method::Brute, _) => {
+            (GiBackend::Brute, _) => {
                 let brute = BruteForce::new(&self.point)?;
-                render_brute(scene, camera, &brute, shader, progress)?
+                render_input_lights(scene, camera, &brute, shader, progress)?
+            }
+            (GiBackend::Lightcuts, _) => {
+                let tree = self
+                    .tree
+                    .as_ref()
+                    .ok_or("lightcuts: no light tree was built")?;
+                let settings = LightcutsSettings {
+                    relative_error: self.lightcuts_error,
+                    ..LightcutsSettings::default()
+                };
+                let cuts = LightcutsBackend::new(tree, settings)?;
+                render_input_lights(scene, camera, &cuts, shader, progress)?
             }
         })
     }
@@ -246,6 +358,7 @@ impl Prepared {
             ("bounces", args.bounces.to_string()),
             ("seed", args.seed.to_string()),
             ("shadow_samples", args.shadow_samples.to_string()),
+            ("coarse_shadows", args.coarse_shadows.name().to_string()),
             ("shadows", (!args.no_shadows).to_string()),
             ("h0", self.lgh.h0().to_string()),
         ]
@@ -258,7 +371,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     output::check_out(&args.out)?;
     let s = &args.scene;
     let t = Instant::now();
-    let p = Prepared::new(s, s.width, s.height)?;
+    let p = Prepared::new(s, s.width, s.height, args.backend == GiBackend::Lightcuts)?;
     let prepare_s = t.elapsed().as_secs_f64();
     let shader = p.shader();
     let bar = progress::bar(s.height as u64, "rendering", s.quiet);
@@ -288,7 +401,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
         settings.push(("area_strata", args.area_strata.to_string()));
         settings.push(("direct_seconds", format!("{direct_s:.3}")));
     }
-    if args.backend == Method::Lgh {
+    if args.backend == GiBackend::Lgh {
         settings.push(("alpha", args.alpha.to_string()));
         settings.push(("aggregation", s.aggregation.name().to_string()));
     }
@@ -340,7 +453,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
     let aspect = s.width as f64 / s.height as f64;
     let height = ((args.pixels as f64 / aspect).sqrt().round() as usize).max(1);
     let width = ((height as f64 * aspect).round() as usize).max(1);
-    let p = Prepared::new(s, width, height)?;
+    let p = Prepared::new(s, width, height, args.lightcuts)?;
     let write = |name: &str, r: &Rendered, extra: &[(&'static str, String)]| {
         if let Some(dir) = &args.out {
             let mut settings = p.settings(s);
@@ -358,41 +471,57 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
         bar.finish_and_clear();
         r.map(|r| (r, t.elapsed().as_secs_f64(), shader.shadow_rays()))
     };
-    let (exact, brute_s, brute_rays) = timed(Method::Brute, 0.0)?;
+    let (exact, brute_s, brute_rays) = timed(GiBackend::Brute, 0.0)?;
     write("brute", &exact, &[])?;
     let per_pixel = |n: u64, r: &Rendered| n as f64 / r.pixels_shaded.max(1) as f64;
-    let mut runs = Vec::new();
-    for &alpha in &alphas {
-        let (r, seconds, rays) = timed(Method::Lgh, alpha)?;
+    // One method's run against brute force: its JSON, its image and difference image.
+    let run = |method: GiBackend, alpha: f32, name: String, extra: (&'static str, String)| {
+        let (r, seconds, rays) = timed(method, alpha)?;
         let rel = lgh_image::compare(&r.image, &exact.image).map_or(f64::NAN, |e| e.rel_rmse);
-        let name = format!("alpha-{alpha}");
-        write(&name, &r, &[("alpha", alpha.to_string())])?;
+        write(&name, &r, &[extra])?;
         if let Some(dir) = &args.out {
             let diff = dir.join(format!("gi-{name}-diff.png"));
             let max = lgh_image::compare(&r.image, &exact.image).map_or(0.0, |e| e.max_abs);
             lgh_image::difference_png(&diff, &r.image, &exact.image, max as f32)?;
         }
-        runs.push(json!({
-            "alpha": alpha,
+        Ok::<_, crate::Error>(json!({
             "lights_per_point": r.mean_lights(),
             "shadow_rays_per_pixel": per_pixel(rays, &r),
             "seconds": seconds,
             "brute_seconds": brute_s,
             "rel_rmse": if rel.is_finite() { Some(rel) } else { None },
-        }));
+        }))
+    };
+    let mut runs = Vec::new();
+    for &alpha in &alphas {
+        let extra = ("alpha", alpha.to_string());
+        let mut r = run(GiBackend::Lgh, alpha, format!("alpha-{alpha}"), extra)?;
+        r["alpha"] = json!(alpha);
+        runs.push(r);
     }
+    let lightcuts = if args.lightcuts {
+        let extra = ("lightcuts_error", s.lightcuts_error.to_string());
+        let mut r = run(GiBackend::Lightcuts, 0.0, "lightcuts".into(), extra)?;
+        r["relative_error"] = json!(s.lightcuts_error);
+        Some(r)
+    } else {
+        None
+    };
     say!(
         "{}",
         json!({
             "scene": s.obj.display().to_string(),
             "vpls": p.traced.vpls.len(),
             "aggregation": s.aggregation.name(),
+            "coarse_shadows": s.coarse_shadows.name(),
+            "shadow_samples": s.shadow_samples,
             "component": "indirect",
             "pixels": exact.pixels_shaded,
             "width": width,
             "height": height,
             "brute_shadow_rays_per_pixel": per_pixel(brute_rays, &exact),
             "runs": runs,
+            "lightcuts": lightcuts,
         })
     );
     Ok(())

@@ -790,7 +790,12 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
         return;
     }
     let mut total = Vec::new();
-    for (backend, direct) in [("brute", true), ("lgh", true), ("lgh", false)] {
+    for (backend, direct) in [
+        ("brute", true),
+        ("lgh", true),
+        ("lgh", false),
+        ("lightcuts", true),
+    ] {
         let out = dir.path().join(format!("{backend}-{direct}.exr"));
         let mut args = vec![
             "gi",
@@ -852,6 +857,11 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         "64",
         "--alphas",
         "1,4",
+        "--coarse-shadows",
+        "representatives",
+        "--lightcuts",
+        "--camera",
+        "-0.2,1,3.9,0,1,0,39",
         "--quiet",
         "--out",
         dir.path().to_str().unwrap(),
@@ -881,4 +891,10 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         assert!(diff.is_file(), "{}", diff.display());
     }
     assert!(dir.path().join("gi-brute.exr").is_file());
+    assert_eq!(v["coarse_shadows"], "representatives");
+    let cuts = &v["lightcuts"];
+    assert_eq!(cuts["relative_error"].as_f64().unwrap(), 0.02f32 as f64);
+    assert!(cuts["rel_rmse"].as_f64().unwrap() >= 0.0, "{cuts}");
+    assert!(cuts["lights_per_point"].as_f64().unwrap() > 0.0, "{cuts}");
+    assert!(dir.path().join("gi-lightcuts-diff.png").is_file());
 }

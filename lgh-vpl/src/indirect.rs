@@ -25,12 +25,13 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
 use lgh_core::{
-    Blending, BruteForce, BuildError, GridSettings, Illumination, LghBackend, LightSample,
-    LightingGridHierarchy, PointLight, QueryError, ShadingPoint,
+    Blending, BuildError, GridSettings, Illumination, LghBackend, LightSample,
+    LightingGridHierarchy, ManyLights, PointLight, QueryError, ShadingPoint,
 };
 
 use crate::brdf::brdf;
 use crate::render::{render_points, render_with_shader, RenderError, Rendered};
+use crate::representatives::Representatives;
 use crate::scene::Scene;
 use crate::vpl::Vpl;
 use crate::Camera;
@@ -136,31 +137,13 @@ impl<'a> Indirect<'a> {
             return Vec3::ZERO;
         };
         let from = point.position + normal * self.settings.epsilon;
-        let occluded = |to: Vec3| {
-            if !self.settings.shadows {
-                return false;
-            }
-            self.count_ray();
-            self.scene.bvh().occluded(from, to)
-        };
+        let facing = |q: Vec3| facing(point, normal, q);
+        let occluded = |to: Vec3| self.occluded(from, to);
         if light.level == 0 {
             let Some(v) = vpl.and_then(|i| self.vpls.get(i)) else {
                 return Vec3::ZERO;
             };
-            let to_point = point.position - v.position;
-            let d = to_point.length();
-            if d == 0.0 {
-                return Vec3::ZERO;
-            }
-            let lobe = 2.0 * v.normal.dot(to_point / d).max(0.0);
-            if lobe == 0.0 {
-                return Vec3::ZERO;
-            }
-            let source = v.position + v.normal * self.settings.epsilon;
-            if occluded(source) {
-                return Vec3::ZERO;
-            }
-            return self.reflect(point, normal, v.position, light.intensity * lobe);
+            return self.shade_vpl(point, normal, v, light.intensity);
         }
         // The coarse light's own lobe, if it has one: 2 max(0, n̄·ω) towards the point.
         let toward = |q: Vec3| match lobe {
@@ -169,7 +152,7 @@ impl<'a> Indirect<'a> {
         };
         let k = self.settings.shadow_samples;
         if k == 0 || light.variance == Vec3::ZERO {
-            if occluded(light.position) {
+            if !facing(light.position) || occluded(light.position) {
                 return Vec3::ZERO;
             }
             let f = toward(light.position);
@@ -191,11 +174,63 @@ impl<'a> Indirect<'a> {
             }
             let q = light.position + offset;
             let f = toward(q);
-            if f > 0.0 && !occluded(q) {
+            if f > 0.0 && facing(q) && !occluded(q) {
                 sum += self.reflect(point, normal, q, share * f);
             }
         }
         sum
+    }
+
+    /// A coarse light shaded through its representative VPLs `reps` (indices into this
+    /// shader's VPLs; [`Representatives`](crate::representatives::Representatives)): each one
+    /// shaded as at level 0, with `1/k` of the light's blended intensity, its own cosine lobe
+    /// and its own shadow ray. With no representatives, [`shade`](Self::shade).
+    #[must_use]
+    pub fn shade_representatives(
+        &self,
+        point: &ShadingPoint,
+        light: &LightSample,
+        reps: impl ExactSizeIterator<Item = usize>,
+    ) -> Vec3 {
+        let (Some(normal), k) = (point.normal, reps.len()) else {
+            return Vec3::ZERO;
+        };
+        if k == 0 || light.level == 0 {
+            return self.shade(point, light, None);
+        }
+        let share = light.intensity / k as f32;
+        reps.filter_map(|i| self.vpls.get(i))
+            .map(|v| self.shade_vpl(point, normal, v, share))
+            .sum()
+    }
+
+    /// VPL `v` with the isotropic intensity `intensity` shaded at `point` (unit `normal`): its
+    /// cosine lobe restored (`2 max(0, n_v·ω)`, the flux unchanged) and one shadow ray.
+    fn shade_vpl(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, intensity: Vec3) -> Vec3 {
+        let to_point = point.position - v.position;
+        let d = to_point.length();
+        if d == 0.0 {
+            return Vec3::ZERO;
+        }
+        let lobe = 2.0 * v.normal.dot(to_point / d).max(0.0);
+        if lobe == 0.0 || !facing(point, normal, v.position) {
+            return Vec3::ZERO;
+        }
+        let from = point.position + normal * self.settings.epsilon;
+        let source = v.position + v.normal * self.settings.epsilon;
+        if self.occluded(from, source) {
+            return Vec3::ZERO;
+        }
+        self.reflect(point, normal, v.position, intensity * lobe)
+    }
+
+    /// Whether the mesh hides `to` from `from` (never, without shadows): one counted ray.
+    fn occluded(&self, from: Vec3, to: Vec3) -> bool {
+        if !self.settings.shadows {
+            return false;
+        }
+        self.count_ray();
+        self.scene.bvh().occluded(from, to)
     }
 
     /// Radiance reflected towards the viewer at `point` (unit `normal`) from a point light of
@@ -216,6 +251,13 @@ impl<'a> Indirect<'a> {
     }
 }
 
+/// Whether `q` is in front of the surface at `point` (unit `normal`): a light behind its plane
+/// gives nothing (`reflect` says so too), and is tested first to spare its shadow ray.
+#[inline]
+fn facing(point: &ShadingPoint, normal: Vec3, q: Vec3) -> bool {
+    normal.dot(q - point.position) > 0.0
+}
+
 /// An orientation-aware aggregation, beyond the paper: the VPLs split by the axis their normal
 /// points along most (±x, ±y, ±z), one hierarchy per bucket, whose coarse lights emit the cosine
 /// lobe about their bucket's mean normal. In rooms of axis-aligned walls each bucket's normals
@@ -231,6 +273,8 @@ struct Bucket {
     /// Unit mean normal of its VPLs.
     normal: Vec3,
     lgh: LightingGridHierarchy,
+    /// Its coarse lights' representative VPLs, if they shade through them.
+    reps: Option<Representatives>,
 }
 
 impl NormalBuckets {
@@ -261,9 +305,24 @@ impl NormalBuckets {
                 .sum::<Vec3>()
                 .normalize_or_zero();
             let lgh = LightingGridHierarchy::build(&own, settings)?;
-            buckets.push(Bucket { vpl, normal, lgh });
+            buckets.push(Bucket {
+                vpl,
+                normal,
+                lgh,
+                reps: None,
+            });
         }
         Ok(NormalBuckets { buckets })
+    }
+
+    /// The same buckets, their coarse lights shaded through `k` representative VPLs each
+    /// ([`Representatives`]) instead of Gaussian samples about their mean normal's lobe.
+    #[must_use]
+    pub fn with_representatives(mut self, k: u32) -> Self {
+        for b in &mut self.buckets {
+            b.reps = Some(Representatives::build(&b.lgh, k));
+        }
+        self
     }
 
     /// The buckets queried at α = `alpha`: each bucket's blending, computed once for every
@@ -302,11 +361,23 @@ impl BucketsAt<'_> {
         let mut lights = 0;
         for (b, blending) in self.buckets.buckets.iter().zip(&self.blendings) {
             lights += b.lgh.query(point.position, blending, |s| {
-                let vpl = (s.level == 0)
-                    .then(|| b.lgh.input_index(s.index))
-                    .flatten()
-                    .map(|i| b.vpl[i] as usize);
-                radiance += shader.shade_oriented(point, s, vpl, Some(b.normal));
+                radiance += match (&b.reps, s.level) {
+                    (Some(reps), 1..) => {
+                        let of = reps.of(s.level, s.index).iter();
+                        shader.shade_representatives(
+                            point,
+                            s,
+                            of.map(|&i| b.vpl[i as usize] as usize),
+                        )
+                    }
+                    _ => {
+                        let vpl = (s.level == 0)
+                            .then(|| b.lgh.input_index(s.index))
+                            .flatten()
+                            .map(|i| b.vpl[i] as usize);
+                        shader.shade_oriented(point, s, vpl, Some(b.normal))
+                    }
+                };
             })?;
         }
         Ok(Illumination { radiance, lights })
@@ -314,37 +385,50 @@ impl BucketsAt<'_> {
 }
 
 /// The indirect light `shader` gives each pixel through the hierarchy `backend` built over
-/// [`point_lights`] of its VPLs (the paper's isotropic aggregation).
+/// [`point_lights`] of its VPLs (the paper's isotropic aggregation), its coarse lights shaded
+/// as Gaussian volume lights (Fig. 11d) or, given `reps` of that hierarchy, through their
+/// representative VPLs.
 ///
 /// Errors: a point the hierarchy cannot be queried at ([`RenderError::Query`]).
 pub fn render_lgh(
     scene: &Scene,
     camera: &Camera,
     backend: &LghBackend<'_>,
+    reps: Option<&Representatives>,
     shader: &Indirect<'_>,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Rendered, RenderError> {
     let lgh = backend.hierarchy();
-    let shade = |p: &ShadingPoint, s: &LightSample| {
-        let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
-        shader.shade(p, s, vpl)
+    let shade = |p: &ShadingPoint, s: &LightSample| match (reps, s.level) {
+        (Some(reps), 1..) => {
+            let of = reps.of(s.level, s.index).iter();
+            shader.shade_representatives(p, s, of.map(|&i| i as usize))
+        }
+        _ => {
+            let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
+            shader.shade(p, s, vpl)
+        }
     };
     render_with_shader(scene, camera, backend, shade, progress)
 }
 
-/// The indirect light `shader` gives each pixel from every VPL (`brute` over [`point_lights`]
-/// of them, in order): the exact answer of the same model.
+/// The indirect light `shader` gives each pixel through a backend over [`point_lights`] of
+/// the VPLs (in order) whose samples are those input lights: [`lgh_core::BruteForce`], every VPL, the
+/// exact answer of the same model; or Lightcuts ([`lgh_core::LightcutsBackend`]), each
+/// cluster of its cut shaded as its representative VPL — that VPL's lobe and shadow ray — with
+/// the cluster's intensity, as Walter et al. shade a cut. (Lightcuts' error bound does not
+/// include the VPLs' lobes, up to 2: a cluster's bound can be up to twice too low.)
 ///
 /// Errors: as [`render_lgh`].
-pub fn render_brute(
+pub fn render_input_lights<B: ManyLights + Sync>(
     scene: &Scene,
     camera: &Camera,
-    brute: &BruteForce,
+    backend: &B,
     shader: &Indirect<'_>,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Rendered, RenderError> {
     let shade = |p: &ShadingPoint, s: &LightSample| shader.shade(p, s, Some(s.index as usize));
-    render_with_shader(scene, camera, brute, shade, progress)
+    render_with_shader(scene, camera, backend, shade, progress)
 }
 
 /// The indirect light `shader` gives each pixel through the normal buckets at one α.
@@ -380,7 +464,7 @@ mod tests {
     use crate::mesh::Mesh;
     use crate::primary::PrimaryLight;
     use crate::vpl::{trace, VplSettings};
-    use lgh_core::Material;
+    use lgh_core::{BruteForce, Material};
 
     /// A room: floor, back wall and left wall of a 2-unit box, and a block on the floor that
     /// casts shadows, lit by a lamp near the ceiling.
@@ -484,12 +568,12 @@ mod tests {
         /// Brute force over every VPL: the reference.
         fn exact(&self, shader: &Indirect<'_>, camera: &Camera) -> Rendered {
             let brute = BruteForce::new(&self.lights).unwrap();
-            render_brute(&self.scene, camera, &brute, shader, |_| {}).unwrap()
+            render_input_lights(&self.scene, camera, &brute, shader, |_| {}).unwrap()
         }
 
         fn isotropic(&self, shader: &Indirect<'_>, camera: &Camera, alpha: f32) -> Rendered {
             let backend = LghBackend::new(&self.lgh, alpha).unwrap();
-            render_lgh(&self.scene, camera, &backend, shader, |_| {}).unwrap()
+            render_lgh(&self.scene, camera, &backend, None, shader, |_| {}).unwrap()
         }
     }
 
@@ -535,6 +619,28 @@ mod tests {
             println!("alpha {alpha}: isotropic {iso:.4}, buckets {oriented:.4}");
             assert!(oriented < iso, "α = {alpha}: {oriented} against {iso}");
             assert!(oriented <= target, "α = {alpha}: {oriented}");
+        }
+    }
+
+    /// Representative VPLs (beyond the paper) against the paper's Gaussian shadow samples, both
+    /// through the one isotropic hierarchy with k = 9, against brute force over every VPL with
+    /// the same shadow rays. Measured (32×24): Gaussian 54.6% and 41.8% at α = 4 and 16 (the
+    /// paper's isotropic points), representatives 2.4% and 0.17%. Asserted: representatives win at α = 4
+    /// and 16 and meet issue 14's targets there, ≤ 3% and ≤ 1%.
+    #[test]
+    fn representative_vpls_beat_gaussian_samples() {
+        let f = Fixture::new();
+        let reps = Representatives::build(&f.lgh, 9);
+        let (shader, camera) = (f.shader(), Fixture::camera(32, 24));
+        let exact = f.exact(&shader, &camera);
+        for (alpha, target) in [(4.0f32, 0.03), (16.0, 0.01)] {
+            let gaussian = rel_rmse(&f.isotropic(&shader, &camera, alpha), &exact);
+            let backend = LghBackend::new(&f.lgh, alpha).unwrap();
+            let drawn = render_lgh(&f.scene, &camera, &backend, Some(&reps), &shader, |_| {});
+            let drawn = rel_rmse(&drawn.unwrap(), &exact);
+            println!("alpha {alpha}: gaussian {gaussian:.4}, representatives {drawn:.4}");
+            assert!(drawn < gaussian, "α = {alpha}: {drawn} against {gaussian}");
+            assert!(drawn <= target, "α = {alpha}: {drawn}");
         }
     }
 

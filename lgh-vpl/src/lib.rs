@@ -63,6 +63,7 @@ pub mod paquette;
 pub mod primary;
 pub mod reference;
 pub mod render;
+pub mod representatives;
 pub mod scene;
 pub mod vpl;
 

@@ -11,7 +11,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::{BruteForce, GridSettings, LightingGridHierarchy};
 use lgh_image::Image;
 use lgh_vpl::direct::{Direct, DirectSettings};
-use lgh_vpl::indirect::{point_lights, render_brute, Indirect, IndirectSettings};
+use lgh_vpl::indirect::{point_lights, render_input_lights, Indirect, IndirectSettings};
 use lgh_vpl::primary::area_lights;
 use lgh_vpl::reference::one_bounce;
 use lgh_vpl::vpl::{trace, VplSettings};
@@ -107,7 +107,7 @@ fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
         };
         let shader = Indirect::new(&scene, vpls, settings);
         let brute = BruteForce::new(&point).unwrap();
-        render_brute(&scene, &camera, &brute, &shader, |_| {})
+        render_input_lights(&scene, &camera, &brute, &shader, |_| {})
             .unwrap()
             .image
     };
