@@ -14,7 +14,7 @@ use lgh_vpl::indirect::{
     NormalBuckets,
 };
 use lgh_vpl::primary::{area_lights, PrimaryLight};
-use lgh_vpl::representatives::Representatives;
+use lgh_vpl::representatives::{Allocation, Representatives};
 use lgh_vpl::vpl::{trace, VplSettings, Vpls};
 use lgh_vpl::{Mesh, Rendered, Scene};
 use serde_json::json;
@@ -50,6 +50,15 @@ impl GiBackend {
             GiBackend::Lightcuts => "lightcuts",
         }
     }
+}
+
+/// `--sample-allocation`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SampleAllocation {
+    /// `--shadow-samples` for every coarse light.
+    Uniform,
+    /// In proportion to each coarse light's luminance against its level's mean.
+    Intensity,
 }
 
 /// `--coarse-shadows`.
@@ -106,6 +115,15 @@ pub struct SceneArgs {
     /// variance) or `representatives` (k of its own VPLs, beyond the paper).
     #[arg(long, value_enum, default_value_t = CoarseShadows::Gaussian)]
     pub coarse_shadows: CoarseShadows,
+    /// How `--coarse-shadows representatives` shares the samples among coarse lights:
+    /// `uniform`, `--shadow-samples` each; or `intensity`, in proportion to each light's
+    /// luminance over its level's mean, `--shadow-samples` on average, 1 to
+    /// `--max-shadow-samples`.
+    #[arg(long, value_enum, default_value_t = SampleAllocation::Uniform)]
+    pub sample_allocation: SampleAllocation,
+    /// The most representatives one coarse light gets with `--sample-allocation intensity`.
+    #[arg(long, default_value_t = 32)]
+    pub max_shadow_samples: u32,
     /// No shadow rays: every VPL reaches every point it faces.
     #[arg(long)]
     pub no_shadows: bool,
@@ -254,13 +272,20 @@ impl Prepared {
         let point = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
         let k = args.shadow_samples;
+        let allocation = match args.sample_allocation {
+            SampleAllocation::Uniform => Allocation::Uniform(k),
+            SampleAllocation::Intensity => Allocation::ByIntensity {
+                mean: k as f32,
+                max: args.max_shadow_samples,
+            },
+        };
         let representatives = args.coarse_shadows == CoarseShadows::Representatives;
         let (buckets, reps) = match args.aggregation {
             Aggregation::Buckets => {
                 let b = NormalBuckets::build(&traced.vpls, &GridSettings::default())?;
                 (
                     Some(if representatives {
-                        b.with_representatives(k)
+                        b.with_representatives(allocation)
                     } else {
                         b
                     }),
@@ -269,7 +294,7 @@ impl Prepared {
             }
             Aggregation::Isotropic => (
                 None,
-                representatives.then(|| Representatives::build(&lgh, k)),
+                representatives.then(|| Representatives::build_with(&lgh, allocation)),
             ),
         };
         let tree = if lightcuts {

@@ -31,7 +31,7 @@ use lgh_core::{
 
 use crate::brdf::brdf;
 use crate::render::{render_points, render_with_shader, RenderError, Rendered};
-use crate::representatives::Representatives;
+use crate::representatives::{Allocation, Representatives};
 use crate::scene::Scene;
 use crate::vpl::Vpl;
 use crate::Camera;
@@ -315,12 +315,13 @@ impl NormalBuckets {
         Ok(NormalBuckets { buckets })
     }
 
-    /// The same buckets, their coarse lights shaded through `k` representative VPLs each
+    /// The same buckets, their coarse lights shaded through representative VPLs, as many as
+    /// `allocation` says
     /// ([`Representatives`]) instead of Gaussian samples about their mean normal's lobe.
     #[must_use]
-    pub fn with_representatives(mut self, k: u32) -> Self {
+    pub fn with_representatives(mut self, allocation: Allocation) -> Self {
         for b in &mut self.buckets {
-            b.reps = Some(Representatives::build(&b.lgh, k));
+            b.reps = Some(Representatives::build_with(&b.lgh, allocation));
         }
         self
     }

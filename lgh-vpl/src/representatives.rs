@@ -24,21 +24,56 @@ use lgh_core::random::SplitMix64;
 use lgh_core::LightingGridHierarchy;
 use rayon::prelude::*;
 
-/// `k` representative input lights for every light of levels ≥ 1 of a hierarchy.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Representatives {
-    k: usize,
-    /// Level `ℓ ≥ 1` at `ℓ − 1`: `k` indices (into the slice the hierarchy was built from) per
-    /// light, in the level's order; [`NONE`] for a light with no weight.
-    levels: Vec<Vec<u32>>,
+/// How many representatives each coarse light gets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Allocation {
+    /// `k` for every light.
+    Uniform(u32),
+    /// In proportion to the light's luminance against its level's mean, `k_i = round(mean ·
+    /// ‖I_i‖ / mean_ℓ ‖I‖)`, held to `1..=max`: the samples go where the light is, since a
+    /// light's error from `k` samples scales as its contribution over `√k` (and the optimal
+    /// `k_i`, for a fixed total, as its contribution). Fixed per light, like the draws.
+    ByIntensity {
+        /// The mean `k` the rule aims at.
+        mean: f32,
+        /// The most one light gets.
+        max: u32,
+    },
 }
 
-/// Marks a light without representatives (no input light with weight: never reported).
-const NONE: u32 = u32::MAX;
+impl Allocation {
+    /// Representatives of a light of luminance `lum` on a level of mean luminance `mean_lum`.
+    #[must_use]
+    fn count(self, lum: f32, mean_lum: f64) -> usize {
+        match self {
+            Allocation::Uniform(k) => k.max(1) as usize,
+            Allocation::ByIntensity { mean, max } => {
+                let k = (f64::from(mean) * f64::from(lum) / mean_lum + 0.5).floor();
+                k.clamp(1.0, f64::from(max.max(1))) as usize
+            }
+        }
+    }
+}
+
+/// Representative input lights for every light of levels ≥ 1 of a hierarchy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Representatives {
+    /// Level `ℓ ≥ 1` at `ℓ − 1`.
+    levels: Vec<LevelReps>,
+}
+
+/// One level's representatives: those of light `i` are `reps[starts[i]..starts[i + 1]]`,
+/// indices into the slice the hierarchy was built from.
+#[derive(Clone, Debug, PartialEq)]
+struct LevelReps {
+    starts: Vec<u32>,
+    reps: Vec<u32>,
+}
 
 impl Representatives {
     /// Draws `k ≥ 1` representatives for every light of levels ≥ 1 of `lgh` (module docs), in
-    /// parallel; the result does not depend on the thread count.
+    /// parallel; the result does not depend on the thread count. Same as
+    /// [`build_with`](Self::build_with) and [`Allocation::Uniform`].
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
@@ -68,48 +103,94 @@ impl Representatives {
     /// ```
     #[must_use]
     pub fn build(lgh: &LightingGridHierarchy, k: u32) -> Self {
-        let k = k.max(1) as usize;
+        Self::build_with(lgh, Allocation::Uniform(k))
+    }
+
+    /// Draws representatives for every light of levels ≥ 1 of `lgh`, as many as `allocation`
+    /// says.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    /// use lgh_vpl::representatives::{Allocation, Representatives};
+    ///
+    /// // A row of lights, each 1.5 times brighter than the last.
+    /// let lights: Vec<PointLight> = (0..40)
+    ///     .map(|i| PointLight::new(Vec3::new(i as f32, 0.0, 0.0), Vec3::splat(1.5f32.powi(i))))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let reps = Representatives::build_with(&lgh, Allocation::ByIntensity { mean: 2.0, max: 16 });
+    /// let lit = lgh.level(1).iter().enumerate().filter(|(_, l)| l.luminance > 0.0);
+    /// let counts: Vec<usize> = lit.map(|(i, _)| reps.of(1, i as u32).len()).collect();
+    /// // The dimmest lights get one, the brightest the most allowed.
+    /// assert_eq!(counts.iter().copied().min(), Some(1));
+    /// assert_eq!(counts.iter().copied().max(), Some(16));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn build_with(lgh: &LightingGridHierarchy, allocation: Allocation) -> Self {
         let origin = lgh.origin().as_dvec3();
         let levels = (1..=lgh.max_level())
             .map(|level| {
                 let h = f64::from(lgh.h(level));
-                let n = lgh.level(level).len() as u32;
-                let per_light: Vec<Vec<u32>> = (0..n)
+                let lights = lgh.level(level);
+                let (sum, lit) = lights
+                    .iter()
+                    .filter(|l| l.luminance > 0.0)
+                    .fold((0.0f64, 0usize), |(s, n), l| {
+                        (s + f64::from(l.luminance), n + 1)
+                    });
+                let mean_lum = sum / lit.max(1) as f64;
+                let per_light: Vec<Vec<u32>> = (0..lights.len() as u32)
                     .into_par_iter()
                     .map(|i| {
                         let vertex = lgh.vertex(level, i).map_or(DVec3::NAN, |c| {
                             origin + DVec3::new(c[0].into(), c[1].into(), c[2].into()) * h
                         });
+                        let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
                         draw(lgh, level, i, vertex, h, k)
                     })
                     .collect();
-                per_light.concat()
+                let mut starts = Vec::with_capacity(per_light.len() + 1);
+                starts.push(0u32);
+                let mut reps = Vec::new();
+                for r in per_light {
+                    reps.extend(r);
+                    starts.push(reps.len() as u32);
+                }
+                LevelReps { starts, reps }
             })
             .collect();
-        Representatives { k, levels }
-    }
-
-    /// Representatives per light.
-    #[must_use]
-    pub fn k(&self) -> usize {
-        self.k
+        Representatives { levels }
     }
 
     /// The representatives of light `index` of `level ≥ 1`: indices into the slice the
     /// hierarchy was built from (empty for level 0, out of range, or a light without weight).
     #[must_use]
     pub fn of(&self, level: u8, index: u32) -> &[u32] {
-        let Some(all) = (level as usize)
+        let Some(l) = (level as usize)
             .checked_sub(1)
             .and_then(|l| self.levels.get(l))
         else {
             return &[];
         };
-        let start = index as usize * self.k;
-        match all.get(start..start + self.k) {
-            Some(r) if r[0] != NONE => r,
+        let i = index as usize;
+        match (l.starts.get(i), l.starts.get(i + 1)) {
+            (Some(&s), Some(&e)) => &l.reps[s as usize..e as usize],
             _ => &[],
         }
+    }
+
+    /// Representatives drawn in all.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.levels.iter().map(|l| l.reps.len()).sum()
+    }
+
+    /// True if no light has a representative.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 }
 
@@ -141,7 +222,7 @@ fn draw(
     });
     let total: f64 = cands.iter().map(|c| c.1).sum();
     if total <= 0.0 || !total.is_finite() {
-        return vec![NONE; k];
+        return Vec::new();
     }
     let mut rng = SplitMix64(SplitMix64::mix((u64::from(level) << 32) | u64::from(i)));
     let offset = f64::from(rng.next_f32());
