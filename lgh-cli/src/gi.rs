@@ -10,8 +10,8 @@ use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, Poin
 use lgh_volume::render::{Camera, Framing, Up};
 use lgh_vpl::direct::{render_direct, Direct, DirectSettings};
 use lgh_vpl::indirect::{
-    point_lights, render_buckets, render_input_lights, render_lgh, Indirect, IndirectSettings,
-    NormalBuckets,
+    point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
+    IndirectSettings, NormalBuckets,
 };
 use lgh_vpl::primary::{area_lights, PrimaryLight};
 use lgh_vpl::representatives::{Allocation, Representatives};
@@ -350,7 +350,9 @@ impl Prepared {
                     scene,
                     camera,
                     &backend,
-                    self.reps.as_ref(),
+                    self.reps
+                        .as_ref()
+                        .map_or(Coarse::Gaussian, Coarse::Representatives),
                     shader,
                     progress,
                 )?

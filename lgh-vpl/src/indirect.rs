@@ -207,13 +207,8 @@ impl<'a> Indirect<'a> {
     /// VPL `v` with the isotropic intensity `intensity` shaded at `point` (unit `normal`): its
     /// cosine lobe restored (`2 max(0, n_v·ω)`, the flux unchanged) and one shadow ray.
     fn shade_vpl(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, intensity: Vec3) -> Vec3 {
-        let to_point = point.position - v.position;
-        let d = to_point.length();
-        if d == 0.0 {
-            return Vec3::ZERO;
-        }
-        let lobe = 2.0 * v.normal.dot(to_point / d).max(0.0);
-        if lobe == 0.0 || !facing(point, normal, v.position) {
+        let lit = self.unshadowed(point, normal, v.position, v.normal, intensity);
+        if lit == Vec3::ZERO {
             return Vec3::ZERO;
         }
         let from = point.position + normal * self.settings.epsilon;
@@ -221,7 +216,30 @@ impl<'a> Indirect<'a> {
         if self.occluded(from, source) {
             return Vec3::ZERO;
         }
-        self.reflect(point, normal, v.position, intensity * lobe)
+        lit
+    }
+
+    /// What a cosine emitter at `q` with unit normal `n` and isotropic-equivalent intensity
+    /// `intensity` (`2 intensity max(0, n·ω)` towards `ω`) gives `point` (unit `normal`),
+    /// unshadowed.
+    fn unshadowed(
+        &self,
+        point: &ShadingPoint,
+        normal: Vec3,
+        q: Vec3,
+        n: Vec3,
+        intensity: Vec3,
+    ) -> Vec3 {
+        let to_point = point.position - q;
+        let d = to_point.length();
+        if d == 0.0 {
+            return Vec3::ZERO;
+        }
+        let lobe = 2.0 * n.dot(to_point / d).max(0.0);
+        if lobe == 0.0 || !facing(point, normal, q) {
+            return Vec3::ZERO;
+        }
+        self.reflect(point, normal, q, intensity * lobe)
     }
 
     /// Whether the mesh hides `to` from `from` (never, without shadows): one counted ray.
@@ -258,6 +276,19 @@ fn facing(point: &ShadingPoint, normal: Vec3, q: Vec3) -> bool {
     normal.dot(q - point.position) > 0.0
 }
 
+/// The dominant-axis part (0..6: +x, −x, +y, −y, +z, −z) of a unit normal.
+fn orientation(n: Vec3) -> usize {
+    let a = n.abs();
+    let axis = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    2 * axis + usize::from(n[axis] < 0.0)
+}
+
 /// An orientation-aware aggregation, beyond the paper: the VPLs split by the axis their normal
 /// points along most (±x, ±y, ±z), one hierarchy per bucket, whose coarse lights emit the cosine
 /// lobe about their bucket's mean normal. In rooms of axis-aligned walls each bucket's normals
@@ -285,16 +316,7 @@ impl NormalBuckets {
         let lights = point_lights(vpls);
         let mut members: [Vec<u32>; 6] = Default::default();
         for (i, v) in vpls.iter().enumerate() {
-            let a = v.normal.abs();
-            let axis = if a.x >= a.y && a.x >= a.z {
-                0
-            } else if a.y >= a.z {
-                1
-            } else {
-                2
-            };
-            let side = usize::from(v.normal[axis] < 0.0);
-            members[2 * axis + side].push(i as u32);
+            members[orientation(v.normal)].push(i as u32);
         }
         let mut buckets = Vec::new();
         for vpl in members.into_iter().filter(|m| !m.is_empty()) {
@@ -385,29 +407,42 @@ impl BucketsAt<'_> {
     }
 }
 
+/// How the coarse lights (levels ≥ 1) of a hierarchy over [`point_lights`] are shaded.
+#[derive(Clone, Copy, Debug)]
+pub enum Coarse<'a> {
+    /// The paper's volume lights: isotropic points with `k` Gaussian shadow samples (Fig. 11d).
+    Gaussian,
+    /// Through their representative VPLs ([`Indirect::shade_representatives`]).
+    Representatives(&'a Representatives),
+}
+
 /// The indirect light `shader` gives each pixel through the hierarchy `backend` built over
 /// [`point_lights`] of its VPLs (the paper's isotropic aggregation), its coarse lights shaded
-/// as Gaussian volume lights (Fig. 11d) or, given `reps` of that hierarchy, through their
-/// representative VPLs.
+/// as `coarse` says.
 ///
 /// Errors: a point the hierarchy cannot be queried at ([`RenderError::Query`]).
 pub fn render_lgh(
     scene: &Scene,
     camera: &Camera,
     backend: &LghBackend<'_>,
-    reps: Option<&Representatives>,
+    coarse: Coarse<'_>,
     shader: &Indirect<'_>,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Rendered, RenderError> {
     let lgh = backend.hierarchy();
-    let shade = |p: &ShadingPoint, s: &LightSample| match (reps, s.level) {
-        (Some(reps), 1..) => {
-            let of = reps.of(s.level, s.index).iter();
-            shader.shade_representatives(p, s, of.map(|&i| i as usize))
+    let shade = |p: &ShadingPoint, s: &LightSample| {
+        fn reps<'r>(
+            r: &'r Representatives,
+            s: &LightSample,
+        ) -> impl ExactSizeIterator<Item = usize> + 'r {
+            r.of(s.level, s.index).iter().map(|&i| i as usize)
         }
-        _ => {
-            let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
-            shader.shade(p, s, vpl)
+        match (coarse, s.level) {
+            (Coarse::Representatives(r), 1..) => shader.shade_representatives(p, s, reps(r, s)),
+            _ => {
+                let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
+                shader.shade(p, s, vpl)
+            }
         }
     };
     render_with_shader(scene, camera, backend, shade, progress)
@@ -574,7 +609,15 @@ mod tests {
 
         fn isotropic(&self, shader: &Indirect<'_>, camera: &Camera, alpha: f32) -> Rendered {
             let backend = LghBackend::new(&self.lgh, alpha).unwrap();
-            render_lgh(&self.scene, camera, &backend, None, shader, |_| {}).unwrap()
+            render_lgh(
+                &self.scene,
+                camera,
+                &backend,
+                Coarse::Gaussian,
+                shader,
+                |_| {},
+            )
+            .unwrap()
         }
     }
 
@@ -637,7 +680,8 @@ mod tests {
         for (alpha, target) in [(4.0f32, 0.03), (16.0, 0.01)] {
             let gaussian = rel_rmse(&f.isotropic(&shader, &camera, alpha), &exact);
             let backend = LghBackend::new(&f.lgh, alpha).unwrap();
-            let drawn = render_lgh(&f.scene, &camera, &backend, Some(&reps), &shader, |_| {});
+            let coarse = Coarse::Representatives(&reps);
+            let drawn = render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {});
             let drawn = rel_rmse(&drawn.unwrap(), &exact);
             println!("alpha {alpha}: gaussian {gaussian:.4}, representatives {drawn:.4}");
             assert!(drawn < gaussian, "α = {alpha}: {drawn} against {gaussian}");

@@ -19,9 +19,9 @@
 //! carry, fixed per light, so it is deterministic and does not change from pixel to pixel or
 //! frame to frame while the VPLs stay.
 
-use lgh_core::glam::{DVec3, Vec3};
+use lgh_core::glam::DVec3;
 use lgh_core::random::SplitMix64;
-use lgh_core::LightingGridHierarchy;
+use lgh_core::{GridLight, LightingGridHierarchy};
 use rayon::prelude::*;
 
 /// How many representatives each coarse light gets.
@@ -129,10 +129,8 @@ impl Representatives {
     /// ```
     #[must_use]
     pub fn build_with(lgh: &LightingGridHierarchy, allocation: Allocation) -> Self {
-        let origin = lgh.origin().as_dvec3();
         let levels = (1..=lgh.max_level())
             .map(|level| {
-                let h = f64::from(lgh.h(level));
                 let lights = lgh.level(level);
                 let (sum, lit) = lights
                     .iter()
@@ -144,11 +142,8 @@ impl Representatives {
                 let per_light: Vec<Vec<u32>> = (0..lights.len() as u32)
                     .into_par_iter()
                     .map(|i| {
-                        let vertex = lgh.vertex(level, i).map_or(DVec3::NAN, |c| {
-                            origin + DVec3::new(c[0].into(), c[1].into(), c[2].into()) * h
-                        });
                         let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
-                        draw(lgh, level, i, vertex, h, k)
+                        draw(lgh, level, i, k)
                     })
                     .collect();
                 let mut starts = Vec::with_capacity(per_light.len() + 1);
@@ -194,30 +189,43 @@ impl Representatives {
     }
 }
 
-/// `k` input lights of light `i` of `level` (grid vertex `vertex`, spacing `h`), by systematic
-/// sampling of their weights `w_j ‖I_j‖`.
-fn draw(
+/// Calls `f(input, w, light)` for every input `light` that light `i` of `level ≥ 1`
+/// aggregates, with its trilinear weight `w > 0` (eqs. 1, 2: `Π_a (1 − |p_a − v_a| / h_ℓ)` about the light's
+/// grid vertex `v`), `input` its index in the slice the hierarchy was built from. The order is
+/// fixed for a given hierarchy.
+pub(crate) fn contributors(
     lgh: &LightingGridHierarchy,
     level: u8,
     i: u32,
-    vertex: DVec3,
-    h: f64,
-    k: usize,
-) -> Vec<u32> {
+    mut f: impl FnMut(usize, f64, &GridLight),
+) {
+    let Some(c) = lgh.vertex(level, i) else {
+        return;
+    };
+    let h = f64::from(lgh.h(level));
+    let vertex = lgh.origin().as_dvec3() + DVec3::new(c[0].into(), c[1].into(), c[2].into()) * h;
     let level0 = lgh.level(0);
-    let mut cands: Vec<(u32, f64)> = Vec::new();
     let reach = (3f64.sqrt() * h * (1.0 + 1e-6)) as f32;
-    let centre: Vec3 = vertex.as_vec3();
-    // The query cannot fail: the centre is finite for every light the hierarchy holds.
-    let _ = lgh.lights_within(0, centre, reach, |j, _| {
-        let p = level0.get(j as usize);
-        let d = (p.position.as_dvec3() - vertex).abs() / h;
-        let w = (1.0 - d).max(DVec3::ZERO);
-        let w = w.x * w.y * w.z * f64::from(p.luminance);
+    // The query cannot fail: the vertex is finite for every light the hierarchy holds.
+    let _ = lgh.lights_within(0, vertex.as_vec3(), reach, |j, _| {
+        let light = level0.get(j as usize);
+        let w = (1.0 - (light.position.as_dvec3() - vertex).abs() / h).max(DVec3::ZERO);
+        let w = w.x * w.y * w.z;
         if w > 0.0 {
             if let Some(input) = lgh.input_index(j) {
-                cands.push((input as u32, w));
+                f(input, w, &light);
             }
+        }
+    });
+}
+
+/// `k` input lights of light `i` of `level` by systematic sampling of their weights
+/// `w_j ‖I_j‖`.
+fn draw(lgh: &LightingGridHierarchy, level: u8, i: u32, k: usize) -> Vec<u32> {
+    let mut cands: Vec<(u32, f64)> = Vec::new();
+    contributors(lgh, level, i, |input, w, light| {
+        if light.luminance > 0.0 {
+            cands.push((input as u32, w * f64::from(light.luminance)));
         }
     });
     let total: f64 = cands.iter().map(|c| c.1).sum();
@@ -242,6 +250,7 @@ fn draw(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use lgh_core::glam::Vec3;
     use lgh_core::{GridSettings, PointLight};
 
     /// Clumped lights of varied brightness (a fixed pseudo-random set).
