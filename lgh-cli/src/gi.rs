@@ -61,6 +61,15 @@ pub enum SampleAllocation {
     Intensity,
 }
 
+impl SampleAllocation {
+    fn name(self) -> &'static str {
+        match self {
+            SampleAllocation::Uniform => "uniform",
+            SampleAllocation::Intensity => "intensity",
+        }
+    }
+}
+
 /// `--coarse-shadows`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum CoarseShadows {
@@ -69,6 +78,16 @@ pub enum CoarseShadows {
     /// Beyond the paper: k of the VPLs the light stands for, drawn once per light by weight,
     /// each shaded with its own lobe and shadow ray.
     Representatives,
+}
+
+impl SceneArgs {
+    /// k: `--shadow-samples`, or its default for `--coarse-shadows`.
+    fn shadow_samples(&self) -> u32 {
+        self.shadow_samples.unwrap_or(match self.coarse_shadows {
+            CoarseShadows::Gaussian => 9,
+            CoarseShadows::Representatives => 2,
+        })
+    }
 }
 
 impl CoarseShadows {
@@ -108,18 +127,21 @@ pub struct SceneArgs {
     /// Seed of the light paths.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Shadow samples of a coarse light (Fig. 11d uses 9; 0 shades it as a point, Fig. 11c).
-    #[arg(long, default_value_t = 9)]
-    pub shadow_samples: u32,
-    /// How a coarse light's k shadow samples are placed: `gaussian` (the paper's, with its
-    /// variance) or `representatives` (k of its own VPLs, beyond the paper).
-    #[arg(long, value_enum, default_value_t = CoarseShadows::Gaussian)]
+    /// Shadow samples k of a coarse light (on average, with `--sample-allocation intensity`).
+    /// Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0 shades a coarse
+    /// light as a point, Fig. 11c), 2 with `representatives`.
+    #[arg(long)]
+    pub shadow_samples: Option<u32>,
+    /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it
+    /// stands for, beyond the paper; the README's "Global illumination" says why it is the
+    /// default) or `gaussian` (the paper's, points drawn with the light's variance σ²).
+    #[arg(long, value_enum, default_value_t = CoarseShadows::Representatives)]
     pub coarse_shadows: CoarseShadows,
     /// How `--coarse-shadows representatives` shares the samples among coarse lights:
     /// `uniform`, `--shadow-samples` each; or `intensity`, in proportion to each light's
     /// luminance over its level's mean, `--shadow-samples` on average, 1 to
     /// `--max-shadow-samples`.
-    #[arg(long, value_enum, default_value_t = SampleAllocation::Uniform)]
+    #[arg(long, value_enum, default_value_t = SampleAllocation::Intensity)]
     pub sample_allocation: SampleAllocation,
     /// The most representatives one coarse light gets with `--sample-allocation intensity`.
     #[arg(long, default_value_t = 32)]
@@ -127,10 +149,11 @@ pub struct SceneArgs {
     /// No shadow rays: every VPL reaches every point it faces.
     #[arg(long)]
     pub no_shadows: bool,
-    /// How the hierarchy aggregates the VPLs' cosine lobes: `buckets`, one hierarchy per
-    /// dominant normal axis whose coarse lights keep their mean normal's lobe (beyond the
-    /// paper; it wins: README), or `isotropic`, the paper's one hierarchy of isotropic points.
-    #[arg(long, value_enum, default_value_t = Aggregation::Buckets)]
+    /// How the hierarchy aggregates the VPLs: `isotropic`, the paper's one hierarchy of
+    /// isotropic points, or `buckets`, one hierarchy per dominant normal axis whose coarse
+    /// lights keep their mean normal's lobe (beyond the paper: better on the Cornell box,
+    /// slower on Sponza; README).
+    #[arg(long, value_enum, default_value_t = Aggregation::Isotropic)]
     pub aggregation: Aggregation,
     /// Lightcuts' relative error ε (Walter et al.'s 2%), for `--backend lightcuts` and
     /// `lgh bench gi --lightcuts`.
@@ -271,7 +294,7 @@ impl Prepared {
         let traced = trace(&scene, &lights, &vpl_settings)?;
         let point = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
-        let k = args.shadow_samples;
+        let k = args.shadow_samples();
         let allocation = match args.sample_allocation {
             SampleAllocation::Uniform => Allocation::Uniform(k),
             SampleAllocation::Intensity => Allocation::ByIntensity {
@@ -305,7 +328,7 @@ impl Prepared {
         };
         let settings = IndirectSettings {
             h0: lgh.h0(),
-            shadow_samples: args.shadow_samples,
+            shadow_samples: args.shadow_samples(),
             epsilon: 1e-4 * (hi - lo).length(),
             shadows: !args.no_shadows,
         };
@@ -384,7 +407,11 @@ impl Prepared {
             ("light_paths", self.traced.paths.to_string()),
             ("bounces", args.bounces.to_string()),
             ("seed", args.seed.to_string()),
-            ("shadow_samples", args.shadow_samples.to_string()),
+            ("shadow_samples", args.shadow_samples().to_string()),
+            (
+                "sample_allocation",
+                args.sample_allocation.name().to_string(),
+            ),
             ("coarse_shadows", args.coarse_shadows.name().to_string()),
             ("shadows", (!args.no_shadows).to_string()),
             ("h0", self.lgh.h0().to_string()),
@@ -541,7 +568,8 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "vpls": p.traced.vpls.len(),
             "aggregation": s.aggregation.name(),
             "coarse_shadows": s.coarse_shadows.name(),
-            "shadow_samples": s.shadow_samples,
+            "shadow_samples": s.shadow_samples(),
+            "sample_allocation": s.sample_allocation.name(),
             "component": "indirect",
             "pixels": exact.pixels_shaded,
             "width": width,

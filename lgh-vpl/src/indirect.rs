@@ -14,6 +14,14 @@
 //!   ray of its own, where the `g_j` are standard-normal offsets drawn from a sequence seeded by
 //!   the light's level and index — the same pattern for that light at every pixel and every
 //!   frame, so the soft shadows do not flicker (Fig. 11d; `k = 0` shades it as a point, Fig. 11c).
+//!   That is [`Coarse::Gaussian`], the paper's. Beyond the paper, [`Coarse::Representatives`]
+//!   shades a coarse light through `k` of the VPLs it stands for instead
+//!   ([`crate::representatives`]): on surfaces the Gaussian's samples fall inside walls and
+//!   lose the lobes, and err by tens of percent where the representatives err by a few.
+//!
+//! Backends whose samples are the VPLs themselves — brute force, Lightcuts' representatives —
+//! go through [`render_input_lights`]; the hierarchy through [`render_lgh`], or
+//! [`render_buckets`] for [`NormalBuckets`].
 //!
 //! Surfaces reflect physically: Lambert `ρ/π`, Phong `k_d/π + k_s (n+2)/2π (R·E)^n`. The VPL
 //! singularity is clamped with the core's rule, `1 / max(d, h0)²`: a VPL closer than `h0` to the
@@ -182,7 +190,7 @@ impl<'a> Indirect<'a> {
     }
 
     /// A coarse light shaded through its representative VPLs `reps` (indices into this
-    /// shader's VPLs; [`Representatives`](crate::representatives::Representatives)): each one
+    /// shader's VPLs; [`Representatives`]): each one
     /// shaded as at level 0, with `1/k` of the light's blended intensity, its own cosine lobe
     /// and its own shadow ray. With no representatives, [`shade`](Self::shade).
     #[must_use]

@@ -10,18 +10,21 @@
 //! ([`render`](mod@render)).
 //!
 //! The primary lights of a scene — emissive faces (MTL `Ke`) as area lights, or point, spot and
-//! sun lights given on the command line — are [`primary`]; the virtual point lights traced
-//! from them, deterministic and energy-conserving, are [`vpl`]; [`indirect`] shades them at
-//! surface points through any backend, with shadow rays through the BVH (coarse lights as volume
-//! lights sampled with σ², Fig. 11d), restored cosine lobes and the singularity clamp.
+//! sun lights given on the command line — are [`primary`], and their direct light with shadow
+//! rays (area lights through a stratified pattern fixed per surface point) is [`direct`]; the
+//! virtual point lights traced from them, deterministic and energy-conserving, are [`vpl`];
+//! [`indirect`] shades them at surface points through any backend — the hierarchy, brute force
+//! over every VPL (the exact answer of the same model) or Lightcuts — with shadow rays through
+//! the BVH, restored cosine lobes and the singularity clamp. [`reference`](mod@reference) is an independent
+//! check on the VPL model itself: one-bounce path tracing.
 //!
-//! The paper's one hierarchy of isotropic points loses the VPLs' cosine lobes above level 0
-//! and errs by tens of percent; [`indirect::NormalBuckets`] (beyond the paper: one hierarchy per
-//! dominant normal axis, coarse lights keep their bucket's lobe and cast shadows from its front)
-//! brings a test room to 1.7% at α = 4 and 0.6% at α = 16.
-//!
-//! **Not here yet** (issue 14; paper Sec. 6.4, Figs. 11, 13): direct light with shadows, `lgh
-//! bench gi` and the α = 1, 4, 16 experiment on Sponza and the Cornell box.
+//! The paper shades a coarse light as an isotropic point with Gaussian shadow samples
+//! (Fig. 11d); on surfaces that loses the VPLs' cosine lobes and puts samples inside walls, and
+//! errs by tens of percent. Beyond the paper, [`representatives`] shades each coarse light
+//! through a few of the VPLs it stands for, drawn once per light in proportion to what they
+//! carry: 2–5% at α = 4 and 0.3–0.7% at α = 16 on the Cornell box and Sponza with 365K VPLs
+//! (README, "Global illumination"). [`indirect::NormalBuckets`] (one hierarchy per dominant
+//! normal axis) is the other orientation-aware option.
 //!
 //! ```
 //! use lgh_core::glam::Vec3;
