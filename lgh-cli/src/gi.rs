@@ -59,6 +59,9 @@ pub enum SampleAllocation {
     Uniform,
     /// In proportion to each coarse light's luminance against its level's mean.
     Intensity,
+    /// Chosen per shading point, in proportion to what each coarse light brings there
+    /// unshadowed (a power-of-two prefix of its nested representatives).
+    Adaptive,
 }
 
 impl SampleAllocation {
@@ -66,6 +69,7 @@ impl SampleAllocation {
         match self {
             SampleAllocation::Uniform => "uniform",
             SampleAllocation::Intensity => "intensity",
+            SampleAllocation::Adaptive => "adaptive",
         }
     }
 }
@@ -81,12 +85,28 @@ pub enum CoarseShadows {
 }
 
 impl SceneArgs {
-    /// k: `--shadow-samples`, or its default for `--coarse-shadows`.
-    fn shadow_samples(&self) -> u32 {
-        self.shadow_samples.unwrap_or(match self.coarse_shadows {
-            CoarseShadows::Gaussian => 9,
-            CoarseShadows::Representatives => 2,
-        })
+    /// k: `--shadow-samples`, or its default for `--coarse-shadows`; a whole number unless it
+    /// is a mean (`--sample-allocation intensity|adaptive` with representatives).
+    fn shadow_samples(&self) -> Result<f32, String> {
+        let k = self.shadow_samples.unwrap_or(match self.coarse_shadows {
+            CoarseShadows::Gaussian => 9.0,
+            CoarseShadows::Representatives => 2.0,
+        });
+        let mean = self.coarse_shadows == CoarseShadows::Representatives
+            && self.sample_allocation != SampleAllocation::Uniform;
+        let (lo, whole) = if mean { (1.0, false) } else { (0.0, true) };
+        if !(k.is_finite() && k >= lo && k <= 1024.0) || (whole && k.fract() != 0.0) {
+            return Err(format!(
+                "--shadow-samples {k}: expected {} from {lo} to 1024",
+                if whole { "a whole number" } else { "a number" }
+            ));
+        }
+        if self.sample_allocation == SampleAllocation::Adaptive
+            && self.aggregation == Aggregation::Buckets
+        {
+            return Err("--sample-allocation adaptive needs --aggregation isotropic".into());
+        }
+        Ok(k)
     }
 }
 
@@ -131,20 +151,21 @@ pub struct SceneArgs {
     /// Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0 shades a coarse
     /// light as a point, Fig. 11c), 2 with `representatives`.
     #[arg(long)]
-    pub shadow_samples: Option<u32>,
+    pub shadow_samples: Option<f32>,
     /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it
     /// stands for, beyond the paper; the README's "Global illumination" says why it is the
     /// default) or `gaussian` (the paper's, points drawn with the light's variance σ²).
     #[arg(long, value_enum, default_value_t = CoarseShadows::Representatives)]
     pub coarse_shadows: CoarseShadows,
     /// How `--coarse-shadows representatives` shares the samples among coarse lights:
-    /// `uniform`, `--shadow-samples` each; or `intensity`, in proportion to each light's
-    /// luminance over its level's mean, `--shadow-samples` on average, 1 to
-    /// `--max-shadow-samples`.
-    #[arg(long, value_enum, default_value_t = SampleAllocation::Intensity)]
+    /// `adaptive`, per shading point in proportion to what each light brings there
+    /// unshadowed (`--shadow-samples` per coarse light on average; below one, Russian roulette
+    /// seeded by the point); `intensity`, per light in proportion to its luminance over its
+    /// level's mean; or `uniform`, `--shadow-samples` each.
+    #[arg(long, value_enum, default_value_t = SampleAllocation::Adaptive)]
     pub sample_allocation: SampleAllocation,
-    /// The most representatives one coarse light gets with `--sample-allocation intensity`.
-    #[arg(long, default_value_t = 32)]
+    /// The most representatives one coarse light gets (`adaptive`, `intensity`).
+    #[arg(long, default_value_t = 16)]
     pub max_shadow_samples: u32,
     /// No shadow rays: every VPL reaches every point it faces.
     #[arg(long)]
@@ -226,6 +247,10 @@ struct Prepared {
     lgh: LightingGridHierarchy,
     /// Lightcuts' ε.
     lightcuts_error: f32,
+    /// How the representatives were drawn.
+    allocation: Allocation,
+    /// `--shadow-samples`, the mean of the adaptive allocation.
+    mean_samples: f32,
     /// Representative VPLs of the single hierarchy's coarse lights (`--coarse-shadows
     /// representatives`, `--aggregation isotropic`).
     reps: Option<Representatives>,
@@ -294,13 +319,14 @@ impl Prepared {
         let traced = trace(&scene, &lights, &vpl_settings)?;
         let point = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
-        let k = args.shadow_samples();
+        let k = args.shadow_samples()?;
         let allocation = match args.sample_allocation {
-            SampleAllocation::Uniform => Allocation::Uniform(k),
+            SampleAllocation::Uniform => Allocation::Uniform(k as u32),
             SampleAllocation::Intensity => Allocation::ByIntensity {
-                mean: k as f32,
+                mean: k,
                 max: args.max_shadow_samples,
             },
+            SampleAllocation::Adaptive => Allocation::Nested(args.max_shadow_samples),
         };
         let representatives = args.coarse_shadows == CoarseShadows::Representatives;
         let (buckets, reps) = match args.aggregation {
@@ -328,7 +354,7 @@ impl Prepared {
         };
         let settings = IndirectSettings {
             h0: lgh.h0(),
-            shadow_samples: args.shadow_samples(),
+            shadow_samples: k as u32,
             epsilon: 1e-4 * (hi - lo).length(),
             shadows: !args.no_shadows,
         };
@@ -341,6 +367,8 @@ impl Prepared {
             buckets,
             tree,
             lightcuts_error: args.lightcuts_error,
+            allocation,
+            mean_samples: k,
             camera,
             settings,
             lights,
@@ -373,9 +401,14 @@ impl Prepared {
                     scene,
                     camera,
                     &backend,
-                    self.reps
-                        .as_ref()
-                        .map_or(Coarse::Gaussian, Coarse::Representatives),
+                    match (&self.reps, self.allocation) {
+                        (None, _) => Coarse::Gaussian,
+                        (Some(reps), Allocation::Nested(_)) => Coarse::Adaptive {
+                            reps,
+                            mean: self.mean_samples,
+                        },
+                        (Some(reps), _) => Coarse::Representatives(reps),
+                    },
                     shader,
                     progress,
                 )?
@@ -407,7 +440,7 @@ impl Prepared {
             ("light_paths", self.traced.paths.to_string()),
             ("bounces", args.bounces.to_string()),
             ("seed", args.seed.to_string()),
-            ("shadow_samples", args.shadow_samples().to_string()),
+            ("shadow_samples", self.mean_samples.to_string()),
             (
                 "sample_allocation",
                 args.sample_allocation.name().to_string(),
@@ -568,7 +601,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "vpls": p.traced.vpls.len(),
             "aggregation": s.aggregation.name(),
             "coarse_shadows": s.coarse_shadows.name(),
-            "shadow_samples": s.shadow_samples(),
+            "shadow_samples": p.mean_samples,
             "sample_allocation": s.sample_allocation.name(),
             "component": "indirect",
             "pixels": exact.pixels_shaded,

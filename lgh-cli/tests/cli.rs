@@ -833,6 +833,32 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     }
     // The direct light adds to the indirect light.
     assert!(total[1] > total[2], "{total:?}");
+    // The same bits on one thread and on three (the default adaptive allocation included).
+    let images: Vec<lgh_image::Image> = ["1", "3"]
+        .iter()
+        .map(|threads| {
+            let out = dir.path().join(format!("threads-{threads}.exr"));
+            let o = lgh(&[
+                "--threads",
+                threads,
+                "gi",
+                "--obj",
+                cornell.to_str().unwrap(),
+                "--vpls",
+                "2000",
+                "--width",
+                "12",
+                "--height",
+                "12",
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            lgh_image::read_exr(&out).unwrap()
+        })
+        .collect();
+    assert_eq!(images[0], images[1]);
 }
 
 /// `lgh bench gi` prints the JSON keys for each α, measured against brute force on the

@@ -39,6 +39,11 @@ pub enum Allocation {
         /// The most one light gets.
         max: u32,
     },
+    /// `K` (a power of two, at most 64) for every light, in nested order: the first `2^m` of
+    /// them are themselves a systematic sample of the light's weights with `2^m` strata (the
+    /// strata taken in bit-reversed order from a rotation seeded by the light), so a shading
+    /// point may use any power-of-two prefix ([`Coarse::Adaptive`](crate::indirect::Coarse)).
+    Nested(u32),
 }
 
 impl Allocation {
@@ -47,6 +52,7 @@ impl Allocation {
     fn count(self, lum: f32, mean_lum: f64) -> usize {
         match self {
             Allocation::Uniform(k) => k.max(1) as usize,
+            Allocation::Nested(k) => k.clamp(1, 64).next_power_of_two() as usize,
             Allocation::ByIntensity { mean, max } => {
                 let k = (f64::from(mean) * f64::from(lum) / mean_lum + 0.5).floor();
                 k.clamp(1.0, f64::from(max.max(1))) as usize
@@ -143,7 +149,11 @@ impl Representatives {
                     .into_par_iter()
                     .map(|i| {
                         let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
-                        draw(lgh, level, i, k)
+                        let drawn = draw(lgh, level, i, k);
+                        match allocation {
+                            Allocation::Nested(_) => nest(drawn, level, i),
+                            _ => drawn,
+                        }
                     })
                     .collect();
                 let mut starts = Vec::with_capacity(per_light.len() + 1);
@@ -247,6 +257,27 @@ fn draw(lgh: &LightingGridHierarchy, level: u8, i: u32, k: usize) -> Vec<u32> {
     out
 }
 
+/// `drawn` (a systematic sample, `2^n` strata in order) reordered so that every power-of-two
+/// prefix is a systematic sample too: position `j` takes stratum `(bitrev(j) + r) mod 2^n`, `r`
+/// seeded by the light (so a one-sample prefix is any stratum, not always the first).
+fn nest(drawn: Vec<u32>, level: u8, i: u32) -> Vec<u32> {
+    let n = drawn.len();
+    if n <= 1 {
+        return drawn;
+    }
+    let bits = n.trailing_zeros();
+    let mut rng = SplitMix64(SplitMix64::mix(
+        (u64::from(level) << 32) | u64::from(i) | (1 << 40),
+    ));
+    let r = (rng.next_f32() * n as f32) as usize % n;
+    (0..n)
+        .map(|j| {
+            let rev = (j as u32).reverse_bits() >> (32 - bits);
+            drawn[(rev as usize + r) % n]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -265,51 +296,76 @@ mod tests {
             .collect()
     }
 
+    /// Checks that `picks` draws each of `lights` `m p_j` times to within one, `p_j = w_j ‖I_j‖
+    /// / Σ w ‖I‖` with the trilinear weights of light `i` of `level` recomputed here from its
+    /// vertex and `h_ℓ`. False (and `picks` empty) for a light without weight.
+    fn follows_weights(
+        lgh: &LightingGridHierarchy,
+        lights: &[PointLight],
+        level: u8,
+        i: u32,
+        picks: &[u32],
+    ) -> bool {
+        let h = f64::from(lgh.h(level));
+        let c = lgh.vertex(level, i).unwrap();
+        let v = lgh.origin().as_dvec3() + DVec3::new(c[0].into(), c[1].into(), c[2].into()) * h;
+        let weight = |l: &PointLight| {
+            let w = (1.0 - (l.position.as_dvec3() - v).abs() / h).max(DVec3::ZERO);
+            w.x * w.y * w.z * f64::from(lgh_core::luminance(l.intensity))
+        };
+        let total: f64 = lights.iter().map(weight).sum();
+        if total == 0.0 {
+            assert!(picks.is_empty());
+            return false;
+        }
+        let m = picks.len() as f64;
+        for (j, l) in lights.iter().enumerate() {
+            let n = picks.iter().filter(|&&p| p as usize == j).count() as f64;
+            let expected = m * weight(l) / total;
+            assert!(
+                (n - expected).abs() <= 1.0 + 1e-6,
+                "level {level} light {i}, {m} picks: input {j} drawn {n} times, expected {expected}"
+            );
+        }
+        true
+    }
+
     /// Systematic sampling gives each input light `j` of a coarse light `k p_j` picks up to
-    /// one, `p_j = w_j ‖I_j‖ / Σ w ‖I‖` with the trilinear weights recomputed here from the
-    /// vertex and `h_ℓ` — the representatives follow the light's own weights (eqs. 1, 2), on
-    /// every level; and they do not depend on the thread count.
+    /// one ([`follows_weights`]) — the representatives follow the light's own weights (eqs. 1,
+    /// 2), on every level — and so does every power-of-two prefix of the nested draws; neither
+    /// depends on the thread count.
     #[test]
     fn representatives_follow_the_trilinear_weights() {
         let lights = lights();
         let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
         let k = 200;
         let reps = Representatives::build(&lgh, k);
-        let mut checked = 0;
+        let nested = Representatives::build_with(&lgh, Allocation::Nested(16));
+        let (mut checked, mut prefixes) = (0, 0);
         for level in 1..=lgh.max_level() {
-            let h = f64::from(lgh.h(level));
             for i in (0..lgh.level(level).len() as u32).step_by(37) {
-                let c = lgh.vertex(level, i).unwrap();
-                let v =
-                    lgh.origin().as_dvec3() + DVec3::new(c[0].into(), c[1].into(), c[2].into()) * h;
-                let weight = |l: &PointLight| {
-                    let w = (1.0 - (l.position.as_dvec3() - v).abs() / h).max(DVec3::ZERO);
-                    w.x * w.y * w.z * f64::from(lgh_core::luminance(l.intensity))
-                };
-                let total: f64 = lights.iter().map(weight).sum();
                 let picks = reps.of(level, i);
-                if total == 0.0 {
-                    assert!(picks.is_empty());
-                    continue;
+                if follows_weights(&lgh, &lights, level, i, picks) {
+                    assert_eq!(picks.len(), k as usize);
+                    checked += 1;
                 }
-                assert_eq!(picks.len(), k as usize);
-                for (j, l) in lights.iter().enumerate() {
-                    let n = picks.iter().filter(|&&p| p as usize == j).count() as f64;
-                    let expected = f64::from(k) * weight(l) / total;
-                    assert!(
-                        (n - expected).abs() <= 1.0 + 1e-6,
-                        "level {level} light {i}: input {j} drawn {n} times, expected {expected}"
-                    );
+                let all = nested.of(level, i);
+                for m in [2usize, 4, 8, 16] {
+                    if follows_weights(&lgh, &lights, level, i, all.get(..m).unwrap_or(&[])) {
+                        prefixes += 1;
+                    }
                 }
-                checked += 1;
             }
         }
         assert!(checked > 20, "{checked}");
+        assert!(prefixes > 40, "{prefixes}");
         let one = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
             .unwrap();
         assert_eq!(one.install(|| Representatives::build(&lgh, k)), reps);
+        let again = one.install(|| Representatives::build_with(&lgh, Allocation::Nested(16)));
+        assert_eq!(again, nested);
         assert!(reps.of(0, 0).is_empty());
         assert!(reps.of(1, u32::MAX / 2).is_empty());
     }
