@@ -7,7 +7,7 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_core::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
 use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
-use lgh_volume::render::{Camera, Framing, Up};
+use lgh_volume::render::{Camera, Framing};
 use lgh_vpl::direct::{render_direct, Direct, DirectSettings};
 use lgh_vpl::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
@@ -186,7 +186,8 @@ pub struct SceneArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 360)]
     pub height: usize,
-    /// Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (default: the scene's box, seen from +z, y up).
+    /// Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (default: straight along −z at the scene's box, y up, its
+    /// front face filling a 40° vertical field of view).
     #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
     /// Don't show progress.
@@ -237,6 +238,21 @@ pub struct BenchGiArgs {
     /// `gi-alpha-A-diff.png`); none written without it.
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// `lgh gi`'s default camera: the scene's box `lo..hi` seen straight along −z, y up, from
+/// where its front face (`z = hi.z`) just fills a 40° vertical field of view — the Cornell
+/// box's classic view, through its open side. (The volumes' framing, from the front-right
+/// and above, sees a room from outside its walls.)
+fn front_view(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Camera, crate::Error> {
+    let fov_y = 40.0f32;
+    let tan_y = (0.5 * fov_y).to_radians().tan();
+    let tan_x = tan_y * width as f32 / height.max(1) as f32;
+    let half = 0.5 * (hi - lo);
+    let distance = 1.02 * (half.x / tan_x).max(half.y / tan_y);
+    let centre = 0.5 * (lo + hi);
+    let eye = Vec3::new(centre.x, centre.y, hi.z + distance);
+    Ok(Camera::look_at(eye, centre, Vec3::Y, fov_y, width, height)?)
 }
 
 /// A scene ready to shade: its VPLs, their hierarchy, the camera.
@@ -309,7 +325,7 @@ impl Prepared {
         let scene = Scene::new(mesh);
         let camera = match &args.camera {
             Some(s) => crate::explosion::parse_camera(s, Vec3::Y, width, height)?,
-            None => Camera::frame_up(lo, hi, width, height, Up::Y)?,
+            None => front_view(lo, hi, width, height)?,
         };
         let vpl_settings = VplSettings {
             count: args.vpls,
