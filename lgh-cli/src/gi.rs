@@ -14,7 +14,7 @@ use lgh_vpl::indirect::{
     IndirectSettings, NormalBuckets,
 };
 use lgh_vpl::primary::{area_lights, PrimaryLight};
-use lgh_vpl::representatives::{Allocation, Representatives};
+use lgh_vpl::representatives::{Allocation, Representatives, MAX_PER_LIGHT};
 use lgh_vpl::vpl::{trace, VplSettings, Vpls};
 use lgh_vpl::{Mesh, Rendered, Scene};
 use serde_json::json;
@@ -85,26 +85,52 @@ pub enum CoarseShadows {
 }
 
 impl SceneArgs {
-    /// k: `--shadow-samples`, or its default for `--coarse-shadows`; a whole number unless it
-    /// is a mean (`--sample-allocation intensity|adaptive` with representatives).
+    /// `--sample-allocation`, or its default: `adaptive` for the one hierarchy, `intensity`
+    /// for the buckets (whose shading has no per-point allocation).
+    fn sample_allocation(&self) -> SampleAllocation {
+        self.sample_allocation.unwrap_or(match self.aggregation {
+            Aggregation::Isotropic => SampleAllocation::Adaptive,
+            Aggregation::Buckets => SampleAllocation::Intensity,
+        })
+    }
+
+    /// k: `--shadow-samples`, or its default for `--coarse-shadows`, checked: a whole number
+    /// from 0 (Gaussian samples) or 1 (representatives) unless it is a mean (`intensity`,
+    /// `adaptive`); at most 1024 Gaussian samples, or [`MAX_PER_LIGHT`] representatives.
     fn shadow_samples(&self) -> Result<f32, String> {
-        let k = self.shadow_samples.unwrap_or(match self.coarse_shadows {
-            CoarseShadows::Gaussian => 9.0,
-            CoarseShadows::Representatives => 2.0,
-        });
-        let mean = self.coarse_shadows == CoarseShadows::Representatives
-            && self.sample_allocation != SampleAllocation::Uniform;
-        let (lo, whole) = if mean { (1.0, false) } else { (0.0, true) };
-        if !(k.is_finite() && k >= lo && k <= 1024.0) || (whole && k.fract() != 0.0) {
+        let representatives = self.coarse_shadows == CoarseShadows::Representatives;
+        let k = self
+            .shadow_samples
+            .unwrap_or(if representatives { 2.0 } else { 9.0 });
+        let allocation = self.sample_allocation();
+        let whole = !representatives || allocation == SampleAllocation::Uniform;
+        let (lo, hi) = if representatives {
+            (1.0, MAX_PER_LIGHT as f32)
+        } else {
+            (0.0, 1024.0)
+        };
+        if !(k.is_finite() && k >= lo && k <= hi) || (whole && k.fract() != 0.0) {
             return Err(format!(
-                "--shadow-samples {k}: expected {} from {lo} to 1024",
-                if whole { "a whole number" } else { "a number" }
+                "--shadow-samples {k}: expected {} from {lo} to {hi} with --coarse-shadows {}",
+                if whole { "a whole number" } else { "a number" },
+                self.coarse_shadows.name()
             ));
         }
-        if self.sample_allocation == SampleAllocation::Adaptive
+        if !(1..=MAX_PER_LIGHT).contains(&self.max_shadow_samples) {
+            return Err(format!(
+                "--max-shadow-samples {}: expected 1 to {MAX_PER_LIGHT}",
+                self.max_shadow_samples
+            ));
+        }
+        if representatives
+            && allocation == SampleAllocation::Adaptive
             && self.aggregation == Aggregation::Buckets
         {
-            return Err("--sample-allocation adaptive needs --aggregation isotropic".into());
+            return Err(
+                "--sample-allocation adaptive needs --aggregation isotropic (the buckets take \
+                 intensity or uniform)"
+                    .into(),
+            );
         }
         Ok(k)
     }
@@ -147,9 +173,10 @@ pub struct SceneArgs {
     /// Seed of the light paths.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Shadow samples k of a coarse light (on average, with `--sample-allocation intensity`).
-    /// Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0 shades a coarse
-    /// light as a point, Fig. 11c), 2 with `representatives`.
+    /// Shadow samples k of a coarse light (on average with `--sample-allocation adaptive` or
+    /// `intensity`). Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0
+    /// shades a coarse light as a point, Fig. 11c; at most 1024), 2 with `representatives`
+    /// (1 to 64).
     #[arg(long)]
     pub shadow_samples: Option<f32>,
     /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it
@@ -162,9 +189,11 @@ pub struct SceneArgs {
     /// unshadowed (`--shadow-samples` per coarse light on average; below one, Russian roulette
     /// seeded by the point); `intensity`, per light in proportion to its luminance over its
     /// level's mean; or `uniform`, `--shadow-samples` each.
-    #[arg(long, value_enum, default_value_t = SampleAllocation::Adaptive)]
-    pub sample_allocation: SampleAllocation,
-    /// The most representatives one coarse light gets (`adaptive`, `intensity`).
+    /// Default: `adaptive` with `--aggregation isotropic`, `intensity` with `buckets`.
+    #[arg(long, value_enum)]
+    pub sample_allocation: Option<SampleAllocation>,
+    /// The most representatives one coarse light gets (`adaptive`: rounded down to a power of
+    /// two; `intensity`), 1 to 64.
     #[arg(long, default_value_t = 16)]
     pub max_shadow_samples: u32,
     /// No shadow rays: every VPL reaches every point it faces.
@@ -291,6 +320,8 @@ impl Prepared {
         height: usize,
         lightcuts: bool,
     ) -> Result<Self, crate::Error> {
+        // Every flag is checked before the scene is read and the VPLs traced.
+        let k = args.shadow_samples()?;
         if !(args.lightcuts_error.is_finite() && args.lightcuts_error > 0.0) {
             return Err(format!(
                 "--lightcuts-error {}: expected a positive number (0.02 is 2%)",
@@ -335,8 +366,7 @@ impl Prepared {
         let traced = trace(&scene, &lights, &vpl_settings)?;
         let point = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
-        let k = args.shadow_samples()?;
-        let allocation = match args.sample_allocation {
+        let allocation = match args.sample_allocation() {
             SampleAllocation::Uniform => Allocation::Uniform(k as u32),
             SampleAllocation::Intensity => Allocation::ByIntensity {
                 mean: k,
@@ -459,7 +489,7 @@ impl Prepared {
             ("shadow_samples", self.mean_samples.to_string()),
             (
                 "sample_allocation",
-                args.sample_allocation.name().to_string(),
+                args.sample_allocation().name().to_string(),
             ),
             ("coarse_shadows", args.coarse_shadows.name().to_string()),
             ("shadows", (!args.no_shadows).to_string()),
@@ -524,7 +554,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
             "no direct light".to_string()
         } else {
             format!(
-                "direct light {direct_s:.1} s, {} shadow rays per point",
+                "direct light {direct_s:.1} s, at most {} shadow rays per point",
                 direct.rays_per_point()
             )
         },
@@ -618,7 +648,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "aggregation": s.aggregation.name(),
             "coarse_shadows": s.coarse_shadows.name(),
             "shadow_samples": p.mean_samples,
-            "sample_allocation": s.sample_allocation.name(),
+            "sample_allocation": s.sample_allocation().name(),
             "component": "indirect",
             "pixels": exact.pixels_shaded,
             "width": width,

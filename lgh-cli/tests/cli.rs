@@ -764,6 +764,59 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
         &["gi", "--obj", s, "--light", "point:0,1", "--out", "x.exr"],
         "point:X,Y,Z,R,G,B",
     );
+    // Bad sampling flags are refused before the scene is read (the light is valid).
+    let lamp = "point:0.2,0.2,1,1,1,1";
+    for (bad, names) in [
+        (vec!["--shadow-samples", "100"], "--shadow-samples"),
+        (vec!["--shadow-samples", "0"], "--shadow-samples"),
+        (
+            vec!["--shadow-samples", "1.5", "--sample-allocation", "uniform"],
+            "whole number",
+        ),
+        (
+            vec!["--coarse-shadows", "gaussian", "--shadow-samples", "2000"],
+            "--shadow-samples",
+        ),
+        (vec!["--max-shadow-samples", "65"], "--max-shadow-samples"),
+        (
+            vec![
+                "--aggregation",
+                "buckets",
+                "--sample-allocation",
+                "adaptive",
+            ],
+            "adaptive",
+        ),
+    ] {
+        let mut args = vec!["gi", "--obj", s, "--light", lamp, "--out", "x.exr"];
+        args.extend(bad);
+        assert_refused(dir.path(), &args, names);
+    }
+    // The buckets work with their default allocation, and with Gaussian samples.
+    for extra in [vec![], vec!["--coarse-shadows", "gaussian"]] {
+        let out = dir.path().join("buckets.exr");
+        let mut args = vec![
+            "gi",
+            "--obj",
+            s,
+            "--light",
+            lamp,
+            "--vpls",
+            "10",
+            "--width",
+            "4",
+            "--height",
+            "4",
+            "--aggregation",
+            "buckets",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = lgh(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
     // A mesh without materials renders, and says they were defaulted.
     let out = dir.path().join("small.exr");
     let o = lgh(&[

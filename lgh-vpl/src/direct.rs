@@ -75,7 +75,9 @@ impl<'a> Direct<'a> {
         }
     }
 
-    /// Shadow rays one shading point takes (the cost of [`shade`](Self::shade)).
+    /// Shadow rays one shading point takes at most (the cost of [`shade`](Self::shade);
+    /// lights behind the point's surface, outside a spot's cone or behind an emitter take
+    /// none).
     #[must_use]
     pub fn rays_per_point(&self) -> u64 {
         let n = u64::from(self.settings.area_strata).pow(2);

@@ -27,7 +27,7 @@ use rayon::prelude::*;
 /// How many representatives each coarse light gets.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Allocation {
-    /// `k` for every light.
+    /// `k` for every light (at most [`MAX_PER_LIGHT`]).
     Uniform(u32),
     /// In proportion to the light's luminance against its level's mean, `k_i = round(mean ·
     /// ‖I_i‖ / mean_ℓ ‖I‖)`, held to `1..=max`: the samples go where the light is, since a
@@ -39,7 +39,7 @@ pub enum Allocation {
         /// The most one light gets.
         max: u32,
     },
-    /// `K` (a power of two, at most 64) for every light, in nested order: the first `2^m` of
+    /// `K` for every light (the largest power of two not above it, at most 64), in nested order: the first `2^m` of
     /// them are themselves a systematic sample of the light's weights with `2^m` strata (the
     /// strata taken in bit-reversed order from a rotation seeded by the light), so a shading
     /// point may use any power-of-two prefix ([`Coarse::Adaptive`](crate::indirect::Coarse)).
@@ -51,19 +51,25 @@ impl Allocation {
     #[must_use]
     fn count(self, lum: f32, mean_lum: f64) -> usize {
         match self {
-            Allocation::Uniform(k) => k.max(1) as usize,
-            Allocation::Nested(k) => k.clamp(1, 64).next_power_of_two() as usize,
+            Allocation::Uniform(k) => k.clamp(1, MAX_PER_LIGHT) as usize,
+            // The largest power of two not above k (and 64).
+            Allocation::Nested(k) => 1usize << (31 - k.clamp(1, MAX_PER_LIGHT).leading_zeros()),
             Allocation::ByIntensity { mean, max } => {
                 let k = (f64::from(mean) * f64::from(lum) / mean_lum + 0.5).floor();
-                k.clamp(1.0, f64::from(max.max(1))) as usize
+                k.clamp(1.0, f64::from(max.clamp(1, MAX_PER_LIGHT))) as usize
             }
         }
     }
 }
 
+/// The most representatives one light gets, whatever the allocation.
+pub const MAX_PER_LIGHT: u32 = 64;
+
 /// Representative input lights for every light of levels ≥ 1 of a hierarchy.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Representatives {
+    /// How they were drawn.
+    allocation: Allocation,
     /// Level `ℓ ≥ 1` at `ℓ − 1`.
     levels: Vec<LevelReps>,
 }
@@ -166,7 +172,7 @@ impl Representatives {
                 LevelReps { starts, reps }
             })
             .collect();
-        Representatives { levels }
+        Representatives { allocation, levels }
     }
 
     /// The representatives of light `index` of `level ≥ 1`: indices into the slice the
@@ -184,6 +190,13 @@ impl Representatives {
             (Some(&s), Some(&e)) => &l.reps[s as usize..e as usize],
             _ => &[],
         }
+    }
+
+    /// True if drawn with [`Allocation::Nested`]: every power-of-two prefix of a light's is a
+    /// sample of it too.
+    #[must_use]
+    pub fn is_nested(&self) -> bool {
+        matches!(self.allocation, Allocation::Nested(_))
     }
 
     /// Representatives drawn in all.
@@ -338,7 +351,7 @@ mod tests {
     fn representatives_follow_the_trilinear_weights() {
         let lights = lights();
         let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
-        let k = 200;
+        let k = MAX_PER_LIGHT;
         let reps = Representatives::build(&lgh, k);
         let nested = Representatives::build_with(&lgh, Allocation::Nested(16));
         let (mut checked, mut prefixes) = (0, 0);
