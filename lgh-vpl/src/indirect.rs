@@ -210,9 +210,28 @@ impl<'a> Indirect<'a> {
         if k == 0 || light.level == 0 {
             return self.shade(point, light, None);
         }
+        // Pick j carries its own colour: I_j · ‖B I_ℓ‖ / (k ‖I_j‖), the estimator of the drawn
+        // weights w_j ‖I_j‖ (unbiased per channel, not only in luminance).
+        let scale = lgh_core::luminance(light.intensity) / k as f32;
+        let shade = |i: usize, times: usize| {
+            let Some(v) = self.vpls.get(i) else {
+                return Vec3::ZERO;
+            };
+            let own = isotropic_intensity(v);
+            let lum = lgh_core::luminance(own);
+            if lum > 0.0 {
+                self.shade_vpl(point, normal, v, own * (scale * times as f32 / lum))
+            } else {
+                Vec3::ZERO
+            }
+        };
+        let mut reps = reps;
+        if k == 1 {
+            return reps.next().map_or(Vec3::ZERO, |i| shade(i, 1));
+        }
         // Repeated picks (a heavy VPL drawn twice) share one shadow ray: sorted, each run once
         // with its multiplicity.
-        let mut small = [0usize; 64];
+        let mut small = [0usize; 16];
         let mut large = Vec::new();
         let ids: &mut [usize] = if k <= small.len() {
             for (slot, i) in small.iter_mut().zip(reps) {
@@ -224,22 +243,9 @@ impl<'a> Indirect<'a> {
             &mut large
         };
         ids.sort_unstable();
-        // Pick j carries its own colour: I_j · ‖B I_ℓ‖ / (k ‖I_j‖), the estimator of the drawn
-        // weights w_j ‖I_j‖ (unbiased per channel, not only in luminance).
-        let scale = lgh_core::luminance(light.intensity) / k as f32;
-        let mut sum = Vec3::ZERO;
-        for run in ids.chunk_by(|a, b| a == b) {
-            let Some(v) = self.vpls.get(run[0]) else {
-                continue;
-            };
-            let own = isotropic_intensity(v);
-            let lum = lgh_core::luminance(own);
-            if lum > 0.0 {
-                let share = own * (scale * run.len() as f32 / lum);
-                sum += self.shade_vpl(point, normal, v, share);
-            }
-        }
-        sum
+        ids.chunk_by(|a, b| a == b)
+            .map(|run| shade(run[0], run.len()))
+            .sum()
     }
 
     /// VPL `v` with the isotropic intensity `intensity` shaded at `point` (unit `normal`): its
@@ -828,7 +834,7 @@ mod tests {
     /// against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's Gaussian
     /// samples 54.6%) and 0.31% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
     /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where it
-    /// measures 1.8% on the Cornell box and 3.0% on Sponza, README; the room's 4,000 VPLs make
+    /// measures 1.9% on the Cornell box and 3.0% on Sponza, README; the room's 4,000 VPLs make
     /// coarse lights of a few VPLs each, where the roulette's noise weighs more.) And it is the
     /// same at any thread count: the roulette's numbers come from the shading point's own
     /// sequence.

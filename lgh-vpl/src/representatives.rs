@@ -12,12 +12,15 @@
 //! Here the `k` samples are VPLs the light stands for instead, drawn once per light from its
 //! own weights `w_j ‖I_j‖` by systematic sampling (`k` evenly spaced points of the weights'
 //! cumulative sum, offset by a number seeded by the light's level and index): every sample lies
-//! on a surface, in front of it, with its normal. Shading a sample is shading that VPL with
-//! `1/k` of the light's blended intensity `B_ℓ(d) I_ℓi`
-//! ([`Indirect::shade_representatives`](crate::indirect::Indirect::shade_representatives)). It is
-//! a Monte Carlo estimate of the light's VPLs with `k` samples drawn in proportion to what they
-//! carry, fixed per light, so it is deterministic and does not change from pixel to pixel or
-//! frame to frame while the VPLs stay.
+//! on a surface, in front of it, with its normal. Shading a sample is shading that VPL, in its
+//! own colour, at the share `1/k` of the light's blended luminance `‖B_ℓ(d) I_ℓi‖`
+//! ([`Indirect::shade_representatives`](crate::indirect::Indirect::shade_representatives)): a
+//! Monte Carlo estimate of the light's VPLs with `k` samples drawn in proportion to what they
+//! carry, unbiased in every channel. The draws are fixed per light, so the estimate is
+//! deterministic and does not change from pixel to pixel or frame to frame while the VPLs stay.
+//! At most [`MAX_PER_LIGHT`] per light; the hierarchy must splat every level from the input
+//! lights (`LevelSource::InputLights`, the default) and prune none, as the weights recomputed
+//! here assume.
 
 use lgh_core::glam::DVec3;
 use lgh_core::random::SplitMix64;
