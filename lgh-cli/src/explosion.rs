@@ -11,7 +11,10 @@ use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::{ExplosionLights, Method};
 
+use clap::ArgMatches;
+
 use crate::dark;
+use crate::manifest::{self, FrameFile, Manifest};
 use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 use crate::progress;
 
@@ -58,14 +61,28 @@ pub enum ModelArg {
 #[derive(Debug, clap::Args)]
 pub struct ExplosionArgs {
     /// An OpenVDB file of the cache (with --frames: any frame; its last number is the frame).
-    #[arg(long)]
-    pub vdb: PathBuf,
-    /// Frames to render, `A..B` inclusive (e.g. 50..56): one image each, `OUT_NNNN.exr`.
+    #[arg(long, required_unless_present = "manifest")]
+    pub vdb: Option<PathBuf>,
+    /// Frames to render, `A..B` inclusive (e.g. 50..56): one image each, `OUT_NNNN.exr`. With
+    /// --manifest: the task's frames, within the manifest's (default: all of them).
     #[arg(long)]
     pub frames: Option<String>,
     /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
+    #[arg(long, required_unless_present = "manifest")]
+    pub out: Option<PathBuf>,
+    /// Read the frames once and write a sequence manifest here (JSON: the common grid, the
+    /// framing, the lights, every setting, the files' SHA-256), rendering nothing: farm tasks
+    /// then render any frames with --manifest, to the same pixels as one run over all frames.
+    #[arg(long, conflicts_with = "manifest")]
+    pub prepare: Option<PathBuf>,
+    /// Render frames of a sequence prepared with --prepare, reading only those frames: a farm
+    /// task. Takes only --frames, --resume, --quiet and --threads beside it.
     #[arg(long)]
-    pub out: PathBuf,
+    pub manifest: Option<PathBuf>,
+    /// Skip frames whose EXR and PNG exist and whose header says they are of this sequence and
+    /// settings (`lgh:sequence`); render the others. Outputs are written whole or not at all.
+    #[arg(long)]
+    pub resume: bool,
     /// The grid emission follows (Blender: temperature; or flame, heat).
     #[arg(long, default_value = "temperature")]
     pub emission_grid: String,
@@ -192,81 +209,186 @@ fn frame_out(out: &Path, frame: Option<u32>) -> PathBuf {
     }
 }
 
-/// Runs `lgh explosion`.
-pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
-    crate::check_alpha(args.alpha)?;
-    lgh_volume::render::check_image_size(args.width, args.height)?;
-    output::check_out(&args.out)?;
-    let march = args
-        .march
-        .settings(MarchSettings::default().shadow_step_voxels)?;
-    args.scatter.check()?;
-    if args.backend == BackendArg::Pathtrace && args.scatter.scatter_depth > 0 {
-        return Err(
-            "--scatter-depth is the ray marcher's: the path tracer scatters up to --max-scatter times"
-                .into(),
-        );
-    }
-    if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
-        return Err(format!("--albedo {} must be in 0..=1", args.albedo).into());
-    }
-    let frames: Vec<Option<u32>> = match &args.frames {
-        None => vec![None],
-        Some(s) => {
-            let (a, b) = parse_frames(s)?;
-            (a..=b).map(Some).collect()
+/// The flags a farm task may give beside `--manifest`; every other setting is the manifest's.
+const TASK_FLAGS: [&str; 4] = ["manifest", "frames", "resume", "quiet"];
+/// Flags that are not settings of the render, so not kept in a manifest's `settings`: where
+/// the frames are and which to render (the manifest's `files`), where the manifest is.
+const NOT_SETTINGS: [&str; 6] = ["vdb", "frames", "prepare", "manifest", "resume", "quiet"];
+
+/// The flags given on the command line (by long name, values as given; paths made absolute),
+/// except [`NOT_SETTINGS`]: a manifest's `settings`, which every task replays.
+fn given_settings(matches: &ArgMatches) -> Result<Vec<(String, Vec<String>)>, crate::Error> {
+    let cmd = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
+    let mut out = Vec::new();
+    for arg in cmd.get_arguments() {
+        let id = arg.get_id().as_str();
+        if NOT_SETTINGS.contains(&id)
+            || matches.value_source(id) != Some(clap::parser::ValueSource::CommandLine)
+        {
+            continue;
         }
-    };
+        let long = arg.get_long().ok_or("a flag without a long name")?;
+        let values = if arg.get_action().takes_values() {
+            let raw = matches.get_raw(id).into_iter().flatten();
+            raw.map(|v| {
+                let v = v
+                    .to_str()
+                    .ok_or_else(|| format!("--{long}: not UTF-8, which a manifest cannot keep"))?;
+                Ok(if id == "out" {
+                    manifest::absolute(Path::new(v))?.display().to_string()
+                } else {
+                    v.to_string()
+                })
+            })
+            .collect::<Result<Vec<String>, crate::Error>>()?
+        } else {
+            Vec::new()
+        };
+        out.push((long.to_string(), values));
+    }
+    Ok(out)
+}
+
+/// The arguments a manifest's tasks render with: its `settings` through the same parser as a
+/// command line, the frames' files from its `files`.
+fn replay(manifest: &Manifest) -> Result<ExplosionArgs, crate::Error> {
+    #[derive(clap::Parser)]
+    #[command(name = "lgh explosion")]
+    struct Replay {
+        #[command(flatten)]
+        args: ExplosionArgs,
+    }
+    let mut argv = vec!["lgh explosion".to_string()];
+    for (long, values) in &manifest.settings {
+        if values.is_empty() {
+            argv.push(format!("--{long}"));
+        }
+        argv.extend(values.iter().map(|v| format!("--{long}={v}")));
+    }
+    argv.push(format!("--vdb={}", manifest.files[0].path.display()));
+    <Replay as clap::Parser>::try_parse_from(&argv)
+        .map(|r| r.args)
+        .map_err(|e| format!("the manifest's settings: {}", e.render().to_string().trim()).into())
+}
+
+/// What every frame's render shares: settings made ready, checked before any work.
+struct Setup {
+    march: MarchSettings,
+    medium: Medium,
+    names: GridNames,
+    up: Up,
+}
+
+impl Setup {
+    fn new(args: &ExplosionArgs) -> Result<Self, crate::Error> {
+        crate::check_alpha(args.alpha)?;
+        lgh_volume::render::check_image_size(args.width, args.height)?;
+        output::check_out(args.out()?)?;
+        let march = args
+            .march
+            .settings(MarchSettings::default().shadow_step_voxels)?;
+        args.scatter.check()?;
+        if args.backend == BackendArg::Pathtrace && args.scatter.scatter_depth > 0 {
+            return Err(
+                "--scatter-depth is the ray marcher's: the path tracer scatters up to \
+                        --max-scatter times"
+                    .into(),
+            );
+        }
+        if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
+            return Err(format!("--albedo {} must be in 0..=1", args.albedo).into());
+        }
+        let sigma_t = args.density_scale;
+        let model = match args.emission_model {
+            ModelArg::Blender => EmissionModel::Blender,
+            ModelArg::Planck => EmissionModel::Planck,
+        };
+        let medium = Medium::new(
+            (1.0 - args.albedo) * sigma_t,
+            args.albedo * sigma_t,
+            args.emission_scale,
+            args.min_temperature,
+        )?
+        .with_temperature_scale(args.temperature_scale)?
+        .with_model(model);
+        let names = GridNames {
+            density: args.density_grid.clone(),
+            emission: args.emission_grid.clone(),
+            flame: match args.flame_grid.as_deref() {
+                None => Some("flame".to_string()),
+                Some("none") => None,
+                Some(name) => Some(name.to_string()),
+            },
+            flame_required: args.flame_grid.is_some(),
+        };
+        let up = match args.up {
+            UpArg::Y => Up::Y,
+            UpArg::Z => Up::Z,
+        };
+        Ok(Setup {
+            march,
+            medium,
+            names,
+            up,
+        })
+    }
+}
+
+impl ExplosionArgs {
+    /// `--out` (required unless `--manifest`, whose settings hold it).
+    fn out(&self) -> Result<&Path, crate::Error> {
+        self.out
+            .as_deref()
+            .ok_or_else(|| "--out is required".into())
+    }
+
+    /// The frames of `--frames` (`[None]`: the one file `--vdb`).
+    fn frame_numbers(&self) -> Result<Vec<Option<u32>>, crate::Error> {
+        Ok(match &self.frames {
+            None => vec![None],
+            Some(s) => {
+                let (a, b) = parse_frames(s)?;
+                (a..=b).map(Some).collect()
+            }
+        })
+    }
+}
+
+/// Runs `lgh explosion`: with `--manifest`, a farm task's frames; else one pass over the frames
+/// for what they share (written as a manifest with `--prepare`), then every frame.
+pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Error> {
+    if let Some(path) = &args.manifest {
+        return run_task(args, matches, path);
+    }
+    let setup = Setup::new(args)?;
+    if args.prepare.is_some() && args.resume {
+        return Err("--resume is for rendering: --prepare renders nothing".into());
+    }
+    let frames = args.frame_numbers()?;
+    let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
     let paths = frames
         .iter()
         .map(|f| match f {
-            None => Ok(args.vdb.clone()),
-            Some(f) => cache::frame_path(&args.vdb, *f),
+            None => Ok(vdb.to_path_buf()),
+            Some(f) => cache::frame_path(vdb, *f),
         })
         .collect::<Result<Vec<_>, _>>()?;
     if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
         return Err(format!("{}: no such file", missing.display()).into());
     }
-    let sigma_t = args.density_scale;
-    let model = match args.emission_model {
-        ModelArg::Blender => EmissionModel::Blender,
-        ModelArg::Planck => EmissionModel::Planck,
-    };
-    let medium = Medium::new(
-        (1.0 - args.albedo) * sigma_t,
-        args.albedo * sigma_t,
-        args.emission_scale,
-        args.min_temperature,
-    )?
-    .with_temperature_scale(args.temperature_scale)?
-    .with_model(model);
-    let names = GridNames {
-        density: args.density_grid.clone(),
-        emission: args.emission_grid.clone(),
-        flame: match args.flame_grid.as_deref() {
-            None => Some("flame".to_string()),
-            Some("none") => None,
-            Some(name) => Some(name.to_string()),
-        },
-        flame_required: args.flame_grid.is_some(),
-    };
-
     let t = Instant::now();
-    let (seq, last) = cache::Sequence::open_with_last(&paths, &names, !args.no_domain_offset)?;
-    let up = match args.up {
-        UpArg::Y => Up::Y,
-        UpArg::Z => Up::Z,
-    };
+    let (seq, last) =
+        cache::Sequence::open_with_last(&paths, &setup.names, !args.no_domain_offset)?;
     // One pass over the frames, one in memory at a time, for what depends on all of them: the
     // lights (every voxel hot in any frame; the path tracer needs none), the framing, and
     // whether any frame has a light at all. None depends on the order, so the pass starts with
     // the last frame, which opening the sequence has just read, and that frame is kept for its
-    // render.
+    // render. Each file is hashed for the manifest.
     let needs_lights = args.backend != BackendArg::Pathtrace;
     let mut framing = None;
     let mut all_dark = None;
     let last = Rc::new(last);
-    let mut kept = Some(Rc::clone(&last));
+    let kept = Rc::clone(&last);
     let mut lights = None;
     {
         let bar = progress::bar(seq.len() as u64, "reading frames", args.quiet);
@@ -276,16 +398,14 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             let v = v?;
             framing = grow_framing(framing, &v);
             if !any_lit {
-                all_dark = dark::why_no_lights(&v, &medium, &names);
+                all_dark = dark::why_no_lights(&v, &setup.medium, &setup.names);
                 any_lit = all_dark.is_none();
             }
             bar.inc(1);
             Ok(v)
         });
         if needs_lights {
-            let mut all = ExplosionLights::from_frames(frames_read, &medium)?;
-            all.set_prune(args.march.prune)?;
-            lights = Some(all);
+            lights = Some(ExplosionLights::from_frames(frames_read, &setup.medium)?);
         } else {
             for v in frames_read {
                 v?;
@@ -293,7 +413,26 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
         }
         bar.finish_and_clear();
     }
-    if let Some(why) = &all_dark {
+    let files = frames
+        .iter()
+        .zip(&paths)
+        .map(|(&f, p)| {
+            let config =
+                cache::blender_config_path(p).filter(|c| !args.no_domain_offset && c.is_file());
+            FrameFile::hash(f, p, config.as_deref())
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let manifest = Manifest {
+        files,
+        layout: seq.layout(),
+        framing,
+        lights: lights
+            .as_ref()
+            .map(|l: &ExplosionLights| l.voxels().to_vec()),
+        all_dark,
+        settings: given_settings(matches)?,
+    };
+    if let Some(why) = &manifest.all_dark {
         let what = format!("no light in any of the {} frame(s): {why}", seq.len());
         if !args.allow_dark {
             return Err(format!("{what}; --allow-dark renders it anyway").into());
@@ -301,45 +440,202 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
         eprintln!("lgh: warning: {what}");
     }
     let load_s = t.elapsed().as_secs_f64();
+    if let Some(path) = &args.prepare {
+        return write_manifest(&manifest, path, load_s);
+    }
+    let n = seq.len();
+    render_frames(
+        args,
+        &setup,
+        &manifest,
+        seq,
+        lights,
+        Some((n - 1, kept)),
+        0..n,
+        Some(load_s),
+    )
+}
+
+/// `--prepare`: writes the manifest (whole or not at all) and says how to render from it.
+fn write_manifest(manifest: &Manifest, path: &Path, load_s: f64) -> Result<(), crate::Error> {
+    let text = manifest.to_json();
+    lgh_image::write_atomic(path, |w| w.write_all(text.as_bytes()))
+        .map_err(|e| format!("--prepare {}: {e}", path.display()))?;
+    let frames = match manifest.range() {
+        Some((a, b)) => format!("frames {a}..{b}"),
+        None => "one frame".to_string(),
+    };
+    say!(
+        "lgh explosion: {frames} prepared in {load_s:.2} s ({} lights, {} bytes) -> {}",
+        manifest.lights.as_ref().map_or(0, Vec::len),
+        text.len(),
+        path.display()
+    );
+    say!(
+        "  render a task's frames with: lgh explosion --manifest {} --frames A..B [--resume]",
+        path.display()
+    );
+    Ok(())
+}
+
+/// `--manifest`: renders the task's frames (`--frames`, or all of the manifest's), reading
+/// only those, with the manifest's settings.
+fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(), crate::Error> {
+    let cmd = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
+    if let Some(arg) = cmd.get_arguments().find(|a| {
+        let id = a.get_id().as_str();
+        !TASK_FLAGS.contains(&id)
+            && matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine)
+    }) {
+        return Err(format!(
+            "--{}: a task takes its settings from the manifest ({}); give them to --prepare \
+             (a task takes only --frames, --resume, --quiet and --threads)",
+            arg.get_long().unwrap_or("?"),
+            path.display()
+        )
+        .into());
+    }
+    let manifest = Manifest::read(path)?;
+    let mut full = replay(&manifest)?;
+    full.quiet = args.quiet;
+    full.resume = args.resume;
+    let setup = Setup::new(&full)?;
+    let which = match (&args.frames, manifest.range()) {
+        (None, _) => 0..manifest.files.len(),
+        (Some(s), Some((first, last))) => {
+            let (a, b) = parse_frames(s)?;
+            if a < first || b > last {
+                return Err(
+                    format!("--frames {s}: the manifest has frames {first}..{last}").into(),
+                );
+            }
+            (a - first) as usize..(b - first + 1) as usize
+        }
+        (Some(s), None) => {
+            return Err(format!("--frames {s}: the manifest is of one file, not frames").into())
+        }
+    };
+    let paths: Vec<PathBuf> = manifest.files.iter().map(|f| f.path.clone()).collect();
+    let seq = cache::Sequence::with_layout(
+        &paths,
+        &setup.names,
+        !full.no_domain_offset,
+        manifest.layout.clone(),
+    )?;
+    render_frames(&full, &setup, &manifest, seq, None, None, which, None)
+}
+
+/// Whether `out` (and its PNG) are a finished render of the sequence `digest`: what `--resume`
+/// skips.
+fn finished(out: &Path, digest: &str) -> bool {
+    if !(out.is_file() && out.with_extension("png").is_file()) {
+        return false;
+    }
+    let same = lgh_image::read_exr_attributes(out)
+        .map(|attrs| {
+            attrs
+                .iter()
+                .any(|(k, v)| k == "lgh:sequence" && v == digest)
+        })
+        .unwrap_or(false);
+    if !same {
+        eprintln!(
+            "lgh: {} is not of this sequence and settings (its lgh:sequence differs): rendering it again",
+            out.display()
+        );
+    }
+    same
+}
+
+/// Renders the frames `which` (indices into the manifest's files) of `seq`. `lights`: the pass's
+/// lights, or `None` to place them from the manifest; `kept`: a frame already in memory.
+#[allow(clippy::too_many_arguments)]
+fn render_frames(
+    args: &ExplosionArgs,
+    setup: &Setup,
+    manifest: &Manifest,
+    seq: cache::Sequence,
+    mut lights: Option<ExplosionLights>,
+    mut kept: Option<(usize, Rc<Volume>)>,
+    which: std::ops::Range<usize>,
+    load_s: Option<f64>,
+) -> Result<(), crate::Error> {
+    let Setup {
+        march,
+        medium,
+        names,
+        up,
+    } = setup;
+    let (march, medium, up) = (*march, medium, *up);
+    let digest = manifest.digest();
+    let base_out = args.out()?;
+    let all_dark = &manifest.all_dark;
     let camera = match &args.camera {
         Some(s) => parse_camera(s, up.vector(), args.width, args.height)?,
         None => {
-            let (lo, hi) = framing.unwrap_or_else(|| seq.bounds());
+            let (lo, hi) = manifest.framing.unwrap_or_else(|| seq.bounds());
             Camera::frame_up(lo, hi, args.width, args.height, up)?
         }
     };
     let dims = seq.dims();
+    let source = load_s.map_or("as the manifest says".to_string(), |s| {
+        format!("read in {s:.2} s")
+    });
     say!(
-        "lgh explosion: {} frame(s) on a {}x{}x{} grid (voxel {:.5}); read in {load_s:.2} s",
+        "lgh explosion: {} of {} frame(s) on a {}x{}x{} grid (voxel {:.5}); {source}",
+        which.len(),
         seq.len(),
         dims[0],
         dims[1],
         dims[2],
         seq.voxel_size(),
     );
-    for (n, (frame, path)) in frames.iter().zip(&paths).enumerate() {
-        // The pass's last frame is still in memory; the others are read again.
-        let volume = match kept.take_if(|_| n + 1 == seq.len()) {
-            Some(v) => v,
-            None => Rc::new(seq.frame(n)?),
+    for n in which {
+        let file = &manifest.files[n];
+        let (frame, path) = (&file.frame, &file.path);
+        let out = frame_out(base_out, *frame);
+        if args.resume && finished(&out, &digest) {
+            say!("  {}: finished before, skipped (--resume)", out.display());
+            continue;
+        }
+        // A frame the pass has in memory is not read again; any other is checked against the
+        // manifest's hash and read.
+        let volume = match kept.take_if(|(k, _)| *k == n) {
+            Some((_, v)) => v,
+            None => {
+                file.verify()?;
+                Rc::new(seq.frame(n)?)
+            }
         };
+        if lights.is_none() && args.backend != BackendArg::Pathtrace {
+            let voxels = manifest
+                .lights
+                .clone()
+                .ok_or("the manifest has no lights (it was prepared for the path tracer)")?;
+            lights = Some(ExplosionLights::at_hot_voxels(&volume, voxels)?);
+        }
+        if let Some(l) = &mut lights {
+            if l.prune() != args.march.prune {
+                l.set_prune(args.march.prune)?;
+            }
+        }
         let volume: &Volume = &volume;
-        let out = frame_out(&args.out, *frame);
         if let Some(lights) = &mut lights {
-            lights.set_frame(volume, &medium)?;
+            lights.set_frame(volume, medium)?;
         }
         let lit = match &lights {
             Some(l) => l.lit(),
-            None => volume.emitting_voxels(&medium),
+            None => volume.emitting_voxels(medium),
         };
         if lit == 0 && all_dark.is_none() {
             // Other frames have lights: this one is dark, say why and go on.
-            if let Some(why) = dark::why_no_lights(volume, &medium, &names) {
+            if let Some(why) = dark::why_no_lights(volume, medium, names) {
                 eprintln!("lgh: warning: {}: no lights: {why}", path.display());
             }
         }
         let mut extra = vec![
             ("source", path.display().to_string()),
+            ("sequence", digest.to_string()),
             ("lights", lit.to_string()),
             (
                 "emission_model",
@@ -373,7 +669,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
                     method,
                     args.alpha,
                     volume,
-                    &medium,
+                    medium,
                     &march,
                     &camera,
                     args.quiet,
@@ -383,7 +679,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
                     method,
                     args.alpha,
                     volume,
-                    &medium,
+                    medium,
                     &march,
                     args.quiet,
                 )?;
@@ -402,7 +698,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
             (Some(lights), Some(method), Some(shadowing)) => {
                 let lights = scatter.as_ref().map_or(lights, |s| s.lights(lights));
                 let (image, stats) = shadowing.render(
-                    lights, method, args.alpha, volume, &medium, &camera, &march, progress,
+                    lights, method, args.alpha, volume, medium, &camera, &march, progress,
                 )?;
                 Ok((image, Some(stats)))
             }
@@ -412,7 +708,7 @@ pub fn run(args: &ExplosionArgs) -> Result<(), crate::Error> {
                     max_scatter: args.max_scatter,
                     ..Default::default()
                 };
-                let image = pathtrace::render(volume, &medium, &camera, &settings, progress)?;
+                let image = pathtrace::render(volume, medium, &camera, &settings, progress)?;
                 Ok((image, None))
             }
         };

@@ -22,15 +22,16 @@ mod demo;
 mod explosion;
 mod gi;
 mod inspect;
+mod manifest;
 mod output;
 mod paquette;
 mod probes;
 mod progress;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Subcommand};
 
 /// Lighting with millions of point lights through the Lighting Grid Hierarchy.
-#[derive(Debug, Parser)]
+#[derive(Debug, clap::Parser)]
 #[command(
     name = "lgh",
     version,
@@ -134,7 +135,8 @@ fn exit_on_signals() {
 fn main() {
     #[cfg(unix)]
     exit_on_signals();
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some(t) = cli.threads {
         if t == 0 {
             eprintln!("lgh: error: --threads must be at least 1");
@@ -150,7 +152,10 @@ fn main() {
     }
     let result = match &cli.command {
         Command::Demo(a) => demo::run(a),
-        Command::Explosion(a) => explosion::run(a),
+        Command::Explosion(a) => match matches.subcommand_matches("explosion") {
+            Some(m) => explosion::run(a, m),
+            None => Err("the explosion subcommand's arguments are missing".into()),
+        },
         Command::Gi(a) => gi::run(a),
         Command::Bench {
             which: BenchCommand::Gi(a),

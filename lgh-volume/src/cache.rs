@@ -256,7 +256,74 @@ pub struct Sequence {
     hi: [i32; 3],
 }
 
+/// Where a [`Sequence`]'s frames land: the transform of their grids and the common box, in
+/// index space. What a task rendering some frames of a sequence needs to place them exactly as
+/// a run over the whole sequence does, without reading the other frames
+/// ([`Sequence::with_layout`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SequenceLayout {
+    /// Index to world, the first frame's density grid's (every grid of every frame shares it).
+    pub transform: [[f64; 4]; 4],
+    /// The common box's low corner, inclusive, in index space.
+    pub lo: [i32; 3],
+    /// Its high corner, inclusive.
+    pub hi: [i32; 3],
+}
+
 impl Sequence {
+    /// The frames' transform and common box: with [`with_layout`](Self::with_layout), the
+    /// same sequence without reading every frame again.
+    #[must_use]
+    pub fn layout(&self) -> SequenceLayout {
+        SequenceLayout {
+            transform: self.transform,
+            lo: self.lo,
+            hi: self.hi,
+        }
+    }
+
+    /// The sequence of `paths` on a `layout` found before (by [`open`](Self::open) over the
+    /// same files, kept in a farm manifest): no file is read until [`frame`](Self::frame),
+    /// which checks each against the layout. A box with no voxels or too many is an error.
+    ///
+    /// ```
+    /// use lgh_volume::cache::{GridNames, Sequence, SequenceLayout};
+    ///
+    /// let layout = SequenceLayout { transform: [[0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0],
+    ///     [0.0, 0.0, 0.5, 0.0], [0.0, 0.0, 0.0, 1.0]], lo: [0; 3], hi: [7; 3] };
+    /// let seq = Sequence::with_layout(&["f_0001.vdb".into()], &GridNames::default(), true,
+    ///     layout.clone())?;
+    /// assert_eq!(seq.dims(), [8; 3]);
+    /// assert_eq!(seq.layout(), layout);
+    /// assert!(seq.frame(0).is_err()); // no such file
+    /// let empty = SequenceLayout { hi: [-1; 3], ..layout };
+    /// assert!(Sequence::with_layout(&[], &GridNames::default(), true, empty).is_err());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn with_layout(
+        paths: &[PathBuf],
+        names: &GridNames,
+        blender_offset: bool,
+        layout: SequenceLayout,
+    ) -> Result<Self, VolumeError> {
+        let SequenceLayout { transform, lo, hi } = layout;
+        let voxels = (0..3).try_fold(1u64, |a, k| {
+            let side = i64::from(hi[k]) - i64::from(lo[k]) + 1;
+            (side >= 1).then(|| a.saturating_mul(side as u64))
+        });
+        if voxels.is_none_or(|v| v > MAX_VOXELS as u64) {
+            return Err(VolumeError::BadLayout { lo, hi });
+        }
+        Ok(Sequence {
+            paths: paths.to_vec(),
+            names: names.clone(),
+            blender_offset,
+            transform,
+            lo,
+            hi,
+        })
+    }
+
     /// Opens the frames `paths`. All frames must share one voxel size and transform.
     pub fn open(
         paths: &[PathBuf],

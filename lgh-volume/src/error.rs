@@ -198,6 +198,21 @@ pub enum VolumeError {
         /// The path.
         path: PathBuf,
     },
+    /// A sequence's stored layout (a farm manifest's) that no sequence can have: a box with a
+    /// side below one voxel or past [`crate::cache::MAX_VOXELS`].
+    BadLayout {
+        /// The box's low corner, inclusive, in index space.
+        lo: [i32; 3],
+        /// Its high corner, inclusive.
+        hi: [i32; 3],
+    },
+    /// Light voxels (a farm manifest's) that are not strictly ascending indices into the grid.
+    BadLightVoxels {
+        /// The first offending position in the list.
+        at: usize,
+        /// Voxels of the grid.
+        voxels: usize,
+    },
 }
 
 impl fmt::Display for VolumeError {
@@ -340,6 +355,15 @@ impl fmt::Display for VolumeError {
                 f,
                 "{}: no frame number in the file name",
                 path.display()
+            ),
+            E::BadLayout { lo, hi } => write!(
+                f,
+                "a sequence box from {lo:?} to {hi:?} (inclusive) is empty or too large"
+            ),
+            E::BadLightVoxels { at, voxels } => write!(
+                f,
+                "light voxel list: entry {at} is not above the one before it or not below the \
+                 grid's {voxels} voxels"
             ),
         }
     }

@@ -121,6 +121,42 @@ impl ExplosionLights {
         ExplosionLights::at_voxels(&grid, voxels, &dark, None)
     }
 
+    /// [`from_frames`](Self::from_frames)'s lights from their voxels (linear indices into the
+    /// common grid, strictly ascending, as [`voxels`](Self::voxels) gives them) instead of
+    /// from every frame: what a farm task rendering a few frames of a sequence takes from its
+    /// manifest. `frame` is any frame of the sequence, for the grid's layout; the lights are
+    /// dark until [`set_frame`](Self::set_frame). The same voxels give the same lights and
+    /// hierarchy, bit for bit.
+    ///
+    /// ```
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let all = ExplosionLights::from_frames([Ok(&volume)], &medium)?;
+    /// let again = ExplosionLights::at_hot_voxels(&volume, all.voxels().to_vec())?;
+    /// assert_eq!(again.lights(), all.lights());
+    /// assert!(ExplosionLights::at_hot_voxels(&volume, vec![3, 2]).is_err());
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn at_hot_voxels(frame: &Volume, voxels: Vec<usize>) -> Result<Self, VolumeError> {
+        let t = &frame.temperature;
+        let n = t.data.len();
+        let bad = voxels
+            .iter()
+            .enumerate()
+            .position(|(i, &v)| v >= n || (i > 0 && v <= voxels[i - 1]));
+        if let Some(at) = bad {
+            return Err(VolumeError::BadLightVoxels { at, voxels: n });
+        }
+        let grid = DenseGrid {
+            dims: t.dims,
+            ..DenseGrid::zeros([0; 3], t.voxel_size, t.origin)
+        };
+        let dark = vec![Vec3::ZERO; voxels.len()];
+        ExplosionLights::at_voxels(&grid, voxels, &dark, None)
+    }
+
     /// Lights at the centres of `voxels` (linear indices, ascending, into `grid`'s layout: its
     /// dimensions, voxel size and origin; its values are not read) with `intensities`, built into
     /// the hierarchy of the paper's explosions: `h1 = 2h`, level-1 vertices on voxel centres
@@ -227,8 +263,10 @@ impl ExplosionLights {
         grid.dims == self.dims && grid.voxel_size == self.voxel_size && grid.origin == self.origin
     }
 
-    /// Linear voxel index of each light, ascending.
-    pub(crate) fn voxels(&self) -> &[usize] {
+    /// Linear voxel index of each light into the common grid, strictly ascending: what
+    /// [`at_hot_voxels`](Self::at_hot_voxels) takes back.
+    #[must_use]
+    pub fn voxels(&self) -> &[usize] {
         &self.voxels
     }
 

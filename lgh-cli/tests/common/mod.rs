@@ -44,3 +44,13 @@ pub fn small_demo(out: &Path, (width, height): (usize, usize), extra: &[&str]) -
     args.extend_from_slice(extra);
     lgh(&args)
 }
+
+/// The pixels of an EXR as bits, for comparisons that must be exact.
+pub fn exr_bits(path: &Path) -> Vec<[u32; 3]> {
+    lgh_image::read_exr(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .pixels
+        .iter()
+        .map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}
