@@ -94,15 +94,27 @@ impl SceneArgs {
         })
     }
 
+    /// `--max-shadow-samples`, or its default: 32 for `adaptive` (which shares the samples per
+    /// point, so a light that dominates a point may take many), 16 for `intensity`.
+    fn max_shadow_samples(&self) -> u32 {
+        self.max_shadow_samples
+            .unwrap_or(match self.sample_allocation() {
+                SampleAllocation::Adaptive => 32,
+                SampleAllocation::Intensity | SampleAllocation::Uniform => 16,
+            })
+    }
+
     /// k: `--shadow-samples`, or its default for `--coarse-shadows`, checked: a whole number
     /// from 0 (Gaussian samples) or 1 (representatives) unless it is a mean (`intensity`,
     /// `adaptive`); at most 1024 Gaussian samples, or [`MAX_PER_LIGHT`] representatives.
     fn shadow_samples(&self) -> Result<f32, String> {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
-        let k = self
-            .shadow_samples
-            .unwrap_or(if representatives { 2.0 } else { 9.0 });
         let allocation = self.sample_allocation();
+        let k = self.shadow_samples.unwrap_or(match allocation {
+            _ if !representatives => 9.0,
+            SampleAllocation::Adaptive => 1.25,
+            SampleAllocation::Intensity | SampleAllocation::Uniform => 2.0,
+        });
         let whole = !representatives || allocation == SampleAllocation::Uniform;
         let (lo, hi) = if representatives {
             (1.0, MAX_PER_LIGHT as f32)
@@ -116,10 +128,10 @@ impl SceneArgs {
                 self.coarse_shadows.name()
             ));
         }
-        if !(1..=MAX_PER_LIGHT).contains(&self.max_shadow_samples) {
+        if !(1..=MAX_PER_LIGHT).contains(&self.max_shadow_samples()) {
             return Err(format!(
                 "--max-shadow-samples {}: expected 1 to {MAX_PER_LIGHT}",
-                self.max_shadow_samples
+                self.max_shadow_samples()
             ));
         }
         if representatives
@@ -175,8 +187,8 @@ pub struct SceneArgs {
     pub seed: u64,
     /// Shadow samples k of a coarse light (on average with `--sample-allocation adaptive` or
     /// `intensity`). Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0
-    /// shades a coarse light as a point, Fig. 11c; at most 1024), 2 with `representatives`
-    /// (1 to 64).
+    /// shades a coarse light as a point, Fig. 11c; at most 1024); with `representatives` (1 to
+    /// 64), 1.25 for `adaptive`, 2 for `intensity` and `uniform`.
     #[arg(long)]
     pub shadow_samples: Option<f32>,
     /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it
@@ -192,10 +204,10 @@ pub struct SceneArgs {
     /// Default: `adaptive` with `--aggregation isotropic`, `intensity` with `buckets`.
     #[arg(long, value_enum)]
     pub sample_allocation: Option<SampleAllocation>,
-    /// The most representatives one coarse light gets (`adaptive`: rounded down to a power of
-    /// two; `intensity`), 1 to 64.
-    #[arg(long, default_value_t = 16)]
-    pub max_shadow_samples: u32,
+    /// The most representatives one coarse light gets, 1 to 64 (`adaptive`: rounded down to a
+    /// power of two; default 32; `intensity`: default 16).
+    #[arg(long)]
+    pub max_shadow_samples: Option<u32>,
     /// No shadow rays: every VPL reaches every point it faces.
     #[arg(long)]
     pub no_shadows: bool,
@@ -370,9 +382,9 @@ impl Prepared {
             SampleAllocation::Uniform => Allocation::Uniform(k as u32),
             SampleAllocation::Intensity => Allocation::ByIntensity {
                 mean: k,
-                max: args.max_shadow_samples,
+                max: args.max_shadow_samples(),
             },
-            SampleAllocation::Adaptive => Allocation::Nested(args.max_shadow_samples),
+            SampleAllocation::Adaptive => Allocation::Nested(args.max_shadow_samples()),
         };
         let representatives = args.coarse_shadows == CoarseShadows::Representatives;
         let (buckets, reps) = match args.aggregation {
@@ -487,6 +499,7 @@ impl Prepared {
             ("bounces", args.bounces.to_string()),
             ("seed", args.seed.to_string()),
             ("shadow_samples", self.mean_samples.to_string()),
+            ("max_shadow_samples", args.max_shadow_samples().to_string()),
             (
                 "sample_allocation",
                 args.sample_allocation().name().to_string(),
@@ -648,6 +661,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "aggregation": s.aggregation.name(),
             "coarse_shadows": s.coarse_shadows.name(),
             "shadow_samples": p.mean_samples,
+            "max_shadow_samples": s.max_shadow_samples(),
             "sample_allocation": s.sample_allocation().name(),
             "component": "indirect",
             "pixels": exact.pixels_shaded,

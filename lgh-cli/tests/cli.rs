@@ -970,6 +970,10 @@ fn bench_gi_prints_the_runs_against_brute_force() {
     }
     assert!(dir.path().join("gi-brute.exr").is_file());
     assert_eq!(v["coarse_shadows"], "representatives");
+    // The defaults the README's table measures.
+    assert_eq!(v["sample_allocation"], "adaptive");
+    assert_eq!(v["shadow_samples"].as_f64(), Some(1.25));
+    assert_eq!(v["max_shadow_samples"], 32);
     let cuts = &v["lightcuts"];
     assert_eq!(cuts["relative_error"].as_f64().unwrap(), 0.02f32 as f64);
     assert!(cuts["rel_rmse"].as_f64().unwrap() >= 0.0, "{cuts}");

@@ -829,8 +829,8 @@ mod tests {
         }
     }
 
-    /// The adaptive allocation (`lgh gi`'s default: nested representatives, 2 per coarse light
-    /// on average, shared per point by an unshadowed estimate, Russian roulette below one)
+    /// The adaptive allocation (`lgh gi`'s default; here 16 nested representatives, 2 per coarse
+    /// light on average, shared per point by an unshadowed estimate, Russian roulette below one)
     /// against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's Gaussian
     /// samples 54.6%) and 0.31% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
     /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where it
