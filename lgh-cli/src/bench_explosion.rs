@@ -55,6 +55,15 @@ pub struct ExplosionBenchArgs {
     pub out: Option<PathBuf>,
 }
 
+/// The dev fire's medium in the benchmarks: Blender's defaults (what `lgh explosion` uses)
+/// with smoke 100× denser, so that scattering, what the hierarchy approximates, and the smoke's
+/// shadows are a visible part of the image.
+pub(crate) fn fire_medium() -> Result<Medium, crate::Error> {
+    Ok(Medium::new(50.0, 50.0, 1.0, 800.0)?
+        .with_temperature_scale(1000.0)?
+        .with_model(EmissionModel::Blender))
+}
+
 struct Scene {
     name: String,
     volume: Volume,
@@ -77,11 +86,7 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Erro
                 eprintln!("fire56: SKIPPED, {} is not here", path.display());
                 return Ok(None);
             }
-            // Blender's defaults (what `lgh explosion` uses) with smoke 100× denser, so that
-            // scattering, what the hierarchy approximates, is a visible part of the image.
-            let medium = Medium::new(50.0, 50.0, 1.0, 800.0)?
-                .with_temperature_scale(1000.0)?
-                .with_model(EmissionModel::Blender);
+            let medium = fire_medium()?;
             Scene {
                 name: "blender_fire_0056".into(),
                 volume: cache::load(&[path], &GridNames::default(), true)?.remove(0),

@@ -162,7 +162,7 @@ pub enum UpArg {
 }
 
 /// Parses `A..B` (inclusive, at most 10,000 frames).
-fn parse_frames(s: &str) -> Result<(u32, u32), crate::Error> {
+pub(crate) fn parse_frames(s: &str) -> Result<(u32, u32), crate::Error> {
     let bad = || format!("--frames {s}: expected A..B with whole numbers A ≤ B, e.g. 50..56");
     let (a, b) = s.split_once("..").ok_or_else(bad)?;
     let a: u32 = a.trim().parse().map_err(|_| bad())?;

@@ -15,6 +15,7 @@ macro_rules! say {
 
 mod bench;
 mod bench_explosion;
+mod bench_flicker;
 mod bench_table1;
 mod compare;
 mod dark;
@@ -82,6 +83,9 @@ enum BenchCommand {
     /// Indirect light from VPLs (the paper's Fig. 13): the hierarchy at several α against brute
     /// force over every VPL, on the same pixels, in the same run.
     Gi(gi::BenchGiArgs),
+    /// Temporal flicker of a sequence (the paper's Figs. 9, 10): the hierarchy, Lightcuts and
+    /// the paper's flickering variants against brute force, frame by frame.
+    Flicker(bench_flicker::FlickerArgs),
 }
 
 /// The CLI's error: any library's typed error or a message, shown as one line by `main`.
@@ -173,6 +177,9 @@ fn main() {
         Command::Bench {
             which: BenchCommand::Table1(a),
         } => bench_table1::run(a),
+        Command::Bench {
+            which: BenchCommand::Flicker(a),
+        } => bench_flicker::run(a),
     };
     if let Err(e) = result {
         eprintln!("lgh: error: {e}");

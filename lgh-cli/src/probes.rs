@@ -113,6 +113,15 @@ pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
             let backend = BruteForce::new(&lights).map_err(ctx)?;
             evaluate(&backend, &points, h0, &bar)?
         }
+        Method::Lightcuts | Method::LightcutsDeterministic => {
+            let representative = match args.backend {
+                Method::Lightcuts => lgh_core::Representative::Stochastic { seed: 0 },
+                _ => lgh_core::Representative::Brightest,
+            };
+            let tree = lgh_core::LightTree::build(&lights, representative).map_err(ctx)?;
+            let backend = lgh_core::LightcutsBackend::new(&tree, Default::default())?;
+            evaluate(&backend, &points, h0, &bar)?
+        }
     };
     bar.finish_and_clear();
     let eval_s = t2.elapsed().as_secs_f64();
@@ -135,8 +144,8 @@ pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
         points.len(),
         lights.len(),
         match args.backend {
-            Method::Lgh => "lgh",
             Method::Brute => "brute force",
+            m => m.name(),
         },
         args.alpha,
         lgh.h1(),

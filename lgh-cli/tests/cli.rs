@@ -980,3 +980,61 @@ fn bench_gi_prints_the_runs_against_brute_force() {
     assert!(cuts["lights_per_point"].as_f64().unwrap() > 0.0, "{cuts}");
     assert!(dir.path().join("gi-lightcuts-diff.png").is_file());
 }
+
+/// `lgh bench flicker` prints the JSON keys for every method (each one flag away from
+/// the paper's hierarchy) and writes the markdown table; a bad source is refused.
+#[test]
+fn bench_flicker_prints_every_method_against_brute_force() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("flicker.md");
+    let o = lgh(&[
+        "bench",
+        "flicker",
+        "--procedural",
+        "3",
+        "--resolution",
+        "32",
+        "--width",
+        "16",
+        "--height",
+        "9",
+        "--quiet",
+        "--markdown",
+        md.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["frames"], 3);
+    let backends = v["backends"].as_object().unwrap();
+    for key in [
+        "lgh",
+        "lightcuts",
+        "lightcuts_deterministic",
+        "nearest_vertex",
+        "hard_switches",
+        "grid_vertex",
+        "point_shadows",
+    ] {
+        let b = &backends[key];
+        let f = b["flicker"].as_f64().unwrap_or(-1.0);
+        let e = b["rel_rmse"].as_f64().unwrap_or(-1.0);
+        assert!(
+            f.is_finite() && f >= 0.0 && e.is_finite() && e >= 0.0,
+            "{key}: {b}"
+        );
+    }
+    // Stochastic Lightcuts (a new tree every frame) flickers more than the paper's hierarchy
+    // on the same frames with the same ray-marched shadows.
+    assert!(
+        backends["lightcuts"]["flicker"].as_f64() > backends["lgh_ray_marched"]["flicker"].as_f64(),
+        "{v}"
+    );
+    let table = std::fs::read_to_string(&md).unwrap();
+    assert!(table.contains("| method | flicker |") && table.contains("`nearest_vertex`"));
+    assert_refused(
+        dir.path(),
+        &["bench", "flicker", "--procedural", "1"],
+        "--procedural 1",
+    );
+    assert_refused(dir.path(), &["bench", "flicker"], "--procedural N");
+}

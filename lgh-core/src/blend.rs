@@ -56,6 +56,8 @@ pub struct Blending {
     max_level: u8,
     /// `r_ℓ` for ℓ = 0..=MAX_LEVEL.
     radius: [f32; MAX_LEVEL as usize + 1],
+    /// Hard level switches instead of eq. (3)'s blending (a flickering variant).
+    hard: bool,
     /// Per level `(a, c1, b, c2)` with `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`: the rising and
     /// falling ramps, `a = 1 / r_{ℓ−1}`, `b = 1 / r_ℓ` (exact powers-of-two multiples of `1 / r_0`),
     /// or a constant 1 where a level has no ramp on that side.
@@ -118,7 +120,37 @@ impl Blending {
             max_level,
             radius,
             ramps,
+            hard: false,
         })
+    }
+
+    /// The same radii with *hard level switches* instead of the blending of eq. (3): each
+    /// distance takes one level whole, the one whose `B_ℓ` is largest there (the finer one at
+    /// the tie, `d = 1.5 r_ℓ`). One of the variants the paper names as flickering (Sec. 3.2: a
+    /// light crossing a switch jumps between levels); an option only to measure that.
+    ///
+    /// ```
+    /// use lgh_core::Blending;
+    ///
+    /// let hard = Blending::new(2.0, 0.5, 4)?.with_hard_switches();
+    /// assert!(hard.hard_switches());
+    /// for d in [0.0, 0.3, 0.77, 1.5, 2.9, 7.0, 100.0] {
+    ///     let w: Vec<f32> = (0..=4).map(|l| hard.weight(l, d)).collect();
+    ///     assert!(w.iter().all(|&x| x == 0.0 || x == 1.0));
+    ///     assert_eq!(w.iter().sum::<f32>(), 1.0);
+    /// }
+    /// # Ok::<(), lgh_core::QueryError>(())
+    /// ```
+    #[must_use]
+    pub fn with_hard_switches(mut self) -> Self {
+        self.hard = true;
+        self
+    }
+
+    /// Whether the levels switch hard ([`with_hard_switches`](Self::with_hard_switches)).
+    #[must_use]
+    pub fn hard_switches(&self) -> bool {
+        self.hard
     }
 
     /// The paper's α.
@@ -184,22 +216,35 @@ impl Blending {
     #[inline(always)]
     pub(crate) fn ramp(&self, level: u8) -> Ramp {
         match self.ramps.get(level as usize) {
-            Some(&r) if level <= self.max_level => Ramp(r),
-            _ => Ramp([0.0, -1.0, 0.0, -1.0]), // always 0
+            Some(&r) if level <= self.max_level => Ramp(r, self.hard),
+            _ => Ramp([0.0, -1.0, 0.0, -1.0], false), // always 0
         }
     }
 }
 
-/// `B_ℓ` of one level: `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)` with `[a, c1, b, c2]`.
+/// `B_ℓ` of one level: `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)` with `[a, c1, b, c2]`;
+/// with hard switches ([`Blending::with_hard_switches`]), 1 where that is above ½ (or exactly ½
+/// on its falling side) and 0 elsewhere.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Ramp([f32; 4]);
+pub(crate) struct Ramp([f32; 4], bool);
 
 impl Ramp {
     /// `B_ℓ(d)`.
     #[inline(always)]
     pub fn weight(self, d: f32) -> f32 {
         let [a, c1, b, c2] = self.0;
-        (d * a + c1).min(c2 - d * b).clamp(0.0, 1.0)
+        let (rise, fall) = (d * a + c1, c2 - d * b);
+        let w = rise.min(fall).clamp(0.0, 1.0);
+        if !self.1 {
+            return w;
+        }
+        // The two non-zero weights at any d are 2 − a' and a' − 1 of one a' = d / r_ℓ, so they
+        // tie exactly at ½, where the falling one (the finer level) wins.
+        if w > 0.5 || (w == 0.5 && fall <= rise) {
+            1.0
+        } else {
+            0.0
+        }
     }
 }
 
@@ -216,6 +261,22 @@ mod tests {
             let b = Blending::new(alpha, h1, top).unwrap();
             let sum: f32 = (0..=top).map(|l| b.weight(l, d)).sum();
             prop_assert_eq!(sum, 1.0);
+        }
+
+        /// Hard switches: every weight 0 or 1, exactly one level at each distance.
+        #[test]
+        fn hard_switches_pick_one_level(alpha in 0.01f32..64.0, h1 in 0.001f32..100.0,
+                                        top in 0u8..=MAX_LEVEL, d in 0.0f32..1e6) {
+            let b = Blending::new(alpha, h1, top).unwrap().with_hard_switches();
+            let w: alloc::vec::Vec<f32> = (0..=top).map(|l| b.weight(l, d)).collect();
+            prop_assert!(w.iter().all(|&x| x == 0.0 || x == 1.0));
+            prop_assert_eq!(w.iter().sum::<f32>(), 1.0);
+            // The level taken is the one the smooth blending weighs most.
+            let smooth = Blending::new(alpha, h1, top).unwrap();
+            let taken = w.iter().position(|&x| x == 1.0).unwrap() as u8;
+            for l in 0..=top {
+                prop_assert!(smooth.weight(taken, d) >= smooth.weight(l, d));
+            }
         }
 
         #[test]

@@ -32,6 +32,31 @@ pub enum LevelSource {
     PreviousLevel,
 }
 
+/// How a level's lights gather the lights below them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Clustering {
+    /// Each light is split among the eight vertices of its cell by its trilinear weights (eq. 1):
+    /// the paper's, continuous as a light moves or brightens. The default.
+    #[default]
+    Trilinear,
+    /// Each light goes whole to the nearest vertex of its cell: plain clustering, which the paper
+    /// names as flickering (Sec. 3.1: a light crossing a cell's middle jumps between clusters).
+    /// A variant, only to measure that.
+    NearestVertex,
+}
+
+/// Where a coarse light sits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LightPosition {
+    /// At its illumination centre `p_ℓi`, the luminance-weighted mean of what it gathers (eq. 2):
+    /// the paper's. The default.
+    #[default]
+    IlluminationCentre,
+    /// At its grid vertex: the variant of the paper's Fig. 9, which shifts light towards the
+    /// vertices (and makes shading jump with the grid). A variant, only to measure that.
+    GridVertex,
+}
+
 /// Settings of a build. `Default` chooses everything automatically.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct GridSettings {
@@ -49,6 +74,10 @@ pub struct GridSettings {
     /// skipped at every level except the top one. Their energy still reaches the coarser levels, which
     /// are built from all lights. 0 (the default) prunes nothing.
     pub prune_below: f32,
+    /// How levels ℓ ≥ 1 gather their lights (the paper's trilinear splat by default).
+    pub clustering: Clustering,
+    /// Where levels ℓ ≥ 1 place their lights (the illumination centres by default).
+    pub position: LightPosition,
 }
 
 /// Resolved placement of the grids.

@@ -16,6 +16,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::bricks::BrickIndex;
+use crate::grid::{Clustering, LightPosition};
 use crate::light::{luminance, GridLight, LevelLights};
 use crate::math::sqrt;
 use crate::morton;
@@ -116,6 +117,41 @@ pub(crate) struct SplatInput<'a> {
     pub extra_variance: Option<&'a [Vec3]>,
 }
 
+/// The splat's variants ([`GridSettings::clustering`](crate::GridSettings::clustering) and
+/// [`position`](crate::GridSettings::position)): the paper's unless measuring its flickering
+/// alternatives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub(crate) struct SplatVariant {
+    pub clustering: Clustering,
+    pub position: LightPosition,
+}
+
+impl SplatVariant {
+    pub fn of(settings: &crate::GridSettings) -> Self {
+        SplatVariant {
+            clustering: settings.clustering,
+            position: settings.position,
+        }
+    }
+
+    /// The weights of a light at `f` in its cell on the cell's eight corners.
+    #[inline(always)]
+    fn weights(self, f: [f32; 3]) -> [f32; 8] {
+        match self.clustering {
+            Clustering::Trilinear => weights(f),
+            Clustering::NearestVertex => {
+                // The corner nearest f (ties to the upper one): weight 1, the others 0.
+                let k = usize::from(f[0] >= 0.5)
+                    | usize::from(f[1] >= 0.5) << 1
+                    | usize::from(f[2] >= 0.5) << 2;
+                let mut w = [0.0; 8];
+                w[k] = 1.0;
+                w
+            }
+        }
+    }
+}
+
 #[inline(always)]
 fn weights(f: [f32; 3]) -> [f32; 8] {
     let wx = [1.0 - f[0], f[0]];
@@ -130,13 +166,15 @@ fn weights(f: [f32; 3]) -> [f32; 8] {
 
 /// Splats the input onto the level's vertices and returns its lights: intensity (eq. 1),
 /// illumination centre (eq. 2), variance (eq. 4) and size (eq. 5). `h` is the level's spacing,
-/// `origin` its (shared) origin and `threshold` its weak-light threshold.
+/// `origin` its (shared) origin, `threshold` its weak-light threshold and `variant` the paper's
+/// splat or one of its flickering alternatives.
 pub(crate) fn splat(
     topo: &Topology,
     input: &SplatInput<'_>,
     h: f64,
     origin: [f64; 3],
     threshold: f32,
+    variant: SplatVariant,
 ) -> LevelLights {
     let nv = topo.vertex_codes.len();
     let mut sum_i = vec![Vec3::ZERO; nv];
@@ -159,7 +197,7 @@ pub(crate) fn splat(
             let intensity = input.intensity[j].to_array();
             let lum = input.luminance[j];
             let extra = input.extra_variance.map_or([0.0; 3], |e| e[j].to_array());
-            let w = weights(f);
+            let w = variant.weights(f);
             for k in 0..8 {
                 let v = w[k] * lum;
                 av[k] += v;
@@ -211,7 +249,7 @@ pub(crate) fn splat(
         for j in start..end {
             let f = input.frac[j];
             let lum = input.luminance[j];
-            let w = weights(f);
+            let w = variant.weights(f);
             for k in 0..8 {
                 let dx = f[0] - centre[0][k];
                 let dy = f[1] - centre[1][k];
@@ -229,10 +267,14 @@ pub(crate) fn splat(
         let q = morton::decode(topo.vertex_codes[i]);
         let v = sum_v[i];
         let m = mean[i];
+        let at = match variant.position {
+            LightPosition::IlluminationCentre => m,
+            LightPosition::GridVertex => [0.0; 3],
+        };
         let position = Vec3::new(
-            (origin[0] + (q[0] as f64 + m[0] as f64) * h) as f32,
-            (origin[1] + (q[1] as f64 + m[1] as f64) * h) as f32,
-            (origin[2] + (q[2] as f64 + m[2] as f64) * h) as f32,
+            (origin[0] + (q[0] as f64 + at[0] as f64) * h) as f32,
+            (origin[1] + (q[1] as f64 + at[1] as f64) * h) as f32,
+            (origin[2] + (q[2] as f64 + at[2] as f64) * h) as f32,
         );
         let (variance, size) = if v > 0.0 {
             let var = Vec3::new(

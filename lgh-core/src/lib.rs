@@ -88,7 +88,7 @@ pub use blend::{check_alpha, falloff, Blending, MAX_LEVEL};
 pub use brute::BruteForce;
 pub use error::{BuildError, QueryError};
 pub use glam;
-pub use grid::{bounds, GridSettings, LevelSource};
+pub use grid::{bounds, Clustering, GridSettings, LevelSource, LightPosition};
 pub use hierarchy::{LghBackend, LightingGridHierarchy};
 pub use light::{luminance, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS};
 pub use lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};

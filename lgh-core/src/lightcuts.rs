@@ -350,6 +350,11 @@ impl ManyLights for LightcutsBackend<'_> {
         "lightcuts"
     }
 
+    /// The cut is refined by the shaded estimates.
+    fn selection_follows_shader(&self) -> bool {
+        true
+    }
+
     fn illuminate<S: Shader>(
         &self,
         point: &ShadingPoint,

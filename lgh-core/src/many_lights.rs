@@ -162,6 +162,17 @@ pub trait ManyLights {
         point: &ShadingPoint,
         shader: &mut S,
     ) -> Result<Illumination, QueryError>;
+
+    /// Whether which lights are selected depends on what the shader returns. Lightcuts refines
+    /// its cut by the shaded estimates and calls the shader on clusters it then replaces by
+    /// their children, so its shader must return each light's whole contribution (shadows
+    /// included) when called; a renderer may not gather the lights first and shade them later.
+    /// `false` (the default) for methods whose selection depends on the point only: the
+    /// hierarchy and brute force, whose every shader call is a term of the sum.
+    #[must_use]
+    fn selection_follows_shader(&self) -> bool {
+        false
+    }
 }
 
 /// The unshadowed light-probe value `L(x) = Σ B·I·g(d)` through any backend, with the clamped

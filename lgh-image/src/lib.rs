@@ -628,6 +628,56 @@ pub fn compare(a: &Image, r: &Image) -> Option<ErrorStats> {
     ErrorStats::compare(&a.pixels, &r.pixels)
 }
 
+/// Temporal flicker of the sequence `a` against the reference sequence `r` (ARCHITECTURE.md,
+/// "Measuring"): `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|` on luminance,
+/// the change of the error from one frame to the next, so a constant bias does not flicker.
+/// `None` with fewer than two frames, sequences or frames of different sizes, or a black
+/// reference.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{flicker, Image};
+///
+/// let frame = |v: f32| Image { width: 2, height: 1, pixels: vec![Vec3::splat(v); 2] };
+/// let r = [frame(1.0), frame(1.0), frame(1.0)];
+/// // A constant bias: no flicker.
+/// assert_eq!(flicker(&[frame(1.5), frame(1.5), frame(1.5)], &r), Some(0.0));
+/// // An error that alternates by ±0.5: it changes by 1 every frame, over a mean of 1.
+/// let f = flicker(&[frame(1.5), frame(0.5), frame(1.5)], &r).unwrap();
+/// assert!((f - 1.0).abs() < 1e-6);
+/// assert_eq!(flicker(&r[..1], &r[..1]), None);
+/// ```
+#[must_use]
+pub fn flicker(a: &[Image], r: &[Image]) -> Option<f64> {
+    let same = |x: &Image, y: &Image| (x.width, x.height) == (y.width, y.height);
+    if a.len() != r.len() || a.len() < 2 || a.iter().chain(r).any(|i| !same(i, &r[0])) {
+        return None;
+    }
+    let lum = |p: Vec3| f64::from(lgh_core::luminance(p));
+    let pixels = r[0].pixels.len();
+    let mean_r = r
+        .iter()
+        .flat_map(|i| i.pixels.iter())
+        .map(|&p| lum(p).abs())
+        .sum::<f64>()
+        / (pixels * r.len()) as f64;
+    if mean_r.is_nan() || mean_r <= 0.0 || pixels == 0 {
+        return None;
+    }
+    let mut sum = 0.0;
+    for t in 1..a.len() {
+        let s: f64 = (0..pixels)
+            .map(|i| {
+                let e1 = lum(a[t].pixels[i]) - lum(r[t].pixels[i]);
+                let e0 = lum(a[t - 1].pixels[i]) - lum(r[t - 1].pixels[i]);
+                (e1 - e0).abs()
+            })
+            .sum();
+        sum += s / pixels as f64;
+    }
+    Some(sum / (a.len() - 1) as f64 / mean_r)
+}
+
 /// The error of an image as an 8-bit display would show it (Paquette et al. §5.1): every channel
 /// quantised linearly, `round(255 · clamp(v, 0, 1))`, no gamma — the scale on which their
 /// threshold of 2.55 and their observed errors of (1, 1, 1) are stated.

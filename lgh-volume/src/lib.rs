@@ -71,7 +71,7 @@ pub mod vdb;
 pub use error::VolumeError;
 pub use grid::DenseGrid;
 pub use lighting::Lights;
-pub use lights::{ExplosionLights, Method};
+pub use lights::{ExplosionLights, Method, Variants};
 pub use medium::{EmissionModel, Medium, Volume, MAX_EMISSION};
 pub use procedural::{explosion, procedural, Explosion};
 pub use shadow::{Shadows, Visibility};

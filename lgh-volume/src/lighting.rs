@@ -74,6 +74,24 @@ impl<B: ManyLights> Lights<B> {
             stats.lights_evaluated += u64::from(sum.lights);
             return Ok(sum.radiance);
         }
+        if self.backend.selection_follows_shader() {
+            // Lightcuts: each light's visibility when it is shaded, one shadow ray at a time.
+            let mut samples = 0;
+            let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
+                scratch.lights.clear();
+                scratch.lights.push(l);
+                samples += visibility.transmittances(
+                    point.position,
+                    &scratch.lights,
+                    &mut scratch.visibility,
+                );
+                term(l, response(l), scratch.visibility[0])
+            })?;
+            stats.shading_points += 1;
+            stats.lights_evaluated += u64::from(sum.lights);
+            stats.shadow_samples += samples;
+            return Ok(sum.radiance);
+        }
         // Gather the lights, then evaluate their visibility together (shadow rays eight abreast).
         scratch.lights.clear();
         scratch.unshadowed.clear();

@@ -11,8 +11,9 @@ use std::borrow::Borrow;
 
 use lgh_core::glam::Vec3;
 use lgh_core::{
-    BruteForce, GridSettings, Illumination, LghBackend, LightingGridHierarchy, ManyLights,
-    PointLight, QueryError, Shader, ShadingPoint,
+    BruteForce, Clustering, GridSettings, Illumination, LghBackend, LightPosition, LightTree,
+    LightcutsBackend, LightcutsSettings, LightingGridHierarchy, ManyLights, PointLight, QueryError,
+    Representative, Shader, ShadingPoint,
 };
 use lgh_image::Image;
 
@@ -35,17 +36,40 @@ pub enum Method {
     Lgh,
     /// Every light `S0`: the exact answer of the same light model.
     Brute,
+    /// Lightcuts (Walter et al. 2005, the paper's Fig. 10 rival) at 2%: a light tree over the
+    /// frame's lights with representatives drawn at random
+    /// ([`set_lightcuts_seed`](ExplosionLights::set_lightcuts_seed); a new tree every frame, as
+    /// the paper ran it), shadows ray-marched.
+    Lightcuts,
+    /// Lightcuts with each cluster's brightest light as its representative: no randomness.
+    LightcutsDeterministic,
 }
 
 impl Method {
-    /// The method's name, as in `lgh_core`'s [`ManyLights::name`] (`lgh`, `brute`).
+    /// The method's name, as in `lgh_core`'s [`ManyLights::name`] (`lgh`, `brute`, `lightcuts`,
+    /// `lightcuts-deterministic`).
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Method::Lgh => "lgh",
             Method::Brute => "brute",
+            Method::Lightcuts => "lightcuts",
+            Method::LightcutsDeterministic => "lightcuts-deterministic",
         }
     }
+}
+
+/// The paper's flickering variants of the hierarchy (Secs. 3.1, 3.2, Fig. 9), each one choice
+/// away from its method so that `lgh bench flicker` measures what each choice does to an
+/// animation. The default is the paper's method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Variants {
+    /// Trilinear splatting, or each light whole to its nearest vertex.
+    pub clustering: Clustering,
+    /// Coarse lights at their illumination centres, or at their grid vertices.
+    pub position: LightPosition,
+    /// Hard level switches instead of eq. (3)'s blending.
+    pub hard_switches: bool,
 }
 
 /// The lights of a sequence of frames on one simulation grid.
@@ -61,6 +85,23 @@ pub struct ExplosionLights {
     /// Weak-light pruning, a fraction of the frame's brightest light (see
     /// [`set_prune`](ExplosionLights::set_prune)).
     prune: f32,
+    /// The hierarchy's variants (the paper's by default).
+    variants: Variants,
+    /// Seed of [`Method::Lightcuts`]' representatives.
+    lightcuts_seed: u64,
+    /// ε and the largest cut of the Lightcuts methods (Walter's 2% and 1000 by default).
+    lightcuts: LightcutsSettings,
+}
+
+/// The grid of the paper's explosions (Sec. 6.1): `h1 = 2h`, level-1 vertices on voxel
+/// centres (`origin`, a voxel centre), top level `max_level` (`None`: chosen from the lights).
+fn explosion_grid(h: f32, origin: Vec3, max_level: Option<u8>) -> GridSettings {
+    GridSettings {
+        h1: Some(2.0 * h),
+        origin: Some(origin),
+        max_level,
+        ..Default::default()
+    }
 }
 
 /// Whether two grids have one layout (dimensions, voxel size, origin): what keeps the lights'
@@ -183,14 +224,9 @@ impl ExplosionLights {
                 PointLight::new(grid.centre(i, j, k), intensity)
             })
             .collect::<Vec<_>>();
-        let h = grid.voxel_size;
-        let settings = GridSettings {
-            h1: Some(2.0 * h),
-            origin: Some(grid.origin),
-            max_level,
-            ..Default::default()
-        };
+        let settings = explosion_grid(grid.voxel_size, grid.origin, max_level);
         let hierarchy = LightingGridHierarchy::build(&lights, &settings)?;
+        let h = grid.voxel_size;
         Ok(ExplosionLights {
             dims: grid.dims,
             voxel_size: h,
@@ -199,7 +235,57 @@ impl ExplosionLights {
             lights,
             hierarchy,
             prune: 0.0,
+            variants: Variants::default(),
+            lightcuts_seed: 0,
+            lightcuts: LightcutsSettings::default(),
         })
+    }
+
+    /// The same lights with the hierarchy rebuilt as `variants` say (one of the paper's
+    /// flickering alternatives, for measuring them); the intensities and pruning are kept.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::Clustering;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Variants};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let paper = ExplosionLights::new(&[&volume], &medium)?;
+    /// let nearest = Variants { clustering: Clustering::NearestVertex, ..Default::default() };
+    /// let variant = paper.clone().with_variants(nearest)?;
+    /// assert_eq!(variant.variants(), nearest);
+    /// assert_eq!(variant.lights(), paper.lights());
+    /// assert_ne!(variant.hierarchy().level(1), paper.hierarchy().level(1));
+    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// ```
+    pub fn with_variants(mut self, variants: Variants) -> Result<Self, VolumeError> {
+        let settings = GridSettings {
+            clustering: variants.clustering,
+            position: variants.position,
+            ..self.grid_settings()
+        };
+        self.hierarchy = LightingGridHierarchy::build(&self.lights, &settings)?;
+        self.variants = variants;
+        self.apply_prune()?;
+        Ok(self)
+    }
+
+    /// The hierarchy's variants ([`with_variants`](Self::with_variants)).
+    #[must_use]
+    pub fn variants(&self) -> Variants {
+        self.variants
+    }
+
+    /// The seed of [`Method::Lightcuts`]' random representatives: the paper's comparison draws
+    /// a new tree every frame, so a sequence sets a new seed per frame.
+    pub fn set_lightcuts_seed(&mut self, seed: u64) {
+        self.lightcuts_seed = seed;
+    }
+
+    /// ε and the largest cut of the Lightcuts methods (Walter's 2% and 1000 by default),
+    /// checked when a backend is made.
+    pub fn set_lightcuts_settings(&mut self, settings: LightcutsSettings) {
+        self.lightcuts = settings;
     }
 
     /// Prunes weak lights, as the paper does "for additional optimization" (Sec. 6): the
@@ -249,6 +335,19 @@ impl ExplosionLights {
             .iter()
             .map(|l| lgh_core::luminance(l.intensity))
             .fold(0.0f32, f32::max)
+    }
+
+    /// The settings the hierarchy was built with (its grid, and the variants).
+    fn grid_settings(&self) -> GridSettings {
+        GridSettings {
+            clustering: self.variants.clustering,
+            position: self.variants.position,
+            ..explosion_grid(
+                self.voxel_size,
+                self.origin,
+                Some(self.hierarchy.max_level()),
+            )
+        }
     }
 
     /// Sets the hierarchy's threshold from the current intensities.
@@ -354,17 +453,33 @@ impl ExplosionLights {
         method: Method,
         alpha: f32,
     ) -> Result<Lights<FrameBackend<'_>>, VolumeError> {
+        let lit = || -> Vec<PointLight> {
+            self.lights
+                .iter()
+                .copied()
+                .filter(|l| l.intensity.max_element() > 0.0)
+                .collect()
+        };
+        let lightcuts = |representative| -> Result<FrameBackend<'_>, VolumeError> {
+            let tree = LightTree::build(&lit(), representative)?;
+            let settings = self.lightcuts;
+            // Checked once here; the backend is remade per query from the tree it owns.
+            LightcutsBackend::new(&tree, settings)?;
+            Ok(FrameBackend::Lightcuts(Box::new(tree), settings))
+        };
         let backend = match method {
-            Method::Lgh => FrameBackend::Lgh(LghBackend::new(&self.hierarchy, alpha)?),
-            Method::Brute => {
-                let lit: Vec<PointLight> = self
-                    .lights
-                    .iter()
-                    .copied()
-                    .filter(|l| l.intensity.max_element() > 0.0)
-                    .collect();
-                FrameBackend::Brute(BruteForce::new(&lit)?)
+            Method::Lgh => {
+                let mut blending = self.hierarchy.blending(alpha)?;
+                if self.variants.hard_switches {
+                    blending = blending.with_hard_switches();
+                }
+                FrameBackend::Lgh(LghBackend::with_blending(&self.hierarchy, blending)?)
             }
+            Method::Brute => FrameBackend::Brute(BruteForce::new(&lit())?),
+            Method::Lightcuts => lightcuts(Representative::Stochastic {
+                seed: self.lightcuts_seed,
+            })?,
+            Method::LightcutsDeterministic => lightcuts(Representative::Brightest)?,
         };
         Ok(Lights::new(backend, self.voxel_size))
     }
@@ -474,6 +589,8 @@ pub enum FrameBackend<'a> {
     Lgh(LghBackend<'a>),
     /// Every light that shines this frame.
     Brute(BruteForce),
+    /// Lightcuts over a light tree of the frame's lights.
+    Lightcuts(Box<LightTree>, LightcutsSettings),
 }
 
 impl ManyLights for FrameBackend<'_> {
@@ -481,7 +598,12 @@ impl ManyLights for FrameBackend<'_> {
         match self {
             FrameBackend::Lgh(b) => b.name(),
             FrameBackend::Brute(b) => b.name(),
+            FrameBackend::Lightcuts(..) => "lightcuts",
         }
+    }
+
+    fn selection_follows_shader(&self) -> bool {
+        matches!(self, FrameBackend::Lightcuts(..))
     }
 
     fn illuminate<S: Shader>(
@@ -492,6 +614,9 @@ impl ManyLights for FrameBackend<'_> {
         match self {
             FrameBackend::Lgh(b) => b.illuminate(point, shader),
             FrameBackend::Brute(b) => b.illuminate(point, shader),
+            FrameBackend::Lightcuts(tree, settings) => {
+                LightcutsBackend::new(tree, *settings)?.illuminate(point, shader)
+            }
         }
     }
 }

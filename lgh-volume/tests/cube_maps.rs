@@ -169,29 +169,9 @@ fn on_the_demo_twelve_depths_meet_the_target_and_four_do_not() {
     assert!(four > 2.0 * WHOLE_IMAGE, "{four}");
 }
 
-/// Temporal flicker (ARCHITECTURE.md "Measuring"): `mean_t mean_px |(A_t − R_t) − (A_{t−1} −
-/// R_{t−1})| / mean |R|`, luminance, `R` the reference sequence.
+/// Temporal flicker (ARCHITECTURE.md "Measuring") of `a` against the reference `r`.
 fn flicker(a: &[Image], r: &[Image]) -> f64 {
-    let lum = |p: lgh_core::glam::Vec3| f64::from(lgh_core::luminance(p));
-    let mean_r: f64 = r
-        .iter()
-        .flat_map(|i| i.pixels.iter())
-        .map(|&p| lum(p).abs())
-        .sum::<f64>()
-        / r.iter().map(|i| i.pixels.len()).sum::<usize>() as f64;
-    let mut sum = 0.0;
-    for t in 1..a.len() {
-        let n = a[t].pixels.len() as f64;
-        let s: f64 = (0..a[t].pixels.len())
-            .map(|i| {
-                let e1 = lum(a[t].pixels[i]) - lum(r[t].pixels[i]);
-                let e0 = lum(a[t - 1].pixels[i]) - lum(r[t - 1].pixels[i]);
-                (e1 - e0).abs()
-            })
-            .sum();
-        sum += s / n;
-    }
-    sum / (a.len() - 1) as f64 / mean_r
+    lgh_image::flicker(a, r).expect("sequences of one size with a lit reference")
 }
 
 /// The hierarchy at α = 2 over `frames` with ray-marched shadows, with cube maps, and with cube
@@ -202,14 +182,7 @@ fn flicker(a: &[Image], r: &[Image]) -> f64 {
 fn flicker_of_variants(frames: &[Volume], m: &Medium, camera: &Camera) -> [f64; 3] {
     let refs: Vec<&Volume> = frames.iter().collect();
     let mut lights = ExplosionLights::new(&refs, m).unwrap();
-    let march = |shadows, prefilter| MarchSettings {
-        shadows,
-        cube_maps: CubeMapSettings {
-            prefilter,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
+    let march = MarchSettings::with_shadows;
     let variants = [
         (
             "lgh, ray-marched shadows",

@@ -47,6 +47,37 @@ impl<'a> LghBackend<'a> {
         })
     }
 
+    /// The backend for `hierarchy` with `blending` made for it (by
+    /// [`LightingGridHierarchy::blending`], then changed: [`Blending::with_hard_switches`]). A
+    /// blending for another hierarchy (other `h1` or `ℓ_max`) is an error.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let hard = lgh.blending(2.0)?.with_hard_switches();
+    /// let backend = LghBackend::with_blending(&lgh, hard)?;
+    /// assert!(backend.blending().hard_switches());
+    /// let other = LightingGridHierarchy::build(&lights, &GridSettings { h1: Some(0.1), ..Default::default() })?;
+    /// assert!(LghBackend::with_blending(&other, hard).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_blending(
+        hierarchy: &'a LightingGridHierarchy,
+        blending: Blending,
+    ) -> Result<Self, QueryError> {
+        let own = hierarchy.blending(blending.alpha())?;
+        if own.h1() != blending.h1() || own.max_level() != blending.max_level() {
+            return Err(QueryError::BlendingMismatch);
+        }
+        Ok(LghBackend {
+            hierarchy,
+            blending,
+        })
+    }
+
     /// The hierarchy.
     #[must_use]
     pub fn hierarchy(&self) -> &'a LightingGridHierarchy {

@@ -57,6 +57,8 @@ pub struct LightingGridHierarchy {
     placement: Placement,
     source: LevelSource,
     prune_below: f32,
+    /// The variants of the splat (the paper's by default).
+    splat: level::SplatVariant,
     input: SortedInput,
     /// Level 0: the input lights, sorted, as grid lights (zero variance and size).
     level0: LevelLights,
@@ -226,6 +228,7 @@ impl LightingGridHierarchy {
             placement,
             source: settings.source,
             prune_below: settings.prune_below,
+            splat: level::SplatVariant::of(settings),
             input,
             level0,
             cells0,
@@ -262,6 +265,7 @@ impl LightingGridHierarchy {
             },
             source: settings.source,
             prune_below: settings.prune_below,
+            splat: level::SplatVariant::of(settings),
             input: SortedInput::default(),
             level0: LevelLights::default(),
             cells0: BrickIndex::from_sorted_codes(&[]),
@@ -350,6 +354,7 @@ impl LightingGridHierarchy {
             self.h(l) as f64,
             self.placement.origin,
             self.threshold(l),
+            self.splat,
         )
     }
 
@@ -394,7 +399,7 @@ impl LightingGridHierarchy {
             luminance: &lum,
             extra_variance: Some(&extra),
         };
-        let lights = level::splat(&topo, &input, h, pl.origin, self.threshold(l));
+        let lights = level::splat(&topo, &input, h, pl.origin, self.threshold(l), self.splat);
         Level { lights, topo }
     }
 

@@ -1,0 +1,280 @@
+//! `lgh bench flicker`: temporal flicker of a sequence (the paper's Figs. 9, 10, Sec. 6.1),
+//! the hierarchy against Lightcuts and against the paper's flickering variants, as JSON (and a
+//! markdown table).
+//!
+//! Every method renders the same frames and pixels; brute force over every light with
+//! ray-marched shadows is the reference of each frame (the exact answer of the same light
+//! model). Flicker is `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|` (DESIGN.md
+//! "Measuring", [`lgh_image::flicker`]): the change of the error from frame to frame, so a
+//! constant bias does not count; the error is the mean over frames of the relative RMSE.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use lgh_core::{Clustering, LightPosition};
+use lgh_image::Image;
+use lgh_volume::cache::{self, GridNames};
+use lgh_volume::medium::{framing_bounds, Medium, Volume};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
+use lgh_volume::{explosion, ExplosionLights, Method, Shadows, Variants};
+use serde_json::{json, Value};
+
+/// Arguments of `lgh bench flicker`.
+#[derive(Debug, clap::Args)]
+pub struct FlickerArgs {
+    /// Any frame of an OpenVDB cache, with --frames (Blender's grids and its domain offset).
+    #[arg(long, requires = "frames", conflicts_with = "procedural")]
+    pub vdb: Option<PathBuf>,
+    /// The cache's frames, `A..B` inclusive.
+    #[arg(long, requires = "vdb")]
+    pub frames: Option<String>,
+    /// N frames of the procedural explosion (the demo's scene), 1/24 s apart from t = 0.3 s.
+    #[arg(long)]
+    pub procedural: Option<usize>,
+    /// Voxels per side of the procedural explosion.
+    #[arg(long, default_value_t = 48)]
+    pub resolution: usize,
+    /// The paper's α.
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
+    pub alpha: f32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 48)]
+    pub width: usize,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 27)]
+    pub height: usize,
+    /// Write a markdown table of the results here (atomically).
+    #[arg(long)]
+    pub markdown: Option<PathBuf>,
+    /// Don't show progress.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// One measured method: its JSON key, what it is, how it renders.
+struct Entry {
+    key: &'static str,
+    what: &'static str,
+    method: Method,
+    variants: Variants,
+    shadows: Shadows,
+    /// Coarse lights' shadows through the prefiltered density (the paper's) or as points.
+    prefilter: bool,
+}
+
+fn entries() -> Vec<Entry> {
+    let lgh = |key, what, variants, prefilter| Entry {
+        key,
+        what,
+        method: Method::Lgh,
+        variants,
+        shadows: Shadows::CubeMap,
+        prefilter,
+    };
+    let paper = Variants::default();
+    let ray_marched = |key, what, method| Entry {
+        key,
+        what,
+        method,
+        variants: paper,
+        shadows: Shadows::RayMarch,
+        prefilter: true,
+    };
+    vec![
+        lgh(
+            "lgh",
+            "LGH, cube-map shadows (the paper's method)",
+            paper,
+            true,
+        ),
+        ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Method::Lgh),
+        ray_marched(
+            "lightcuts",
+            "Lightcuts 2%, random representatives, a new tree every frame",
+            Method::Lightcuts,
+        ),
+        ray_marched(
+            "lightcuts_deterministic",
+            "Lightcuts 2%, brightest representatives",
+            Method::LightcutsDeterministic,
+        ),
+        lgh(
+            "nearest_vertex",
+            "LGH with nearest-vertex clustering instead of trilinear splatting",
+            Variants {
+                clustering: Clustering::NearestVertex,
+                ..paper
+            },
+            true,
+        ),
+        lgh(
+            "hard_switches",
+            "LGH with hard level switches instead of blending",
+            Variants {
+                hard_switches: true,
+                ..paper
+            },
+            true,
+        ),
+        lgh(
+            "grid_vertex",
+            "LGH with lights at grid vertices instead of illumination centres (Fig. 9)",
+            Variants {
+                position: LightPosition::GridVertex,
+                ..paper
+            },
+            true,
+        ),
+        lgh(
+            "point_shadows",
+            "LGH with coarse lights as points for shadows (no prefiltered density)",
+            paper,
+            false,
+        ),
+    ]
+}
+
+/// The frames, their medium, and the camera's up axis.
+fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate::Error> {
+    match (&args.vdb, &args.frames, args.procedural) {
+        (Some(vdb), Some(range), None) => {
+            let (a, b) = crate::explosion::parse_frames(range)?;
+            let paths = (a..=b)
+                .map(|f| cache::frame_path(vdb, f))
+                .collect::<Result<Vec<_>, _>>()?;
+            if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
+                return Err(format!("{}: no such file", missing.display()).into());
+            }
+            if paths.len() < 2 {
+                return Err("--frames: flicker needs at least 2 frames".into());
+            }
+            let volumes = cache::load(&paths, &GridNames::default(), true)?;
+            let name = format!("{} frames {a}..{b}", vdb.display());
+            Ok((name, volumes, crate::bench_explosion::fire_medium()?, Up::Z))
+        }
+        (None, None, Some(n)) => {
+            if !(2..=1000).contains(&n) {
+                return Err(format!("--procedural {n}: expected 2 to 1000 frames").into());
+            }
+            let volumes = (0..n)
+                .map(|i| explosion(args.resolution, 0.3 + i as f32 / 24.0))
+                .collect::<Result<Vec<_>, _>>()?;
+            let name = format!("procedural explosion {}³, {n} frames", args.resolution);
+            Ok((name, volumes, crate::demo::demo_medium(), Up::Y))
+        }
+        _ => Err("give --vdb FRAME --frames A..B, or --procedural N".into()),
+    }
+}
+
+/// Runs `lgh bench flicker`.
+pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
+    crate::check_alpha(args.alpha)?;
+    lgh_volume::render::check_image_size(args.width, args.height)?;
+    let (scene, volumes, medium, up) = frames(args)?;
+    let refs: Vec<&Volume> = volumes.iter().collect();
+    let (lo, hi) = framing_bounds(&refs).ok_or("the frames have no smoke to frame")?;
+    let camera = Camera::frame_up(lo, hi, args.width, args.height, up)?;
+    let paper = ExplosionLights::new(&refs, &medium)?;
+    let march = MarchSettings::with_shadows;
+    let entries = entries();
+    let mut lights: Vec<ExplosionLights> = entries
+        .iter()
+        .map(|e| paper.clone().with_variants(e.variants))
+        .collect::<Result<_, _>>()?;
+    let mut reference_lights = paper;
+    let mut reference: Vec<Image> = Vec::new();
+    let mut images: Vec<Vec<Image>> = vec![Vec::new(); entries.len()];
+    let mut seconds = vec![0.0f64; entries.len()];
+    let mut reference_seconds = 0.0;
+    let bar = crate::progress::bar(
+        (volumes.len() * (entries.len() + 1)) as u64,
+        "rendering",
+        args.quiet,
+    );
+    for (t, frame) in volumes.iter().enumerate() {
+        let start = Instant::now();
+        reference_lights.set_frame(frame, &medium)?;
+        let (image, _) = reference_lights.render(
+            Method::Brute,
+            args.alpha,
+            frame,
+            &medium,
+            &camera,
+            &march(Shadows::RayMarch, true),
+            &|_| {},
+        )?;
+        reference_seconds += start.elapsed().as_secs_f64();
+        reference.push(image);
+        bar.inc(1);
+        for (k, e) in entries.iter().enumerate() {
+            let start = Instant::now();
+            let l = &mut lights[k];
+            l.set_frame(frame, &medium)?;
+            // A new random tree every frame, as the paper ran Lightcuts.
+            l.set_lightcuts_seed(t as u64);
+            let (image, _) = l.render(
+                e.method,
+                args.alpha,
+                frame,
+                &medium,
+                &camera,
+                &march(e.shadows, e.prefilter),
+                &|_| {},
+            )?;
+            seconds[k] += start.elapsed().as_secs_f64();
+            images[k].push(image);
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    let mut backends = serde_json::Map::new();
+    let mut table = format!(
+        "| method | flicker | relative RMSE | seconds per frame |\n|---|---:|---:|---:|\n| brute force, ray-marched (the reference) | – | – | {:.2} |\n",
+        reference_seconds / volumes.len() as f64
+    );
+    for (k, e) in entries.iter().enumerate() {
+        let flicker = lgh_image::flicker(&images[k], &reference)
+            .ok_or("the reference is black: flicker is undefined")?;
+        let errors: Vec<f64> = images[k]
+            .iter()
+            .zip(&reference)
+            .map(|(a, r)| lgh_image::compare(a, r).map_or(f64::NAN, |s| s.rel_rmse))
+            .collect();
+        let rel_rmse = errors.iter().sum::<f64>() / errors.len() as f64;
+        let per_frame = seconds[k] / volumes.len() as f64;
+        backends.insert(
+            e.key.to_string(),
+            json!({
+                "flicker": flicker,
+                "rel_rmse": rel_rmse,
+                "seconds_per_frame": per_frame,
+                "method": e.what,
+            }),
+        );
+        table += &format!(
+            "| {} (`{}`) | {flicker:.6} | {:.2}% | {per_frame:.2} |\n",
+            e.what,
+            e.key,
+            100.0 * rel_rmse
+        );
+    }
+    let report: Value = json!({
+        "scene": scene,
+        "frames": volumes.len(),
+        "alpha": args.alpha,
+        "width": args.width,
+        "height": args.height,
+        "reference": "brute force over every light, ray-marched shadows",
+        "reference_seconds_per_frame": reference_seconds / volumes.len() as f64,
+        "backends": backends,
+    });
+    say!("{}", serde_json::to_string_pretty(&report)?);
+    if let Some(path) = &args.markdown {
+        lgh_image::write_atomic(path, |w| w.write_all(table.as_bytes()))
+            .map_err(|e| format!("--markdown {}: {e}", path.display()))?;
+    }
+    if !args.quiet {
+        eprintln!("{scene}, α = {}:\n{table}", args.alpha);
+    }
+    Ok(())
+}
