@@ -46,6 +46,17 @@ pub struct FlickerArgs {
     /// Write a markdown table of the results here (atomically).
     #[arg(long)]
     pub markdown: Option<PathBuf>,
+    /// Lightcuts' ε, relative to each point's estimate (Walter's and the paper's 2%).
+    #[arg(long, default_value_t = 0.02)]
+    pub lightcuts_error: f32,
+    /// Reproduce the paper's Fig. 10 on the middle frame into this folder: two stochastic
+    /// Lightcuts renders and their difference ×4, and deterministic Lightcuts' bias against the
+    /// mean of --fig10-renders stochastic renders (PNGs; the JSON gets `fig10`).
+    #[arg(long)]
+    pub fig10: Option<PathBuf>,
+    /// Stochastic renders averaged for --fig10's mean.
+    #[arg(long, default_value_t = 32)]
+    pub fig10_renders: u32,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -174,7 +185,23 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
     let refs: Vec<&Volume> = volumes.iter().collect();
     let (lo, hi) = framing_bounds(&refs).ok_or("the frames have no smoke to frame")?;
     let camera = Camera::frame_up(lo, hi, args.width, args.height, up)?;
-    let paper = ExplosionLights::new(&refs, &medium)?;
+    let mut paper = ExplosionLights::new(&refs, &medium)?;
+    lgh_core::QueryError::check_threshold(args.lightcuts_error)
+        .map_err(|e| format!("--lightcuts-error: {e}"))?;
+    paper.set_lightcuts_settings(lgh_core::LightcutsSettings {
+        relative_error: args.lightcuts_error,
+        ..Default::default()
+    });
+    if let Some(dir) = &args.fig10 {
+        if !dir.is_dir() {
+            return Err(format!("--fig10 {}: no such folder", dir.display()).into());
+        }
+        if !(2..=4096).contains(&args.fig10_renders) {
+            return Err(
+                format!("--fig10-renders {}: expected 2 to 4096", args.fig10_renders).into(),
+            );
+        }
+    }
     let march = MarchSettings::with_shadows;
     let entries = entries();
     let mut lights: Vec<ExplosionLights> = entries
@@ -258,8 +285,25 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
             100.0 * rel_rmse
         );
     }
+    let fig10 = match &args.fig10 {
+        Some(dir) => {
+            let t = volumes.len() / 2;
+            reference_lights.set_frame(&volumes[t], &medium)?;
+            Some(fig10(
+                args,
+                dir,
+                &mut reference_lights,
+                &volumes[t],
+                &medium,
+                &camera,
+            )?)
+        }
+        None => None,
+    };
     let report: Value = json!({
         "scene": scene,
+        "lightcuts_error": args.lightcuts_error,
+        "fig10": fig10,
         "frames": volumes.len(),
         "alpha": args.alpha,
         "width": args.width,
@@ -277,4 +321,96 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         eprintln!("{scene}, α = {}:\n{table}", args.alpha);
     }
     Ok(())
+}
+
+/// The paper's Fig. 10 on one frame (`lights` set to it), into `dir`: two stochastic Lightcuts
+/// renders (seeds 1 and 2) and their difference ×4 (false colour, red at a quarter of the
+/// brightest pixel); deterministic Lightcuts, the mean of `--fig10-renders` stochastic renders,
+/// and the deterministic one's bias against that mean, likewise ×4. Returns the figures.
+fn fig10(
+    args: &FlickerArgs,
+    dir: &std::path::Path,
+    lights: &mut ExplosionLights,
+    frame: &Volume,
+    medium: &Medium,
+    camera: &Camera,
+) -> Result<Value, crate::Error> {
+    let march = MarchSettings::with_shadows(Shadows::RayMarch, true);
+    let mut render = |method, seed| -> Result<Image, crate::Error> {
+        lights.set_lightcuts_seed(seed);
+        Ok(lights
+            .render(method, args.alpha, frame, medium, camera, &march, &|_| {})?
+            .0)
+    };
+    let exact = render(Method::Brute, 0)?;
+    let (one, two) = (render(Method::Lightcuts, 1)?, render(Method::Lightcuts, 2)?);
+    let deterministic = render(Method::LightcutsDeterministic, 0)?;
+    let n = args.fig10_renders;
+    let mut mean = Image::new(camera.width(), camera.height());
+    for seed in 1..=u64::from(n) {
+        let img = if seed == 1 {
+            one.clone()
+        } else if seed == 2 {
+            two.clone()
+        } else {
+            render(Method::Lightcuts, seed)?
+        };
+        for (m, p) in mean.pixels.iter_mut().zip(&img.pixels) {
+            *m += *p / n as f32;
+        }
+    }
+    let brightest = exact
+        .pixels
+        .iter()
+        .map(|&p| lgh_core::luminance(p))
+        .fold(0.0f32, f32::max);
+    let exposure = lgh_image::auto_exposure(&exact);
+    let png = |name: &str, img: &Image| -> Result<(), crate::Error> {
+        Ok(lgh_image::write_png(&dir.join(name), img, exposure)?)
+    };
+    png("fig10-brute.png", &exact)?;
+    png("fig10-lightcuts-seed-1.png", &one)?;
+    png("fig10-lightcuts-seed-2.png", &two)?;
+    png("fig10-lightcuts-deterministic.png", &deterministic)?;
+    png("fig10-lightcuts-mean.png", &mean)?;
+    lgh_image::difference_png(
+        &dir.join("fig10-seed-difference-x4.png"),
+        &one,
+        &two,
+        brightest / 4.0,
+    )?;
+    lgh_image::difference_png(
+        &dir.join("fig10-deterministic-bias-x4.png"),
+        &deterministic,
+        &mean,
+        brightest / 4.0,
+    )?;
+    let rel = |a: &Image, r: &Image| lgh_image::compare(a, r).map(|s| s.rel_rmse);
+    let mean_lum = |img: &Image| {
+        img.pixels
+            .iter()
+            .map(|&p| f64::from(lgh_core::luminance(p)))
+            .sum::<f64>()
+            / img.pixels.len() as f64
+    };
+    Ok(json!({
+        "frame": volumes_label(args),
+        "stochastic_renders": n,
+        "seed_1_vs_seed_2_rel_rmse": rel(&one, &two),
+        "stochastic_vs_brute_rel_rmse": rel(&one, &exact),
+        "mean_of_stochastic_vs_brute_rel_rmse": rel(&mean, &exact),
+        "deterministic_vs_mean_rel_rmse": rel(&deterministic, &mean),
+        "deterministic_vs_brute_rel_rmse": rel(&deterministic, &exact),
+        "deterministic_mean_bias": mean_lum(&deterministic) / mean_lum(&mean) - 1.0,
+        "images": dir.display().to_string(),
+    }))
+}
+
+/// Which frame --fig10 shows: the middle one.
+fn volumes_label(args: &FlickerArgs) -> String {
+    match (&args.frames, args.procedural) {
+        (Some(range), _) => format!("the middle frame of {range}"),
+        (_, Some(n)) => format!("frame {} of {n}", n / 2),
+        _ => String::new(),
+    }
 }

@@ -987,9 +987,16 @@ fn bench_gi_prints_the_runs_against_brute_force() {
 fn bench_flicker_prints_every_method_against_brute_force() {
     let dir = tempfile::tempdir().unwrap();
     let md = dir.path().join("flicker.md");
+    let fig10 = dir.path().to_str().unwrap();
     let o = lgh(&[
+        "--threads",
+        "2",
         "bench",
         "flicker",
+        "--fig10",
+        fig10,
+        "--fig10-renders",
+        "3",
         "--procedural",
         "3",
         "--resolution",
@@ -1031,6 +1038,23 @@ fn bench_flicker_prints_every_method_against_brute_force() {
     );
     let table = std::fs::read_to_string(&md).unwrap();
     assert!(table.contains("| method | flicker |") && table.contains("`nearest_vertex`"));
+    // Fig. 10: two seeds differ, and the images are there.
+    let f = &v["fig10"];
+    assert!(
+        f["seed_1_vs_seed_2_rel_rmse"].as_f64().unwrap() > 0.0,
+        "{f}"
+    );
+    assert!(
+        f["deterministic_vs_mean_rel_rmse"].as_f64().unwrap() >= 0.0,
+        "{f}"
+    );
+    for png in [
+        "fig10-seed-difference-x4.png",
+        "fig10-deterministic-bias-x4.png",
+        "fig10-lightcuts-mean.png",
+    ] {
+        assert!(dir.path().join(png).is_file(), "{png}");
+    }
     assert_refused(
         dir.path(),
         &["bench", "flicker", "--procedural", "1"],
