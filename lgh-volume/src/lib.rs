@@ -73,5 +73,5 @@ pub use grid::DenseGrid;
 pub use lighting::Lights;
 pub use lights::{ExplosionLights, Method, Variants};
 pub use medium::{EmissionModel, Medium, Volume, MAX_EMISSION};
-pub use procedural::{explosion, procedural, Explosion};
+pub use procedural::{bouncing_balls, explosion, procedural, Explosion};
 pub use shadow::{Shadows, Visibility};

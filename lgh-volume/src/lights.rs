@@ -288,6 +288,12 @@ impl ExplosionLights {
         self.lightcuts = settings;
     }
 
+    /// The Lightcuts methods' ε and largest cut.
+    #[must_use]
+    pub fn lightcuts_settings(&self) -> LightcutsSettings {
+        self.lightcuts
+    }
+
     /// Prunes weak lights, as the paper does "for additional optimization" (Sec. 6): the
     /// hierarchy's queries skip, on every level but the top one, the lights whose luminance is
     /// below `fraction` of the brightest light of the frame (their energy still reaches the
