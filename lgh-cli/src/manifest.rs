@@ -378,6 +378,17 @@ impl Manifest {
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;
+        // One file without a frame number, or consecutive frames.
+        let consecutive = match files[0].frame {
+            None => files.len() == 1,
+            Some(first) => files
+                .iter()
+                .enumerate()
+                .all(|(i, f)| f.frame.map(u64::from) == Some(u64::from(first) + i as u64)),
+        };
+        if !consecutive {
+            return Err(field("frames.files (consecutive frames)"));
+        }
         let settings = v["settings"]
             .as_object()
             .ok_or_else(|| field("settings"))?
