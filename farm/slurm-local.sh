@@ -13,17 +13,33 @@ if [ -z "$cmd" ] || [ -z "$dir" ]; then
     echo "usage: $0 start|stop DIR" >&2
     exit 2
 fi
-mkdir -p "$dir"
-dir=$(cd "$dir" && pwd)
+if [ "$cmd" = start ]; then mkdir -p "$dir"; fi
+[ -d "$dir" ] && dir=$(cd "$dir" && pwd)
 conf=$dir/slurm.conf
 
 stop() {
-    # Every daemon of this cluster has DIR in its command line.
-    pkill -f -- "$dir/(slurm.conf|munge/munge.sock)" 2>/dev/null || true
-    for _ in $(seq 100); do
-        pgrep -f -- "$dir/(slurm.conf|munge/munge.sock)" >/dev/null || break
+    [ -d "$dir" ] || return 0
+    # By the daemons' pid files, then anything still running from this folder's config (a
+    # fixed string, not a pattern), SIGKILL after 10 s.
+    local pids=""
+    for d in slurmd slurmctld munged; do
+        [ -f "$dir/$d.pid" ] && pids="$pids $(cat "$dir/$d.pid")"
+    done
+    for p in /proc/[0-9]*; do
+        # Not this script (its own command line may name the folder).
+        [ "${p#/proc/}" = "$$" ] && continue
+        if tr '\0' ' ' < "$p/cmdline" 2>/dev/null | grep -qF -- "$dir/"; then
+            pids="$pids ${p#/proc/}"
+        fi
+    done
+    [ -n "$pids" ] && kill $pids 2>/dev/null || true
+    for _ in $(seq 50); do
+        alive=""
+        for p in $pids; do kill -0 "$p" 2>/dev/null && alive="$alive $p"; done
+        [ -z "$alive" ] && break
         sleep 0.2
     done
+    [ -n "${alive:-}" ] && kill -9 $alive 2>/dev/null || true
     rm -f "$dir"/*.pid
 }
 
@@ -97,8 +113,9 @@ slurmd -f "$conf"
 # Up when the node takes jobs (at most 30 s).
 for _ in $(seq 150); do
     state=$(sinfo -h -o %t 2>/dev/null || true)
+    # "idle*" (with the star) is a node that does not respond.
     case $state in
-    idle* | mix* | alloc*)
+    idle | mix | alloc)
         echo "export SLURM_CONF=$conf"
         exit 0
         ;;

@@ -324,7 +324,13 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
     let fig10 = match &args.fig10 {
         Some(dir) => {
             let t = volumes.len() / 2;
-            reference_lights.set_frame(&volumes[t], &medium)?;
+            if rebuild {
+                // Moving lights: the middle frame's own.
+                reference_lights = ExplosionLights::new(&[&volumes[t]], &medium)?;
+                reference_lights.set_lightcuts_settings(lightcuts);
+            } else {
+                reference_lights.set_frame(&volumes[t], &medium)?;
+            }
             Some(fig10(
                 args,
                 dir,

@@ -103,6 +103,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
             &medium,
             &camera,
             &settings,
+            None,
             &|_| {},
         )?;
         let render = t.elapsed().as_secs_f64();

@@ -6,8 +6,10 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::medium::framing_bounds;
-use lgh_volume::render::{Camera, Framing};
+use lgh_volume::render::{Camera, Framing, Up};
+use lgh_volume::surfaces::{Ground, Surfaces};
 use lgh_volume::{explosion, ExplosionLights, Medium, Method, Volume};
 
 use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
@@ -48,6 +50,10 @@ pub struct SceneArgs {
     /// The paper's α.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub alpha: f32,
+    /// No ground under the explosion (by default a grey plane where its smoke ends below, lit
+    /// by the fire through the smoke).
+    #[arg(long)]
+    pub no_ground: bool,
 }
 
 /// The demo's frame made ready: the volume, its medium, its lights (with their hierarchy), the
@@ -120,6 +126,14 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         lights_seconds,
     } = args.scene.build()?;
     lights.set_prune(args.march.prune)?;
+    // The ground under the explosion, where its smoke ends, so that its light falls on
+    // something.
+    let ground = if args.scene.no_ground {
+        None
+    } else {
+        let (lo, _) = framing_bounds(&[&volume]).expect("one frame");
+        Some(Ground::new(Up::Y, lo.y, Vec3::splat(0.5))?)
+    };
     let setup_s = volume_seconds + lights_seconds;
     let scene = &args.scene;
     let extra = vec![
@@ -133,6 +147,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
         ("alpha", scene.alpha.to_string()),
         ("prune", args.march.prune.to_string()),
         ("lights", lights.lit().to_string()),
+        ("ground", (!scene.no_ground).to_string()),
     ];
     let scatter = Scatter::run(
         &args.scatter,
@@ -174,6 +189,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
                 &medium,
                 &camera,
                 &march,
+                ground.as_ref().map(|g| g as &dyn Surfaces),
                 progress,
             )?;
             Ok((image, Some(stats)))

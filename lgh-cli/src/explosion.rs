@@ -33,6 +33,8 @@ impl clap::ValueEnum for BackendArg {
         &[
             BackendArg::March(Method::Lgh),
             BackendArg::March(Method::Brute),
+            BackendArg::March(Method::Lightcuts),
+            BackendArg::March(Method::LightcutsDeterministic),
             BackendArg::Pathtrace,
         ]
     }
@@ -268,7 +270,12 @@ fn replay(manifest: &Manifest) -> Result<ExplosionArgs, crate::Error> {
     argv.push(format!("--vdb={}", manifest.files[0].path.display()));
     <Replay as clap::Parser>::try_parse_from(&argv)
         .map(|r| r.args)
-        .map_err(|e| format!("the manifest's settings: {}", e.render().to_string().trim()).into())
+        .map_err(|e| {
+            crate::usage(format!(
+                "the manifest's settings: {}",
+                e.render().to_string().trim()
+            ))
+        })
 }
 
 /// What every frame's render shares: settings made ready, checked before any work.
@@ -325,6 +332,10 @@ impl Setup {
             UpArg::Y => Up::Y,
             UpArg::Z => Up::Z,
         };
+        // Checked before any work (and before a manifest keeps it for every task).
+        if let Some(c) = &args.camera {
+            parse_camera(c, up.vector(), args.width, args.height)?;
+        }
         Ok(Setup {
             march,
             medium,
@@ -362,7 +373,9 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     }
     let setup = Setup::new(args)?;
     if args.prepare.is_some() && args.resume {
-        return Err("--resume is for rendering: --prepare renders nothing".into());
+        return Err(crate::usage(
+            "--resume is for rendering: --prepare renders nothing",
+        ));
     }
     let frames = args.frame_numbers()?;
     let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
@@ -487,13 +500,12 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
         !TASK_FLAGS.contains(&id)
             && matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine)
     }) {
-        return Err(format!(
+        return Err(crate::usage(format!(
             "--{}: a task takes its settings from the manifest ({}); give them to --prepare \
              (a task takes only --frames, --resume, --quiet and --threads)",
             arg.get_long().unwrap_or("?"),
             path.display()
-        )
-        .into());
+        )));
     }
     let manifest = Manifest::read(path)?;
     let mut full = replay(&manifest)?;
@@ -505,14 +517,16 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
         (Some(s), Some((first, last))) => {
             let (a, b) = parse_frames(s)?;
             if a < first || b > last {
-                return Err(
-                    format!("--frames {s}: the manifest has frames {first}..{last}").into(),
-                );
+                return Err(crate::usage(format!(
+                    "--frames {s}: the manifest has frames {first}..{last}"
+                )));
             }
             (a - first) as usize..(b - first + 1) as usize
         }
         (Some(s), None) => {
-            return Err(format!("--frames {s}: the manifest is of one file, not frames").into())
+            return Err(crate::usage(format!(
+                "--frames {s}: the manifest is of one file, not frames"
+            )))
         }
     };
     let paths: Vec<PathBuf> = manifest.files.iter().map(|f| f.path.clone()).collect();
@@ -560,6 +574,9 @@ fn render_frames(
     which: std::ops::Range<usize>,
     load_s: Option<f64>,
 ) -> Result<(), crate::Error> {
+    // A task checks each frame against the manifest's hash before it reads it; a run that
+    // hashed the files itself, moments ago, does not read them a fourth time.
+    let verify = load_s.is_none();
     let Setup {
         march,
         medium,
@@ -598,12 +615,14 @@ fn render_frames(
             say!("  {}: finished before, skipped (--resume)", out.display());
             continue;
         }
-        // A frame the pass has in memory is not read again; any other is checked against the
-        // manifest's hash and read.
+        // A frame the pass has in memory is not read again; any other is read (a task's checked
+        // against the manifest's hash first).
         let volume = match kept.take_if(|(k, _)| *k == n) {
             Some((_, v)) => v,
             None => {
-                file.verify()?;
+                if verify {
+                    file.verify()?;
+                }
                 Rc::new(seq.frame(n)?)
             }
         };
@@ -618,6 +637,8 @@ fn render_frames(
             if l.prune() != args.march.prune {
                 l.set_prune(args.march.prune)?;
             }
+            // Lightcuts draws a new tree every frame, as the paper ran it: seeded by the frame.
+            l.set_lightcuts_seed(u64::from(frame.unwrap_or(0)));
         }
         let volume: &Volume = &volume;
         if let Some(lights) = &mut lights {
@@ -698,7 +719,7 @@ fn render_frames(
             (Some(lights), Some(method), Some(shadowing)) => {
                 let lights = scatter.as_ref().map_or(lights, |s| s.lights(lights));
                 let (image, stats) = shadowing.render(
-                    lights, method, args.alpha, volume, medium, &camera, &march, progress,
+                    lights, method, args.alpha, volume, medium, &camera, &march, None, progress,
                 )?;
                 Ok((image, Some(stats)))
             }

@@ -91,6 +91,25 @@ enum BenchCommand {
 /// The CLI's error: any library's typed error or a message, shown as one line by `main`.
 pub(crate) type Error = Box<dyn std::error::Error + Send + Sync>;
 
+/// A command line that cannot work however often it is retried (a farm task's flag that is
+/// the manifest's, a damaged or foreign manifest): `main` exits with 2, as for the parser's own
+/// refusals, not 1, which a farm reads as a frame that failed and may be retried.
+#[derive(Debug)]
+pub(crate) struct Usage(pub String);
+
+impl std::fmt::Display for Usage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Usage {}
+
+/// A [`Usage`] error.
+pub(crate) fn usage(message: impl Into<String>) -> Error {
+    Box::new(Usage(message.into()))
+}
+
 /// Writes one line to stdout (see [`say!`]).
 pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), crate::Error> {
     use std::io::Write;
@@ -183,6 +202,10 @@ fn main() {
     };
     if let Err(e) = result {
         eprintln!("lgh: error: {e}");
-        std::process::exit(1);
+        std::process::exit(if e.downcast_ref::<Usage>().is_some() {
+            2
+        } else {
+            1
+        });
     }
 }

@@ -183,6 +183,11 @@ pub fn encode_voxels(voxels: &[usize]) -> String {
 /// [`encode_voxels`] undone; `count` voxels, each below `limit`, strictly ascending, or an error.
 pub fn decode_voxels(text: &str, count: usize, limit: usize) -> Result<Vec<usize>, String> {
     let bad = |why: &str| format!("lights.voxels: {why}");
+    if count > limit {
+        return Err(bad(&format!(
+            "lights.count {count} is more than the grid's {limit} voxels"
+        )));
+    }
     let deflated = base64::engine::general_purpose::STANDARD
         .decode(text)
         .map_err(|e| bad(&format!("not base64 ({e})")))?;
@@ -192,7 +197,8 @@ pub fn decode_voxels(text: &str, count: usize, limit: usize) -> Result<Vec<usize
         count.saturating_mul(10).max(16),
     )
     .map_err(|e| bad(&format!("corrupt deflate data ({e:?})")))?;
-    let mut out = Vec::with_capacity(count);
+    // Each varint is at least one byte.
+    let mut out = Vec::with_capacity(count.min(raw.len()));
     let (mut d, mut shift) = (0u64, 0u32);
     for &byte in &raw {
         if shift > 63 {
@@ -285,9 +291,11 @@ impl Manifest {
 
     /// Reads a manifest written by `--prepare`, checking every field.
     pub fn read(path: &Path) -> Result<Self, crate::Error> {
-        let bytes = lgh_image::read_limited(path, MAX_MANIFEST_BYTES)
-            .map_err(|e| format!("--manifest {}: cannot read: {e}", path.display()))?;
-        Manifest::parse(&bytes).map_err(|e| format!("--manifest {}: {e}", path.display()).into())
+        let bytes = lgh_image::read_limited(path, MAX_MANIFEST_BYTES).map_err(|e| {
+            crate::usage(format!("--manifest {}: cannot read: {e}", path.display()))
+        })?;
+        Manifest::parse(&bytes)
+            .map_err(|e| crate::usage(format!("--manifest {}: {e}", path.display())))
     }
 
     /// [`read`](Self::read) from bytes.
@@ -304,6 +312,16 @@ impl Manifest {
                 v["version"]
             ));
         }
+        // Defaults of flags not given at --prepare are this build's; another version may
+        // render other pixels.
+        let version = env!("CARGO_PKG_VERSION");
+        if v["lgh_version"] != version {
+            return Err(format!(
+                "prepared by lgh {} and this is lgh {version}: render with the version that \
+                 prepared it, or prepare it again",
+                v["lgh_version"]
+            ));
+        }
         let field = |key: &str| format!("\"{key}\" is missing or malformed");
         let grid = &v["grid"];
         let transform: [[f64; 4]; 4] = serde_json::from_value(grid["transform"].clone())
@@ -316,7 +334,9 @@ impl Manifest {
             let side = i64::from(hi[k]) - i64::from(lo[k]) + 1;
             usize::try_from(side).ok().and_then(|s| a.checked_mul(s))
         });
-        let voxels = voxels.ok_or_else(|| field("grid.lo/hi"))?;
+        let voxels = voxels
+            .filter(|&v| v <= lgh_volume::cache::MAX_VOXELS)
+            .ok_or_else(|| field("grid.lo/hi"))?;
         let vec3 = |x: &Value, key: &str| -> Result<Vec3, String> {
             let a: [f32; 3] = serde_json::from_value(x.clone()).map_err(|_| field(key))?;
             Ok(Vec3::from(a))
@@ -429,6 +449,8 @@ mod tests {
         assert!(decode_voxels(&text, 6, 1 << 41).is_err());
         assert!(decode_voxels(&text, 7, 1 << 40).is_err());
         assert!(decode_voxels("#!", 7, 1 << 41).is_err());
+        // A count past the grid is refused before anything is allocated for it.
+        assert!(decode_voxels(&text, 1 << 60, 1 << 41).is_err());
         assert!(decode_voxels("AAAA", 7, 1 << 41).is_err());
         assert_eq!(
             decode_voxels(&encode_voxels(&[]), 0, 1).unwrap(),
@@ -480,6 +502,11 @@ mod tests {
         let text = m.to_json();
         let e = Manifest::parse(text.replace("\"version\": 1", "\"version\": 9").as_bytes());
         assert!(e.unwrap_err().contains("version"));
+        let e = Manifest::parse(
+            text.replace(env!("CARGO_PKG_VERSION"), "0.0.0-other")
+                .as_bytes(),
+        );
+        assert!(e.unwrap_err().contains("prepared by lgh"));
         let e = Manifest::parse(
             text.replace("\"lo\": [\n      -3", "\"lo\": [\n      \"x\"")
                 .as_bytes(),

@@ -8,6 +8,7 @@ use lgh_image::Image;
 use lgh_volume::render::{Camera, MarchSettings, Marcher, RenderStats};
 use lgh_volume::scattering::{self, ScatterPlan, Scattered, Shares};
 use lgh_volume::shadow::{CubeMapSettings, CubeMaps, Depths, LevelMaps};
+use lgh_volume::surfaces::Surfaces;
 use lgh_volume::{ExplosionLights, Medium, Method, Shadows, Visibility, Volume};
 
 /// The ray marcher's options, shared by the render commands.
@@ -375,10 +376,14 @@ impl Shadowing {
         medium: &Medium,
         camera: &Camera,
         march: &MarchSettings,
+        surfaces: Option<&dyn Surfaces>,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(Image, RenderStats), crate::Error> {
         let backend = lights.backend(method, alpha)?;
-        let marcher = Marcher::with_visibility(volume, medium, march, self.visibility)?;
+        let mut marcher = Marcher::with_visibility(volume, medium, march, self.visibility)?;
+        if let Some(s) = surfaces {
+            marcher = marcher.with_surfaces(s);
+        }
         Ok(marcher.render(Some(&backend), camera, progress)?)
     }
 }
@@ -539,8 +544,10 @@ pub fn write_exr_png(
     let png = out.with_extension("png");
     // The pair is written whole or not at all: an interruption waits for both (main.rs).
     let _pair = hold_outputs();
-    lgh_image::write_exr(out, image, attrs)?;
+    // The PNG first, the EXR (whose header says which render it is) last: an EXR beside its PNG
+    // is a finished pair, which `--resume` relies on.
     let exposure = exposure.unwrap_or_else(|| lgh_image::auto_exposure(image));
     lgh_image::write_png_with(&png, image, exposure, lgh_image::ToneCurve::Filmic)?;
+    lgh_image::write_exr(out, image, attrs)?;
     Ok(png)
 }

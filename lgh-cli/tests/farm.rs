@@ -171,12 +171,15 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
     a.extend(SETTINGS);
     run(&a);
     let m = s(&manifest);
-    // A setting beside --manifest is the manifest's, not the task's.
+    // A setting beside --manifest is the manifest's, not the task's: a usage error (exit 2,
+    // which a farm does not retry), as is a damaged manifest below.
     assert_refused(
         dir.path(),
         &["explosion", "--manifest", m, "--alpha", "2"],
         "--alpha",
     );
+    let o = lgh(&["explosion", "--manifest", m, "--alpha", "2"]);
+    assert_eq!(o.status.code(), Some(2));
     assert_refused(
         dir.path(),
         &["explosion", "--manifest", m, "--frames", "49..50"],
@@ -201,6 +204,10 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
         &["explosion", "--manifest", s(&bad)],
         "not JSON",
     );
+    assert_eq!(
+        lgh(&["explosion", "--manifest", s(&bad)]).status.code(),
+        Some(2)
+    );
     // A frame changed since --prepare: that frame is refused, the other renders.
     let f51 = dir.path().join("data/fluid_data_0051.vdb");
     let mut bytes = std::fs::read(&f51).unwrap();
@@ -212,6 +219,9 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
         &["explosion", "--manifest", m, "--frames", "51..51"],
         "changed since",
     );
+    // A changed frame is a failed frame (exit 1), not a usage error.
+    let o = lgh(&["explosion", "--manifest", m, "--frames", "51..51"]);
+    assert_eq!(o.status.code(), Some(1));
     assert!(!dir.path().join("f_0051.exr").exists());
     run(&[
         "explosion",

@@ -86,6 +86,11 @@ impl ManyLights for WardBackend<'_> {
         "ward"
     }
 
+    /// Ward scales the lights it does not test by the shaded radiance of those it does.
+    fn selection_follows_shader(&self) -> bool {
+        true
+    }
+
     fn illuminate<S: Shader>(
         &self,
         point: &ShadingPoint,

@@ -66,6 +66,7 @@ pub mod procedural;
 pub mod render;
 pub mod scattering;
 pub mod shadow;
+pub mod surfaces;
 pub mod vdb;
 
 pub use error::VolumeError;

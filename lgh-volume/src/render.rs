@@ -12,7 +12,7 @@
 //! thread count.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{ManyLights, ShadingPoint};
+use lgh_core::{LightSample, ManyLights, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
@@ -21,6 +21,7 @@ use crate::lighting::{LightScratch, Lights};
 use crate::medium::{Medium, Volume};
 pub use crate::shadow::Shadows;
 use crate::shadow::{CubeMapSettings, Visibility};
+use crate::surfaces::{SurfaceHit, Surfaces};
 
 /// The one image-size rule of every renderer (it lives in lgh-image).
 pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
@@ -248,6 +249,8 @@ pub struct RenderStats {
     pub lights_evaluated: u64,
     /// Density samples taken along shadow rays.
     pub shadow_samples: u64,
+    /// Surface points shaded: camera rays that met a surface (also in `shading_points`).
+    pub surface_points: u64,
 }
 
 impl RenderStats {
@@ -256,6 +259,7 @@ impl RenderStats {
         self.shading_points += o.shading_points;
         self.lights_evaluated += o.lights_evaluated;
         self.shadow_samples += o.shadow_samples;
+        self.surface_points += o.surface_points;
     }
 
     /// Mean lights evaluated per shading point (0 when none).
@@ -277,6 +281,8 @@ pub struct Marcher<'a> {
     medium: &'a Medium,
     settings: MarchSettings,
     visibility: Visibility,
+    /// Opaque surfaces the camera rays stop at ([`with_surfaces`](Self::with_surfaces)).
+    surfaces: Option<&'a dyn Surfaces>,
 }
 
 impl<'a> Marcher<'a> {
@@ -330,7 +336,17 @@ impl<'a> Marcher<'a> {
                 ..*settings
             },
             visibility,
+            surfaces: None,
         })
+    }
+
+    /// The same marcher with opaque `surfaces` behind and around the smoke (a ground, a room:
+    /// [`crate::surfaces`]): a camera ray stops at the first one, which adds its reflected
+    /// light through the smoke in front of it.
+    #[must_use]
+    pub fn with_surfaces(mut self, surfaces: &'a dyn Surfaces) -> Self {
+        self.surfaces = Some(surfaces);
+        self
     }
 
     /// Renders the image of `camera` with single scattering from `lights` (if given), rows in
@@ -423,9 +439,19 @@ impl<'a> Marcher<'a> {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
-        let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
-            return Ok(Vec3::ZERO);
+        let hit = self.surfaces.and_then(|s| Some((s, s.hit(origin, dir)?)));
+        let surface = |stats: &mut RenderStats, scratch: &mut LightScratch| match hit {
+            Some((s, hit)) => self.shade_surface(lights, s, origin, dir, hit, stats, scratch),
+            None => Ok(Vec3::ZERO),
         };
+        let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
+            return surface(stats, scratch);
+        };
+        // The smoke in front of the surface, if one is hit.
+        let t1 = hit.map_or(t1, |(_, hit)| t1.min(hit.t));
+        if t1 <= t0 {
+            return surface(stats, scratch);
+        }
         let n = ((t1 - t0) / (settings.step_voxels * h)).ceil().max(1.0) as usize;
         let dt = (t1 - t0) / n as f32;
         let mut radiance = Vec3::ZERO;
@@ -460,7 +486,47 @@ impl<'a> Marcher<'a> {
                 break;
             }
         }
+        if hit.is_some() && trans >= settings.min_transmittance {
+            radiance += trans * surface(stats, scratch)?;
+        }
         Ok(radiance)
+    }
+
+    /// The light a Lambertian surface reflects towards the camera at `hit` of the ray
+    /// `origin + t dir`: `Σ_j (ρ/π) max(0, n·ω_j) I_j g(d_j) T_smoke V_surfaces` through the
+    /// same backend and smoke visibility as the medium ([`crate::surfaces`]). Black without
+    /// lights.
+    #[allow(clippy::too_many_arguments)]
+    fn shade_surface<B: ManyLights>(
+        &self,
+        lights: Option<&Lights<B>>,
+        surfaces: &dyn Surfaces,
+        origin: Vec3,
+        dir: Vec3,
+        hit: SurfaceHit,
+        stats: &mut RenderStats,
+        scratch: &mut LightScratch,
+    ) -> Result<Vec3, VolumeError> {
+        let Some(lights) = lights else {
+            return Ok(Vec3::ZERO);
+        };
+        // Lifted off the surface by a thousandth of a voxel, so that its own shadow tests do
+        // not meet it.
+        let lift = 1e-3 * self.volume.density.voxel_size;
+        let x = origin + dir * hit.t + hit.normal * lift;
+        let brdf = hit.albedo * std::f32::consts::FRAC_1_PI;
+        let response = |l: &LightSample| {
+            let w = l.position - x;
+            let cos = hit.normal.dot(w) / w.length();
+            if cos > 0.0 && !surfaces.occluded(x, l.position) {
+                brdf * cos
+            } else {
+                Vec3::ZERO
+            }
+        };
+        stats.surface_points += 1;
+        let point = ShadingPoint::in_medium(x);
+        Ok(lights.incident(&point, &self.visibility, response, scratch, stats)?)
     }
 }
 
