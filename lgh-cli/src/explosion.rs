@@ -17,6 +17,8 @@ use crate::dark;
 use crate::manifest::{self, FrameFile, Manifest};
 use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 use crate::progress;
+use crate::room::Room;
+use lgh_volume::surfaces::Surfaces;
 
 /// The renderer behind the image (`--backend`): the ray marcher with the library's
 /// many-lights [`Method`] (its values and help are `Method`'s own), or the path tracer.
@@ -142,6 +144,11 @@ pub struct ExplosionArgs {
     /// framed on the smoke of all frames, seen from the front).
     #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
+    /// Opaque surfaces around the smoke: an OBJ scene (with its MTL; diffuse albedo, Phong's
+    /// `kd`) in the cache's world units, lit by the fire through the smoke and shadowed by
+    /// itself (the paper's explosions in a box). Not with --backend pathtrace.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
     /// The world's up axis (Blender: z).
     #[arg(long, value_enum, default_value_t = UpArg::Z)]
     pub up: UpArg,
@@ -236,7 +243,7 @@ fn given_settings(matches: &ArgMatches) -> Result<Vec<(String, Vec<String>)>, cr
                 let v = v
                     .to_str()
                     .ok_or_else(|| format!("--{long}: not UTF-8, which a manifest cannot keep"))?;
-                Ok(if id == "out" {
+                Ok(if id == "out" || id == "scene" {
                     manifest::absolute(Path::new(v))?.display().to_string()
                 } else {
                     v.to_string()
@@ -295,6 +302,14 @@ impl Setup {
             .march
             .settings(MarchSettings::default().shadow_step_voxels)?;
         args.scatter.check()?;
+        if args.backend == BackendArg::Pathtrace && args.scene.is_some() {
+            return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
+        }
+        if let Some(p) = &args.scene {
+            if !p.is_file() {
+                return Err(format!("--scene {}: no such file", p.display()).into());
+            }
+        }
         if args.backend == BackendArg::Pathtrace && args.scatter.scatter_depth > 0 {
             return Err(
                 "--scatter-depth is the ray marcher's: the path tracer scatters up to \
@@ -586,6 +601,14 @@ fn render_frames(
     let (march, medium, up) = (*march, medium, *up);
     let digest = manifest.digest();
     let base_out = args.out()?;
+    let room = args.scene.as_deref().map(Room::load).transpose()?;
+    if let (Some(r), Some(p)) = (&room, &args.scene) {
+        say!(
+            "lgh explosion: {} triangles around the smoke ({})",
+            r.triangles(),
+            p.display()
+        );
+    }
     let all_dark = &manifest.all_dark;
     let camera = match &args.camera {
         Some(s) => parse_camera(s, up.vector(), args.width, args.height)?,
@@ -668,6 +691,9 @@ fn render_frames(
             ("density_scale", args.density_scale.to_string()),
             ("albedo", args.albedo.to_string()),
         ];
+        if let Some(p) = &args.scene {
+            extra.push(("scene", p.display().to_string()));
+        }
         let (method, name) = match args.backend {
             BackendArg::March(m) => {
                 if m == Method::Lgh {
@@ -719,7 +745,15 @@ fn render_frames(
             (Some(lights), Some(method), Some(shadowing)) => {
                 let lights = scatter.as_ref().map_or(lights, |s| s.lights(lights));
                 let (image, stats) = shadowing.render(
-                    lights, method, args.alpha, volume, medium, &camera, &march, None, progress,
+                    lights,
+                    method,
+                    args.alpha,
+                    volume,
+                    medium,
+                    &camera,
+                    &march,
+                    room.as_ref().map(|r| r as &dyn Surfaces),
+                    progress,
                 )?;
                 Ok((image, Some(stats)))
             }

@@ -28,6 +28,7 @@ mod output;
 mod paquette;
 mod probes;
 mod progress;
+mod room;
 
 use clap::{CommandFactory, FromArgMatches, Subcommand};
 

@@ -469,6 +469,7 @@ pub fn render_and_write(
     extra.push(("render_seconds", format!("{seconds:.3}")));
     if let Some(st) = &stats {
         extra.push(("shading_points", st.shading_points.to_string()));
+        extra.push(("surface_points", st.surface_points.to_string()));
         extra.push((
             "lights_per_shading_point",
             format!("{:.2}", st.lights_per_point()),

@@ -1070,3 +1070,88 @@ fn bench_flicker_prints_every_method_against_brute_force() {
     );
     assert_refused(dir.path(), &["bench", "flicker"], "--procedural N");
 }
+
+/// `lgh explosion --scene ROOM.obj`: the fire lights a floor under it (the paper's explosions in
+/// a box); the floor's pixels are lit, not black, and the path tracer refuses surfaces.
+#[test]
+fn explosion_lights_a_room_around_the_fire() {
+    let Some(f56) = fire_frame(56) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    // A floor where the dev fire's smoke starts (Blender units, Z up), wide enough to fill the
+    // lower part of the default view.
+    let obj = dir.path().join("floor.obj");
+    std::fs::write(
+        &obj,
+        "v -2 -2 0.17\nv 3 -2 0.17\nv 3 3 0.17\nv -2 3 0.17\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let run = |scene: bool, out: &Path| {
+        let mut a = vec![
+            "explosion",
+            "--vdb",
+            f56.to_str().unwrap(),
+            "--width",
+            "24",
+            "--height",
+            "14",
+            "--shadows",
+            "none",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if scene {
+            a.extend(["--scene", obj.to_str().unwrap()]);
+        }
+        let o = lgh(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let (with, without) = (dir.path().join("room.exr"), dir.path().join("none.exr"));
+    run(true, &with);
+    run(false, &without);
+    let get = header(&with);
+    assert!(get("lgh:scene").ends_with("floor.obj"));
+    let surface: u64 = get("lgh:surface_points").parse().unwrap();
+    assert!(surface > 0);
+    assert_eq!(header(&without)("lgh:surface_points"), "0");
+    // Pixels that see only the floor: black without it, lit with it.
+    let (a, b) = (
+        lgh_image::read_exr(&with).unwrap(),
+        lgh_image::read_exr(&without).unwrap(),
+    );
+    let lit = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| q.max_element() == 0.0 && p.min_element() > 0.0)
+        .count();
+    assert!(lit > 0, "no pixel of the floor is lit");
+    assert_refused(
+        dir.path(),
+        &[
+            "explosion",
+            "--vdb",
+            f56.to_str().unwrap(),
+            "--backend",
+            "pathtrace",
+            "--scene",
+            obj.to_str().unwrap(),
+            "--out",
+            "x.exr",
+        ],
+        "--scene",
+    );
+    assert_refused(
+        dir.path(),
+        &[
+            "explosion",
+            "--vdb",
+            f56.to_str().unwrap(),
+            "--scene",
+            "nope.obj",
+            "--out",
+            "x.exr",
+        ],
+        "nope.obj",
+    );
+}

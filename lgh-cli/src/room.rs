@@ -1,0 +1,56 @@
+//! An OBJ scene around an explosion (`lgh explosion --scene ROOM.obj`): lgh-vpl's meshes and
+//! BVH as the opaque [`Surfaces`] of the volume render (the paper's explosions in a box, Figs. 5
+//! and 8).
+
+use std::path::Path;
+
+use lgh_core::glam::Vec3;
+use lgh_core::Material;
+use lgh_volume::surfaces::{SurfaceHit, Surfaces};
+use lgh_vpl::{Mesh, Scene};
+
+/// The surfaces of an OBJ scene: each triangle's diffuse albedo (a Phong material's `kd`; the
+/// smoke render shades surfaces as Lambertian), its shading normal turned towards the viewer,
+/// shadows through the BVH.
+pub struct Room {
+    scene: Scene,
+}
+
+impl Room {
+    /// Loads `path` (OBJ, its MTL beside it; a triangle without a material is grey, 0.5).
+    pub fn load(path: &Path) -> Result<Self, crate::Error> {
+        let mesh = Mesh::load_obj(path)?;
+        if mesh.triangles().is_empty() {
+            return Err(format!("--scene {}: no triangles", path.display()).into());
+        }
+        Ok(Room {
+            scene: Scene::new(mesh),
+        })
+    }
+
+    /// Triangles of the scene.
+    #[must_use]
+    pub fn triangles(&self) -> usize {
+        self.scene.mesh().triangles().len()
+    }
+}
+
+impl Surfaces for Room {
+    fn hit(&self, origin: Vec3, dir: Vec3) -> Option<SurfaceHit> {
+        let p = self.scene.first_hit(origin, dir)?;
+        let albedo = match p.material {
+            Material::Lambert { albedo } => albedo,
+            Material::Phong { kd, .. } => kd,
+            Material::Isotropic => Vec3::splat(0.5),
+        };
+        Some(SurfaceHit {
+            t: (p.position - origin).length(),
+            normal: p.normal?,
+            albedo: albedo.clamp(Vec3::ZERO, Vec3::ONE),
+        })
+    }
+
+    fn occluded(&self, a: Vec3, b: Vec3) -> bool {
+        self.scene.bvh().occluded(a, b)
+    }
+}
