@@ -15,7 +15,8 @@ use lgh_core::{Clustering, LightPosition};
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
-use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Marcher, Up};
+use lgh_volume::surfaces::Ground;
 use lgh_volume::{bouncing_balls, explosion, ExplosionLights, Method, Shadows, Variants};
 use serde_json::{json, Value};
 
@@ -31,9 +32,9 @@ pub struct FlickerArgs {
     /// N frames of the procedural explosion (the demo's scene), 1/24 s apart from t = 0.3 s.
     #[arg(long)]
     pub procedural: Option<usize>,
-    /// With --procedural: instead of the explosion, this many glowing balls bouncing over a
-    /// layer of smoke (the paper's Fig. 12 class of animated lights): the lights move, so
-    /// every frame rebuilds the hierarchy.
+    /// With --procedural: instead of the explosion, this many glowing balls bouncing on an
+    /// opaque floor under a layer of smoke (the paper's Fig. 12 class of animated lights): the
+    /// lights move, so every frame rebuilds the hierarchy.
     #[arg(long, requires = "procedural")]
     pub balls: Option<usize>,
     /// Voxels per side of the procedural scene.
@@ -203,6 +204,12 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
     let refs: Vec<&Volume> = volumes.iter().collect();
     let (lo, hi) = framing_bounds(&refs).ok_or("the frames have no smoke to frame")?;
     let camera = Camera::frame_up(lo, hi, args.width, args.height, up)?;
+    // The bouncing balls' floor: an opaque ground at the bottom of their box, which their
+    // light falls on (surfaces through the same lights and shadows, "The explosion in a box").
+    let floor = match args.balls {
+        Some(_) => Some(Ground::new(Up::Y, -1.0, lgh_core::glam::Vec3::splat(0.5))?),
+        None => None,
+    };
     let mut paper = ExplosionLights::new(&refs, &medium)?;
     lgh_core::QueryError::check_threshold(args.lightcuts_error)
         .map_err(|e| format!("--lightcuts-error: {e}"))?;
@@ -261,14 +268,17 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
             }
         }
         let start = Instant::now();
-        let (image, _) = reference_lights.render(
-            Method::Brute,
-            args.alpha,
+        let view = View {
             frame,
-            &medium,
-            &camera,
+            medium: &medium,
+            camera: &camera,
+            alpha: args.alpha,
+            floor: floor.as_ref(),
+        };
+        let image = view.render(
+            &reference_lights,
+            Method::Brute,
             &march(Shadows::RayMarch, true),
-            &|_| {},
         )?;
         reference_seconds += start.elapsed().as_secs_f64();
         reference.push(image);
@@ -279,15 +289,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
             l.set_frame(frame, &medium)?;
             // A new random tree every frame, as the paper ran Lightcuts.
             l.set_lightcuts_seed(t as u64);
-            let (image, _) = l.render(
-                e.method,
-                args.alpha,
-                frame,
-                &medium,
-                &camera,
-                &march(e.shadows, e.prefilter),
-                &|_| {},
-            )?;
+            let image = view.render(l, e.method, &march(e.shadows, e.prefilter))?;
             seconds[k] += start.elapsed().as_secs_f64();
             images[k].push(image);
             bar.inc(1);
@@ -342,6 +344,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
                 &volumes[t],
                 &medium,
                 &camera,
+                floor.as_ref(),
             )?)
         }
         None => None,
@@ -357,6 +360,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         "reference": "brute force over every light, ray-marched shadows",
         "reference_seconds_per_frame": reference_seconds / volumes.len() as f64,
         "lights_rebuilt_every_frame": rebuild,
+        "floor": floor.is_some(),
         "lights_per_frame": lit as f64 / volumes.len() as f64,
         "build_seconds_per_frame": build_seconds / volumes.len() as f64,
         "backends": backends,
@@ -383,13 +387,19 @@ fn fig10(
     frame: &Volume,
     medium: &Medium,
     camera: &Camera,
+    floor: Option<&Ground>,
 ) -> Result<Value, crate::Error> {
     let march = MarchSettings::with_shadows(Shadows::RayMarch, true);
+    let view = View {
+        frame,
+        medium,
+        camera,
+        alpha: args.alpha,
+        floor,
+    };
     let mut render = |method, seed| -> Result<Image, crate::Error> {
         lights.set_lightcuts_seed(seed);
-        Ok(lights
-            .render(method, args.alpha, frame, medium, camera, &march, &|_| {})?
-            .0)
+        view.render(lights, method, &march)
     };
     let exact = render(Method::Brute, 0)?;
     let (one, two) = (render(Method::Lightcuts, 1)?, render(Method::Lightcuts, 2)?);
@@ -472,5 +482,33 @@ fn volumes_label(args: &FlickerArgs) -> String {
         (Some(range), _) => format!("the middle frame of {range}"),
         (_, Some(n)) => format!("frame {} of {n}", n / 2),
         _ => String::new(),
+    }
+}
+
+/// What every render of one frame shares: the frame, its medium, the camera, α and the floor.
+struct View<'a> {
+    frame: &'a Volume,
+    medium: &'a Medium,
+    camera: &'a Camera,
+    alpha: f32,
+    floor: Option<&'a Ground>,
+}
+
+impl View<'_> {
+    /// `lights` through `method` with `march`'s shadows, over the floor if there is one.
+    fn render(
+        &self,
+        lights: &ExplosionLights,
+        method: Method,
+        march: &MarchSettings,
+    ) -> Result<Image, crate::Error> {
+        let backend = lights.backend(method, self.alpha)?;
+        let visibility =
+            lights.visibility(method, self.alpha, self.frame, self.medium, march, &|_| {})?;
+        let mut marcher = Marcher::with_visibility(self.frame, self.medium, march, visibility)?;
+        if let Some(f) = self.floor {
+            marcher = marcher.with_surfaces(f);
+        }
+        Ok(marcher.render(Some(&backend), self.camera, &|_| {})?.0)
     }
 }

@@ -1063,6 +1063,28 @@ fn bench_flicker_prints_every_method_against_brute_force() {
     ] {
         assert!(dir.path().join(png).is_file(), "{png}");
     }
+    // Moving lights: a hierarchy rebuilt every frame, its build time reported, over a floor.
+    let o = lgh(&[
+        "bench",
+        "flicker",
+        "--procedural",
+        "2",
+        "--balls",
+        "20",
+        "--resolution",
+        "32",
+        "--width",
+        "8",
+        "--height",
+        "5",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["lights_rebuilt_every_frame"], true);
+    assert_eq!(v["floor"], true);
+    assert!(v["build_seconds_per_frame"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(v["lights_per_frame"].as_f64().unwrap() > 20.0, "{v}");
     assert_refused(
         dir.path(),
         &["bench", "flicker", "--procedural", "1"],
