@@ -15,7 +15,7 @@ use lgh_core::{Clustering, LightPosition};
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
-use lgh_volume::render::{Camera, Framing, MarchSettings, Marcher, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::surfaces::Ground;
 use lgh_volume::{bouncing_balls, explosion, ExplosionLights, Method, Shadows, Variants};
 use serde_json::{json, Value};
@@ -210,7 +210,14 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         Some(_) => Some(Ground::new(Up::Y, -1.0, lgh_core::glam::Vec3::splat(0.5))?),
         None => None,
     };
-    let mut paper = ExplosionLights::new(&refs, &medium)?;
+    // Moving lights: a new hierarchy every frame (from that frame's hot voxels alone), so the
+    // lights start as the first frame's; fixed lights: every frame's hot voxels.
+    let rebuild = args.balls.is_some();
+    let mut paper = if rebuild {
+        ExplosionLights::new(&refs[..1], &medium)?
+    } else {
+        ExplosionLights::new(&refs, &medium)?
+    };
     lgh_core::QueryError::check_threshold(args.lightcuts_error)
         .map_err(|e| format!("--lightcuts-error: {e}"))?;
     paper.set_lightcuts_settings(lgh_core::LightcutsSettings {
@@ -233,8 +240,6 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         .iter()
         .map(|e| paper.clone().with_variants(e.variants))
         .collect::<Result<_, _>>()?;
-    // Moving lights: a new hierarchy every frame (from that frame's hot voxels alone).
-    let rebuild = args.balls.is_some();
     let lightcuts = paper.lightcuts_settings();
     let mut reference_lights = paper;
     let mut build_seconds = 0.0;
@@ -503,9 +508,7 @@ impl View<'_> {
         march: &MarchSettings,
     ) -> Result<Image, crate::Error> {
         let backend = lights.backend(method, self.alpha)?;
-        let visibility =
-            lights.visibility(method, self.alpha, self.frame, self.medium, march, &|_| {})?;
-        let mut marcher = Marcher::with_visibility(self.frame, self.medium, march, visibility)?;
+        let mut marcher = lights.marcher(method, self.alpha, self.frame, self.medium, march)?;
         if let Some(f) = self.floor {
             marcher = marcher.with_surfaces(f);
         }

@@ -224,18 +224,25 @@ const TASK_FLAGS: [&str; 4] = ["manifest", "frames", "resume", "quiet"];
 /// the frames are and which to render (the manifest's `files`), where the manifest is.
 const NOT_SETTINGS: [&str; 6] = ["vdb", "frames", "prepare", "manifest", "resume", "quiet"];
 
+/// `lgh explosion`'s flags given on the command line (not defaulted), except `except`.
+fn given_flags(matches: &ArgMatches, except: &[&str]) -> Vec<clap::Arg> {
+    let cmd = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
+    cmd.get_arguments()
+        .filter(|a| {
+            let id = a.get_id().as_str();
+            !except.contains(&id)
+                && matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine)
+        })
+        .cloned()
+        .collect()
+}
+
 /// The flags given on the command line (by long name, values as given; paths made absolute),
 /// except [`NOT_SETTINGS`]: a manifest's `settings`, which every task replays.
 fn given_settings(matches: &ArgMatches) -> Result<Vec<(String, Vec<String>)>, crate::Error> {
-    let cmd = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
     let mut out = Vec::new();
-    for arg in cmd.get_arguments() {
+    for arg in given_flags(matches, &NOT_SETTINGS) {
         let id = arg.get_id().as_str();
-        if NOT_SETTINGS.contains(&id)
-            || matches.value_source(id) != Some(clap::parser::ValueSource::CommandLine)
-        {
-            continue;
-        }
         let long = arg.get_long().ok_or("a flag without a long name")?;
         let values = if arg.get_action().takes_values() {
             let raw = matches.get_raw(id).into_iter().flatten();
@@ -291,6 +298,8 @@ struct Setup {
     medium: Medium,
     names: GridNames,
     up: Up,
+    /// `--camera`, parsed (`None`: framed on the smoke).
+    camera: Option<Camera>,
 }
 
 impl Setup {
@@ -348,14 +357,17 @@ impl Setup {
             UpArg::Z => Up::Z,
         };
         // Checked before any work (and before a manifest keeps it for every task).
-        if let Some(c) = &args.camera {
-            parse_camera(c, up.vector(), args.width, args.height)?;
-        }
+        let camera = args
+            .camera
+            .as_ref()
+            .map(|c| parse_camera(c, up.vector(), args.width, args.height))
+            .transpose()?;
         Ok(Setup {
             march,
             medium,
             names,
             up,
+            camera,
         })
     }
 }
@@ -509,12 +521,7 @@ fn write_manifest(manifest: &Manifest, path: &Path, load_s: f64) -> Result<(), c
 /// `--manifest`: renders the task's frames (`--frames`, or all of the manifest's), reading
 /// only those, with the manifest's settings.
 fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(), crate::Error> {
-    let cmd = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
-    if let Some(arg) = cmd.get_arguments().find(|a| {
-        let id = a.get_id().as_str();
-        !TASK_FLAGS.contains(&id)
-            && matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine)
-    }) {
+    if let Some(arg) = given_flags(matches, &TASK_FLAGS).first() {
         return Err(crate::usage(format!(
             "--{}: a task takes its settings from the manifest ({}); give them to --prepare \
              (a task takes only --frames, --resume, --quiet and --threads)",
@@ -597,6 +604,7 @@ fn render_frames(
         medium,
         names,
         up,
+        camera,
     } = setup;
     let (march, medium, up) = (*march, medium, *up);
     let digest = manifest.digest();
@@ -610,8 +618,8 @@ fn render_frames(
         );
     }
     let all_dark = &manifest.all_dark;
-    let camera = match &args.camera {
-        Some(s) => parse_camera(s, up.vector(), args.width, args.height)?,
+    let camera = match camera {
+        Some(c) => *c,
         None => {
             let (lo, hi) = manifest.framing.unwrap_or_else(|| seq.bounds());
             Camera::frame_up(lo, hi, args.width, args.height, up)?

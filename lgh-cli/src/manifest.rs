@@ -330,13 +330,8 @@ impl Manifest {
             serde_json::from_value(grid["lo"].clone()).map_err(|_| field("grid.lo"))?;
         let hi: [i32; 3] =
             serde_json::from_value(grid["hi"].clone()).map_err(|_| field("grid.hi"))?;
-        let voxels = (0..3).try_fold(1usize, |a, k| {
-            let side = i64::from(hi[k]) - i64::from(lo[k]) + 1;
-            usize::try_from(side).ok().and_then(|s| a.checked_mul(s))
-        });
-        let voxels = voxels
-            .filter(|&v| v <= lgh_volume::cache::MAX_VOXELS)
-            .ok_or_else(|| field("grid.lo/hi"))?;
+        let layout = SequenceLayout { transform, lo, hi };
+        let voxels = layout.voxels().ok_or_else(|| field("grid.lo/hi"))?;
         let vec3 = |x: &Value, key: &str| -> Result<Vec3, String> {
             let a: [f32; 3] = serde_json::from_value(x.clone()).map_err(|_| field(key))?;
             Ok(Vec3::from(a))
@@ -421,7 +416,7 @@ impl Manifest {
             .collect::<Result<Vec<_>, String>>()?;
         Ok(Manifest {
             files,
-            layout: SequenceLayout { transform, lo, hi },
+            layout,
             framing,
             lights,
             all_dark,

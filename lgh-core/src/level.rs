@@ -133,23 +133,17 @@ impl SplatVariant {
             position: settings.position,
         }
     }
+}
 
-    /// The weights of a light at `f` in its cell on the cell's eight corners.
-    #[inline(always)]
-    fn weights(self, f: [f32; 3]) -> [f32; 8] {
-        match self.clustering {
-            Clustering::Trilinear => weights(f),
-            Clustering::NearestVertex => {
-                // The corner nearest f (ties to the upper one): weight 1, the others 0.
-                let k = usize::from(f[0] >= 0.5)
-                    | usize::from(f[1] >= 0.5) << 1
-                    | usize::from(f[2] >= 0.5) << 2;
-                let mut w = [0.0; 8];
-                w[k] = 1.0;
-                w
-            }
-        }
-    }
+/// Nearest-vertex clustering's weights of a light at `f` in its cell: 1 on the corner nearest
+/// `f` (ties to the upper one), 0 on the others.
+#[inline(always)]
+fn nearest_weights(f: [f32; 3]) -> [f32; 8] {
+    let k =
+        usize::from(f[0] >= 0.5) | usize::from(f[1] >= 0.5) << 1 | usize::from(f[2] >= 0.5) << 2;
+    let mut w = [0.0; 8];
+    w[k] = 1.0;
+    w
 }
 
 #[inline(always)]
@@ -176,6 +170,26 @@ pub(crate) fn splat(
     threshold: f32,
     variant: SplatVariant,
 ) -> LevelLights {
+    // The clustering chosen once, outside the loops over the lights (one copy of the splat
+    // per weighting, so the paper's pays no branch per light).
+    match variant.clustering {
+        Clustering::Trilinear => splat_with(topo, input, h, origin, threshold, variant, weights),
+        Clustering::NearestVertex => {
+            splat_with(topo, input, h, origin, threshold, variant, nearest_weights)
+        }
+    }
+}
+
+/// [`splat`] with the light-to-vertex weights `weights`.
+fn splat_with(
+    topo: &Topology,
+    input: &SplatInput<'_>,
+    h: f64,
+    origin: [f64; 3],
+    threshold: f32,
+    variant: SplatVariant,
+    weights: impl Fn([f32; 3]) -> [f32; 8] + Copy,
+) -> LevelLights {
     let nv = topo.vertex_codes.len();
     let mut sum_i = vec![Vec3::ZERO; nv];
     let mut sum_v = vec![0.0f32; nv];
@@ -197,7 +211,7 @@ pub(crate) fn splat(
             let intensity = input.intensity[j].to_array();
             let lum = input.luminance[j];
             let extra = input.extra_variance.map_or([0.0; 3], |e| e[j].to_array());
-            let w = variant.weights(f);
+            let w = weights(f);
             for k in 0..8 {
                 let v = w[k] * lum;
                 av[k] += v;
@@ -249,7 +263,7 @@ pub(crate) fn splat(
         for j in start..end {
             let f = input.frac[j];
             let lum = input.luminance[j];
-            let w = variant.weights(f);
+            let w = weights(f);
             for k in 0..8 {
                 let dx = f[0] - centre[0][k];
                 let dy = f[1] - centre[1][k];

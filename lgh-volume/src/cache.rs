@@ -270,6 +270,23 @@ pub struct SequenceLayout {
     pub hi: [i32; 3],
 }
 
+impl SequenceLayout {
+    /// Voxels of the common box, or `None` for a box with a side below one voxel or past
+    /// [`MAX_VOXELS`]: what [`Sequence::with_layout`] and a manifest's reader refuse.
+    #[must_use]
+    pub fn voxels(&self) -> Option<usize> {
+        (0..3)
+            .try_fold(1usize, |a, k| {
+                let side = i64::from(self.hi[k]) - i64::from(self.lo[k]) + 1;
+                usize::try_from(side)
+                    .ok()
+                    .filter(|&s| s >= 1)
+                    .and_then(|s| a.checked_mul(s))
+            })
+            .filter(|&v| v <= MAX_VOXELS)
+    }
+}
+
 impl Sequence {
     /// The frames' transform and common box: with [`with_layout`](Self::with_layout), the
     /// same sequence without reading every frame again.
@@ -306,14 +323,13 @@ impl Sequence {
         blender_offset: bool,
         layout: SequenceLayout,
     ) -> Result<Self, VolumeError> {
-        let SequenceLayout { transform, lo, hi } = layout;
-        let voxels = (0..3).try_fold(1u64, |a, k| {
-            let side = i64::from(hi[k]) - i64::from(lo[k]) + 1;
-            (side >= 1).then(|| a.saturating_mul(side as u64))
-        });
-        if voxels.is_none_or(|v| v > MAX_VOXELS as u64) {
-            return Err(VolumeError::BadLayout { lo, hi });
+        if layout.voxels().is_none() {
+            return Err(VolumeError::BadLayout {
+                lo: layout.lo,
+                hi: layout.hi,
+            });
         }
+        let SequenceLayout { transform, lo, hi } = layout;
         Ok(Sequence {
             paths: paths.to_vec(),
             names: names.clone(),

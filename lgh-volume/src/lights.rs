@@ -104,6 +104,15 @@ fn explosion_grid(h: f32, origin: Vec3, max_level: Option<u8>) -> GridSettings {
     }
 }
 
+/// `grid`'s layout (dimensions, voxel size, origin) without its values: what the lights'
+/// positions are taken from.
+fn layout_of(grid: &DenseGrid) -> DenseGrid {
+    DenseGrid {
+        dims: grid.dims,
+        ..DenseGrid::zeros([0; 3], grid.voxel_size, grid.origin)
+    }
+}
+
 /// Whether two grids have one layout (dimensions, voxel size, origin): what keeps the lights'
 /// positions fixed over a sequence.
 fn same_layout(a: &DenseGrid, b: &DenseGrid) -> bool {
@@ -140,14 +149,7 @@ impl ExplosionLights {
             }
             let (grid, hot) = layout.get_or_insert_with(|| {
                 let t = &f.temperature;
-                let empty = DenseGrid::zeros([0; 3], t.voxel_size, t.origin);
-                (
-                    DenseGrid {
-                        dims: t.dims,
-                        ..empty
-                    },
-                    vec![false; t.data.len()],
-                )
+                (layout_of(t), vec![false; t.data.len()])
             });
             if !same_layout(grid, &f.temperature) {
                 return Err(VolumeError::FrameOffGrid { frame: Some(i) });
@@ -190,10 +192,7 @@ impl ExplosionLights {
         if let Some(at) = bad {
             return Err(VolumeError::BadLightVoxels { at, voxels: n });
         }
-        let grid = DenseGrid {
-            dims: t.dims,
-            ..DenseGrid::zeros([0; 3], t.voxel_size, t.origin)
-        };
+        let grid = layout_of(t);
         let dark = vec![Vec3::ZERO; voxels.len()];
         ExplosionLights::at_voxels(&grid, voxels, &dark, None)
     }
@@ -537,8 +536,10 @@ impl ExplosionLights {
         ))
     }
 
-    /// The marcher of `frame` with the visibility of [`visibility`](Self::visibility).
-    fn marcher<'a>(
+    /// The marcher of `frame` with the visibility of [`visibility`](Self::visibility): what
+    /// [`render`](Self::render) renders with, for a caller that adds to it (surfaces:
+    /// [`Marcher::with_surfaces`]).
+    pub fn marcher<'a>(
         &self,
         method: Method,
         alpha: f32,
