@@ -14,7 +14,7 @@ use lgh_volume::{ExplosionLights, Method};
 use clap::ArgMatches;
 
 use crate::dark;
-use crate::manifest::{self, FrameFile, Manifest};
+use crate::manifest::{self, FrameFile, Manifest, SceneFile};
 use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
 use crate::progress;
 use crate::room::Room;
@@ -406,6 +406,8 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     }
     let frames = args.frame_numbers()?;
     let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
+    // The room is read (and its files hashed for the manifest) before any frame.
+    let room = args.scene.as_deref().map(Room::load).transpose()?;
     let paths = frames
         .iter()
         .map(|f| match f {
@@ -471,6 +473,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             .map(|l: &ExplosionLights| l.voxels().to_vec()),
         all_dark,
         settings: given_settings(matches)?,
+        scene: room.as_ref().map_or(Vec::new(), |r| r.files().to_vec()),
     };
     if let Some(why) = &manifest.all_dark {
         let what = format!("no light in any of the {} frame(s): {why}", seq.len());
@@ -490,6 +493,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
         &manifest,
         seq,
         lights,
+        room,
         Some((n - 1, kept)),
         0..n,
         Some(load_s),
@@ -558,7 +562,12 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
         !full.no_domain_offset,
         manifest.layout.clone(),
     )?;
-    render_frames(&full, &setup, &manifest, seq, None, None, which, None)
+    // The scene the task reads must be the one --prepare read.
+    let room = full.scene.as_deref().map(Room::load).transpose()?;
+    if let Some(r) = &room {
+        SceneFile::check(r.files(), &manifest.scene)?;
+    }
+    render_frames(&full, &setup, &manifest, seq, None, room, None, which, None)
 }
 
 /// Whether `out` (and its PNG) are a finished render of the sequence `digest`: what `--resume`
@@ -584,7 +593,8 @@ fn finished(out: &Path, digest: &str) -> bool {
 }
 
 /// Renders the frames `which` (indices into the manifest's files) of `seq`. `lights`: the pass's
-/// lights, or `None` to place them from the manifest; `kept`: a frame already in memory.
+/// lights, or `None` to place them from the manifest; `room`: `--scene`'s surfaces; `kept`: a
+/// frame already in memory.
 #[allow(clippy::too_many_arguments)]
 fn render_frames(
     args: &ExplosionArgs,
@@ -592,6 +602,7 @@ fn render_frames(
     manifest: &Manifest,
     seq: cache::Sequence,
     mut lights: Option<ExplosionLights>,
+    room: Option<Room>,
     mut kept: Option<(usize, Rc<Volume>)>,
     which: std::ops::Range<usize>,
     load_s: Option<f64>,
@@ -609,7 +620,6 @@ fn render_frames(
     let (march, medium, up) = (*march, medium, *up);
     let digest = manifest.digest();
     let base_out = args.out()?;
-    let room = args.scene.as_deref().map(Room::load).transpose()?;
     if let (Some(r), Some(p)) = (&room, &args.scene) {
         say!(
             "lgh explosion: {} triangles around the smoke ({})",

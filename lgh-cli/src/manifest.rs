@@ -16,7 +16,9 @@
 //!   task checks before it renders the frame, so a file changed since `--prepare` is an error,
 //!   not a silently different frame;
 //! - `settings`: the flags `--prepare` was given, replayed through the same parser by every
-//!   task, so a task cannot render with other settings than the sequence's.
+//!   task, so a task cannot render with other settings than the sequence's;
+//! - `scene`: the files `--scene` read (the OBJ, then its MTL files), with the size and SHA-256
+//!   of the text parsed, which a task checks against the scene it reads.
 //!
 //! Every render, with a manifest or not, goes through a `Manifest` (a run without one makes it
 //! in memory), so a frame has the same pixels, bit for bit, rendered alone, in a range or in a
@@ -35,7 +37,7 @@ use sha2::{Digest, Sha256};
 /// The `format` key of a manifest.
 pub const FORMAT: &str = "lgh-sequence-manifest";
 /// The manifest version this build writes and reads.
-pub const VERSION: u64 = 1;
+pub const VERSION: u64 = 2;
 /// The rule by which the lights were placed (the `lights.rule` key).
 pub const LIGHT_RULE: &str = "the centre of every voxel of the common grid that emits in any \
      frame (temperature above --min-temperature, times flame when present)";
@@ -57,6 +59,55 @@ pub struct FrameFile {
     pub config: Option<(PathBuf, String)>,
 }
 
+/// A file of `--scene` (the OBJ or one of its MTL files), as read: what a task checks the scene
+/// it reads against.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneFile {
+    /// The file, absolute.
+    pub path: PathBuf,
+    /// Its size.
+    pub bytes: u64,
+    /// SHA-256 of its text, lowercase hex.
+    pub sha256: String,
+}
+
+impl SceneFile {
+    /// The record of `text`, read from `path`.
+    #[must_use]
+    pub fn of(path: &Path, text: &str) -> Self {
+        SceneFile {
+            path: path.to_path_buf(),
+            bytes: text.len() as u64,
+            sha256: hex(&Sha256::digest(text.as_bytes())),
+        }
+    }
+
+    /// Checks that the scene a task read, `read`, is the one `--prepare` read, `prepared`.
+    pub fn check(read: &[SceneFile], prepared: &[SceneFile]) -> Result<(), crate::Error> {
+        if read.len() != prepared.len() {
+            return Err(format!(
+                "--scene: the scene now reads {} file(s), {} when the manifest was prepared; \
+                 run --prepare again",
+                read.len(),
+                prepared.len()
+            )
+            .into());
+        }
+        match read.iter().zip(prepared).find(|(r, p)| r != p) {
+            Some((r, p)) => Err(format!(
+                "{}: changed since the manifest was prepared (SHA-256 {}, the manifest says {} \
+                 of {}); run --prepare again",
+                r.path.display(),
+                r.sha256,
+                p.sha256,
+                p.path.display()
+            )
+            .into()),
+            None => Ok(()),
+        }
+    }
+}
+
 /// What a frame's render takes from the whole sequence (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Manifest {
@@ -72,6 +123,8 @@ pub struct Manifest {
     pub all_dark: Option<String>,
     /// The flags given to `lgh explosion`, by long name, with their values as given.
     pub settings: Vec<(String, Vec<String>)>,
+    /// The files of `--scene` (empty without one).
+    pub scene: Vec<SceneFile>,
 }
 
 /// SHA-256 of a file, lowercase hex, and its size.
@@ -277,6 +330,9 @@ impl Manifest {
             })),
             "all_dark": self.all_dark,
             "settings": settings,
+            "scene": self.scene.iter().map(|f| json!({
+                "path": f.path.to_string_lossy(), "bytes": f.bytes, "sha256": f.sha256
+            })).collect::<Vec<_>>(),
         });
         let mut text = serde_json::to_string_pretty(&v).expect("a JSON value prints");
         text.push('\n');
@@ -414,6 +470,24 @@ impl Manifest {
                 Ok((k.clone(), vals))
             })
             .collect::<Result<Vec<_>, String>>()?;
+        let scene = v["scene"]
+            .as_array()
+            .ok_or_else(|| field("scene"))?
+            .iter()
+            .map(|f| {
+                Ok(SceneFile {
+                    path: PathBuf::from(f["path"].as_str().ok_or_else(|| field("scene[].path"))?),
+                    bytes: f["bytes"].as_u64().ok_or_else(|| field("scene[].bytes"))?,
+                    sha256: f["sha256"]
+                        .as_str()
+                        .ok_or_else(|| field("scene[].sha256"))?
+                        .to_string(),
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        if scene.is_empty() == settings.iter().any(|(k, _)| k == "scene") {
+            return Err(field("scene (its files and --scene go together)"));
+        }
         Ok(Manifest {
             files,
             layout,
@@ -421,6 +495,7 @@ impl Manifest {
             lights,
             all_dark,
             settings,
+            scene,
         })
     }
 
@@ -484,6 +559,11 @@ mod tests {
                 ("alpha".into(), vec!["4".into()]),
                 ("camera".into(), vec!["-1,2,3,0,0,0".into()]),
                 ("no-domain-offset".into(), vec![]),
+                ("scene".into(), vec!["/data/room.obj".into()]),
+            ],
+            scene: vec![
+                SceneFile::of(Path::new("/data/room.obj"), "mtllib room.mtl\n"),
+                SceneFile::of(Path::new("/data/room.mtl"), "newmtl grey\n"),
             ],
         };
         let back = Manifest::parse(m.to_json().as_bytes()).unwrap();
@@ -495,7 +575,7 @@ mod tests {
         assert_ne!(other.digest(), m.digest());
         // Refusals name what is wrong.
         let text = m.to_json();
-        let e = Manifest::parse(text.replace("\"version\": 1", "\"version\": 9").as_bytes());
+        let e = Manifest::parse(text.replace("\"version\": 2", "\"version\": 9").as_bytes());
         assert!(e.unwrap_err().contains("version"));
         let e = Manifest::parse(
             text.replace(env!("CARGO_PKG_VERSION"), "0.0.0-other")
@@ -507,8 +587,31 @@ mod tests {
                 .as_bytes(),
         );
         assert!(e.unwrap_err().contains("grid.lo"), "{text}");
+        // --scene without its files (or files without --scene) is refused.
+        let mut sceneless = m.clone();
+        sceneless.scene.clear();
+        let e = Manifest::parse(sceneless.to_json().as_bytes()).unwrap_err();
+        assert!(e.contains("scene"), "{e}");
         assert!(Manifest::parse(b"{}").unwrap_err().contains("not an lgh"));
         assert!(Manifest::parse(b"\x00").unwrap_err().contains("not JSON"));
+    }
+
+    #[test]
+    fn a_changed_scene_is_caught() {
+        let obj = SceneFile::of(Path::new("/r/room.obj"), "mtllib room.mtl\n");
+        // SHA-256("mtllib room.mtl\n"), computed independently (coreutils' sha256sum).
+        assert_eq!(
+            obj.sha256,
+            "312e1c2004a714c7805527f7a196a39bf2e6098e2c4a6f39a9deccc9552d47f9"
+        );
+        let mtl = SceneFile::of(Path::new("/r/room.mtl"), "newmtl grey\nKd 0.5 0.5 0.5\n");
+        let prepared = [obj.clone(), mtl.clone()];
+        SceneFile::check(&prepared, &prepared).unwrap();
+        let edited = SceneFile::of(Path::new("/r/room.mtl"), "newmtl grey\nKd 0.9 0.5 0.5\n");
+        let e = SceneFile::check(&[obj.clone(), edited], &prepared).unwrap_err();
+        assert!(e.to_string().contains("room.mtl: changed"), "{e}");
+        let e = SceneFile::check(&[obj], &prepared).unwrap_err();
+        assert!(e.to_string().contains("1 file(s), 2"), "{e}");
     }
 
     #[test]

@@ -9,23 +9,36 @@ use lgh_core::Material;
 use lgh_volume::surfaces::{SurfaceHit, Surfaces};
 use lgh_vpl::{Mesh, Scene};
 
+use crate::manifest::SceneFile;
+
 /// The surfaces of an OBJ scene: each triangle's diffuse albedo (a Phong material's `kd`; the
 /// smoke render shades surfaces as Lambertian), its shading normal turned towards the viewer,
 /// shadows through the BVH.
 pub struct Room {
     scene: Scene,
+    files: Vec<SceneFile>,
 }
 
 impl Room {
-    /// Loads `path` (OBJ, its MTL beside it; a triangle without a material is grey, 0.5).
+    /// Loads `path` (OBJ, its MTL beside it; a triangle without a material is grey, 0.5),
+    /// hashing each file's text as it is parsed.
     pub fn load(path: &Path) -> Result<Self, crate::Error> {
-        let mesh = Mesh::load_obj(path)?;
+        let path = crate::manifest::absolute(path)?;
+        let mut files = Vec::new();
+        let mesh = Mesh::load_obj_seen(&path, |p, text| files.push(SceneFile::of(p, text)))?;
         if mesh.triangles().is_empty() {
             return Err(format!("--scene {}: no triangles", path.display()).into());
         }
         Ok(Room {
             scene: Scene::new(mesh),
+            files,
         })
+    }
+
+    /// The files the scene was read from (the OBJ, then its MTL files) and their SHA-256.
+    #[must_use]
+    pub fn files(&self) -> &[SceneFile] {
+        &self.files
     }
 
     /// Triangles of the scene.

@@ -1005,6 +1005,11 @@ fn bench_flicker_prints_every_method_against_brute_force() {
         fig10,
         "--fig10-renders",
         "3",
+        "--equal-error",
+        "--sweep-alphas",
+        "1,2",
+        "--sweep-lightcuts-errors",
+        "0.08,0.04,0.02,0.01",
         "--procedural",
         "3",
         "--resolution",
@@ -1046,6 +1051,66 @@ fn bench_flicker_prints_every_method_against_brute_force() {
     );
     let table = std::fs::read_to_string(&md).unwrap();
     assert!(table.contains("| method | flicker |") && table.contains("`nearest_vertex`"));
+    // At equal error: Lightcuts' curve over the four ε (2% is the main run's, measured once),
+    // and the hierarchy at each α with Lightcuts' flicker read off that curve at its error.
+    let eq = &v["equal_error"];
+    let curve = eq["lightcuts"].as_array().unwrap();
+    assert_eq!(curve.len(), 4, "{eq}");
+    assert_eq!(
+        curve[2]["flicker"], backends["lightcuts"]["flicker"],
+        "{eq}"
+    );
+    let point = |c: &serde_json::Value| {
+        (
+            c["rel_rmse"].as_f64().unwrap(),
+            c["flicker"].as_f64().unwrap(),
+        )
+    };
+    let mut read = 0;
+    for key in ["lgh", "lgh_ray_marched"] {
+        let rows = eq[key].as_array().unwrap();
+        assert_eq!(rows.len(), 2, "{eq}");
+        for row in rows {
+            let (e, f) = point(row);
+            let Some(at) = row["lightcuts_flicker_at_same_error"].as_f64() else {
+                // Outside the curve: no Lightcuts ε gave an error on both sides of it.
+                let errors: Vec<f64> = curve.iter().map(|c| point(c).0).collect();
+                let (lo, hi) = errors
+                    .iter()
+                    .fold((f64::MAX, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+                assert!(e < lo || e > hi, "{row} {eq}");
+                continue;
+            };
+            read += 1;
+            let ratio = row["lightcuts_over_lgh"].as_f64().unwrap();
+            assert!((ratio - at / f).abs() <= 1e-9 * ratio, "{row}");
+            // The two Lightcuts runs it was read between bracket its error and its flicker.
+            let between: Vec<f64> = row["between_lightcuts_errors"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
+            let ends: Vec<(f64, f64)> = curve
+                .iter()
+                .filter(|c| between.contains(&c["relative_error"].as_f64().unwrap()))
+                .map(point)
+                .collect();
+            assert_eq!(ends.len(), 2, "{row}");
+            let (lo, hi) = (ends[0].0.min(ends[1].0), ends[0].0.max(ends[1].0));
+            assert!(lo <= e && e <= hi, "{row} {ends:?}");
+            let (flo, fhi) = (ends[0].1.min(ends[1].1), ends[0].1.max(ends[1].1));
+            assert!(flo <= at && at <= fhi, "{row} {ends:?}");
+        }
+    }
+    assert!(
+        read > 0,
+        "no hierarchy's error fell inside Lightcuts' curve: {eq}"
+    );
+    assert!(
+        table.contains("Lightcuts' flicker at that error"),
+        "{table}"
+    );
     // Fig. 10: two seeds differ, and the images are there.
     let f = &v["fig10"];
     assert!(
@@ -1091,6 +1156,19 @@ fn bench_flicker_prints_every_method_against_brute_force() {
         "--procedural 1",
     );
     assert_refused(dir.path(), &["bench", "flicker"], "--procedural N");
+    assert_refused(
+        dir.path(),
+        &[
+            "bench",
+            "flicker",
+            "--procedural",
+            "2",
+            "--equal-error",
+            "--sweep-lightcuts-errors",
+            "0.02",
+        ],
+        "at least two",
+    );
 }
 
 /// `lgh explosion --scene ROOM.obj`: the fire lights a floor under it (the paper's explosions in

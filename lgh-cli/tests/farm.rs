@@ -156,6 +156,15 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
     let vdb = dir.path().join("data/fluid_data_0050.vdb");
     let manifest = dir.path().join("m.json");
     let out = dir.path().join("f.exr");
+    // A floor far under the fire, its material in an MTL file: the scene is hashed too.
+    let (room, mtl) = (dir.path().join("room.obj"), dir.path().join("room.mtl"));
+    std::fs::write(
+        &room,
+        "mtllib room.mtl\nv -1e3 -1e3 -50\nv 1e3 -1e3 -50\nv 1e3 1e3 -50\nv -1e3 1e3 -50\n\
+         usemtl floor\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    std::fs::write(&mtl, "newmtl floor\nKd 0.5 0.5 0.5\n").unwrap();
     let mut a = vec![
         "explosion",
         "--vdb",
@@ -165,6 +174,8 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
         "--quiet",
         "--out",
         s(&out),
+        "--scene",
+        s(&room),
         "--prepare",
         s(&manifest),
     ];
@@ -232,4 +243,13 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
         "--quiet",
     ]);
     assert!(dir.path().join("f_0050.exr").is_file());
+    // The room's material changed since --prepare: the task renders nothing.
+    std::fs::remove_file(dir.path().join("f_0050.exr")).unwrap();
+    std::fs::write(&mtl, "newmtl floor\nKd 0.9 0.5 0.5\n").unwrap();
+    assert_refused(
+        dir.path(),
+        &["explosion", "--manifest", m, "--frames", "50..50"],
+        "room.mtl: changed since",
+    );
+    assert!(!dir.path().join("f_0050.exr").exists());
 }

@@ -316,11 +316,37 @@ impl Mesh {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
+        Mesh::load_obj_seen(path, |_, _| {})
+    }
+
+    /// [`load_obj`](Self::load_obj), showing `seen` the path and text of every file as it is
+    /// read, the OBJ first and then each MTL: what a caller hashes to know exactly which bytes
+    /// made the mesh (a render farm's manifest does).
+    ///
+    /// ```
+    /// use lgh_vpl::Mesh;
+    ///
+    /// let dir = tempfile::tempdir()?;
+    /// std::fs::write(dir.path().join("m.mtl"), "newmtl grey\nKd 0.5 0.5 0.5\n")?;
+    /// let obj = dir.path().join("t.obj");
+    /// std::fs::write(&obj, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl grey\nf 1 2 3\n")?;
+    /// let mut read = Vec::new();
+    /// Mesh::load_obj_seen(&obj, |path, text| read.push((path.to_owned(), text.len())))?;
+    /// assert_eq!(read, [(obj.clone(), 57), (dir.path().join("m.mtl"), 27)]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn load_obj_seen(
+        path: &Path,
+        mut seen: impl FnMut(&Path, &str),
+    ) -> Result<Mesh, MeshError> {
         let text = read_text(path)?;
+        seen(path, &text);
+        let seen = RefCell::new(seen);
         let folder = path.parent().unwrap_or(Path::new(""));
         Mesh::parse_obj(path, &text, |name| {
             let mtl = folder.join(name);
             let text = read_text(&mtl)?;
+            (seen.borrow_mut())(&mtl, &text);
             Ok((mtl, text))
         })
     }
