@@ -91,7 +91,7 @@ pub struct FlickerArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "0.16,0.08,0.04,0.02,0.01,0.005,0.0025,0.00125",
+        default_value = "0.64,0.32,0.16,0.08,0.04,0.02,0.01,0.005,0.0025,0.00125",
         requires = "equal_error"
     )]
     pub sweep_lightcuts_errors: Vec<f32>,

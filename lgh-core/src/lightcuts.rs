@@ -68,13 +68,23 @@ pub struct Cluster {
 impl Cluster {
     /// Walter's error bound `M_ub G_ub I_C` of the cluster at `point` (its largest channel): no
     /// light of the cluster, nor the cluster shaded at its representative, reflects more there.
-    /// Zero for a single light, which is exact; infinite for a point inside the box.
+    /// Zero for a single light, which is exact; infinite for a point inside the box (unless
+    /// the cluster is dark in every channel).
     #[must_use]
     pub fn error_bound(&self, point: &ShadingPoint) -> f32 {
         match self.children {
             None => 0.0,
             Some(_) => {
-                (self.intensity * cluster_bound(point, self.bounds.0, self.bounds.1)).max_element()
+                let m = cluster_bound(point, self.bounds.0, self.bounds.1);
+                // A dark channel bounds nothing: 0, not 0 · ∞ = NaN, which glam's
+                // `max_element` may return and which ranks below every bound (x86's NaN is
+                // negative), so that a cluster around the point was never refined.
+                Vec3::select(
+                    self.intensity.cmpgt(Vec3::ZERO),
+                    self.intensity * m,
+                    Vec3::ZERO,
+                )
+                .max_element()
             }
         }
     }

@@ -113,6 +113,48 @@ impl<B: ManyLights> Lights<B> {
         }
         Ok(radiance)
     }
+
+    /// The light in-scattered at `x` in a medium, per unit solid angle: `scale` (`σ_s`, or
+    /// `h³ σ_s` for a voxel's light) times the isotropic phase function `1/4π` times the
+    /// [`incident`](Self::incident) light. The factor is applied once, outside the sum, except
+    /// for a backend that chooses its lights by the values it shades
+    /// ([`ManyLights::selection_follows_shader`], Lightcuts): that one compares them with bounds
+    /// of the phase function's light (`lgh_core::reflected` at an isotropic point), so it shades
+    /// `I g V / 4π` — shading `I g V` would refine its cut as if ε were 4π times larger.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{BruteForce, PointLight};
+    /// use lgh_volume::lighting::{LightScratch, Lights};
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    ///
+    /// let one = BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::splat(4.0))])?;
+    /// let lights = Lights::new(one, 0.1);
+    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    /// let x = Vec3::new(2.0, 0.0, 0.0);
+    /// let l = lights.in_scattered(x, 3.0, &Visibility::None, &mut scratch, &mut stats)?;
+    /// let want = 3.0 / (4.0 * std::f32::consts::PI); // σ_s · (I / d²) / 4π
+    /// assert!((l - Vec3::splat(want)).abs().max_element() < 1e-6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn in_scattered(
+        &self,
+        x: Vec3,
+        scale: f32,
+        visibility: &Visibility,
+        scratch: &mut LightScratch,
+        stats: &mut crate::render::RenderStats,
+    ) -> Result<Vec3, QueryError> {
+        let point = ShadingPoint::in_medium(x);
+        let four_pi = 4.0 * core::f32::consts::PI;
+        Ok(if self.backend.selection_follows_shader() {
+            let phase = Vec3::splat(1.0 / four_pi);
+            self.incident(&point, visibility, |_| phase, scratch, stats)? * scale
+        } else {
+            self.incident(&point, visibility, |_| Vec3::ONE, scratch, stats)? * (scale / four_pi)
+        })
+    }
 }
 
 /// A shading point's lights, gathered so that their visibility can be evaluated together;

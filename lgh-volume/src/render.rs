@@ -463,15 +463,7 @@ impl<'a> Marcher<'a> {
             let mut source = volume.emission(medium, x);
             let sigma_s = medium.scattering * rho;
             if let (Some(lights), true) = (lights, sigma_s > 0.0) {
-                // The isotropic phase function 1/4π is applied once, outside the sum.
-                let sum = lights.incident(
-                    &ShadingPoint::in_medium(x),
-                    &self.visibility,
-                    |_| Vec3::ONE,
-                    scratch,
-                    stats,
-                )?;
-                source += sum * (sigma_s / (4.0 * std::f32::consts::PI));
+                source += lights.in_scattered(x, sigma_s, &self.visibility, scratch, stats)?;
             }
             // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
             let step_t = (-sigma_t * dt).exp();
@@ -525,7 +517,13 @@ impl<'a> Marcher<'a> {
             }
         };
         stats.surface_points += 1;
-        let point = ShadingPoint::in_medium(x);
+        // The point's material is what Lightcuts bounds a cluster's light with (the response
+        // never exceeds its bound, ρ max(0, n·ω) g); the other backends do not read it.
+        let point = ShadingPoint {
+            normal: Some(hit.normal),
+            material: lgh_core::Material::Lambert { albedo: hit.albedo },
+            ..ShadingPoint::in_medium(x)
+        };
         Ok(lights.incident(&point, &self.visibility, response, scratch, stats)?)
     }
 }

@@ -9,9 +9,10 @@
 //! `I^k(x) = h³ σ_s(x) / (4π) · Φ^{k−1}(x)`,
 //!
 //! where `Φ^{k−1}(x)` is the shadowed fluence at `x` of the depth-`(k−1)` lights — exactly what
-//! [`Lights::incident`] returns with the response `1` at [`ShadingPoint::in_medium`]`(x)`
+//! [`Lights::incident`] returns with the response `1` at an isotropic point
 //! (`Σ I · g(d) · V` over the lights the backend selects, eq. 1 with visibility), `h³` the voxel's
-//! volume and `σ_s/(4π)` the isotropic phase function times the scattering coefficient. Each
+//! volume and `σ_s/(4π)` the isotropic phase function times the scattering coefficient
+//! ([`Lights::in_scattered`] computes `I^k` from them). Each
 //! depth is built into a hierarchy of its own ("the higher levels `S^k_ℓ` … in the same way as
 //! explained in Section 3") with its own shadows (the same [`Shadows`](crate::Shadows) choice and
 //! settings as the render: deep-shadow cube maps by default), which lights the next depth.
@@ -56,7 +57,6 @@
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
-use lgh_core::ShadingPoint;
 use rayon::prelude::*;
 
 use crate::error::VolumeError;
@@ -405,7 +405,6 @@ impl Fluence<'_> {
         let lights: Lights<_> = source.backend(self.method, self.alpha)?;
         let grid = &self.frame.density;
         let h3 = grid.voxel_size.powi(3);
-        let phase = 1.0 / (4.0 * std::f32::consts::PI);
         let chunks: Vec<Result<RenderStats, VolumeError>> = out
             .par_chunks_mut(CHUNK_VOXELS)
             .zip(self.voxels.par_chunks(CHUNK_VOXELS))
@@ -414,16 +413,14 @@ impl Fluence<'_> {
                 let mut stats = RenderStats::default();
                 for (o, &v) in out.iter_mut().zip(voxels) {
                     let [i, j, k] = crate::grid::unflatten(v, grid.dims);
-                    let at = ShadingPoint::in_medium(grid.centre(i, j, k));
-                    let fluence = lights.incident(
-                        &at,
+                    let sigma_s = self.medium.scattering * grid.data[v];
+                    *o = lights.in_scattered(
+                        grid.centre(i, j, k),
+                        h3 * sigma_s,
                         &visibility,
-                        |_| Vec3::ONE,
                         &mut scratch,
                         &mut stats,
                     )?;
-                    let sigma_s = self.medium.scattering * grid.data[v];
-                    *o = fluence * (h3 * sigma_s * phase);
                 }
                 (self.progress)(voxels.len());
                 Ok(stats)

@@ -43,12 +43,15 @@ fn rel_rmse(a: &Image, r: &Image) -> f64 {
 
 /// Lightcuts converges to brute force as its ε falls. Its stopping rule bounds each cluster's
 /// error by ε of the cut's estimate, which does not bound the sum over the cut: a pixel's error
-/// is a sum of many such terms, and at Walter's ε = 2% it comes to about 11% RMSE on this frame
-/// (printed). At ε = 0.05% the same bound per cluster is 40× tighter: the image must be within
-/// 2% without shadows. With ray-marched shadows a cluster's one shadow ray (from its
-/// representative) stands for all its lights, which the bound (V ≤ 1) does not see: within 4%
-/// then. (Shading a cluster's lights after the cut is chosen, rather than as it is refined,
-/// counted refined clusters twice, 6× brute force: this test catches that.)
+/// is a sum of many such terms, 0.5–4% RMSE on this frame at Walter's ε = 2% (printed). At
+/// ε = 0.05% the bound per cluster is 40× tighter, with or without shadows (a cluster's shadowed
+/// light and its estimate, one shadow ray from its representative, both lie in `[0, bound]`,
+/// since the bound takes `V ≤ 1`): the error must fall at least 10-fold (a factor 4 of slack)
+/// and stay under 0.5%. Measured: 0.00–0.04%. Three bugs made it fail: shading a cluster's
+/// lights after the cut was chosen counted refined clusters twice (6× brute force); a cluster
+/// dark in a channel around the point ranked below every other (its bound `0 · ∞ = NaN`) and
+/// was never refined (0.1–1.1% at 0.05%); and shading `I g V` against bounds of `I g V / 4π`
+/// refined as if ε were 4π larger (7–20% at 2%).
 #[test]
 fn lightcuts_in_a_medium_converges_to_brute_force() {
     let (v, mut l, c) = frame();
@@ -57,7 +60,7 @@ fn lightcuts_in_a_medium_converges_to_brute_force() {
         max_cut: l.lights().len(),
         ..Default::default()
     };
-    for (shadows, bound) in [(Shadows::None, 0.02), (Shadows::RayMarch, 0.04)] {
+    for shadows in [Shadows::None, Shadows::RayMarch] {
         let exact = render(&l, Method::Brute, &v, &c, shadows);
         for method in [Method::Lightcuts, Method::LightcutsDeterministic] {
             l.set_lightcuts_seed(3);
@@ -68,8 +71,11 @@ fn lightcuts_in_a_medium_converges_to_brute_force() {
             eprintln!(
                 "{method:?}, {shadows:?}: relative RMSE {walter:.4} at ε = 2%, {e:.4} at 0.05%"
             );
-            assert!(e < bound, "{method:?} {shadows:?}: {e}");
-            assert!(e < walter, "{method:?} {shadows:?}: {e} against {walter}");
+            assert!(e < 0.005, "{method:?} {shadows:?}: {e}");
+            assert!(
+                e < walter / 10.0,
+                "{method:?} {shadows:?}: {e} against {walter}"
+            );
         }
     }
 }
