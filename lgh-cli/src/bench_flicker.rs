@@ -106,7 +106,7 @@ pub struct FlickerArgs {
 
 /// One setting measured over the whole sequence: a method (an index into [`entries`]) at an α
 /// and a Lightcuts ε (each used only by the methods it concerns).
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Run {
     entry: usize,
     alpha: f32,
@@ -184,12 +184,12 @@ fn entries() -> Vec<Entry> {
         ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Method::Lgh),
         ray_marched(
             "lightcuts",
-            "Lightcuts 2%, random representatives, a new tree every frame",
+            "Lightcuts at --lightcuts-error (2%), random representatives, a new tree every frame",
             Method::Lightcuts,
         ),
         ray_marched(
             "lightcuts_deterministic",
-            "Lightcuts 2%, brightest representatives",
+            "Lightcuts at --lightcuts-error (2%), brightest representatives",
             Method::LightcutsDeterministic,
         ),
         lgh(
@@ -514,8 +514,18 @@ fn runs(args: &FlickerArgs, entries: &[Entry]) -> Result<Vec<Run>, crate::Error>
     if !args.equal_error {
         return Ok(runs);
     }
-    if args.sweep_lightcuts_errors.len() < 2 {
+    let mut distinct = args.sweep_lightcuts_errors.clone();
+    distinct.sort_by(f32::total_cmp);
+    distinct.dedup();
+    if distinct.len() < 2 {
         return Err("--sweep-lightcuts-errors: give at least two ε to read a curve off".into());
+    }
+    if !SWEPT_HIERARCHIES.iter().any(|k| index(k).is_some()) {
+        return Err(format!(
+            "--equal-error: --methods must include {}",
+            SWEPT_HIERARCHIES.join(" or ")
+        )
+        .into());
     }
     let mut add = |run: Run| {
         if !runs.contains(&run) {
@@ -614,7 +624,14 @@ fn equal_error(
     let mut markdown = String::from(
         "\n| method | α | relative RMSE | flicker | Lightcuts' flicker at that error | Lightcuts / hierarchy |\n|---|---:|---:|---:|---:|---:|\n",
     );
+    // Whether error and flicker both fall with ε: if not (a cut that reaches its largest size
+    // stops refining), one error can be met at several ε, and it is read between the two
+    // runs of nearest error.
+    let monotone = curve
+        .windows(2)
+        .all(|w| w[1].0 <= w[0].0 && w[1].1 <= w[0].1);
     let mut value = serde_json::Map::new();
+    value.insert("lightcuts_curve_monotone".into(), json!(monotone));
     value.insert(
         "lightcuts".into(),
         lightcuts
@@ -636,7 +653,8 @@ fn equal_error(
         hierarchy.sort_by(|a, b| a.0.alpha.total_cmp(&b.0.alpha));
         for (r, m) in hierarchy {
             let at = flicker_at_error(&curve, m.rel_rmse);
-            let ratio = at.map(|(f, _)| f / m.flicker);
+            // No ratio to a hierarchy that does not flicker at all (its cell says so).
+            let ratio = at.map(|(f, _)| f / m.flicker).filter(|q| q.is_finite());
             let between = at.map(|(_, [a, b])| {
                 [
                     lightcuts[a].0.lightcuts_error,
@@ -661,7 +679,10 @@ fn equal_error(
                 100.0 * m.rel_rmse,
                 m.flicker,
                 cell(at.map(|(f, _)| f), &|f| format!("{f:.6}")),
-                cell(ratio, &|q| format!("{q:.1}×")),
+                match (ratio, at) {
+                    (None, Some(_)) => "the hierarchy does not flicker".to_string(),
+                    _ => cell(ratio, &|q| format!("{q:.1}×")),
+                },
             );
         }
         value.insert(key.into(), Value::Array(points));
@@ -676,6 +697,9 @@ fn equal_error(
             m.flicker,
             m.seconds_per_frame
         );
+    }
+    if !monotone {
+        markdown += "\n(Lightcuts' error or flicker does not fall monotonically with ε here: each value above is read between the two runs of nearest error.)\n";
     }
     (Value::Object(value), markdown)
 }
@@ -817,7 +841,60 @@ impl View<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::flicker_at_error;
+    use super::{entries, flicker_at_error, runs, FlickerArgs};
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: FlickerArgs,
+    }
+
+    fn args(line: &[&str]) -> FlickerArgs {
+        Cli::try_parse_from([&["flicker"], line].concat())
+            .unwrap()
+            .args
+    }
+
+    /// Each setting is rendered once: the main runs, then only the swept settings not among
+    /// them (Lightcuts does not depend on α, the hierarchy not on ε).
+    #[test]
+    fn each_swept_setting_is_rendered_once() {
+        let all = entries();
+        let main = runs(&args(&["--procedural", "2"]), &all).unwrap();
+        assert_eq!(main.len(), all.len());
+        let line = [
+            "--procedural",
+            "2",
+            "--equal-error",
+            "--sweep-alphas",
+            "1,2,2,4",
+            "--sweep-lightcuts-errors",
+            "0.04,0.02,0.01",
+        ];
+        let swept = runs(&args(&line), &all).unwrap();
+        // α = 1 and 4 for two hierarchies, ε = 0.04 and 0.01: α = 2 and ε = 2% are main runs.
+        assert_eq!(swept.len(), all.len() + 2 * 2 + 2, "{}", swept.len());
+        assert_eq!(&swept[..all.len()], &main[..]);
+        // A curve needs two distinct ε, and a hierarchy to compare.
+        let twice = [
+            "--procedural",
+            "2",
+            "--equal-error",
+            "--sweep-lightcuts-errors",
+            "0.02,0.02",
+        ];
+        assert!(runs(&args(&twice), &all).is_err());
+        let line = [
+            "--procedural",
+            "2",
+            "--equal-error",
+            "--methods",
+            "lightcuts",
+        ];
+        let only = super::chosen(entries(), &args(&line).methods).unwrap();
+        assert!(runs(&args(&line), &only).is_err());
+    }
 
     #[test]
     fn equal_error_interpolates_in_log_log_and_never_extrapolates() {

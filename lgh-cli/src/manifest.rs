@@ -84,6 +84,18 @@ impl SceneFile {
 
     /// Checks that the scene a task read, `read`, is the one `--prepare` read, `prepared`.
     pub fn check(read: &[SceneFile], prepared: &[SceneFile]) -> Result<(), crate::Error> {
+        // A changed file first: an edited OBJ is what makes a scene read other MTL files.
+        if let Some((r, p)) = read.iter().zip(prepared).find(|(r, p)| r != p) {
+            return Err(format!(
+                "{}: changed since the manifest was prepared (SHA-256 {}, the manifest says {} \
+                 of {}); run --prepare again",
+                r.path.display(),
+                r.sha256,
+                p.sha256,
+                p.path.display()
+            )
+            .into());
+        }
         if read.len() != prepared.len() {
             return Err(format!(
                 "--scene: the scene now reads {} file(s), {} when the manifest was prepared; \
@@ -93,18 +105,7 @@ impl SceneFile {
             )
             .into());
         }
-        match read.iter().zip(prepared).find(|(r, p)| r != p) {
-            Some((r, p)) => Err(format!(
-                "{}: changed since the manifest was prepared (SHA-256 {}, the manifest says {} \
-                 of {}); run --prepare again",
-                r.path.display(),
-                r.sha256,
-                p.sha256,
-                p.path.display()
-            )
-            .into()),
-            None => Ok(()),
-        }
+        Ok(())
     }
 }
 

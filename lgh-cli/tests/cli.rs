@@ -1009,7 +1009,7 @@ fn bench_flicker_prints_every_method_against_brute_force() {
         "--sweep-alphas",
         "1,2",
         "--sweep-lightcuts-errors",
-        "0.08,0.04,0.02,0.01",
+        "2.56,0.64,0.16,0.02",
         "--procedural",
         "3",
         "--resolution",
@@ -1043,21 +1043,17 @@ fn bench_flicker_prints_every_method_against_brute_force() {
             "{key}: {b}"
         );
     }
-    // Stochastic Lightcuts (a new tree every frame) flickers more than the paper's hierarchy
-    // on the same frames with the same ray-marched shadows.
-    assert!(
-        backends["lightcuts"]["flicker"].as_f64() > backends["lgh_ray_marched"]["flicker"].as_f64(),
-        "{v}"
-    );
     let table = std::fs::read_to_string(&md).unwrap();
     assert!(table.contains("| method | flicker |") && table.contains("`nearest_vertex`"));
-    // At equal error: Lightcuts' curve over the four ε (2% is the main run's, measured once),
-    // and the hierarchy at each α with Lightcuts' flicker read off that curve at its error.
+    // At equal error: Lightcuts' curve over the four ε (2% is the main run's), and the
+    // hierarchy at each α with Lightcuts' flicker read off that curve at its error. At equal
+    // error stochastic Lightcuts (a new tree every frame) flickers more than the hierarchy, on
+    // these few frames too.
     let eq = &v["equal_error"];
     let curve = eq["lightcuts"].as_array().unwrap();
     assert_eq!(curve.len(), 4, "{eq}");
     assert_eq!(
-        curve[2]["flicker"], backends["lightcuts"]["flicker"],
+        curve[3]["flicker"], backends["lightcuts"]["flicker"],
         "{eq}"
     );
     let point = |c: &serde_json::Value| {
@@ -1084,6 +1080,7 @@ fn bench_flicker_prints_every_method_against_brute_force() {
             read += 1;
             let ratio = row["lightcuts_over_lgh"].as_f64().unwrap();
             assert!((ratio - at / f).abs() <= 1e-9 * ratio, "{row}");
+            assert!(ratio > 1.0, "{row}");
             // The two Lightcuts runs it was read between bracket its error and its flicker.
             let between: Vec<f64> = row["between_lightcuts_errors"]
                 .as_array()

@@ -198,6 +198,17 @@ pub trait ManyLights {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn probe<B: ManyLights>(backend: &B, x: Vec3, h0: f32) -> Result<Illumination, QueryError> {
+    let point = ShadingPoint::in_medium(x);
+    if backend.selection_follows_shader() {
+        // Lightcuts compares what it shades with bounds of the isotropic phase function's light
+        // at this point (`reflected`, `I g / 4π`): shade that, and undo the phase afterwards,
+        // or the cut is refined as if ε were 4π larger.
+        let phase = 0.25 * core::f32::consts::FRAC_1_PI;
+        let mut shader = |s: &LightSample| s.intensity * (falloff(s.distance, h0) * phase);
+        let mut sum = backend.illuminate(&point, &mut shader)?;
+        sum.radiance /= phase;
+        return Ok(sum);
+    }
     let mut shader = |s: &LightSample| s.intensity * falloff(s.distance, h0);
-    backend.illuminate(&ShadingPoint::in_medium(x), &mut shader)
+    backend.illuminate(&point, &mut shader)
 }

@@ -517,11 +517,12 @@ impl<'a> Marcher<'a> {
             }
         };
         stats.surface_points += 1;
-        // The point's material is what Lightcuts bounds a cluster's light with (the response
-        // never exceeds its bound, ρ max(0, n·ω) g); the other backends do not read it.
+        // The point's material is what Lightcuts bounds a cluster's light with: a Lambertian
+        // bound `a max(0, n·ω) I g` with `a = ρ/π`, the BRDF, so that the bound and the response
+        // are in the same units. The other backends do not read it.
         let point = ShadingPoint {
             normal: Some(hit.normal),
-            material: lgh_core::Material::Lambert { albedo: hit.albedo },
+            material: lgh_core::Material::Lambert { albedo: brdf },
             ..ShadingPoint::in_medium(x)
         };
         Ok(lights.incident(&point, &self.visibility, response, scratch, stats)?)
