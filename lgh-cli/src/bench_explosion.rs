@@ -18,14 +18,15 @@ use lgh_volume::explosion;
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
-use lgh_volume::{ExplosionLights, Method};
+use lgh_volume::{ExplosionLights, Method, Shadows};
 use serde_json::{json, Value};
 
 /// Arguments of `lgh bench explosion`.
 #[derive(Debug, clap::Args)]
 pub struct ExplosionBenchArgs {
-    /// Scenes: p128 and p256 (the demo's procedural explosion at t = 0.5 s), fire56 (the dev Blender
-    /// frame 0056 from ../shared/data, skipped with a message when absent).
+    /// Scenes: pN (the demo's procedural explosion at t = 0.5 s on N³ voxels, N = 8 to 512:
+    /// p128, p256), fire56 (the dev Blender frame 0056 from ../shared/data, skipped with a
+    /// message when absent).
     #[arg(long, value_delimiter = ',', default_value = "p128,p256,fire56")]
     pub scenes: Vec<String>,
     /// α values.
@@ -74,9 +75,9 @@ struct Scene {
 fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Error> {
     let demo = crate::demo::demo_medium();
     Ok(Some(match key {
-        "p128" | "p256" => Scene {
+        _ if procedural(key).is_some() => Scene {
             name: format!("explosion_{}", &key[1..]),
-            volume: explosion(key[1..].parse().expect("p128 or p256"), 0.5)?,
+            volume: explosion(procedural(key).unwrap_or(32), 0.5)?,
             medium: demo,
             up: Up::Y,
         },
@@ -94,8 +95,19 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Erro
                 up: Up::Z,
             }
         }
-        other => return Err(format!("unknown scene '{other}' (p128, p256, fire56)").into()),
+        other => return Err(unknown_scene(other)),
     }))
+}
+
+/// The voxels a side of a procedural scene key `pN` (N = 32 to 512).
+fn procedural(key: &str) -> Option<usize> {
+    key.strip_prefix('p')
+        .and_then(|n| n.parse::<usize>().ok())
+        .filter(|n| (32..=512).contains(n))
+}
+
+fn unknown_scene(key: &str) -> crate::Error {
+    format!("--scenes: unknown scene '{key}' (pN for N = 32 to 512, such as p128; fire56)").into()
 }
 
 /// Up to `n` pixels, evenly strided among those whose emission-only luminance is above 1% of
@@ -138,6 +150,13 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), crate::Error> {
     }
     if args.reference_spp < 64 {
         return Err("--reference-spp must be at least 64".into());
+    }
+    if let Some(bad) = args
+        .scenes
+        .iter()
+        .find(|k| procedural(k).is_none() && k.as_str() != "fire56")
+    {
+        return Err(unknown_scene(bad));
     }
     let mut scenes = Vec::new();
     for key in &args.scenes {
@@ -247,6 +266,7 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
             stats.lights_per_point(),
             err
         );
+        let shadows = shadow_choices(s, &lights, alpha, &camera)?;
         rows.push(json!({
             "alpha": alpha,
             "render_seconds": image_s,
@@ -261,6 +281,7 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
             "pathtrace_time_ratio": matched.map(|m| m.1 / sub_s),
             "pathtrace_spp_to_match_extrapolated": extrapolated.map(|x| x.0),
             "pathtrace_time_ratio_extrapolated": extrapolated.map(|x| x.1 / sub_s),
+            "shadows": shadows,
         }));
     }
     Ok(json!({
@@ -282,4 +303,51 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
         },
         "alphas": rows,
     }))
+}
+
+/// The whole image at `alpha` with each shadow choice of `lgh demo` and `lgh explosion`
+/// (issue 13's comparison, in one run): the deep-shadow cube maps (their precompute and the
+/// render apart), ray-marched shadows (the rows above) and none; the cube maps' relative RMSE
+/// against the ray-marched image, and the two ratios the issue states its target in.
+fn shadow_choices(
+    s: &Scene,
+    lights: &ExplosionLights,
+    alpha: f32,
+    camera: &Camera,
+) -> Result<Value, crate::Error> {
+    let backend = lights.backend(Method::Lgh, alpha)?;
+    let mut out = serde_json::Map::new();
+    let mut totals = Vec::new();
+    let mut images = Vec::new();
+    for (key, shadows) in [
+        ("cubemap", Shadows::CubeMap),
+        ("raymarch", Shadows::RayMarch),
+        ("none", Shadows::None),
+    ] {
+        let settings = MarchSettings::with_shadows(shadows, true);
+        let (marcher, precompute_s) =
+            time(|| lights.marcher(Method::Lgh, alpha, &s.volume, &s.medium, &settings));
+        let marcher = marcher?;
+        let (image, render_s) = time(|| marcher.render(Some(&backend), camera, &|_| {}));
+        images.push(image?.0);
+        totals.push(precompute_s + render_s);
+        out.insert(
+            key.into(),
+            json!({
+                "precompute_seconds": precompute_s,
+                "render_seconds": render_s,
+                "total_seconds": precompute_s + render_s,
+            }),
+        );
+    }
+    out.insert(
+        "cubemap_rel_rmse_vs_raymarch".into(),
+        json!(rel_rmse(&images[0].pixels, &images[1].pixels)),
+    );
+    out.insert(
+        "cubemap_speedup_vs_raymarch".into(),
+        json!(totals[1] / totals[0]),
+    );
+    out.insert("cubemap_over_none".into(), json!(totals[0] / totals[2]));
+    Ok(Value::Object(out))
 }

@@ -1252,3 +1252,57 @@ fn explosion_lights_a_room_around_the_fire() {
         "nope.obj",
     );
 }
+
+/// `lgh bench explosion` on a small procedural scene: the hierarchy against brute force and the
+/// path tracer, and per α the three shadow choices timed in the same run (issue 13's ratios);
+/// an unknown scene is refused before any work.
+#[test]
+fn bench_explosion_reports_each_shadow_choice() {
+    let o = lgh(&[
+        "bench",
+        "explosion",
+        "--scenes",
+        "p32",
+        "--alphas",
+        "2",
+        "--width",
+        "12",
+        "--height",
+        "7",
+        "--pixels",
+        "4",
+        "--reference-spp",
+        "64",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let scene = &v["scenes"][0];
+    assert_eq!(scene["scene"], "explosion_32");
+    let row = &scene["alphas"][0];
+    assert!(row["rel_rmse_vs_brute"].as_f64().unwrap() >= 0.0, "{row}");
+    let s = &row["shadows"];
+    let total = |k: &str| s[k]["total_seconds"].as_f64().unwrap();
+    for k in ["cubemap", "raymarch", "none"] {
+        let (p, r) = (
+            s[k]["precompute_seconds"].as_f64().unwrap(),
+            s[k]["render_seconds"].as_f64().unwrap(),
+        );
+        assert!(
+            p >= 0.0 && r > 0.0 && (total(k) - (p + r)).abs() < 1e-9,
+            "{s}"
+        );
+    }
+    let speedup = s["cubemap_speedup_vs_raymarch"].as_f64().unwrap();
+    assert!(
+        (speedup - total("raymarch") / total("cubemap")).abs() < 1e-9,
+        "{s}"
+    );
+    let err = s["cubemap_rel_rmse_vs_raymarch"].as_f64().unwrap();
+    assert!(err > 0.0 && err < 1.0, "{s}");
+    let dir = tempfile::tempdir().unwrap();
+    assert_refused(
+        dir.path(),
+        &["bench", "explosion", "--scenes", "p32,nope"],
+        "'nope'",
+    );
+}
