@@ -76,7 +76,9 @@ pub struct FlickerArgs {
     /// Also compare at equal average error: render the hierarchy (`lgh` and `lgh_ray_marched`)
     /// at every α of --sweep-alphas and stochastic Lightcuts at every ε of
     /// --sweep-lightcuts-errors, and read Lightcuts' flicker at each of the hierarchy's errors off
-    /// its curve (the JSON gets `equal_error`, the markdown a second table).
+    /// its curve (the JSON gets `equal_error`, the markdown a second table). Each setting keeps
+    /// its own lights and images: the default sweep over the dev fire's 7 frames peaks at
+    /// about 1 GB.
     #[arg(long)]
     pub equal_error: bool,
     /// With --equal-error: the hierarchy's α values.
