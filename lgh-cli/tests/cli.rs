@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{assert_refused, lgh, small_demo};
+use common::{assert_refused, lgh, lgh_json, small_demo};
 
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
@@ -241,7 +241,7 @@ fn bad_input_gives_one_error_line_and_keeps_the_output() {
 fn bench_core_prints_json() {
     let dir = tempfile::tempdir().unwrap();
     let md = dir.path().join("table.md");
-    let o = lgh(&[
+    let v = lgh_json(&[
         "bench",
         "core",
         "--sets",
@@ -255,8 +255,6 @@ fn bench_core_prints_json() {
         "--markdown",
         md.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let set = &v["sets"][0];
     assert_eq!(set["lights"], 16384);
     assert_eq!(set["query_points"], 200);
@@ -343,7 +341,7 @@ fn demo_marches_the_cube_maps_model() {
 #[test]
 fn bench_table1_prints_the_rows_and_the_settings() {
     let table = |prune: &str| -> serde_json::Value {
-        let o = lgh(&[
+        lgh_json(&[
             "bench",
             "table1",
             "--resolution",
@@ -356,9 +354,7 @@ fn bench_table1_prints_the_rows_and_the_settings() {
             "none",
             "--prune",
             prune,
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        serde_json::from_slice(&o.stdout).unwrap()
+        ])
     };
     let (all, pruned) = (table("0"), table("1e-3"));
     assert_eq!(all["prune"], 0.0);
@@ -583,9 +579,7 @@ fn inspect_describes_a_real_cache_and_refuses_garbage() {
     assert!(err.contains("not an OpenVDB file"), "{err}");
 
     let Some(frame) = fire_frame(56) else { return };
-    let o = lgh(&["inspect", "--json", frame.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = lgh_json(&["inspect", "--json", frame.to_str().unwrap()]);
     let grids = v["grids"].as_array().unwrap();
     assert_eq!(grids.len(), 17);
     let density = grids.iter().find(|g| g["name"] == "density").unwrap();
@@ -614,14 +608,12 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
     let (pa, pr) = (dir.path().join("a.exr"), dir.path().join("r.exr"));
     lgh_image::write_exr(&pa, &a, &[]).unwrap();
     lgh_image::write_exr(&pr, &r, &[]).unwrap();
-    let o = lgh(&[
+    let v = lgh_json(&[
         "compare",
         pa.to_str().unwrap(),
         pr.to_str().unwrap(),
         "--json",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     // One pixel of 32 off by 2 in luminance: max 2, mean 2/32, RMSE sqrt(4/32) over mean 16.5.
     assert!((v["max_abs"].as_f64().unwrap() - 2.0).abs() < 1e-6);
     assert!((v["mean_abs"].as_f64().unwrap() - 2.0 / 32.0).abs() < 1e-6);
@@ -932,7 +924,7 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let o = lgh(&[
+    let v = lgh_json(&[
         "bench",
         "gi",
         "--obj",
@@ -952,8 +944,6 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         "--out",
         dir.path().to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(v["vpls"].as_u64().unwrap() >= 300, "{v}");
     assert!(v["scene"]
         .as_str()
@@ -996,7 +986,7 @@ fn bench_flicker_prints_every_method_against_brute_force() {
     let dir = tempfile::tempdir().unwrap();
     let md = dir.path().join("flicker.md");
     let fig10 = dir.path().to_str().unwrap();
-    let o = lgh(&[
+    let v = lgh_json(&[
         "--threads",
         "2",
         "bench",
@@ -1022,8 +1012,6 @@ fn bench_flicker_prints_every_method_against_brute_force() {
         "--markdown",
         md.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["frames"], 3);
     let backends = v["backends"].as_object().unwrap();
     for key in [
@@ -1126,7 +1114,7 @@ fn bench_flicker_prints_every_method_against_brute_force() {
         assert!(dir.path().join(png).is_file(), "{png}");
     }
     // Moving lights: a hierarchy rebuilt every frame, its build time reported, over a floor.
-    let o = lgh(&[
+    let v = lgh_json(&[
         "bench",
         "flicker",
         "--procedural",
@@ -1141,8 +1129,6 @@ fn bench_flicker_prints_every_method_against_brute_force() {
         "5",
         "--quiet",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["lights_rebuilt_every_frame"], true);
     assert_eq!(v["floor"], true);
     assert!(v["build_seconds_per_frame"].as_f64().unwrap() > 0.0, "{v}");
@@ -1258,7 +1244,7 @@ fn explosion_lights_a_room_around_the_fire() {
 /// an unknown scene is refused before any work.
 #[test]
 fn bench_explosion_reports_each_shadow_choice() {
-    let o = lgh(&[
+    let v = lgh_json(&[
         "bench",
         "explosion",
         "--scenes",
@@ -1274,8 +1260,6 @@ fn bench_explosion_reports_each_shadow_choice() {
         "--reference-spp",
         "64",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let scene = &v["scenes"][0];
     assert_eq!(scene["scene"], "explosion_32");
     let row = &scene["alphas"][0];

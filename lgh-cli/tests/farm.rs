@@ -4,10 +4,9 @@
 
 mod common;
 
-use common::{assert_refused, exr_bits, lgh};
+use common::{assert_refused, exr_bits, lgh, lgh_ok};
 use lgh_tests::fire_frame;
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
 /// The render settings every run of these tests shares: small and without shadows (what a
 /// frame takes from the sequence is the lights, the grid and the framing; the shadows are made
@@ -25,16 +24,6 @@ const SETTINGS: [&str; 10] = [
     "--shadows",
     "none",
 ];
-
-fn run(args: &[&str]) -> Output {
-    let o = lgh(args);
-    assert!(
-        o.status.success(),
-        "lgh {args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    o
-}
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -66,12 +55,12 @@ fn farm_tasks_render_the_same_pixels_as_one_run() {
     let whole_out = whole.join("fire.exr");
     let mut a = one.clone();
     a.extend(["--out", s(&whole_out)]);
-    run(&a);
+    lgh_ok(&a);
 
     let farm_out = farm.join("fire.exr");
     let mut a = one.clone();
     a.extend(["--out", s(&farm_out), "--prepare", s(&manifest)]);
-    let o = run(&a);
+    let o = lgh_ok(&a);
     assert!(String::from_utf8_lossy(&o.stdout).contains("--manifest"));
     // --prepare renders nothing.
     assert_eq!(std::fs::read_dir(&farm).unwrap().count(), 0);
@@ -84,7 +73,7 @@ fn farm_tasks_render_the_same_pixels_as_one_run() {
 
     // Three tasks, in an order no single run would take.
     for frames in ["54..56", "50..50", "51..53"] {
-        run(&[
+        lgh_ok(&[
             "explosion",
             "--manifest",
             s(&manifest),
@@ -114,7 +103,7 @@ fn farm_tasks_render_the_same_pixels_as_one_run() {
     let f52 = farm.join("fire_0052.exr");
     let before = stamp(&f52);
     std::fs::remove_file(farm.join("fire_0051.png")).unwrap();
-    let o = run(&[
+    let o = lgh_ok(&[
         "explosion",
         "--manifest",
         s(&manifest),
@@ -180,16 +169,15 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
         s(&manifest),
     ];
     a.extend(SETTINGS);
-    run(&a);
+    lgh_ok(&a);
     let m = s(&manifest);
     // A setting beside --manifest is the manifest's, not the task's: a usage error (exit 2,
     // which a farm does not retry), as is a damaged manifest below.
-    assert_refused(
+    let o = assert_refused(
         dir.path(),
         &["explosion", "--manifest", m, "--alpha", "2"],
         "--alpha",
     );
-    let o = lgh(&["explosion", "--manifest", m, "--alpha", "2"]);
     assert_eq!(o.status.code(), Some(2));
     assert_refused(
         dir.path(),
@@ -210,31 +198,27 @@ fn farm_tasks_refuse_what_would_render_another_sequence() {
         "lights.count",
     );
     std::fs::write(&bad, &text[..text.len() / 2]).unwrap();
-    assert_refused(
+    let o = assert_refused(
         dir.path(),
         &["explosion", "--manifest", s(&bad)],
         "not JSON",
     );
-    assert_eq!(
-        lgh(&["explosion", "--manifest", s(&bad)]).status.code(),
-        Some(2)
-    );
+    assert_eq!(o.status.code(), Some(2));
     // A frame changed since --prepare: that frame is refused, the other renders.
     let f51 = dir.path().join("data/fluid_data_0051.vdb");
     let mut bytes = std::fs::read(&f51).unwrap();
     let last = bytes.len() - 1;
     bytes[last] ^= 1;
     std::fs::write(&f51, bytes).unwrap();
-    assert_refused(
+    // A changed frame is a failed frame (exit 1), not a usage error.
+    let o = assert_refused(
         dir.path(),
         &["explosion", "--manifest", m, "--frames", "51..51"],
         "changed since",
     );
-    // A changed frame is a failed frame (exit 1), not a usage error.
-    let o = lgh(&["explosion", "--manifest", m, "--frames", "51..51"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(!dir.path().join("f_0051.exr").exists());
-    run(&[
+    lgh_ok(&[
         "explosion",
         "--manifest",
         m,

@@ -9,7 +9,7 @@
 
 mod common;
 
-use common::{exr_bits, lgh};
+use common::{exr_bits, lgh_ok};
 use lgh_tests::fire_frame;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -95,8 +95,7 @@ fn a_slurm_job_array_renders_the_same_frames_as_one_process() {
         let mut a = vec!["explosion"];
         a.extend(settings);
         a.extend(extra);
-        let o = lgh(&a);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        lgh_ok(&a);
     };
     let farm_out = farm.join("fire.exr");
     with(&[

@@ -94,6 +94,7 @@ pub use light::{luminance, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS
 pub use lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
 pub use many_lights::{
     probe, Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
+    ISOTROPIC_PHASE,
 };
 pub use octree::{LightOctree, OctreeBackend, OctreeSettings};
 pub use ward::WardBackend;

@@ -292,7 +292,7 @@ fn cluster_bound(point: &ShadingPoint, lo: Vec3, hi: Vec3) -> Vec3 {
         ((a.dot(c) + a.abs().dot(h)) / d_min).clamp(0.0, 1.0)
     };
     match (point.material, point.normal) {
-        (Material::Isotropic, _) => Vec3::splat(g * 0.25 * core::f32::consts::FRAC_1_PI),
+        (Material::Isotropic, _) => Vec3::splat(g * crate::many_lights::ISOTROPIC_PHASE),
         (Material::Lambert { albedo }, Some(n)) => albedo * (g * cos_bound(n)),
         (Material::Phong { kd, ks, exponent }, Some(n)) => {
             let mut m = kd * cos_bound(n);

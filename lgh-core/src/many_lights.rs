@@ -102,6 +102,10 @@ pub enum Material {
     },
 }
 
+/// The isotropic phase function `1/4π`: the share of the light arriving at a point of a medium
+/// ([`Material::Isotropic`]) that it scatters per unit solid angle towards any direction.
+pub const ISOTROPIC_PHASE: f32 = 0.25 * core::f32::consts::FRAC_1_PI;
+
 /// Where and what is shaded.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadingPoint {
@@ -198,17 +202,10 @@ pub trait ManyLights {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn probe<B: ManyLights>(backend: &B, x: Vec3, h0: f32) -> Result<Illumination, QueryError> {
-    let point = ShadingPoint::in_medium(x);
-    if backend.selection_follows_shader() {
-        // Lightcuts compares what it shades with bounds of the isotropic phase function's light
-        // at this point (`reflected`, `I g / 4π`): shade that, and undo the phase afterwards,
-        // or the cut is refined as if ε were 4π larger.
-        let phase = 0.25 * core::f32::consts::FRAC_1_PI;
-        let mut shader = |s: &LightSample| s.intensity * (falloff(s.distance, h0) * phase);
-        let mut sum = backend.illuminate(&point, &mut shader)?;
-        sum.radiance /= phase;
-        return Ok(sum);
-    }
-    let mut shader = |s: &LightSample| s.intensity * falloff(s.distance, h0);
-    backend.illuminate(&point, &mut shader)
+    // What an isotropic point scatters, `I g / 4π` — what an error-bounded backend's bounds
+    // (Lightcuts') are of — with the phase function undone afterwards.
+    let mut shader = |s: &LightSample| s.intensity * (falloff(s.distance, h0) * ISOTROPIC_PHASE);
+    let mut sum = backend.illuminate(&ShadingPoint::in_medium(x), &mut shader)?;
+    sum.radiance /= ISOTROPIC_PHASE;
+    Ok(sum)
 }

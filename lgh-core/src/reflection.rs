@@ -47,7 +47,7 @@ pub fn reflected(point: &ShadingPoint, light: Vec3, intensity: Vec3, lobe: Lobe)
         Material::Isotropic => {
             return match lobe {
                 Lobe::Specular => Vec3::ZERO,
-                _ => falloff * (0.25 * core::f32::consts::FRAC_1_PI),
+                _ => falloff * crate::many_lights::ISOTROPIC_PHASE,
             };
         }
         Material::Lambert { albedo } => (albedo, Vec3::ZERO, 0.0),

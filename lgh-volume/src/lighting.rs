@@ -8,7 +8,7 @@
 //! (ARCHITECTURE.md, "lgh-core"); this is where it is applied.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{falloff, LightSample, ManyLights, QueryError, ShadingPoint};
+use lgh_core::{falloff, LightSample, ManyLights, QueryError, ShadingPoint, ISOTROPIC_PHASE};
 
 use crate::shadow::{ShadowQuery, Visibility};
 
@@ -116,11 +116,11 @@ impl<B: ManyLights> Lights<B> {
 
     /// The light in-scattered at `x` in a medium, per unit solid angle: `scale` (`σ_s`, or
     /// `h³ σ_s` for a voxel's light) times the isotropic phase function `1/4π` times the
-    /// [`incident`](Self::incident) light. The factor is applied once, outside the sum, except
-    /// for a backend that chooses its lights by the values it shades
-    /// ([`ManyLights::selection_follows_shader`], Lightcuts): that one compares them with bounds
-    /// of the phase function's light (`lgh_core::reflected` at an isotropic point), so it shades
-    /// `I g V / 4π` — shading `I g V` would refine its cut as if ε were 4π times larger.
+    /// [`incident`](Self::incident) light. The phase is the shader's response, so every backend
+    /// shades what an isotropic point scatters, `I g V / 4π`: the values an error-bounded
+    /// backend (Lightcuts) compares with its bounds, which are of that light
+    /// (`lgh_core::reflected` at an isotropic point); shading `I g V` refined its cut as if ε
+    /// were 4π larger.
     ///
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;
@@ -147,13 +147,8 @@ impl<B: ManyLights> Lights<B> {
         stats: &mut crate::render::RenderStats,
     ) -> Result<Vec3, QueryError> {
         let point = ShadingPoint::in_medium(x);
-        let four_pi = 4.0 * core::f32::consts::PI;
-        Ok(if self.backend.selection_follows_shader() {
-            let phase = Vec3::splat(1.0 / four_pi);
-            self.incident(&point, visibility, |_| phase, scratch, stats)? * scale
-        } else {
-            self.incident(&point, visibility, |_| Vec3::ONE, scratch, stats)? * (scale / four_pi)
-        })
+        let phase = Vec3::splat(ISOTROPIC_PHASE);
+        Ok(self.incident(&point, visibility, |_| phase, scratch, stats)? * scale)
     }
 }
 

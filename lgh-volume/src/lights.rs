@@ -258,14 +258,24 @@ impl ExplosionLights {
     /// # Ok::<(), lgh_volume::VolumeError>(())
     /// ```
     pub fn with_variants(mut self, variants: Variants) -> Result<Self, VolumeError> {
-        let settings = GridSettings {
-            clustering: variants.clustering,
-            position: variants.position,
-            ..self.grid_settings()
-        };
-        self.hierarchy = LightingGridHierarchy::build(&self.lights, &settings)?;
+        // Hard switches are the blending's, chosen per backend: only clustering and positions
+        // make another hierarchy (the build is deterministic, so an unchanged one is the same).
+        let same = (variants.clustering, variants.position)
+            == (self.variants.clustering, self.variants.position);
+        if !same {
+            let settings = GridSettings {
+                clustering: variants.clustering,
+                position: variants.position,
+                ..explosion_grid(
+                    self.voxel_size,
+                    self.origin,
+                    Some(self.hierarchy.max_level()),
+                )
+            };
+            self.hierarchy = LightingGridHierarchy::build(&self.lights, &settings)?;
+            self.apply_prune()?;
+        }
         self.variants = variants;
-        self.apply_prune()?;
         Ok(self)
     }
 
@@ -340,19 +350,6 @@ impl ExplosionLights {
             .iter()
             .map(|l| lgh_core::luminance(l.intensity))
             .fold(0.0f32, f32::max)
-    }
-
-    /// The settings the hierarchy was built with (its grid, and the variants).
-    fn grid_settings(&self) -> GridSettings {
-        GridSettings {
-            clustering: self.variants.clustering,
-            position: self.variants.position,
-            ..explosion_grid(
-                self.voxel_size,
-                self.origin,
-                Some(self.hierarchy.max_level()),
-            )
-        }
     }
 
     /// Sets the hierarchy's threshold from the current intensities.

@@ -508,8 +508,7 @@ impl<'a> Marcher<'a> {
         let x = origin + dir * hit.t + hit.normal * lift;
         let brdf = hit.albedo * std::f32::consts::FRAC_1_PI;
         let response = |l: &LightSample| {
-            let w = l.position - x;
-            let cos = hit.normal.dot(w) / w.length();
+            let cos = hit.normal.dot(l.position - x) / l.distance;
             if cos > 0.0 && !surfaces.occluded(x, l.position) {
                 brdf * cos
             } else {

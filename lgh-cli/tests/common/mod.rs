@@ -13,8 +13,27 @@ pub fn lgh(args: &[&str]) -> Output {
         .expect("run lgh")
 }
 
-/// `lgh args` run in `dir` fails with one line of error that contains `names`.
-pub fn assert_refused(dir: &Path, args: &[&str], names: &str) {
+/// `lgh args`, which must succeed (the panic shows its stderr).
+pub fn lgh_ok(args: &[&str]) -> Output {
+    let o = lgh(args);
+    assert!(
+        o.status.success(),
+        "lgh {args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+/// The JSON `lgh args` prints on stdout; it must succeed.
+pub fn lgh_json(args: &[&str]) -> serde_json::Value {
+    let o = lgh_ok(args);
+    serde_json::from_slice(&o.stdout)
+        .unwrap_or_else(|e| panic!("lgh {args:?}: not JSON on stdout: {e}"))
+}
+
+/// `lgh args` run in `dir` fails with one line of error that contains `names`; its output,
+/// for the exit code.
+pub fn assert_refused(dir: &Path, args: &[&str], names: &str) -> Output {
     let o = Command::new(env!("CARGO_BIN_EXE_lgh"))
         .args(args)
         .current_dir(dir)
@@ -24,6 +43,7 @@ pub fn assert_refused(dir: &Path, args: &[&str], names: &str) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
     assert!(err.contains(names), "{args:?}: {err} should name {names}");
+    o
 }
 
 /// `lgh demo` at 32³ voxels, `width × height`, quiet, written to `out`, with `extra` arguments.

@@ -161,7 +161,7 @@ impl<'a> OctreeBackend<'a> {
             Material::Isotropic => [
                 Some(Term::Diffuse {
                     normal: None,
-                    kd: Vec3::splat(0.25 * core::f32::consts::FRAC_1_PI),
+                    kd: Vec3::splat(crate::many_lights::ISOTROPIC_PHASE),
                 }),
                 None,
             ],
