@@ -241,19 +241,6 @@ fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate
     } else {
         String::new()
     };
-    if let (Some(balls), Some(n)) = (args.balls, args.procedural) {
-        if !(2..=1000).contains(&n) {
-            return Err(format!("--procedural {n}: expected 2 to 1000 frames").into());
-        }
-        let volumes = (0..n)
-            .map(|i| bouncing_balls(args.resolution, balls, i as f32 * step))
-            .collect::<Result<Vec<_>, _>>()?;
-        let name = format!(
-            "{balls} bouncing balls on {}³, {n} frames{per_second} (lights move: rebuilt every frame)",
-            args.resolution
-        );
-        return Ok((name, volumes, crate::demo::demo_medium(), Up::Y));
-    }
     match (&args.vdb, &args.frames, args.procedural) {
         (Some(vdb), Some(range), None) => {
             let (a, b) = crate::explosion::parse_frames(range)?;
@@ -274,13 +261,23 @@ fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate
             if !(2..=1000).contains(&n) {
                 return Err(format!("--procedural {n}: expected 2 to 1000 frames").into());
             }
-            let volumes = (0..n)
-                .map(|i| explosion(args.resolution, 0.3 + i as f32 * step))
-                .collect::<Result<Vec<_>, _>>()?;
-            let name = format!(
-                "procedural explosion {}³, {n} frames{per_second}",
-                args.resolution
-            );
+            let res = args.resolution;
+            let (volumes, name) = match args.balls {
+                Some(balls) => (
+                    (0..n)
+                        .map(|i| bouncing_balls(res, balls, i as f32 * step))
+                        .collect::<Result<Vec<_>, _>>()?,
+                    format!(
+                        "{balls} bouncing balls on {res}³, {n} frames{per_second} (lights move: rebuilt every frame)"
+                    ),
+                ),
+                None => (
+                    (0..n)
+                        .map(|i| explosion(res, 0.3 + i as f32 * step))
+                        .collect::<Result<Vec<_>, _>>()?,
+                    format!("procedural explosion {res}³, {n} frames{per_second}"),
+                ),
+            };
             Ok((name, volumes, crate::demo::demo_medium(), Up::Y))
         }
         _ => Err("give --vdb FRAME --frames A..B, or --procedural N".into()),
@@ -351,6 +348,17 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         .map(|r| fresh(&paper, r))
         .collect::<Result<_, _>>()?;
     let lightcuts = paper.lightcuts_settings();
+    // The reference's lights at a frame: moving lights a new hierarchy over that frame's hot
+    // voxels alone; fixed lights the same ones with that frame's intensities.
+    let lights_at = |l: &mut ExplosionLights, frame: &Volume| -> Result<(), crate::Error> {
+        if rebuild {
+            *l = ExplosionLights::new(&[frame], &medium)?;
+            l.set_lightcuts_settings(lightcuts);
+        } else {
+            l.set_frame(frame, &medium)?;
+        }
+        Ok(())
+    };
     let mut reference_lights = paper;
     let mut build_seconds = 0.0;
     let mut lit = 0usize;
@@ -365,12 +373,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
     );
     for (t, frame) in volumes.iter().enumerate() {
         let start = Instant::now();
-        if rebuild {
-            reference_lights = ExplosionLights::new(&[frame], &medium)?;
-            reference_lights.set_lightcuts_settings(lightcuts);
-        } else {
-            reference_lights.set_frame(frame, &medium)?;
-        }
+        lights_at(&mut reference_lights, frame)?;
         build_seconds += start.elapsed().as_secs_f64();
         lit += reference_lights.lit();
         if rebuild {
@@ -452,13 +455,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
     let fig10 = match &args.fig10 {
         Some(dir) => {
             let t = volumes.len() / 2;
-            if rebuild {
-                // Moving lights: the middle frame's own.
-                reference_lights = ExplosionLights::new(&[&volumes[t]], &medium)?;
-                reference_lights.set_lightcuts_settings(lightcuts);
-            } else {
-                reference_lights.set_frame(&volumes[t], &medium)?;
-            }
+            lights_at(&mut reference_lights, &volumes[t])?;
             Some(fig10(
                 args,
                 dir,

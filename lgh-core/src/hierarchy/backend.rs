@@ -68,10 +68,7 @@ impl<'a> LghBackend<'a> {
         hierarchy: &'a LightingGridHierarchy,
         blending: Blending,
     ) -> Result<Self, QueryError> {
-        let own = hierarchy.blending(blending.alpha())?;
-        if own.h1() != blending.h1() || own.max_level() != blending.max_level() {
-            return Err(QueryError::BlendingMismatch);
-        }
+        hierarchy.check_blending(&blending)?;
         Ok(LghBackend {
             hierarchy,
             blending,

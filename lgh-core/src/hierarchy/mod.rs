@@ -781,6 +781,16 @@ impl LightingGridHierarchy {
         self.gather(x, blending, f)
     }
 
+    /// `Ok` if `blending` is for this hierarchy's levels (its `h1` and top level), else
+    /// [`QueryError::BlendingMismatch`].
+    #[inline]
+    fn check_blending(&self, blending: &Blending) -> Result<(), QueryError> {
+        if blending.h1() != self.h1() || blending.max_level() != self.max_level() {
+            return Err(QueryError::BlendingMismatch);
+        }
+        Ok(())
+    }
+
     #[inline]
     fn gather<R: Contribution, F: FnMut(&LightSample) -> R>(
         &self,
@@ -789,9 +799,7 @@ impl LightingGridHierarchy {
         mut f: F,
     ) -> Result<(R, u32), QueryError> {
         QueryError::check_point(x)?;
-        if blending.h1() != self.h1() || blending.max_level() != self.max_level() {
-            return Err(QueryError::BlendingMismatch);
-        }
+        self.check_blending(blending)?;
         if self.level0.is_empty() {
             return Ok((R::ZERO, 0));
         }
