@@ -18,7 +18,7 @@ use lgh_volume::explosion;
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, RenderStats, Up};
-use lgh_volume::{ExplosionLights, Method, Shadows};
+use lgh_volume::{ExplosionLights, FrameRender, Method, Shadows};
 use serde_json::{json, Value};
 
 /// Arguments of `lgh bench explosion`.
@@ -113,15 +113,16 @@ fn unknown_scene(key: &str) -> crate::Error {
 
 /// Up to `n` pixels, evenly strided among those whose emission-only luminance is above 1% of
 /// the brightest: the references' time goes to pixels that show the explosion.
-fn pick_pixels(s: &Scene, camera: &Camera, n: usize) -> Result<Vec<[usize; 2]>, crate::Error> {
-    let (emission, _) = lgh_volume::render::render::<lgh_core::BruteForce>(
-        &s.volume,
-        &s.medium,
-        None,
-        camera,
-        &MarchSettings::default(),
-        &|_| {},
-    )?;
+fn pick_pixels(
+    s: &Scene,
+    lights: &ExplosionLights,
+    camera: &Camera,
+    n: usize,
+) -> Result<Vec<[usize; 2]>, crate::Error> {
+    let march = MarchSettings::default();
+    let emission = Method::Emission;
+    let (emission, _) = FrameRender::new(lights, emission, &s.volume, &s.medium, &march, &())?
+        .render(camera, &())?;
     let lum: Vec<f32> = emission
         .pixels
         .iter()
@@ -179,81 +180,82 @@ pub fn run(args: &ExplosionBenchArgs) -> Result<(), crate::Error> {
     Ok(())
 }
 
-fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Error> {
-    let (lights, build_s) = time(|| ExplosionLights::new(&[&s.volume], &s.medium));
-    let lights = lights?;
-    let (lo, hi) = framing_bounds(&[&s.volume]).expect("one frame");
-    let camera = Camera::frame_up(lo, hi, args.width, args.height, s.up)?;
-    let march = MarchSettings::default();
-    let pixels = &pick_pixels(s, &camera, args.pixels)?[..];
-    if pixels.is_empty() {
-        return Err(format!("{}: the image shows no emission", s.name).into());
-    }
-    eprintln!(
-        "{}: {} lights, hierarchy built in {build_s:.3} s",
-        s.name,
-        lights.lit()
-    );
+/// A scene made ready: its lights, the camera and the pixels the references render.
+struct Bench<'a> {
+    s: &'a Scene,
+    lights: ExplosionLights,
+    camera: Camera,
+    pixels: Vec<[usize; 2]>,
+}
 
-    let (brute, brute_s) = time(|| {
-        lights.render_pixels(
-            Method::Brute,
-            0.0,
-            &s.volume,
-            &s.medium,
-            &camera,
-            &march,
-            pixels,
-        )
-    });
-    let (brute, brute_stats) = brute?;
-    eprintln!(
-        "{}: brute force on {} pixels in {brute_s:.1} s",
-        s.name,
-        pixels.len()
-    );
+/// The path tracer on the pixel subset: a converged image and the ladder of doubling paths
+/// (spp, seconds, relative RMSE against the converged image).
+struct Ladder {
+    converged_s: f64,
+    rungs: Vec<(u32, f64, f64)>,
+}
 
-    // The path tracer: a converged image, then doubling paths until its error is below each α's.
-    let pt = |spp: u32| {
-        let settings = PathSettings {
-            spp,
-            max_scatter: 1,
-            seed: u64::from(spp),
-            ..Default::default()
-        };
-        time(|| pathtrace::render_pixels(&s.volume, &s.medium, &camera, &settings, pixels))
-    };
-    let (converged, converged_s) = pt(args.reference_spp);
-    let converged = converged?;
-    let mut ladder = Vec::new();
-    let mut spp = 1;
-    // Stop at 1/16 of the reference: the reference's own noise then inflates the measured error
-    // by at most sqrt(1 + 1/16) - 1 = 3%.
-    while spp <= args.reference_spp / 16 {
-        let (img, t) = pt(spp);
-        let err = rel_rmse(&img?, &converged).unwrap_or(f64::NAN);
-        ladder.push((spp, t, err));
-        spp *= 2;
-    }
-    eprintln!(
-        "{}: path tracer, {} spp reference in {converged_s:.1} s",
-        s.name, args.reference_spp
-    );
-
-    let mut rows = Vec::new();
-    for &alpha in &args.alphas {
-        let lgh = Method::Lgh;
-        // The whole image with ray-marched shadows (`march`) is one of the shadow choices.
-        let (shadows, stats, image_s) = shadow_choices(s, &lights, alpha, &camera)?;
-        let (sub, sub_s) = time(|| {
-            lights.render_pixels(lgh, alpha, &s.volume, &s.medium, &camera, &march, pixels)
+impl Bench<'_> {
+    /// `method` on the pixel subset with ray-marched shadows, timed (the lights' preparation
+    /// and shadows included).
+    fn subset(&self, method: Method) -> Result<(Vec<Vec3>, RenderStats, f64), crate::Error> {
+        let (s, march) = (self.s, MarchSettings::default());
+        let (out, seconds) = time(|| {
+            FrameRender::new(&self.lights, method, &s.volume, &s.medium, &march, &())?
+                .render_pixels(&self.camera, &self.pixels)
         });
-        let (sub, _) = sub?;
-        let err = rel_rmse(&sub, &brute).unwrap_or(f64::NAN);
-        let matched = ladder.iter().find(|(_, _, e)| *e <= err);
+        let (pixels, stats) = out?;
+        Ok((pixels, stats, seconds))
+    }
+
+    /// The path tracer's converged image of the subset, then doubling paths until 1/16 of it
+    /// (the reference's own noise then inflates the measured error by at most
+    /// sqrt(1 + 1/16) - 1 = 3%).
+    fn ladder(&self, reference_spp: u32) -> Result<Ladder, crate::Error> {
+        let s = self.s;
+        let pt = |spp: u32| {
+            let settings = PathSettings {
+                spp,
+                max_scatter: 1,
+                seed: u64::from(spp),
+                ..Default::default()
+            };
+            let (c, p) = (&self.camera, &self.pixels);
+            time(|| pathtrace::render_pixels(&s.volume, &s.medium, c, &settings, p))
+        };
+        let (converged, converged_s) = pt(reference_spp);
+        let converged = converged?;
+        let mut rungs = Vec::new();
+        let mut spp = 1;
+        while spp <= reference_spp / 16 {
+            let (img, t) = pt(spp);
+            rungs.push((spp, t, rel_rmse(&img?, &converged).unwrap_or(f64::NAN)));
+            spp *= 2;
+        }
+        eprintln!(
+            "{}: path tracer, {reference_spp} spp reference in {converged_s:.1} s",
+            s.name
+        );
+        Ok(Ladder { converged_s, rungs })
+    }
+
+    /// The row of `alpha`: the whole image with each shadow choice, the subset against brute
+    /// force (`brute`, rendered in `brute_s`) and the path tracer's paths to the same error.
+    fn alpha_row(
+        &self,
+        alpha: f32,
+        (brute, brute_s): (&[Vec3], f64),
+        ladder: &Ladder,
+    ) -> Result<Value, crate::Error> {
+        // The whole image with ray-marched shadows is one of the shadow choices.
+        let (shadows, stats, image_s) = shadow_choices(self, alpha)?;
+        let (sub, _, sub_s) = self.subset(Method::Lgh { alpha })?;
+        let err = rel_rmse(&sub, brute).unwrap_or(f64::NAN);
+        let matched = ladder.rungs.iter().find(|(_, _, e)| *e <= err);
         // Not reached within the ladder: where the 1/sqrt(spp) noise law puts it, from the
         // last rung (an estimate, reported as such).
         let extrapolated = ladder
+            .rungs
             .last()
             .filter(|_| matched.is_none() && err > 0.0)
             .map(|&(spp, t, e)| {
@@ -262,11 +264,11 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
             });
         eprintln!(
             "{}: alpha {alpha}: {image_s:.1} s, {:.0} lights per point, rel RMSE {:.4}",
-            s.name,
+            self.s.name,
             stats.lights_per_point(),
             err
         );
-        rows.push(json!({
+        Ok(json!({
             "alpha": alpha,
             "render_seconds": image_s,
             "shading_points": stats.shading_points,
@@ -281,15 +283,49 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
             "pathtrace_spp_to_match_extrapolated": extrapolated.map(|x| x.0),
             "pathtrace_time_ratio_extrapolated": extrapolated.map(|x| x.1 / sub_s),
             "shadows": shadows,
-        }));
+        }))
     }
+}
+
+fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Error> {
+    let (lights, build_s) = time(|| ExplosionLights::new(&[&s.volume], &s.medium));
+    let lights = lights?;
+    let (lo, hi) = framing_bounds(&[&s.volume]).expect("one frame");
+    let camera = Camera::frame_up(lo, hi, args.width, args.height, s.up)?;
+    let pixels = pick_pixels(s, &lights, &camera, args.pixels)?;
+    if pixels.is_empty() {
+        return Err(format!("{}: the image shows no emission", s.name).into());
+    }
+    eprintln!(
+        "{}: {} lights, hierarchy built in {build_s:.3} s",
+        s.name,
+        lights.lit()
+    );
+    let b = Bench {
+        s,
+        lights,
+        camera,
+        pixels,
+    };
+    let (brute, brute_stats, brute_s) = b.subset(Method::Brute)?;
+    eprintln!(
+        "{}: brute force on {} pixels in {brute_s:.1} s",
+        s.name,
+        b.pixels.len()
+    );
+    let ladder = b.ladder(args.reference_spp)?;
+    let rows = args
+        .alphas
+        .iter()
+        .map(|&alpha| b.alpha_row(alpha, (&brute, brute_s), &ladder))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(json!({
         "scene": s.name,
         "grid": s.volume.density.dims,
-        "lights": lights.lit(),
-        "levels": lights.hierarchy().max_level() + 1,
+        "lights": b.lights.lit(),
+        "levels": b.lights.hierarchy().max_level() + 1,
         "build_seconds": build_s,
-        "reference_pixels": pixels.len(),
+        "reference_pixels": b.pixels.len(),
         "brute": {
             "subset_seconds": brute_s,
             "lights_per_shading_point": brute_stats.lights_per_point(),
@@ -297,8 +333,8 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
         "pathtrace": {
             "max_scatter": 1,
             "reference_spp": args.reference_spp,
-            "reference_seconds": converged_s,
-            "ladder": ladder.iter().map(|(spp, t, e)| json!({"spp": spp, "seconds": t, "rel_rmse_vs_converged": e})).collect::<Vec<_>>(),
+            "reference_seconds": ladder.converged_s,
+            "ladder": ladder.rungs.iter().map(|(spp, t, e)| json!({"spp": spp, "seconds": t, "rel_rmse_vs_converged": e})).collect::<Vec<_>>(),
         },
         "alphas": rows,
     }))
@@ -309,13 +345,8 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
 /// render apart), ray-marched shadows (`MarchSettings::default()`'s, the rows' render) and
 /// none; the cube maps' relative RMSE against the ray-marched image, and the two ratios the
 /// issue states its target in. Also returns the ray-marched render's statistics and seconds.
-fn shadow_choices(
-    s: &Scene,
-    lights: &ExplosionLights,
-    alpha: f32,
-    camera: &Camera,
-) -> Result<(Value, RenderStats, f64), crate::Error> {
-    let backend = lights.backend(Method::Lgh, alpha)?;
+fn shadow_choices(b: &Bench, alpha: f32) -> Result<(Value, RenderStats, f64), crate::Error> {
+    let (s, lights, camera) = (b.s, &b.lights, &b.camera);
     let mut out = serde_json::Map::new();
     let mut totals = Vec::new();
     let mut images = Vec::new();
@@ -326,10 +357,11 @@ fn shadow_choices(
         ("none", Shadows::None),
     ] {
         let settings = MarchSettings::with_shadows(shadows, true);
-        let (marcher, precompute_s) =
-            time(|| lights.marcher(Method::Lgh, alpha, &s.volume, &s.medium, &settings));
-        let marcher = marcher?;
-        let (image, render_s) = time(|| marcher.render(Some(&backend), camera, &|_| {}));
+        let lgh = Method::Lgh { alpha };
+        let (frame, precompute_s) =
+            time(|| FrameRender::new(lights, lgh, &s.volume, &s.medium, &settings, &()));
+        let frame = frame?;
+        let (image, render_s) = time(|| frame.render(camera, &()));
         let (image, stats) = image?;
         if shadows == Shadows::RayMarch {
             ray_marched = stats;

@@ -4,20 +4,22 @@
 //!
 //! Every method renders the same frames and pixels; brute force over every light with
 //! ray-marched shadows is the reference of each frame (the exact answer of the same light
-//! model). Flicker is `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|` (DESIGN.md
-//! "Measuring", [`lgh_image::flicker`]): the change of the error from frame to frame, so a
+//! model). Flicker is `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|`
+//! (ARCHITECTURE.md "Measuring", [`lgh_image::flicker`]): the change of the error from frame to frame, so a
 //! constant bias does not count; the error is the mean over frames of the relative RMSE.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_core::{Clustering, LightPosition};
+use lgh_core::{Clustering, LightPosition, LightcutsSettings, Representative};
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::surfaces::Ground;
-use lgh_volume::{bouncing_balls, explosion, ExplosionLights, Method, Shadows, Variants};
+use lgh_volume::{
+    bouncing_balls, explosion, ExplosionLights, FrameRender, Method, Shadows, Variants,
+};
 use serde_json::{json, Value};
 
 /// Arguments of `lgh bench flicker`.
@@ -115,6 +117,29 @@ struct Run {
     lightcuts_error: f32,
 }
 
+impl Run {
+    /// The run's method on frame `t`: its entry's, at the run's α or ε (Lightcuts' largest cut
+    /// `max_cut`), stochastic Lightcuts with a new tree every frame, as the paper ran it.
+    fn method(&self, entries: &[Entry], t: usize, max_cut: usize) -> Method {
+        let settings = LightcutsSettings {
+            relative_error: self.lightcuts_error,
+            max_cut,
+            ..Default::default()
+        };
+        match entries[self.entry].method {
+            Kind::Lgh => Method::Lgh { alpha: self.alpha },
+            Kind::Lightcuts => Method::Lightcuts {
+                settings,
+                representative: Representative::Stochastic { seed: t as u64 },
+            },
+            Kind::LightcutsDeterministic => Method::Lightcuts {
+                settings,
+                representative: Representative::Brightest,
+            },
+        }
+    }
+}
+
 /// What a run measured over the sequence.
 #[derive(Clone, Copy)]
 struct Measured {
@@ -147,11 +172,19 @@ fn flicker_at_error(curve: &[(f64, f64)], e: f64) -> Option<(f64, [usize; 2])> {
     })
 }
 
+/// The many-lights method of an entry, its parameters (α, ε, the seed) the run's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Lgh,
+    Lightcuts,
+    LightcutsDeterministic,
+}
+
 /// One measured method: its JSON key, what it is, how it renders.
 struct Entry {
     key: &'static str,
     what: &'static str,
-    method: Method,
+    method: Kind,
     variants: Variants,
     shadows: Shadows,
     /// Coarse lights' shadows through the prefiltered density (the paper's) or as points.
@@ -162,7 +195,7 @@ fn entries() -> Vec<Entry> {
     let lgh = |key, what, variants, prefilter| Entry {
         key,
         what,
-        method: Method::Lgh,
+        method: Kind::Lgh,
         variants,
         shadows: Shadows::CubeMap,
         prefilter,
@@ -183,16 +216,16 @@ fn entries() -> Vec<Entry> {
             paper,
             true,
         ),
-        ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Method::Lgh),
+        ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Kind::Lgh),
         ray_marched(
             "lightcuts",
             "Lightcuts at --lightcuts-error (2%), random representatives, a new tree every frame",
-            Method::Lightcuts,
+            Kind::Lightcuts,
         ),
         ray_marched(
             "lightcuts_deterministic",
             "Lightcuts at --lightcuts-error (2%), brightest representatives",
-            Method::LightcutsDeterministic,
+            Kind::LightcutsDeterministic,
         ),
         lgh(
             "nearest_vertex",
@@ -286,9 +319,68 @@ fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate
 
 /// Runs `lgh bench flicker`.
 pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
+    check(args)?;
+    let entries = chosen(entries(), &args.methods)?;
+    let runs = runs(args, &entries)?;
+    let seq = Sequence::new(args)?;
+    let rendered = seq.render_all(args, &entries, &runs)?;
+    let n = seq.volumes.len() as f64;
+    let measured = rendered
+        .images
+        .iter()
+        .zip(&rendered.seconds)
+        .map(|(images, &s)| measure(images, &rendered.reference, s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (backends, mut table) = backends(&entries, &measured, rendered.reference_seconds / n);
+    let equal_error = args.equal_error.then(|| {
+        let (value, markdown) = equal_error(args, &entries, &runs, &measured);
+        table += &markdown;
+        value
+    });
+    let fig10 = match &args.fig10 {
+        Some(dir) => Some(fig10(
+            args,
+            dir,
+            &seq,
+            volumes_middle(&seq),
+            &rendered.reference,
+        )?),
+        None => None,
+    };
+    let report: Value = json!({
+        "scene": seq.name,
+        "lightcuts_error": args.lightcuts_error,
+        "lightcuts_max_cut": args.lightcuts_max_cut,
+        "fig10": fig10,
+        "frames": seq.volumes.len(),
+        "alpha": args.alpha,
+        "frame_step_seconds": args.procedural.map(|_| args.frame_step.unwrap_or(1.0 / 24.0)),
+        "width": args.width,
+        "height": args.height,
+        "reference": "brute force over every light, ray-marched shadows",
+        "reference_seconds_per_frame": rendered.reference_seconds / n,
+        "lights_rebuilt_every_frame": seq.rebuild,
+        "floor": seq.floor.is_some(),
+        "lights_per_frame": rendered.lit as f64 / n,
+        "build_seconds_per_frame": rendered.build_seconds / n,
+        "backends": backends,
+        "equal_error": equal_error,
+    });
+    say!("{}", serde_json::to_string_pretty(&report)?);
+    if let Some(path) = &args.markdown {
+        lgh_image::write_atomic(path, |w| w.write_all(table.as_bytes()))
+            .map_err(|e| format!("--markdown {}: {e}", path.display()))?;
+    }
+    if !args.quiet {
+        eprintln!("{}, α = {}:\n{table}", seq.name, args.alpha);
+    }
+    Ok(())
+}
+
+/// Every setting, checked before any frame is read.
+fn check(args: &FlickerArgs) -> Result<(), crate::Error> {
     crate::check_alpha(args.alpha)?;
     lgh_volume::render::check_image_size(args.width, args.height)?;
-    // Every setting is checked before any frame is read.
     lgh_core::QueryError::check_threshold(args.lightcuts_error)
         .map_err(|e| format!("--lightcuts-error: {e}"))?;
     if !(1..=1 << 24).contains(&args.lightcuts_max_cut) {
@@ -298,8 +390,6 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         )
         .into());
     }
-    let entries = chosen(entries(), &args.methods)?;
-    let runs = runs(args, &entries)?;
     if let Some(dir) = &args.fig10 {
         if !dir.is_dir() {
             return Err(format!("--fig10 {}: no such folder", dir.display()).into());
@@ -310,123 +400,21 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
             );
         }
     }
-    let (scene, volumes, medium, up) = frames(args)?;
-    let refs: Vec<&Volume> = volumes.iter().collect();
-    let (lo, hi) = framing_bounds(&refs).ok_or("the frames have no smoke to frame")?;
-    let camera = Camera::frame_up(lo, hi, args.width, args.height, up)?;
-    // The bouncing balls' floor: an opaque ground at the bottom of their box, which their
-    // light falls on (surfaces through the same lights and shadows, "The explosion in a box").
-    let floor = match args.balls {
-        Some(_) => Some(Ground::new(Up::Y, -1.0, lgh_core::glam::Vec3::splat(0.5))?),
-        None => None,
-    };
-    // Moving lights: a new hierarchy every frame (from that frame's hot voxels alone), so the
-    // lights start as the first frame's; fixed lights: every frame's hot voxels.
-    let rebuild = args.balls.is_some();
-    let mut paper = if rebuild {
-        ExplosionLights::new(&refs[..1], &medium)?
-    } else {
-        ExplosionLights::new(&refs, &medium)?
-    };
-    paper.set_lightcuts_settings(lgh_core::LightcutsSettings {
-        relative_error: args.lightcuts_error,
-        max_cut: args.lightcuts_max_cut,
-        ..Default::default()
-    });
-    let march = MarchSettings::with_shadows;
-    // Each run's lights: the paper's with the run's variants and Lightcuts' ε.
-    let fresh = |l: &ExplosionLights, run: &Run| -> Result<ExplosionLights, crate::Error> {
-        let mut l = l.clone().with_variants(entries[run.entry].variants)?;
-        l.set_lightcuts_settings(lgh_core::LightcutsSettings {
-            relative_error: run.lightcuts_error,
-            ..l.lightcuts_settings()
-        });
-        Ok(l)
-    };
-    let mut lights: Vec<ExplosionLights> = runs
-        .iter()
-        .map(|r| fresh(&paper, r))
-        .collect::<Result<_, _>>()?;
-    let lightcuts = paper.lightcuts_settings();
-    // The reference's lights at a frame: moving lights a new hierarchy over that frame's hot
-    // voxels alone; fixed lights the same ones with that frame's intensities.
-    let lights_at = |l: &mut ExplosionLights, frame: &Volume| -> Result<(), crate::Error> {
-        if rebuild {
-            *l = ExplosionLights::new(&[frame], &medium)?;
-            l.set_lightcuts_settings(lightcuts);
-        } else {
-            l.set_frame(frame, &medium)?;
-        }
-        Ok(())
-    };
-    let mut reference_lights = paper;
-    let mut build_seconds = 0.0;
-    let mut lit = 0usize;
-    let mut reference: Vec<Image> = Vec::new();
-    let mut images: Vec<Vec<Image>> = vec![Vec::new(); runs.len()];
-    let mut seconds = vec![0.0f64; runs.len()];
-    let mut reference_seconds = 0.0;
-    let bar = crate::progress::bar(
-        (volumes.len() * (runs.len() + 1)) as u64,
-        "rendering",
-        args.quiet,
-    );
-    for (t, frame) in volumes.iter().enumerate() {
-        let start = Instant::now();
-        lights_at(&mut reference_lights, frame)?;
-        build_seconds += start.elapsed().as_secs_f64();
-        lit += reference_lights.lit();
-        if rebuild {
-            // Each method's own rebuild counts in its time (as Lightcuts' tree, built in its
-            // render, does); Lightcuts also pays for a hierarchy it does not use, a few ms.
-            for (k, (l, r)) in lights.iter_mut().zip(&runs).enumerate() {
-                let start = Instant::now();
-                *l = fresh(&reference_lights, r)?;
-                seconds[k] += start.elapsed().as_secs_f64();
-            }
-        }
-        let start = Instant::now();
-        let view = View {
-            frame,
-            medium: &medium,
-            camera: &camera,
-            floor: floor.as_ref(),
-        };
-        let image = view.render(
-            &reference_lights,
-            Method::Brute,
-            args.alpha,
-            &march(Shadows::RayMarch, true),
-        )?;
-        reference_seconds += start.elapsed().as_secs_f64();
-        reference.push(image);
-        bar.inc(1);
-        for (k, r) in runs.iter().enumerate() {
-            let e = &entries[r.entry];
-            let start = Instant::now();
-            let l = &mut lights[k];
-            l.set_frame(frame, &medium)?;
-            // A new random tree every frame, as the paper ran Lightcuts.
-            l.set_lightcuts_seed(t as u64);
-            let image = view.render(l, e.method, r.alpha, &march(e.shadows, e.prefilter))?;
-            seconds[k] += start.elapsed().as_secs_f64();
-            images[k].push(image);
-            bar.inc(1);
-        }
-    }
-    bar.finish_and_clear();
-    let measured = images
-        .iter()
-        .zip(&seconds)
-        .map(|(images, &s)| measure(images, &reference, s))
-        .collect::<Result<Vec<_>, _>>()?;
+    Ok(())
+}
+
+/// The JSON `backends` and the markdown table of the runs at --alpha and --lightcuts-error
+/// (the first runs, in the entries' order), after the reference's row.
+fn backends(
+    entries: &[Entry],
+    measured: &[Measured],
+    reference_seconds_per_frame: f64,
+) -> (serde_json::Map<String, Value>, String) {
     let mut backends = serde_json::Map::new();
     let mut table = format!(
-        "| method | flicker | relative RMSE | seconds per frame |\n|---|---:|---:|---:|\n| brute force, ray-marched (the reference) | – | – | {:.2} |\n",
-        reference_seconds / volumes.len() as f64
+        "| method | flicker | relative RMSE | seconds per frame |\n|---|---:|---:|---:|\n| brute force, ray-marched (the reference) | – | – | {reference_seconds_per_frame:.2} |\n",
     );
-    // The first runs are the entries at --alpha and --lightcuts-error, in order.
-    for (e, m) in entries.iter().zip(&measured) {
+    for (e, m) in entries.iter().zip(measured) {
         backends.insert(
             e.key.to_string(),
             json!({
@@ -445,58 +433,160 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
             m.seconds_per_frame
         );
     }
-    let equal_error = if args.equal_error {
-        let (value, markdown) = equal_error(args, &entries, &runs, &measured);
-        table += &markdown;
-        Some(value)
-    } else {
-        None
-    };
-    let fig10 = match &args.fig10 {
-        Some(dir) => {
-            let t = volumes.len() / 2;
-            lights_at(&mut reference_lights, &volumes[t])?;
-            Some(fig10(
-                args,
-                dir,
-                &mut reference_lights,
-                &volumes[t],
-                &reference[t],
-                &medium,
-                &camera,
-                floor.as_ref(),
-            )?)
+    (backends, table)
+}
+
+/// The sequence every method renders: its frames, medium, camera and floor, and whether its
+/// lights move (a new hierarchy every frame).
+struct Sequence {
+    name: String,
+    volumes: Vec<Volume>,
+    medium: Medium,
+    camera: Camera,
+    /// The bouncing balls' floor: an opaque ground at the bottom of their box, which their
+    /// light falls on (surfaces through the same lights and shadows, "The explosion in a box").
+    floor: Option<Ground>,
+    rebuild: bool,
+    lightcuts: LightcutsSettings,
+}
+
+/// What the renders of the sequence gave: the reference's images and every run's, their
+/// seconds, the reference lights' build seconds and the lights that shone, summed over frames.
+struct Rendered {
+    reference: Vec<Image>,
+    images: Vec<Vec<Image>>,
+    seconds: Vec<f64>,
+    reference_seconds: f64,
+    build_seconds: f64,
+    lit: usize,
+}
+
+impl Sequence {
+    fn new(args: &FlickerArgs) -> Result<Self, crate::Error> {
+        let (name, volumes, medium, up) = frames(args)?;
+        let refs: Vec<&Volume> = volumes.iter().collect();
+        let (lo, hi) = framing_bounds(&refs).ok_or("the frames have no smoke to frame")?;
+        let camera = Camera::frame_up(lo, hi, args.width, args.height, up)?;
+        let floor = match args.balls {
+            Some(_) => Some(Ground::new(Up::Y, -1.0, lgh_core::glam::Vec3::splat(0.5))?),
+            None => None,
+        };
+        Ok(Sequence {
+            name,
+            volumes,
+            medium,
+            camera,
+            floor,
+            rebuild: args.balls.is_some(),
+            lightcuts: LightcutsSettings {
+                relative_error: args.lightcuts_error,
+                max_cut: args.lightcuts_max_cut,
+                ..Default::default()
+            },
+        })
+    }
+
+    /// The paper's lights: moving lights start as the first frame's (each frame makes its
+    /// own); fixed lights sit at every frame's hot voxels.
+    fn paper_lights(&self) -> Result<ExplosionLights, crate::Error> {
+        let refs: Vec<&Volume> = self.volumes.iter().collect();
+        let frames = if self.rebuild { &refs[..1] } else { &refs[..] };
+        Ok(ExplosionLights::new(frames, &self.medium)?)
+    }
+
+    /// The reference's lights at `frame`: moving lights a new hierarchy over that frame's hot
+    /// voxels alone; fixed lights the same ones with that frame's intensities.
+    fn lights_at(&self, l: &mut ExplosionLights, frame: &Volume) -> Result<(), crate::Error> {
+        if self.rebuild {
+            *l = ExplosionLights::new(&[frame], &self.medium)?;
+        } else {
+            l.set_frame(frame, &self.medium)?;
         }
-        None => None,
-    };
-    let report: Value = json!({
-        "scene": scene,
-        "lightcuts_error": args.lightcuts_error,
-        "lightcuts_max_cut": args.lightcuts_max_cut,
-        "fig10": fig10,
-        "frames": volumes.len(),
-        "alpha": args.alpha,
-        "frame_step_seconds": args.procedural.map(|_| args.frame_step.unwrap_or(1.0 / 24.0)),
-        "width": args.width,
-        "height": args.height,
-        "reference": "brute force over every light, ray-marched shadows",
-        "reference_seconds_per_frame": reference_seconds / volumes.len() as f64,
-        "lights_rebuilt_every_frame": rebuild,
-        "floor": floor.is_some(),
-        "lights_per_frame": lit as f64 / volumes.len() as f64,
-        "build_seconds_per_frame": build_seconds / volumes.len() as f64,
-        "backends": backends,
-        "equal_error": equal_error,
-    });
-    say!("{}", serde_json::to_string_pretty(&report)?);
-    if let Some(path) = &args.markdown {
-        lgh_image::write_atomic(path, |w| w.write_all(table.as_bytes()))
-            .map_err(|e| format!("--markdown {}: {e}", path.display()))?;
+        Ok(())
     }
-    if !args.quiet {
-        eprintln!("{scene}, α = {}:\n{table}", args.alpha);
+
+    /// Frame `t` of `lights` through `method` with `march`'s shadows, over the floor if
+    /// there is one.
+    fn render(
+        &self,
+        t: usize,
+        lights: &ExplosionLights,
+        method: Method,
+        march: &MarchSettings,
+    ) -> Result<Image, crate::Error> {
+        let frame = &self.volumes[t];
+        let mut render = FrameRender::new(lights, method, frame, &self.medium, march, &())?;
+        if let Some(f) = &self.floor {
+            render = render.with_surfaces(f);
+        }
+        Ok(render.render(&self.camera, &())?.0)
     }
-    Ok(())
+
+    /// Every frame with brute force (the reference) and with every run, timed.
+    fn render_all(
+        &self,
+        args: &FlickerArgs,
+        entries: &[Entry],
+        runs: &[Run],
+    ) -> Result<Rendered, crate::Error> {
+        let mut reference_lights = self.paper_lights()?;
+        // Each run's lights: the paper's with the run's variants.
+        let fresh =
+            |l: &ExplosionLights, r: &Run| l.clone().with_variants(entries[r.entry].variants);
+        let mut lights: Vec<ExplosionLights> = runs
+            .iter()
+            .map(|r| fresh(&reference_lights, r))
+            .collect::<Result<_, _>>()?;
+        let mut out = Rendered {
+            reference: Vec::new(),
+            images: vec![Vec::new(); runs.len()],
+            seconds: vec![0.0; runs.len()],
+            reference_seconds: 0.0,
+            build_seconds: 0.0,
+            lit: 0,
+        };
+        let steps = (self.volumes.len() * (runs.len() + 1)) as u64;
+        let bar = crate::progress::bar(steps, "rendering", args.quiet);
+        let march = MarchSettings::with_shadows;
+        for (t, frame) in self.volumes.iter().enumerate() {
+            let start = Instant::now();
+            self.lights_at(&mut reference_lights, frame)?;
+            out.build_seconds += start.elapsed().as_secs_f64();
+            out.lit += reference_lights.lit();
+            if self.rebuild {
+                // Each method's own rebuild counts in its time (as Lightcuts' tree, built in
+                // its render, does); Lightcuts also pays for a hierarchy it does not use.
+                for (k, (l, r)) in lights.iter_mut().zip(runs).enumerate() {
+                    let start = Instant::now();
+                    *l = fresh(&reference_lights, r)?;
+                    out.seconds[k] += start.elapsed().as_secs_f64();
+                }
+            }
+            let start = Instant::now();
+            let reference = march(Shadows::RayMarch, true);
+            let image = self.render(t, &reference_lights, Method::Brute, &reference)?;
+            out.reference_seconds += start.elapsed().as_secs_f64();
+            out.reference.push(image);
+            bar.inc(1);
+            for (k, r) in runs.iter().enumerate() {
+                let e = &entries[r.entry];
+                let start = Instant::now();
+                lights[k].set_frame(frame, &self.medium)?;
+                let method = r.method(entries, t, self.lightcuts.max_cut);
+                let image = self.render(t, &lights[k], method, &march(e.shadows, e.prefilter))?;
+                out.seconds[k] += start.elapsed().as_secs_f64();
+                out.images[k].push(image);
+                bar.inc(1);
+            }
+        }
+        bar.finish_and_clear();
+        Ok(out)
+    }
+}
+
+/// Which frame --fig10 shows: the middle one.
+fn volumes_middle(seq: &Sequence) -> usize {
+    seq.volumes.len() / 2
 }
 
 /// The runs to render: first every entry at --alpha and --lightcuts-error, in order; with
@@ -704,105 +794,124 @@ fn equal_error(
     (Value::Object(value), markdown)
 }
 
-/// The paper's Fig. 10 on one frame (`lights` set to it), into `dir`: two stochastic Lightcuts
-/// renders (seeds 1 and 2) and their difference ×4 (false colour, red at a quarter of the
-/// brightest pixel of scattered light); deterministic Lightcuts, the mean of `--fig10-renders` stochastic renders,
-/// and the deterministic one's bias against that mean, likewise ×4; `exact` is the frame's
-/// brute-force reference, already rendered. Returns the figures.
-#[allow(clippy::too_many_arguments)]
+/// The paper's Fig. 10 on frame `t` of `seq`, into `dir`: two stochastic Lightcuts renders
+/// (seeds 1 and 2) and their difference ×4 (false colour, red at a quarter of the brightest
+/// pixel of scattered light); deterministic Lightcuts, the mean of `--fig10-renders`
+/// stochastic renders, and the deterministic one's bias against that mean, likewise ×4;
+/// `exact[t]` is the frame's brute-force reference, already rendered. Returns the figures.
 fn fig10(
     args: &FlickerArgs,
     dir: &std::path::Path,
-    lights: &mut ExplosionLights,
-    frame: &Volume,
-    exact: &Image,
-    medium: &Medium,
-    camera: &Camera,
-    floor: Option<&Ground>,
+    seq: &Sequence,
+    t: usize,
+    exact: &[Image],
 ) -> Result<Value, crate::Error> {
+    let exact = &exact[t];
+    let mut lights = seq.paper_lights()?;
+    seq.lights_at(&mut lights, &seq.volumes[t])?;
     let march = MarchSettings::with_shadows(Shadows::RayMarch, true);
-    let view = View {
-        frame,
-        medium,
-        camera,
-        floor,
+    let lightcuts = |representative| Method::Lightcuts {
+        settings: seq.lightcuts,
+        representative,
     };
-    let mut render = |method, seed| -> Result<Image, crate::Error> {
-        lights.set_lightcuts_seed(seed);
-        view.render(lights, method, args.alpha, &march)
-    };
-    let (one, two) = (render(Method::Lightcuts, 1)?, render(Method::Lightcuts, 2)?);
-    let deterministic = render(Method::LightcutsDeterministic, 0)?;
+    let render = |representative| seq.render(t, &lights, lightcuts(representative), &march);
+    let stochastic = |seed| render(Representative::Stochastic { seed });
+    let (one, two) = (stochastic(1)?, stochastic(2)?);
+    let deterministic = render(Representative::Brightest)?;
     let n = args.fig10_renders;
-    let mut mean = Image::new(camera.width(), camera.height());
+    let mut mean = Image::new(seq.camera.width(), seq.camera.height());
     for seed in 1..=u64::from(n) {
-        let img = if seed == 1 {
-            one.clone()
-        } else if seed == 2 {
-            two.clone()
-        } else {
-            render(Method::Lightcuts, seed)?
+        let img = match seed {
+            1 => one.clone(),
+            2 => two.clone(),
+            _ => stochastic(seed)?,
         };
         for (m, p) in mean.pixels.iter_mut().zip(&img.pixels) {
             *m += *p / n as f32;
         }
     }
     // The differences are of the scattered light (the emission is the same in every render):
-    // red at a quarter of its brightest pixel.
-    let (emission, _) = lgh_volume::render::render::<lgh_core::BruteForce>(
-        frame,
-        medium,
-        None,
-        camera,
-        &march,
-        &|_| {},
-    )?;
+    // red at a quarter of its brightest pixel. The emission alone, without the floor.
+    let (frame, medium) = (&seq.volumes[t], &seq.medium);
+    let (emission, _) = FrameRender::new(&lights, Method::Emission, frame, medium, &march, &())?
+        .render(&seq.camera, &())?;
     let brightest = exact
         .pixels
         .iter()
         .zip(&emission.pixels)
         .map(|(&p, &e)| lgh_core::luminance(p - e))
         .fold(0.0f32, f32::max);
-    let exposure = lgh_image::auto_exposure(exact);
-    let png = |name: &str, img: &Image| -> Result<(), crate::Error> {
-        Ok(lgh_image::write_png(&dir.join(name), img, exposure)?)
+    let images = Fig10 {
+        exact,
+        one: &one,
+        two: &two,
+        deterministic: &deterministic,
+        mean: &mean,
     };
-    png("fig10-brute.png", exact)?;
-    png("fig10-lightcuts-seed-1.png", &one)?;
-    png("fig10-lightcuts-seed-2.png", &two)?;
-    png("fig10-lightcuts-deterministic.png", &deterministic)?;
-    png("fig10-lightcuts-mean.png", &mean)?;
-    lgh_image::difference_png(
-        &dir.join("fig10-seed-difference-x4.png"),
-        &one,
-        &two,
-        brightest / 4.0,
-    )?;
-    lgh_image::difference_png(
-        &dir.join("fig10-deterministic-bias-x4.png"),
-        &deterministic,
-        &mean,
-        brightest / 4.0,
-    )?;
-    let rel = |a: &Image, r: &Image| lgh_image::compare(a, r).map(|s| s.rel_rmse);
-    let mean_lum = |img: &Image| {
-        img.pixels
-            .iter()
-            .map(|&p| f64::from(lgh_core::luminance(p)))
-            .sum::<f64>()
-            / img.pixels.len() as f64
-    };
-    Ok(json!({
-        "frame": volumes_label(args),
-        "stochastic_renders": n,
-        "seed_1_vs_seed_2_rel_rmse": rel(&one, &two),
-        "stochastic_vs_brute_rel_rmse": rel(&one, exact),
-        "mean_of_stochastic_vs_brute_rel_rmse": rel(&mean, exact),
-        "deterministic_vs_mean_rel_rmse": rel(&deterministic, &mean),
-        "deterministic_vs_brute_rel_rmse": rel(&deterministic, exact),
-        "deterministic_mean_bias": mean_lum(&deterministic) / mean_lum(&mean) - 1.0,
-        "images": dir.display().to_string(),
-    }))
+    images.write(dir, brightest)?;
+    Ok(images.report(args, dir))
+}
+
+/// The images of Fig. 10.
+struct Fig10<'a> {
+    exact: &'a Image,
+    one: &'a Image,
+    two: &'a Image,
+    deterministic: &'a Image,
+    mean: &'a Image,
+}
+
+impl Fig10<'_> {
+    /// The PNGs into `dir`, differences red at a quarter of `brightest`.
+    fn write(&self, dir: &std::path::Path, brightest: f32) -> Result<(), crate::Error> {
+        let exposure = lgh_image::auto_exposure(self.exact);
+        let png = |name: &str, img: &Image| -> Result<(), crate::Error> {
+            Ok(lgh_image::write_png(&dir.join(name), img, exposure)?)
+        };
+        png("fig10-brute.png", self.exact)?;
+        png("fig10-lightcuts-seed-1.png", self.one)?;
+        png("fig10-lightcuts-seed-2.png", self.two)?;
+        png("fig10-lightcuts-deterministic.png", self.deterministic)?;
+        png("fig10-lightcuts-mean.png", self.mean)?;
+        lgh_image::difference_png(
+            &dir.join("fig10-seed-difference-x4.png"),
+            self.one,
+            self.two,
+            brightest / 4.0,
+        )?;
+        lgh_image::difference_png(
+            &dir.join("fig10-deterministic-bias-x4.png"),
+            self.deterministic,
+            self.mean,
+            brightest / 4.0,
+        )?;
+        Ok(())
+    }
+
+    /// The JSON `fig10`.
+    fn report(&self, args: &FlickerArgs, dir: &std::path::Path) -> Value {
+        let rel = |a: &Image, r: &Image| lgh_image::compare(a, r).map(|s| s.rel_rmse);
+        let mean_lum = |img: &Image| {
+            img.pixels
+                .iter()
+                .map(|&p| f64::from(lgh_core::luminance(p)))
+                .sum::<f64>()
+                / img.pixels.len() as f64
+        };
+        let (one, two, exact) = (self.one, self.two, self.exact);
+        let (deterministic, mean) = (self.deterministic, self.mean);
+        json!({
+            "frame": volumes_label(args),
+            "stochastic_renders": args.fig10_renders,
+            "seed_1_vs_seed_2_rel_rmse": rel(one, two),
+            "stochastic_vs_brute_rel_rmse": rel(one, exact),
+            "mean_of_stochastic_vs_brute_rel_rmse": rel(mean, exact),
+            "deterministic_vs_mean_rel_rmse": rel(deterministic, mean),
+            "deterministic_vs_brute_rel_rmse": rel(deterministic, exact),
+            "deterministic_mean_bias": mean_lum(deterministic) / mean_lum(mean) - 1.0,
+            "images": dir.display().to_string(),
+        })
+    }
 }
 
 /// Which frame --fig10 shows: the middle one.
@@ -811,33 +920,6 @@ fn volumes_label(args: &FlickerArgs) -> String {
         (Some(range), _) => format!("the middle frame of {range}"),
         (_, Some(n)) => format!("frame {} of {n}", n / 2),
         _ => String::new(),
-    }
-}
-
-/// What every render of one frame shares: the frame, its medium, the camera and the floor.
-struct View<'a> {
-    frame: &'a Volume,
-    medium: &'a Medium,
-    camera: &'a Camera,
-    floor: Option<&'a Ground>,
-}
-
-impl View<'_> {
-    /// `lights` through `method` at `alpha` with `march`'s shadows, over the floor if there is
-    /// one.
-    fn render(
-        &self,
-        lights: &ExplosionLights,
-        method: Method,
-        alpha: f32,
-        march: &MarchSettings,
-    ) -> Result<Image, crate::Error> {
-        let backend = lights.backend(method, alpha)?;
-        let mut marcher = lights.marcher(method, alpha, self.frame, self.medium, march)?;
-        if let Some(f) = self.floor {
-            marcher = marcher.with_surfaces(f);
-        }
-        Ok(marcher.render(Some(&backend), self.camera, &|_| {})?.0)
     }
 }
 

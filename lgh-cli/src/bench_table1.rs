@@ -8,11 +8,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgh_volume::render::MarchSettings;
-use lgh_volume::{Method, Shadows};
+use lgh_volume::{FrameRender, Method, Shadows};
 use serde_json::{json, Value};
 
 use crate::demo::{Scene, SceneArgs};
-use crate::output::{MarchArgs, Shadowing};
+use crate::output::{MarchArgs, ScatterArgs, ShadowsArg};
 
 /// Arguments of `lgh bench table1`.
 #[derive(Debug, clap::Args)]
@@ -26,7 +26,7 @@ pub struct Table1Args {
         value_delimiter = ',',
         default_value = "raymarch,none"
     )]
-    pub compare: Vec<Shadows>,
+    pub compare: Vec<ShadowsArg>,
     #[command(flatten)]
     pub march: MarchArgs,
     /// Print a markdown table after the JSON.
@@ -66,64 +66,68 @@ fn peak_memory() -> Option<u64> {
 /// Runs the benchmark.
 pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     args.scene.check()?;
-    let march = args.march.settings(crate::demo::DEMO_SHADOW_STEP)?;
-    let Scene {
-        volume,
-        medium,
-        mut lights,
-        camera,
-        volume_seconds: volume_s,
-        lights_seconds: hierarchy_s,
-    } = args.scene.build()?;
-    lights.set_prune(args.march.prune)?;
-    let scene = &args.scene;
-
-    let mut runs = Vec::new();
+    let march = args
+        .march
+        .settings(crate::demo::DEMO_SHADOW_STEP, &ScatterArgs::default())?;
+    let mut scene = args.scene.build()?;
+    scene.lights.set_prune(args.march.prune)?;
     let mut choices = vec![march.shadows];
-    choices.extend(args.compare.iter().filter(|&&s| s != march.shadows));
-    for shadows in choices {
-        let settings = MarchSettings { shadows, ..march };
-        let shadowing = Shadowing::prepare(
-            &lights,
-            Method::Lgh,
-            scene.alpha,
-            &volume,
-            &medium,
-            &settings,
-            true,
-        )?;
-        let precompute = shadowing.seconds;
-        let table = shadowing.cube_maps().map(|m| m.table().to_vec());
+    let compare = args.compare.iter().map(|&s| Shadows::from(s));
+    choices.extend(compare.filter(|&s| s != march.shadows));
+    let runs = choices
+        .into_iter()
+        .map(|shadows| {
+            Run::of(
+                &scene,
+                args.scene.alpha,
+                &MarchSettings { shadows, ..march },
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let report = report(args, &scene, &runs);
+    let text = serde_json::to_string_pretty(&report)?;
+    say!("{text}");
+    if let Some(out) = &args.out {
+        lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))?;
+    }
+    if args.markdown {
+        markdown(&runs)?;
+    }
+    Ok(())
+}
+
+impl Run {
+    /// The scene's frame through the hierarchy at `alpha` with `settings`' shadows.
+    fn of(scene: &Scene, alpha: f32, settings: &MarchSettings) -> Result<Run, crate::Error> {
+        let (volume, medium) = (&scene.volume, &scene.medium);
+        let lgh = Method::Lgh { alpha };
+        let frame = FrameRender::new(&scene.lights, lgh, volume, medium, settings, &())?;
+        let precompute = frame.seconds().shadows;
+        let table = frame.cube_maps().map(|m| m.table().to_vec());
         let t = Instant::now();
-        let (image, stats) = shadowing.render(
-            &lights,
-            Method::Lgh,
-            scene.alpha,
-            &volume,
-            &medium,
-            &camera,
-            &settings,
-            None,
-            &|_| {},
-        )?;
+        let (image, stats) = frame.render(&scene.camera, &())?;
         let render = t.elapsed().as_secs_f64();
+        let shadows = settings.shadows;
         eprintln!(
             "  {}: precompute {precompute:.2} s, render {render:.2} s",
             shadows.name()
         );
-        runs.push(Run {
+        Ok(Run {
             shadows,
             precompute,
             render,
             image,
             table,
             stats,
-        });
+        })
     }
+}
 
+/// The benchmark's JSON.
+fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
     let first = &runs[0];
     let mut shadows = serde_json::Map::new();
-    for r in &runs {
+    for r in runs {
         let mut o = json!({
             "precompute_seconds": r.precompute,
             "render_seconds": r.render,
@@ -153,38 +157,39 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
             })
             .collect()
     });
+    let (lights, volume, table) = (&scene.lights, &scene.volume, &args.scene);
     let h = lights.hierarchy();
     let lights_per_level: Vec<usize> = (0..=h.max_level())
         .map(|l| h.level(l).iter().filter(|g| h.is_active(l, g)).count())
         .collect();
-    let report = json!({
+    json!({
         "scene": {
             "kind": "procedural explosion",
-            "resolution": scene.resolution,
+            "resolution": table.resolution,
             "voxels": volume.density.data.len(),
-            "time": scene.time,
+            "time": table.time,
             "lights": lights.lit(),
         },
-        "alpha": scene.alpha,
+        "alpha": table.alpha,
         "prune": args.march.prune,
-        "width": scene.width,
-        "height": scene.height,
+        "width": table.width,
+        "height": table.height,
         "threads": rayon::current_num_threads(),
-        "volume_seconds": volume_s,
-        "hierarchy_seconds": hierarchy_s,
+        "volume_seconds": scene.volume_seconds,
+        "hierarchy_seconds": scene.lights_seconds,
         "lights_per_level": lights_per_level,
         "shadows": shadows,
         "first": first.shadows.name(),
         "cube_maps": levels,
         "shadow_bytes": first.table.as_ref().map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
         "peak_memory_bytes": peak_memory(),
-    });
-    let text = serde_json::to_string_pretty(&report)?;
-    say!("{text}");
-    if let Some(out) = &args.out {
-        lgh_image::write_atomic(out, |w| std::io::Write::write_all(w, text.as_bytes()))?;
-    }
-    if args.markdown {
+    })
+}
+
+/// The markdown table: the cube maps per level, then each shadow choice's seconds.
+fn markdown(runs: &[Run]) -> Result<(), crate::Error> {
+    let first = &runs[0];
+    {
         say!("");
         say!("| level | lights | cube-map bytes | precompute s |");
         say!("|---|---|---|---|");
@@ -197,7 +202,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
                 l.seconds
             );
         }
-        for r in &runs {
+        for r in runs {
             say!(
                 "| {} | | precompute {:.1} s | render {:.1} s |",
                 r.shadows.name(),

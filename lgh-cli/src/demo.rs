@@ -9,10 +9,11 @@ use std::time::Instant;
 use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing, Up};
-use lgh_volume::surfaces::{Ground, Surfaces};
-use lgh_volume::{explosion, ExplosionLights, Medium, Method, Volume};
+use lgh_volume::surfaces::Ground;
+use lgh_volume::{explosion, ExplosionLights, FrameRender, Medium, Method, Volume};
 
-use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
+use crate::output::{self, MarchArgs, Rendered, ScatterArgs};
+use crate::progress::Bars;
 
 /// Arguments of `lgh demo`.
 #[derive(Debug, clap::Args)]
@@ -115,135 +116,101 @@ pub fn demo_medium() -> Medium {
 pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     args.scene.check()?;
     output::check_out(&args.out)?;
-    let march = args.march.settings(DEMO_SHADOW_STEP)?;
-    args.scatter.check()?;
-    let Scene {
-        volume,
-        medium,
-        mut lights,
-        camera,
-        volume_seconds,
-        lights_seconds,
-    } = args.scene.build()?;
-    lights.set_prune(args.march.prune)?;
+    let march = args.march.settings(DEMO_SHADOW_STEP, &args.scatter)?;
+    let mut scene = args.scene.build()?;
+    scene.lights.set_prune(args.march.prune)?;
     // The ground under the explosion, where its smoke ends, so that its light falls on
     // something.
     let ground = if args.scene.no_ground {
         None
     } else {
-        let (lo, _) = framing_bounds(&[&volume]).expect("one frame");
+        let (lo, _) = framing_bounds(&[&scene.volume]).expect("one frame");
         Some(Ground::new(Up::Y, lo.y, Vec3::splat(0.5))?)
     };
-    let setup_s = volume_seconds + lights_seconds;
-    let scene = &args.scene;
-    let extra = vec![
-        (
-            "scene",
-            format!(
-                "procedural explosion {}^3, t = {} s",
-                scene.resolution, scene.time
-            ),
-        ),
-        ("alpha", scene.alpha.to_string()),
-        ("prune", args.march.prune.to_string()),
-        ("lights", lights.lit().to_string()),
-        ("ground", (!scene.no_ground).to_string()),
-    ];
-    let scatter = Scatter::run(
-        &args.scatter,
-        &lights,
-        Method::Lgh,
-        scene.alpha,
-        &volume,
-        &medium,
-        &march,
-        &camera,
-        args.quiet,
-    )?;
-    let render_lights = scatter.lights(&lights);
+    let bars = Bars::new(args.quiet);
     let cpu0 = output::cpu_seconds();
-    let shadowing = Shadowing::prepare(
-        render_lights,
-        Method::Lgh,
-        scene.alpha,
-        &volume,
-        &medium,
-        &march,
-        args.quiet,
-    )?;
+    let method = Method::Lgh {
+        alpha: args.scene.alpha,
+    };
+    let (volume, medium) = (&scene.volume, &scene.medium);
+    let mut frame = FrameRender::new(&scene.lights, method, volume, medium, &march, &bars)?;
+    if let Some(g) = &ground {
+        frame = frame.with_surfaces(g);
+    }
+    let shares = output::shares(&args.scatter, &frame, &scene.camera, &bars)?;
     let cpu1 = output::cpu_seconds();
-    let mut extra = extra;
-    extra.extend(shadowing.header());
-    extra.extend(scatter.header());
-    let shadows = shadowing.visibility.shadows();
-    let precompute_s = shadowing.seconds;
-    let cube_maps = shadowing.cube_maps().map(|m| m.table().to_vec());
-    let cube_bytes = shadowing.cube_maps().map_or(0, |m| m.bytes());
-    let written = output::render_and_write(
-        |progress| {
-            let (image, stats) = shadowing.render(
-                render_lights,
-                Method::Lgh,
-                scene.alpha,
-                &volume,
-                &medium,
-                &camera,
-                &march,
-                ground.as_ref().map(|g| g as &dyn Surfaces),
-                progress,
-            )?;
-            Ok((image, Some(stats)))
-        },
-        scene.height,
-        "rendering",
-        args.quiet,
-        &args.out,
-        &march,
-        "lgh",
-        extra,
-    )?;
-    let stats = written.stats.unwrap_or_default();
+    let rendered = Rendered::of(&frame, &scene.camera, &bars)?;
     let cpu2 = output::cpu_seconds();
+    let mut extra = args.scene.header(&scene);
+    extra.push(("prune", args.march.prune.to_string()));
+    extra.extend(output::frame_header(&frame, shares.as_ref()));
+    let png = rendered.write(&args.out, &march, "lgh", extra)?;
     let cpu = match (cpu0, cpu1, cpu2) {
         (Some(a), Some(b), Some(c)) => {
-            format!(" (CPU: {:.1} s shadows, {:.1} s render)", b - a, c - b)
+            let before = if frame.scattered().is_some() {
+                "shadows and scattering"
+            } else {
+                "shadows"
+            };
+            format!(" (CPU: {:.1} s {before}, {:.1} s render)", b - a, c - b)
         }
         _ => String::new(),
     };
-
-    let h = lights.hierarchy();
-    say!("lgh demo: a procedural explosion lit by its own hot voxels");
-    say!(
-        "  volume     {0}^3 voxels at t = {1} s, {2} lights (one per voxel above 1000 K); set up in {setup_s:.2} s",
-        scene.resolution,
-        scene.time,
-        lights.lit()
-    );
-    say!(
-        "  hierarchy  levels 0..={}, h1 = {:.4}, alpha {}",
-        h.max_level(),
-        h.h1(),
-        scene.alpha
-    );
-    scatter.say()?;
-    if let Some(table) = &cube_maps {
-        output::say_cube_maps(table, cube_bytes, precompute_s)?;
+    args.scene.say(&scene)?;
+    output::say_scattering(&frame, shares.as_ref())?;
+    if let Some(maps) = frame.cube_maps() {
+        output::say_cube_maps(maps.table(), maps.bytes(), frame.seconds().shadows)?;
     }
+    let stats = rendered.stats.unwrap_or_default();
     say!(
         "  render     {}x{}, shadows {}: {:.1} s ({:.1} s with the shadows' precompute){cpu}, {} shading points, {:.1} lights each, {:.1} shadow samples per light",
-        scene.width,
-        scene.height,
-        shadows.name(),
-        written.seconds,
-        written.seconds + precompute_s,
+        args.scene.width,
+        args.scene.height,
+        frame.visibility().shadows().name(),
+        rendered.seconds,
+        rendered.seconds + frame.seconds().shadows,
         stats.shading_points,
         stats.lights_per_point(),
         stats.shadow_samples as f64 / stats.lights_evaluated.max(1) as f64
     );
-    say!(
-        "  output     {} and {}",
-        args.out.display(),
-        written.png.display()
-    );
+    say!("  output     {} and {}", args.out.display(), png.display());
     Ok(())
+}
+
+impl SceneArgs {
+    /// EXR header entries of the scene: what it is, α, its lights and whether it has a ground.
+    fn header(&self, scene: &Scene) -> Vec<(&'static str, String)> {
+        vec![
+            (
+                "scene",
+                format!(
+                    "procedural explosion {}^3, t = {} s",
+                    self.resolution, self.time
+                ),
+            ),
+            ("alpha", self.alpha.to_string()),
+            ("lights", scene.lights.lit().to_string()),
+            ("ground", (!self.no_ground).to_string()),
+        ]
+    }
+
+    /// The summary lines of the scene and its hierarchy.
+    fn say(&self, scene: &Scene) -> Result<(), crate::Error> {
+        let h = scene.lights.hierarchy();
+        let setup_s = scene.volume_seconds + scene.lights_seconds;
+        say!("lgh demo: a procedural explosion lit by its own hot voxels");
+        say!(
+            "  volume     {0}^3 voxels at t = {1} s, {2} lights (one per voxel above 1000 K); set up in {setup_s:.2} s",
+            self.resolution,
+            self.time,
+            scene.lights.lit()
+        );
+        say!(
+            "  hierarchy  levels 0..={}, h1 = {:.4}, alpha {}",
+            h.max_level(),
+            h.h1(),
+            self.alpha
+        );
+        Ok(())
+    }
 }

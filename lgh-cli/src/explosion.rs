@@ -5,50 +5,61 @@ use std::rc::Rc;
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
+use lgh_core::{LightcutsSettings, Representative};
 use lgh_volume::cache::{self, GridNames};
 use lgh_volume::medium::{grow_framing, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
-use lgh_volume::{ExplosionLights, Method};
+use lgh_volume::{ExplosionLights, FrameRender, Method};
 
 use clap::ArgMatches;
 
 use crate::dark;
 use crate::manifest::{self, FrameFile, Manifest, SceneFile};
-use crate::output::{self, MarchArgs, Scatter, ScatterArgs, Shadowing};
-use crate::progress;
+use crate::output::{self, MarchArgs, Rendered, ScatterArgs};
+use crate::progress::{self, Bars};
 use crate::room::Room;
-use lgh_volume::surfaces::Surfaces;
 
-/// The renderer behind the image (`--backend`): the ray marcher with the library's
-/// many-lights [`Method`] (its values and help are `Method`'s own), or the path tracer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The renderer behind the image (`--backend`): the ray marcher with one of the library's
+/// many-lights [`Method`]s, or the path tracer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum BackendArg {
-    /// The ray marcher, scattering through a many-lights method.
-    March(Method),
+    /// The lighting grid hierarchy (paper Sec. 3) at the paper's α.
+    Lgh,
+    /// Every light `S0`: the exact answer of the same light model.
+    Brute,
+    /// Lightcuts (Walter et al. 2005, the paper's Fig. 10 rival) at 2%: a light tree over the
+    /// frame's lights with representatives drawn at random (a new tree every frame, as the
+    /// paper ran it), shadows ray-marched.
+    Lightcuts,
+    /// Lightcuts with each cluster's brightest light as its representative: no randomness.
+    LightcutsDeterministic,
     /// Unbiased volumetric path tracer: the physical reference.
     Pathtrace,
 }
 
-impl clap::ValueEnum for BackendArg {
-    fn value_variants<'a>() -> &'a [Self] {
-        &[
-            BackendArg::March(Method::Lgh),
-            BackendArg::March(Method::Brute),
-            BackendArg::March(Method::Lightcuts),
-            BackendArg::March(Method::LightcutsDeterministic),
-            BackendArg::Pathtrace,
-        ]
+impl BackendArg {
+    /// The ray marcher's method for `frame` (Lightcuts' representatives seeded by the frame's
+    /// number, a new tree every frame), or `None` for the path tracer.
+    fn method(self, alpha: f32, frame: Option<u32>) -> Option<Method> {
+        let lightcuts = |representative| Method::Lightcuts {
+            settings: LightcutsSettings::default(),
+            representative,
+        };
+        Some(match self {
+            BackendArg::Lgh => Method::Lgh { alpha },
+            BackendArg::Brute => Method::Brute,
+            BackendArg::Lightcuts => lightcuts(Representative::Stochastic {
+                seed: u64::from(frame.unwrap_or(0)),
+            }),
+            BackendArg::LightcutsDeterministic => lightcuts(Representative::Brightest),
+            BackendArg::Pathtrace => return None,
+        })
     }
 
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        match self {
-            BackendArg::March(m) => m.to_possible_value(),
-            BackendArg::Pathtrace => Some(
-                clap::builder::PossibleValue::new("pathtrace")
-                    .help("Unbiased volumetric path tracer: the physical reference"),
-            ),
-        }
+    /// The name in the EXR header and the summary (`lgh`, `brute`, …, `pathtrace`).
+    fn name(self) -> &'static str {
+        self.method(1.0, None).map_or("pathtrace", Method::name)
     }
 }
 
@@ -119,7 +130,7 @@ pub struct ExplosionArgs {
     #[arg(long)]
     pub no_domain_offset: bool,
     /// Renderer.
-    #[arg(long, value_enum, default_value_t = BackendArg::March(Method::Lgh))]
+    #[arg(long, value_enum, default_value_t = BackendArg::Lgh)]
     pub backend: BackendArg,
     /// The paper's α (backend lgh).
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
@@ -309,8 +320,7 @@ impl Setup {
         output::check_out(args.out()?)?;
         let march = args
             .march
-            .settings(MarchSettings::default().shadow_step_voxels)?;
-        args.scatter.check()?;
+            .settings(MarchSettings::default().shadow_step_voxels, &args.scatter)?;
         if args.backend == BackendArg::Pathtrace && args.scene.is_some() {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }
@@ -487,17 +497,17 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
         return write_manifest(&manifest, path, load_s);
     }
     let n = seq.len();
-    render_frames(
+    let frames = Frames {
         args,
-        &setup,
-        &manifest,
+        setup: &setup,
+        manifest: &manifest,
         seq,
         lights,
         room,
-        Some((n - 1, kept)),
-        0..n,
-        Some(load_s),
-    )
+        kept: Some((n - 1, kept)),
+        load_s: Some(load_s),
+    };
+    frames.render(0..n)
 }
 
 /// `--prepare`: writes the manifest (whole or not at all) and says how to render from it.
@@ -567,7 +577,17 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
     if let Some(r) = &room {
         SceneFile::check(r.files(), &manifest.scene)?;
     }
-    render_frames(&full, &setup, &manifest, seq, None, room, None, which, None)
+    let frames = Frames {
+        args: &full,
+        setup: &setup,
+        manifest: &manifest,
+        seq,
+        lights: None,
+        room,
+        kept: None,
+        load_s: None,
+    };
+    frames.render(which)
 }
 
 /// Whether `out` (and its PNG) are a finished render of the sequence `digest`: what `--resume`
@@ -592,112 +612,209 @@ fn finished(out: &Path, digest: &str) -> bool {
     same
 }
 
-/// Renders the frames `which` (indices into the manifest's files) of `seq`. `lights`: the pass's
-/// lights, or `None` to place them from the manifest; `room`: `--scene`'s surfaces; `kept`: a
-/// frame already in memory.
-#[allow(clippy::too_many_arguments)]
-fn render_frames(
-    args: &ExplosionArgs,
-    setup: &Setup,
-    manifest: &Manifest,
+/// A sequence's frames to render, with what their renders share.
+struct Frames<'a> {
+    args: &'a ExplosionArgs,
+    setup: &'a Setup,
+    manifest: &'a Manifest,
     seq: cache::Sequence,
-    mut lights: Option<ExplosionLights>,
+    /// The pass's lights, or `None` to place them from the manifest (the path tracer has none).
+    lights: Option<ExplosionLights>,
+    /// `--scene`'s surfaces.
     room: Option<Room>,
-    mut kept: Option<(usize, Rc<Volume>)>,
-    which: std::ops::Range<usize>,
+    /// A frame already in memory (its index into the manifest's files).
+    kept: Option<(usize, Rc<Volume>)>,
+    /// Seconds the pass over the frames took (`None`: a farm task, which read the manifest).
     load_s: Option<f64>,
-) -> Result<(), crate::Error> {
-    // A task checks each frame against the manifest's hash before it reads it; a run that
-    // hashed the files itself, moments ago, does not read them a fourth time.
-    let verify = load_s.is_none();
-    let Setup {
-        march,
-        medium,
-        names,
-        up,
-        camera,
-    } = setup;
-    let (march, medium, up) = (*march, medium, *up);
-    let digest = manifest.digest();
-    let base_out = args.out()?;
-    if let (Some(r), Some(p)) = (&room, &args.scene) {
-        say!(
-            "lgh explosion: {} triangles around the smoke ({})",
-            r.triangles(),
-            p.display()
-        );
+}
+
+impl Frames<'_> {
+    /// Renders the frames `which` (indices into the manifest's files).
+    fn render(mut self, which: std::ops::Range<usize>) -> Result<(), crate::Error> {
+        let camera = self.camera()?;
+        self.announce(which.len())?;
+        let digest = self.manifest.digest();
+        for n in which {
+            let out = frame_out(self.args.out()?, self.manifest.files[n].frame);
+            if self.args.resume && finished(&out, &digest) {
+                say!("  {}: finished before, skipped (--resume)", out.display());
+                continue;
+            }
+            let volume = self.volume(n)?;
+            self.render_frame(n, &volume, &camera, &out)?;
+        }
+        Ok(())
     }
-    let all_dark = &manifest.all_dark;
-    let camera = match camera {
-        Some(c) => *c,
-        None => {
-            let (lo, hi) = manifest.framing.unwrap_or_else(|| seq.bounds());
-            Camera::frame_up(lo, hi, args.width, args.height, up)?
-        }
-    };
-    let dims = seq.dims();
-    let source = load_s.map_or("as the manifest says".to_string(), |s| {
-        format!("read in {s:.2} s")
-    });
-    say!(
-        "lgh explosion: {} of {} frame(s) on a {}x{}x{} grid (voxel {:.5}); {source}",
-        which.len(),
-        seq.len(),
-        dims[0],
-        dims[1],
-        dims[2],
-        seq.voxel_size(),
-    );
-    for n in which {
-        let file = &manifest.files[n];
-        let (frame, path) = (&file.frame, &file.path);
-        let out = frame_out(base_out, *frame);
-        if args.resume && finished(&out, &digest) {
-            say!("  {}: finished before, skipped (--resume)", out.display());
-            continue;
-        }
-        // A frame the pass has in memory is not read again; any other is read (a task's checked
-        // against the manifest's hash first).
-        let volume = match kept.take_if(|(k, _)| *k == n) {
-            Some((_, v)) => v,
+
+    /// `--camera`, or the framing of the smoke of every frame.
+    fn camera(&self) -> Result<Camera, crate::Error> {
+        Ok(match self.setup.camera {
+            Some(c) => c,
             None => {
-                if verify {
-                    file.verify()?;
-                }
-                Rc::new(seq.frame(n)?)
+                let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
+                let (w, h) = (self.args.width, self.args.height);
+                Camera::frame_up(lo, hi, w, h, self.setup.up)?
+            }
+        })
+    }
+
+    /// The summary's first lines: the room, the frames and the grid.
+    fn announce(&self, frames: usize) -> Result<(), crate::Error> {
+        if let (Some(r), Some(p)) = (&self.room, &self.args.scene) {
+            say!(
+                "lgh explosion: {} triangles around the smoke ({})",
+                r.triangles(),
+                p.display()
+            );
+        }
+        let dims = self.seq.dims();
+        let source = self.load_s.map_or("as the manifest says".to_string(), |s| {
+            format!("read in {s:.2} s")
+        });
+        say!(
+            "lgh explosion: {} of {} frame(s) on a {}x{}x{} grid (voxel {:.5}); {source}",
+            frames,
+            self.seq.len(),
+            dims[0],
+            dims[1],
+            dims[2],
+            self.seq.voxel_size(),
+        );
+        Ok(())
+    }
+
+    /// Frame `n`: the one the pass has in memory is not read again; any other is read (a
+    /// task's checked against the manifest's hash first: a run that hashed the files itself,
+    /// moments ago, does not read them a fourth time).
+    fn volume(&mut self, n: usize) -> Result<Rc<Volume>, crate::Error> {
+        if let Some((_, v)) = self.kept.take_if(|(k, _)| *k == n) {
+            return Ok(v);
+        }
+        if self.load_s.is_none() {
+            self.manifest.files[n].verify()?;
+        }
+        Ok(Rc::new(self.seq.frame(n)?))
+    }
+
+    /// The lights set to `volume`'s intensities (placed from the manifest on the first frame
+    /// of a task), `None` for the path tracer; and how many shine.
+    fn lights_for(&mut self, volume: &Volume) -> Result<usize, crate::Error> {
+        let (args, medium) = (self.args, &self.setup.medium);
+        if args.backend == BackendArg::Pathtrace {
+            return Ok(volume.emitting_voxels(medium));
+        }
+        let lights = match &mut self.lights {
+            Some(l) => l,
+            None => {
+                let voxels =
+                    self.manifest.lights.clone().ok_or(
+                        "the manifest has no lights (it was prepared for the path tracer)",
+                    )?;
+                self.lights
+                    .insert(ExplosionLights::at_hot_voxels(volume, voxels)?)
             }
         };
-        if lights.is_none() && args.backend != BackendArg::Pathtrace {
-            let voxels = manifest
-                .lights
-                .clone()
-                .ok_or("the manifest has no lights (it was prepared for the path tracer)")?;
-            lights = Some(ExplosionLights::at_hot_voxels(&volume, voxels)?);
+        if lights.prune() != args.march.prune {
+            lights.set_prune(args.march.prune)?;
         }
-        if let Some(l) = &mut lights {
-            if l.prune() != args.march.prune {
-                l.set_prune(args.march.prune)?;
-            }
-            // Lightcuts draws a new tree every frame, as the paper ran it: seeded by the frame.
-            l.set_lightcuts_seed(u64::from(frame.unwrap_or(0)));
-        }
-        let volume: &Volume = &volume;
-        if let Some(lights) = &mut lights {
-            lights.set_frame(volume, medium)?;
-        }
-        let lit = match &lights {
-            Some(l) => l.lit(),
-            None => volume.emitting_voxels(medium),
-        };
-        if lit == 0 && all_dark.is_none() {
+        lights.set_frame(volume, medium)?;
+        Ok(lights.lit())
+    }
+
+    /// Renders frame `n` (`volume`) to `out` and says what it did.
+    fn render_frame(
+        &mut self,
+        n: usize,
+        volume: &Volume,
+        camera: &Camera,
+        out: &Path,
+    ) -> Result<(), crate::Error> {
+        let (args, setup) = (self.args, self.setup);
+        let file = &self.manifest.files[n];
+        let lit = self.lights_for(volume)?;
+        if lit == 0 && self.manifest.all_dark.is_none() {
             // Other frames have lights: this one is dark, say why and go on.
-            if let Some(why) = dark::why_no_lights(volume, medium, names) {
-                eprintln!("lgh: warning: {}: no lights: {why}", path.display());
+            if let Some(why) = dark::why_no_lights(volume, &setup.medium, &setup.names) {
+                eprintln!("lgh: warning: {}: no lights: {why}", file.path.display());
             }
         }
+        let mut extra = self.header(&file.path, lit);
+        let label = file
+            .frame
+            .map_or("rendering".to_string(), |f| format!("frame {f}"));
+        let bars = Bars::new(args.quiet).with_render_label(label);
+        let method = args.backend.method(args.alpha, file.frame);
+        let (rendered, frame) = match (&self.lights, method) {
+            (Some(lights), Some(method)) => {
+                let (medium, march) = (&setup.medium, &setup.march);
+                let mut frame = FrameRender::new(lights, method, volume, medium, march, &bars)?;
+                if let Some(room) = &self.room {
+                    frame = frame.with_surfaces(room);
+                }
+                let shares = output::shares(&args.scatter, &frame, camera, &bars)?;
+                extra.extend(output::frame_header(&frame, shares.as_ref()));
+                (Rendered::of(&frame, camera, &bars)?, Some((frame, shares)))
+            }
+            _ => (self.path_trace(volume, camera, &bars)?, None),
+        };
+        let png = rendered.write(out, &setup.march, args.backend.name(), extra)?;
+        let mut work = rendered.stats.map_or(String::new(), |st| {
+            format!(", {:.1} lights per shading point", st.lights_per_point())
+        });
+        if let Some(maps) = frame.as_ref().and_then(|(f, _)| f.cube_maps()) {
+            let (mb, s) = (
+                maps.bytes() as f64 / 1e6,
+                frame.as_ref().unwrap().0.seconds(),
+            );
+            work += &format!(", cube maps {mb:.1} MB traced in {:.2} s", s.shadows);
+        }
+        say!(
+            "  {}: {lit} lights, {} {:.1} s{work} -> {}, {}",
+            file.path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or("?"),
+            args.backend.name(),
+            rendered.seconds,
+            out.display(),
+            png.display()
+        );
+        if let Some((frame, shares)) = &frame {
+            output::say_scattering(frame, shares.as_ref())?;
+        }
+        Ok(())
+    }
+
+    /// The path tracer's image of `volume`.
+    fn path_trace(
+        &self,
+        volume: &Volume,
+        camera: &Camera,
+        bars: &Bars,
+    ) -> Result<Rendered, crate::Error> {
+        let settings = PathSettings {
+            spp: self.args.spp,
+            max_scatter: self.args.max_scatter,
+            ..Default::default()
+        };
+        Rendered::timed(|| {
+            let rows = camera.height() as u64;
+            lgh_volume::Progress::begin(bars, lgh_volume::Phase::Render, rows);
+            let image = pathtrace::render(volume, &self.setup.medium, camera, &settings, &|r| {
+                lgh_volume::Progress::advance(bars, r as u64)
+            });
+            lgh_volume::Progress::end(bars, lgh_volume::Phase::Render);
+            Ok((image?, None))
+        })
+    }
+
+    /// EXR header entries of a frame read from `path` with `lit` lights: the sequence, the
+    /// medium's settings, the scene and the backend's own.
+    fn header(&self, path: &Path, lit: usize) -> Vec<(&'static str, String)> {
+        let args = self.args;
         let mut extra = vec![
             ("source", path.display().to_string()),
-            ("sequence", digest.to_string()),
+            ("sequence", self.manifest.digest()),
             ("lights", lit.to_string()),
             (
                 "emission_model",
@@ -712,108 +829,19 @@ fn render_frames(
         if let Some(p) = &args.scene {
             extra.push(("scene", p.display().to_string()));
         }
-        let (method, name) = match args.backend {
-            BackendArg::March(m) => {
-                if m == Method::Lgh {
-                    extra.push(("alpha", args.alpha.to_string()));
-                    extra.push(("prune", args.march.prune.to_string()));
-                }
-                (Some(m), m.name())
+        match args.backend {
+            BackendArg::Lgh => {
+                extra.push(("alpha", args.alpha.to_string()));
+                extra.push(("prune", args.march.prune.to_string()));
             }
             BackendArg::Pathtrace => {
                 extra.push(("spp", args.spp.to_string()));
                 extra.push(("max_scatter", args.max_scatter.to_string()));
-                (None, "pathtrace")
             }
-        };
-        let (shadowing, scatter) = match (&lights, method) {
-            (Some(lights), Some(method)) => {
-                let scatter = Scatter::run(
-                    &args.scatter,
-                    lights,
-                    method,
-                    args.alpha,
-                    volume,
-                    medium,
-                    &march,
-                    &camera,
-                    args.quiet,
-                )?;
-                let s = Shadowing::prepare(
-                    scatter.lights(lights),
-                    method,
-                    args.alpha,
-                    volume,
-                    medium,
-                    &march,
-                    args.quiet,
-                )?;
-                extra.extend(s.header());
-                extra.extend(scatter.header());
-                (Some(s), Some(scatter))
-            }
-            _ => (None, None),
-        };
-        let precompute_s = shadowing.as_ref().map_or(0.0, |s| s.seconds);
-        let cube_mb = shadowing
-            .as_ref()
-            .and_then(|s| s.cube_maps())
-            .map(|m| m.bytes() as f64 / 1e6);
-        let render = |progress: &(dyn Fn(usize) + Sync)| match (&lights, method, shadowing) {
-            (Some(lights), Some(method), Some(shadowing)) => {
-                let lights = scatter.as_ref().map_or(lights, |s| s.lights(lights));
-                let (image, stats) = shadowing.render(
-                    lights,
-                    method,
-                    args.alpha,
-                    volume,
-                    medium,
-                    &camera,
-                    &march,
-                    room.as_ref().map(|r| r as &dyn Surfaces),
-                    progress,
-                )?;
-                Ok((image, Some(stats)))
-            }
-            _ => {
-                let settings = PathSettings {
-                    spp: args.spp,
-                    max_scatter: args.max_scatter,
-                    ..Default::default()
-                };
-                let image = pathtrace::render(volume, medium, &camera, &settings, progress)?;
-                Ok((image, None))
-            }
-        };
-        let label = frame.map_or("rendering".to_string(), |f| format!("frame {f}"));
-        let written = output::render_and_write(
-            render,
-            args.height,
-            &label,
-            args.quiet,
-            &out,
-            &march,
-            name,
-            extra,
-        )?;
-        let mut work = written.stats.map_or(String::new(), |st| {
-            format!(", {:.1} lights per shading point", st.lights_per_point())
-        });
-        if let Some(mb) = cube_mb {
-            work += &format!(", cube maps {mb:.1} MB traced in {precompute_s:.2} s");
+            _ => {}
         }
-        say!(
-            "  {}: {lit} lights, {name} {:.1} s{work} -> {}, {}",
-            path.file_name().and_then(|n| n.to_str()).unwrap_or("?"),
-            written.seconds,
-            out.display(),
-            written.png.display()
-        );
-        if let Some(s) = &scatter {
-            s.say()?;
-        }
+        extra
     }
-    Ok(())
 }
 
 #[cfg(test)]

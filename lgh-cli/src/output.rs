@@ -5,11 +5,42 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
-use lgh_volume::render::{Camera, MarchSettings, Marcher, RenderStats};
-use lgh_volume::scattering::{self, ScatterPlan, Scattered, Shares};
-use lgh_volume::shadow::{CubeMapSettings, CubeMaps, Depths, LevelMaps};
-use lgh_volume::surfaces::Surfaces;
-use lgh_volume::{ExplosionLights, Medium, Method, Shadows, Visibility, Volume};
+use lgh_volume::render::{Camera, MarchSettings, RenderStats};
+use lgh_volume::scattering::{self, Shares};
+use lgh_volume::shadow::{CubeMapSettings, Depths, LevelMaps};
+use lgh_volume::{FrameRender, Shadows};
+
+use crate::progress::Bars;
+
+/// How lights are shadowed (`--shadows`): [`Shadows`]' choices by their command-line names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ShadowsArg {
+    /// The paper's deep-shadow cube maps, precomputed per light of every level of the
+    /// hierarchy (Sec. 4). Backends without a hierarchy (brute force) ray-march instead.
+    #[value(name = "cubemap")]
+    CubeMap,
+    /// Transmittance ray-marched to every light (exact shadows).
+    #[value(name = "raymarch")]
+    RayMarch,
+    /// The cube maps' own model without the maps, their same-model reference: transmittance
+    /// ray-marched from every light's centre through the density prefiltered for it (eq. 6;
+    /// coarse lights as volume lights). Slow. Backends without a hierarchy ray-march instead.
+    #[value(name = "raymarch-volumes")]
+    RayMarchVolumes,
+    /// No shadows.
+    None,
+}
+
+impl From<ShadowsArg> for Shadows {
+    fn from(s: ShadowsArg) -> Self {
+        match s {
+            ShadowsArg::CubeMap => Shadows::CubeMap,
+            ShadowsArg::RayMarch => Shadows::RayMarch,
+            ShadowsArg::RayMarchVolumes => Shadows::RayMarchVolumes,
+            ShadowsArg::None => Shadows::None,
+        }
+    }
+}
 
 /// The ray marcher's options, shared by the render commands.
 #[derive(Debug, Clone, clap::Args)]
@@ -22,8 +53,8 @@ pub struct MarchArgs {
     /// Shadows of the lights: the paper's precomputed deep-shadow cube maps, shadow rays marched
     /// to every light (the exact reference), or none. Brute force has no hierarchy to make
     /// cube maps for: it ray-marches.
-    #[arg(long, value_enum, default_value_t = Shadows::CubeMap)]
-    pub shadows: Shadows,
+    #[arg(long, value_enum, default_value_t = ShadowsArg::CubeMap)]
+    pub shadows: ShadowsArg,
     /// Memory the cube maps may take, in GB (maps that would need more are refused before any
     /// work) [default: 8 GiB, or 3/4 of the available memory if less]
     #[arg(long)]
@@ -51,9 +82,14 @@ pub struct MarchArgs {
 }
 
 impl MarchArgs {
-    /// The marcher's settings, checked ([`MarchSettings::check`]); `default_shadow_step` applies
-    /// without `--shadow-step`.
-    pub fn settings(&self, default_shadow_step: f32) -> Result<MarchSettings, crate::Error> {
+    /// The marcher's settings with `scatter`'s depth, checked ([`MarchSettings::check`]);
+    /// `default_shadow_step` applies without `--shadow-step`.
+    pub fn settings(
+        &self,
+        default_shadow_step: f32,
+        scatter: &ScatterArgs,
+    ) -> Result<MarchSettings, crate::Error> {
+        scatter.check()?;
         let budget = match self.shadow_memory {
             Some(gb) if gb.is_finite() && gb > 0.0 && gb <= 1e6 => (gb * 1e9) as u64,
             Some(gb) => {
@@ -70,7 +106,8 @@ impl MarchArgs {
         }
         let shadow_step = self.shadow_step.unwrap_or(default_shadow_step);
         let settings = MarchSettings {
-            shadows: self.shadows,
+            shadows: self.shadows.into(),
+            scatter_depth: scatter.scatter_depth,
             step_voxels: self.step,
             shadow_step_voxels: shadow_step,
             cube_maps: CubeMapSettings {
@@ -93,7 +130,7 @@ impl MarchArgs {
 }
 
 /// Multiple scattering (paper Sec. 5), shared by the render commands.
-#[derive(Debug, Clone, clap::Args)]
+#[derive(Debug, Clone, Default, clap::Args)]
 pub struct ScatterArgs {
     /// Depths of scattered light (paper Sec. 5): 0 is single scattering; n adds lights for
     /// light scattered 1..=n times, so paths of up to n + 1 scattering events (the paper's
@@ -123,153 +160,107 @@ impl ScatterArgs {
     }
 }
 
-/// A frame's multiple-scattering pass, if asked for, with what it took.
-pub struct Scatter {
-    /// The pass (`None` at depth 0).
-    pub scattered: Option<Scattered>,
-    /// Each depth's share of the image, if asked for.
-    pub shares: Option<Shares>,
-    /// Seconds of the pass (shares not included).
-    pub seconds: f64,
+/// EXR header entries of a frame made ready: its shadows (with cube maps their bytes, depths
+/// and precompute seconds), then its scattering (the depth, and with a pass its seconds per
+/// depth, its lights and, if measured, each depth's share of the image).
+pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'static str, String)> {
+    let mut out = vec![("shadows", frame.visibility().shadows().name().to_string())];
+    if let Some(m) = frame.cube_maps() {
+        out.push(("shadow_bytes", m.bytes().to_string()));
+        out.push(("shadow_depths", m.depths_per_texel().to_string()));
+        let seconds = frame.seconds().shadows;
+        out.push(("shadow_precompute_seconds", format!("{seconds:.3}")));
+    }
+    let Some(s) = frame.scattered() else {
+        out.push(("scatter_depth", "0".to_string()));
+        return out;
+    };
+    let list = |v: &mut dyn Iterator<Item = String>| v.collect::<Vec<_>>().join(",");
+    out.extend([
+        ("scatter_depth", s.depths().len().to_string()),
+        (
+            "scatter_seconds",
+            format!("{:.3}", frame.seconds().scattering),
+        ),
+        (
+            "scatter_depth_seconds",
+            list(&mut s.depths().iter().map(|d| format!("{:.3}", d.seconds))),
+        ),
+        ("scatter_lights", s.lights().lights().len().to_string()),
+    ]);
+    if let Some(shares) = shares {
+        let f = fractions(shares);
+        out.push((
+            "scatter_shares",
+            list(&mut f.iter().map(|x| format!("{x:.5}"))),
+        ));
+    }
+    out
 }
 
-impl Scatter {
-    /// Runs the pass `args` asks for over `lights` (through `method` at `alpha`, the shadows of
-    /// `march`) under a progress bar over the voxels, and the shares if asked for.
-    #[allow(clippy::too_many_arguments)]
-    pub fn run(
-        args: &ScatterArgs,
-        lights: &ExplosionLights,
-        method: Method,
-        alpha: f32,
-        volume: &Volume,
-        medium: &Medium,
-        march: &MarchSettings,
-        camera: &Camera,
-        quiet: bool,
-    ) -> Result<Scatter, crate::Error> {
-        let t = Instant::now();
-        if args.scatter_depth == 0 {
-            return Ok(Scatter {
-                scattered: None,
-                shares: None,
-                seconds: 0.0,
-            });
-        }
-        let plan = ScatterPlan::new(lights, volume, args.scatter_depth)?;
-        let total = (plan.depth * plan.lights_per_depth) as u64;
-        let bar = crate::progress::bar(total, "scattering", quiet);
-        let scattered = scattering::scatter(
-            lights,
-            args.scatter_depth,
-            method,
-            alpha,
-            volume,
-            medium,
-            march,
-            &|n| bar.inc(n as u64),
-        )?;
-        bar.finish_and_clear();
-        let seconds = t.elapsed().as_secs_f64();
-        let shares = if args.scatter_shares {
-            let rows = (args.scatter_depth + 2) * camera.height();
-            let bar = crate::progress::bar(rows as u64, "scatter shares", quiet);
-            let shares = scattered.shares(method, alpha, volume, medium, camera, march, &|r| {
-                bar.inc(r as u64)
-            })?;
-            bar.finish_and_clear();
-            Some(shares)
-        } else {
-            None
-        };
-        Ok(Scatter {
-            scattered: Some(scattered),
-            shares,
-            seconds,
-        })
-    }
+/// The shares as fractions of their sum: emission, then depths 0..=n.
+fn fractions(shares: &Shares) -> Vec<f64> {
+    let parts: Vec<f64> = std::iter::once(shares.emission)
+        .chain(shares.depths.iter().copied())
+        .collect();
+    let sum: f64 = parts.iter().sum();
+    parts
+        .iter()
+        .map(|p| p / sum.max(f64::MIN_POSITIVE))
+        .collect()
+}
 
-    /// The lights to render with: the merged lights of the pass, or `emission` without one.
-    pub fn lights<'a>(&'a self, emission: &'a ExplosionLights) -> &'a ExplosionLights {
-        self.scattered.as_ref().map_or(emission, Scattered::lights)
-    }
-
-    /// The shares as fractions of their sum: emission, then depths 0..=n.
-    fn fractions(shares: &Shares) -> Vec<f64> {
-        let parts: Vec<f64> = std::iter::once(shares.emission)
-            .chain(shares.depths.iter().copied())
-            .collect();
-        let sum: f64 = parts.iter().sum();
-        parts
-            .iter()
-            .map(|p| p / sum.max(f64::MIN_POSITIVE))
-            .collect()
-    }
-
-    /// EXR header entries: the depth, and with a pass its seconds per depth and the shares.
-    pub fn header(&self) -> Vec<(&'static str, String)> {
-        let Some(s) = &self.scattered else {
-            return vec![("scatter_depth", "0".to_string())];
-        };
-        let list = |v: &mut dyn Iterator<Item = String>| v.collect::<Vec<_>>().join(",");
-        let mut out = vec![
-            ("scatter_depth", s.depths().len().to_string()),
-            ("scatter_seconds", format!("{:.3}", self.seconds)),
-            (
-                "scatter_depth_seconds",
-                list(&mut s.depths().iter().map(|d| format!("{:.3}", d.seconds))),
-            ),
-            ("scatter_lights", s.lights().lights().len().to_string()),
-        ];
-        if let Some(shares) = &self.shares {
-            let f = Scatter::fractions(shares);
-            out.push((
-                "scatter_shares",
-                list(&mut f.iter().map(|x| format!("{x:.5}"))),
-            ));
-        }
-        out
-    }
-
-    /// The summary lines of the pass (nothing at depth 0).
-    pub fn say(&self) -> Result<(), crate::Error> {
-        let Some(s) = &self.scattered else {
-            return Ok(());
-        };
-        let d = s.depths();
+/// The summary lines of a frame's scattering pass (nothing without one).
+pub fn say_scattering(frame: &FrameRender, shares: Option<&Shares>) -> Result<(), crate::Error> {
+    let Some(s) = frame.scattered() else {
+        return Ok(());
+    };
+    let d = s.depths();
+    say!(
+        "  scattering {} depths (up to {} scattering events): {} lights a depth, {} merged lights; {:.2} s",
+        d.len(),
+        d.len() + 1,
+        d.first().map_or(0, |r| r.lights),
+        s.lights().lights().len(),
+        frame.seconds().scattering
+    );
+    for r in d {
         say!(
-            "  scattering {} depths (up to {} scattering events): {} lights a depth, {} merged lights; {:.2} s",
-            d.len(),
-            d.len() + 1,
-            d.first().map_or(0, |r| r.lights),
-            s.lights().lights().len(),
-            self.seconds
+            "    depth {:>2}: {:.2} s ({:.2} s shadows of the depth before), power {:.4e}, {:.1} lights per voxel",
+            r.depth,
+            r.seconds,
+            r.shadow_seconds,
+            r.power,
+            r.stats.lights_per_point()
         );
-        for r in d {
-            say!(
-                "    depth {:>2}: {:.2} s ({:.2} s shadows of the depth before), power {:.4e}, {:.1} lights per voxel",
-                r.depth,
-                r.seconds,
-                r.shadow_seconds,
-                r.power,
-                r.stats.lights_per_point()
-            );
-        }
-        if let Some(shares) = &self.shares {
-            let f = Scatter::fractions(shares);
-            let depths: Vec<String> = f[1..]
-                .iter()
-                .enumerate()
-                .map(|(k, x)| format!("depth {k} {:.2}%", 100.0 * x))
-                .collect();
-            say!(
-                "    shares of the image: emission {:.2}%, {}",
-                100.0 * f[0],
-                depths.join(", ")
-            );
-        }
-        Ok(())
     }
+    if let Some(shares) = shares {
+        let f = fractions(shares);
+        let depths: Vec<String> = f[1..]
+            .iter()
+            .enumerate()
+            .map(|(k, x)| format!("depth {k} {:.2}%", 100.0 * x))
+            .collect();
+        say!(
+            "    shares of the image: emission {:.2}%, {}",
+            100.0 * f[0],
+            depths.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// Each depth's share of the image, when `args` asks for it (`--scatter-shares`).
+pub fn shares(
+    args: &ScatterArgs,
+    frame: &FrameRender,
+    camera: &Camera,
+    bars: &Bars,
+) -> Result<Option<Shares>, crate::Error> {
+    if !args.scatter_shares {
+        return Ok(None);
+    }
+    Ok(frame.scatter_shares(camera, bars)?)
 }
 
 /// The cube maps' default memory: 8 GiB, or 3/4 of the memory available now if less (read
@@ -298,94 +289,6 @@ pub fn cpu_seconds() -> Option<f64> {
     let f: Vec<&str> = rest.split_whitespace().collect();
     let ticks = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
     Some(ticks as f64 / 100.0)
-}
-
-/// A frame's visibility made ready, with what it took: the cube maps' precompute is timed and
-/// shown apart from the render.
-pub struct Shadowing {
-    /// The visibility to render with.
-    pub visibility: Visibility,
-    /// Seconds spent making it (the cube maps' tracing).
-    pub seconds: f64,
-}
-
-impl Shadowing {
-    /// The visibility `march.shadows` asks for, for `lights` through `method` at `alpha` on
-    /// `volume`, under a progress bar over the lights whose cube maps are traced.
-    #[allow(clippy::too_many_arguments)]
-    pub fn prepare(
-        lights: &ExplosionLights,
-        method: Method,
-        alpha: f32,
-        volume: &Volume,
-        medium: &Medium,
-        march: &MarchSettings,
-        quiet: bool,
-    ) -> Result<Shadowing, crate::Error> {
-        let t = Instant::now();
-        let cube = march.shadows == Shadows::CubeMap && method == Method::Lgh;
-        let total = if cube {
-            let blending = lights.hierarchy().blending(alpha)?;
-            CubeMaps::plan(
-                lights.hierarchy(),
-                &blending,
-                &volume.density,
-                &march.cube_maps,
-            )
-            .lights() as u64
-        } else {
-            0
-        };
-        let bar = crate::progress::bar(total, "shadow maps", quiet || !cube);
-        let visibility =
-            lights.visibility(method, alpha, volume, medium, march, &|n| bar.inc(n as u64))?;
-        bar.finish_and_clear();
-        Ok(Shadowing {
-            visibility,
-            seconds: t.elapsed().as_secs_f64(),
-        })
-    }
-
-    /// The cube maps, if these shadows are cube maps.
-    pub fn cube_maps(&self) -> Option<&CubeMaps> {
-        match &self.visibility {
-            Visibility::CubeMaps(m) => Some(m),
-            _ => None,
-        }
-    }
-
-    /// EXR header entries: the shadows used and, for cube maps, their bytes and precompute.
-    pub fn header(&self) -> Vec<(&'static str, String)> {
-        let mut out = vec![("shadows", self.visibility.shadows().name().to_string())];
-        if let Some(m) = self.cube_maps() {
-            out.push(("shadow_bytes", m.bytes().to_string()));
-            out.push(("shadow_depths", m.depths_per_texel().to_string()));
-            out.push(("shadow_precompute_seconds", format!("{:.3}", self.seconds)));
-        }
-        out
-    }
-
-    /// Renders `lights` (through `method` at `alpha`) on `volume` with these shadows.
-    #[allow(clippy::too_many_arguments)]
-    pub fn render(
-        self,
-        lights: &ExplosionLights,
-        method: Method,
-        alpha: f32,
-        volume: &Volume,
-        medium: &Medium,
-        camera: &Camera,
-        march: &MarchSettings,
-        surfaces: Option<&dyn Surfaces>,
-        progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<(Image, RenderStats), crate::Error> {
-        let backend = lights.backend(method, alpha)?;
-        let mut marcher = Marcher::with_visibility(volume, medium, march, self.visibility)?;
-        if let Some(s) = surfaces {
-            marcher = marcher.with_surfaces(s);
-        }
-        Ok(marcher.render(Some(&backend), camera, progress)?)
-    }
 }
 
 /// Prints a level-by-level table of cube maps (the paper's Table 1 rows) to stderr.
@@ -435,57 +338,59 @@ pub fn check_out(out: &Path) -> Result<PathBuf, crate::Error> {
     Ok(out.with_extension("png"))
 }
 
-/// What [`render_and_write`] did: the render's counts (none from the path tracer), its seconds,
-/// and the PNG written beside the EXR.
-pub struct Written {
-    /// The marcher's counts.
+/// A frame's render, timed: `frame` seen by `camera` under `bars`.
+pub struct Rendered {
+    /// The image.
+    pub image: Image,
+    /// The marcher's counts (none from the path tracer).
     pub stats: Option<RenderStats>,
     /// Render time.
     pub seconds: f64,
-    /// The PNG's path.
-    pub png: PathBuf,
 }
 
-/// Runs `render` (given a progress callback over rows) under a progress bar of `rows` rows
-/// labelled `label` (hidden when `quiet`), then writes `out` — an EXR whose header holds the
-/// march settings, the `backend`'s name, `extra` and the render's counts and time — and the PNG
-/// beside it.
-#[allow(clippy::too_many_arguments)]
-pub fn render_and_write(
-    render: impl FnOnce(&(dyn Fn(usize) + Sync)) -> Result<(Image, Option<RenderStats>), crate::Error>,
-    rows: usize,
-    label: &str,
-    quiet: bool,
-    out: &Path,
-    march: &MarchSettings,
-    backend: &str,
-    mut extra: Vec<(&'static str, String)>,
-) -> Result<Written, crate::Error> {
-    let bar = crate::progress::bar(rows as u64, label, quiet);
-    let t = Instant::now();
-    let (image, stats) = render(&|r| bar.inc(r as u64))?;
-    let seconds = t.elapsed().as_secs_f64();
-    bar.finish_and_clear();
-    extra.push(("render_seconds", format!("{seconds:.3}")));
-    if let Some(st) = &stats {
-        extra.push(("shading_points", st.shading_points.to_string()));
-        extra.push(("surface_points", st.surface_points.to_string()));
-        extra.push((
-            "lights_per_shading_point",
-            format!("{:.2}", st.lights_per_point()),
-        ));
+impl Rendered {
+    /// Renders `frame` through `camera`, with `bars`' progress.
+    pub fn of(frame: &FrameRender, camera: &Camera, bars: &Bars) -> Result<Self, crate::Error> {
+        Rendered::timed(|| {
+            let (image, stats) = frame.render(camera, bars)?;
+            Ok((image, Some(stats)))
+        })
     }
-    let png = write_exr_png(
-        out,
-        &image,
-        &settings_attributes(march, backend, &extra),
-        None,
-    )?;
-    Ok(Written {
-        stats,
-        seconds,
-        png,
-    })
+
+    /// The image `render` makes, timed.
+    pub fn timed(
+        render: impl FnOnce() -> Result<(Image, Option<RenderStats>), crate::Error>,
+    ) -> Result<Self, crate::Error> {
+        let t = Instant::now();
+        let (image, stats) = render()?;
+        Ok(Rendered {
+            image,
+            stats,
+            seconds: t.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Writes `out` — an EXR whose header holds the march settings, the `backend`'s name,
+    /// `extra` and the render's counts and time — and the PNG beside it; returns the PNG's path.
+    pub fn write(
+        &self,
+        out: &Path,
+        march: &MarchSettings,
+        backend: &str,
+        mut extra: Vec<(&'static str, String)>,
+    ) -> Result<PathBuf, crate::Error> {
+        extra.push(("render_seconds", format!("{:.3}", self.seconds)));
+        if let Some(st) = &self.stats {
+            extra.push(("shading_points", st.shading_points.to_string()));
+            extra.push(("surface_points", st.surface_points.to_string()));
+            extra.push((
+                "lights_per_shading_point",
+                format!("{:.2}", st.lights_per_point()),
+            ));
+        }
+        let attributes = settings_attributes(march, backend, &extra);
+        write_exr_png(out, &self.image, &attributes, None)
+    }
 }
 
 /// The render settings as EXR header attributes (`lgh:` prefixed).

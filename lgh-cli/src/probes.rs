@@ -11,7 +11,19 @@ use rayon::prelude::*;
 
 use crate::progress;
 use lgh_cli::ply;
-use lgh_volume::Method;
+
+/// The many-lights method of the probes (`--backend`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ProbeBackend {
+    /// The lighting grid hierarchy (paper Sec. 3) at the paper's α.
+    Lgh,
+    /// Every light: the exact answer of the same light model.
+    Brute,
+    /// Lightcuts (Walter et al. 2005) at 2%, representatives drawn at random.
+    Lightcuts,
+    /// Lightcuts with each cluster's brightest light as its representative: no randomness.
+    LightcutsDeterministic,
+}
 
 /// Arguments of `lgh probes`.
 #[derive(Debug, clap::Args)]
@@ -29,8 +41,8 @@ pub struct ProbesArgs {
     #[arg(long, value_name = "OUT.ply")]
     pub out: PathBuf,
     /// Many-lights backend.
-    #[arg(long, value_enum, default_value_t = Method::Lgh)]
-    pub backend: Method,
+    #[arg(long, value_enum, default_value_t = ProbeBackend::Lgh)]
+    pub backend: ProbeBackend,
     /// Level-1 grid spacing h1 (default: chosen from the lights, paper Sec. 6.4).
     #[arg(long)]
     pub h1: Option<f32>,
@@ -105,17 +117,17 @@ pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
     let bar = progress::bar(points.len() as u64, "probes", args.quiet);
     let t2 = Instant::now();
     let (values, evaluated) = match args.backend {
-        Method::Lgh => {
+        ProbeBackend::Lgh => {
             let backend = LghBackend::new(&lgh, args.alpha)?;
             evaluate(&backend, &points, h0, &bar)?
         }
-        Method::Brute => {
+        ProbeBackend::Brute => {
             let backend = BruteForce::new(&lights).map_err(ctx)?;
             evaluate(&backend, &points, h0, &bar)?
         }
-        Method::Lightcuts | Method::LightcutsDeterministic => {
+        ProbeBackend::Lightcuts | ProbeBackend::LightcutsDeterministic => {
             let representative = match args.backend {
-                Method::Lightcuts => lgh_core::Representative::Stochastic { seed: 0 },
+                ProbeBackend::Lightcuts => lgh_core::Representative::Stochastic { seed: 0 },
                 _ => lgh_core::Representative::Brightest,
             };
             let tree = lgh_core::LightTree::build(&lights, representative).map_err(ctx)?;
@@ -144,8 +156,10 @@ pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
         points.len(),
         lights.len(),
         match args.backend {
-            Method::Brute => "brute force",
-            m => m.name(),
+            ProbeBackend::Brute => "brute force",
+            ProbeBackend::Lgh => "lgh",
+            ProbeBackend::Lightcuts => "lightcuts",
+            ProbeBackend::LightcutsDeterministic => "lightcuts-deterministic",
         },
         args.alpha,
         lgh.h1(),

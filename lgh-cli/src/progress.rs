@@ -17,3 +17,57 @@ pub fn bar(len: u64, what: &str, quiet: bool) -> ProgressBar {
     b.set_message(what.to_string());
     b
 }
+
+/// The library's progress ([`lgh_volume::Progress`]) as one bar a phase on stderr: labelled by
+/// the phase (the render's by `render_label` if given), hidden when quiet or when the phase has
+/// nothing to count.
+pub struct Bars {
+    quiet: bool,
+    render_label: Option<String>,
+    bar: std::sync::Mutex<Option<ProgressBar>>,
+}
+
+impl Bars {
+    /// Bars on stderr, none when `quiet`.
+    pub fn new(quiet: bool) -> Self {
+        Bars {
+            quiet,
+            render_label: None,
+            bar: std::sync::Mutex::new(None),
+        }
+    }
+
+    /// The render's bar labelled `label` (a frame's number, say) instead of "rendering".
+    pub fn with_render_label(mut self, label: String) -> Self {
+        self.render_label = Some(label);
+        self
+    }
+
+    fn current(&self) -> std::sync::MutexGuard<'_, Option<ProgressBar>> {
+        self.bar
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+impl lgh_volume::Progress for Bars {
+    fn begin(&self, phase: lgh_volume::Phase, total: u64) {
+        let label = match (phase, &self.render_label) {
+            (lgh_volume::Phase::Render, Some(label)) => label.as_str(),
+            _ => phase.label(),
+        };
+        *self.current() = Some(bar(total, label, self.quiet || total == 0));
+    }
+
+    fn advance(&self, steps: u64) {
+        if let Some(b) = self.current().as_ref() {
+            b.inc(steps);
+        }
+    }
+
+    fn end(&self, _: lgh_volume::Phase) {
+        if let Some(b) = self.current().take() {
+            b.finish_and_clear();
+        }
+    }
+}

@@ -224,6 +224,25 @@ pub struct LightcutsSettings {
     pub reuse_representative: bool,
 }
 
+impl LightcutsSettings {
+    /// Checks ε (finite and > 0) and the largest cut (≥ 1), before any tree is built.
+    ///
+    /// ```
+    /// use lgh_core::LightcutsSettings;
+    ///
+    /// assert!(LightcutsSettings::default().check().is_ok());
+    /// let none = LightcutsSettings { max_cut: 0, ..Default::default() };
+    /// assert!(none.check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<(), QueryError> {
+        let e = QueryError::check_threshold(self.relative_error)?;
+        if self.max_cut == 0 {
+            return Err(QueryError::InvalidThreshold { threshold: e });
+        }
+        Ok(())
+    }
+}
+
 impl Default for LightcutsSettings {
     /// Walter et al.'s 2 % and 1000, reusing representatives.
     fn default() -> Self {
@@ -309,10 +328,7 @@ fn cluster_bound(point: &ShadingPoint, lo: Vec3, hi: Vec3) -> Vec3 {
 impl<'a> LightcutsBackend<'a> {
     /// Lightcuts over `tree` (ε finite and > 0, `max_cut` ≥ 1).
     pub fn new(tree: &'a LightTree, settings: LightcutsSettings) -> Result<Self, QueryError> {
-        let e = QueryError::check_threshold(settings.relative_error)?;
-        if settings.max_cut == 0 {
-            return Err(QueryError::InvalidThreshold { threshold: e });
-        }
+        settings.check()?;
         Ok(LightcutsBackend { tree, settings })
     }
 

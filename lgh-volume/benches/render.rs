@@ -14,7 +14,7 @@ use lgh_volume::lgh_core::random::SplitMix64;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::shadow::{CubeMapSettings, CubeMaps, ShadowGrid};
-use lgh_volume::{explosion, procedural, ExplosionLights, Medium, Method};
+use lgh_volume::{explosion, procedural, ExplosionLights, FrameRender, Medium, Method};
 
 fn renders(c: &mut Criterion) {
     let volume = procedural(40, 0.5).unwrap();
@@ -28,32 +28,17 @@ fn renders(c: &mut Criterion) {
     for alpha in [1.0f32, 2.0, 4.0] {
         g.bench_with_input(BenchmarkId::new("lgh", alpha), &alpha, |b, &alpha| {
             b.iter(|| {
-                lights
-                    .render(
-                        Method::Lgh,
-                        alpha,
-                        &volume,
-                        &medium,
-                        &camera,
-                        &march,
-                        &|_| {},
-                    )
+                let lgh = Method::Lgh { alpha };
+                FrameRender::new(&lights, lgh, &volume, &medium, &march, &())
+                    .and_then(|f| f.render(&camera, &()))
                     .unwrap()
             })
         });
     }
     g.bench_function("brute", |b| {
         b.iter(|| {
-            lights
-                .render(
-                    Method::Brute,
-                    0.0,
-                    &volume,
-                    &medium,
-                    &camera,
-                    &march,
-                    &|_| {},
-                )
+            FrameRender::new(&lights, Method::Brute, &volume, &medium, &march, &())
+                .and_then(|f| f.render(&camera, &()))
                 .unwrap()
         })
     });

@@ -10,12 +10,16 @@
 //!   and emit ([`Medium`]: Planck's or Blender's emission); [`procedural`](mod@procedural): the embedded
 //!   explosions ([`explosion`], the demo's, and the older [`procedural`](fn@procedural)).
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
-//!   per-frame intensities, through the lighting grid hierarchy or brute force ([`Method`]).
+//!   per-frame intensities; [`method`]: the many-lights method that shades them ([`Method`]:
+//!   the lighting grid hierarchy at α, brute force, Lightcuts, or emission alone).
+//! - [`frame`]: [`FrameRender`], a frame made ready to render (scattering, method, shadows)
+//!   in one value; [`progress`]: how long work reports its progress.
 //! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: the
 //!   paper's deep-shadow cube maps over prefiltered density (Sec. 4, eq. 6), ray-marched, or
 //!   none); [`lighting`]: the one per-point lighting function, [`Lights::incident`] (eq. 1
 //!   with `V`).
-//! - [`render`]: camera and ray marcher (emission + single scattering) and the one pixel loop;
+//! - [`render`]: the ray marcher (emission + single scattering) and the one pixel loop;
+//!   [`camera`]: the camera and its automatic framing; [`stats`]: a render's work counts;
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
 //! - [`scattering`]: multiple scattering (Sec. 5): scattered lights at every voxel with smoke,
 //!   depth by depth, merged with the emission lights into one light per voxel.
@@ -24,31 +28,25 @@
 //! Deep-shadow cube maps (Sec. 4) plug into [`Visibility`], multiple scattering (Sec. 5) calls
 //! [`Lights::incident`] at every voxel with smoke. The lighting itself lives in [`lgh_core`].
 //!
+//! One value renders a frame ([`FrameRender`]): the lights through a [`Method`], their
+//! shadows, the volume and the medium, made ready once, then any camera:
+//!
 //! ```
 //! use lgh_volume::render::{Camera, Framing, MarchSettings};
-//! use lgh_volume::{procedural, ExplosionLights, Medium, Method};
+//! use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Shadows};
 //!
 //! let volume = procedural(32, 0.5)?;
 //! let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?; // κ_a, κ_s, k_e, T_min
 //! let lights = ExplosionLights::new(&[&volume], &medium)?;
+//! let settings = MarchSettings { shadows: Shadows::CubeMap, ..Default::default() };
+//! let alpha = 2.0; // the paper's α
+//! let frame = FrameRender::new(&lights, Method::Lgh { alpha }, &volume, &medium, &settings, &())?;
 //! let (lo, hi) = volume.active_bounds().unwrap();
-//! let camera = Camera::frame(lo, hi, 32, 18)?;
-//! let (image, stats) = lights.render(
-//!     Method::Lgh,
-//!     2.0, // the paper's α
-//!     &volume,
-//!     &medium,
-//!     &camera,
-//!     &MarchSettings::default(),
-//!     &|_rows| {},
-//! )?;
+//! let (image, stats) = frame.render(&Camera::frame(lo, hi, 32, 18)?, &())?;
 //! assert_eq!(image.pixels.len(), 32 * 18);
 //! println!("{:.0} lights per shading point", stats.lights_per_point());
 //! # Ok::<(), lgh_volume::VolumeError>(())
 //! ```
-//!
-//! Feature `clap`: the choices ([`Shadows`], [`Method`]) derive `clap::ValueEnum`, so a
-//! command line takes them as they are.
 
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
@@ -56,23 +54,32 @@
 pub use lgh_core;
 
 pub mod cache;
+pub mod camera;
 pub mod error;
+pub mod frame;
 pub mod grid;
 pub mod lighting;
 pub mod lights;
 pub mod medium;
+pub mod method;
 pub mod pathtrace;
 pub mod procedural;
+pub mod progress;
 pub mod render;
 pub mod scattering;
+mod shading;
 pub mod shadow;
+pub mod stats;
 pub mod surfaces;
 pub mod vdb;
 
 pub use error::VolumeError;
 pub use grid::DenseGrid;
 pub use lighting::Lights;
-pub use lights::{ExplosionLights, Method, Variants};
+pub use frame::{FrameRender, PrepareSeconds};
+pub use lights::{ExplosionLights, Variants};
+pub use method::{FrameBackend, Method};
+pub use progress::{Phase, Progress};
 pub use medium::{EmissionModel, Medium, Volume, MAX_EMISSION};
 pub use procedural::{bouncing_balls, explosion, procedural, Explosion};
 pub use shadow::{Shadows, Visibility};

@@ -61,7 +61,7 @@ impl<B: ManyLights> Lights<B> {
         visibility: &Visibility,
         mut response: impl FnMut(&LightSample) -> Vec3,
         scratch: &mut LightScratch,
-        stats: &mut crate::render::RenderStats,
+        stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
         let h0 = self.h0;
         let term =
@@ -144,7 +144,7 @@ impl<B: ManyLights> Lights<B> {
         scale: f32,
         visibility: &Visibility,
         scratch: &mut LightScratch,
-        stats: &mut crate::render::RenderStats,
+        stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
         let point = ShadingPoint::in_medium(x);
         let phase = Vec3::splat(ISOTROPIC_PHASE);

@@ -10,54 +10,11 @@
 use std::borrow::Borrow;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{
-    BruteForce, Clustering, GridSettings, Illumination, LghBackend, LightPosition, LightTree,
-    LightcutsBackend, LightcutsSettings, LightingGridHierarchy, ManyLights, PointLight, QueryError,
-    Representative, Shader, ShadingPoint,
-};
-use lgh_image::Image;
+use lgh_core::{Clustering, GridSettings, LightPosition, LightingGridHierarchy, PointLight};
 
 use crate::error::VolumeError;
-use crate::lighting::Lights;
+use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
-#[cfg(test)]
-use crate::render::Shadows;
-use crate::render::{Camera, MarchSettings, Marcher, RenderStats};
-use crate::shadow::{CubeMaps, Visibility, VolumeRays};
-use crate::DenseGrid;
-
-/// Which many-lights method shades the scattering (`--backend` of the CLI). The hierarchy's
-/// α is a setting of its own, so that this stays a plain choice.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum Method {
-    /// The lighting grid hierarchy (paper Sec. 3) at the paper's α.
-    #[default]
-    Lgh,
-    /// Every light `S0`: the exact answer of the same light model.
-    Brute,
-    /// Lightcuts (Walter et al. 2005, the paper's Fig. 10 rival) at 2%: a light tree over the
-    /// frame's lights with representatives drawn at random
-    /// ([`set_lightcuts_seed`](ExplosionLights::set_lightcuts_seed); a new tree every frame, as
-    /// the paper ran it), shadows ray-marched.
-    Lightcuts,
-    /// Lightcuts with each cluster's brightest light as its representative: no randomness.
-    LightcutsDeterministic,
-}
-
-impl Method {
-    /// The method's name, as in `lgh_core`'s [`ManyLights::name`] (`lgh`, `brute`, `lightcuts`,
-    /// `lightcuts-deterministic`).
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Lgh => "lgh",
-            Method::Brute => "brute",
-            Method::Lightcuts => "lightcuts",
-            Method::LightcutsDeterministic => "lightcuts-deterministic",
-        }
-    }
-}
 
 /// The paper's flickering variants of the hierarchy (Secs. 3.1, 3.2, Fig. 9), each one choice
 /// away from its method so that `lgh bench flicker` measures what each choice does to an
@@ -87,10 +44,6 @@ pub struct ExplosionLights {
     prune: f32,
     /// The hierarchy's variants (the paper's by default).
     variants: Variants,
-    /// Seed of [`Method::Lightcuts`]' representatives.
-    lightcuts_seed: u64,
-    /// ε and the largest cut of the Lightcuts methods (Walter's 2% and 1000 by default).
-    lightcuts: LightcutsSettings,
 }
 
 /// The grid of the paper's explosions (Sec. 6.1): `h1 = 2h`, level-1 vertices on voxel
@@ -235,8 +188,6 @@ impl ExplosionLights {
             hierarchy,
             prune: 0.0,
             variants: Variants::default(),
-            lightcuts_seed: 0,
-            lightcuts: LightcutsSettings::default(),
         })
     }
 
@@ -283,24 +234,6 @@ impl ExplosionLights {
     #[must_use]
     pub fn variants(&self) -> Variants {
         self.variants
-    }
-
-    /// The seed of [`Method::Lightcuts`]' random representatives: the paper's comparison draws
-    /// a new tree every frame, so a sequence sets a new seed per frame.
-    pub fn set_lightcuts_seed(&mut self, seed: u64) {
-        self.lightcuts_seed = seed;
-    }
-
-    /// ε and the largest cut of the Lightcuts methods (Walter's 2% and 1000 by default),
-    /// checked when a backend is made.
-    pub fn set_lightcuts_settings(&mut self, settings: LightcutsSettings) {
-        self.lightcuts = settings;
-    }
-
-    /// The Lightcuts methods' ε and largest cut.
-    #[must_use]
-    pub fn lightcuts_settings(&self) -> LightcutsSettings {
-        self.lightcuts
     }
 
     /// Prunes weak lights, as the paper does "for additional optimization" (Sec. 6): the
@@ -424,204 +357,11 @@ impl ExplosionLights {
         &self.hierarchy
     }
 
-    /// This frame's lights through `method` (`alpha`: the hierarchy's α; brute force takes only
-    /// the lights that shine), with the fall-off clamped at the voxel size (`h0 = h`, paper
-    /// Sec. 6.1): what [`render`](fn@crate::render::render) and [`Lights::incident`] take.
-    ///
-    /// ```
-    /// use lgh_volume::lgh_core::glam::Vec3;
-    /// use lgh_volume::lgh_core::ShadingPoint;
-    /// use lgh_volume::lighting::LightScratch;
-    /// use lgh_volume::render::RenderStats;
-    /// use lgh_volume::shadow::Visibility;
-    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method};
-    ///
-    /// let volume = procedural(32, 0.5)?;
-    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
-    /// let explosion = ExplosionLights::new(&[&volume], &medium)?;
-    /// let at = ShadingPoint::in_medium(Vec3::new(0.0, 0.5, 0.0));
-    /// let mut incident = |method| -> Result<Vec3, lgh_volume::VolumeError> {
-    ///     let lights = explosion.backend(method, 64.0)?;
-    ///     let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
-    ///     Ok(lights.incident(&at, &Visibility::None, |_| Vec3::ONE, &mut scratch, &mut stats)?)
-    /// };
-    /// // At α = 64 every light is in level 0 with weight 1: brute force up to rounding.
-    /// let (lgh, brute) = (incident(Method::Lgh)?, incident(Method::Brute)?);
-    /// assert!((lgh - brute).abs().max_element() <= 1e-4 * brute.max_element());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
-    /// ```
-    pub fn backend(
-        &self,
-        method: Method,
-        alpha: f32,
-    ) -> Result<Lights<FrameBackend<'_>>, VolumeError> {
-        let lit = || -> Vec<PointLight> {
-            self.lights
-                .iter()
-                .copied()
-                .filter(|l| l.intensity.max_element() > 0.0)
-                .collect()
-        };
-        let lightcuts = |representative| -> Result<FrameBackend<'_>, VolumeError> {
-            let tree = LightTree::build(&lit(), representative)?;
-            let settings = self.lightcuts;
-            // Checked once here; the backend is remade per query from the tree it owns.
-            LightcutsBackend::new(&tree, settings)?;
-            Ok(FrameBackend::Lightcuts(Box::new(tree), settings))
-        };
-        let backend = match method {
-            Method::Lgh => {
-                let mut blending = self.hierarchy.blending(alpha)?;
-                if self.variants.hard_switches {
-                    blending = blending.with_hard_switches();
-                }
-                FrameBackend::Lgh(LghBackend::with_blending(&self.hierarchy, blending)?)
-            }
-            Method::Brute => FrameBackend::Brute(BruteForce::new(&lit())?),
-            Method::Lightcuts => lightcuts(Representative::Stochastic {
-                seed: self.lightcuts_seed,
-            })?,
-            Method::LightcutsDeterministic => lightcuts(Representative::Brightest)?,
-        };
-        Ok(Lights::new(backend, self.voxel_size))
-    }
-
-    /// The visibility `settings.shadows` asks for, for this frame's lights through `method` at
-    /// `alpha`: with [`Shadows::CubeMap`](crate::Shadows::CubeMap) and the hierarchy, its
-    /// deep-shadow cube maps ([`CubeMaps::build`]: refused before any work if they would not
-    /// fit `settings.cube_maps.memory_budget`; `progress(n)` as `n` more lights' maps are
-    /// done); brute force, which has no hierarchy, ray-marches.
-    pub fn visibility(
-        &self,
-        method: Method,
-        alpha: f32,
-        frame: &Volume,
-        medium: &Medium,
-        settings: &MarchSettings,
-        progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<Visibility, VolumeError> {
-        settings.check()?;
-        if settings.shadows == crate::Shadows::CubeMap && method == Method::Lgh {
-            let blending = self.hierarchy.blending(alpha)?;
-            let maps = CubeMaps::build(
-                &self.hierarchy,
-                &blending,
-                frame,
-                medium,
-                &settings.cube_maps,
-                progress,
-            )?;
-            return Ok(Visibility::CubeMaps(maps));
-        }
-        if settings.shadows == crate::Shadows::RayMarchVolumes && method == Method::Lgh {
-            return Ok(Visibility::VolumeRays(VolumeRays::new(
-                &self.hierarchy,
-                &self.hierarchy.blending(alpha)?,
-                frame,
-                medium,
-                &settings.cube_maps,
-                settings.shadow_step_voxels,
-                settings.min_transmittance,
-            )));
-        }
-        Ok(Visibility::new(
-            settings.shadows,
-            frame,
-            medium,
-            settings.shadow_step_voxels,
-            settings.min_transmittance,
-        ))
-    }
-
-    /// The marcher of `frame` with the visibility of [`visibility`](Self::visibility): what
-    /// [`render`](Self::render) renders with, for a caller that adds to it (surfaces:
-    /// [`Marcher::with_surfaces`]).
-    pub fn marcher<'a>(
-        &self,
-        method: Method,
-        alpha: f32,
-        frame: &'a Volume,
-        medium: &'a Medium,
-        settings: &MarchSettings,
-    ) -> Result<Marcher<'a>, VolumeError> {
-        let visibility = self.visibility(method, alpha, frame, medium, settings, &|_| {})?;
-        Marcher::with_visibility(frame, medium, settings, visibility)
-    }
-
-    /// Renders `frame` (whose intensities were set by [`set_frame`](Self::set_frame) or
-    /// [`new`](Self::new)) through `method` at `alpha`; `progress(rows)` as rows finish.
-    #[allow(clippy::too_many_arguments)]
-    pub fn render(
-        &self,
-        method: Method,
-        alpha: f32,
-        frame: &Volume,
-        medium: &Medium,
-        camera: &Camera,
-        settings: &MarchSettings,
-        progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<(Image, RenderStats), VolumeError> {
-        let lights = self.backend(method, alpha)?;
-        self.marcher(method, alpha, frame, medium, settings)?
-            .render(Some(&lights), camera, progress)
-    }
-
-    /// Renders only the pixels `(x, y)` of `pixels`, as [`render`](Self::render) would.
-    #[allow(clippy::too_many_arguments)]
-    pub fn render_pixels(
-        &self,
-        method: Method,
-        alpha: f32,
-        frame: &Volume,
-        medium: &Medium,
-        camera: &Camera,
-        settings: &MarchSettings,
-        pixels: &[[usize; 2]],
-    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
-        let lights = self.backend(method, alpha)?;
-        self.marcher(method, alpha, frame, medium, settings)?
-            .render_pixels(Some(&lights), camera, pixels)
-    }
-}
-
-/// A [`Method`] made ready over one frame's lights: one type for the renderer, whichever
-/// method was chosen. (One value per render, so the variants' size difference costs nothing.)
-#[allow(clippy::large_enum_variant)]
-#[derive(Clone, Debug)]
-pub enum FrameBackend<'a> {
-    /// The hierarchy at one α.
-    Lgh(LghBackend<'a>),
-    /// Every light that shines this frame.
-    Brute(BruteForce),
-    /// Lightcuts over a light tree of the frame's lights.
-    Lightcuts(Box<LightTree>, LightcutsSettings),
-}
-
-impl ManyLights for FrameBackend<'_> {
-    fn name(&self) -> &'static str {
-        match self {
-            FrameBackend::Lgh(b) => b.name(),
-            FrameBackend::Brute(b) => b.name(),
-            FrameBackend::Lightcuts(..) => "lightcuts",
-        }
-    }
-
-    fn selection_follows_shader(&self) -> bool {
-        matches!(self, FrameBackend::Lightcuts(..))
-    }
-
-    fn illuminate<S: Shader>(
-        &self,
-        point: &ShadingPoint,
-        shader: &mut S,
-    ) -> Result<Illumination, QueryError> {
-        match self {
-            FrameBackend::Lgh(b) => b.illuminate(point, shader),
-            FrameBackend::Brute(b) => b.illuminate(point, shader),
-            FrameBackend::Lightcuts(tree, settings) => {
-                LightcutsBackend::new(tree, *settings)?.illuminate(point, shader)
-            }
-        }
+    /// The voxel size `h` of the lights' grid: the fall-off clamp `h0 = h` of the paper's
+    /// explosions (Sec. 6.1).
+    #[must_use]
+    pub fn voxel_size(&self) -> f32 {
+        self.voxel_size
     }
 }
 
@@ -629,7 +369,6 @@ impl ManyLights for FrameBackend<'_> {
 mod tests {
     use super::*;
     use crate::procedural::procedural;
-    use crate::render::Framing;
 
     #[test]
     fn pruning_follows_each_frames_brightest_light() {
@@ -646,40 +385,6 @@ mod tests {
         // A bad fraction changes nothing.
         assert!(seq.set_prune(f32::NAN).is_err());
         assert_eq!(seq.prune(), 1e-3);
-    }
-
-    #[test]
-    fn a_sequence_frame_matches_the_frames_own_lights() {
-        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let a = procedural(32, 0.2).unwrap();
-        let b = procedural(32, 0.8).unwrap();
-        let mut seq = ExplosionLights::new(&[&a, &b], &m).unwrap();
-        seq.set_frame(&b, &m).unwrap();
-        // Frame b alone: its hot voxels are a subset, with the same intensities.
-        let alone = ExplosionLights::new(&[&b], &m).unwrap();
-        assert_eq!(alone.lit(), seq.lit());
-        let lit = |s: &ExplosionLights| {
-            s.lights()
-                .iter()
-                .filter(|l| l.intensity.max_element() > 0.0)
-                .map(|l| (l.position, l.intensity))
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(lit(&alone), lit(&seq));
-        // Dark lights add exactly nothing to eqs. 1-5, so with the same number of levels the
-        // sequence renders the frame bit for bit as the frame's own lights do.
-        assert_eq!(seq.hierarchy().max_level(), alone.hierarchy().max_level());
-        let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 12, 8).unwrap();
-        let s = MarchSettings::default();
-        let none = &|_: usize| {};
-        let x = seq
-            .render(Method::Lgh, 2.0, &b, &m, &cam, &s, none)
-            .unwrap();
-        let y = alone
-            .render(Method::Lgh, 2.0, &b, &m, &cam, &s, none)
-            .unwrap();
-        assert_eq!(x.0.pixels, y.0.pixels);
-        assert!(x.0.pixels.iter().any(|p| p.max_element() > 0.0));
     }
 
     #[test]
@@ -705,47 +410,6 @@ mod tests {
             let want = medium.emission_at(v.temperature.data[idx]) * h3;
             assert_eq!(l.intensity, want);
             assert!(v.temperature.sample(l.position) > 1000.0 * 0.999);
-        }
-    }
-
-    #[test]
-    fn lgh_single_scattering_converges_to_brute_force() {
-        let v = procedural(32, 0.4).unwrap();
-        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let s = ExplosionLights::new(&[&v], &m).unwrap();
-        let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 16, 16).unwrap();
-        let pixels = [[8, 8], [6, 9], [10, 7], [5, 5]];
-        for shadows in [Shadows::None, Shadows::RayMarch] {
-            let march = MarchSettings {
-                shadows,
-                ..Default::default()
-            };
-            let render = |b, alpha| {
-                s.render_pixels(b, alpha, &v, &m, &cam, &march, &pixels)
-                    .unwrap()
-                    .0
-            };
-            let exact = render(Method::Brute, 0.0);
-            let errs: Vec<f64> = [2.0f32, 64.0]
-                .iter()
-                .map(|&alpha| {
-                    let got = render(Method::Lgh, alpha);
-                    let num: f64 = got
-                        .iter()
-                        .zip(&exact)
-                        .map(|(a, r)| f64::from((*a - *r).abs().max_element()))
-                        .sum();
-                    num / exact
-                        .iter()
-                        .map(|r| f64::from(r.max_element()))
-                        .sum::<f64>()
-                })
-                .collect();
-            // α = 64 puts every light in level 0 with weight 1: brute force up to summation
-            // order. α = 2 stays within 10 % on these pixels (tests/explosion.rs bounds whole
-            // images of a real frame, when the data is there).
-            assert!(errs[1] < 1e-4, "{shadows:?}: {errs:?}");
-            assert!(errs[0] < 0.1 && errs[1] < errs[0], "{shadows:?}: {errs:?}");
         }
     }
 }

@@ -918,12 +918,7 @@ mod tests {
             };
             Marcher::new(vol, &m, &s)
                 .unwrap()
-                .march(
-                    Some(&Lights::new(brute, h0)),
-                    o,
-                    d,
-                    &mut RenderStats::default(),
-                )
+                .march(&Lights::new(brute, h0), o, d, &mut RenderStats::default())
                 .unwrap()
         };
         let maj = Majorants::new(&v, &m).unwrap();

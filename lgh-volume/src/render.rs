@@ -23,132 +23,8 @@ pub use crate::shadow::Shadows;
 use crate::shadow::{CubeMapSettings, Visibility};
 use crate::surfaces::{SurfaceHit, Surfaces};
 
-/// The one image-size rule of every renderer (it lives in lgh-image).
-pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
-
-/// The pinhole camera, shared with the surface renderer: lgh-image's
-/// [`Pinhole`](lgh_image::camera::Pinhole). [`Framing`] adds what the volume renderer needs on
-/// top: typed errors, the automatic framing of a box, and the check of pixel lists.
-pub use lgh_image::camera::Pinhole as Camera;
-
-/// The volume renderer's conveniences on [`Camera`] (implemented for it; bring the trait into
-/// scope to call `Camera::frame(...)`, `Camera::look_at(...)` or `camera.check_pixels(...)`).
-///
-/// ```
-/// use lgh_volume::lgh_core::glam::Vec3;
-/// use lgh_volume::render::{Camera, Framing};
-///
-/// let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 64, 36)?;
-/// assert_eq!((camera.width(), camera.height()), (64, 36));
-/// assert!(camera.check_pixels(&[[63, 35]]).is_ok());
-/// assert!(camera.check_pixels(&[[64, 0]]).is_err());
-/// # Ok::<(), lgh_volume::VolumeError>(())
-/// ```
-pub trait Framing: Sized {
-    /// A camera at `eye` looking at `target`, `up` roughly up, vertical field of view in degrees
-    /// and a `width × height` image: [`Camera::new`], its
-    /// [`CameraError`](lgh_image::camera::CameraError) as a [`VolumeError::Camera`].
-    fn look_at(
-        eye: Vec3,
-        target: Vec3,
-        up: Vec3,
-        fov_y: f32,
-        width: usize,
-        height: usize,
-    ) -> Result<Self, VolumeError>;
-
-    /// Frames the box `lo..hi` in a +Y-up world: [`frame_up`](Self::frame_up) with [`Up::Y`].
-    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, VolumeError>;
-
-    /// Frames the box `lo..hi`: looks at its centre from the front, a little to the right and
-    /// above, from the distance where the box's bounding sphere shrunk to 80% fills the narrower
-    /// field of view (40° vertically). Smoke rarely fills its box to the corners, and the full
-    /// sphere leaves it small in the frame.
-    fn frame_up(
-        lo: Vec3,
-        hi: Vec3,
-        width: usize,
-        height: usize,
-        up: Up,
-    ) -> Result<Self, VolumeError>;
-
-    /// Checks that every `(x, y)` of `pixels` is inside the image.
-    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), VolumeError>;
-}
-
-impl Framing for Camera {
-    fn look_at(
-        eye: Vec3,
-        target: Vec3,
-        up: Vec3,
-        fov_y: f32,
-        width: usize,
-        height: usize,
-    ) -> Result<Self, VolumeError> {
-        Ok(Camera::new(eye, target, up, fov_y, width, height)?)
-    }
-
-    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, VolumeError> {
-        Camera::frame_up(lo, hi, width, height, Up::Y)
-    }
-
-    fn frame_up(
-        lo: Vec3,
-        hi: Vec3,
-        width: usize,
-        height: usize,
-        up: Up,
-    ) -> Result<Self, VolumeError> {
-        let centre = 0.5 * (lo + hi);
-        let radius = 0.8 * 0.5 * (hi - lo).length();
-        let fov_y = 40.0f32;
-        let aspect = width as f32 / height.max(1) as f32;
-        let half = (0.5 * fov_y).to_radians().tan() * aspect.min(1.0);
-        let distance = radius / half.atan().sin();
-        let (right, upv, front) = up.basis();
-        let dir = (0.35 * right + 0.25 * upv + front).normalize();
-        Camera::look_at(centre + dir * distance, centre, upv, fov_y, width, height)
-    }
-
-    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), VolumeError> {
-        match pixels
-            .iter()
-            .find(|p| p[0] >= self.width() || p[1] >= self.height())
-        {
-            Some(&pixel) => Err(VolumeError::PixelOutside {
-                pixel,
-                width: self.width(),
-                height: self.height(),
-            }),
-            None => Ok(()),
-        }
-    }
-}
-
-/// The world's up axis, for automatic framing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Up {
-    /// +Y up, the camera in front on +Z (most engines, Houdini).
-    Y,
-    /// +Z up, the camera in front on −Y (Blender).
-    Z,
-}
-
-impl Up {
-    /// The up vector.
-    #[must_use]
-    pub fn vector(self) -> Vec3 {
-        self.basis().1
-    }
-
-    /// (right, up, front): the axes as seen by a camera in front of the scene.
-    fn basis(self) -> (Vec3, Vec3, Vec3) {
-        match self {
-            Up::Y => (Vec3::X, Vec3::Y, Vec3::Z),
-            Up::Z => (Vec3::X, Vec3::Z, -Vec3::Y),
-        }
-    }
-}
+pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
+pub use crate::stats::RenderStats;
 
 /// Ray-marching parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -165,10 +41,16 @@ pub struct MarchSettings {
     pub shadows: Shadows,
     /// How cube maps are traced (with `shadows: CubeMap` and a hierarchy).
     pub cube_maps: CubeMapSettings,
+    /// Depths of scattered light (paper Sec. 5) a [`FrameRender`](crate::FrameRender) computes
+    /// before it renders: 0 is single scattering; `n` adds lights for light scattered `1..=n`
+    /// times, so paths of up to `n + 1` scattering events (the paper's Fig. 7 uses 4). At most
+    /// [`MAX_SCATTER_DEPTH`](crate::scattering::MAX_SCATTER_DEPTH).
+    pub scatter_depth: usize,
 }
 
 impl MarchSettings {
-    /// Checks the settings: steps of 0.01 to 64 voxels, a cut-off in [0, 1).
+    /// Checks the settings: steps of 0.01 to 64 voxels, a cut-off in [0, 1), a scattering depth
+    /// of at most [`MAX_SCATTER_DEPTH`](crate::scattering::MAX_SCATTER_DEPTH).
     ///
     /// ```
     /// use lgh_volume::render::MarchSettings;
@@ -198,6 +80,7 @@ impl MarchSettings {
             self.min_transmittance,
             "must be in [0, 1)",
         )?;
+        crate::scattering::check_depth(self.scatter_depth)?;
         Ok(())
     }
 }
@@ -210,6 +93,7 @@ impl Default for MarchSettings {
             min_transmittance: 1e-3,
             shadows: Shadows::RayMarch,
             cube_maps: CubeMapSettings::default(),
+            scatter_depth: 0,
         }
     }
 }
@@ -240,39 +124,6 @@ impl MarchSettings {
     }
 }
 
-/// What a render did: the work counts that explain its time.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RenderStats {
-    /// Steps where the lights were evaluated (scattering medium, lights given).
-    pub shading_points: u64,
-    /// Lights (or clusters) evaluated, summed over shading points.
-    pub lights_evaluated: u64,
-    /// Density samples taken along shadow rays.
-    pub shadow_samples: u64,
-    /// Surface points shaded: camera rays that met a surface (also in `shading_points`).
-    pub surface_points: u64,
-}
-
-impl RenderStats {
-    /// Adds another count.
-    pub fn add(&mut self, o: &RenderStats) {
-        self.shading_points += o.shading_points;
-        self.lights_evaluated += o.lights_evaluated;
-        self.shadow_samples += o.shadow_samples;
-        self.surface_points += o.surface_points;
-    }
-
-    /// Mean lights evaluated per shading point (0 when none).
-    #[must_use]
-    pub fn lights_per_point(&self) -> f64 {
-        if self.shading_points == 0 {
-            0.0
-        } else {
-            self.lights_evaluated as f64 / self.shading_points as f64
-        }
-    }
-}
-
 /// A frame ready to march: the volume, its medium, the checked settings and the visibility they
 /// ask for, built once. The state is consistent by construction: nothing can change the
 /// settings without building the visibility anew (make another `Marcher`).
@@ -291,15 +142,16 @@ impl<'a> Marcher<'a> {
     ///
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;
-    /// use lgh_volume::lgh_core::BruteForce;
-    /// use lgh_volume::{procedural, Medium};
+    /// use lgh_volume::lgh_core::{BruteForce, PointLight};
+    /// use lgh_volume::{procedural, Lights, Medium};
     /// use lgh_volume::render::{MarchSettings, Marcher, RenderStats};
     ///
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let marcher = Marcher::new(&volume, &medium, &MarchSettings::default())?;
-    /// // Emission only (no lights to scatter): radiance along a ray through the centre.
-    /// let l = marcher.march::<BruteForce>(None, Vec3::new(0.0, 0.0, 3.0), -Vec3::Z, &mut RenderStats::default())?;
+    /// // One light at the centre, shadows ray-marched: radiance along a ray through it.
+    /// let lights = Lights::new(BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::ONE)])?, 0.05);
+    /// let l = marcher.march(&lights, Vec3::new(0.0, 0.0, 3.0), -Vec3::Z, &mut RenderStats::default())?;
     /// assert!(l.max_element() > 0.0);
     /// # Ok::<(), lgh_volume::VolumeError>(())
     /// ```
@@ -319,9 +171,10 @@ impl<'a> Marcher<'a> {
         Marcher::with_visibility(volume, medium, settings, visibility)
     }
 
-    /// [`new`](Self::new) with a visibility made by the caller (the cube maps of a hierarchy,
-    /// say) instead of the one `settings.shadows` asks for.
-    pub fn with_visibility(
+    /// [`new`](Self::new) with a visibility made for the lights it will shade (the cube maps
+    /// of a hierarchy: [`FrameRender`](crate::FrameRender) ties the two) instead of the one
+    /// `settings.shadows` asks for.
+    pub(crate) fn with_visibility(
         volume: &'a Volume,
         medium: &'a Medium,
         settings: &MarchSettings,
@@ -349,9 +202,20 @@ impl<'a> Marcher<'a> {
         self
     }
 
-    /// Renders the image of `camera` with single scattering from `lights` (if given), rows in
-    /// parallel; `progress(rows)` as rows finish. See [`render`].
+    /// Renders the image of `camera` with single scattering from `lights`, rows in parallel (each
+    /// pixel is independent and the counts are integer sums, so neither depends on the thread
+    /// count); `progress(rows)` as rows finish.
     pub fn render<B: ManyLights + Sync>(
+        &self,
+        lights: &Lights<B>,
+        camera: &Camera,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<(Image, RenderStats), VolumeError> {
+        self.render_lit(Some(lights), camera, progress)
+    }
+
+    /// [`render`](Self::render), emission alone without `lights`.
+    pub(crate) fn render_lit<B: ManyLights + Sync>(
         &self,
         lights: Option<&Lights<B>>,
         camera: &Camera,
@@ -361,34 +225,26 @@ impl<'a> Marcher<'a> {
         Ok((image(camera, pixels.into_iter()), stats))
     }
 
-    /// The pixels `(x, y)` of `pixels` only, exactly as [`render`](Self::render) computes them.
+    /// The pixels `(x, y)` of `pixels` only, exactly as [`render`](Self::render) computes them,
+    /// in parallel: for references and benchmarks on pixel subsets. Pixels outside the image are
+    /// an error.
     pub fn render_pixels<B: ManyLights + Sync>(
+        &self,
+        lights: &Lights<B>,
+        camera: &Camera,
+        pixels: &[[usize; 2]],
+    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+        self.render_pixels_lit(Some(lights), camera, pixels)
+    }
+
+    /// [`render_pixels`](Self::render_pixels), emission alone without `lights`.
+    pub(crate) fn render_pixels_lit<B: ManyLights + Sync>(
         &self,
         lights: Option<&Lights<B>>,
         camera: &Camera,
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
         march_pixels(self, lights, camera, Some(pixels), &|_| {})
-    }
-
-    /// [`new`](Self::new) for a render whose lights are `lights`: without them there is
-    /// nothing to shadow, and no visibility is built.
-    fn for_lights<B>(
-        volume: &'a Volume,
-        medium: &'a Medium,
-        settings: &MarchSettings,
-        lights: Option<&Lights<B>>,
-    ) -> Result<Self, VolumeError> {
-        let shadows = if lights.is_some() {
-            settings.shadows
-        } else {
-            Shadows::None
-        };
-        let settings = MarchSettings {
-            shadows,
-            ..*settings
-        };
-        Marcher::new(volume, medium, &settings)
     }
 
     /// The volume.
@@ -416,18 +272,19 @@ impl<'a> Marcher<'a> {
     }
 
     /// Radiance arriving at `origin` along `-dir` (the ray `origin + t·dir`), with single
-    /// scattering from `lights` (if given); a failed lighting query is an error.
+    /// scattering from `lights`; a failed lighting query is an error.
     pub fn march<B: ManyLights>(
         &self,
-        lights: Option<&Lights<B>>,
+        lights: &Lights<B>,
         origin: Vec3,
         dir: Vec3,
         stats: &mut RenderStats,
     ) -> Result<Vec3, VolumeError> {
-        self.march_with(lights, origin, dir, stats, &mut LightScratch::default())
+        self.march_with(Some(lights), origin, dir, stats, &mut LightScratch::default())
     }
 
-    /// [`march`](Self::march) with buffers that the caller reuses from ray to ray.
+    /// [`march`](Self::march) (emission alone without `lights`) with buffers that the caller
+    /// reuses from ray to ray.
     fn march_with<B: ManyLights>(
         &self,
         lights: Option<&Lights<B>>,
@@ -441,7 +298,10 @@ impl<'a> Marcher<'a> {
         let (lo, hi) = volume.density.bounds();
         let hit = self.surfaces.and_then(|s| Some((s, s.hit(origin, dir)?)));
         let surface = |stats: &mut RenderStats, scratch: &mut LightScratch| match hit {
-            Some((s, hit)) => self.shade_surface(lights, s, origin, dir, hit, stats, scratch),
+            Some((s, hit)) => {
+                let lights = lights.map(|l| (l, s));
+                self.shade_surface(lights, origin + dir * hit.t, hit, stats, scratch)
+            }
             None => Ok(Vec3::ZERO),
         };
         let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
@@ -484,28 +344,25 @@ impl<'a> Marcher<'a> {
         Ok(radiance)
     }
 
-    /// The light a Lambertian surface reflects towards the camera at `hit` of the ray
-    /// `origin + t dir`: `Σ_j (ρ/π) max(0, n·ω_j) I_j g(d_j) T_smoke V_surfaces` through the
+    /// The light a Lambertian surface reflects towards the camera at `hit` (the point `at` of
+    /// one of `surfaces`): `Σ_j (ρ/π) max(0, n·ω_j) I_j g(d_j) T_smoke V_surfaces` through the
     /// same backend and smoke visibility as the medium ([`crate::surfaces`]). Black without
     /// lights.
-    #[allow(clippy::too_many_arguments)]
     fn shade_surface<B: ManyLights>(
         &self,
-        lights: Option<&Lights<B>>,
-        surfaces: &dyn Surfaces,
-        origin: Vec3,
-        dir: Vec3,
+        lights: Option<(&Lights<B>, &dyn Surfaces)>,
+        at: Vec3,
         hit: SurfaceHit,
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
     ) -> Result<Vec3, VolumeError> {
-        let Some(lights) = lights else {
+        let Some((lights, surfaces)) = lights else {
             return Ok(Vec3::ZERO);
         };
         // Lifted off the surface by a thousandth of a voxel, so that its own shadow tests do
         // not meet it.
         let lift = 1e-3 * self.volume.density.voxel_size;
-        let x = origin + dir * hit.t + hit.normal * lift;
+        let x = at + hit.normal * lift;
         let brdf = hit.albedo * std::f32::consts::FRAC_1_PI;
         let response = |l: &LightSample| {
             let cos = hit.normal.dot(l.position - x) / l.distance;
@@ -597,20 +454,6 @@ fn march_pixels<B: ManyLights + Sync>(
     Ok((radiance, stats))
 }
 
-/// Renders an image, rows in parallel (each pixel is independent and the counts are integer
-/// sums, so neither depends on the thread count). `progress(rows)` is called as rows finish.
-/// Without `lights` the render is emission only (and builds no visibility).
-pub fn render<B: ManyLights + Sync>(
-    volume: &Volume,
-    medium: &Medium,
-    lights: Option<&Lights<B>>,
-    camera: &Camera,
-    settings: &MarchSettings,
-    progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Image, RenderStats), VolumeError> {
-    Marcher::for_lights(volume, medium, settings, lights)?.render(lights, camera, progress)
-}
-
 /// An image of `camera`'s size from its pixels in order (what [`shade_pixels`] returns for the
 /// whole image), without a black image to overwrite first.
 pub(crate) fn image(camera: &Camera, pixels: impl Iterator<Item = Vec3>) -> Image {
@@ -619,20 +462,6 @@ pub(crate) fn image(camera: &Camera, pixels: impl Iterator<Item = Vec3>) -> Imag
         height: camera.height(),
         pixels: pixels.collect(),
     }
-}
-
-/// The pixels `(x, y)` of `pixels` only, exactly as [`render`] computes them, in parallel: for
-/// brute-force references and benchmarks on pixel subsets. Pixels outside the image are an
-/// error.
-pub fn render_pixels<B: ManyLights + Sync>(
-    volume: &Volume,
-    medium: &Medium,
-    lights: Option<&Lights<B>>,
-    camera: &Camera,
-    settings: &MarchSettings,
-    pixels: &[[usize; 2]],
-) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
-    Marcher::for_lights(volume, medium, settings, lights)?.render_pixels(lights, camera, pixels)
 }
 
 #[cfg(test)]
@@ -660,11 +489,12 @@ mod tests {
             let j = m.emission_at(2000.0);
             let got = Marcher::new(&v, &m, &MarchSettings::default())
                 .unwrap()
-                .march::<BruteForce>(
+                .march_with::<BruteForce>(
                     None,
                     Vec3::new(0.0, 0.0, 5.0),
                     -Vec3::Z,
                     &mut RenderStats::default(),
+                    &mut LightScratch::default(),
                 )
                 .unwrap();
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
@@ -710,7 +540,8 @@ mod tests {
                 ..Default::default()
             };
             let lights = Lights::new(Failing, 0.1);
-            let e = render(&v, &m, Some(&lights), &camera, &s, &|_| {}).unwrap_err();
+            let marcher = Marcher::new(&v, &m, &s).unwrap();
+            let e = marcher.render(&lights, &camera, &|_| {}).unwrap_err();
             assert!(
                 matches!(e, VolumeError::Query(lgh_core::QueryError::NonFinitePoint)),
                 "{shadows:?}: {e}"
@@ -718,9 +549,10 @@ mod tests {
             assert!(std::error::Error::source(&e).is_some());
         }
         // Without lights nothing is queried, and the render succeeds.
-        assert!(
-            render::<Failing>(&v, &m, None, &camera, &MarchSettings::default(), &|_| {}).is_ok()
-        );
+        let marcher = Marcher::new(&v, &m, &MarchSettings::default()).unwrap();
+        assert!(marcher
+            .render_lit::<Failing>(None, &camera, &|_| {})
+            .is_ok());
     }
 
     #[test]

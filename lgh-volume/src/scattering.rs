@@ -36,20 +36,22 @@
 //! maps' budget (`MarchSettings::cube_maps.memory_budget`) before any work; each depth's cube
 //! maps are checked against it when they are built.
 //!
+//! A [`FrameRender`](crate::FrameRender) runs the pass when its settings ask for depths and
+//! renders the merged lights:
+//!
 //! ```
 //! use lgh_volume::render::{Camera, Framing, MarchSettings};
-//! use lgh_volume::scattering::scatter;
-//! use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+//! use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Shadows};
 //!
 //! let volume = procedural(32, 0.5)?;
 //! let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
 //! let emission = ExplosionLights::new(&[&volume], &medium)?;
-//! let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
 //! // Two scattered depths: paths of up to three scattering events.
-//! let scattered = scatter(&emission, 2, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
-//! assert_eq!(scattered.depths().len(), 2);
-//! let camera = Camera::frame(volume.active_bounds().unwrap().0, volume.active_bounds().unwrap().1, 16, 9)?;
-//! let (image, _) = scattered.lights().render(Method::Lgh, 2.0, &volume, &medium, &camera, &settings, &|_| {})?;
+//! let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 2, ..Default::default() };
+//! let frame = FrameRender::new(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
+//! assert_eq!(frame.scattered().unwrap().depths().len(), 2);
+//! let (lo, hi) = volume.active_bounds().unwrap();
+//! let (image, _) = frame.render(&Camera::frame(lo, hi, 16, 9)?, &())?;
 //! assert_eq!(image.pixels.len(), 16 * 9);
 //! # Ok::<(), lgh_volume::VolumeError>(())
 //! ```
@@ -59,11 +61,16 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use rayon::prelude::*;
 
+use lgh_image::Image;
+
 use crate::error::VolumeError;
-use crate::lighting::{LightScratch, Lights};
-use crate::lights::{ExplosionLights, Method};
+use crate::lighting::LightScratch;
+use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
-use crate::render::{Camera, MarchSettings, RenderStats};
+use crate::method::Method;
+use crate::render::MarchSettings;
+use crate::shading::Shading;
+use crate::stats::RenderStats;
 
 /// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
 /// each depth costs a hierarchy, its shadows and a fluence pass over the smoke, while the light
@@ -239,27 +246,32 @@ pub struct Scattered {
 /// let volume = procedural(32, 0.5)?;
 /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
 /// let emission = ExplosionLights::new(&[&volume], &medium)?;
-/// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
-/// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+/// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
+/// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
 /// // One merged light per voxel that emits or has smoke; the scattered light is there.
 /// assert!(s.lights().lights().len() > emission.lights().len());
 /// assert!(s.depths()[0].power > 0.0);
 /// # Ok::<(), lgh_volume::VolumeError>(())
 /// ```
-#[allow(clippy::too_many_arguments)]
 pub fn scatter(
     emission: &ExplosionLights,
-    depth: usize,
     method: Method,
-    alpha: f32,
     frame: &Volume,
     medium: &Medium,
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Scattered, VolumeError> {
+    let depth = settings.scatter_depth;
     let plan = ScatterPlan::new(emission, frame, depth)?;
     settings.check()?;
-    lgh_core::check_alpha(alpha)?;
+    method.check()?;
+    if method == Method::Emission && depth > 0 {
+        return Err(VolumeError::InvalidCount {
+            name: "scatter depth",
+            value: depth,
+            rule: "needs lights to scatter: emission alone has none",
+        });
+    }
     plan.check(settings.cube_maps.memory_budget)?;
     let max_level = emission.hierarchy().max_level();
     if depth == 0 {
@@ -291,12 +303,15 @@ pub fn scatter(
     )?;
     // The emission lights' weak-light pruning carries over, to each depth and to the merge.
     scattered.set_prune(emission.prune())?;
+    let single = MarchSettings {
+        scatter_depth: 0,
+        ..*settings
+    };
     let pass = Fluence {
         method,
-        alpha,
         frame,
         medium,
-        settings,
+        settings: &single,
         voxels: &dense,
         progress,
     };
@@ -374,7 +389,6 @@ fn merge(hot: &[usize], dense: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<usize>)
 /// One depth's fluence pass: what stays the same from depth to depth.
 struct Fluence<'a> {
     method: Method,
-    alpha: f32,
     frame: &'a Volume,
     medium: &'a Medium,
     settings: &'a MarchSettings,
@@ -392,17 +406,22 @@ impl Fluence<'_> {
         source: &ExplosionLights,
         out: &mut [Vec3],
     ) -> Result<(RenderStats, f64), VolumeError> {
-        let t = Instant::now();
-        let visibility = source.visibility(
+        let shading = Shading::new(
+            source,
             self.method,
-            self.alpha,
             self.frame,
             self.medium,
             self.settings,
-            &|_| {},
+            &(),
         )?;
-        let shadow_seconds = t.elapsed().as_secs_f64();
-        let lights: Lights<_> = source.backend(self.method, self.alpha)?;
+        let (visibility, shadow_seconds) = (&shading.visibility, shading.shadow_seconds);
+        let Some(lights) = shading.prepared.lights(source)? else {
+            return Err(VolumeError::InvalidCount {
+                name: "scatter depth",
+                value: 1,
+                rule: "needs lights to scatter: emission alone has none",
+            });
+        };
         let grid = &self.frame.density;
         let h3 = grid.voxel_size.powi(3);
         let chunks: Vec<Result<RenderStats, VolumeError>> = out
@@ -417,7 +436,7 @@ impl Fluence<'_> {
                     *o = lights.in_scattered(
                         grid.centre(i, j, k),
                         h3 * sigma_s,
-                        &visibility,
+                        visibility,
                         &mut scratch,
                         &mut stats,
                     )?;
@@ -436,7 +455,7 @@ impl Fluence<'_> {
 
 /// How the image splits by where its light comes from: the luminance summed over an image's
 /// pixels of the emission alone, and of what each depth's lights add (see
-/// [`Scattered::shares`]).
+/// [`FrameRender::scatter_shares`](crate::FrameRender::scatter_shares)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shares {
     /// `Σ_px ‖E‖`: the emission seen through the smoke, no scattering.
@@ -446,11 +465,33 @@ pub struct Shares {
     pub depths: Vec<f64>,
 }
 
+impl Shares {
+    /// The shares of `emitted`, the emission alone, and `depths[k]`, the image lit by depth
+    /// `k`'s lights alone (the same size).
+    pub(crate) fn of_images(emitted: &Image, depths: &[Image]) -> Shares {
+        let luminance = |p: Vec3| f64::from(lgh_core::luminance(p));
+        Shares {
+            emission: emitted.pixels.iter().map(|&p| luminance(p)).sum(),
+            depths: depths
+                .iter()
+                .map(|image| {
+                    image
+                        .pixels
+                        .iter()
+                        .zip(&emitted.pixels)
+                        .map(|(&r, &e)| luminance(r) - luminance(e))
+                        .sum()
+                })
+                .collect(),
+        }
+    }
+}
+
 impl Scattered {
     /// The merged lights (one per voxel that emits or has smoke): what the final render shades
-    /// with, through [`ExplosionLights::backend`], [`visibility`](ExplosionLights::visibility)
-    /// and [`render`](ExplosionLights::render). (Their [`set_frame`](ExplosionLights::set_frame)
-    /// would replace the merged intensities with a frame's emission.)
+    /// with ([`FrameRender::lights`](crate::FrameRender::lights)). (Their
+    /// [`set_frame`](ExplosionLights::set_frame) would replace the merged intensities with a
+    /// frame's emission.)
     ///
     /// ```
     /// use lgh_volume::render::MarchSettings;
@@ -460,8 +501,8 @@ impl Scattered {
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
-    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
-    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
     /// // The merged hierarchy is on the emission lights' grid.
     /// assert_eq!(s.lights().hierarchy().h1(), emission.hierarchy().h1());
     /// assert_eq!(s.lights().hierarchy().max_level(), emission.hierarchy().max_level());
@@ -482,8 +523,9 @@ impl Scattered {
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
-    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
-    /// let s = scatter(&emission, 2, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
+    /// let settings = MarchSettings { scatter_depth: 2, ..settings };
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
     /// let d = s.depths();
     /// assert_eq!((d[0].depth, d[1].depth), (1, 2));
     /// assert_eq!(d[0].stats.shading_points, d[0].lights as u64); // one query per voxel
@@ -505,8 +547,8 @@ impl Scattered {
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
-    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
-    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
     /// // A merged light is its voxel's depths summed in order.
     /// let (e, one) = (s.intensities(0).unwrap(), s.intensities(1).unwrap());
     /// for ((l, &a), &b) in s.lights().lights().iter().zip(e).zip(one) {
@@ -521,7 +563,7 @@ impl Scattered {
     }
 
     /// The lights of depth `k` alone (0: the emission lights) on the merged lights' voxels and
-    /// grid: what [`shares`](Self::shares) renders. Depth 0 renders the single-scattering image
+    /// grid: what [`FrameRender::scatter_shares`](crate::FrameRender::scatter_shares) renders. Depth 0 renders the single-scattering image
     /// bit for bit (the added voxels are dark, the grid is the emission lights').
     ///
     /// ```
@@ -532,8 +574,8 @@ impl Scattered {
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
-    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
-    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
+    /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
     /// assert_eq!(s.depth_lights(0)?.lit(), emission.lit());
     /// assert!(s.depth_lights(2).is_err());
     /// # Ok::<(), lgh_volume::VolumeError>(())
@@ -549,73 +591,13 @@ impl Scattered {
         debug_assert_eq!(lights.hierarchy().max_level(), self.max_level);
         Ok(lights)
     }
-
-    /// Each depth's share of `camera`'s image (the `--scatter-shares` report, kept apart from
-    /// the render): renders the emission alone and each depth's lights alone
-    /// ([`depth_lights`](Self::depth_lights)) through `method` at `alpha` with the shadows of
-    /// `settings` — `n + 2` renders. For brute force the parts add up to the merged image up to
-    /// rounding (the marcher is linear in the lights' intensities); the hierarchy's centres are
-    /// weighted by luminance, so for it they add up approximately. `progress(rows)` as rows
-    /// finish, over all the renders.
-    ///
-    /// ```
-    /// use lgh_volume::render::{Camera, Framing, MarchSettings};
-    /// use lgh_volume::scattering::scatter;
-    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
-    ///
-    /// let volume = procedural(32, 0.5)?;
-    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
-    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
-    /// let settings = MarchSettings { shadows: Shadows::None, ..Default::default() };
-    /// let s = scatter(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings, &|_| {})?;
-    /// let (lo, hi) = volume.active_bounds().unwrap();
-    /// let camera = Camera::frame(lo, hi, 8, 6)?;
-    /// let shares = s.shares(Method::Lgh, 2.0, &volume, &medium, &camera, &settings, &|_| {})?;
-    /// assert_eq!(shares.depths.len(), 2);
-    /// assert!(shares.emission > 0.0 && shares.depths.iter().all(|&d| d > 0.0));
-    /// # Ok::<(), lgh_volume::VolumeError>(())
-    /// ```
-    #[allow(clippy::too_many_arguments)]
-    pub fn shares(
-        &self,
-        method: Method,
-        alpha: f32,
-        frame: &Volume,
-        medium: &Medium,
-        camera: &Camera,
-        settings: &MarchSettings,
-        progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<Shares, VolumeError> {
-        let (emitted, _) = crate::render::render::<lgh_core::BruteForce>(
-            frame, medium, None, camera, settings, progress,
-        )?;
-        let luminance = |p: Vec3| f64::from(lgh_core::luminance(p));
-        let mut depths = Vec::with_capacity(self.per_depth.len());
-        for k in 0..self.per_depth.len() {
-            let lights = self.depth_lights(k)?;
-            let (image, _) =
-                lights.render(method, alpha, frame, medium, camera, settings, progress)?;
-            depths.push(
-                image
-                    .pixels
-                    .iter()
-                    .zip(&emitted.pixels)
-                    .map(|(&r, &e)| luminance(r) - luminance(e))
-                    .sum(),
-            );
-        }
-        Ok(Shares {
-            emission: emitted.pixels.iter().map(|&p| luminance(p)).sum(),
-            depths,
-        })
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::procedural::procedural;
-    use crate::render::Framing;
+    use crate::render::{Camera, Framing};
     use crate::shadow::{ShadowGrid, Shadows};
 
     /// A ball of smoke with a hot core (up to 2500 K inside radius 0.35), `n³` voxels.
@@ -629,21 +611,20 @@ mod tests {
 
     const NONE: &(dyn Fn(usize) + Sync) = &|_| {};
 
-    /// The pass with `settings` and no progress.
-    #[allow(clippy::too_many_arguments)]
+    /// The pass of `depth` with `settings` and no progress.
     fn pass(
         emission: &ExplosionLights,
         depth: usize,
         method: Method,
-        alpha: f32,
         volume: &Volume,
         medium: &Medium,
         settings: &MarchSettings,
     ) -> Scattered {
-        scatter(
-            emission, depth, method, alpha, volume, medium, settings, NONE,
-        )
-        .unwrap()
+        let settings = MarchSettings {
+            scatter_depth: depth,
+            ..*settings
+        };
+        scatter(emission, method, volume, medium, &settings, NONE).unwrap()
     }
 
     #[test]
@@ -656,7 +637,7 @@ mod tests {
             shadows: Shadows::RayMarch,
             ..Default::default()
         };
-        let s = pass(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings);
+        let s = pass(&emission, 1, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings);
         let merged = s.lights();
         assert_eq!(merged.prune(), 1e-3);
         let brightest = merged.brightest();
@@ -685,15 +666,15 @@ mod tests {
         let camera = Camera::frame(lo, hi, 20, 12).unwrap();
         let smoke = volume.density.data.iter().filter(|&&r| r > 0.0).count() as u64;
         for (method, shadows) in [
-            (Method::Lgh, Shadows::CubeMap),
-            (Method::Lgh, Shadows::RayMarch),
+            (Method::Lgh { alpha: 2.0 }, Shadows::CubeMap),
+            (Method::Lgh { alpha: 2.0 }, Shadows::RayMarch),
             (Method::Brute, Shadows::RayMarch),
         ] {
             let settings = MarchSettings {
                 shadows,
                 ..Default::default()
             };
-            let s = pass(&emission, 2, method, 2.0, &volume, &pass_medium, &settings);
+            let s = pass(&emission, 2, method, &volume, &pass_medium, &settings);
             for d in s.depths() {
                 assert_eq!(
                     d.stats.shading_points, smoke,
@@ -713,16 +694,9 @@ mod tests {
             assert!(s.lights().lights().len() > emission.lights().len());
             assert_eq!(s.lights().lit(), emission.lit());
             let render = |lights: &ExplosionLights| {
-                lights
-                    .render(
-                        method,
-                        2.0,
-                        &volume,
-                        &render_medium,
-                        &camera,
-                        &settings,
-                        NONE,
-                    )
+                let frame = &volume;
+                crate::FrameRender::new(lights, method, frame, &render_medium, &settings, &())
+                    .and_then(|f| f.render(&camera, &()))
                     .unwrap()
                     .0
             };
@@ -746,7 +720,7 @@ mod tests {
         // albedo (1 and 1/4 here).
         let media = [(0.0, 4.0), (3.0, 1.0)].map(|(a, s)| Medium::new(a, s, 1e-4, 1000.0).unwrap());
         for (method, shadows, volume) in [
-            (Method::Lgh, Shadows::CubeMap, blob(16)),
+            (Method::Lgh { alpha: 2.0 }, Shadows::CubeMap, blob(16)),
             (Method::Brute, Shadows::RayMarch, blob(12)),
         ] {
             let emission = ExplosionLights::new(&[&volume], &media[0]).unwrap();
@@ -756,7 +730,7 @@ mod tests {
             };
             let runs: Vec<Scattered> = media
                 .iter()
-                .map(|m| pass(&emission, 3, method, 2.0, &volume, m, &settings))
+                .map(|m| pass(&emission, 3, method, &volume, m, &settings))
                 .collect();
             // κ_s / 4: depth k scaled by 4^{-k}.
             for run in &runs[1..] {
@@ -794,7 +768,6 @@ mod tests {
             &emission,
             depth,
             Method::Brute,
-            1.0,
             &volume,
             &medium,
             &settings,
@@ -873,8 +846,7 @@ mod tests {
         let lgh = pass(
             &emission,
             depth,
-            Method::Lgh,
-            64.0,
+            Method::Lgh { alpha: 64.0 },
             &volume,
             &medium,
             &settings,
@@ -907,17 +879,17 @@ mod tests {
             shadows: Shadows::None,
             ..Default::default()
         };
-        let (m, a) = (Method::Brute, 1.0);
-        let s = pass(&emission, 2, m, a, &volume, &medium, &settings);
+        let settings = MarchSettings {
+            scatter_depth: 2,
+            ..settings
+        };
+        let frame =
+            crate::FrameRender::new(&emission, Method::Brute, &volume, &medium, &settings, &())
+                .unwrap();
+        let s = frame.scattered().unwrap();
         let camera = Camera::frame(Vec3::splat(-0.8), Vec3::splat(0.8), 16, 12).unwrap();
-        let args = (&volume, &medium, &camera, &settings);
-        let shares = s
-            .shares(m, a, args.0, args.1, args.2, args.3, NONE)
-            .unwrap();
-        let lights = s.lights();
-        let (image, _) = lights
-            .render(m, a, args.0, args.1, args.2, args.3, NONE)
-            .unwrap();
+        let shares = frame.scatter_shares(&camera, &()).unwrap().unwrap();
+        let (image, _) = frame.render(&camera, &()).unwrap();
         let total: f64 = image
             .pixels
             .iter()
@@ -946,17 +918,12 @@ mod tests {
             work.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
         };
         let run = |depth, settings: &MarchSettings, frame: &Volume| {
-            scatter(
-                &emission,
-                depth,
-                Method::Lgh,
-                2.0,
-                frame,
-                &medium,
-                settings,
-                &progress,
-            )
-            .map(|_| ())
+            let settings = MarchSettings {
+                scatter_depth: depth,
+                ..*settings
+            };
+            let lgh = Method::Lgh { alpha: 2.0 };
+            scatter(&emission, lgh, frame, &medium, &settings, &progress).map(|_| ())
         };
         let ok = MarchSettings::default();
         let e = run(17, &ok, &volume).unwrap_err();
@@ -996,7 +963,7 @@ mod tests {
             shadows: Shadows::None,
             ..Default::default()
         };
-        let s = pass(&emission, 1, Method::Lgh, 2.0, &volume, &medium, &settings);
+        let s = pass(&emission, 1, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings);
         let plan = ScatterPlan::new(&emission, &volume, 1).unwrap();
         assert_eq!(plan.merged_lights, s.lights().lights().len());
         let h = s.lights().hierarchy();

@@ -15,7 +15,7 @@
 
 use lgh_core::glam::Vec3;
 
-use crate::render::Up;
+use crate::camera::Up;
 
 /// What a camera ray meets first.
 #[derive(Clone, Copy, Debug, PartialEq)]

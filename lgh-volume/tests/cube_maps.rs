@@ -10,7 +10,7 @@ use lgh_volume::medium::{EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
 use lgh_volume::shadow::{CubeMapSettings, Depths};
-use lgh_volume::{ExplosionLights, Method};
+use lgh_volume::{ExplosionLights, FrameRender, Method};
 
 /// The demo's medium (`lgh demo`): albedo 0.75, glowing above 1000 K.
 fn medium() -> Medium {
@@ -30,8 +30,20 @@ fn render(
         cube_maps: cube,
         ..Default::default()
     };
-    lights
-        .render(Method::Lgh, 2.0, v, &medium(), camera, &settings, &|_| {})
+    render_with(lights, Method::Lgh { alpha: 2.0 }, v, &medium(), camera, &settings)
+}
+
+/// `lights` through `method` on `v` in `m` with `settings`, seen by `camera`.
+fn render_with(
+    lights: &ExplosionLights,
+    method: Method,
+    v: &Volume,
+    m: &Medium,
+    camera: &Camera,
+    settings: &MarchSettings,
+) -> Image {
+    FrameRender::new(lights, method, v, m, settings, &())
+        .and_then(|f| f.render(camera, &()))
         .unwrap()
         .0
 }
@@ -59,17 +71,8 @@ fn cube_map_shadows_match_ray_marched_shadows_of_the_same_lights() {
     let lights = ExplosionLights::new(&[&v], &m).unwrap();
     let (lo, hi) = v.active_bounds().unwrap();
     let camera = Camera::frame(lo, hi, 64, 36).unwrap();
-    let none = &|_: usize| {};
-    let emission = lgh_volume::render::render::<lgh_core::BruteForce>(
-        &v,
-        &m,
-        None,
-        &camera,
-        &MarchSettings::default(),
-        none,
-    )
-    .unwrap()
-    .0;
+    let none = MarchSettings::default();
+    let emission = render_with(&lights, Method::Emission, &v, &m, &camera, &none);
     let reference = render(
         &v,
         &lights,
@@ -151,10 +154,7 @@ fn on_the_demo_twelve_depths_meet_the_target_and_four_do_not() {
             },
             ..Default::default()
         };
-        lights
-            .render(Method::Lgh, 2.0, &v, &m, &camera, &settings, &|_| {})
-            .unwrap()
-            .0
+        render_with(&lights, Method::Lgh { alpha: 2.0 }, &v, &m, &camera, &settings)
     };
     let same_model = render(Shadows::RayMarchVolumes, 4);
     let error = |n| {
@@ -186,18 +186,22 @@ fn flicker_of_variants(frames: &[Volume], m: &Medium, camera: &Camera) -> [f64; 
     let variants = [
         (
             "lgh, ray-marched shadows",
-            Method::Lgh,
+            Method::Lgh { alpha: 2.0 },
             march(Shadows::RayMarch, true),
         ),
-        ("lgh, cube maps", Method::Lgh, march(Shadows::CubeMap, true)),
+        (
+            "lgh, cube maps",
+            Method::Lgh { alpha: 2.0 },
+            march(Shadows::CubeMap, true),
+        ),
         (
             "lgh, ray-marched volume lights (the cube maps' model)",
-            Method::Lgh,
+            Method::Lgh { alpha: 2.0 },
             march(Shadows::RayMarchVolumes, true),
         ),
         (
             "lgh, cube maps, coarse lights as points",
-            Method::Lgh,
+            Method::Lgh { alpha: 2.0 },
             march(Shadows::CubeMap, false),
         ),
         (
@@ -210,10 +214,7 @@ fn flicker_of_variants(frames: &[Volume], m: &Medium, camera: &Camera) -> [f64; 
     for f in frames {
         lights.set_frame(f, m).unwrap();
         for (k, (_, method, settings)) in variants.iter().enumerate() {
-            let img = lights
-                .render(*method, 2.0, f, m, camera, settings, &|_| {})
-                .unwrap()
-                .0;
+            let img = render_with(&lights, *method, f, m, camera, settings);
             images[k].push(img);
         }
     }
@@ -302,18 +303,8 @@ fn cube_map_shadows_match_ray_marched_shadows_on_a_real_frame() {
         ..Default::default()
     };
     let render = |shadows| {
-        lights
-            .render(
-                Method::Lgh,
-                2.0,
-                &v,
-                &m,
-                &camera,
-                &settings(shadows),
-                &|_| {},
-            )
-            .unwrap()
-            .0
+        let lgh = Method::Lgh { alpha: 2.0 };
+        render_with(&lights, lgh, &v, &m, &camera, &settings(shadows))
     };
     let (cube, marched) = (render(Shadows::CubeMap), render(Shadows::RayMarch));
     let whole = lgh_image::compare(&cube, &marched).unwrap().rel_rmse;

@@ -10,7 +10,7 @@ use lgh_volume::cache::{self, GridNames};
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
-use lgh_volume::{ExplosionLights, Method};
+use lgh_volume::{ExplosionLights, FrameRender, Method};
 
 /// Renders `volume` with brute force and with the hierarchy at α = 1, 2, 4; returns the
 /// scattered light's relative RMSE at each α.
@@ -25,15 +25,14 @@ fn errors_by_alpha(
         shadows,
         ..Default::default()
     };
-    let none = &|_: usize| {};
-    let emission =
-        lgh_volume::render::render::<lgh_core::BruteForce>(volume, medium, None, camera, &s, none)
+    let render = |method| {
+        FrameRender::new(&lights, method, volume, medium, &s, &())
+            .and_then(|f| f.render(camera, &()))
             .unwrap()
-            .0;
-    let brute = lights
-        .render(Method::Brute, 0.0, volume, medium, camera, &s, none)
-        .unwrap()
-        .0;
+            .0
+    };
+    let emission = render(Method::Emission);
+    let brute = render(Method::Brute);
     let scattered: f64 = brute
         .pixels
         .iter()
@@ -44,10 +43,7 @@ fn errors_by_alpha(
     [1.0, 2.0, 4.0]
         .iter()
         .map(|&alpha| {
-            let img = lights
-                .render(Method::Lgh, alpha, volume, medium, camera, &s, none)
-                .unwrap()
-                .0;
+            let img = render(Method::Lgh { alpha });
             scatter_rel_rmse(&img, &brute, &emission)
         })
         .collect()
@@ -158,8 +154,9 @@ fn a_sequence_of_the_real_cache_is_deterministic() {
                 .iter()
                 .map(|v| {
                     lights.set_frame(v, &m).unwrap();
-                    lights
-                        .render(Method::Lgh, 2.0, v, &m, &cam, &s, &|_| {})
+                    let lgh = Method::Lgh { alpha: 2.0 };
+                    FrameRender::new(&lights, lgh, v, &m, &s, &())
+                        .and_then(|f| f.render(&cam, &()))
                         .unwrap()
                         .0
                 })
@@ -232,15 +229,13 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
         at_once.set_frame(&volumes[i], &m).unwrap();
         // The same lights directly, and then through a render.
         assert!(streamed.lights() == at_once.lights(), "frame {i}'s lights");
-        let back = Method::Lgh;
-        let a = streamed
-            .render(back, 2.0, &v, &m, &cam, &s, &|_| {})
-            .unwrap()
-            .0;
-        let b = at_once
-            .render(back, 2.0, &volumes[i], &m, &cam, &s, &|_| {})
-            .unwrap()
-            .0;
+        let render = |lights, v| {
+            FrameRender::new(lights, Method::Lgh { alpha: 2.0 }, v, &m, &s, &())
+                .and_then(|f| f.render(&cam, &()))
+                .unwrap()
+                .0
+        };
+        let (a, b) = (render(&streamed, &v), render(&at_once, &volumes[i]));
         assert!(a.pixels == b.pixels, "frame {i}");
     }
     // A frame that cannot be read is an error, from the sequence and through the lights.

@@ -3,10 +3,10 @@
 //! frame, and for the randomness (or its absence) that makes an animation flicker.
 
 use lgh_image::Image;
-use lgh_volume::lgh_core::{Clustering, LightcutsSettings};
+use lgh_volume::lgh_core::{Clustering, LightcutsSettings, Representative};
 use lgh_volume::medium::{framing_bounds, Medium};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::{procedural, ExplosionLights, Method, Shadows, Variants};
+use lgh_volume::{procedural, ExplosionLights, FrameRender, Method, Shadows, Variants};
 
 fn medium() -> Medium {
     Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap()
@@ -32,7 +32,9 @@ fn render(
         shadows,
         ..Default::default()
     };
-    l.render(method, 2.0, v, &medium(), c, &settings, &|_| {})
+    let medium = medium();
+    FrameRender::new(l, method, v, &medium, &settings, &())
+        .and_then(|f| f.render(c, &()))
         .unwrap()
         .0
 }
@@ -54,7 +56,7 @@ fn rel_rmse(a: &Image, r: &Image) -> f64 {
 /// refined as if ε were 4π larger (7–20% at 2%).
 #[test]
 fn lightcuts_in_a_medium_converges_to_brute_force() {
-    let (v, mut l, c) = frame();
+    let (v, l, c) = frame();
     let all = LightcutsSettings {
         relative_error: 5e-4,
         max_cut: l.lights().len(),
@@ -62,11 +64,14 @@ fn lightcuts_in_a_medium_converges_to_brute_force() {
     };
     for shadows in [Shadows::None, Shadows::RayMarch] {
         let exact = render(&l, Method::Brute, &v, &c, shadows);
-        for method in [Method::Lightcuts, Method::LightcutsDeterministic] {
-            l.set_lightcuts_seed(3);
-            l.set_lightcuts_settings(LightcutsSettings::default());
-            let walter = rel_rmse(&render(&l, method, &v, &c, shadows), &exact);
-            l.set_lightcuts_settings(all);
+        for representative in [Representative::Stochastic { seed: 3 }, Representative::Brightest] {
+            let method = |settings| Method::Lightcuts {
+                settings,
+                representative,
+            };
+            let walter = method(LightcutsSettings::default());
+            let walter = rel_rmse(&render(&l, walter, &v, &c, shadows), &exact);
+            let method = method(all);
             let e = rel_rmse(&render(&l, method, &v, &c, shadows), &exact);
             eprintln!(
                 "{method:?}, {shadows:?}: relative RMSE {walter:.4} at ε = 2%, {e:.4} at 0.05%"
@@ -85,23 +90,21 @@ fn lightcuts_in_a_medium_converges_to_brute_force() {
 /// not depend on the seed.
 #[test]
 fn lightcuts_randomness_follows_its_seed() {
-    let (v, mut l, c) = frame();
-    let mut at = |seed, method| {
-        l.set_lightcuts_seed(seed);
-        render(&l, method, &v, &c, Shadows::None)
-    };
+    let (v, l, c) = frame();
+    let at = |method| render(&l, method, &v, &c, Shadows::None);
     let (a, b, a2) = (
-        at(1, Method::Lightcuts),
-        at(2, Method::Lightcuts),
-        at(1, Method::Lightcuts),
+        at(Method::lightcuts(1)),
+        at(Method::lightcuts(2)),
+        at(Method::lightcuts(1)),
     );
     assert_eq!(a.pixels, a2.pixels);
     assert_ne!(a.pixels, b.pixels);
-    let (d1, d2) = (
-        at(1, Method::LightcutsDeterministic),
-        at(2, Method::LightcutsDeterministic),
-    );
-    assert_eq!(d1.pixels, d2.pixels);
+    // The deterministic variant has no seed: it is the same on every frame.
+    let brightest = Method::Lightcuts {
+        settings: LightcutsSettings::default(),
+        representative: Representative::Brightest,
+    };
+    assert_eq!(at(brightest).pixels, at(brightest).pixels);
 }
 
 /// Each variant renders a different image from the paper's hierarchy, of a similar error (they
@@ -110,7 +113,7 @@ fn lightcuts_randomness_follows_its_seed() {
 fn the_flickering_variants_are_one_choice_away_from_the_papers_hierarchy() {
     let (v, l, c) = frame();
     let exact = render(&l, Method::Brute, &v, &c, Shadows::None);
-    let paper = render(&l, Method::Lgh, &v, &c, Shadows::None);
+    let paper = render(&l, Method::Lgh { alpha: 2.0 }, &v, &c, Shadows::None);
     let e_paper = rel_rmse(&paper, &exact);
     let variants = [
         Variants {
@@ -128,7 +131,7 @@ fn the_flickering_variants_are_one_choice_away_from_the_papers_hierarchy() {
     ];
     for variants in variants {
         let lv = l.clone().with_variants(variants).unwrap();
-        let img = render(&lv, Method::Lgh, &v, &c, Shadows::None);
+        let img = render(&lv, Method::Lgh { alpha: 2.0 }, &v, &c, Shadows::None);
         let e = rel_rmse(&img, &exact);
         eprintln!("{variants:?}: relative RMSE {e:.4} (the paper's: {e_paper:.4})");
         assert_ne!(img.pixels, paper.pixels, "{variants:?}");
@@ -140,7 +143,7 @@ fn the_flickering_variants_are_one_choice_away_from_the_papers_hierarchy() {
     // The default variants are the paper's hierarchy, bit for bit.
     let same = l.clone().with_variants(Variants::default()).unwrap();
     assert_eq!(
-        render(&same, Method::Lgh, &v, &c, Shadows::None).pixels,
+        render(&same, Method::Lgh { alpha: 2.0 }, &v, &c, Shadows::None).pixels,
         paper.pixels
     );
 }

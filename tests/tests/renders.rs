@@ -12,8 +12,7 @@ use lgh_core::{LghBackend, LightingGridHierarchy, ManyLights};
 use lgh_image::Image;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::scattering::scatter;
-use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Shadows};
 use lgh_vpl::paquette::{self, Surface, TestScene};
 
 /// `f` run on a pool of `threads` rayon threads.
@@ -57,11 +56,10 @@ fn volume_renders_are_bit_identical_on_any_thread_count() {
     let (lo, hi) = volume.active_bounds().unwrap();
     let camera = Camera::frame(lo, hi, 24, 16).unwrap();
     let march = MarchSettings::default();
-    for (method, alpha) in [(Method::Lgh, 2.0), (Method::Brute, 0.0)] {
+    for method in [Method::Lgh { alpha: 2.0 }, Method::Brute] {
         same_on_any_thread_count(&format!("ray marcher, {method:?}"), || {
-            let none = &|_: usize| {};
-            lights
-                .render(method, alpha, &volume, &medium, &camera, &march, none)
+            FrameRender::new(&lights, method, &volume, &medium, &march, &())
+                .and_then(|f| f.render(&camera, &()))
                 .unwrap()
                 .0
         });
@@ -89,20 +87,17 @@ fn multiple_scattering_is_bit_identical_on_any_thread_count() {
     let camera = Camera::frame(lo, hi, 16, 10).unwrap();
     let march = MarchSettings {
         shadows: Shadows::CubeMap,
+        scatter_depth: 1,
         ..Default::default()
     };
     same_on_any_thread_count("scattering", || {
-        let none = &|_: usize| {};
-        let (m, a) = (Method::Lgh, 2.0);
-        let s = scatter(&emission, 1, m, a, &volume, &medium, &march, none).unwrap();
-        let lights = s.lights();
-        let (mut image, _) = lights
-            .render(m, a, &volume, &medium, &camera, &march, none)
-            .unwrap();
+        let lgh = Method::Lgh { alpha: 2.0 };
+        let frame = FrameRender::new(&emission, lgh, &volume, &medium, &march, &()).unwrap();
+        let (mut image, _) = frame.render(&camera, &()).unwrap();
         // The merged lights' intensities too, as more pixels.
         image
             .pixels
-            .extend(lights.lights().iter().map(|l| l.intensity));
+            .extend(frame.lights().lights().iter().map(|l| l.intensity));
         image
     });
 }
@@ -133,16 +128,14 @@ fn a_volume_render_does_not_depend_on_pixel_order() {
     let lights = ExplosionLights::new(&[&volume], &medium).unwrap();
     let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 12, 8).unwrap();
     let march = MarchSettings::default();
-    let (image, _) = lights
-        .render(Method::Lgh, 2.0, &volume, &medium, &camera, &march, &|_| {})
-        .unwrap();
+    let lgh = Method::Lgh { alpha: 2.0 };
+    let frame = FrameRender::new(&lights, lgh, &volume, &medium, &march, &()).unwrap();
+    let (image, _) = frame.render(&camera, &()).unwrap();
     let pixels: Vec<[usize; 2]> = (0..8)
         .rev()
         .flat_map(|y| (0..12).map(move |x| [x, y]))
         .collect();
-    let (list, _) = lights
-        .render_pixels(Method::Lgh, 2.0, &volume, &medium, &camera, &march, &pixels)
-        .unwrap();
+    let (list, _) = frame.render_pixels(&camera, &pixels).unwrap();
     for (&[x, y], p) in pixels.iter().zip(&list) {
         assert_eq!(
             p.to_array().map(f32::to_bits),

@@ -14,8 +14,7 @@ use lgh_core::metrics::ErrorStats;
 use lgh_image::Image;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::scattering::scatter;
-use lgh_volume::{ExplosionLights, Medium, Method, Shadows, Volume};
+use lgh_volume::{ExplosionLights, FrameRender, Medium, Method, Shadows, Volume};
 
 /// A ball of smoke (density 1 at the centre falling linearly to 0 at radius 0.8) around a large
 /// hot core (3000 K at the centre, above 1000 K inside radius 0.47: the path tracer, which has no
@@ -104,28 +103,27 @@ fn multiple_scattering_approaches_the_path_tracer() {
     );
     assert!(scattered_share >= 0.2, "{scattered_share}");
 
-    for (method, alpha, shadows) in [
-        (Method::Brute, 1.0, Shadows::RayMarch),
-        (Method::Lgh, 2.0, Shadows::CubeMap),
+    for (method, shadows) in [
+        (Method::Brute, Shadows::RayMarch),
+        (Method::Lgh { alpha: 2.0 }, Shadows::CubeMap),
     ] {
         let march = MarchSettings {
             shadows,
             ..Default::default()
         };
         let t = std::time::Instant::now();
-        let single = emission
-            .render(method, alpha, &volume, &medium, &camera, &march, none)
+        let single = FrameRender::new(&emission, method, &volume, &medium, &march, &())
+            .and_then(|f| f.render(&camera, &()))
             .unwrap()
             .0;
         let t_single = t.elapsed().as_secs_f64();
-        let t = std::time::Instant::now();
-        let s = scatter(&emission, n, method, alpha, &volume, &medium, &march, none).unwrap();
-        let t_pass = t.elapsed().as_secs_f64();
-        let multi = s
-            .lights()
-            .render(method, alpha, &volume, &medium, &camera, &march, none)
-            .unwrap()
-            .0;
+        let march = MarchSettings {
+            scatter_depth: n,
+            ..march
+        };
+        let frame = FrameRender::new(&emission, method, &volume, &medium, &march, &()).unwrap();
+        let t_pass = frame.seconds().scattering;
+        let multi = frame.render(&camera, &()).unwrap().0;
         let offset = rel_rmse(&single.pixels, &pt1.pixels);
         let error = rel_rmse(&multi.pixels, &ptn.pixels);
         let without_pass = rel_rmse(&single.pixels, &ptn.pixels);
@@ -133,7 +131,7 @@ fn multiple_scattering_approaches_the_path_tracer() {
         let mean_ratio = mean_luminance(&multi) / mean_luminance(&ptn);
         let single_ratio = mean_luminance(&single) / mean_luminance(&pt1);
         eprintln!(
-            "{method:?} α {alpha} {shadows:?}: single scattering vs path tracer(1): relRMSE {offset:.4} \
+            "{method:?} {shadows:?}: single scattering vs path tracer(1): relRMSE {offset:.4} \
              (noise {noise1:.4}), mean ratio {single_ratio:.4}; depth {n} vs path tracer({}): relRMSE {error:.4} (noise {noisen:.4}), \
              mean ratio {mean_ratio:.4}; without the pass {without_pass:.4}; scattered light alone \
              (depth {n} − depth 0 vs PT({}) − PT(1)): relRMSE {increment:.4}; render {t_single:.1} s, \

@@ -38,20 +38,16 @@ pub use volume_rays::VolumeRays;
 
 /// How lights are shadowed: the user's choice (`--shadows` of `lgh demo` and `lgh explosion`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Shadows {
     /// The paper's deep-shadow cube maps, precomputed per light of every level of the
     /// hierarchy (Sec. 4). Backends without a hierarchy (brute force) ray-march instead.
-    #[cfg_attr(feature = "clap", value(name = "cubemap"))]
     CubeMap,
     /// Transmittance ray-marched to every light (exact shadows).
     #[default]
-    #[cfg_attr(feature = "clap", value(name = "raymarch"))]
     RayMarch,
     /// The cube maps' own model without the maps, their same-model reference: transmittance
     /// ray-marched from every light's centre through the density prefiltered for it (eq. 6;
     /// coarse lights as volume lights). Slow. Backends without a hierarchy ray-march instead.
-    #[cfg_attr(feature = "clap", value(name = "raymarch-volumes"))]
     RayMarchVolumes,
     /// No shadows.
     None,

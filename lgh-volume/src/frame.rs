@@ -1,0 +1,321 @@
+//! A frame to render: everything `lgh demo` and `lgh explosion` do for one frame, as one value
+//! (ARCHITECTURE.md, "From a VDB file to an EXR").
+//!
+//! [`FrameRender::new`] takes a frame's lights (their intensities set for the frame), the
+//! volume and medium, the [`Method`] with its own parameters and the march settings, and makes
+//! everything the render needs once: the multiple-scattering pass if the settings ask for
+//! depths (paper Sec. 5; the render then shades the merged lights), the method over the lights
+//! (the hierarchy's blending for α, eq. 3), and the visibility (the paper's deep-shadow cube
+//! maps over prefiltered density, Sec. 4, or ray-marched shadows) of exactly those lights.
+//! [`render`](FrameRender::render) then renders any camera, with opaque surfaces if given.
+//! The lights are borrowed (or, with scattering, owned): they cannot change under their maps.
+
+use std::time::Instant;
+
+use lgh_core::glam::Vec3;
+use lgh_image::Image;
+
+use crate::error::VolumeError;
+use crate::lighting::Lights;
+use crate::lights::ExplosionLights;
+use crate::medium::{Medium, Volume};
+use crate::method::{FrameBackend, Method};
+use crate::progress::{self, Phase, Progress, Steps};
+use crate::render::{Camera, MarchSettings, Marcher, RenderStats};
+use crate::scattering::{self, ScatterPlan, Scattered, Shares};
+use crate::shading::Shading;
+use crate::shadow::{CubeMaps, Visibility};
+use crate::surfaces::Surfaces;
+
+/// Seconds a [`FrameRender`] spent before its first render.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PrepareSeconds {
+    /// The multiple-scattering pass (0 without one).
+    pub scattering: f64,
+    /// The render's shadows: the cube maps' tracing, or the ray marcher's padded density.
+    pub shadows: f64,
+}
+
+/// One frame made ready to render: its lights through a [`Method`], their visibility, the
+/// volume, the medium and the checked settings, consistent by construction.
+///
+/// ```
+/// use lgh_volume::render::{Camera, Framing, MarchSettings};
+/// use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method};
+///
+/// let volume = procedural(32, 0.5)?;
+/// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?; // κ_a, κ_s, k_e, T_min
+/// let lights = ExplosionLights::new(&[&volume], &medium)?;
+/// let settings = MarchSettings::default(); // ray-marched shadows, single scattering
+/// let frame = FrameRender::new(&lights, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
+/// let (lo, hi) = volume.active_bounds().unwrap();
+/// let (image, stats) = frame.render(&Camera::frame(lo, hi, 32, 18)?, &())?;
+/// assert_eq!(image.pixels.len(), 32 * 18);
+/// assert!(stats.lights_per_point() > 0.0);
+/// # Ok::<(), lgh_volume::VolumeError>(())
+/// ```
+pub struct FrameRender<'a> {
+    /// The frame's emission lights, as given.
+    emission: &'a ExplosionLights,
+    /// The multiple-scattering pass, whose merged lights are rendered (`None` at depth 0).
+    scattered: Option<Scattered>,
+    method: Method,
+    /// The method over the rendered lights, and their visibility (moved into the marcher).
+    prepared: crate::method::Prepared,
+    marcher: Marcher<'a>,
+    seconds: PrepareSeconds,
+}
+
+impl<'a> FrameRender<'a> {
+    /// Makes `frame` ready to render with `lights` (their intensities set for this frame)
+    /// through `method`: checks every setting first, then runs the multiple-scattering pass if
+    /// `settings.scatter_depth > 0`, prepares the method (the blending for α once) and builds
+    /// the visibility `settings.shadows` asks for, of the lights rendered. `progress` hears
+    /// [`Phase::Scattering`] and [`Phase::ShadowMaps`].
+    pub fn new(
+        lights: &'a ExplosionLights,
+        method: Method,
+        frame: &'a Volume,
+        medium: &'a Medium,
+        settings: &MarchSettings,
+        progress: &dyn Progress,
+    ) -> Result<Self, VolumeError> {
+        settings.check()?;
+        method.check()?;
+        let t = Instant::now();
+        let scattered = match settings.scatter_depth {
+            0 => None,
+            depth => {
+                let plan = ScatterPlan::new(lights, frame, depth)?;
+                let total = (plan.depth * plan.lights_per_depth) as u64;
+                Some(progress::phase(progress, Phase::Scattering, total, |p| {
+                    scattering::scatter(lights, method, frame, medium, settings, p)
+                })?)
+            }
+        };
+        let scattering = if scattered.is_some() {
+            t.elapsed().as_secs_f64()
+        } else {
+            0.0
+        };
+        let rendered = scattered.as_ref().map_or(lights, Scattered::lights);
+        let shading = Shading::new(rendered, method, frame, medium, settings, progress)?;
+        let shadows = shading.shadow_seconds;
+        Ok(FrameRender {
+            emission: lights,
+            scattered,
+            method,
+            prepared: shading.prepared,
+            marcher: Marcher::with_visibility(frame, medium, settings, shading.visibility)?,
+            seconds: PrepareSeconds {
+                scattering,
+                shadows,
+            },
+        })
+    }
+
+    /// The same frame with opaque `surfaces` behind and around the smoke (a ground, a room:
+    /// [`crate::surfaces`]), lit through the same lights and visibility.
+    #[must_use]
+    pub fn with_surfaces(mut self, surfaces: &'a dyn Surfaces) -> Self {
+        self.marcher = self.marcher.with_surfaces(surfaces);
+        self
+    }
+
+    /// Renders `camera`'s image, rows in parallel (nothing depends on the thread count);
+    /// `progress` hears [`Phase::Render`] over rows.
+    pub fn render(
+        &self,
+        camera: &Camera,
+        progress: &dyn Progress,
+    ) -> Result<(Image, RenderStats), VolumeError> {
+        let lights = self.shading_lights()?;
+        progress::phase(progress, Phase::Render, camera.height() as u64, |p| {
+            self.marcher.render_lit(lights.as_ref(), camera, p)
+        })
+    }
+
+    /// The pixels `(x, y)` of `pixels` only, exactly as [`render`](Self::render) computes them
+    /// (for references and benchmarks on pixel subsets); pixels outside the image are an error.
+    pub fn render_pixels(
+        &self,
+        camera: &Camera,
+        pixels: &[[usize; 2]],
+    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+        let lights = self.shading_lights()?;
+        self.marcher.render_pixels_lit(lights.as_ref(), camera, pixels)
+    }
+
+    /// The rendered lights through the method, with the fall-off clamp `h0 = h` (what
+    /// [`Lights::incident`] shades a point with); `None` for [`Method::Emission`].
+    pub fn shading_lights(&self) -> Result<Option<Lights<FrameBackend<'_>>>, VolumeError> {
+        self.prepared.lights(self.lights())
+    }
+
+    /// Each scattering depth's share of `camera`'s image (`None` without scattering): renders
+    /// the emission alone and each depth's lights alone ([`Scattered::depth_lights`]) through
+    /// the method with the same shadows — `n + 2` renders, which `progress` hears as one
+    /// [`Phase::ScatterShares`] over all their rows. For brute force the parts add up to the
+    /// image up to rounding (the marcher is linear in the lights' intensities); the hierarchy's
+    /// centres are weighted by luminance, so for it they add up approximately.
+    pub fn scatter_shares(
+        &self,
+        camera: &Camera,
+        progress: &dyn Progress,
+    ) -> Result<Option<Shares>, VolumeError> {
+        let Some(scattered) = &self.scattered else {
+            return Ok(None);
+        };
+        let (frame, medium) = (self.marcher.volume(), self.marcher.medium());
+        let settings = MarchSettings {
+            scatter_depth: 0,
+            ..*self.settings()
+        };
+        let depths = scattered.depths().len() + 1;
+        let rows = ((depths + 1) * camera.height()) as u64;
+        progress.begin(Phase::ScatterShares, rows);
+        let steps = Steps(progress);
+        let render = |lights: &ExplosionLights, method| {
+            FrameRender::new(lights, method, frame, medium, &settings, &())?
+                .render(camera, &steps)
+                .map(|(image, _)| image)
+        };
+        let shares = (|| {
+            let emitted = render(self.emission, Method::Emission)?;
+            let images = (0..depths)
+                .map(|k| render(&scattered.depth_lights(k)?, self.method))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(Shares::of_images(&emitted, &images))
+        })();
+        progress.end(Phase::ScatterShares);
+        shares.map(Some)
+    }
+
+    /// The lights rendered: the merged lights of the scattering pass, or the emission lights.
+    #[must_use]
+    pub fn lights(&self) -> &ExplosionLights {
+        self.scattered.as_ref().map_or(self.emission, Scattered::lights)
+    }
+
+    /// The multiple-scattering pass, if the settings asked for one.
+    #[must_use]
+    pub fn scattered(&self) -> Option<&Scattered> {
+        self.scattered.as_ref()
+    }
+
+    /// The method.
+    #[must_use]
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// The settings (checked; `shadows` as the visibility was built).
+    #[must_use]
+    pub fn settings(&self) -> &MarchSettings {
+        self.marcher.settings()
+    }
+
+    /// The lights' visibility.
+    #[must_use]
+    pub fn visibility(&self) -> &Visibility {
+        self.marcher.visibility()
+    }
+
+    /// The cube maps, if the shadows are the paper's deep-shadow cube maps.
+    #[must_use]
+    pub fn cube_maps(&self) -> Option<&CubeMaps> {
+        match self.visibility() {
+            Visibility::CubeMaps(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// What the preparation took.
+    #[must_use]
+    pub fn seconds(&self) -> PrepareSeconds {
+        self.seconds
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural::procedural;
+    use crate::render::Framing;
+    use crate::shadow::Shadows;
+
+    #[test]
+    fn a_sequence_frame_matches_the_frames_own_lights() {
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let a = procedural(32, 0.2).unwrap();
+        let b = procedural(32, 0.8).unwrap();
+        let mut seq = ExplosionLights::new(&[&a, &b], &m).unwrap();
+        seq.set_frame(&b, &m).unwrap();
+        // Frame b alone: its hot voxels are a subset, with the same intensities.
+        let alone = ExplosionLights::new(&[&b], &m).unwrap();
+        assert_eq!(alone.lit(), seq.lit());
+        let lit = |s: &ExplosionLights| {
+            s.lights()
+                .iter()
+                .filter(|l| l.intensity.max_element() > 0.0)
+                .map(|l| (l.position, l.intensity))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(lit(&alone), lit(&seq));
+        // Dark lights add exactly nothing to eqs. 1-5, so with the same number of levels the
+        // sequence renders the frame bit for bit as the frame's own lights do.
+        assert_eq!(seq.hierarchy().max_level(), alone.hierarchy().max_level());
+        let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 12, 8).unwrap();
+        let s = MarchSettings::default();
+        let render = |lights| {
+            FrameRender::new(lights, Method::Lgh { alpha: 2.0 }, &b, &m, &s, &())
+                .and_then(|f| f.render(&cam, &()))
+                .unwrap()
+        };
+        let (x, y) = (render(&seq), render(&alone));
+        assert_eq!(x.0.pixels, y.0.pixels);
+        assert!(x.0.pixels.iter().any(|p| p.max_element() > 0.0));
+    }
+
+    #[test]
+    fn lgh_single_scattering_converges_to_brute_force() {
+        let v = procedural(32, 0.4).unwrap();
+        let m = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
+        let s = ExplosionLights::new(&[&v], &m).unwrap();
+        let cam = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 16, 16).unwrap();
+        let pixels = [[8, 8], [6, 9], [10, 7], [5, 5]];
+        for shadows in [Shadows::None, Shadows::RayMarch] {
+            let march = MarchSettings {
+                shadows,
+                ..Default::default()
+            };
+            let render = |method| {
+                FrameRender::new(&s, method, &v, &m, &march, &())
+                    .and_then(|f| f.render_pixels(&cam, &pixels))
+                    .unwrap()
+                    .0
+            };
+            let exact = render(Method::Brute);
+            let errs: Vec<f64> = [2.0f32, 64.0]
+                .iter()
+                .map(|&alpha| {
+                    let got = render(Method::Lgh { alpha });
+                    let num: f64 = got
+                        .iter()
+                        .zip(&exact)
+                        .map(|(a, r)| f64::from((*a - *r).abs().max_element()))
+                        .sum();
+                    num / exact
+                        .iter()
+                        .map(|r| f64::from(r.max_element()))
+                        .sum::<f64>()
+                })
+                .collect();
+            // α = 64 puts every light in level 0 with weight 1: brute force up to summation
+            // order. α = 2 stays within 10 % on these pixels (tests/explosion.rs bounds whole
+            // images of a real frame, when the data is there).
+            assert!(errs[1] < 1e-4, "{shadows:?}: {errs:?}");
+            assert!(errs[0] < 0.1 && errs[1] < errs[0], "{shadows:?}: {errs:?}");
+        }
+    }
+}

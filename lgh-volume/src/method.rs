@@ -1,0 +1,242 @@
+//! The many-lights method that shades a frame, with the parameters that belong to it, and the
+//! method made ready over one frame's lights ([`FrameBackend`]).
+//!
+//! The hierarchy (paper Sec. 3) carries its α; Lightcuts (Walter et al. 2005, the rival of the
+//! paper's Fig. 10) its ε, largest cut and representatives; brute force (the exact answer of the
+//! same light model) nothing. Emission alone — the fire seen through its smoke, no light
+//! scattered — is a method too, so that no renderer needs an "absent lights" mode.
+
+use lgh_core::{
+    BruteForce, Illumination, LghBackend, LightTree, LightcutsBackend, LightcutsSettings,
+    ManyLights, PointLight, QueryError, Representative, Shader, ShadingPoint,
+};
+
+use crate::error::VolumeError;
+use crate::lighting::Lights;
+use crate::lights::ExplosionLights;
+
+/// Which many-lights method shades the light the smoke scatters, with its own parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// No lights: the emission seen through the smoke, nothing scattered (and no shadows).
+    Emission,
+    /// The lighting grid hierarchy (paper Sec. 3) at the paper's α (eq. 3: `r_ℓ = α h_ℓ`).
+    Lgh {
+        /// The blending radius factor α.
+        alpha: f32,
+    },
+    /// Every light `S0` that shines: the exact answer of the same light model.
+    Brute,
+    /// Lightcuts (Walter et al. 2005, the paper's Fig. 10 rival) over a light tree of the
+    /// frame's lights, shadows ray-marched.
+    Lightcuts {
+        /// ε and the largest cut (Walter's 2% and 1000 by default).
+        settings: LightcutsSettings,
+        /// How a cluster's representative is chosen: at random from a seed (Walter's; the
+        /// paper's comparison draws a new tree every frame) or the brightest light.
+        representative: Representative,
+    },
+}
+
+impl Default for Method {
+    /// The hierarchy at the paper's α = 2.
+    fn default() -> Self {
+        Method::Lgh { alpha: 2.0 }
+    }
+}
+
+impl Method {
+    /// Walter et al.'s stochastic Lightcuts at 2% with representatives drawn from `seed`.
+    ///
+    /// ```
+    /// use lgh_volume::Method;
+    ///
+    /// assert_eq!(Method::lightcuts(7).name(), "lightcuts");
+    /// ```
+    #[must_use]
+    pub fn lightcuts(seed: u64) -> Self {
+        Method::Lightcuts {
+            settings: LightcutsSettings::default(),
+            representative: Representative::Stochastic { seed },
+        }
+    }
+
+    /// The method's name, as in `lgh_core`'s [`ManyLights::name`] (`emission`, `lgh`, `brute`,
+    /// `lightcuts`, `lightcuts-deterministic`).
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::{LightcutsSettings, Representative};
+    /// use lgh_volume::Method;
+    ///
+    /// assert_eq!(Method::Lgh { alpha: 2.0 }.name(), "lgh");
+    /// let brightest = Method::Lightcuts {
+    ///     settings: LightcutsSettings::default(),
+    ///     representative: Representative::Brightest,
+    /// };
+    /// assert_eq!(brightest.name(), "lightcuts-deterministic");
+    /// ```
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Emission => "emission",
+            Method::Lgh { .. } => "lgh",
+            Method::Brute => "brute",
+            Method::Lightcuts {
+                representative: Representative::Stochastic { .. },
+                ..
+            } => "lightcuts",
+            Method::Lightcuts {
+                representative: Representative::Brightest,
+                ..
+            } => "lightcuts-deterministic",
+        }
+    }
+
+    /// The hierarchy's α, for [`Method::Lgh`] only.
+    #[must_use]
+    pub fn alpha(self) -> Option<f32> {
+        match self {
+            Method::Lgh { alpha } => Some(alpha),
+            _ => None,
+        }
+    }
+
+    /// Checks the method's own parameters (α of the hierarchy, Lightcuts' ε and cut) before any
+    /// work.
+    ///
+    /// ```
+    /// use lgh_volume::Method;
+    ///
+    /// assert!(Method::Lgh { alpha: 2.0 }.check().is_ok());
+    /// assert!(Method::Lgh { alpha: 0.0 }.check().is_err());
+    /// assert!(Method::Brute.check().is_ok());
+    /// ```
+    pub fn check(self) -> Result<(), VolumeError> {
+        match self {
+            Method::Lgh { alpha } => lgh_core::check_alpha(alpha)?,
+            Method::Lightcuts { settings, .. } => settings.check()?,
+            Method::Emission | Method::Brute => {}
+        }
+        Ok(())
+    }
+
+    /// The method made ready over `lights` as they are now: the hierarchy's blending for α
+    /// (once; with the lights' hard-switch variant), brute force's lights that shine, or
+    /// Lightcuts' tree.
+    pub(crate) fn prepare(self, lights: &ExplosionLights) -> Result<Prepared, VolumeError> {
+        let lit = || -> Vec<PointLight> {
+            lights
+                .lights()
+                .iter()
+                .copied()
+                .filter(|l| l.intensity.max_element() > 0.0)
+                .collect()
+        };
+        Ok(match self {
+            Method::Emission => Prepared::Emission,
+            Method::Lgh { alpha } => {
+                let blending = lights.hierarchy().blending(alpha)?;
+                let shading = if lights.variants().hard_switches {
+                    blending.with_hard_switches()
+                } else {
+                    blending
+                };
+                // Checked once here; the backend is remade per render from the blending.
+                LghBackend::with_blending(lights.hierarchy(), shading)?;
+                Prepared::Lgh { blending, shading }
+            }
+            Method::Brute => Prepared::Brute(BruteForce::new(&lit())?),
+            Method::Lightcuts {
+                settings,
+                representative,
+            } => {
+                let tree = LightTree::build(&lit(), representative)?;
+                // Checked once here; the backend is remade per query from the tree it owns.
+                LightcutsBackend::new(&tree, settings)?;
+                Prepared::Lightcuts(Box::new(tree), settings)
+            }
+        })
+    }
+}
+
+/// A [`Method`] made ready over one frame's lights, owning what it built (a
+/// [`FrameRender`](crate::FrameRender) keeps it beside the lights it was built from).
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
+pub(crate) enum Prepared {
+    /// No lights.
+    Emission,
+    /// The hierarchy's blending for α (eq. 3): the paper's, whose radii the shadows reach,
+    /// and the one the lights are shaded with (the same, or its hard-switch variant).
+    Lgh {
+        /// Eq. (3)'s blending.
+        blending: lgh_core::Blending,
+        /// The blending of the backend, checked against the hierarchy.
+        shading: lgh_core::Blending,
+    },
+    /// Every light that shines this frame.
+    Brute(BruteForce),
+    /// Lightcuts over a light tree of the frame's lights.
+    Lightcuts(Box<LightTree>, LightcutsSettings),
+}
+
+impl Prepared {
+    /// The lights to shade with: `lights` (those this was prepared from) through the method,
+    /// with the fall-off clamped at the voxel size (`h0 = h`, paper Sec. 6.1); `None` for
+    /// emission alone.
+    pub(crate) fn lights<'a>(
+        &'a self,
+        lights: &'a ExplosionLights,
+    ) -> Result<Option<Lights<FrameBackend<'a>>>, VolumeError> {
+        let backend = match self {
+            Prepared::Emission => return Ok(None),
+            Prepared::Lgh { shading, .. } => {
+                FrameBackend::Lgh(LghBackend::with_blending(lights.hierarchy(), *shading)?)
+            }
+            Prepared::Brute(b) => FrameBackend::Brute(b),
+            Prepared::Lightcuts(tree, settings) => FrameBackend::Lightcuts(tree, *settings),
+        };
+        Ok(Some(Lights::new(backend, lights.voxel_size())))
+    }
+}
+
+/// A [`Method`] made ready over one frame's lights: one type for the renderer, whichever method
+/// was chosen. (One value per render, so the variants' size difference costs nothing.)
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
+pub enum FrameBackend<'a> {
+    /// The hierarchy at one α.
+    Lgh(LghBackend<'a>),
+    /// Every light that shines this frame.
+    Brute(&'a BruteForce),
+    /// Lightcuts over a light tree of the frame's lights.
+    Lightcuts(&'a LightTree, LightcutsSettings),
+}
+
+impl ManyLights for FrameBackend<'_> {
+    fn name(&self) -> &'static str {
+        match self {
+            FrameBackend::Lgh(b) => b.name(),
+            FrameBackend::Brute(b) => b.name(),
+            FrameBackend::Lightcuts(..) => "lightcuts",
+        }
+    }
+
+    fn selection_follows_shader(&self) -> bool {
+        matches!(self, FrameBackend::Lightcuts(..))
+    }
+
+    fn illuminate<S: Shader>(
+        &self,
+        point: &ShadingPoint,
+        shader: &mut S,
+    ) -> Result<Illumination, QueryError> {
+        match self {
+            FrameBackend::Lgh(b) => b.illuminate(point, shader),
+            FrameBackend::Brute(b) => b.illuminate(point, shader),
+            FrameBackend::Lightcuts(tree, settings) => {
+                LightcutsBackend::new(tree, *settings)?.illuminate(point, shader)
+            }
+        }
+    }
+}

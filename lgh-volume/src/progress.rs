@@ -1,0 +1,89 @@
+//! Progress of long work, reported to whoever asked for it: a phase begins with its count of
+//! steps, steps are done, the phase ends. The library never prints; the CLI draws bars.
+
+/// The phases of a frame's render ([`FrameRender`](crate::FrameRender)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Multiple scattering (paper Sec. 5): steps are voxels of every depth.
+    Scattering,
+    /// Tracing the deep-shadow cube maps (paper Sec. 4): steps are lights.
+    ShadowMaps,
+    /// The image: steps are rows.
+    Render,
+    /// Each scattering depth's share of the image: steps are rows of every render.
+    ScatterShares,
+}
+
+impl Phase {
+    /// A short label for a progress bar.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Phase::Scattering => "scattering",
+            Phase::ShadowMaps => "shadow maps",
+            Phase::Render => "rendering",
+            Phase::ScatterShares => "scatter shares",
+        }
+    }
+}
+
+/// Receives the progress of long work. Every method has an empty default, and `()` reports
+/// nowhere. Calls come from worker threads (hence `Sync`); a phase's steps add up to the total
+/// given at its start.
+///
+/// ```
+/// use std::sync::atomic::{AtomicU64, Ordering};
+/// use lgh_volume::progress::{Phase, Progress};
+///
+/// #[derive(Default)]
+/// struct Count(AtomicU64);
+/// impl Progress for Count {
+///     fn advance(&self, steps: u64) {
+///         self.0.fetch_add(steps, Ordering::Relaxed);
+///     }
+/// }
+/// let count = Count::default();
+/// count.begin(Phase::Render, 3);
+/// count.advance(3);
+/// assert_eq!(count.0.load(Ordering::Relaxed), 3);
+/// ```
+pub trait Progress: Sync {
+    /// `phase` begins, with `total` steps (0 when it has nothing to count).
+    fn begin(&self, phase: Phase, total: u64) {
+        let _ = (phase, total);
+    }
+    /// `steps` more steps of the current phase are done.
+    fn advance(&self, steps: u64) {
+        let _ = steps;
+    }
+    /// `phase` has ended (also when it failed).
+    fn end(&self, phase: Phase) {
+        let _ = phase;
+    }
+}
+
+impl Progress for () {}
+
+/// `progress`'s steps only: the parts of a phase reported as one (its begin and end are the
+/// caller's).
+pub(crate) struct Steps<'p>(pub &'p dyn Progress);
+
+impl Progress for Steps<'_> {
+    fn advance(&self, steps: u64) {
+        self.0.advance(steps);
+    }
+}
+
+/// Runs `work` as `phase` of `total` steps of `progress`, giving it the per-step callback the
+/// renderers take; the phase ends whether or not the work succeeded.
+pub(crate) fn phase<T>(
+    progress: &dyn Progress,
+    phase: Phase,
+    total: u64,
+    work: impl FnOnce(&(dyn Fn(usize) + Sync)) -> T,
+) -> T {
+    progress.begin(phase, total);
+    let out = work(&|n| progress.advance(n as u64));
+    progress.end(phase);
+    out
+}
