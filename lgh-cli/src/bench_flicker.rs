@@ -280,8 +280,8 @@ fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate
             let paths = (a..=b)
                 .map(|f| cache::frame_path(vdb, f))
                 .collect::<Result<Vec<_>, _>>()?;
-            if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
-                return Err(format!("{}: no such file", missing.display()).into());
+            for p in &paths {
+                crate::check_file(p)?;
             }
             if paths.len() < 2 {
                 return Err("--frames: flicker needs at least 2 frames".into());

@@ -325,9 +325,7 @@ impl Setup {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }
         if let Some(p) = &args.scene {
-            if !p.is_file() {
-                return Err(format!("--scene {}: no such file", p.display()).into());
-            }
+            crate::check_file(p).map_err(|e| format!("--scene {e}"))?;
         }
         if args.backend == BackendArg::Pathtrace && args.scatter.scatter_depth > 0 {
             return Err(
@@ -408,16 +406,14 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     if let Some(path) = &args.manifest {
         return run_task(args, matches, path);
     }
-    let setup = Setup::new(args)?;
     if args.prepare.is_some() && args.resume {
         return Err(crate::usage(
             "--resume is for rendering: --prepare renders nothing",
         ));
     }
+    // The frames' files first: a wrong path is said before any work.
     let frames = args.frame_numbers()?;
     let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
-    // The room is read (and its files hashed for the manifest) before any frame.
-    let room = args.scene.as_deref().map(Room::load).transpose()?;
     let paths = frames
         .iter()
         .map(|f| match f {
@@ -425,24 +421,85 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             Some(f) => cache::frame_path(vdb, *f),
         })
         .collect::<Result<Vec<_>, _>>()?;
-    if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
-        return Err(format!("{}: no such file", missing.display()).into());
+    for p in &paths {
+        crate::check_file(p)?;
     }
+    let setup = Setup::new(args)?;
+    // The room is read (and its files hashed for the manifest) before any frame.
+    let room = args.scene.as_deref().map(Room::load).transpose()?;
     let t = Instant::now();
     let (seq, last) =
         cache::Sequence::open_with_last(&paths, &setup.names, !args.no_domain_offset)?;
-    // One pass over the frames, one in memory at a time, for what depends on all of them: the
-    // lights (every voxel hot in any frame; the path tracer needs none), the framing, and
-    // whether any frame has a light at all. None depends on the order, so the pass starts with
-    // the last frame, which opening the sequence has just read, and that frame is kept for its
-    // render. Each file is hashed for the manifest.
-    let needs_lights = args.backend != BackendArg::Pathtrace;
-    let mut framing = None;
-    let mut all_dark = None;
-    let last = Rc::new(last);
-    let kept = Rc::clone(&last);
-    let mut lights = None;
-    {
+    let n = seq.len();
+    let pass = Pass::over(args, &setup, &seq, Rc::new(last))?;
+    let files = frames
+        .iter()
+        .zip(&paths)
+        .map(|(&f, p)| {
+            let config =
+                cache::blender_config_path(p).filter(|c| !args.no_domain_offset && c.is_file());
+            FrameFile::hash(f, p, config.as_deref())
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let manifest = Manifest {
+        files,
+        layout: seq.layout(),
+        framing: pass.framing,
+        lights: pass.lights.as_ref().map(|l| l.voxels().to_vec()),
+        all_dark: pass.all_dark,
+        settings: given_settings(matches)?,
+        scene: room.as_ref().map_or(Vec::new(), |r| r.files().to_vec()),
+    };
+    if let Some(why) = &manifest.all_dark {
+        let what = format!("no light in any of the {n} frame(s): {why}");
+        if !args.allow_dark {
+            return Err(format!("{what}; --allow-dark renders it anyway").into());
+        }
+        eprintln!("lgh: warning: {what}");
+    }
+    let load_s = t.elapsed().as_secs_f64();
+    if let Some(path) = &args.prepare {
+        return write_manifest(&manifest, path, load_s);
+    }
+    let frames = Frames {
+        args,
+        setup: &setup,
+        manifest: &manifest,
+        seq,
+        lights: pass.lights,
+        room,
+        kept: Some((n - 1, pass.kept)),
+        load_s: Some(load_s),
+    };
+    frames.render(0..n)
+}
+
+/// What the pass over a sequence's frames found.
+struct Pass {
+    /// The lights: every voxel hot in any frame (`None` for the path tracer, which needs none).
+    lights: Option<ExplosionLights>,
+    /// The smoke's box over all frames.
+    framing: Option<(Vec3, Vec3)>,
+    /// Why no frame has a light, if none has.
+    all_dark: Option<String>,
+    /// The last frame, kept for its render.
+    kept: Rc<Volume>,
+}
+
+impl Pass {
+    /// One pass over the frames of `seq`, one in memory at a time, for what depends on all of
+    /// them. None depends on the order, so the pass starts with the `last` frame, which opening
+    /// the sequence has just read, and that frame is kept for its render.
+    fn over(
+        args: &ExplosionArgs,
+        setup: &Setup,
+        seq: &cache::Sequence,
+        last: Rc<Volume>,
+    ) -> Result<Pass, crate::Error> {
+        let mut framing = None;
+        let mut all_dark = None;
+        let kept = Rc::clone(&last);
+        let mut lights = None;
         let bar = progress::bar(seq.len() as u64, "reading frames", args.quiet);
         let others = (0..seq.len() - 1).map(|i| seq.frame(i).map(Rc::new));
         let mut any_lit = false;
@@ -456,7 +513,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             bar.inc(1);
             Ok(v)
         });
-        if needs_lights {
+        if args.backend != BackendArg::Pathtrace {
             lights = Some(ExplosionLights::from_frames(frames_read, &setup.medium)?);
         } else {
             for v in frames_read {
@@ -464,50 +521,13 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             }
         }
         bar.finish_and_clear();
-    }
-    let files = frames
-        .iter()
-        .zip(&paths)
-        .map(|(&f, p)| {
-            let config =
-                cache::blender_config_path(p).filter(|c| !args.no_domain_offset && c.is_file());
-            FrameFile::hash(f, p, config.as_deref())
+        Ok(Pass {
+            lights,
+            framing,
+            all_dark,
+            kept,
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    let manifest = Manifest {
-        files,
-        layout: seq.layout(),
-        framing,
-        lights: lights
-            .as_ref()
-            .map(|l: &ExplosionLights| l.voxels().to_vec()),
-        all_dark,
-        settings: given_settings(matches)?,
-        scene: room.as_ref().map_or(Vec::new(), |r| r.files().to_vec()),
-    };
-    if let Some(why) = &manifest.all_dark {
-        let what = format!("no light in any of the {} frame(s): {why}", seq.len());
-        if !args.allow_dark {
-            return Err(format!("{what}; --allow-dark renders it anyway").into());
-        }
-        eprintln!("lgh: warning: {what}");
     }
-    let load_s = t.elapsed().as_secs_f64();
-    if let Some(path) = &args.prepare {
-        return write_manifest(&manifest, path, load_s);
-    }
-    let n = seq.len();
-    let frames = Frames {
-        args,
-        setup: &setup,
-        manifest: &manifest,
-        seq,
-        lights,
-        room,
-        kept: Some((n - 1, kept)),
-        load_s: Some(load_s),
-    };
-    frames.render(0..n)
 }
 
 /// `--prepare`: writes the manifest (whole or not at all) and says how to render from it.

@@ -122,6 +122,17 @@ pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), crate::Error> {
     }
 }
 
+/// Checks that an input file is there, and is a file (a folder says so), before any work.
+pub(crate) fn check_file(path: &std::path::Path) -> Result<(), crate::Error> {
+    if path.is_file() {
+        Ok(())
+    } else if path.is_dir() {
+        Err(format!("{}: is a folder, not a file", path.display()).into())
+    } else {
+        Err(format!("{}: no such file", path.display()).into())
+    }
+}
+
 /// Validates the paper's α before any work is done.
 pub(crate) fn check_alpha(alpha: f32) -> Result<(), crate::Error> {
     Ok(lgh_core::check_alpha(alpha)?)

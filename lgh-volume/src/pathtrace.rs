@@ -300,16 +300,15 @@ impl Majorants {
         Some((c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0])
     }
 
-    /// One free flight from `o` along the unit vector `d` by delta tracking: adds
-    /// `throughput · j / σ̄` at every tentative collision in emitting blocks to `acc`, and returns
-    /// the first real collision (position, density), or `None` if the path leaves the box.
-    #[allow(clippy::too_many_arguments)]
+    /// One free flight from `o` along the unit vector `d` (the ray `(o, d)`) by delta tracking:
+    /// adds `throughput · j / σ̄` at every tentative collision in emitting blocks to `acc`, and
+    /// returns the first real collision (position, density), or `None` if the path leaves the
+    /// box.
     fn fly(
         &self,
         volume: &Volume,
         medium: &Medium,
-        o: Vec3,
-        d: Vec3,
+        (o, d): (Vec3, Vec3),
         throughput: f32,
         acc: &mut Vec3,
         rng: &mut SplitMix64,
@@ -433,7 +432,7 @@ pub fn radiance(
     let mut throughput = 1.0f32;
     let mut scatters = 0u32;
     loop {
-        let Some((x, rho)) = majorants.fly(volume, medium, o, d, throughput, &mut sum, rng) else {
+        let Some((x, rho)) = majorants.fly(volume, medium, (o, d), throughput, &mut sum, rng) else {
             return sum + settings.environment * throughput;
         };
         let sigma_t = medium.extinction(rho);
