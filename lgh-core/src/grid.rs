@@ -229,7 +229,7 @@ fn auto_h1(lights: &[PointLight], lo: Vec3, hi: Vec3, origin: [f64; 3]) -> f64 {
         }));
         codes.sort_unstable();
         codes.dedup();
-        crate::level::corner_codes(&codes, &mut vertices);
+        morton::corner_codes(&codes, &mut vertices);
         if vertices.len() > lights.len() {
             return h;
         }

@@ -28,24 +28,6 @@ const CORNER: [[f32; 8]; 3] = [
     [0., 0., 0., 0., 1., 1., 1., 1.],
 ];
 
-/// Sorted, deduplicated Morton codes of the eight corners of every cell in `cells` (sorted codes).
-pub(crate) fn corner_codes(cells: &[u64], out: &mut Vec<u64>) {
-    out.clear();
-    out.reserve(cells.len() * 8);
-    for &code in cells {
-        let c = morton::decode(code);
-        for k in 0..8u32 {
-            out.push(morton::encode([
-                c[0] + (k & 1),
-                c[1] + ((k >> 1) & 1),
-                c[2] + (k >> 2),
-            ]));
-        }
-    }
-    crate::radix::sort_by_key(out, |&c| c);
-    out.dedup();
-}
-
 /// Splits a sorted sequence of per-light cell codes into runs: the distinct cell codes and the
 /// start of each run (with a final end marker).
 pub(crate) fn runs(codes: impl Iterator<Item = u64>) -> (Vec<u64>, Vec<u32>) {
@@ -80,7 +62,7 @@ impl Topology {
     /// Topology of the cells `cells` (sorted codes) whose lights are the runs `cell_starts`.
     pub fn new(cells: &[u64], cell_starts: Vec<u32>) -> Self {
         let mut vertex_codes = Vec::new();
-        corner_codes(cells, &mut vertex_codes);
+        morton::corner_codes(cells, &mut vertex_codes);
         let index = BrickIndex::from_sorted_codes(&vertex_codes);
         let cell_vertices = cells
             .iter()

@@ -4,6 +4,8 @@
 //! run (a level-ℓ cell's code is the level-1 code shifted right by `3(ℓ−1)`), and makes every
 //! 4×4×4 brick of vertices a contiguous run (the code shifted right by 6).
 
+use alloc::vec::Vec;
+
 /// Largest coordinate a Morton code can hold (21 bits).
 pub const MAX_COORD: u32 = (1 << 21) - 1;
 
@@ -41,6 +43,24 @@ pub fn encode(c: [u32; 3]) -> u64 {
 #[must_use]
 pub fn decode(m: u64) -> [u32; 3] {
     [compact(m), compact(m >> 1), compact(m >> 2)]
+}
+
+/// Sorted, deduplicated Morton codes of the eight corners of every cell in `cells` (sorted codes).
+pub(crate) fn corner_codes(cells: &[u64], out: &mut Vec<u64>) {
+    out.clear();
+    out.reserve(cells.len() * 8);
+    for &code in cells {
+        let c = decode(code);
+        for k in 0..8u32 {
+            out.push(encode([
+                c[0] + (k & 1),
+                c[1] + ((k >> 1) & 1),
+                c[2] + (k >> 2),
+            ]));
+        }
+    }
+    crate::radix::sort_by_key(out, |&c| c);
+    out.dedup();
 }
 
 #[cfg(test)]

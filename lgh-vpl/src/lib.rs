@@ -63,6 +63,7 @@ pub mod bvh;
 pub mod direct;
 pub mod indirect;
 pub mod mesh;
+mod obj;
 pub mod paquette;
 pub mod primary;
 pub mod reference;

@@ -1,0 +1,296 @@
+//! The radius query of the lighting grid hierarchy (paper Sec. 3, eq. 3): every light whose
+//! blending weight `B_ℓ` is non-zero at a point, with its weighted intensity.
+
+use glam::Vec3;
+
+use super::LightingGridHierarchy;
+use crate::blend::{Blending, Ramp};
+use crate::bricks::Ball;
+use crate::error::QueryError;
+use crate::light::{Contribution, Hit, LevelLights};
+use crate::many_lights::{LightSample, Lobe};
+
+impl LightingGridHierarchy {
+    /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight, QueryError};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::ONE, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// assert_eq!(blending.radius(1), 2.0 * lgh.h1()); // r_1 = α h_1
+    /// assert!(matches!(lgh.blending(-1.0), Err(QueryError::InvalidAlpha { .. })));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn blending(&self, alpha: f32) -> Result<Blending, QueryError> {
+        Blending::new(alpha, self.h1(), self.max_level())
+    }
+
+    /// Calls `f(index, distance)` for every light of `level` whose position lies within `radius`
+    /// of `x` and that queries report (see [`is_active`](Self::is_active)), using the level's
+    /// index (no allocation). Useful for shadow precomputation and tests.
+    pub fn lights_within(
+        &self,
+        level: u8,
+        x: Vec3,
+        radius: f32,
+        mut f: impl FnMut(u32, f32),
+    ) -> Result<(), QueryError> {
+        QueryError::check_point(x)?;
+        if self.is_empty() || level > self.max_level() || radius.is_nan() || radius < 0.0 {
+            return Ok(());
+        }
+        let lights = self.level(level);
+        let r2 = radius * radius;
+        let mut report = |s: usize, e: usize| {
+            lights.scan(s, e, x, -1.0, r2, &mut |i: usize, d: f32| -> Option<()> {
+                f(i as u32, d);
+                Some(())
+            });
+        };
+        if level == self.max_level() || !radius.is_finite() {
+            report(0, lights.len());
+        } else {
+            self.for_each_range(level, x, radius, report);
+        }
+        Ok(())
+    }
+
+    /// Calls `f(start, end)` with ranges of light indices of `level` (< ℓ_max) that together hold
+    /// every light whose position lies within `radius` of `x` (and possibly others).
+    #[inline]
+    fn for_each_range(&self, level: u8, x: Vec3, radius: f32, mut f: impl FnMut(usize, usize)) {
+        // A hair wider than asked (relative, and 1e-4 of a cell absolute), so rounding of positions
+        // and of the f64 culling never drops a light at the edge.
+        let reach = |h: f64| radius as f64 * (1.0 + 1e-6) / h + 1e-4;
+        if level == 0 {
+            // Level-1 cells hold the level-0 lights; the cells of a brick and their lights are
+            // contiguous.
+            let ball = Ball {
+                centre: self.local(x, 1),
+                radius: reach(self.placement.h1),
+                lo_pad: 0.0,
+                hi_pad: 4.0,
+            };
+            self.cells0.for_each_brick_near(&ball, |first, n| {
+                let s = self.cells0_starts[first as usize] as usize;
+                let e = self.cells0_starts[(first + n) as usize] as usize;
+                f(s, e)
+            });
+        } else {
+            // A vertex's illumination centre lies within h_ℓ of it (pads −1 and 4).
+            let ball = Ball {
+                centre: self.local(x, level),
+                radius: reach(self.h64(level)),
+                lo_pad: -1.0,
+                hi_pad: 4.0,
+            };
+            self.levels[level as usize - 1]
+                .topo
+                .index
+                .for_each_brick_near(&ball, |first, n| f(first as usize, (first + n) as usize));
+        }
+    }
+
+    /// Level-ℓ coordinates of `x` (world position relative to the origin, in units of `h_ℓ`).
+    #[inline]
+    fn local(&self, x: Vec3, level: u8) -> [f64; 3] {
+        let inv = 1.0 / self.h64(level);
+        let o = self.placement.origin;
+        [
+            (x.x as f64 - o[0]) * inv,
+            (x.y as f64 - o[1]) * inv,
+            (x.z as f64 - o[2]) * inv,
+        ]
+    }
+
+    /// The lighting query of eq. (3): calls `f` once for every light (of any level) that contributes
+    /// at `x`, i.e. whose blending weight `B_ℓ(d)` is non-zero at its distance `d = ‖x − p_ℓi‖`, with
+    /// the weighted intensity `B_ℓ(d) I_ℓi`. Returns the number of calls.
+    ///
+    /// Visibility `V`, fall-off `g` (see [`falloff`](crate::falloff)), BRDF or phase function are the
+    /// caller's. The query allocates nothing; the order of calls is fixed for a given hierarchy, α
+    /// and `x`, so sums over them are deterministic.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// let mut calls = 0;
+    /// let n = lgh.query(Vec3::new(10.0, 1.5, 1.5), &blending, |light| {
+    ///     assert!(light.weight > 0.0 && light.weight <= 1.0);
+    ///     calls += 1;
+    /// })?;
+    /// assert_eq!(n, calls);
+    /// // Far from the lights only coarse levels are gathered: fewer calls than lights.
+    /// assert!(calls > 0 && calls < 64);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn query<F: FnMut(&LightSample)>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        mut f: F,
+    ) -> Result<u32, QueryError> {
+        self.gather(x, blending, |s| f(s)).map(|((), n)| n)
+    }
+
+    /// Like [`query`](Self::query), but sums what `f` returns for each light (radiance, say) and
+    /// returns the sum with the number of lights. Prefer this to accumulating into a captured
+    /// variable: the running sum stays in registers instead of memory.
+    ///
+    /// With a large α every light is within `r_0` of the point, so only level 0 contributes, at full
+    /// weight: the sum is brute force's.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{
+    ///     falloff, BruteForce, GridSettings, LightSample, LightingGridHierarchy, PointLight,
+    /// };
+    ///
+    /// // 64 white lights on a 4 × 4 × 4 lattice of unit spacing.
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let x = Vec3::new(1.2, 5.0, 0.7);
+    /// let shade = |s: &LightSample| s.intensity * falloff(s.distance, lgh.h0());
+    /// let (sum, n) = lgh.query_sum(x, &lgh.blending(1000.0)?, shade)?;
+    /// assert_eq!(n, 64);
+    /// let exact = BruteForce::new(&lights)?.falloff_sum(x, lgh.h0())?;
+    /// assert!(((sum - exact) / exact).abs().max_element() < 1e-5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn query_sum<F: FnMut(&LightSample) -> Vec3>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        f: F,
+    ) -> Result<(Vec3, u32), QueryError> {
+        self.gather(x, blending, f)
+    }
+
+    /// `Ok` if `blending` is for this hierarchy's levels (its `h1` and top level), else
+    /// [`QueryError::BlendingMismatch`].
+    #[inline]
+    pub(super) fn check_blending(&self, blending: &Blending) -> Result<(), QueryError> {
+        if blending.h1() != self.h1() || blending.max_level() != self.max_level() {
+            return Err(QueryError::BlendingMismatch);
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn gather<R: Contribution, F: FnMut(&LightSample) -> R>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        mut f: F,
+    ) -> Result<(R, u32), QueryError> {
+        QueryError::check_point(x)?;
+        self.check_blending(blending)?;
+        if self.level0.is_empty() {
+            return Ok((R::ZERO, 0));
+        }
+        let top = self.max_level();
+        let mut sum = R::ZERO;
+        let mut count = 0u32;
+        // Scans lights[start..end] of `level` and adds what they contribute.
+        let mut scan = |level: u8,
+                        lights: &LevelLights,
+                        start: usize,
+                        end: usize,
+                        inner2: f32,
+                        outer2: f32| {
+            let mut hits = LevelHits {
+                f: &mut f,
+                ramp: blending.ramp(level),
+                level,
+                lights,
+            };
+            let (r, n) = lights.scan(start, end, x, inner2, outer2, &mut hits);
+            sum = sum.add(r);
+            count += n;
+        };
+
+        // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1. The cells of
+        // a brick are contiguous, and so are their lights.
+        if top == 0 {
+            scan(0, &self.level0, 0, self.level0.len(), -1.0, f32::INFINITY);
+            return Ok((sum, count));
+        }
+        let (_, outer) = blending.support(0);
+        let outer2 = outer * outer;
+        self.for_each_range(0, x, outer, |s, e| {
+            scan(0, &self.level0, s, e, -1.0, outer2)
+        });
+
+        // Levels 0 < ℓ < ℓ_max: lights within 2 r_ℓ of x; a centre lies within h_ℓ of its vertex.
+        for l in 1..top {
+            let level = &self.levels[l as usize - 1];
+            let (inner, outer) = blending.support(l);
+            let (inner2, outer2) = (inner * inner, outer * outer);
+            self.for_each_range(l, x, outer, |s, e| {
+                scan(l, &level.lights, s, e, inner2, outer2)
+            });
+        }
+
+        // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
+        let (inner, _) = blending.support(top);
+        let level = &self.levels[top as usize - 1];
+        scan(
+            top,
+            &level.lights,
+            0,
+            level.lights.len(),
+            inner * inner,
+            f32::INFINITY,
+        );
+        Ok((sum, count))
+    }
+}
+
+/// Hands one level's contributing lights to the caller's closure.
+struct LevelHits<'a, F> {
+    f: &'a mut F,
+    ramp: Ramp,
+    level: u8,
+    lights: &'a LevelLights,
+}
+
+impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
+    type Out = R;
+
+    /// Reports light `index` at distance `d` unless its weight is zero. (Dark and pruned lights
+    /// never get here: their scanned positions are NaN.)
+    #[inline(always)]
+    fn hit(&mut self, index: usize, d: f32) -> Option<R> {
+        let w = self.ramp.weight(d);
+        if w <= 0.0 {
+            return None;
+        }
+        let l = self.lights;
+        Some((self.f)(&LightSample {
+            level: self.level,
+            index: index as u32,
+            position: l.position(index),
+            intensity: l.intensity(index) * w,
+            variance: l.variance(index),
+            size: l.size(index),
+            distance: d,
+            weight: w,
+            lobe: Lobe::All,
+        }))
+    }
+}

@@ -1,0 +1,212 @@
+//! Image comparisons on luminance (ARCHITECTURE.md, "Measuring"): relative RMSE and absolute
+//! errors ([`compare`]), the flicker of a sequence ([`flicker`]), the error an 8-bit display
+//! shows (Paquette et al. §5.1, [`error_8bit`]) and a false-colour map of the error
+//! ([`difference_png`]).
+
+use std::path::Path;
+
+use lgh_core::glam::Vec3;
+use lgh_core::luminance;
+use lgh_core::metrics::ErrorStats;
+
+use crate::error::ImageError;
+use crate::image::Image;
+use crate::png_file::write_png_rgb8;
+
+/// Compares `a` against the reference `r` on luminance (ARCHITECTURE.md, "Measuring": relative RMSE,
+/// max and mean absolute error). `None` if their sizes differ or they are empty.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{compare, Image};
+///
+/// let mut r = Image::new(2, 2);
+/// r.pixels.fill(Vec3::ONE);
+/// let mut a = r.clone();
+/// a.set(1, 0, Vec3::splat(3.0));
+/// // One pixel of four off by 2: RMSE sqrt(4 / 4) = 1 over a mean of 1.
+/// let s = compare(&a, &r).unwrap();
+/// assert!((s.rel_rmse - 1.0).abs() < 1e-6);
+/// assert!((s.max_abs - 2.0).abs() < 1e-6 && (s.mean_abs - 0.5).abs() < 1e-6);
+/// assert!(compare(&a, &Image::new(4, 1)).is_none());
+/// ```
+#[must_use]
+pub fn compare(a: &Image, r: &Image) -> Option<ErrorStats> {
+    if (a.width, a.height) != (r.width, r.height) {
+        return None;
+    }
+    ErrorStats::compare(&a.pixels, &r.pixels)
+}
+
+/// Temporal flicker of the sequence `a` against the reference sequence `r` (ARCHITECTURE.md,
+/// "Measuring"): `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|` on luminance,
+/// the change of the error from one frame to the next, so a constant bias does not flicker.
+/// `None` with fewer than two frames, sequences or frames of different sizes, or a black
+/// reference.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{flicker, Image};
+///
+/// let frame = |v: f32| Image { width: 2, height: 1, pixels: vec![Vec3::splat(v); 2] };
+/// let r = [frame(1.0), frame(1.0), frame(1.0)];
+/// // A constant bias: no flicker.
+/// assert_eq!(flicker(&[frame(1.5), frame(1.5), frame(1.5)], &r), Some(0.0));
+/// // An error that alternates by ±0.5: it changes by 1 every frame, over a mean of 1.
+/// let f = flicker(&[frame(1.5), frame(0.5), frame(1.5)], &r).unwrap();
+/// assert!((f - 1.0).abs() < 1e-6);
+/// assert_eq!(flicker(&r[..1], &r[..1]), None);
+/// ```
+#[must_use]
+pub fn flicker(a: &[Image], r: &[Image]) -> Option<f64> {
+    let same = |x: &Image, y: &Image| (x.width, x.height) == (y.width, y.height);
+    if a.len() != r.len() || a.len() < 2 || a.iter().chain(r).any(|i| !same(i, &r[0])) {
+        return None;
+    }
+    let lum = |p: Vec3| f64::from(lgh_core::luminance(p));
+    let pixels = r[0].pixels.len();
+    let mean_r = r
+        .iter()
+        .flat_map(|i| i.pixels.iter())
+        .map(|&p| lum(p).abs())
+        .sum::<f64>()
+        / (pixels * r.len()) as f64;
+    if mean_r.is_nan() || mean_r <= 0.0 || pixels == 0 {
+        return None;
+    }
+    let mut sum = 0.0;
+    for t in 1..a.len() {
+        let s: f64 = (0..pixels)
+            .map(|i| {
+                let e1 = lum(a[t].pixels[i]) - lum(r[t].pixels[i]);
+                let e0 = lum(a[t - 1].pixels[i]) - lum(r[t - 1].pixels[i]);
+                (e1 - e0).abs()
+            })
+            .sum();
+        sum += s / pixels as f64;
+    }
+    Some(sum / (a.len() - 1) as f64 / mean_r)
+}
+
+/// The error of an image as an 8-bit display would show it (Paquette et al. §5.1): every channel
+/// quantised linearly, `round(255 · clamp(v, 0, 1))`, no gamma — the scale on which their
+/// threshold of 2.55 and their observed errors of (1, 1, 1) are stated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Error8Bit {
+    /// The largest difference of any channel of any pixel, in levels of 255.
+    pub max: u8,
+    /// The mean difference over all channels of all pixels.
+    pub mean: f64,
+}
+
+/// `v` quantised to 8 bits as [`Error8Bit`] does it.
+#[must_use]
+pub fn quantize_8bit(v: f32) -> u8 {
+    // NaN goes to 0 (`as` saturates and maps NaN to 0).
+    (255.0 * v.clamp(0.0, 1.0)).round() as u8
+}
+
+/// [`Error8Bit`] of `a` against `r`; `None` if their sizes differ or they are empty.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{error_8bit, Error8Bit, Image};
+///
+/// let r = Image::new(2, 1);
+/// let mut a = r.clone();
+/// // 2/255 in red is two levels; 10 is clamped to 1, so 255 levels in blue.
+/// a.set(0, 0, Vec3::new(2.0 / 255.0, 0.0, 10.0));
+/// assert_eq!(error_8bit(&a, &r), Some(Error8Bit { max: 255, mean: 257.0 / 6.0 }));
+/// assert_eq!(error_8bit(&a, &Image::new(1, 2)), None);
+/// ```
+#[must_use]
+pub fn error_8bit(a: &Image, r: &Image) -> Option<Error8Bit> {
+    if (a.width, a.height) != (r.width, r.height) || a.pixels.is_empty() {
+        return None;
+    }
+    let (mut max, mut sum) = (0u8, 0u64);
+    for (p, q) in a.pixels.iter().zip(&r.pixels) {
+        for c in 0..3 {
+            let e = quantize_8bit(p[c]).abs_diff(quantize_8bit(q[c]));
+            max = max.max(e);
+            sum += u64::from(e);
+        }
+    }
+    Some(Error8Bit {
+        max,
+        mean: sum as f64 / (3 * a.pixels.len()) as f64,
+    })
+}
+
+/// A false-colour map of `|a − r|` on luminance: black for no error, through blue, green and
+/// yellow to red at `max_error` and above. Written atomically.
+///
+/// Errors: [`ImageError::SizeMismatch`] if `a` and `r` differ in size, [`ImageError::EncodePng`],
+/// and those of [`write_atomic`](crate::write_atomic).
+pub fn difference_png(path: &Path, a: &Image, r: &Image, max_error: f32) -> Result<(), ImageError> {
+    if (a.width, a.height) != (r.width, r.height) {
+        return Err(ImageError::SizeMismatch {
+            image: (a.width, a.height),
+            reference: (r.width, r.height),
+        });
+    }
+    let ramp = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+    ];
+    let rgb: Vec<u8> = a
+        .pixels
+        .iter()
+        .zip(&r.pixels)
+        .flat_map(|(&x, &y)| {
+            let e = (luminance(x) - luminance(y)).abs();
+            let t = if max_error > 0.0 {
+                (e / max_error).clamp(0.0, 1.0)
+            } else {
+                0.0
+            } * 4.0;
+            let i = (t as usize).min(3);
+            let c = ramp[i].lerp(ramp[i + 1], t - i as f32);
+            [0, 1, 2].map(|k| (c[k] * 255.0 + 0.5) as u8)
+        })
+        .collect();
+    write_png_rgb8(path, a.width, a.height, &rgb)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::gradient;
+
+    #[test]
+    fn error_8bit_quantises_linearly_and_clamps() {
+        let mut a = Image::new(2, 1);
+        let mut r = Image::new(2, 1);
+        // 0.5 → 128 (127.5 rounds away from zero), 0.5 + 1.4/255 → 129: one level apart.
+        a.set(0, 0, Vec3::new(0.5, 0.0, 2.0));
+        r.set(0, 0, Vec3::new(0.5 + 1.4 / 255.0, 0.0, 7.0));
+        // Below zero and NaN both count as 0; 3/255 apart → 3 levels.
+        a.set(1, 0, Vec3::new(-1.0, f32::NAN, 3.0 / 255.0));
+        r.set(1, 0, Vec3::new(0.0, 0.0, 0.0));
+        let e = error_8bit(&a, &r).unwrap();
+        assert_eq!(e.max, 3);
+        assert!((e.mean - 4.0 / 6.0).abs() < 1e-12);
+        assert_eq!(error_8bit(&a, &Image::new(1, 2)), None);
+    }
+
+    #[test]
+    fn comparison_metrics() {
+        let r = gradient();
+        let mut a = r.clone();
+        assert_eq!(compare(&a, &r).unwrap().rel_rmse, 0.0);
+        a.pixels[5] += Vec3::ONE;
+        let s = compare(&a, &r).unwrap();
+        assert!((s.max_abs - 1.0).abs() < 1e-6);
+        assert!(compare(&Image::new(3, 3), &r).is_none());
+        let dir = tempfile::tempdir().unwrap();
+        difference_png(&dir.path().join("d.png"), &a, &r, 1.0).unwrap();
+    }
+}

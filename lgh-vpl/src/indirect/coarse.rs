@@ -1,0 +1,244 @@
+//! How the coarse lights (levels ≥ 1) of a hierarchy over the VPLs are shaded ([`Coarse`]),
+//! and the render through that hierarchy ([`render_lgh`]): the paper's volume lights with
+//! Gaussian shadow samples (Sec. 6.4, Fig. 11d), or, beyond the paper, the VPLs a coarse light
+//! stands for ([`crate::representatives`]), all of them or a prefix whose length each shading
+//! point chooses.
+
+use lgh_core::glam::Vec3;
+use lgh_core::random::SplitMix64;
+use lgh_core::{Illumination, LghBackend, LightSample, QueryError, ShadingPoint};
+
+use super::Indirect;
+use crate::render::{render_points, render_with_shader, RenderError, Rendered};
+use crate::representatives::Representatives;
+use crate::scene::Scene;
+use crate::Camera;
+
+/// How the coarse lights (levels ≥ 1) of a hierarchy over
+/// [`point_lights`](super::point_lights) are shaded.
+#[derive(Clone, Copy, Debug)]
+pub enum Coarse<'a> {
+    /// The paper's volume lights: isotropic points with `k` Gaussian shadow samples (Fig. 11d).
+    Gaussian,
+    /// Through their representative VPLs ([`Indirect::shade_representatives`]).
+    Representatives(&'a Representatives),
+    /// Through a prefix of their representatives (drawn with
+    /// [`Allocation::Nested`](crate::representatives::Allocation::Nested)) whose length each
+    /// shading point chooses: `mean` samples per coarse light are shared among
+    /// the point's coarse lights in proportion to an unshadowed estimate of what each brings
+    /// there (its blended luminance × the cosine at the point, held above 1/4, × the clamped
+    /// `1/d²`), rounded down to a power of two and to what there is; a light owed less than
+    /// one is shaded with that probability and weighted by its inverse (Russian roulette from
+    /// the point's own seeded sequence). With representatives that are not nested, every
+    /// light uses all of its own (a prefix of a plain systematic draw would be biased).
+    Adaptive {
+        /// The representatives, nested.
+        reps: &'a Representatives,
+        /// The mean count per coarse light.
+        mean: f32,
+    },
+}
+
+/// The indirect light `shader` gives each pixel through the hierarchy `backend` built over
+/// [`point_lights`](super::point_lights) of its VPLs (the paper's isotropic aggregation), its
+/// coarse lights shaded as `coarse` says.
+///
+/// Errors: a point the hierarchy cannot be queried at ([`RenderError::Query`]).
+pub fn render_lgh(
+    scene: &Scene,
+    camera: &Camera,
+    backend: &LghBackend<'_>,
+    coarse: Coarse<'_>,
+    shader: &Indirect<'_>,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Rendered, RenderError> {
+    let lgh = backend.hierarchy();
+    if let Coarse::Adaptive { reps, mean } = coarse {
+        let illuminate = |p: &ShadingPoint| adaptive(p, backend, reps, mean, shader);
+        return render_points(scene, camera, illuminate, progress);
+    }
+    let shade = |p: &ShadingPoint, s: &LightSample| {
+        fn reps<'r>(
+            r: &'r Representatives,
+            s: &LightSample,
+        ) -> impl ExactSizeIterator<Item = usize> + 'r {
+            r.of(s.level, s.index).iter().map(|&i| i as usize)
+        }
+        match (coarse, s.level) {
+            (Coarse::Representatives(r), 1..) => shader.shade_representatives(p, s, reps(r, s)),
+            _ => {
+                let vpl = (s.level == 0).then(|| lgh.input_index(s.index)).flatten();
+                shader.shade(p, s, vpl)
+            }
+        }
+    };
+    render_with_shader(scene, camera, backend, shade, progress)
+}
+
+/// The salt of the roulette's sequence at a shading point (the area lights' patterns use the
+/// triangle's index, which stays below 2³²).
+const ROULETTE_SALT: u64 = 0xada << 40;
+
+/// What `point` receives through `backend` with [`Coarse::Adaptive`].
+fn adaptive(
+    point: &ShadingPoint,
+    backend: &LghBackend<'_>,
+    reps: &Representatives,
+    mean: f32,
+    shader: &Indirect<'_>,
+) -> Result<Illumination, QueryError> {
+    thread_local! {
+        static COARSE: std::cell::RefCell<Vec<(LightSample, f32)>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+    let lgh = backend.hierarchy();
+    let Some(normal) = point.normal else {
+        return Ok(Illumination {
+            radiance: Vec3::ZERO,
+            lights: 0,
+        });
+    };
+    let h0 = shader.settings.h0;
+    COARSE.with_borrow_mut(|coarse| {
+        coarse.clear();
+        let mut radiance = Vec3::ZERO;
+        let lights = lgh.query(point.position, backend.blending(), |s| {
+            if s.level == 0 {
+                let vpl = lgh.input_index(s.index);
+                radiance += shader.shade(point, s, vpl);
+            } else {
+                // Unshadowed, isotropic, Lambertian: the estimate that shares the samples.
+                let to = s.position - point.position;
+                let d = to.length();
+                // The cosine held above 1/4: a light whose centre is behind the surface may
+                // still have representatives in front of it.
+                let cos = if d > 0.0 {
+                    normal.dot(to / d).max(0.25)
+                } else {
+                    1.0
+                };
+                let c = lgh_core::luminance(s.intensity) * cos * lgh_core::falloff(d, h0);
+                coarse.push((*s, c));
+            }
+        })?;
+        let total: f32 = coarse.iter().map(|c| c.1).sum();
+        let budget = mean.max(0.0) * coarse.len() as f32;
+        let mut rng = SplitMix64(crate::direct::point_seed(point.position, ROULETTE_SALT));
+        let nested = reps.is_nested();
+        for (s, c) in coarse.iter() {
+            let all = reps.of(s.level, s.index);
+            let want = if total > 0.0 { budget * c / total } else { 1.0 };
+            // In f64: a 24-bit draw would make the probability of a tiny `want` differ from it.
+            let u = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+            let (m, scale) = if !nested {
+                (all.len(), 1.0)
+            } else if want >= 1.0 {
+                // The largest power of two not above `want`, and not above what there is.
+                let m = (want as usize).clamp(1, all.len().max(1));
+                let m = if m.is_power_of_two() {
+                    m
+                } else {
+                    m.next_power_of_two() / 2
+                };
+                (m, 1.0)
+            } else if u < f64::from(want) {
+                (1, 1.0 / want)
+            } else {
+                continue;
+            };
+            let prefix = all.get(..m).unwrap_or(&[]);
+            let lit = shader.shade_representatives(point, s, prefix.iter().map(|&i| i as usize));
+            radiance += lit * scale;
+        }
+        Ok(Illumination { radiance, lights })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::indirect::tests::{rel_rmse, Fixture};
+    use crate::representatives::Allocation;
+
+    /// Representative VPLs (beyond the paper) against the paper's Gaussian shadow samples, both
+    /// through the one isotropic hierarchy with k = 9, against brute force over every VPL with
+    /// the same shadow rays. Measured (32×24): Gaussian 54.6% and 41.8% at α = 4 and 16 (the
+    /// paper's isotropic points), representatives 2.4% and 0.17%. Asserted: representatives win at α = 4
+    /// and 16 and meet issue 14's targets there, ≤ 3% and ≤ 1%.
+    #[test]
+    fn representative_vpls_beat_gaussian_samples() {
+        let f = Fixture::new();
+        let reps = Representatives::build(&f.lgh, 9);
+        let (shader, camera) = (f.shader(), Fixture::camera(32, 24));
+        let exact = f.exact(&shader, &camera);
+        for (alpha, target) in [(4.0f32, 0.03), (16.0, 0.01)] {
+            let gaussian = rel_rmse(&f.isotropic(&shader, &camera, alpha), &exact);
+            let backend = LghBackend::new(&f.lgh, alpha).unwrap();
+            let coarse = Coarse::Representatives(&reps);
+            let drawn = render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {});
+            let drawn = rel_rmse(&drawn.unwrap(), &exact);
+            println!("alpha {alpha}: gaussian {gaussian:.4}, representatives {drawn:.4}");
+            assert!(drawn < gaussian, "α = {alpha}: {drawn} against {gaussian}");
+            assert!(drawn <= target, "α = {alpha}: {drawn}");
+        }
+    }
+
+    /// The adaptive allocation (`lgh gi`'s default; here 16 nested representatives, 2 per coarse
+    /// light on average, shared per point by an unshadowed estimate, Russian roulette below one)
+    /// against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's Gaussian
+    /// samples 54.6%) and 0.31% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
+    /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where the
+    /// default measures 2.3% on the Cornell box and 2.7–3.0% on Sponza, README; the room's 4,000 VPLs make
+    /// coarse lights of a few VPLs each, where the roulette's noise weighs more.) And it is the
+    /// same at any thread count: the roulette's numbers come from the shading point's own
+    /// sequence.
+    #[test]
+    fn adaptive_representatives_meet_the_targets_at_any_thread_count() {
+        let f = Fixture::new();
+        let reps = Representatives::build_with(&f.lgh, Allocation::Nested(16));
+        let (shader, camera) = (f.shader(), Fixture::camera(32, 24));
+        let exact = f.exact(&shader, &camera);
+        let render = |alpha: f32| {
+            let backend = LghBackend::new(&f.lgh, alpha).unwrap();
+            let coarse = Coarse::Adaptive {
+                reps: &reps,
+                mean: 2.0,
+            };
+            render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
+        };
+        let at4 = rel_rmse(&render(4.0), &exact);
+        let gaussian = rel_rmse(&f.isotropic(&shader, &camera, 4.0), &exact);
+        let at16 = rel_rmse(&render(16.0), &exact);
+        println!("adaptive: alpha 4 {at4:.4} (gaussian {gaussian:.4}), alpha 16 {at16:.4}");
+        assert!(at4 < gaussian, "{at4} against {gaussian}");
+        assert!(at16 <= 0.01, "{at16}");
+        // Unbiased: the image's mean matches that of every coarse light shaded through all 16
+        // of its representatives (the roulette's weights and the prefixes change the noise, not
+        // the mean).
+        let mean = |r: &Rendered| {
+            r.image
+                .pixels
+                .iter()
+                .map(|p| p.element_sum() as f64)
+                .sum::<f64>()
+        };
+        let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
+        let all = Coarse::Representatives(&reps);
+        let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
+        let ratio = mean(&render(4.0)) / mean(&full);
+        println!("adaptive mean over all-16 mean: {ratio:.4}");
+        // Measured 1.0030. Bound: the per-pixel noise is about the 4.4% RMSE above; over 768
+        // pixels that is 0.16% if they were independent, and neighbours share lights, so an
+        // order of magnitude more: 2%.
+        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+        let pool = |n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        assert_eq!(
+            pool(1).install(|| render(4.0)),
+            pool(3).install(|| render(4.0))
+        );
+    }
+}
