@@ -413,14 +413,27 @@ pub fn parse(bytes: &[u8]) -> Result<VdbFile, VdbError> {
             offset: c.pos() as u64,
             what,
         };
-        if !(0 <= grid_pos && grid_pos <= block_pos && block_pos <= end_pos)
-            || end_pos as u64 > bytes.len() as u64
-        {
-            return Err(bad(&c, "grid offsets out of order or beyond the file"));
+        if !(0 <= grid_pos && grid_pos <= block_pos && block_pos <= end_pos) {
+            return Err(bad(&c, "grid offsets out of order"));
+        }
+        // A grid whose end lies past the file's: the file was cut short.
+        if end_pos as u64 > bytes.len() as u64 {
+            return Err(VdbError::Truncated {
+                offset: bytes.len() as u64,
+            });
         }
         let (value_type, half) = parse_tree_type(&tree_type)?;
         c.seek(grid_pos as u64)?;
-        let mut grid = read_grid(&mut c, name, value_type, half, !parent.is_empty(), budget)?;
+        // The header says the grid fits in the file: data that runs past the file's end is
+        // damaged (a corrupt count or size), not cut short.
+        let mut grid = read_grid(&mut c, name, value_type, half, !parent.is_empty(), budget)
+            .map_err(|e| match e {
+                VdbError::Truncated { offset } => VdbError::Malformed {
+                    offset,
+                    what: "a grid that runs past its end offset",
+                },
+                e => e,
+            })?;
         if !parent.is_empty() {
             let src = grids.iter().find(|g| g.name == parent).ok_or_else(|| {
                 VdbError::Unsupported(format!("instance of unknown grid '{parent}'"))

@@ -94,7 +94,7 @@ mod tests {
     use crate::vdb::{parse, VdbError};
 
     #[test]
-    fn raw_and_zip_files_read_the_same_and_truncation_is_an_error() {
+    fn raw_and_zip_files_read_the_same_and_damage_is_an_error() {
         let raw = parse(&tiled_file(Storage::Raw, &[], 2, 2)).unwrap();
         let zip = parse(&tiled_file(Storage::Zip, &[], 2, 2)).unwrap();
         assert_eq!(raw, zip);
@@ -103,5 +103,20 @@ mod tests {
             parse(&tiled_file(Storage::Zip, &[], 3, 2)),
             Err(VdbError::Truncated { .. } | VdbError::Malformed { .. })
         ));
+    }
+
+    /// A file cut short says so; a file of full length whose data is damaged says it is
+    /// malformed, never truncated (a new user's report: the two messages were swapped).
+    #[test]
+    fn a_cut_file_is_truncated_and_a_damaged_one_malformed() {
+        let whole = tiled_file(Storage::Raw, &[], 2, 2);
+        for cut in [whole.len() - 1, whole.len() / 2] {
+            let e = parse(&whole[..cut]).unwrap_err();
+            assert!(matches!(e, VdbError::Truncated { .. }), "cut at {cut}: {e}");
+        }
+        // Whole, as its header says, but announcing three nodes where two were written: its
+        // data runs past the file's end.
+        let e = parse(&tiled_file(Storage::Raw, &[], 3, 2)).unwrap_err();
+        assert!(matches!(e, VdbError::Malformed { .. }), "{e}");
     }
 }
