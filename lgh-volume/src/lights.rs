@@ -18,13 +18,13 @@ use lgh_core::{
 use lgh_image::Image;
 
 use crate::error::VolumeError;
+use crate::grid::DenseGrid;
 use crate::lighting::Lights;
 use crate::medium::{Medium, Volume};
 #[cfg(test)]
 use crate::render::Shadows;
 use crate::render::{Camera, MarchSettings, Marcher, RenderStats};
 use crate::shadow::{CubeMaps, Visibility, VolumeRays};
-use crate::DenseGrid;
 
 /// Which many-lights method shades the scattering (`--backend` of the CLI). The hierarchy's
 /// α is a setting of its own, so that this stays a plain choice.

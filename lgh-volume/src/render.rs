@@ -638,7 +638,7 @@ pub fn render_pixels<B: ManyLights + Sync>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::DenseGrid;
+    use crate::grid::DenseGrid;
     use lgh_core::BruteForce;
 
     /// A homogeneous box of density 1 and temperature `kelvin`, 2 units on a side.
