@@ -12,8 +12,8 @@ use crate::error::VolumeError;
 use crate::medium::Volume;
 use lgh_core::glam::Vec3;
 
+use crate::grid::DenseGrid;
 use crate::vdb;
-use crate::DenseGrid;
 
 /// Largest dense grid a cache may expand to (voxels).
 pub use crate::grid::MAX_DENSE_VOXELS as MAX_VOXELS;

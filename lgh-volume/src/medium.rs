@@ -6,7 +6,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::spectrum::BlackbodyTable;
 
 use crate::error::{check_setting, VolumeError};
-use crate::DenseGrid;
+use crate::grid::DenseGrid;
 
 /// Smoke density and temperature of one frame.
 #[derive(Clone, Debug, PartialEq)]

@@ -64,9 +64,9 @@ use lgh_image::Image;
 use rayon::prelude::*;
 
 use crate::error::VolumeError;
+use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
 use crate::render::{image, shade_pixels, Camera};
-use crate::DenseGrid;
 
 /// Path-tracing parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

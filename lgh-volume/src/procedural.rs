@@ -7,8 +7,8 @@ use lgh_core::glam::Vec3;
 use lgh_core::random::{fractal_noise, value_noise, value_noise_gradient, SplitMix64};
 
 use crate::error::{check_setting, VolumeError};
+use crate::grid::DenseGrid;
 use crate::medium::Volume;
-use crate::DenseGrid;
 
 /// Checks a generator's resolution (`32..=512`) and time (`0..=10` s).
 fn check_grid(res: usize, time: f32) -> Result<(), VolumeError> {

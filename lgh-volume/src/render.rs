@@ -467,7 +467,7 @@ pub(crate) fn image(camera: &Camera, pixels: impl Iterator<Item = Vec3>) -> Imag
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::DenseGrid;
+    use crate::grid::DenseGrid;
     use lgh_core::BruteForce;
 
     /// A homogeneous box of density 1 and temperature `kelvin`, 2 units on a side.

@@ -52,6 +52,9 @@ use crate::error::VolumeError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
 /// The largest optical depth a texel stores (`V = e^{−16} ≈ 1.1·10⁻⁷`).
 pub const TAU_MAX: f32 = 16.0;
 
@@ -441,7 +444,7 @@ impl CubeMaps {
         out.clear();
         out.resize(centres.len(), 1.0);
         #[cfg(target_arch = "x86_64")]
-        if super::avx2::cube_transmittances(self, x, centres, ids, out) {
+        if avx2::cube_transmittances(self, x, centres, ids, out) {
             return;
         }
         for ((o, &c), &(level, index)) in out.iter_mut().zip(centres).zip(ids) {
@@ -504,7 +507,7 @@ impl Tracer<'_> {
         if self.simd {
             while t < texels {
                 let dirs: [Vec3; 8] = core::array::from_fn(|l| direction((t + l).min(texels - 1)));
-                let Some(rays) = super::avx2::trace8(self, p, &dirs, s, r, reach) else {
+                let Some(rays) = avx2::trace8(self, p, &dirs, s, r, reach) else {
                     break;
                 };
                 for (l, (tau, n)) in rays.into_iter().enumerate().take(texels - t) {

@@ -443,7 +443,7 @@ fn transmittance(kappa: f32, sum: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::DenseGrid;
+    use crate::grid::DenseGrid;
 
     /// A volume of `dims` voxels of size 1/16 with density `f(i, j, k)`.
     fn volume(dims: [usize; 3], f: impl Fn(usize, usize, usize) -> f32) -> Volume {

@@ -163,7 +163,7 @@ impl VolumeRays {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::DenseGrid;
+    use crate::grid::DenseGrid;
     use lgh_core::{GridSettings, PointLight};
 
     /// 64 lights on a 4³ lattice of spacing 0.2 around the origin, and its blending at α = 2.
