@@ -511,7 +511,7 @@ impl Pass {
                 any_lit = all_dark.is_none();
             }
             bar.inc(1);
-            Ok(v)
+            Ok::<_, lgh_volume::ReadError>(v)
         });
         if args.backend != BackendArg::Pathtrace {
             lights = Some(ExplosionLights::from_frames(frames_read, &setup.medium)?);

@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::VolumeError;
+use crate::error::ReadError;
 use crate::medium::Volume;
 use lgh_core::glam::Vec3;
 
@@ -47,8 +47,8 @@ impl Default for GridNames {
 /// The file of frame `frame` in a cache whose file `example` is any frame: the last run of
 /// digits in the file name is replaced by `frame`, zero-padded to the same width
 /// (`fluid_data_0056.vdb` → `fluid_data_0050.vdb`).
-pub fn frame_path(example: &Path, frame: u32) -> Result<PathBuf, VolumeError> {
-    let bad = || VolumeError::FrameName {
+pub fn frame_path(example: &Path, frame: u32) -> Result<PathBuf, ReadError> {
+    let bad = || ReadError::FrameName {
         path: example.to_path_buf(),
     };
     let name = example
@@ -72,8 +72,8 @@ fn frame_digits(name: &str) -> Option<(usize, usize)> {
 
 /// Reads `res_min` from a Blender fluid config file (`config_NNNN.uni`: gzip of a 204-byte
 /// little-endian record ending in `C01\0`, `res_min` as three i32 at byte 160).
-pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], VolumeError> {
-    let bytes = std::fs::read(path).map_err(|source| VolumeError::Io {
+pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], ReadError> {
+    let bytes = std::fs::read(path).map_err(|source| ReadError::Io {
         path: path.to_path_buf(),
         source,
     })?;
@@ -90,8 +90,8 @@ pub fn read_blender_offset(path: &Path) -> Result<[i32; 3], VolumeError> {
 /// let e = parse_blender_offset(Path::new("config_0001.uni"), b"not gzip").unwrap_err();
 /// assert!(e.to_string().contains("not a gzip file"), "{e}");
 /// ```
-pub fn parse_blender_offset(path: &Path, bytes: &[u8]) -> Result<[i32; 3], VolumeError> {
-    let bad = |reason: String| VolumeError::BlenderConfig {
+pub fn parse_blender_offset(path: &Path, bytes: &[u8]) -> Result<[i32; 3], ReadError> {
+    let bad = |reason: String| ReadError::BlenderConfig {
         path: path.to_path_buf(),
         reason,
     };
@@ -178,11 +178,11 @@ impl RawFrame {
 }
 
 /// Position of the grid `name` in `file`, or an error that lists the grids there are.
-fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, VolumeError> {
+fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, ReadError> {
     file.grids
         .iter()
         .position(|g| g.name == name)
-        .ok_or_else(|| VolumeError::NoGrid {
+        .ok_or_else(|| ReadError::NoGrid {
             path: path.to_path_buf(),
             name: name.to_string(),
             available: file.grids.iter().map(|g| g.name.clone()).collect(),
@@ -191,8 +191,8 @@ fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, Volu
 
 impl RawFrame {
     /// Reads `path` and finds its grids (and its domain offset when `blender_offset`).
-    fn read(path: &Path, names: &GridNames, blender_offset: bool) -> Result<Self, VolumeError> {
-        let file = vdb::read(path).map_err(|source| VolumeError::Vdb {
+    fn read(path: &Path, names: &GridNames, blender_offset: bool) -> Result<Self, ReadError> {
+        let file = vdb::read(path).map_err(|source| ReadError::Vdb {
             path: path.to_path_buf(),
             source,
         })?;
@@ -315,16 +315,16 @@ impl Sequence {
     /// assert!(seq.frame(0).is_err()); // no such file
     /// let empty = SequenceLayout { hi: [-1; 3], ..layout };
     /// assert!(Sequence::with_layout(&[], &GridNames::default(), true, empty).is_err());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::ReadError>(())
     /// ```
     pub fn with_layout(
         paths: &[PathBuf],
         names: &GridNames,
         blender_offset: bool,
         layout: SequenceLayout,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, ReadError> {
         if layout.voxels().is_none() {
-            return Err(VolumeError::BadLayout {
+            return Err(ReadError::BadLayout {
                 lo: layout.lo,
                 hi: layout.hi,
             });
@@ -345,7 +345,7 @@ impl Sequence {
         paths: &[PathBuf],
         names: &GridNames,
         blender_offset: bool,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, ReadError> {
         Ok(Sequence::scan(paths, names, blender_offset, false)?.0)
     }
 
@@ -355,9 +355,9 @@ impl Sequence {
         paths: &[PathBuf],
         names: &GridNames,
         blender_offset: bool,
-    ) -> Result<(Self, Volume), VolumeError> {
+    ) -> Result<(Self, Volume), ReadError> {
         let (seq, kept) = Sequence::scan(paths, names, blender_offset, false)?;
-        let last = kept.last().ok_or(VolumeError::NoFrames)?;
+        let last = kept.last().ok_or(ReadError::NoFrames)?;
         let volume = seq.place(last)?;
         Ok((seq, volume))
     }
@@ -369,7 +369,7 @@ impl Sequence {
         names: &GridNames,
         blender_offset: bool,
         keep_all: bool,
-    ) -> Result<(Self, Vec<RawFrame>), VolumeError> {
+    ) -> Result<(Self, Vec<RawFrame>), ReadError> {
         let mut seq: Option<Sequence> = None;
         let mut kept = Vec::new();
         for path in paths {
@@ -393,14 +393,15 @@ impl Sequence {
             }
             kept.push(raw);
         }
-        let seq = seq.ok_or(VolumeError::NoFrames)?;
+        let seq = seq.ok_or(ReadError::NoFrames)?;
         if seq.lo[0] > seq.hi[0] {
-            return Err(VolumeError::NoActiveVoxels);
+            return Err(ReadError::NoActiveVoxels);
         }
         let dims = seq.dims();
         let voxels = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
         if voxels.is_none_or(|v| v > MAX_VOXELS) {
-            return Err(VolumeError::TooManyVoxels {
+            return Err(ReadError::TooManyVoxels {
+                max: MAX_VOXELS,
                 grid: None,
                 dims: Some(dims),
             });
@@ -423,10 +424,10 @@ impl Sequence {
 
     /// Checks that every grid of `raw` (read from `path`) is scalar and placed by the
     /// sequence's transform, the first frame's density grid's.
-    fn check(&self, raw: &RawFrame, path: &Path) -> Result<(), VolumeError> {
+    fn check(&self, raw: &RawFrame, path: &Path) -> Result<(), ReadError> {
         for g in raw.grids() {
             if g.index_to_world != self.transform {
-                return Err(VolumeError::GridTransform {
+                return Err(ReadError::GridTransform {
                     path: path.to_path_buf(),
                     grid: g.name.clone(),
                     reference: self.names.density.clone(),
@@ -434,7 +435,7 @@ impl Sequence {
                 });
             }
             if g.value_type.components() != 1 {
-                return Err(VolumeError::NotScalar {
+                return Err(ReadError::NotScalar {
                     path: path.to_path_buf(),
                     grid: g.name.clone(),
                     value_type: g.value_type.name(),
@@ -473,8 +474,8 @@ impl Sequence {
 
     /// Reads frame `i` onto the common box (checked again: the file may have changed since
     /// [`open`](Self::open)).
-    pub fn frame(&self, i: usize) -> Result<Volume, VolumeError> {
-        let path = self.paths.get(i).ok_or(VolumeError::NoSuchFrame {
+    pub fn frame(&self, i: usize) -> Result<Volume, ReadError> {
+        let path = self.paths.get(i).ok_or(ReadError::NoSuchFrame {
             index: i,
             len: self.len(),
         })?;
@@ -482,7 +483,7 @@ impl Sequence {
         self.check(&raw, path)?;
         let (lo, hi) = raw.index_box();
         if (0..3).any(|k| lo[k] < self.lo[k] || hi[k] > self.hi[k]) {
-            return Err(VolumeError::FrameChanged {
+            return Err(ReadError::FrameChanged {
                 path: path.to_path_buf(),
             });
         }
@@ -491,7 +492,7 @@ impl Sequence {
 
     /// `raw` on the common box: every frame lands at the box's place, whatever its own domain
     /// offset.
-    fn place(&self, raw: &RawFrame) -> Result<Volume, VolumeError> {
+    fn place(&self, raw: &RawFrame) -> Result<Volume, ReadError> {
         let origin = DenseGrid::world_position(&self.transform, self.lo);
         let place = |g: &vdb::Grid| {
             let a = [0, 1, 2].map(|k| self.lo[k] - raw.offset[k]);
@@ -512,7 +513,7 @@ pub fn load(
     paths: &[PathBuf],
     names: &GridNames,
     blender_offset: bool,
-) -> Result<Vec<Volume>, VolumeError> {
+) -> Result<Vec<Volume>, ReadError> {
     let (seq, raws) = Sequence::scan(paths, names, blender_offset, true)?;
     raws.iter().map(|raw| seq.place(raw)).collect()
 }

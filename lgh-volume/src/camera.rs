@@ -3,7 +3,7 @@
 
 use lgh_core::glam::Vec3;
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 
 /// The one image-size rule of every renderer (it lives in lgh-image).
 pub use lgh_image::{check_image_size, MAX_IMAGE_SIDE};
@@ -24,12 +24,12 @@ pub use lgh_image::camera::Pinhole as Camera;
 /// assert_eq!((camera.width(), camera.height()), (64, 36));
 /// assert!(camera.check_pixels(&[[63, 35]]).is_ok());
 /// assert!(camera.check_pixels(&[[64, 0]]).is_err());
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
 pub trait Framing: Sized {
     /// A camera at `eye` looking at `target`, `up` roughly up, vertical field of view in degrees
     /// and a `width × height` image: [`Camera::new`], its
-    /// [`CameraError`](lgh_image::camera::CameraError) as a [`VolumeError::Camera`].
+    /// [`CameraError`](lgh_image::camera::CameraError) as a [`RenderError::Camera`].
     fn look_at(
         eye: Vec3,
         target: Vec3,
@@ -37,10 +37,10 @@ pub trait Framing: Sized {
         fov_y: f32,
         width: usize,
         height: usize,
-    ) -> Result<Self, VolumeError>;
+    ) -> Result<Self, RenderError>;
 
     /// Frames the box `lo..hi` in a +Y-up world: [`frame_up`](Self::frame_up) with [`Up::Y`].
-    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, VolumeError>;
+    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, RenderError>;
 
     /// Frames the box `lo..hi`: looks at its centre from the front, a little to the right and
     /// above, from the distance where the box's bounding sphere shrunk to 80% fills the narrower
@@ -52,10 +52,10 @@ pub trait Framing: Sized {
         width: usize,
         height: usize,
         up: Up,
-    ) -> Result<Self, VolumeError>;
+    ) -> Result<Self, RenderError>;
 
     /// Checks that every `(x, y)` of `pixels` is inside the image.
-    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), VolumeError>;
+    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), RenderError>;
 }
 
 impl Framing for Camera {
@@ -66,11 +66,11 @@ impl Framing for Camera {
         fov_y: f32,
         width: usize,
         height: usize,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         Ok(Camera::new(eye, target, up, fov_y, width, height)?)
     }
 
-    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, VolumeError> {
+    fn frame(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Self, RenderError> {
         Camera::frame_up(lo, hi, width, height, Up::Y)
     }
 
@@ -80,7 +80,7 @@ impl Framing for Camera {
         width: usize,
         height: usize,
         up: Up,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         let centre = 0.5 * (lo + hi);
         let radius = 0.8 * 0.5 * (hi - lo).length();
         let fov_y = 40.0f32;
@@ -92,12 +92,12 @@ impl Framing for Camera {
         Camera::look_at(centre + dir * distance, centre, upv, fov_y, width, height)
     }
 
-    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), VolumeError> {
+    fn check_pixels(&self, pixels: &[[usize; 2]]) -> Result<(), RenderError> {
         match pixels
             .iter()
             .find(|p| p[0] >= self.width() || p[1] >= self.height())
         {
-            Some(&pixel) => Err(VolumeError::PixelOutside {
+            Some(&pixel) => Err(RenderError::PixelOutside {
                 pixel,
                 width: self.width(),
                 height: self.height(),
@@ -131,4 +131,3 @@ impl Up {
         }
     }
 }
-

@@ -15,7 +15,7 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_image::Image;
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::lighting::Lights;
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
@@ -52,7 +52,7 @@ pub struct PrepareSeconds {
 /// let (image, stats) = frame.render(&Camera::frame(lo, hi, 32, 18)?, &())?;
 /// assert_eq!(image.pixels.len(), 32 * 18);
 /// assert!(stats.lights_per_point() > 0.0);
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
 pub struct FrameRender<'a> {
     /// The frame's emission lights, as given.
@@ -79,7 +79,7 @@ impl<'a> FrameRender<'a> {
         medium: &'a Medium,
         settings: &MarchSettings,
         progress: &dyn Progress,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         settings.check()?;
         method.check()?;
         let t = Instant::now();
@@ -128,7 +128,7 @@ impl<'a> FrameRender<'a> {
         &self,
         camera: &Camera,
         progress: &dyn Progress,
-    ) -> Result<(Image, RenderStats), VolumeError> {
+    ) -> Result<(Image, RenderStats), RenderError> {
         let lights = self.shading_lights()?;
         progress::phase(progress, Phase::Render, camera.height() as u64, |p| {
             self.marcher.render_lit(lights.as_ref(), camera, p)
@@ -141,14 +141,15 @@ impl<'a> FrameRender<'a> {
         &self,
         camera: &Camera,
         pixels: &[[usize; 2]],
-    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+    ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
         let lights = self.shading_lights()?;
-        self.marcher.render_pixels_lit(lights.as_ref(), camera, pixels)
+        self.marcher
+            .render_pixels_lit(lights.as_ref(), camera, pixels)
     }
 
     /// The rendered lights through the method, with the fall-off clamp `h0 = h` (what
     /// [`Lights::incident`] shades a point with); `None` for [`Method::Emission`].
-    pub fn shading_lights(&self) -> Result<Option<Lights<FrameBackend<'_>>>, VolumeError> {
+    pub fn shading_lights(&self) -> Result<Option<Lights<FrameBackend<'_>>>, RenderError> {
         self.prepared.lights(self.lights())
     }
 
@@ -162,7 +163,7 @@ impl<'a> FrameRender<'a> {
         &self,
         camera: &Camera,
         progress: &dyn Progress,
-    ) -> Result<Option<Shares>, VolumeError> {
+    ) -> Result<Option<Shares>, RenderError> {
         let Some(scattered) = &self.scattered else {
             return Ok(None);
         };
@@ -194,7 +195,9 @@ impl<'a> FrameRender<'a> {
     /// The lights rendered: the merged lights of the scattering pass, or the emission lights.
     #[must_use]
     pub fn lights(&self) -> &ExplosionLights {
-        self.scattered.as_ref().map_or(self.emission, Scattered::lights)
+        self.scattered
+            .as_ref()
+            .map_or(self.emission, Scattered::lights)
     }
 
     /// The multiple-scattering pass, if the settings asked for one.

@@ -2,7 +2,7 @@
 
 use lgh_core::glam::Vec3;
 
-use crate::error::VolumeError;
+use crate::error::ReadError;
 use crate::vdb;
 
 /// A dense scalar grid: `dims` voxels of edge `voxel_size`; voxel `(0, 0, 0)` has its centre at
@@ -126,7 +126,7 @@ impl DenseGrid {
     /// The active values of a scalar VDB grid over the index box `lo..=hi`, as a dense grid in
     /// world space (voxel centres at `index_to_world · index`; only axis-aligned uniform-scale
     /// transforms). Inactive voxels are zero; vector grids give their length.
-    pub fn from_vdb(grid: &vdb::Grid, lo: [i32; 3], hi: [i32; 3]) -> Result<Self, VolumeError> {
+    pub fn from_vdb(grid: &vdb::Grid, lo: [i32; 3], hi: [i32; 3]) -> Result<Self, ReadError> {
         let origin = DenseGrid::world_position(&grid.index_to_world, lo);
         DenseGrid::from_vdb_at(grid, lo, hi, origin)
     }
@@ -142,7 +142,7 @@ impl DenseGrid {
         lo: [i32; 3],
         hi: [i32; 3],
         origin: Vec3,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, ReadError> {
         let m = grid.index_to_world;
         let h = grid.voxel_size[0];
         let uniform = (grid.voxel_size[1] - h).abs() <= 1e-9 * h
@@ -154,7 +154,7 @@ impl DenseGrid {
             && m[2][0] == 0.0
             && m[2][1] == 0.0;
         if !(uniform && axis_aligned) {
-            return Err(VolumeError::UnsupportedTransform {
+            return Err(ReadError::UnsupportedTransform {
                 grid: grid.name.clone(),
             });
         }
@@ -164,7 +164,8 @@ impl DenseGrid {
             .try_fold(1usize, |a, &d| a.checked_mul(d))
             .is_none_or(|v| v > MAX_DENSE_VOXELS)
         {
-            return Err(VolumeError::TooManyVoxels {
+            return Err(ReadError::TooManyVoxels {
+                max: MAX_DENSE_VOXELS,
                 grid: Some(grid.name.clone()),
                 dims: Some(dims),
             });

@@ -23,7 +23,7 @@
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
 //! - [`scattering`]: multiple scattering (Sec. 5): scattered lights at every voxel with smoke,
 //!   depth by depth, merged with the emission lights into one light per voxel.
-//! - [`error`]: [`VolumeError`], the crate's one error type.
+//! - [`error`]: [`RenderError`], the crate's one error type.
 //!
 //! Deep-shadow cube maps (Sec. 4) plug into [`Visibility`], multiple scattering (Sec. 5) calls
 //! [`Lights::incident`] at every voxel with smoke. The lighting itself lives in [`lgh_core`].
@@ -45,7 +45,7 @@
 //! let (image, stats) = frame.render(&Camera::frame(lo, hi, 32, 18)?, &())?;
 //! assert_eq!(image.pixels.len(), 32 * 18);
 //! println!("{:.0} lights per shading point", stats.lights_per_point());
-//! # Ok::<(), lgh_volume::VolumeError>(())
+//! # Ok::<(), lgh_volume::RenderError>(())
 //! ```
 
 #![deny(unsafe_code)]
@@ -73,13 +73,13 @@ pub mod stats;
 pub mod surfaces;
 pub mod vdb;
 
-pub use error::VolumeError;
+pub use error::{ReadError, RenderError};
+pub use frame::{FrameRender, PrepareSeconds};
 pub use grid::DenseGrid;
 pub use lighting::Lights;
-pub use frame::{FrameRender, PrepareSeconds};
 pub use lights::{ExplosionLights, Variants};
-pub use method::{FrameBackend, Method};
-pub use progress::{Phase, Progress};
 pub use medium::{EmissionModel, Medium, Volume, MAX_EMISSION};
+pub use method::{FrameBackend, Method};
 pub use procedural::{bouncing_balls, explosion, procedural, Explosion};
+pub use progress::{Phase, Progress};
 pub use shadow::{Shadows, Visibility};

@@ -12,7 +12,7 @@ use std::borrow::Borrow;
 use lgh_core::glam::Vec3;
 use lgh_core::{Clustering, GridSettings, LightPosition, LightingGridHierarchy, PointLight};
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
 
@@ -76,42 +76,45 @@ impl ExplosionLights {
     /// Lights at every voxel hotter than `T_min` in any of `frames`, with the intensities of
     /// `frames[0]`. Every frame's temperature (and flame) grid must have one layout (dimensions,
     /// voxel size, origin); the density may lie on another.
-    pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, VolumeError> {
-        let first = frames.first().ok_or(VolumeError::NoFrames)?;
-        let mut out = ExplosionLights::from_frames(frames.iter().map(|&f| Ok(f)), medium)?;
+    pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, RenderError> {
+        let first = frames.first().ok_or(RenderError::NoFrames)?;
+        let frames = frames.iter().map(|&f| Ok::<_, RenderError>(f));
+        let mut out = ExplosionLights::from_frames(frames, medium)?;
         out.set_frame(first, medium)?;
         Ok(out)
     }
 
     /// [`new`](Self::new) for frames that come one at a time (read from disk, say), each looked
     /// at once and then dropped; the lights are dark until [`set_frame`](Self::set_frame).
-    pub fn from_frames<V: Borrow<Volume>>(
-        frames: impl IntoIterator<Item = Result<V, VolumeError>>,
+    /// The frames may fail as they come (a [`ReadError`](crate::ReadError) of a sequence's
+    /// file, say): the first failure is returned.
+    pub fn from_frames<V: Borrow<Volume>, E: Into<RenderError>>(
+        frames: impl IntoIterator<Item = Result<V, E>>,
         medium: &Medium,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         // The first frame's temperature layout, and which of its voxels are hot in any frame.
         let mut layout: Option<(DenseGrid, Vec<bool>)> = None;
         for (i, f) in frames.into_iter().enumerate() {
-            let f = f?;
+            let f = f.map_err(Into::into)?;
             let f = f.borrow();
             if f.flame
                 .as_ref()
                 .is_some_and(|fl| !same_layout(&f.temperature, fl))
             {
-                return Err(VolumeError::FlameOffGrid { frame: Some(i) });
+                return Err(RenderError::FlameOffGrid { frame: Some(i) });
             }
             let (grid, hot) = layout.get_or_insert_with(|| {
                 let t = &f.temperature;
                 (layout_of(t), vec![false; t.data.len()])
             });
             if !same_layout(grid, &f.temperature) {
-                return Err(VolumeError::FrameOffGrid { frame: Some(i) });
+                return Err(RenderError::FrameOffGrid { frame: Some(i) });
             }
             for (v, h) in hot.iter_mut().enumerate() {
                 *h = *h || f.voxel_emits(medium, v);
             }
         }
-        let (grid, hot) = layout.ok_or(VolumeError::NoFrames)?;
+        let (grid, hot) = layout.ok_or(RenderError::NoFrames)?;
         let voxels: Vec<usize> = (0..hot.len()).filter(|&i| hot[i]).collect();
         let dark = vec![Vec3::ZERO; voxels.len()];
         ExplosionLights::at_voxels(&grid, voxels, &dark, None)
@@ -129,13 +132,13 @@ impl ExplosionLights {
     ///
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
-    /// let all = ExplosionLights::from_frames([Ok(&volume)], &medium)?;
+    /// let all = ExplosionLights::from_frames([Ok::<_, lgh_volume::ReadError>(&volume)], &medium)?;
     /// let again = ExplosionLights::at_hot_voxels(&volume, all.voxels().to_vec())?;
     /// assert_eq!(again.lights(), all.lights());
     /// assert!(ExplosionLights::at_hot_voxels(&volume, vec![3, 2]).is_err());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
-    pub fn at_hot_voxels(frame: &Volume, voxels: Vec<usize>) -> Result<Self, VolumeError> {
+    pub fn at_hot_voxels(frame: &Volume, voxels: Vec<usize>) -> Result<Self, RenderError> {
         let t = &frame.temperature;
         let n = t.data.len();
         let bad = voxels
@@ -143,7 +146,7 @@ impl ExplosionLights {
             .enumerate()
             .position(|(i, &v)| v >= n || (i > 0 && v <= voxels[i - 1]));
         if let Some(at) = bad {
-            return Err(VolumeError::BadLightVoxels { at, voxels: n });
+            return Err(RenderError::BadLightVoxels { at, voxels: n });
         }
         let grid = layout_of(t);
         let dark = vec![Vec3::ZERO; voxels.len()];
@@ -161,9 +164,9 @@ impl ExplosionLights {
         voxels: Vec<usize>,
         intensities: &[Vec3],
         max_level: Option<u8>,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         if intensities.len() != voxels.len() {
-            return Err(VolumeError::Lights(lgh_core::BuildError::LengthMismatch {
+            return Err(RenderError::Lights(lgh_core::BuildError::LengthMismatch {
                 expected: voxels.len(),
                 got: intensities.len(),
             }));
@@ -206,9 +209,9 @@ impl ExplosionLights {
     /// assert_eq!(variant.variants(), nearest);
     /// assert_eq!(variant.lights(), paper.lights());
     /// assert_ne!(variant.hierarchy().level(1), paper.hierarchy().level(1));
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
-    pub fn with_variants(mut self, variants: Variants) -> Result<Self, VolumeError> {
+    pub fn with_variants(mut self, variants: Variants) -> Result<Self, RenderError> {
         // Hard switches are the blending's, chosen per backend: only clustering and positions
         // make another hierarchy (the build is deterministic, so an unchanged one is the same).
         let same = (variants.clustering, variants.position)
@@ -256,9 +259,9 @@ impl ExplosionLights {
     /// lights.set_prune(1e-2)?;
     /// assert!(active(&lights) < all);
     /// assert!(lights.set_prune(1.0).is_err());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
-    pub fn set_prune(&mut self, fraction: f32) -> Result<(), VolumeError> {
+    pub fn set_prune(&mut self, fraction: f32) -> Result<(), RenderError> {
         crate::error::check_setting(
             (0.0..1.0).contains(&fraction),
             "weak-light pruning",
@@ -286,7 +289,7 @@ impl ExplosionLights {
     }
 
     /// Sets the hierarchy's threshold from the current intensities.
-    fn apply_prune(&mut self) -> Result<(), VolumeError> {
+    fn apply_prune(&mut self) -> Result<(), RenderError> {
         self.hierarchy
             .set_prune_below(self.prune * self.brightest())?;
         Ok(())
@@ -306,7 +309,7 @@ impl ExplosionLights {
 
     /// Replaces the intensities (one per light, in the order of [`lights`](Self::lights)),
     /// keeping every position: the hierarchy's cheap rebuild.
-    pub(crate) fn set_intensities(&mut self, intensities: &[Vec3]) -> Result<(), VolumeError> {
+    pub(crate) fn set_intensities(&mut self, intensities: &[Vec3]) -> Result<(), RenderError> {
         self.hierarchy.update_intensities(intensities)?;
         for (l, &i) in self.lights.iter_mut().zip(intensities) {
             l.intensity = i;
@@ -319,13 +322,13 @@ impl ExplosionLights {
 
     /// Sets the intensities to those of `frame` (same grid as at construction) and rebuilds the
     /// hierarchy's intensities, keeping every position.
-    pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), VolumeError> {
+    pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), RenderError> {
         let t = &frame.temperature;
         if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
-            return Err(VolumeError::FlameOffGrid { frame: None });
+            return Err(RenderError::FlameOffGrid { frame: None });
         }
         if !self.on_grid(t) {
-            return Err(VolumeError::FrameOffGrid { frame: None });
+            return Err(RenderError::FrameOffGrid { frame: None });
         }
         let h3 = self.voxel_size.powi(3);
         let intensities: Vec<Vec3> = self

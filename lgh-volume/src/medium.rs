@@ -5,7 +5,7 @@
 use lgh_core::glam::Vec3;
 use lgh_core::spectrum::BlackbodyTable;
 
-use crate::error::{check_setting, VolumeError};
+use crate::error::{check_setting, RenderError};
 use crate::grid::DenseGrid;
 
 /// Smoke density and temperature of one frame.
@@ -168,7 +168,7 @@ impl Medium {
         scattering: f32,
         emission: f32,
         min_temperature: f32,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         for (name, v) in [
             ("absorption", absorption),
             ("scattering", scattering),
@@ -189,7 +189,7 @@ impl Medium {
     }
 
     /// The same medium with temperature in other units: `T = scale × value` (finite, > 0).
-    pub fn with_temperature_scale(mut self, scale: f32) -> Result<Self, VolumeError> {
+    pub fn with_temperature_scale(mut self, scale: f32) -> Result<Self, RenderError> {
         self.temperature_scale = check_setting(
             scale.is_finite() && scale > 0.0,
             "temperature scale",

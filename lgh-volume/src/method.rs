@@ -11,7 +11,7 @@ use lgh_core::{
     ManyLights, PointLight, QueryError, Representative, Shader, ShadingPoint,
 };
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::lighting::Lights;
 use crate::lights::ExplosionLights;
 
@@ -111,7 +111,7 @@ impl Method {
     /// assert!(Method::Lgh { alpha: 0.0 }.check().is_err());
     /// assert!(Method::Brute.check().is_ok());
     /// ```
-    pub fn check(self) -> Result<(), VolumeError> {
+    pub fn check(self) -> Result<(), RenderError> {
         match self {
             Method::Lgh { alpha } => lgh_core::check_alpha(alpha)?,
             Method::Lightcuts { settings, .. } => settings.check()?,
@@ -123,7 +123,7 @@ impl Method {
     /// The method made ready over `lights` as they are now: the hierarchy's blending for α
     /// (once; with the lights' hard-switch variant), brute force's lights that shine, or
     /// Lightcuts' tree.
-    pub(crate) fn prepare(self, lights: &ExplosionLights) -> Result<Prepared, VolumeError> {
+    pub(crate) fn prepare(self, lights: &ExplosionLights) -> Result<Prepared, RenderError> {
         let lit = || -> Vec<PointLight> {
             lights
                 .lights()
@@ -187,7 +187,7 @@ impl Prepared {
     pub(crate) fn lights<'a>(
         &'a self,
         lights: &'a ExplosionLights,
-    ) -> Result<Option<Lights<FrameBackend<'a>>>, VolumeError> {
+    ) -> Result<Option<Lights<FrameBackend<'a>>>, RenderError> {
         let backend = match self {
             Prepared::Emission => return Ok(None),
             Prepared::Lgh { shading, .. } => {

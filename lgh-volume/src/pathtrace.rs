@@ -55,7 +55,7 @@
 //! let settings = PathSettings { spp: 2, ..Default::default() };
 //! let image = render(&volume, &medium, &camera, &settings, &|_rows| {})?;
 //! assert_eq!(image.pixels.len(), 48);
-//! # Ok::<(), lgh_volume::VolumeError>(())
+//! # Ok::<(), lgh_volume::RenderError>(())
 //! ```
 
 use lgh_core::glam::Vec3;
@@ -63,7 +63,7 @@ use lgh_core::random::SplitMix64;
 use lgh_image::Image;
 use rayon::prelude::*;
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
 use crate::render::{image, shade_pixels, Camera};
@@ -95,16 +95,16 @@ impl Default for PathSettings {
 
 impl PathSettings {
     /// Checks the settings: at least one path per pixel and a finite, non-negative environment.
-    pub fn validate(&self) -> Result<(), VolumeError> {
+    pub fn validate(&self) -> Result<(), RenderError> {
         if self.spp == 0 {
-            return Err(VolumeError::InvalidCount {
+            return Err(RenderError::InvalidCount {
                 name: "path tracer: samples per pixel",
                 value: 0,
                 rule: "must be at least 1",
             });
         }
         if !(self.environment.is_finite() && self.environment.min_element() >= 0.0) {
-            return Err(VolumeError::InvalidEnvironment {
+            return Err(RenderError::InvalidEnvironment {
                 radiance: self.environment,
             });
         }
@@ -168,10 +168,10 @@ pub struct Majorants {
 }
 
 /// Checks that a grid can be sampled: non-empty, consistent, finite geometry.
-fn check_grid(grid: &'static str, g: &DenseGrid) -> Result<(), VolumeError> {
+fn check_grid(grid: &'static str, g: &DenseGrid) -> Result<(), RenderError> {
     let count = g.dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
     if g.dims.contains(&0) || count != Some(g.data.len()) {
-        return Err(VolumeError::GridShape {
+        return Err(RenderError::GridShape {
             grid,
             dims: g.dims,
             values: g.data.len(),
@@ -179,7 +179,7 @@ fn check_grid(grid: &'static str, g: &DenseGrid) -> Result<(), VolumeError> {
     }
     let (lo, hi) = g.bounds();
     if !(g.voxel_size.is_finite() && g.voxel_size > 0.0 && lo.is_finite() && hi.is_finite()) {
-        return Err(VolumeError::GridGeometry {
+        return Err(RenderError::GridGeometry {
             grid,
             voxel_size: g.voxel_size,
             origin: g.origin,
@@ -226,7 +226,7 @@ impl Majorants {
     /// Builds the block majorants of `volume` in `medium`. Errors on grids that cannot be
     /// sampled (empty, inconsistent, non-finite geometry) and on infinite or absurdly large
     /// extinction (more than 10⁴ tentative collisions per voxel), which would never finish.
-    pub fn new(volume: &Volume, medium: &Medium) -> Result<Self, VolumeError> {
+    pub fn new(volume: &Volume, medium: &Medium) -> Result<Self, RenderError> {
         check_grid("density", &volume.density)?;
         check_grid("temperature", &volume.temperature)?;
         let g = &volume.density;
@@ -235,7 +235,7 @@ impl Majorants {
         let dims = g.dims.map(|n| n.div_ceil(BLOCK_VOXELS));
         let count = dims[0] * dims[1] * dims[2];
         let emission_floor = EMISSION_RATE / h;
-        let blocks: Result<Vec<(f32, bool)>, VolumeError> = (0..count)
+        let blocks: Result<Vec<(f32, bool)>, RenderError> = (0..count)
             .into_par_iter()
             .map(|b| {
                 let c = crate::grid::unflatten(b, dims);
@@ -250,7 +250,7 @@ impl Majorants {
                     sigma = sigma.max(emission_floor);
                 }
                 if !(sigma.is_finite() && sigma * h <= MAX_COLLISIONS_PER_VOXEL) {
-                    return Err(VolumeError::Majorant {
+                    return Err(RenderError::Majorant {
                         sigma,
                         voxel_size: h,
                     });
@@ -432,7 +432,8 @@ pub fn radiance(
     let mut throughput = 1.0f32;
     let mut scatters = 0u32;
     loop {
-        let Some((x, rho)) = majorants.fly(volume, medium, (o, d), throughput, &mut sum, rng) else {
+        let Some((x, rho)) = majorants.fly(volume, medium, (o, d), throughput, &mut sum, rng)
+        else {
             return sum + settings.environment * throughput;
         };
         let sigma_t = medium.extinction(rho);
@@ -462,7 +463,7 @@ pub fn render(
     camera: &Camera,
     settings: &PathSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Image, VolumeError> {
+) -> Result<Image, RenderError> {
     let pixels = trace_pixels(volume, medium, camera, settings, None, progress)?;
     Ok(image(camera, pixels.into_iter().map(|(mean, _)| mean)))
 }
@@ -476,9 +477,9 @@ pub fn render_with_variance(
     camera: &Camera,
     settings: &PathSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Image, Image), VolumeError> {
+) -> Result<(Image, Image), RenderError> {
     if settings.spp < 2 {
-        return Err(VolumeError::InvalidCount {
+        return Err(RenderError::InvalidCount {
             name: "path tracer: samples per pixel",
             value: settings.spp as usize,
             rule: "must be at least 2 for a variance",
@@ -499,7 +500,7 @@ fn trace_pixels(
     settings: &PathSettings,
     pixels: Option<&[[usize; 2]]>,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Vec<(Vec3, Vec3)>, VolumeError> {
+) -> Result<Vec<(Vec3, Vec3)>, RenderError> {
     settings.validate()?;
     let majorants = Majorants::new(volume, medium)?;
     shade_pixels(
@@ -540,7 +541,7 @@ pub fn render_pixels(
     camera: &Camera,
     settings: &PathSettings,
     pixels: &[[usize; 2]],
-) -> Result<Vec<Vec3>, VolumeError> {
+) -> Result<Vec<Vec3>, RenderError> {
     let out = trace_pixels(volume, medium, camera, settings, Some(pixels), &|_| {})?;
     Ok(out.into_iter().map(|(mean, _)| mean).collect())
 }

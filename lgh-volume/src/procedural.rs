@@ -6,14 +6,14 @@
 use lgh_core::glam::Vec3;
 use lgh_core::random::{fractal_noise, value_noise, value_noise_gradient, SplitMix64};
 
-use crate::error::{check_setting, VolumeError};
+use crate::error::{check_setting, RenderError};
 use crate::grid::DenseGrid;
 use crate::medium::Volume;
 
 /// Checks a generator's resolution (`32..=512`) and time (`0..=10` s).
-fn check_grid(res: usize, time: f32) -> Result<(), VolumeError> {
+fn check_grid(res: usize, time: f32) -> Result<(), RenderError> {
     if !(32..=512).contains(&res) {
-        return Err(VolumeError::InvalidCount {
+        return Err(RenderError::InvalidCount {
             name: "resolution",
             value: res,
             rule: "is outside 32..=512",
@@ -73,12 +73,12 @@ pub const BALL_RADIUS: f32 = 0.06;
 /// assert_ne!(a.temperature.data, b.temperature.data); // they move
 /// assert_eq!(a.temperature.data, bouncing_balls(48, 200, 0.0)?.temperature.data);
 /// assert!(a.temperature.data.iter().any(|&t| t > 2000.0));
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
-pub fn bouncing_balls(res: usize, count: usize, time: f32) -> Result<Volume, VolumeError> {
+pub fn bouncing_balls(res: usize, count: usize, time: f32) -> Result<Volume, RenderError> {
     check_grid(res, time)?;
     if count > 100_000 {
-        return Err(VolumeError::InvalidCount {
+        return Err(RenderError::InvalidCount {
             name: "balls",
             value: count,
             rule: "is above 100,000",
@@ -179,7 +179,7 @@ pub fn ball(n: usize, core_radius: f32, core_kelvin: f32) -> Volume {
 /// `time` (0 = ignition, 1 = one second later): a turbulent ball of smoke whose radius grows
 /// from 0.35 to 0.7 while its hot core (up to 3400 K) expands and cools. `res` must be in
 /// `32..=512`.
-pub fn procedural(res: usize, time: f32) -> Result<Volume, VolumeError> {
+pub fn procedural(res: usize, time: f32) -> Result<Volume, RenderError> {
     check_grid(res, time)?;
     let radius = 0.35 + 0.35 * time.min(1.0);
     let t_max = 3400.0 - 800.0 * time.min(1.0);
@@ -320,7 +320,7 @@ impl Explosion {
     /// let bad = Explosion { soot: f32::NAN, ..Explosion::default() };
     /// assert!(bad.validate().is_err());
     /// ```
-    pub fn validate(&self) -> Result<(), VolumeError> {
+    pub fn validate(&self) -> Result<(), RenderError> {
         let ranges: [(&'static str, f32, f32, f32, &'static str); 12] = [
             (
                 "explosion radius",
@@ -443,9 +443,9 @@ impl Explosion {
     /// assert_eq!(v.density.dims, [32; 3]);
     /// // Nothing reaches the grid's faces.
     /// assert_eq!(v.density.get(0, 16, 16), 0.0);
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
-    pub fn generate(&self, res: usize, time: f32) -> Result<Volume, VolumeError> {
+    pub fn generate(&self, res: usize, time: f32) -> Result<Volume, RenderError> {
         check_grid(res, time)?;
         self.validate()?;
         let radius = self.radius_at(time);
@@ -530,9 +530,9 @@ impl Explosion {
 /// // The fire is a part of the smoke.
 /// assert!(v.emitting_voxels(&medium) > 0 && v.emitting_voxels(&medium) < smoky);
 /// assert_eq!(v, explosion(32, 0.5)?);
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
-pub fn explosion(res: usize, time: f32) -> Result<Volume, VolumeError> {
+pub fn explosion(res: usize, time: f32) -> Result<Volume, RenderError> {
     Explosion::default().generate(res, time)
 }
 
@@ -732,7 +732,7 @@ mod tests {
         ];
         for e in &bad {
             assert!(
-                matches!(e.validate(), Err(VolumeError::InvalidSetting { .. })),
+                matches!(e.validate(), Err(RenderError::InvalidSetting { .. })),
                 "{e:?}"
             );
             assert!(e.generate(32, 0.5).is_err());
@@ -740,7 +740,7 @@ mod tests {
         // The grid and time are checked as `procedural` checks them.
         assert!(matches!(
             explosion(16, 0.5),
-            Err(VolumeError::InvalidCount {
+            Err(RenderError::InvalidCount {
                 name: "resolution",
                 ..
             })
@@ -748,7 +748,7 @@ mod tests {
         for t in [f32::NAN, -0.1, 10.5] {
             assert!(matches!(
                 explosion(32, t),
-                Err(VolumeError::InvalidSetting { name: "time", .. })
+                Err(RenderError::InvalidSetting { name: "time", .. })
             ));
         }
         // Nothing reaches the grid's faces, even fully grown.

@@ -16,7 +16,7 @@ use lgh_core::{LightSample, ManyLights, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
-use crate::error::{check_setting, VolumeError};
+use crate::error::{check_setting, RenderError};
 use crate::lighting::{LightScratch, Lights};
 use crate::medium::{Medium, Volume};
 pub use crate::shadow::Shadows;
@@ -62,7 +62,7 @@ impl MarchSettings {
     ///     "march settings: step 100 must be 0.01 to 64 voxels"
     /// );
     /// ```
-    pub fn check(&self) -> Result<(), VolumeError> {
+    pub fn check(&self) -> Result<(), RenderError> {
         for (name, v) in [
             ("march settings: step", self.step_voxels),
             ("march settings: shadow step", self.shadow_step_voxels),
@@ -153,13 +153,13 @@ impl<'a> Marcher<'a> {
     /// let lights = Lights::new(BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::ONE)])?, 0.05);
     /// let l = marcher.march(&lights, Vec3::new(0.0, 0.0, 3.0), -Vec3::Z, &mut RenderStats::default())?;
     /// assert!(l.max_element() > 0.0);
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     pub fn new(
         volume: &'a Volume,
         medium: &'a Medium,
         settings: &MarchSettings,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         settings.check()?;
         let visibility = Visibility::new(
             settings.shadows,
@@ -179,7 +179,7 @@ impl<'a> Marcher<'a> {
         medium: &'a Medium,
         settings: &MarchSettings,
         visibility: Visibility,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         settings.check()?;
         Ok(Marcher {
             volume,
@@ -210,7 +210,7 @@ impl<'a> Marcher<'a> {
         lights: &Lights<B>,
         camera: &Camera,
         progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<(Image, RenderStats), VolumeError> {
+    ) -> Result<(Image, RenderStats), RenderError> {
         self.render_lit(Some(lights), camera, progress)
     }
 
@@ -220,7 +220,7 @@ impl<'a> Marcher<'a> {
         lights: Option<&Lights<B>>,
         camera: &Camera,
         progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<(Image, RenderStats), VolumeError> {
+    ) -> Result<(Image, RenderStats), RenderError> {
         let (pixels, stats) = march_pixels(self, lights, camera, None, progress)?;
         Ok((image(camera, pixels.into_iter()), stats))
     }
@@ -233,7 +233,7 @@ impl<'a> Marcher<'a> {
         lights: &Lights<B>,
         camera: &Camera,
         pixels: &[[usize; 2]],
-    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+    ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
         self.render_pixels_lit(Some(lights), camera, pixels)
     }
 
@@ -243,7 +243,7 @@ impl<'a> Marcher<'a> {
         lights: Option<&Lights<B>>,
         camera: &Camera,
         pixels: &[[usize; 2]],
-    ) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+    ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
         march_pixels(self, lights, camera, Some(pixels), &|_| {})
     }
 
@@ -279,8 +279,14 @@ impl<'a> Marcher<'a> {
         origin: Vec3,
         dir: Vec3,
         stats: &mut RenderStats,
-    ) -> Result<Vec3, VolumeError> {
-        self.march_with(Some(lights), origin, dir, stats, &mut LightScratch::default())
+    ) -> Result<Vec3, RenderError> {
+        self.march_with(
+            Some(lights),
+            origin,
+            dir,
+            stats,
+            &mut LightScratch::default(),
+        )
     }
 
     /// [`march`](Self::march) (emission alone without `lights`) with buffers that the caller
@@ -292,7 +298,7 @@ impl<'a> Marcher<'a> {
         dir: Vec3,
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
-    ) -> Result<Vec3, VolumeError> {
+    ) -> Result<Vec3, RenderError> {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
@@ -355,7 +361,7 @@ impl<'a> Marcher<'a> {
         hit: SurfaceHit,
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
-    ) -> Result<Vec3, VolumeError> {
+    ) -> Result<Vec3, RenderError> {
         let Some((lights, surfaces)) = lights else {
             return Ok(Vec3::ZERO);
         };
@@ -396,13 +402,13 @@ pub fn shade_pixels<T: Send, S>(
     camera: &Camera,
     pixels: Option<&[[usize; 2]]>,
     init: impl Fn() -> S + Sync + Send,
-    shade: impl Fn(&mut S, usize, usize) -> Result<T, VolumeError> + Sync + Send,
+    shade: impl Fn(&mut S, usize, usize) -> Result<T, RenderError> + Sync + Send,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Vec<T>, VolumeError> {
-    let results: Vec<Result<T, VolumeError>> = match pixels {
+) -> Result<Vec<T>, RenderError> {
+    let results: Vec<Result<T, RenderError>> = match pixels {
         None => {
             let w = camera.width();
-            let rows: Vec<Vec<Result<T, VolumeError>>> = (0..camera.height())
+            let rows: Vec<Vec<Result<T, RenderError>>> = (0..camera.height())
                 .into_par_iter()
                 .map(|y| {
                     let mut scratch = init();
@@ -430,7 +436,7 @@ fn march_pixels<B: ManyLights + Sync>(
     camera: &Camera,
     pixels: Option<&[[usize; 2]]>,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<(Vec<Vec3>, RenderStats), VolumeError> {
+) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
     let out = shade_pixels(
         camera,
         pixels,
@@ -543,7 +549,7 @@ mod tests {
             let marcher = Marcher::new(&v, &m, &s).unwrap();
             let e = marcher.render(&lights, &camera, &|_| {}).unwrap_err();
             assert!(
-                matches!(e, VolumeError::Query(lgh_core::QueryError::NonFinitePoint)),
+                matches!(e, RenderError::Query(lgh_core::QueryError::NonFinitePoint)),
                 "{shadows:?}: {e}"
             );
             assert!(std::error::Error::source(&e).is_some());
@@ -604,7 +610,7 @@ mod tests {
         // The messages are the shared camera's.
         assert!(matches!(
             Camera::look_at(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 40.0, 8, 8),
-            Err(VolumeError::Camera(
+            Err(RenderError::Camera(
                 lgh_image::camera::CameraError::EyeAtTarget
             ))
         ));

@@ -53,7 +53,7 @@
 //! let (lo, hi) = volume.active_bounds().unwrap();
 //! let (image, _) = frame.render(&Camera::frame(lo, hi, 16, 9)?, &())?;
 //! assert_eq!(image.pixels.len(), 16 * 9);
-//! # Ok::<(), lgh_volume::VolumeError>(())
+//! # Ok::<(), lgh_volume::RenderError>(())
 //! ```
 
 use std::time::Instant;
@@ -63,7 +63,7 @@ use rayon::prelude::*;
 
 use lgh_image::Image;
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::lighting::LightScratch;
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
@@ -88,7 +88,7 @@ pub const CHUNK_VOXELS: usize = 1024;
 /// fewer still; the test `the_memory_plan_covers_what_the_pass_holds` checks the vertices).
 pub const BYTES_PER_LIGHT: u64 = 8 + 24 + 44 + 36 + 72;
 
-/// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`VolumeError::InvalidCount`]: checked
+/// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`RenderError::InvalidCount`]: checked
 /// before any work.
 ///
 /// ```
@@ -99,11 +99,11 @@ pub const BYTES_PER_LIGHT: u64 = 8 + 24 + 44 + 36 + 72;
 ///     check_depth(17).unwrap_err().to_string(),
 ///     "scatter depth 17 must be 0 to 16"
 /// );
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
-pub fn check_depth(depth: usize) -> Result<usize, VolumeError> {
+pub fn check_depth(depth: usize) -> Result<usize, RenderError> {
     if depth > MAX_SCATTER_DEPTH {
-        return Err(VolumeError::InvalidCount {
+        return Err(RenderError::InvalidCount {
             name: "scatter depth",
             value: depth,
             rule: "must be 0 to 16",
@@ -130,7 +130,7 @@ pub struct ScatterPlan {
 impl ScatterPlan {
     /// The plan of [`scatter`] to `depth` scattered depths from `emission` in `frame`: checks the
     /// depth ([`check_depth`]) and that the density lies on the lights' grid
-    /// ([`VolumeError::DensityOffGrid`]); counts voxels, nothing more.
+    /// ([`RenderError::DensityOffGrid`]); counts voxels, nothing more.
     ///
     /// ```
     /// use lgh_volume::scattering::ScatterPlan;
@@ -145,16 +145,16 @@ impl ScatterPlan {
     /// assert!(plan.check(1 << 30).is_ok());
     /// assert!(plan.check(1000).is_err()); // refused before any work
     /// assert!(ScatterPlan::new(&emission, &volume, 17).is_err());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     pub fn new(
         emission: &ExplosionLights,
         frame: &Volume,
         depth: usize,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         check_depth(depth)?;
         if !emission.on_grid(&frame.density) {
-            return Err(VolumeError::DensityOffGrid);
+            return Err(RenderError::DensityOffGrid);
         }
         let dense = frame.density.data.iter().filter(|&&r| r > 0.0).count();
         let merged = merge_count(emission.voxels(), &frame.density.data);
@@ -174,7 +174,7 @@ impl ScatterPlan {
         })
     }
 
-    /// `Ok` if the plan fits in `budget` bytes, else [`VolumeError::ScatterMemory`].
+    /// `Ok` if the plan fits in `budget` bytes, else [`RenderError::ScatterMemory`].
     ///
     /// ```
     /// use lgh_volume::scattering::ScatterPlan;
@@ -183,9 +183,9 @@ impl ScatterPlan {
     /// assert!(plan.check(5000).is_ok());
     /// assert!(plan.check(4999).unwrap_err().to_string().contains("--scatter-depth"));
     /// ```
-    pub fn check(&self, budget: u64) -> Result<(), VolumeError> {
+    pub fn check(&self, budget: u64) -> Result<(), RenderError> {
         if self.bytes > budget {
-            return Err(VolumeError::ScatterMemory {
+            return Err(RenderError::ScatterMemory {
                 needed: self.bytes,
                 budget,
                 depth: self.depth,
@@ -251,7 +251,7 @@ pub struct Scattered {
 /// // One merged light per voxel that emits or has smoke; the scattered light is there.
 /// assert!(s.lights().lights().len() > emission.lights().len());
 /// assert!(s.depths()[0].power > 0.0);
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
 pub fn scatter(
     emission: &ExplosionLights,
@@ -260,13 +260,13 @@ pub fn scatter(
     medium: &Medium,
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Scattered, VolumeError> {
+) -> Result<Scattered, RenderError> {
     let depth = settings.scatter_depth;
     let plan = ScatterPlan::new(emission, frame, depth)?;
     settings.check()?;
     method.check()?;
     if method == Method::Emission && depth > 0 {
-        return Err(VolumeError::InvalidCount {
+        return Err(RenderError::InvalidCount {
             name: "scatter depth",
             value: depth,
             rule: "needs lights to scatter: emission alone has none",
@@ -405,7 +405,7 @@ impl Fluence<'_> {
         &self,
         source: &ExplosionLights,
         out: &mut [Vec3],
-    ) -> Result<(RenderStats, f64), VolumeError> {
+    ) -> Result<(RenderStats, f64), RenderError> {
         let shading = Shading::new(
             source,
             self.method,
@@ -416,7 +416,7 @@ impl Fluence<'_> {
         )?;
         let (visibility, shadow_seconds) = (&shading.visibility, shading.shadow_seconds);
         let Some(lights) = shading.prepared.lights(source)? else {
-            return Err(VolumeError::InvalidCount {
+            return Err(RenderError::InvalidCount {
                 name: "scatter depth",
                 value: 1,
                 rule: "needs lights to scatter: emission alone has none",
@@ -424,7 +424,7 @@ impl Fluence<'_> {
         };
         let grid = &self.frame.density;
         let h3 = grid.voxel_size.powi(3);
-        let chunks: Vec<Result<RenderStats, VolumeError>> = out
+        let chunks: Vec<Result<RenderStats, RenderError>> = out
             .par_chunks_mut(CHUNK_VOXELS)
             .zip(self.voxels.par_chunks(CHUNK_VOXELS))
             .map(|(out, voxels)| {
@@ -506,7 +506,7 @@ impl Scattered {
     /// // The merged hierarchy is on the emission lights' grid.
     /// assert_eq!(s.lights().hierarchy().h1(), emission.hierarchy().h1());
     /// assert_eq!(s.lights().hierarchy().max_level(), emission.hierarchy().max_level());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     #[must_use]
     pub fn lights(&self) -> &ExplosionLights {
@@ -529,7 +529,7 @@ impl Scattered {
     /// let d = s.depths();
     /// assert_eq!((d[0].depth, d[1].depth), (1, 2));
     /// assert_eq!(d[0].stats.shading_points, d[0].lights as u64); // one query per voxel
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     #[must_use]
     pub fn depths(&self) -> &[DepthReport] {
@@ -555,7 +555,7 @@ impl Scattered {
     ///     assert_eq!(l.intensity, a + b);
     /// }
     /// assert!(s.intensities(2).is_none());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     #[must_use]
     pub fn intensities(&self, depth: usize) -> Option<&[Vec3]> {
@@ -578,10 +578,10 @@ impl Scattered {
     /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
     /// assert_eq!(s.depth_lights(0)?.lit(), emission.lit());
     /// assert!(s.depth_lights(2).is_err());
-    /// # Ok::<(), lgh_volume::VolumeError>(())
+    /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
-    pub fn depth_lights(&self, depth: usize) -> Result<ExplosionLights, VolumeError> {
-        let intensities = self.intensities(depth).ok_or(VolumeError::InvalidCount {
+    pub fn depth_lights(&self, depth: usize) -> Result<ExplosionLights, RenderError> {
+        let intensities = self.intensities(depth).ok_or(RenderError::InvalidCount {
             name: "scatter depth",
             value: depth,
             rule: "is past the pass's last depth",
@@ -637,7 +637,14 @@ mod tests {
             shadows: Shadows::RayMarch,
             ..Default::default()
         };
-        let s = pass(&emission, 1, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings);
+        let s = pass(
+            &emission,
+            1,
+            Method::Lgh { alpha: 2.0 },
+            &volume,
+            &medium,
+            &settings,
+        );
         let merged = s.lights();
         assert_eq!(merged.prune(), 1e-3);
         let brightest = merged.brightest();
@@ -764,14 +771,7 @@ mod tests {
         let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
         let settings = MarchSettings::default(); // ray-marched shadows
         let depth = 3;
-        let brute = pass(
-            &emission,
-            depth,
-            Method::Brute,
-            &volume,
-            &medium,
-            &settings,
-        );
+        let brute = pass(&emission, depth, Method::Brute, &volume, &medium, &settings);
         let grid = ShadowGrid::new(
             &volume,
             &medium,
@@ -928,7 +928,7 @@ mod tests {
         let ok = MarchSettings::default();
         let e = run(17, &ok, &volume).unwrap_err();
         assert!(
-            matches!(e, VolumeError::InvalidCount { value: 17, .. }),
+            matches!(e, RenderError::InvalidCount { value: 17, .. }),
             "{e}"
         );
         let small = MarchSettings {
@@ -940,14 +940,14 @@ mod tests {
         };
         let e = run(4, &small, &volume).unwrap_err();
         assert!(
-            matches!(e, VolumeError::ScatterMemory { depth: 4, .. }),
+            matches!(e, RenderError::ScatterMemory { depth: 4, .. }),
             "{e}"
         );
         let mut moved = volume.clone();
         moved.density.origin += Vec3::splat(0.01);
         assert!(matches!(
             run(1, &ok, &moved).unwrap_err(),
-            VolumeError::DensityOffGrid
+            RenderError::DensityOffGrid
         ));
         assert_eq!(work.into_inner(), 0, "no voxel's fluence was computed");
     }
@@ -963,7 +963,14 @@ mod tests {
             shadows: Shadows::None,
             ..Default::default()
         };
-        let s = pass(&emission, 1, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings);
+        let s = pass(
+            &emission,
+            1,
+            Method::Lgh { alpha: 2.0 },
+            &volume,
+            &medium,
+            &settings,
+        );
         let plan = ScatterPlan::new(&emission, &volume, 1).unwrap();
         assert_eq!(plan.merged_lights, s.lights().lights().len());
         let h = s.lights().hierarchy();

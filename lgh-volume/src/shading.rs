@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{Method, Prepared};
@@ -37,7 +37,7 @@ impl Shading {
         medium: &Medium,
         settings: &MarchSettings,
         progress: &dyn Progress,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         let prepared = method.prepare(lights)?;
         let t = Instant::now();
         let (step, cutoff) = (settings.shadow_step_voxels, settings.min_transmittance);
@@ -71,5 +71,4 @@ impl Shading {
             shadow_seconds: t.elapsed().as_secs_f64(),
         })
     }
-
 }

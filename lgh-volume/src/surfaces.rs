@@ -53,7 +53,7 @@ pub trait Surfaces: Sync {
 /// assert!(ground.occluded(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, -2.0, 0.0)));
 /// assert!(!ground.occluded(Vec3::new(0.0, 0.0, 0.0), Vec3::new(5.0, 0.5, 0.0)));
 /// assert!(Ground::new(Up::Y, 0.0, Vec3::splat(1.5)).is_err()); // albedo above 1
-/// # Ok::<(), lgh_volume::VolumeError>(())
+/// # Ok::<(), lgh_volume::RenderError>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ground {
@@ -64,7 +64,7 @@ pub struct Ground {
 
 impl Ground {
     /// The plane `up · x = height` with diffuse albedo `albedo` (each channel in [0, 1]).
-    pub fn new(up: Up, height: f32, albedo: Vec3) -> Result<Self, crate::VolumeError> {
+    pub fn new(up: Up, height: f32, albedo: Vec3) -> Result<Self, crate::RenderError> {
         crate::error::check_setting(
             height.is_finite(),
             "ground height",

@@ -30,7 +30,14 @@ fn render(
         cube_maps: cube,
         ..Default::default()
     };
-    render_with(lights, Method::Lgh { alpha: 2.0 }, v, &medium(), camera, &settings)
+    render_with(
+        lights,
+        Method::Lgh { alpha: 2.0 },
+        v,
+        &medium(),
+        camera,
+        &settings,
+    )
 }
 
 /// `lights` through `method` on `v` in `m` with `settings`, seen by `camera`.
@@ -154,7 +161,14 @@ fn on_the_demo_twelve_depths_meet_the_target_and_four_do_not() {
             },
             ..Default::default()
         };
-        render_with(&lights, Method::Lgh { alpha: 2.0 }, &v, &m, &camera, &settings)
+        render_with(
+            &lights,
+            Method::Lgh { alpha: 2.0 },
+            &v,
+            &m,
+            &camera,
+            &settings,
+        )
     };
     let same_model = render(Shadows::RayMarchVolumes, 4);
     let error = |n| {

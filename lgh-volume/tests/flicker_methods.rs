@@ -64,7 +64,10 @@ fn lightcuts_in_a_medium_converges_to_brute_force() {
     };
     for shadows in [Shadows::None, Shadows::RayMarch] {
         let exact = render(&l, Method::Brute, &v, &c, shadows);
-        for representative in [Representative::Stochastic { seed: 3 }, Representative::Brightest] {
+        for representative in [
+            Representative::Stochastic { seed: 3 },
+            Representative::Brightest,
+        ] {
             let method = |settings| Method::Lightcuts {
                 settings,
                 representative,

@@ -48,7 +48,7 @@ use super::cube;
 use super::empty::EmptySpace;
 use super::lookup::{self, Slot, NO_MAP};
 use super::prefilter::DensityPyramid;
-use crate::error::VolumeError;
+use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
 
@@ -283,7 +283,7 @@ impl CubeMaps {
     }
 
     /// Traces the maps of every light of `hierarchy` (at `blending`'s α) through `volume`'s
-    /// density in `medium`. Refused before any work, with [`VolumeError::ShadowMemory`], if the
+    /// density in `medium`. Refused before any work, with [`RenderError::ShadowMemory`], if the
     /// [`plan`](Self::plan) exceeds `settings.memory_budget`. `progress(n)` as each batch of `n`
     /// lights is done.
     pub fn build(
@@ -293,7 +293,7 @@ impl CubeMaps {
         medium: &Medium,
         settings: &CubeMapSettings,
         progress: &(dyn Fn(usize) + Sync),
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, RenderError> {
         crate::error::check_setting(
             (0.01..=64.0).contains(&settings.step_voxels),
             "cube maps: step",
@@ -312,7 +312,7 @@ impl CubeMaps {
         if needed > settings.memory_budget
             || plan.levels.iter().map(|l| l.texels).sum::<u64>() >= u64::from(u32::MAX)
         {
-            return Err(VolumeError::ShadowMemory {
+            return Err(RenderError::ShadowMemory {
                 needed,
                 budget: settings.memory_budget,
                 alpha: blending.alpha(),
@@ -1116,7 +1116,7 @@ mod tests {
             calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         })
         .unwrap_err();
-        assert!(matches!(err, VolumeError::ShadowMemory { .. }), "{err}");
+        assert!(matches!(err, RenderError::ShadowMemory { .. }), "{err}");
         assert_eq!(calls.into_inner(), 0);
     }
 }

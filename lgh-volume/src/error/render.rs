@@ -1,21 +1,19 @@
-//! The one error type of lgh-volume: what went wrong, with the data to say so (the path, the
-//! grid, the setting and its value) and, where another crate's error is the cause, that error as
-//! [`source`](std::error::Error::source). The CLI turns it into one line of text; a library user
-//! can match on it.
+//! Why lighting or rendering a volume failed: a setting out of range, lights that cannot be
+//! built, a failed query, shadows that would not fit in memory — or the volume could not be
+//! read ([`RenderError::Read`]).
 
 use std::fmt;
-use std::path::PathBuf;
 
 use lgh_core::glam::Vec3;
 use lgh_core::{BuildError, QueryError};
 use lgh_image::camera::CameraError;
 
-use crate::vdb::VdbError;
+use super::ReadError;
 
-/// Why reading, lighting or rendering a volume failed.
+/// Why lighting or rendering a volume failed.
 #[derive(Debug)]
 #[non_exhaustive]
-pub enum VolumeError {
+pub enum RenderError {
     /// A real-valued setting outside its range: "`name` `value` `rule`", e.g. "march settings:
     /// step 100 must be 0.01 to 64 voxels".
     InvalidSetting {
@@ -40,7 +38,7 @@ pub enum VolumeError {
         /// The rejected radiance.
         radiance: Vec3,
     },
-    /// No frames were given.
+    /// No frames were given to make lights of.
     NoFrames,
     /// A frame's flame grid does not lie on its temperature grid (frame index if known).
     FlameOffGrid {
@@ -93,19 +91,6 @@ pub enum VolumeError {
         /// The voxel size.
         voxel_size: f32,
     },
-    /// A VDB grid's transform is not axis-aligned with cubic voxels.
-    UnsupportedTransform {
-        /// The grid's name.
-        grid: String,
-    },
-    /// Making a grid (or a sequence's common box) dense would exceed
-    /// [`MAX_DENSE_VOXELS`](crate::grid::MAX_DENSE_VOXELS).
-    TooManyVoxels {
-        /// The grid's name, or `None` for a sequence's common box.
-        grid: Option<String>,
-        /// Its dimensions, where known.
-        dims: Option<[usize; 3]>,
-    },
     /// The deep-shadow cube maps a render asks for would not fit in the memory allowed them
     /// (found before any map is traced).
     ShadowMemory {
@@ -129,83 +114,6 @@ pub enum VolumeError {
         /// The scattering depth asked for.
         depth: usize,
     },
-    /// A file could not be read.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// A file is not a readable OpenVDB file.
-    Vdb {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: VdbError,
-    },
-    /// A Blender fluid config file (`config_NNNN.uni`) is not one or is damaged.
-    BlenderConfig {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong with it.
-        reason: String,
-    },
-    /// A file has no grid of the asked-for name.
-    NoGrid {
-        /// The file.
-        path: PathBuf,
-        /// The missing name.
-        name: String,
-        /// The grids the file has.
-        available: Vec<String>,
-    },
-    /// A grid has another transform than the sequence's first density grid.
-    GridTransform {
-        /// The file.
-        path: PathBuf,
-        /// The grid.
-        grid: String,
-        /// The reference grid's name.
-        reference: String,
-        /// The reference grid's file.
-        reference_path: PathBuf,
-    },
-    /// A grid is not scalar.
-    NotScalar {
-        /// The file.
-        path: PathBuf,
-        /// The grid.
-        grid: String,
-        /// Its value type.
-        value_type: &'static str,
-    },
-    /// None of a sequence's frames has an active voxel.
-    NoActiveVoxels,
-    /// A frame file changed since its sequence was opened.
-    FrameChanged {
-        /// The file.
-        path: PathBuf,
-    },
-    /// A frame index past the end of a sequence.
-    NoSuchFrame {
-        /// The index.
-        index: usize,
-        /// Frames in the sequence.
-        len: usize,
-    },
-    /// A path has no file name, or its file name has no frame number.
-    FrameName {
-        /// The path.
-        path: PathBuf,
-    },
-    /// A sequence's stored layout (a farm manifest's) that no sequence can have: a box with a
-    /// side below one voxel or past [`crate::cache::MAX_VOXELS`].
-    BadLayout {
-        /// The box's low corner, inclusive, in index space.
-        lo: [i32; 3],
-        /// Its high corner, inclusive.
-        hi: [i32; 3],
-    },
     /// Light voxels (a farm manifest's) that are not strictly ascending indices into the grid.
     BadLightVoxels {
         /// The first offending position in the list.
@@ -213,11 +121,13 @@ pub enum VolumeError {
         /// Voxels of the grid.
         voxels: usize,
     },
+    /// The volume could not be read (a sequence's frame, read as it is rendered).
+    Read(ReadError),
 }
 
-impl fmt::Display for VolumeError {
+impl fmt::Display for RenderError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use VolumeError as E;
+        use RenderError as E;
         match self {
             E::InvalidSetting { name, value, rule } => write!(f, "{name} {value} {rule}"),
             E::InvalidCount { name, value, rule } => write!(f, "{name} {value} {rule}"),
@@ -266,20 +176,6 @@ impl fmt::Display for VolumeError {
                 "path tracer: extinction majorant {sigma} per unit length is not finite or too \
                  large to track (voxel size {voxel_size})"
             ),
-            E::UnsupportedTransform { grid } => {
-                write!(f, "grid '{grid}' has a non-uniform or rotated transform")
-            }
-            E::TooManyVoxels { grid, dims } => {
-                let max = crate::grid::MAX_DENSE_VOXELS;
-                match (grid, dims) {
-                    (Some(g), _) => write!(f, "grid '{g}' is too large to make dense"),
-                    (None, Some([x, y, z])) => write!(
-                        f,
-                        "the frames span {x}x{y}x{z} voxels, more than the {max} a dense grid may hold"
-                    ),
-                    (None, None) => write!(f, "more than the {max} voxels a dense grid may hold"),
-                }
-            }
             E::ShadowMemory {
                 needed,
                 budget,
@@ -308,109 +204,49 @@ impl fmt::Display for VolumeError {
                 *needed as f64 / 1e9,
                 *budget as f64 / 1e9
             ),
-            E::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            E::Vdb { path, source } => write!(f, "{}: {source}", path.display()),
-            E::BlenderConfig { path, reason } => write!(f, "{}: {reason}", path.display()),
-            E::NoGrid {
-                path,
-                name,
-                available,
-            } => write!(
-                f,
-                "{}: no grid named '{name}' (grids: {})",
-                path.display(),
-                available.join(", ")
-            ),
-            E::GridTransform {
-                path,
-                grid,
-                reference,
-                reference_path,
-            } => write!(
-                f,
-                "{}: grid '{grid}' has another transform (voxel size or placement) than \
-                 '{reference}' of {}",
-                path.display(),
-                reference_path.display()
-            ),
-            E::NotScalar {
-                path,
-                grid,
-                value_type,
-            } => write!(
-                f,
-                "{}: grid '{grid}' is a {value_type} grid; density, emission and flame must be scalar",
-                path.display()
-            ),
-            E::NoActiveVoxels => write!(f, "the frames have no active voxels"),
-            E::FrameChanged { path } => write!(
-                f,
-                "{}: changed since the sequence was opened (its voxels leave the common box)",
-                path.display()
-            ),
-            E::NoSuchFrame { index, len } => {
-                write!(f, "frame {index} is past the end of a {len}-frame sequence")
-            }
-            E::FrameName { path } => write!(
-                f,
-                "{}: no frame number in the file name",
-                path.display()
-            ),
-            E::BadLayout { lo, hi } => write!(
-                f,
-                "a sequence box from {lo:?} to {hi:?} (inclusive) is empty or too large"
-            ),
             E::BadLightVoxels { at, voxels } => write!(
                 f,
                 "light voxel list: entry {at} is not above the one before it or not below the \
                  grid's {voxels} voxels"
             ),
+            E::Read(e) => write!(f, "{e}"),
         }
     }
 }
 
-impl std::error::Error for VolumeError {
+impl std::error::Error for RenderError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            VolumeError::Lights(e) => Some(e),
-            VolumeError::Query(e) => Some(e),
-            VolumeError::Camera(e) => Some(e),
-            VolumeError::Io { source, .. } => Some(source),
-            VolumeError::Vdb { source, .. } => Some(source),
+            RenderError::Lights(e) => Some(e),
+            RenderError::Query(e) => Some(e),
+            RenderError::Camera(e) => Some(e),
+            // The read error's own message is this one's: its cause is the next link.
+            RenderError::Read(e) => e.source(),
             _ => None,
         }
     }
 }
 
-impl From<BuildError> for VolumeError {
+impl From<BuildError> for RenderError {
     fn from(e: BuildError) -> Self {
-        VolumeError::Lights(e)
+        RenderError::Lights(e)
     }
 }
 
-impl From<QueryError> for VolumeError {
+impl From<QueryError> for RenderError {
     fn from(e: QueryError) -> Self {
-        VolumeError::Query(e)
+        RenderError::Query(e)
     }
 }
 
-impl From<CameraError> for VolumeError {
+impl From<CameraError> for RenderError {
     fn from(e: CameraError) -> Self {
-        VolumeError::Camera(e)
+        RenderError::Camera(e)
     }
 }
 
-/// `Ok(value)` if `ok`, else [`VolumeError::InvalidSetting`]: the one shape of every range
-/// check of a real-valued setting.
-pub(crate) fn check_setting(
-    ok: bool,
-    name: &'static str,
-    value: f32,
-    rule: &'static str,
-) -> Result<f32, VolumeError> {
-    if ok {
-        Ok(value)
-    } else {
-        Err(VolumeError::InvalidSetting { name, value, rule })
+impl From<ReadError> for RenderError {
+    fn from(e: ReadError) -> Self {
+        RenderError::Read(e)
     }
 }
