@@ -10,7 +10,7 @@ use lgh_core::{
 use rayon::prelude::*;
 
 use crate::progress;
-use lgh_cli::ply;
+use lgh_ply as ply;
 use lgh_volume::Method;
 
 /// Arguments of `lgh probes`.
