@@ -4,7 +4,7 @@
 //!
 //! Every method renders the same frames and pixels; brute force over every light with
 //! ray-marched shadows is the reference of each frame (the exact answer of the same light
-//! model). Flicker is `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|` (DESIGN.md
+//! model). Flicker is `mean_t mean_px |(A_t − R_t) − (A_{t−1} − R_{t−1})| / mean |R|` (ARCHITECTURE.md
 //! "Measuring", [`lgh_image::flicker`]): the change of the error from frame to frame, so a
 //! constant bias does not count; the error is the mean over frames of the relative RMSE.
 
