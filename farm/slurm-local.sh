@@ -1,6 +1,6 @@
 #!/bin/bash
 # A single-node Slurm cluster on this machine, for lgh's farm test and for trying the farm
-# recipe (README "Rendering on a farm"): Debian's slurm-wlm and munge, every file of the
+# recipe (docs/farm.md): Debian's slurm-wlm and munge, every file of the
 # cluster under DIR, nothing in /etc touched.
 #
 #   farm/slurm-local.sh start DIR   # prints the line to source: export SLURM_CONF=DIR/slurm.conf

@@ -7,7 +7,7 @@
 //! |---|---|---|
 //! | `vdb` | [`lgh_volume::vdb::parse`], then each grid's statistics and its dense copy | `lgh explosion`, `lgh inspect` |
 //! | `uni` | [`lgh_volume::cache::parse_blender_offset`] | Blender's `config_NNNN.uni` |
-//! | `ply` | [`lgh_cli::ply::parse`], then the light columns | `lgh probes` |
+//! | `ply` | [`lgh_ply::parse`], then the light columns | `lgh probes` |
 //! | `obj` | [`lgh_vpl::Mesh::parse_obj`] (lgh's checks, then tobj) | `lgh paquette --obj` |
 //! | `exr` | [`lgh_image::decode_exr`] | `lgh compare` |
 //!
@@ -70,7 +70,7 @@ pub fn uni(data: &[u8]) {
 /// A PLY point cloud (ASCII, binary little- or big-endian), then the columns `lgh probes` asks
 /// for.
 pub fn ply(data: &[u8]) {
-    let Ok(cloud) = lgh_cli::ply::parse(data) else {
+    let Ok(cloud) = lgh_ply::parse(data) else {
         return;
     };
     for name in ["x", "y", "z", "r", "g", "b"] {

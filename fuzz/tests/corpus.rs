@@ -1,6 +1,6 @@
 //! Replays the saved fuzz corpus (`fuzz/corpus/TARGET/*`): every input that coverage-guided
-//! fuzzing kept, and every crash it found once, still returns without a panic. Deterministic and
-//! quick, so it runs in CI; the fuzzing itself is `fuzz/README.md`'s.
+//! fuzzing kept, and every crash it found once, still returns without a panic. Deterministic, so
+//! it runs in CI; the fuzzing itself is `fuzz/README.md`'s.
 
 use std::path::Path;
 
@@ -18,14 +18,13 @@ fn every_saved_input_returns() {
         assert!(!files.is_empty(), "{}: no saved inputs", dir.display());
         for f in &files {
             let data = std::fs::read(f).unwrap();
-            // A panic names the file: a regression of a crash fuzzing once found.
-            let t = std::time::Instant::now();
+            // A panic names the file: a regression of a crash fuzzing once found. The hangs
+            // fuzzing found (`hang-*`) took 3 to 8 s and 1.6 to 3 GB each in a debug build and
+            // now take milliseconds; how long an input takes is not asserted here (tests assert
+            // correctness, ARCHITECTURE.md "Measuring"): a real hang is the test harness's
+            // timeout, and the speed of the parsers is the fuzzer's to watch (`fuzz/README.md`).
             let done = std::panic::catch_unwind(|| target(&data));
             assert!(done.is_ok(), "{} panicked", f.display());
-            // The hangs fuzzing found (`hang-*`) took 3 to 8 s and 1.6 to 3 GB each in a debug
-            // build; every saved input now takes milliseconds.
-            let seconds = t.elapsed().as_secs_f64();
-            assert!(seconds < 2.0, "{} took {seconds:.1} s", f.display());
         }
         println!("{name}: {} inputs", files.len());
     }

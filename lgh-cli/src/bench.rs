@@ -32,7 +32,7 @@ pub struct CoreBenchArgs {
     /// Write the JSON here (atomically) as well as to stdout.
     #[arg(long)]
     pub out: Option<std::path::PathBuf>,
-    /// Also write the results as a Markdown table (the README's) to this file.
+    /// Also write the results as a Markdown table (those of `docs/benchmarks.md`) to this file.
     #[arg(long)]
     pub markdown: Option<std::path::PathBuf>,
 }

@@ -192,8 +192,7 @@ pub struct SceneArgs {
     #[arg(long)]
     pub shadow_samples: Option<f32>,
     /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it
-    /// stands for, beyond the paper; the README's "Global illumination" says why it is the
-    /// default) or `gaussian` (the paper's, points drawn with the light's variance σ²).
+    /// stands for, beyond the paper; `docs/gi.md` says why it is the default) or `gaussian` (the paper's, points drawn with the light's variance σ²).
     #[arg(long, value_enum, default_value_t = CoarseShadows::Representatives)]
     pub coarse_shadows: CoarseShadows,
     /// How `--coarse-shadows representatives` shares the samples among coarse lights:
@@ -214,7 +213,7 @@ pub struct SceneArgs {
     /// How the hierarchy aggregates the VPLs: `isotropic`, the paper's one hierarchy of
     /// isotropic points, or `buckets`, one hierarchy per dominant normal axis whose coarse
     /// lights keep their mean normal's lobe (beyond the paper: better on the Cornell box,
-    /// slower on Sponza; README).
+    /// slower on Sponza; `docs/gi.md`).
     #[arg(long, value_enum, default_value_t = Aggregation::Isotropic)]
     pub aggregation: Aggregation,
     /// Lightcuts' relative error ε (Walter et al.'s 2%), for `--backend lightcuts` and

@@ -10,7 +10,7 @@ use lgh_core::{
 use rayon::prelude::*;
 
 use crate::progress;
-use lgh_cli::ply;
+use lgh_ply as ply;
 
 /// The many-lights method of the probes (`--backend`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

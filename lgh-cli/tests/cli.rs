@@ -165,7 +165,7 @@ fn probes_match_brute_force_and_keep_properties() {
     let e = ErrorStats::compare(&approx, &reference).unwrap();
     eprintln!("probes at α = 4: {e:?}");
     // `lgh bench core` measures, on 100,000 uniform lights with random colours at α = 4, a
-    // largest relative error of 1.59% over its probes (README). These are lights of the same
+    // largest relative error of 1.59% over its probes (`docs/benchmarks.md`). These are lights of the same
     // kind, so every probe here should be within it.
     assert!(e.max_rel < 0.0159, "{e:?}");
 }
@@ -968,7 +968,7 @@ fn bench_gi_prints_the_runs_against_brute_force() {
     }
     assert!(dir.path().join("gi-brute.exr").is_file());
     assert_eq!(v["coarse_shadows"], "representatives");
-    // The defaults the README's table measures.
+    // The defaults the table of `docs/gi.md` measures.
     assert_eq!(v["sample_allocation"], "adaptive");
     assert_eq!(v["shadow_samples"].as_f64(), Some(1.25));
     assert_eq!(v["max_shadow_samples"], 32);

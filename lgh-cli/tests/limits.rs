@@ -1,6 +1,8 @@
 //! Resource limits as tested properties (issue 16): files that declare more than any machine
-//! holds are each a quick error in bounded memory, measured as the peak resident memory of the
+//! holds are each an error in bounded memory, measured as the peak resident memory of the
 //! `lgh` process (`getrusage` of the children, through python3), never an out-of-memory kill.
+//! How long a refusal takes is not asserted (tests assert correctness, ARCHITECTURE.md
+//! "Measuring"); one that hangs is the test harness's timeout.
 
 mod common;
 
@@ -37,22 +39,15 @@ fn lgh_peak_rss(args: &[&str]) -> (Output, f64) {
     (out, kib / 1024.0)
 }
 
-/// Asserts `lgh args` failed with one line containing `names`, within `seconds` and under
-/// `mib` of peak resident memory.
-fn assert_refused_within(args: &[&str], names: &str, seconds: f64, mib: f64) {
-    let t = std::time::Instant::now();
+/// Asserts `lgh args` failed with one line containing `names`, under `mib` of peak resident
+/// memory.
+fn assert_refused_within(args: &[&str], names: &str, mib: f64) {
     let (o, peak) = lgh_peak_rss(args);
-    let took = t.elapsed().as_secs_f64();
     let err = String::from_utf8_lossy(&o.stderr);
-    println!(
-        "{}: {took:.2} s, peak RSS {peak:.1} MiB: {}",
-        args[0],
-        err.trim()
-    );
+    println!("{}: peak RSS {peak:.1} MiB: {}", args[0], err.trim());
     assert!(!o.status.success(), "{args:?}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains(names), "{err} should name {names}");
-    assert!(took < seconds, "{took:.1} s");
     assert!(peak < mib, "peak RSS {peak:.1} MiB");
 }
 
@@ -66,7 +61,7 @@ fn a_billion_tiles_are_refused_in_bounded_memory() {
     let path = dir.path().join("tiles.vdb");
     std::fs::write(&path, tiled_file(Storage::Zip, &[], 30_518, 30_518)).unwrap();
     let p = path.to_str().unwrap();
-    assert_refused_within(&["inspect", p], "more than 4194304 tiles", 10.0, 640.0);
+    assert_refused_within(&["inspect", p], "more than 4194304 tiles", 640.0);
 }
 
 /// A VDB grid of two active root tiles at the ends of the index space: 2³² voxels a side,
@@ -94,7 +89,7 @@ fn a_grid_of_2_96_voxels_is_refused_before_any_allocation() {
         "--out",
         out.to_str().unwrap(),
     ];
-    assert_refused_within(&args, "voxels", 5.0, 64.0);
+    assert_refused_within(&args, "voxels", 64.0);
     assert!(!out.exists());
 }
 
@@ -118,6 +113,6 @@ fn a_ply_of_10_12_vertices_is_refused_in_bounded_memory() {
         "--out",
         out.to_str().unwrap(),
     ];
-    assert_refused_within(&args, "lights.ply", 5.0, 64.0);
+    assert_refused_within(&args, "lights.ply", 64.0);
     assert!(!out.exists());
 }

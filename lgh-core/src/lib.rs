@@ -44,7 +44,8 @@
 //!
 //! Features: `std` (default), `rayon` (parallel build; the result is bit-identical to a serial one)
 //! and `testsets` (off by default: the light sets and query points of the module `testsets`, for
-//! tests and benchmarks only; production randomness is in [`random`]).
+//! tests and benchmarks only; production randomness is in [`random`], and the lights of published
+//! test scenes that production code renders are in [`scenes`]).
 
 #![no_std]
 #![forbid(unsafe_code)]
@@ -74,6 +75,7 @@ mod radix;
 pub mod random;
 mod ranked;
 pub mod reflection;
+pub mod scenes;
 pub mod spectrum;
 #[cfg(any(test, feature = "testsets"))]
 pub mod testsets;

@@ -115,23 +115,8 @@ pub fn explosion_shell(res: u32) -> Vec<PointLight> {
 }
 
 /// Benchmark set (c): `n` equal lights along 8 long curves ("light strings") spanning about
-/// 20 × 4 × 10 units.
-#[must_use]
-pub fn light_strings(n: usize) -> Vec<PointLight> {
-    const STRINGS: usize = 8;
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let s = i % STRINGS;
-        let t = (i / STRINGS) as f32 / (n.div_ceil(STRINGS).max(2) - 1) as f32;
-        let sf = s as f32;
-        let x = -10.0 + 20.0 * t;
-        let sag = 4.0 * t * (1.0 - t); // catenary-like droop between poles
-        let y = 4.0 - 1.5 * sag + 0.3 * libm::sinf(3.0 * x + sf);
-        let z = -5.0 + 10.0 * sf / (STRINGS - 1) as f32 + 0.8 * libm::sinf(0.7 * x + 2.0 * sf);
-        out.push(PointLight::new(Vec3::new(x, y, z), Vec3::ONE));
-    }
-    out
-}
+/// 20 × 4 × 10 units: Paquette's Light Strings lights, [`crate::scenes::light_strings`] itself.
+pub use crate::scenes::light_strings;
 
 /// `n` query points for a light set with bounding box `lo..hi`: half uniform inside the box, half
 /// uniform in the box scaled by 3 about its centre ("inside and around").

@@ -13,7 +13,8 @@ use lgh_core::{falloff, LightSample, ManyLights, QueryError, ShadingPoint, ISOTR
 use crate::shadow::{ShadowQuery, Visibility};
 
 /// The lights a renderer shades with: a many-lights backend and the fall-off clamp of the light
-/// model, `g(d) = 1 / max(d, h0)²` (DESIGN "Lighting"; for explosions `h0` is the voxel size).
+/// model, `g(d) = 1 / max(d, h0)²` (the paper's Sec. 6, ARCHITECTURE.md "From a VDB file to an
+/// EXR", step 3; for explosions `h0` is the voxel size).
 #[derive(Clone, Debug)]
 pub struct Lights<B> {
     /// The many-lights method.

@@ -142,7 +142,7 @@ fn cube_map_shadows_match_ray_marched_shadows_of_the_same_lights() {
 
 /// The demo's explosion (`procedural::explosion` 128³, `lgh demo`'s scene): its dense soot rim is
 /// where the paper's four depths fail (the rise of τ across the rim lies between depths 8 and 16
-/// voxels apart at levels 3 and 4; README "Shadows"). Against the maps' own model marched, four
+/// voxels apart at levels 3 and 4; `docs/shadows.md`). Against the maps' own model marched, four
 /// depths miss the 2% target by far and twelve meet it: the error is the depths' spacing, and
 /// it goes where the spacing goes.
 #[test]

@@ -50,7 +50,7 @@ fn errors_by_alpha(
 }
 
 /// The bound at α = 2, from the core's measured point-probe error on the 1M-light explosion set
-/// (README, `lgh bench core`): relative RMSE 6.9%, 1.3% and 0.19% at α = 1, 2, 4.
+/// (`docs/benchmarks.md`, `lgh bench core`): relative RMSE 6.9%, 1.3% and 0.19% at α = 1, 2, 4.
 ///
 /// Without shadows a pixel's scattered light is a transmittance-weighted mean of point values of
 /// the very model the probes measure, and by Jensen's inequality the mean's error is at most the

@@ -24,7 +24,7 @@
 //! through a few of the VPLs it stands for, drawn once per light in proportion to what they
 //! carry, as many at each point as the light brings there ([`indirect::Coarse::Adaptive`]):
 //! 2.3–2.7% at α = 4 and 0.4% at α = 16 on the Cornell box and Sponza with 365K VPLs, at 112×
-//! and 57× brute force at α = 4 (README, "Global illumination"). [`indirect::NormalBuckets`]
+//! and 57× brute force at α = 4 (`docs/gi.md`). [`indirect::NormalBuckets`]
 //! (one hierarchy per dominant normal axis) is the other orientation-aware option.
 //!
 //! ```

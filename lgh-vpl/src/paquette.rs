@@ -9,11 +9,10 @@
 //!   room; the camera stands just behind the cube, so the lights (invisible, as in the paper) are
 //!   between it and the walls.
 //!
-//! The Light Strings lights are `lgh_core::testsets::light_strings`, lgh-core's benchmark set (c),
-//! and stay there: that one curve is what `lgh bench core`, lgh-core's own tests and benches (which
-//! cannot depend on lgh-vpl) and this scene all measure, so moving it here would either take it
-//! from them or duplicate it. lgh-vpl therefore enables lgh-core's `testsets` feature, for this one
-//! function; its random numbers (the Cluster scene) come from the production `lgh_core::random`.
+//! The Light Strings lights are `lgh_core::scenes::light_strings`, which lgh-core builds always
+//! (it is also lgh-core's benchmark set (c): `testsets::light_strings` re-exports it), so this
+//! scene, `lgh bench core` and lgh-core's own tests and benches all measure one curve; its random
+//! numbers (the Cluster scene) come from the production `lgh_core::random`.
 //!
 //! All lights of a scene are equal (§5.1), and their total intensity does not depend on their
 //! number, so the images of 64 and 16384 lights look alike — the paper raises the count by
@@ -29,7 +28,7 @@ use std::str::FromStr;
 
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
-use lgh_core::testsets::light_strings;
+use lgh_core::scenes::light_strings;
 use lgh_core::{Material, PointLight};
 
 use crate::mesh::{Mesh, MeshError};

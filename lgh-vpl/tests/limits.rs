@@ -15,7 +15,8 @@ fn peak_rss_mib() -> f64 {
 }
 
 /// An OBJ file of one 4 GiB line (a sparse file: no disk is used) is refused after its first
-/// MiB, quickly and in bounded memory, with the line named.
+/// MiB, in bounded memory, with the line named (reading it whole would take 4 GiB; how long the
+/// refusal takes is not asserted: tests assert correctness, ARCHITECTURE.md "Measuring").
 #[cfg(target_os = "linux")]
 #[test]
 fn a_4_gib_line_is_refused_in_bounded_memory() {
@@ -24,11 +25,9 @@ fn a_4_gib_line_is_refused_in_bounded_memory() {
     let f = std::fs::File::create(&path).unwrap();
     f.set_len(4 << 30).unwrap();
     drop(f);
-    let t = std::time::Instant::now();
     let e = Mesh::load_obj(&path).unwrap_err();
-    let seconds = t.elapsed().as_secs_f64();
     let peak = peak_rss_mib();
-    println!("refused in {seconds:.3} s, peak RSS {peak:.1} MiB: {e}");
+    println!("refused, peak RSS {peak:.1} MiB: {e}");
     assert!(
         matches!(&e, MeshError::Parse { message, .. }
             if message == &format!("line 1 is longer than {MAX_LINE_BYTES} bytes")),
@@ -36,5 +35,4 @@ fn a_4_gib_line_is_refused_in_bounded_memory() {
     );
     // 4 GiB read whole would be 4096 MiB; the limit reads 1 MiB of it.
     assert!(peak < 64.0, "peak RSS {peak:.1} MiB");
-    assert!(seconds < 5.0, "{seconds:.1} s");
 }

@@ -49,7 +49,7 @@ fn rel_rmse(a: &Image, r: &Image) -> f64 {
 ///   per-pixel figure (paths that see the ceiling beside the lamp), its mean is what resolves
 ///   the model's bias;
 /// - the clamp at the hierarchy's `h0` (0.8–1.6% of the box) drops under 1% of the image mean,
-///   as the README says (measured: 0.00–0.01%).
+///   as `docs/gi.md` says (measured: 0.00–0.01%).
 #[test]
 fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
     let obj = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -136,7 +136,7 @@ fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
         rel_rmse(&other_seed, &unclamped),
     );
     assert!((mu / pt - 1.0).abs() < 0.03, "{mu} against {pt}");
-    // What the README states: the clamp at h0 drops under 1% of the light here.
+    // What `docs/gi.md` states: the clamp at h0 drops under 1% of the light here.
     assert!(
         1.0 - mc / mu < 0.01,
         "the clamp drops {}%",

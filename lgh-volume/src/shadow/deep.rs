@@ -33,7 +33,7 @@
 //! the paper's four depths. On the demo's explosion, whose dense soot rim is a rise of `τ` by
 //! several units within two or three voxels, levels 3 and 4 (depths 8 and 16 voxels apart)
 //! cannot place that rise: 8.65% relative RMSE of the image against the same model marched
-//! (`super::volume_rays`), 2.76% with eight depths, 1.67% with twelve (README, "Shadows").
+//! (`super::volume_rays`), 2.76% with eight depths, 1.67% with twelve (`docs/shadows.md`).
 //!
 //! The maps are traced in parallel (rayon), one light at a time, each into its own slice: the
 //! result does not depend on the thread count. Nothing is allocated per texel.

@@ -187,7 +187,7 @@ mod tests {
     /// against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's Gaussian
     /// samples 54.6%) and 0.31% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
     /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where the
-    /// default measures 2.3% on the Cornell box and 2.7–3.0% on Sponza, README; the room's 4,000 VPLs make
+    /// default measures 2.3% on the Cornell box and 2.7–3.0% on Sponza, `docs/gi.md`; the room's 4,000 VPLs make
     /// coarse lights of a few VPLs each, where the roulette's noise weighs more.) And it is the
     /// same at any thread count: the roulette's numbers come from the shading point's own
     /// sequence.
