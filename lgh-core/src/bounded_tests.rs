@@ -26,7 +26,8 @@ fn exact(point: &ShadingPoint, lights: &[PointLight]) -> [f64; 3] {
 
 /// The shader every test uses: eq. (1), unoccluded.
 fn shade<B: ManyLights>(backend: &B, point: &ShadingPoint) -> (Vec3, u32) {
-    let mut shader = |s: &crate::LightSample| reflected(point, s.position, s.intensity, s.lobe);
+    let mut shader =
+        |s: &crate::many_lights::LightSample| reflected(point, s.position, s.intensity, s.lobe);
     let r = backend.illuminate(point, &mut shader).unwrap();
     (r.radiance, r.lights)
 }
@@ -264,7 +265,7 @@ fn lightcuts_reuses_representatives_for_one_call_per_refinement() {
             };
             let backend = LightcutsBackend::new(&tree, settings).unwrap();
             let mut calls = 0u32;
-            let mut shader = |s: &crate::LightSample| {
+            let mut shader = |s: &crate::many_lights::LightSample| {
                 calls += 1;
                 reflected(p, s.position, s.intensity, s.lobe)
             };
@@ -360,7 +361,7 @@ fn degenerate_scenes_are_handled() {
     let mut no_normal = point;
     no_normal.normal = None;
     let b = OctreeBackend::new(&tree, 0.01).unwrap();
-    let mut shader = |_: &crate::LightSample| Vec3::ZERO;
+    let mut shader = |_: &crate::many_lights::LightSample| Vec3::ZERO;
     assert_eq!(
         b.illuminate(&no_normal, &mut shader),
         Err(crate::QueryError::InvalidSurface)

@@ -109,7 +109,7 @@ pub(crate) struct SplatVariant {
 }
 
 impl SplatVariant {
-    pub fn of(settings: &crate::GridSettings) -> Self {
+    pub fn of(settings: &crate::grid::GridSettings) -> Self {
         SplatVariant {
             clustering: settings.clustering,
             position: settings.position,

@@ -8,7 +8,7 @@ use std::fmt;
 
 use lgh_core::glam::Vec3;
 
-use crate::ImageError;
+use crate::error::ImageError;
 
 /// Why a camera could not be set up.
 #[derive(Clone, Debug, PartialEq)]
@@ -261,7 +261,7 @@ mod tests {
                 "{fov}"
             );
         }
-        for (w, h) in [(0, 8), (8, 0), (crate::MAX_IMAGE_SIDE + 1, 8)] {
+        for (w, h) in [(0, 8), (8, 0), (crate::limits::MAX_IMAGE_SIDE + 1, 8)] {
             assert_eq!(
                 ok(e, t, up, 60.0, w, h),
                 Err(CameraError::ImageSize {

@@ -3,7 +3,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-use crate::MAX_IMAGE_SIDE;
+use crate::limits::MAX_IMAGE_SIDE;
 
 /// Why an image could not be checked, read or written. Each variant carries the data of the
 /// failure (the path, the sizes) and, where one exists, the underlying error as its

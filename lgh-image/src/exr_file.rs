@@ -143,8 +143,8 @@ pub fn decode_exr(path: &Path, bytes: &[u8]) -> Result<Image, ImageError> {
         .no_deep_data()
         .largest_resolution_level()
         .rgba_channels(
-            |resolution, _| crate::Image::new(resolution.width(), resolution.height()),
-            |img: &mut crate::Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            |resolution, _| crate::image::Image::new(resolution.width(), resolution.height()),
+            |img: &mut crate::image::Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
                 img.set(pos.x(), pos.y(), Vec3::new(r, g, b))
             },
         )

@@ -3,6 +3,7 @@
 use lgh_core::glam::Vec3;
 
 use crate::error::ImageError;
+use crate::limits::MAX_IMAGE_SIDE;
 
 /// A linear RGB image, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,9 +38,6 @@ impl Image {
         self.pixels[y * self.width + x] = v;
     }
 }
-
-/// The largest image side, in pixels: a 16384² image of RGB floats takes 3 GiB.
-pub const MAX_IMAGE_SIDE: usize = 16384;
 
 /// Checks an image size: 1 to [`MAX_IMAGE_SIDE`] pixels per side, else [`ImageError::Size`].
 ///

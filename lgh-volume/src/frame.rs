@@ -15,16 +15,19 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_image::Image;
 
+use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::lighting::Lights;
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{FrameBackend, Method};
 use crate::progress::{self, Phase, Progress, Steps};
-use crate::render::{Camera, MarchSettings, Marcher, RenderStats};
+use crate::render::Marcher;
 use crate::scattering::{self, ScatterPlan, Scattered, Shares};
+use crate::settings::MarchSettings;
 use crate::shading::Shading;
 use crate::shadow::{CubeMaps, Visibility};
+use crate::stats::RenderStats;
 use crate::surfaces::Surfaces;
 
 /// Seconds a [`FrameRender`] spent before its first render.

@@ -19,7 +19,8 @@
 //!   none); [`lighting`]: the one per-point lighting function, [`Lights::incident`] (eq. 1
 //!   with `V`).
 //! - [`render`]: the ray marcher (emission + single scattering) and the one pixel loop;
-//!   [`camera`]: the camera and its automatic framing; [`stats`]: a render's work counts;
+//!   [`camera`]: the camera and its automatic framing; [`settings`]: what a render is asked to
+//!   do; [`stats`]: a render's work counts;
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
 //! - [`scattering`]: multiple scattering (Sec. 5): scattered lights at every voxel with smoke,
 //!   depth by depth, merged with the emission lights into one light per voxel.
@@ -67,6 +68,7 @@ pub mod procedural;
 pub mod progress;
 pub mod render;
 pub mod scattering;
+pub mod settings;
 mod shading;
 pub mod shadow;
 pub mod stats;

@@ -63,10 +63,11 @@ use lgh_core::random::SplitMix64;
 use lgh_image::Image;
 use rayon::prelude::*;
 
+use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
-use crate::render::{image, shade_pixels, Camera};
+use crate::render::{image, shade_pixels};
 
 /// Path-tracing parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -16,113 +16,16 @@ use lgh_core::{LightSample, ManyLights, ShadingPoint};
 use lgh_image::Image;
 use rayon::prelude::*;
 
-use crate::error::{check_setting, RenderError};
+use crate::error::RenderError;
 use crate::lighting::{LightScratch, Lights};
 use crate::medium::{Medium, Volume};
 pub use crate::shadow::Shadows;
-use crate::shadow::{CubeMapSettings, Visibility};
+use crate::shadow::Visibility;
 use crate::surfaces::{SurfaceHit, Surfaces};
 
 pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
+pub use crate::settings::MarchSettings;
 pub use crate::stats::RenderStats;
-
-/// Ray-marching parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MarchSettings {
-    /// Step along camera rays, in voxels.
-    pub step_voxels: f32,
-    /// Step along shadow rays, in voxels.
-    pub shadow_step_voxels: f32,
-    /// Camera rays stop when their transmittance falls below this; a light whose shadow-ray
-    /// transmittance falls below it counts as hidden (each drops at most this fraction of what
-    /// it cuts off).
-    pub min_transmittance: f32,
-    /// Shadowing of the lights.
-    pub shadows: Shadows,
-    /// How cube maps are traced (with `shadows: CubeMap` and a hierarchy).
-    pub cube_maps: CubeMapSettings,
-    /// Depths of scattered light (paper Sec. 5) a [`FrameRender`](crate::FrameRender) computes
-    /// before it renders: 0 is single scattering; `n` adds lights for light scattered `1..=n`
-    /// times, so paths of up to `n + 1` scattering events (the paper's Fig. 7 uses 4). At most
-    /// [`MAX_SCATTER_DEPTH`](crate::scattering::MAX_SCATTER_DEPTH).
-    pub scatter_depth: usize,
-}
-
-impl MarchSettings {
-    /// Checks the settings: steps of 0.01 to 64 voxels, a cut-off in [0, 1), a scattering depth
-    /// of at most [`MAX_SCATTER_DEPTH`](crate::scattering::MAX_SCATTER_DEPTH).
-    ///
-    /// ```
-    /// use lgh_volume::render::MarchSettings;
-    ///
-    /// assert!(MarchSettings::default().check().is_ok());
-    /// let bad = MarchSettings { step_voxels: 100.0, ..Default::default() };
-    /// assert_eq!(
-    ///     bad.check().unwrap_err().to_string(),
-    ///     "march settings: step 100 must be 0.01 to 64 voxels"
-    /// );
-    /// ```
-    pub fn check(&self) -> Result<(), RenderError> {
-        for (name, v) in [
-            ("march settings: step", self.step_voxels),
-            ("march settings: shadow step", self.shadow_step_voxels),
-        ] {
-            check_setting(
-                (0.01..=64.0).contains(&v),
-                name,
-                v,
-                "must be 0.01 to 64 voxels",
-            )?;
-        }
-        check_setting(
-            (0.0..1.0).contains(&self.min_transmittance),
-            "march settings: minimum transmittance",
-            self.min_transmittance,
-            "must be in [0, 1)",
-        )?;
-        crate::scattering::check_depth(self.scatter_depth)?;
-        Ok(())
-    }
-}
-
-impl Default for MarchSettings {
-    fn default() -> Self {
-        MarchSettings {
-            step_voxels: 1.0,
-            shadow_step_voxels: 1.0,
-            min_transmittance: 1e-3,
-            shadows: Shadows::RayMarch,
-            cube_maps: CubeMapSettings::default(),
-            scatter_depth: 0,
-        }
-    }
-}
-
-impl MarchSettings {
-    /// The default march with `shadows`, coarse lights' shadows through the prefiltered density
-    /// (the paper's, eq. 6) when `prefilter`, else as points.
-    ///
-    /// ```
-    /// use lgh_volume::render::MarchSettings;
-    /// use lgh_volume::Shadows;
-    ///
-    /// let points = MarchSettings::with_shadows(Shadows::CubeMap, false);
-    /// assert_eq!(points.shadows, Shadows::CubeMap);
-    /// assert!(!points.cube_maps.prefilter);
-    /// assert_eq!(points.step_voxels, MarchSettings::default().step_voxels);
-    /// ```
-    #[must_use]
-    pub fn with_shadows(shadows: Shadows, prefilter: bool) -> Self {
-        MarchSettings {
-            shadows,
-            cube_maps: CubeMapSettings {
-                prefilter,
-                ..Default::default()
-            },
-            ..Default::default()
-        }
-    }
-}
 
 /// A frame ready to march: the volume, its medium, the checked settings and the visibility they
 /// ask for, built once. The state is consistent by construction: nothing can change the

@@ -68,14 +68,10 @@ use crate::lighting::LightScratch;
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::Method;
-use crate::render::MarchSettings;
+use crate::settings::MarchSettings;
+pub use crate::settings::{check_depth, MAX_SCATTER_DEPTH};
 use crate::shading::Shading;
 use crate::stats::RenderStats;
-
-/// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
-/// each depth costs a hierarchy, its shadows and a fluence pass over the smoke, while the light
-/// it adds shrinks like `albedo^k`.
-pub const MAX_SCATTER_DEPTH: usize = 16;
 
 /// Voxels per parallel job of the fluence pass: a fixed split, so that nothing depends on the
 /// thread count, large enough that a job's scratch is reused over many voxels.
@@ -87,30 +83,6 @@ pub const CHUNK_VOXELS: usize = 1024;
 /// voxel lights has about one vertex per 8 lights where the smoke is solid, and the levels above
 /// fewer still; the test `the_memory_plan_covers_what_the_pass_holds` checks the vertices).
 pub const BYTES_PER_LIGHT: u64 = 8 + 24 + 44 + 36 + 72;
-
-/// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`RenderError::InvalidCount`]: checked
-/// before any work.
-///
-/// ```
-/// use lgh_volume::scattering::check_depth;
-///
-/// assert_eq!(check_depth(4)?, 4);
-/// assert_eq!(
-///     check_depth(17).unwrap_err().to_string(),
-///     "scatter depth 17 must be 0 to 16"
-/// );
-/// # Ok::<(), lgh_volume::RenderError>(())
-/// ```
-pub fn check_depth(depth: usize) -> Result<usize, RenderError> {
-    if depth > MAX_SCATTER_DEPTH {
-        return Err(RenderError::InvalidCount {
-            name: "scatter depth",
-            value: depth,
-            rule: "must be 0 to 16",
-        });
-    }
-    Ok(depth)
-}
 
 /// What a scattering pass will hold, found before any work: its lights and their bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

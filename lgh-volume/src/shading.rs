@@ -9,7 +9,7 @@ use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{Method, Prepared};
 use crate::progress::{self, Phase, Progress};
-use crate::render::MarchSettings;
+use crate::settings::MarchSettings;
 use crate::shadow::{CubeMaps, Shadows, Visibility, VolumeRays};
 
 /// A light set's method and visibility for one frame (crate-internal: the light set itself is

@@ -64,7 +64,7 @@ pub struct Ground {
 
 impl Ground {
     /// The plane `up · x = height` with diffuse albedo `albedo` (each channel in [0, 1]).
-    pub fn new(up: Up, height: f32, albedo: Vec3) -> Result<Self, crate::RenderError> {
+    pub fn new(up: Up, height: f32, albedo: Vec3) -> Result<Self, crate::error::RenderError> {
         crate::error::check_setting(
             height.is_finite(),
             "ground height",

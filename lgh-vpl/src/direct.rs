@@ -23,7 +23,7 @@ use crate::brdf::brdf;
 use crate::primary::PrimaryLight;
 use crate::render::{render_surfaces, RenderError, Rendered};
 use crate::scene::Scene;
-use crate::Camera;
+use lgh_image::camera::Pinhole as Camera;
 
 /// How direct light is sampled.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -33,7 +33,7 @@ use lgh_core::{Material, PointLight};
 
 use crate::mesh::{Mesh, MeshError};
 use crate::scene::Scene;
-use crate::{Camera, CameraError};
+use lgh_image::camera::{CameraError, Pinhole as Camera};
 
 /// The light counts of the paper's tables.
 pub const LIGHT_COUNTS: [usize; 5] = [64, 256, 1024, 4096, 16384];

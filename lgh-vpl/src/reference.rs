@@ -24,7 +24,7 @@ use crate::brdf::diffuse_albedo;
 use crate::direct::{point_seed, Direct};
 use crate::render::{render_points, RenderError, Rendered};
 use crate::scene::Scene;
-use crate::Camera;
+use lgh_image::camera::Pinhole as Camera;
 
 /// One-bounce indirect light at every pixel with `strata²` cosine-distributed paths per pixel
 /// (module docs). `epsilon` lifts the paths off the surface.

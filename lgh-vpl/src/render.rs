@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use crate::bvh::Ray;
 use crate::scene::Scene;
-use crate::Camera;
+use lgh_image::camera::Pinhole as Camera;
 
 /// A rendered image and what it took.
 #[derive(Clone, Debug, PartialEq)]

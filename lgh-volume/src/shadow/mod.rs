@@ -211,7 +211,7 @@ pub struct PaddedGrid {
 impl PaddedGrid {
     /// `g` padded (an empty grid stays empty).
     #[must_use]
-    pub fn new(g: &crate::DenseGrid) -> Self {
+    pub fn new(g: &crate::grid::DenseGrid) -> Self {
         let [nx, ny, nz] = g.dims;
         let dims = [nx + 2, ny + 2, nz + 2];
         // Padded index p maps to the clamped source index p − 1 (the border value repeats, as

@@ -14,7 +14,7 @@ use crate::render::{render_points, RenderError, Rendered};
 use crate::representatives::{Allocation, Representatives};
 use crate::scene::Scene;
 use crate::vpl::Vpl;
-use crate::Camera;
+use lgh_image::camera::Pinhole as Camera;
 
 /// The dominant-axis part (0..6: +x, −x, +y, −y, +z, −z) of a unit normal.
 fn orientation(n: Vec3) -> usize {

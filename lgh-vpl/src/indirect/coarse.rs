@@ -12,7 +12,7 @@ use super::Indirect;
 use crate::render::{render_points, render_with_shader, RenderError, Rendered};
 use crate::representatives::Representatives;
 use crate::scene::Scene;
-use crate::Camera;
+use lgh_image::camera::Pinhole as Camera;
 
 /// How the coarse lights (levels ≥ 1) of a hierarchy over
 /// [`point_lights`](super::point_lights) are shaded.

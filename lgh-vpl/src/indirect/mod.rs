@@ -47,7 +47,7 @@ use crate::brdf::brdf;
 use crate::render::{render_with_shader, RenderError, Rendered};
 use crate::scene::Scene;
 use crate::vpl::Vpl;
-use crate::Camera;
+use lgh_image::camera::Pinhole as Camera;
 
 /// The hierarchy's input lights for `vpls`: each at its VPL's position with the isotropic
 /// intensity `Φ ρ / 2π` that carries its cosine lobe's flux into the half-space in front of it.

@@ -1,0 +1,133 @@
+//! What a frame's render is asked to do: the march's steps and cut-off, the shadows and how
+//! cube maps are traced, and how many depths of scattered light (paper Sec. 5) come first —
+//! checked before any work.
+
+use crate::error::{check_setting, RenderError};
+use crate::shadow::{CubeMapSettings, Shadows};
+
+/// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
+/// each depth costs a hierarchy, its shadows and a fluence pass over the smoke, while the light
+/// it adds shrinks like `albedo^k`.
+pub const MAX_SCATTER_DEPTH: usize = 16;
+
+/// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`RenderError::InvalidCount`]: checked
+/// before any work.
+///
+/// ```
+/// use lgh_volume::scattering::check_depth;
+///
+/// assert_eq!(check_depth(4)?, 4);
+/// assert_eq!(
+///     check_depth(17).unwrap_err().to_string(),
+///     "scatter depth 17 must be 0 to 16"
+/// );
+/// # Ok::<(), lgh_volume::RenderError>(())
+/// ```
+pub fn check_depth(depth: usize) -> Result<usize, RenderError> {
+    if depth > MAX_SCATTER_DEPTH {
+        return Err(RenderError::InvalidCount {
+            name: "scatter depth",
+            value: depth,
+            rule: "must be 0 to 16",
+        });
+    }
+    Ok(depth)
+}
+
+/// Ray-marching parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarchSettings {
+    /// Step along camera rays, in voxels.
+    pub step_voxels: f32,
+    /// Step along shadow rays, in voxels.
+    pub shadow_step_voxels: f32,
+    /// Camera rays stop when their transmittance falls below this; a light whose shadow-ray
+    /// transmittance falls below it counts as hidden (each drops at most this fraction of what
+    /// it cuts off).
+    pub min_transmittance: f32,
+    /// Shadowing of the lights.
+    pub shadows: Shadows,
+    /// How cube maps are traced (with `shadows: CubeMap` and a hierarchy).
+    pub cube_maps: CubeMapSettings,
+    /// Depths of scattered light (paper Sec. 5) a [`FrameRender`](crate::FrameRender) computes
+    /// before it renders: 0 is single scattering; `n` adds lights for light scattered `1..=n`
+    /// times, so paths of up to `n + 1` scattering events (the paper's Fig. 7 uses 4). At most
+    /// [`MAX_SCATTER_DEPTH`].
+    pub scatter_depth: usize,
+}
+
+impl MarchSettings {
+    /// Checks the settings: steps of 0.01 to 64 voxels, a cut-off in [0, 1), a scattering depth
+    /// of at most [`MAX_SCATTER_DEPTH`].
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    ///
+    /// assert!(MarchSettings::default().check().is_ok());
+    /// let bad = MarchSettings { step_voxels: 100.0, ..Default::default() };
+    /// assert_eq!(
+    ///     bad.check().unwrap_err().to_string(),
+    ///     "march settings: step 100 must be 0.01 to 64 voxels"
+    /// );
+    /// ```
+    pub fn check(&self) -> Result<(), RenderError> {
+        for (name, v) in [
+            ("march settings: step", self.step_voxels),
+            ("march settings: shadow step", self.shadow_step_voxels),
+        ] {
+            check_setting(
+                (0.01..=64.0).contains(&v),
+                name,
+                v,
+                "must be 0.01 to 64 voxels",
+            )?;
+        }
+        check_setting(
+            (0.0..1.0).contains(&self.min_transmittance),
+            "march settings: minimum transmittance",
+            self.min_transmittance,
+            "must be in [0, 1)",
+        )?;
+        check_depth(self.scatter_depth)?;
+        Ok(())
+    }
+}
+
+impl Default for MarchSettings {
+    fn default() -> Self {
+        MarchSettings {
+            step_voxels: 1.0,
+            shadow_step_voxels: 1.0,
+            min_transmittance: 1e-3,
+            shadows: Shadows::RayMarch,
+            cube_maps: CubeMapSettings::default(),
+            scatter_depth: 0,
+        }
+    }
+}
+
+impl MarchSettings {
+    /// The default march with `shadows`, coarse lights' shadows through the prefiltered density
+    /// (the paper's, eq. 6) when `prefilter`, else as points.
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::Shadows;
+    ///
+    /// let points = MarchSettings::with_shadows(Shadows::CubeMap, false);
+    /// assert_eq!(points.shadows, Shadows::CubeMap);
+    /// assert!(!points.cube_maps.prefilter);
+    /// assert_eq!(points.step_voxels, MarchSettings::default().step_voxels);
+    /// ```
+    #[must_use]
+    pub fn with_shadows(shadows: Shadows, prefilter: bool) -> Self {
+        MarchSettings {
+            shadows,
+            cube_maps: CubeMapSettings {
+                prefilter,
+                ..Default::default()
+            },
+            ..Default::default()
+        }
+    }
+}
