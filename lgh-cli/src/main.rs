@@ -154,8 +154,7 @@ fn exit_on_signals() {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            let _frame = output::hold_outputs();
-            let _file = lgh_image::hold_writes();
+            let _files = lgh_image::hold_writes();
             let (name, code) = if signal == SIGINT {
                 ("SIGINT", 130)
             } else {

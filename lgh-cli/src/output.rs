@@ -426,18 +426,6 @@ pub fn header_attributes<'a>(
     attrs
 }
 
-/// Held while a frame's EXR and PNG are written ([`write_exr_png`]), and by the signal handler
-/// before it exits.
-static OUTPUTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// Waits for the frame being written, if any, and keeps the next from starting while the
-/// guard lives (then [`lgh_image::hold_writes`] for every other file).
-pub fn hold_outputs() -> std::sync::MutexGuard<'static, ()> {
-    OUTPUTS
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
 /// Writes the EXR (with `attrs` in its header, linear) and the PNG beside it, tone-mapped with
 /// the filmic curve at `exposure` (`None`: automatic), which keeps a fire's highlights apart;
 /// returns the PNG's path.
@@ -449,7 +437,7 @@ pub fn write_exr_png(
 ) -> Result<PathBuf, crate::Error> {
     let png = out.with_extension("png");
     // The pair is written whole or not at all: an interruption waits for both (main.rs).
-    let _pair = hold_outputs();
+    let _pair = lgh_image::hold_writes();
     // The PNG first, the EXR (whose header says which render it is) last: an EXR beside its PNG
     // is a finished pair, which `--resume` relies on.
     let exposure = exposure.unwrap_or_else(|| lgh_image::auto_exposure(image));

@@ -38,27 +38,74 @@ pub fn read_limited(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// Held by every [`write_atomic`] while its file is written, and by [`hold_writes`].
-static WRITING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+/// The process-wide write lock: which thread holds it and how many times (it is re-entrant,
+/// so a caller holding it for a group of files — an EXR and its PNG — can write them through
+/// [`write_atomic`], which takes it again), and a condition variable for the others.
+struct WriteLock {
+    owner: std::sync::Mutex<(Option<std::thread::ThreadId>, usize)>,
+    free: std::sync::Condvar,
+}
 
-/// Waits for the file [`write_atomic`] is writing, if any, and keeps any other write from
-/// starting while the guard lives: a program that exits holding it (on SIGINT, say) leaves
-/// neither a temporary file nor half a file behind. Writes from several threads also take
-/// turns through it.
+/// Held by every [`write_atomic`] while its file is written, and by [`hold_writes`].
+static WRITING: WriteLock = WriteLock {
+    owner: std::sync::Mutex::new((None, 0)),
+    free: std::sync::Condvar::new(),
+};
+
+/// The write lock, held until dropped (on the thread that took it: it is not `Send`).
+#[must_use = "the lock is released when the guard is dropped"]
+pub struct WritesHeld {
+    _not_send: std::marker::PhantomData<*const ()>,
+}
+
+impl Drop for WritesHeld {
+    fn drop(&mut self) {
+        let mut owner = WRITING
+            .owner
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        owner.1 -= 1;
+        if owner.1 == 0 {
+            owner.0 = None;
+            WRITING.free.notify_all();
+        }
+    }
+}
+
+/// Waits for the files being written, if any, and keeps any other thread's write from starting
+/// while the guard lives: a program that exits holding it (on SIGINT, say) leaves neither a
+/// temporary file nor half a file behind. Writes from several threads take turns through it;
+/// the thread holding it may write (a group of files written together, whole or not at all).
+/// The one write lock of the project.
 ///
 /// ```
 /// let dir = tempfile::tempdir()?;
 /// {
 ///     let _held = lgh_image::hold_writes();
-///     // ... exiting here would leave every file whole.
+///     // The holder writes a pair of files; exiting here would leave every file whole.
+///     lgh_image::write_atomic(&dir.path().join("a.txt"), |w| w.write_all(b"one"))?;
+///     lgh_image::write_atomic(&dir.path().join("b.txt"), |w| w.write_all(b"two"))?;
 /// }
-/// lgh_image::write_atomic(&dir.path().join("a.txt"), |w| w.write_all(b"after"))?;
+/// lgh_image::write_atomic(&dir.path().join("c.txt"), |w| w.write_all(b"after"))?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn hold_writes() -> std::sync::MutexGuard<'static, ()> {
-    WRITING
+pub fn hold_writes() -> WritesHeld {
+    let me = std::thread::current().id();
+    let mut owner = WRITING
+        .owner
         .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    while owner.0.is_some_and(|o| o != me) {
+        owner = WRITING
+            .free
+            .wait(owner)
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+    }
+    owner.0 = Some(me);
+    owner.1 += 1;
+    WritesHeld {
+        _not_send: std::marker::PhantomData,
+    }
 }
 
 /// Writes `path` atomically: `write` fills a temporary file beside it, which replaces `path` only
@@ -126,6 +173,34 @@ mod tests {
     use super::*;
     use crate::image::gradient;
     use crate::write_png;
+
+    /// The lock is one for the process: another thread's write waits for the holder, which
+    /// itself writes through it (re-entrant) — what keeps a frame's EXR and PNG together when
+    /// a signal arrives.
+    #[test]
+    fn another_thread_waits_for_the_holder_of_the_write_lock() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("late.txt");
+        let done = std::sync::atomic::AtomicBool::new(false);
+        std::thread::scope(|scope| {
+            let held = hold_writes();
+            write_atomic(&dir.path().join("mine.txt"), |w| w.write_all(b"mine")).unwrap();
+            let (tx, rx) = std::sync::mpsc::channel();
+            let (path, done) = (&path, &done);
+            scope.spawn(move || {
+                tx.send(()).unwrap();
+                write_atomic(path, |w| w.write_all(b"late")).unwrap();
+                done.store(true, std::sync::atomic::Ordering::SeqCst);
+            });
+            rx.recv().unwrap();
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            // Still held: the other thread cannot have written.
+            assert!(!done.load(std::sync::atomic::Ordering::SeqCst));
+            assert!(!path.exists());
+            drop(held);
+        });
+        assert!(done.into_inner() && path.exists());
+    }
 
     /// The written file's mode is a plain `File::create`'s in the same folder under the same
     /// umask, whatever that umask is; the CLI tests pin it under umasks 022 and 027.

@@ -41,7 +41,7 @@ mod tone;
 pub use camera::{CameraError, Pinhole};
 pub use error::ImageError;
 pub use exr_file::{decode_exr, read_exr, read_exr_attributes, write_exr};
-pub use files::{hold_writes, read_limited, write_atomic, MAX_INPUT_BYTES};
+pub use files::{hold_writes, read_limited, write_atomic, WritesHeld, MAX_INPUT_BYTES};
 pub use image::{check_image_size, first_non_finite, Image};
 pub use limits::MAX_IMAGE_SIDE;
 pub use metrics::{compare, difference_png, error_8bit, flicker, quantize_8bit, Error8Bit};
