@@ -13,7 +13,7 @@ use std::path::PathBuf;
 
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
-use lgh_volume::cache::{self, GridNames};
+use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::explosion;
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
@@ -91,7 +91,7 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Erro
             let medium = fire_medium()?;
             Scene {
                 name: "blender_fire_0056".into(),
-                volume: cache::load(&[path], &GridNames::default(), true)?.remove(0),
+                volume: cache::load(&[path], &GridNames::default(), Placement::BlenderDomain)?.remove(0),
                 medium,
                 up: Up::Z,
             }

@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use lgh_core::{Clustering, LightPosition, LightcutsSettings, Representative};
 use lgh_image::Image;
-use lgh_volume::cache::{self, GridNames};
+use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::surfaces::Ground;
@@ -286,7 +286,7 @@ fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate
             if paths.len() < 2 {
                 return Err("--frames: flicker needs at least 2 frames".into());
             }
-            let volumes = cache::load(&paths, &GridNames::default(), true)?;
+            let volumes = cache::load(&paths, &GridNames::default(), Placement::BlenderDomain)?;
             let name = format!("{} frames {a}..{b}", vdb.display());
             Ok((name, volumes, crate::bench_explosion::fire_medium()?, Up::Z))
         }

@@ -381,6 +381,15 @@ impl Setup {
 }
 
 impl ExplosionArgs {
+    /// Where the frames sit: Blender's domain unless `--no-domain-offset`.
+    fn placement(&self) -> cache::Placement {
+        if self.no_domain_offset {
+            cache::Placement::AsWritten
+        } else {
+            cache::Placement::BlenderDomain
+        }
+    }
+
     /// `--out` (required unless `--manifest`, whose settings hold it).
     fn out(&self) -> Result<&Path, crate::Error> {
         self.out
@@ -429,7 +438,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     let room = args.scene.as_deref().map(Room::load).transpose()?;
     let t = Instant::now();
     let (seq, last) =
-        cache::Sequence::open_with_last(&paths, &setup.names, !args.no_domain_offset)?;
+        cache::Sequence::open_with_last(&paths, &setup.names, args.placement())?;
     let n = seq.len();
     let pass = Pass::over(args, &setup, &seq, Rc::new(last))?;
     let files = frames
@@ -589,7 +598,7 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
     let seq = cache::Sequence::with_layout(
         &paths,
         &setup.names,
-        !full.no_domain_offset,
+        full.placement(),
         manifest.layout.clone(),
     )?;
     // The scene the task reads must be the one --prepare read.

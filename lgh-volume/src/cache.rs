@@ -189,9 +189,30 @@ fn find_grid(file: &vdb::VdbFile, name: &str, path: &Path) -> Result<usize, Read
         })
 }
 
+/// Where a cache's frames sit in index space.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Placement {
+    /// In Blender's whole domain: each frame moved by the adaptive domain's offset in its
+    /// `config/config_NNNN.uni`, when that file exists (Blender's caches move the domain with
+    /// the smoke; without the offset a sequence's frames would not share one grid).
+    #[default]
+    BlenderDomain,
+    /// Where the files put them, no offset read.
+    AsWritten,
+}
+
+/// Which frames a sequence's scan keeps in memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Keep {
+    /// Every frame, as read.
+    All,
+    /// The last frame read.
+    Last,
+}
+
 impl RawFrame {
-    /// Reads `path` and finds its grids (and its domain offset when `blender_offset`).
-    fn read(path: &Path, names: &GridNames, blender_offset: bool) -> Result<Self, ReadError> {
+    /// Reads `path` and finds its grids (and its domain offset as `placement` says).
+    fn read(path: &Path, names: &GridNames, placement: Placement) -> Result<Self, ReadError> {
         let file = vdb::read(path).map_err(|source| ReadError::Vdb {
             path: path.to_path_buf(),
             source,
@@ -206,7 +227,7 @@ impl RawFrame {
             },
             None => None,
         };
-        let offset = match blender_config_path(path).filter(|c| blender_offset && c.is_file()) {
+        let offset = match blender_config_path(path).filter(|c| placement == Placement::BlenderDomain && c.is_file()) {
             Some(c) => read_blender_offset(&c)?,
             None => [0; 3],
         };
@@ -242,14 +263,15 @@ impl RawFrame {
 
 /// Frames of a cache opened for streaming: every file read once to check it and to find the one
 /// dense box that covers every frame's active voxels of the three grids (in the full domain's
-/// index space when `blender_offset`, reading each frame's config file if it exists); then
+/// index space with [`Placement::BlenderDomain`], reading each frame's config file if it
+/// exists); then
 /// [`frame`](Self::frame) reads one frame at a time onto that box, so a long sequence never
 /// needs more than one frame in memory.
 #[derive(Clone, Debug)]
 pub struct Sequence {
     paths: Vec<PathBuf>,
     names: GridNames,
-    blender_offset: bool,
+    placement: Placement,
     transform: [[f64; 4]; 4],
     /// The common box, inclusive, in index space.
     lo: [i32; 3],
@@ -304,23 +326,23 @@ impl Sequence {
     /// which checks each against the layout. A box with no voxels or too many is an error.
     ///
     /// ```
-    /// use lgh_volume::cache::{GridNames, Sequence, SequenceLayout};
+    /// use lgh_volume::cache::{GridNames, Placement, Sequence, SequenceLayout};
     ///
     /// let layout = SequenceLayout { transform: [[0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0],
     ///     [0.0, 0.0, 0.5, 0.0], [0.0, 0.0, 0.0, 1.0]], lo: [0; 3], hi: [7; 3] };
-    /// let seq = Sequence::with_layout(&["f_0001.vdb".into()], &GridNames::default(), true,
+    /// let seq = Sequence::with_layout(&["f_0001.vdb".into()], &GridNames::default(), Placement::BlenderDomain,
     ///     layout.clone())?;
     /// assert_eq!(seq.dims(), [8; 3]);
     /// assert_eq!(seq.layout(), layout);
     /// assert!(seq.frame(0).is_err()); // no such file
     /// let empty = SequenceLayout { hi: [-1; 3], ..layout };
-    /// assert!(Sequence::with_layout(&[], &GridNames::default(), true, empty).is_err());
+    /// assert!(Sequence::with_layout(&[], &GridNames::default(), Placement::BlenderDomain, empty).is_err());
     /// # Ok::<(), lgh_volume::ReadError>(())
     /// ```
     pub fn with_layout(
         paths: &[PathBuf],
         names: &GridNames,
-        blender_offset: bool,
+        placement: Placement,
         layout: SequenceLayout,
     ) -> Result<Self, ReadError> {
         if layout.voxels().is_none() {
@@ -333,7 +355,7 @@ impl Sequence {
         Ok(Sequence {
             paths: paths.to_vec(),
             names: names.clone(),
-            blender_offset,
+            placement,
             transform,
             lo,
             hi,
@@ -344,9 +366,9 @@ impl Sequence {
     pub fn open(
         paths: &[PathBuf],
         names: &GridNames,
-        blender_offset: bool,
+        placement: Placement,
     ) -> Result<Self, ReadError> {
-        Ok(Sequence::scan(paths, names, blender_offset, false)?.0)
+        Ok(Sequence::scan(paths, names, placement, Keep::Last)?.0)
     }
 
     /// [`open`](Self::open), and the last frame, which opening has just read, placed on the
@@ -354,30 +376,30 @@ impl Sequence {
     pub fn open_with_last(
         paths: &[PathBuf],
         names: &GridNames,
-        blender_offset: bool,
+        placement: Placement,
     ) -> Result<(Self, Volume), ReadError> {
-        let (seq, kept) = Sequence::scan(paths, names, blender_offset, false)?;
+        let (seq, kept) = Sequence::scan(paths, names, placement, Keep::Last)?;
         let last = kept.last().ok_or(ReadError::NoFrames)?;
         let volume = seq.place(last)?;
         Ok((seq, volume))
     }
 
-    /// Reads every frame once, checks it and grows the common box; keeps every frame as read
-    /// if `keep_all`, else the last one.
+    /// Reads every frame once, checks it and grows the common box; keeps the frames `keep`
+    /// says, as read.
     fn scan(
         paths: &[PathBuf],
         names: &GridNames,
-        blender_offset: bool,
-        keep_all: bool,
+        placement: Placement,
+        keep: Keep,
     ) -> Result<(Self, Vec<RawFrame>), ReadError> {
         let mut seq: Option<Sequence> = None;
         let mut kept = Vec::new();
         for path in paths {
-            let raw = RawFrame::read(path, names, blender_offset)?;
+            let raw = RawFrame::read(path, names, placement)?;
             let s = seq.get_or_insert_with(|| Sequence {
                 paths: paths.to_vec(),
                 names: names.clone(),
-                blender_offset,
+                placement,
                 transform: raw.density().index_to_world,
                 lo: [i32::MAX; 3],
                 hi: [i32::MIN; 3],
@@ -388,7 +410,7 @@ impl Sequence {
                 s.lo[k] = s.lo[k].min(lo[k]);
                 s.hi[k] = s.hi[k].max(hi[k]);
             }
-            if !keep_all {
+            if keep == Keep::Last {
                 kept.clear();
             }
             kept.push(raw);
@@ -479,7 +501,7 @@ impl Sequence {
             index: i,
             len: self.len(),
         })?;
-        let raw = RawFrame::read(path, &self.names, self.blender_offset)?;
+        let raw = RawFrame::read(path, &self.names, self.placement)?;
         self.check(&raw, path)?;
         let (lo, hi) = raw.index_box();
         if (0..3).any(|k| lo[k] < self.lo[k] || hi[k] > self.hi[k]) {
@@ -512,9 +534,9 @@ impl Sequence {
 pub fn load(
     paths: &[PathBuf],
     names: &GridNames,
-    blender_offset: bool,
+    placement: Placement,
 ) -> Result<Vec<Volume>, ReadError> {
-    let (seq, raws) = Sequence::scan(paths, names, blender_offset, true)?;
+    let (seq, raws) = Sequence::scan(paths, names, placement, Keep::All)?;
     raws.iter().map(|raw| seq.place(raw)).collect()
 }
 

@@ -5,7 +5,7 @@
 //! discretisation).
 
 use lgh_image::Image;
-use lgh_volume::cache::{self, GridNames};
+use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::medium::{EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
@@ -283,7 +283,7 @@ fn flicker_of_cube_map_shadows_on_the_real_fire() {
     else {
         return;
     };
-    let frames = cache::load(&paths, &GridNames::default(), true).unwrap();
+    let frames = cache::load(&paths, &GridNames::default(), Placement::BlenderDomain).unwrap();
     let m = fire_medium();
     let refs: Vec<&Volume> = frames.iter().collect();
     let (lo, hi) = lgh_volume::medium::framing_bounds(&refs).unwrap();
@@ -305,7 +305,7 @@ fn cube_map_shadows_match_ray_marched_shadows_on_a_real_frame() {
     let Some(path) = lgh_tests::fire_frame(56) else {
         return;
     };
-    let v = cache::load(&[path], &GridNames::default(), true)
+    let v = cache::load(&[path], &GridNames::default(), Placement::BlenderDomain)
         .unwrap()
         .remove(0);
     let m = fire_medium();

@@ -6,7 +6,7 @@ use lgh_tests::{fire_frame, scatter_rel_rmse};
 use std::path::PathBuf;
 
 use lgh_image::Image;
-use lgh_volume::cache::{self, GridNames};
+use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
@@ -101,7 +101,7 @@ fn lgh_matches_brute_force_on_a_procedural_explosion() {
 #[test]
 fn lgh_matches_brute_force_on_a_real_frame() {
     let Some(path) = fire_frame(56) else { return };
-    let v = cache::load(&[path], &GridNames::default(), true)
+    let v = cache::load(&[path], &GridNames::default(), Placement::BlenderDomain)
         .unwrap()
         .remove(0);
     // Blender's emission; smoke 200× denser than Blender's default so that scattering is a
@@ -124,7 +124,7 @@ fn a_sequence_of_the_real_cache_is_deterministic() {
         Some(p) => p,
         None => return,
     };
-    let volumes = cache::load(&paths, &GridNames::default(), true).unwrap();
+    let volumes = cache::load(&paths, &GridNames::default(), Placement::BlenderDomain).unwrap();
     // One grid for all frames: the adaptive domain's offsets put them on the full domain.
     assert!(volumes
         .windows(2)
@@ -200,11 +200,11 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
         .unwrap()
         .with_model(EmissionModel::Blender);
     // All frames in memory.
-    let volumes = cache::load(&paths, &names, true).unwrap();
+    let volumes = cache::load(&paths, &names, Placement::BlenderDomain).unwrap();
     let refs: Vec<&Volume> = volumes.iter().collect();
     let mut at_once = ExplosionLights::new(&refs, &m).unwrap();
     // One frame at a time, each read from its file when needed.
-    let (seq, last) = cache::Sequence::open_with_last(&paths, &names, true).unwrap();
+    let (seq, last) = cache::Sequence::open_with_last(&paths, &names, Placement::BlenderDomain).unwrap();
     assert!(
         last == volumes[6],
         "the last frame read while opening differs"
