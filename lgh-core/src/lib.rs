@@ -81,11 +81,6 @@ pub mod spectrum;
 pub mod testsets;
 pub mod ward;
 
-/// The README's library example, compiled and run as a doctest.
-#[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
-struct ReadmeDoctests;
-
 pub use blend::{check_alpha, falloff, Blending, MAX_LEVEL};
 pub use brute::BruteForce;
 pub use error::{BuildError, QueryError};

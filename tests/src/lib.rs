@@ -48,3 +48,9 @@ pub fn scatter_rel_rmse(a: &lgh_image::Image, r: &lgh_image::Image, e: &lgh_imag
         .expect("images of one size")
         .rel_rmse
 }
+
+/// The README's library examples (lgh-core, lgh-volume, lgh-vpl), compiled and run as doctests
+/// here, where every crate of the workspace is a dependency of the doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;
