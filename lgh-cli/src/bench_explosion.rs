@@ -91,7 +91,8 @@ fn scene(key: &str, data: &std::path::Path) -> Result<Option<Scene>, crate::Erro
             let medium = fire_medium()?;
             Scene {
                 name: "blender_fire_0056".into(),
-                volume: cache::load(&[path], &GridNames::default(), Placement::BlenderDomain)?.remove(0),
+                volume: cache::load(&[path], &GridNames::default(), Placement::BlenderDomain)?
+                    .remove(0),
                 medium,
                 up: Up::Z,
             }

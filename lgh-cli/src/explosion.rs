@@ -437,8 +437,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     // The room is read (and its files hashed for the manifest) before any frame.
     let room = args.scene.as_deref().map(Room::load).transpose()?;
     let t = Instant::now();
-    let (seq, last) =
-        cache::Sequence::open_with_last(&paths, &setup.names, args.placement())?;
+    let (seq, last) = cache::Sequence::open_with_last(&paths, &setup.names, args.placement())?;
     let n = seq.len();
     let pass = Pass::over(args, &setup, &seq, Rc::new(last))?;
     let files = frames

@@ -227,7 +227,9 @@ impl RawFrame {
             },
             None => None,
         };
-        let offset = match blender_config_path(path).filter(|c| placement == Placement::BlenderDomain && c.is_file()) {
+        let offset = match blender_config_path(path)
+            .filter(|c| placement == Placement::BlenderDomain && c.is_file())
+        {
             Some(c) => read_blender_offset(&c)?,
             None => [0; 3],
         };

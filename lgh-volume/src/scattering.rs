@@ -234,17 +234,7 @@ pub fn scatter(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Scattered, RenderError> {
     let depth = settings.scatter_depth;
-    let plan = ScatterPlan::new(emission, frame, depth)?;
-    settings.check()?;
-    method.check()?;
-    if method == Method::Emission && depth > 0 {
-        return Err(RenderError::InvalidCount {
-            name: "scatter depth",
-            value: depth,
-            rule: "needs lights to scatter: emission alone has none",
-        });
-    }
-    plan.check(settings.cube_maps.memory_budget)?;
+    check_pass(emission, method, frame, settings)?;
     let max_level = emission.hierarchy().max_level();
     if depth == 0 {
         return Ok(Scattered {
@@ -260,11 +250,8 @@ pub fn scatter(
         .collect();
     let (voxels, hot_slots, dense_slots) = merge(emission.voxels(), &dense);
     let mut per_depth = Vec::with_capacity(depth + 1);
-    let mut emitted = vec![Vec3::ZERO; voxels.len()];
-    for (l, &s) in emission.lights().iter().zip(&hot_slots) {
-        emitted[s] = l.intensity;
-    }
-    per_depth.push(emitted);
+    let emitted = emission.lights().iter().map(|l| l.intensity);
+    per_depth.push(on_slots(voxels.len(), emitted, &hot_slots));
 
     // Every depth k ≥ 1 at the same voxels: one hierarchy, rebuilt with each depth's intensities.
     let mut scattered = ExplosionLights::at_voxels(
@@ -294,25 +281,13 @@ pub fn scatter(
         let source = if k == 1 { emission } else { &scattered };
         let (stats, shadow_seconds) = pass.run(source, &mut next)?;
         scattered.set_intensities(&next)?;
-        let mut on_merged = vec![Vec3::ZERO; voxels.len()];
-        for (&i, &s) in next.iter().zip(&dense_slots) {
-            on_merged[s] = i;
-        }
-        per_depth.push(on_merged);
-        let total = next.iter().fold([0.0f64; 3], |a, i| {
-            [0, 1, 2].map(|c| a[c] + f64::from(i[c]))
-        });
+        per_depth.push(on_slots(voxels.len(), next.iter().copied(), &dense_slots));
         reports.push(DepthReport {
             depth: k,
             lights: dense.len(),
             shadow_seconds,
             seconds: t.elapsed().as_secs_f64(),
-            power: lgh_core::LUMINANCE_WEIGHTS
-                .to_array()
-                .iter()
-                .zip(total)
-                .map(|(&w, t)| f64::from(w) * t)
-                .sum(),
+            power: power(&next),
             stats,
         });
     }
@@ -330,6 +305,50 @@ pub fn scatter(
         reports,
         max_level,
     })
+}
+
+/// Every check of a pass, before any work: the settings, the method (emission alone has no
+/// lights to scatter), and the pass's memory ([`ScatterPlan`]).
+fn check_pass(
+    emission: &ExplosionLights,
+    method: Method,
+    frame: &Volume,
+    settings: &MarchSettings,
+) -> Result<(), RenderError> {
+    let depth = settings.scatter_depth;
+    let plan = ScatterPlan::new(emission, frame, depth)?;
+    settings.check()?;
+    method.check()?;
+    if method == Method::Emission && depth > 0 {
+        return Err(RenderError::InvalidCount {
+            name: "scatter depth",
+            value: depth,
+            rule: "needs lights to scatter: emission alone has none",
+        });
+    }
+    plan.check(settings.cube_maps.memory_budget)
+}
+
+/// `len` intensities, `values` at their `slots` and zero elsewhere.
+fn on_slots(len: usize, values: impl Iterator<Item = Vec3>, slots: &[usize]) -> Vec<Vec3> {
+    let mut out = vec![Vec3::ZERO; len];
+    for (v, &s) in values.zip(slots) {
+        out[s] = v;
+    }
+    out
+}
+
+/// The luminance of the summed intensities, in f64 (a depth's power, [`DepthReport::power`]).
+fn power(intensities: &[Vec3]) -> f64 {
+    let total = intensities.iter().fold([0.0f64; 3], |a, i| {
+        [0, 1, 2].map(|c| a[c] + f64::from(i[c]))
+    });
+    lgh_core::LUMINANCE_WEIGHTS
+        .to_array()
+        .iter()
+        .zip(total)
+        .map(|(&w, t)| f64::from(w) * t)
+        .sum()
 }
 
 /// The sorted union of `hot` and `dense` (both ascending), with each one's slot in it.

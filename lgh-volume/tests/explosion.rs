@@ -204,7 +204,8 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
     let refs: Vec<&Volume> = volumes.iter().collect();
     let mut at_once = ExplosionLights::new(&refs, &m).unwrap();
     // One frame at a time, each read from its file when needed.
-    let (seq, last) = cache::Sequence::open_with_last(&paths, &names, Placement::BlenderDomain).unwrap();
+    let (seq, last) =
+        cache::Sequence::open_with_last(&paths, &names, Placement::BlenderDomain).unwrap();
     assert!(
         last == volumes[6],
         "the last frame read while opening differs"
