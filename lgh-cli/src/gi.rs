@@ -1,25 +1,21 @@
 //! `lgh gi` and `lgh bench gi`: indirect illumination of an OBJ scene from virtual point lights
 //! (paper Sec. 6.4, Fig. 13), shaded through the hierarchy or brute force with shadow rays.
+//! The pipeline is lgh-vpl's [`GiScene`]; here the flags become its settings and methods, and
+//! its renders become images, lines and JSON.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
-use lgh_core::lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
-use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, PointLight};
-use lgh_volume::render::{Camera, Framing};
-use lgh_vpl::direct::{render_direct, Direct, DirectSettings};
-use lgh_vpl::indirect::{
-    point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
-    IndirectSettings, NormalBuckets,
-};
-use lgh_vpl::primary::{area_lights, PrimaryLight};
-use lgh_vpl::representatives::{Allocation, Representatives, MAX_PER_LIGHT};
-use lgh_vpl::vpl::{trace, VplSettings, Vpls};
-use lgh_vpl::{Mesh, Rendered, Scene};
+use lgh_image::Image;
+use lgh_vpl::gi::{self, DirectLight, GiMethod, GiScene, GiSettings};
+use lgh_vpl::primary::PrimaryLight;
+use lgh_vpl::vpl::VplSettings;
+use lgh_vpl::{Camera, Mesh};
 use serde_json::json;
 
-use crate::{output, progress};
+use crate::output;
+use crate::progress::Bars;
 
 /// `--aggregation`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -28,6 +24,15 @@ pub enum Aggregation {
     Buckets,
     /// The paper's: one hierarchy, VPLs aggregated as isotropic points.
     Isotropic,
+}
+
+impl From<Aggregation> for gi::Aggregation {
+    fn from(a: Aggregation) -> Self {
+        match a {
+            Aggregation::Buckets => gi::Aggregation::Buckets,
+            Aggregation::Isotropic => gi::Aggregation::Isotropic,
+        }
+    }
 }
 
 /// `lgh gi --backend`.
@@ -42,16 +47,6 @@ pub enum GiBackend {
     Lightcuts,
 }
 
-impl GiBackend {
-    fn name(self) -> &'static str {
-        match self {
-            GiBackend::Lgh => "lgh",
-            GiBackend::Brute => "brute",
-            GiBackend::Lightcuts => "lightcuts",
-        }
-    }
-}
-
 /// `--sample-allocation`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum SampleAllocation {
@@ -64,12 +59,12 @@ pub enum SampleAllocation {
     Adaptive,
 }
 
-impl SampleAllocation {
-    fn name(self) -> &'static str {
-        match self {
-            SampleAllocation::Uniform => "uniform",
-            SampleAllocation::Intensity => "intensity",
-            SampleAllocation::Adaptive => "adaptive",
+impl From<SampleAllocation> for gi::SampleAllocation {
+    fn from(a: SampleAllocation) -> Self {
+        match a {
+            SampleAllocation::Uniform => gi::SampleAllocation::Uniform,
+            SampleAllocation::Intensity => gi::SampleAllocation::Intensity,
+            SampleAllocation::Adaptive => gi::SampleAllocation::Adaptive,
         }
     }
 }
@@ -84,84 +79,11 @@ pub enum CoarseShadows {
     Representatives,
 }
 
-impl SceneArgs {
-    /// `--sample-allocation`, or its default: `adaptive` for the one hierarchy, `intensity`
-    /// for the buckets (whose shading has no per-point allocation).
-    fn sample_allocation(&self) -> SampleAllocation {
-        self.sample_allocation.unwrap_or(match self.aggregation {
-            Aggregation::Isotropic => SampleAllocation::Adaptive,
-            Aggregation::Buckets => SampleAllocation::Intensity,
-        })
-    }
-
-    /// `--max-shadow-samples`, or its default: 32 for `adaptive` (which shares the samples per
-    /// point, so a light that dominates a point may take many), 16 for `intensity`.
-    fn max_shadow_samples(&self) -> u32 {
-        self.max_shadow_samples
-            .unwrap_or(match self.sample_allocation() {
-                SampleAllocation::Adaptive => 32,
-                SampleAllocation::Intensity | SampleAllocation::Uniform => 16,
-            })
-    }
-
-    /// k: `--shadow-samples`, or its default for `--coarse-shadows`, checked: a whole number
-    /// from 0 (Gaussian samples) or 1 (representatives) unless it is a mean (`intensity`,
-    /// `adaptive`); at most 1024 Gaussian samples, or [`MAX_PER_LIGHT`] representatives.
-    fn shadow_samples(&self) -> Result<f32, String> {
-        let representatives = self.coarse_shadows == CoarseShadows::Representatives;
-        let allocation = self.sample_allocation();
-        let k = self.shadow_samples.unwrap_or(match allocation {
-            _ if !representatives => 9.0,
-            SampleAllocation::Adaptive => 1.25,
-            SampleAllocation::Intensity | SampleAllocation::Uniform => 2.0,
-        });
-        let whole = !representatives || allocation == SampleAllocation::Uniform;
-        let (lo, hi) = if representatives {
-            (1.0, MAX_PER_LIGHT as f32)
-        } else {
-            (0.0, 1024.0)
-        };
-        if !(k.is_finite() && k >= lo && k <= hi) || (whole && k.fract() != 0.0) {
-            return Err(format!(
-                "--shadow-samples {k}: expected {} from {lo} to {hi} with --coarse-shadows {}",
-                if whole { "a whole number" } else { "a number" },
-                self.coarse_shadows.name()
-            ));
-        }
-        if !(1..=MAX_PER_LIGHT).contains(&self.max_shadow_samples()) {
-            return Err(format!(
-                "--max-shadow-samples {}: expected 1 to {MAX_PER_LIGHT}",
-                self.max_shadow_samples()
-            ));
-        }
-        if representatives
-            && allocation == SampleAllocation::Adaptive
-            && self.aggregation == Aggregation::Buckets
-        {
-            return Err(
-                "--sample-allocation adaptive needs --aggregation isotropic (the buckets take \
-                 intensity or uniform)"
-                    .into(),
-            );
-        }
-        Ok(k)
-    }
-}
-
-impl CoarseShadows {
-    fn name(self) -> &'static str {
-        match self {
-            CoarseShadows::Gaussian => "gaussian",
-            CoarseShadows::Representatives => "representatives",
-        }
-    }
-}
-
-impl Aggregation {
-    fn name(self) -> &'static str {
-        match self {
-            Aggregation::Buckets => "buckets",
-            Aggregation::Isotropic => "isotropic",
+impl From<CoarseShadows> for gi::CoarseShadows {
+    fn from(c: CoarseShadows) -> Self {
+        match c {
+            CoarseShadows::Gaussian => gi::CoarseShadows::Gaussian,
+            CoarseShadows::Representatives => gi::CoarseShadows::Representatives,
         }
     }
 }
@@ -280,80 +202,58 @@ pub struct BenchGiArgs {
     pub out: Option<PathBuf>,
 }
 
-/// `lgh gi`'s default camera: the scene's box `lo..hi` seen straight along −z, y up, from
-/// where its front face (`z = hi.z`) just fills a 40° vertical field of view — the Cornell
-/// box's classic view, through its open side. (The volumes' framing, from the front-right
-/// and above, sees a room from outside its walls.)
-fn front_view(lo: Vec3, hi: Vec3, width: usize, height: usize) -> Result<Camera, crate::Error> {
-    let fov_y = 40.0f32;
-    let tan_y = (0.5 * fov_y).to_radians().tan();
-    let tan_x = tan_y * width as f32 / height.max(1) as f32;
-    let half = 0.5 * (hi - lo);
-    let distance = 1.02 * (half.x / tan_x).max(half.y / tan_y);
-    let centre = 0.5 * (lo + hi);
-    let eye = Vec3::new(centre.x, centre.y, hi.z + distance);
-    Ok(Camera::look_at(eye, centre, Vec3::Y, fov_y, width, height)?)
-}
+impl SceneArgs {
+    /// The library's settings for these flags, with `direct`, and Lightcuts at
+    /// `--lightcuts-error`: both checked (every flag is, whatever the method run).
+    fn settings(&self, direct: DirectLight) -> Result<(GiSettings, GiMethod), crate::Error> {
+        let settings = GiSettings {
+            vpls: VplSettings {
+                count: self.vpls,
+                max_bounces: self.bounces,
+                seed: self.seed,
+            },
+            aggregation: self.aggregation.into(),
+            coarse_shadows: self.coarse_shadows.into(),
+            sample_allocation: self.sample_allocation.map(Into::into),
+            shadow_samples: self.shadow_samples,
+            max_shadow_samples: self.max_shadow_samples,
+            shadows: !self.no_shadows,
+            direct,
+        };
+        settings.check()?;
+        let lightcuts = GiMethod::Lightcuts {
+            relative_error: self.lightcuts_error,
+        };
+        lightcuts.check()?;
+        Ok((settings, lightcuts))
+    }
 
-/// A scene ready to shade: its VPLs, their hierarchy, the camera.
-struct Prepared {
-    scene: Scene,
-    traced: Vpls,
-    point: Vec<PointLight>,
-    lgh: LightingGridHierarchy,
-    /// Lightcuts' ε.
-    lightcuts_error: f32,
-    /// How the representatives were drawn.
-    allocation: Allocation,
-    /// `--shadow-samples`, the mean of the adaptive allocation.
-    mean_samples: f32,
-    /// Representative VPLs of the single hierarchy's coarse lights (`--coarse-shadows
-    /// representatives`, `--aggregation isotropic`).
-    reps: Option<Representatives>,
-    /// The normal buckets' hierarchies, built once when `--aggregation buckets`.
-    buckets: Option<NormalBuckets>,
-    /// Lightcuts' light tree over the VPLs, when asked for.
-    tree: Option<LightTree>,
-    camera: Camera,
-    settings: IndirectSettings,
-    /// The primary lights: emissive triangles, then `--light`s.
-    lights: Vec<PrimaryLight>,
-    emissive: usize,
-    triangles: usize,
-}
-
-impl Prepared {
-    /// Loads the scene, gathers its lights, traces the VPLs and builds their hierarchy, for an
-    /// image of `width × height`.
-    fn new(
-        args: &SceneArgs,
-        width: usize,
-        height: usize,
-        lightcuts: bool,
-    ) -> Result<Self, crate::Error> {
-        // Every flag is checked before the scene is read and the VPLs traced.
-        let k = args.shadow_samples()?;
-        if !(args.lightcuts_error.is_finite() && args.lightcuts_error > 0.0) {
-            return Err(format!(
-                "--lightcuts-error {}: expected a positive number (0.02 is 2%)",
-                args.lightcuts_error
-            )
-            .into());
-        }
-        lgh_volume::render::check_image_size(width, height)?;
-        let given: Vec<PrimaryLight> = args
+    /// Checks the image size, the lights and the camera, then reads the scene, traces its VPLs
+    /// and builds what `methods` need, for a `width × height` image from `--camera` or the
+    /// front view.
+    fn prepare(
+        &self,
+        settings: &GiSettings,
+        (width, height): (usize, usize),
+        methods: &[GiMethod],
+    ) -> Result<(GiScene, Camera), crate::Error> {
+        lgh_image::check_image_size(width, height)?;
+        let given: Vec<PrimaryLight> = self
             .lights
             .iter()
             .map(|s| s.parse())
             .collect::<Result<_, _>>()?;
-        let mesh = Mesh::load_obj(&args.obj)?;
-        let mut lights = area_lights(&mesh);
-        let emissive = lights.len();
-        lights.extend(given);
-        if lights.is_empty() {
-            return Err(lgh_vpl::vpl::VplError::NoLights.into());
-        }
-        let (lo, hi) = mesh.bounds();
+        let camera = match &self.camera {
+            Some(s) => Some(crate::explosion::parse_camera(s, Vec3::Y, width, height)?),
+            None => None,
+        };
+        let mesh = Mesh::load_obj(&self.obj)?;
+        let camera = match camera {
+            Some(c) => c,
+            None => gi::front_view(mesh.bounds(), width, height)?,
+        };
+        let scene = GiScene::prepare(mesh, given, settings)?;
+        let mesh = scene.scene().mesh();
         let triangles = mesh.triangles().len();
         let defaulted = (0..triangles as u32)
             .filter(|&t| mesh.material(t) == lgh_vpl::DEFAULT_MATERIAL)
@@ -364,148 +264,30 @@ impl Prepared {
                  that does not define theirs): they are Lambertian with albedo 0.5"
             );
         }
-        let scene = Scene::new(mesh);
-        let camera = match &args.camera {
-            Some(s) => crate::explosion::parse_camera(s, Vec3::Y, width, height)?,
-            None => front_view(lo, hi, width, height)?,
-        };
-        let vpl_settings = VplSettings {
-            count: args.vpls,
-            max_bounces: args.bounces,
-            seed: args.seed,
-        };
-        let traced = trace(&scene, &lights, &vpl_settings)?;
-        let point = point_lights(&traced.vpls);
-        let lgh = LightingGridHierarchy::build(&point, &GridSettings::default())?;
-        let allocation = match args.sample_allocation() {
-            SampleAllocation::Uniform => Allocation::Uniform(k as u32),
-            SampleAllocation::Intensity => Allocation::ByIntensity {
-                mean: k,
-                max: args.max_shadow_samples(),
-            },
-            SampleAllocation::Adaptive => Allocation::Nested(args.max_shadow_samples()),
-        };
-        let representatives = args.coarse_shadows == CoarseShadows::Representatives;
-        let (buckets, reps) = match args.aggregation {
-            Aggregation::Buckets => {
-                let b = NormalBuckets::build(&traced.vpls, &GridSettings::default())?;
-                (
-                    Some(if representatives {
-                        b.with_representatives(allocation)
-                    } else {
-                        b
-                    }),
-                    None,
-                )
-            }
-            Aggregation::Isotropic => (
-                None,
-                representatives.then(|| Representatives::build_with(&lgh, allocation)),
-            ),
-        };
-        let tree = if lightcuts {
-            let seed = Representative::Stochastic { seed: args.seed };
-            Some(LightTree::build(&point, seed)?)
-        } else {
-            None
-        };
-        let settings = IndirectSettings {
-            h0: lgh.h0(),
-            shadow_samples: k as u32,
-            epsilon: 1e-4 * (hi - lo).length(),
-            shadows: !args.no_shadows,
-        };
-        Ok(Prepared {
-            scene,
-            traced,
-            point,
-            lgh,
-            reps,
-            buckets,
-            tree,
-            lightcuts_error: args.lightcuts_error,
-            allocation,
-            mean_samples: k,
-            camera,
-            settings,
-            lights,
-            emissive,
-            triangles,
-        })
+        for &method in methods {
+            scene.build_for(method)?;
+        }
+        Ok((scene, camera))
     }
 
-    fn shader(&self) -> Indirect<'_> {
-        Indirect::new(&self.scene, &self.traced.vpls, self.settings)
-    }
-
-    /// The image by `method` (the hierarchy with the aggregation it was prepared for, at
-    /// `alpha`).
-    fn render(
-        &self,
-        shader: &Indirect<'_>,
-        method: GiBackend,
-        alpha: f32,
-        progress: impl Fn(usize) + Sync,
-    ) -> Result<Rendered, crate::Error> {
-        let (scene, camera) = (&self.scene, &self.camera);
-        Ok(match (method, &self.buckets) {
-            (GiBackend::Lgh, Some(buckets)) => {
-                render_buckets(scene, camera, &buckets.at(alpha)?, shader, progress)?
-            }
-            (GiBackend::Lgh, None) => {
-                let backend = LghBackend::new(&self.lgh, alpha)?;
-                render_lgh(
-                    scene,
-                    camera,
-                    &backend,
-                    match (&self.reps, self.allocation) {
-                        (None, _) => Coarse::Gaussian,
-                        (Some(reps), Allocation::Nested(_)) => Coarse::Adaptive {
-                            reps,
-                            mean: self.mean_samples,
-                        },
-                        (Some(reps), _) => Coarse::Representatives(reps),
-                    },
-                    shader,
-                    progress,
-                )?
-            }
-            (GiBackend::Brute, _) => {
-                let brute = BruteForce::new(&self.point)?;
-                render_input_lights(scene, camera, &brute, shader, progress)?
-            }
-            (GiBackend::Lightcuts, _) => {
-                let tree = self
-                    .tree
-                    .as_ref()
-                    .ok_or("lightcuts: no light tree was built")?;
-                let settings = LightcutsSettings {
-                    relative_error: self.lightcuts_error,
-                    ..LightcutsSettings::default()
-                };
-                let cuts = LightcutsBackend::new(tree, settings)?;
-                render_input_lights(scene, camera, &cuts, shader, progress)?
-            }
-        })
-    }
-
-    /// Header attributes common to every image of this scene.
-    fn settings(&self, args: &SceneArgs) -> Vec<(&'static str, String)> {
+    /// Header attributes common to every image of `scene`.
+    fn header(&self, scene: &GiScene) -> Vec<(&'static str, String)> {
+        let s = scene.settings();
         vec![
-            ("obj", args.obj.display().to_string()),
-            ("vpls", self.traced.vpls.len().to_string()),
-            ("light_paths", self.traced.paths.to_string()),
-            ("bounces", args.bounces.to_string()),
-            ("seed", args.seed.to_string()),
-            ("shadow_samples", self.mean_samples.to_string()),
-            ("max_shadow_samples", args.max_shadow_samples().to_string()),
+            ("obj", self.obj.display().to_string()),
+            ("vpls", scene.vpls().len().to_string()),
+            ("light_paths", scene.light_paths().to_string()),
+            ("bounces", self.bounces.to_string()),
+            ("seed", self.seed.to_string()),
+            ("shadow_samples", s.shadow_samples().to_string()),
+            ("max_shadow_samples", s.max_shadow_samples().to_string()),
             (
                 "sample_allocation",
-                args.sample_allocation().name().to_string(),
+                s.sample_allocation().name().to_string(),
             ),
-            ("coarse_shadows", args.coarse_shadows.name().to_string()),
-            ("shadows", (!args.no_shadows).to_string()),
-            ("h0", self.lgh.h0().to_string()),
+            ("coarse_shadows", s.coarse_shadows.name().to_string()),
+            ("shadows", s.shadows.to_string()),
+            ("h0", scene.h0().to_string()),
         ]
     }
 }
@@ -515,60 +297,53 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     crate::check_alpha(args.alpha)?;
     output::check_out(&args.out)?;
     let s = &args.scene;
-    let t = Instant::now();
-    let p = Prepared::new(s, s.width, s.height, args.backend == GiBackend::Lightcuts)?;
-    let prepare_s = t.elapsed().as_secs_f64();
-    let shader = p.shader();
-    let bar = progress::bar(s.height as u64, "rendering", s.quiet);
-    let t = Instant::now();
-    let mut rendered = p.render(&shader, args.backend, args.alpha, |n| bar.inc(n as u64))?;
-    bar.finish_and_clear();
-    let render_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let direct_settings = DirectSettings {
-        area_strata: args.area_strata,
-        epsilon: p.settings.epsilon,
-    };
-    let direct = Direct::new(&p.scene, &p.lights, direct_settings);
-    if !args.no_direct {
-        let bar = progress::bar(s.height as u64, "direct light", s.quiet);
-        let lit = render_direct(&p.scene, &p.camera, &direct, |n| bar.inc(n as u64))?;
-        bar.finish_and_clear();
-        for (px, d) in rendered.image.pixels.iter_mut().zip(&lit.image.pixels) {
-            *px += *d;
+    let direct = if args.no_direct {
+        DirectLight::Off
+    } else {
+        DirectLight::Stratified {
+            area_strata: args.area_strata,
         }
+    };
+    let (settings, lightcuts) = s.settings(direct)?;
+    let method = match args.backend {
+        GiBackend::Lgh => GiMethod::Lgh { alpha: args.alpha },
+        GiBackend::Brute => GiMethod::Brute,
+        GiBackend::Lightcuts => lightcuts,
+    };
+    let t = Instant::now();
+    let (scene, camera) = s.prepare(&settings, (s.width, s.height), &[method])?;
+    let prepare_s = t.elapsed().as_secs_f64();
+    let r = scene.render(method, &camera, &Bars::new(s.quiet))?;
+    let mut header = s.header(&scene);
+    header.push(("render_seconds", format!("{:.3}", r.seconds)));
+    header.push(("direct", (!args.no_direct).to_string()));
+    if let Some(d) = r.direct {
+        header.push(("area_strata", args.area_strata.to_string()));
+        header.push(("direct_seconds", format!("{:.3}", d.seconds)));
     }
-    let direct_s = t.elapsed().as_secs_f64();
-    let mut settings = p.settings(s);
-    settings.push(("render_seconds", format!("{render_s:.3}")));
-    settings.push(("direct", (!args.no_direct).to_string()));
-    if !args.no_direct {
-        settings.push(("area_strata", args.area_strata.to_string()));
-        settings.push(("direct_seconds", format!("{direct_s:.3}")));
+    if let GiMethod::Lgh { alpha } = method {
+        header.push(("alpha", alpha.to_string()));
+        header.push(("aggregation", settings.aggregation.name().to_string()));
     }
-    if args.backend == GiBackend::Lgh {
-        settings.push(("alpha", args.alpha.to_string()));
-        settings.push(("aggregation", s.aggregation.name().to_string()));
-    }
-    let attrs = output::header_attributes(args.backend.name(), &settings);
-    let png = output::write_exr_png(&args.out, &rendered.image, &attrs, None)?;
+    let attrs = output::header_attributes(method.name(), &header);
+    let png = output::write_exr_png(&args.out, &r.rendered.image, &attrs, None)?;
     say!(
-        "lgh gi: {} triangles, {} primary lights ({} emissive faces), {} VPLs from {} paths, traced and built in {prepare_s:.2} s; indirect by {} {render_s:.1} s, {:.1} lights and {:.1} shadow rays per point; {} -> {}, {}",
-        p.triangles,
-        p.lights.len(),
-        p.emissive,
-        p.traced.vpls.len(),
-        p.traced.paths,
-        args.backend.name(),
-        rendered.mean_lights(),
-        shader.shadow_rays() as f64 / rendered.pixels_shaded.max(1) as f64,
-        if args.no_direct {
-            "no direct light".to_string()
-        } else {
-            format!(
-                "direct light {direct_s:.1} s, at most {} shadow rays per point",
-                direct.rays_per_point()
-            )
+        "lgh gi: {} triangles, {} primary lights ({} emissive faces), {} VPLs from {} paths, traced and built in {prepare_s:.2} s; indirect by {} {:.1} s, {:.1} lights and {:.1} shadow rays per point; {} -> {}, {}",
+        scene.scene().mesh().triangles().len(),
+        scene.primary_lights().len(),
+        scene.emissive_lights(),
+        scene.vpls().len(),
+        scene.light_paths(),
+        method.name(),
+        r.seconds,
+        r.rendered.mean_lights(),
+        r.shadow_rays_per_point(),
+        match r.direct {
+            None => "no direct light".to_string(),
+            Some(d) => format!(
+                "direct light {:.1} s, at most {} shadow rays per point",
+                d.seconds, d.max_rays_per_point
+            ),
         },
         args.out.display(),
         png.display()
@@ -576,77 +351,102 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     Ok(())
 }
 
+impl BenchGiArgs {
+    /// `--alphas`, each checked.
+    fn alphas(&self) -> Result<Vec<f32>, crate::Error> {
+        let alphas: Vec<f32> = self
+            .alphas
+            .split(',')
+            .map(|a| a.trim().parse::<f32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("--alphas {}: expected numbers like 1,4,16", self.alphas))?;
+        for &a in &alphas {
+            crate::check_alpha(a)?;
+        }
+        Ok(alphas)
+    }
+
+    /// The framing of `--width × --height` at about `--pixels` pixels.
+    fn framing(&self) -> (usize, usize) {
+        let aspect = self.scene.width as f64 / self.scene.height as f64;
+        let height = ((self.pixels as f64 / aspect).sqrt().round() as usize).max(1);
+        let width = ((height as f64 * aspect).round() as usize).max(1);
+        (width, height)
+    }
+}
+
+/// Writes `gi-NAME.exr` (and its PNG) into `dir` with `header`, and, beside a run against
+/// brute force's `exact` image, its difference image `gi-NAME-diff.png`.
+fn write_bench_image(
+    dir: &Path,
+    name: &str,
+    header: &[(&'static str, String)],
+    image: &Image,
+    exact: Option<&Image>,
+) -> Result<(), crate::Error> {
+    let attrs = output::header_attributes(name, header);
+    output::write_exr_png(&dir.join(format!("gi-{name}.exr")), image, &attrs, None)?;
+    if let Some(exact) = exact {
+        let diff = dir.join(format!("gi-{name}-diff.png"));
+        let max = lgh_image::compare(image, exact).map_or(0.0, |e| e.max_abs);
+        lgh_image::difference_png(&diff, image, exact, max as f32)?;
+    }
+    Ok(())
+}
+
 /// Runs `lgh bench gi`: brute force over every VPL and the hierarchy at each α on the same
 /// pixels, in the same run; JSON on stdout.
 pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
     let s = &args.scene;
-    let alphas: Vec<f32> = args
-        .alphas
-        .split(',')
-        .map(|a| a.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("--alphas {}: expected numbers like 1,4,16", args.alphas))?;
-    for &a in &alphas {
-        crate::check_alpha(a)?;
-    }
+    let alphas = args.alphas()?;
     if let Some(dir) = &args.out {
         if !dir.is_dir() {
             return Err(format!("--out {}: not a folder", dir.display()).into());
         }
     }
-    // The framing of --width × --height at about --pixels pixels.
-    let aspect = s.width as f64 / s.height as f64;
-    let height = ((args.pixels as f64 / aspect).sqrt().round() as usize).max(1);
-    let width = ((height as f64 * aspect).round() as usize).max(1);
-    let p = Prepared::new(s, width, height, args.lightcuts)?;
-    let write = |name: &str, r: &Rendered, extra: &[(&'static str, String)]| {
-        if let Some(dir) = &args.out {
-            let mut settings = p.settings(s);
-            settings.extend_from_slice(extra);
-            let attrs = output::header_attributes(name, &settings);
-            output::write_exr_png(&dir.join(format!("gi-{name}.exr")), &r.image, &attrs, None)?;
-        }
-        Ok::<(), crate::Error>(())
-    };
-    let timed = |method, alpha| {
-        let shader = p.shader();
-        let bar = progress::bar(height as u64, "rendering", s.quiet);
-        let t = Instant::now();
-        let r = p.render(&shader, method, alpha, |n| bar.inc(n as u64));
-        bar.finish_and_clear();
-        r.map(|r| (r, t.elapsed().as_secs_f64(), shader.shadow_rays()))
-    };
-    let (exact, brute_s, brute_rays) = timed(GiBackend::Brute, 0.0)?;
-    write("brute", &exact, &[])?;
-    let per_pixel = |n: u64, r: &Rendered| n as f64 / r.pixels_shaded.max(1) as f64;
+    let (settings, lightcuts) = s.settings(DirectLight::Off)?;
+    let (width, height) = args.framing();
+    let mut methods: Vec<GiMethod> = alphas
+        .iter()
+        .map(|&alpha| GiMethod::Lgh { alpha })
+        .collect();
+    if args.lightcuts {
+        methods.push(lightcuts);
+    }
+    let (scene, camera) = s.prepare(&settings, (width, height), &methods)?;
+    let bars = Bars::new(s.quiet);
+    let exact = scene.render(GiMethod::Brute, &camera, &bars)?;
+    if let Some(dir) = &args.out {
+        write_bench_image(dir, "brute", &s.header(&scene), &exact.rendered.image, None)?;
+    }
     // One method's run against brute force: its JSON, its image and difference image.
-    let run = |method: GiBackend, alpha: f32, name: String, extra: (&'static str, String)| {
-        let (r, seconds, rays) = timed(method, alpha)?;
-        let rel = lgh_image::compare(&r.image, &exact.image).map_or(f64::NAN, |e| e.rel_rmse);
-        write(&name, &r, &[extra])?;
+    let run = |method: GiMethod, name: String, extra: (&'static str, String)| {
+        let r = scene.render(method, &camera, &bars)?;
+        let (image, truth) = (&r.rendered.image, &exact.rendered.image);
+        let rel = lgh_image::compare(image, truth).map_or(f64::NAN, |e| e.rel_rmse);
         if let Some(dir) = &args.out {
-            let diff = dir.join(format!("gi-{name}-diff.png"));
-            let max = lgh_image::compare(&r.image, &exact.image).map_or(0.0, |e| e.max_abs);
-            lgh_image::difference_png(&diff, &r.image, &exact.image, max as f32)?;
+            let mut header = s.header(&scene);
+            header.push(extra);
+            write_bench_image(dir, &name, &header, image, Some(truth))?;
         }
         Ok::<_, crate::Error>(json!({
-            "lights_per_point": r.mean_lights(),
-            "shadow_rays_per_pixel": per_pixel(rays, &r),
-            "seconds": seconds,
-            "brute_seconds": brute_s,
+            "lights_per_point": r.rendered.mean_lights(),
+            "shadow_rays_per_pixel": r.shadow_rays_per_point(),
+            "seconds": r.seconds,
+            "brute_seconds": exact.seconds,
             "rel_rmse": if rel.is_finite() { Some(rel) } else { None },
         }))
     };
     let mut runs = Vec::new();
     for &alpha in &alphas {
         let extra = ("alpha", alpha.to_string());
-        let mut r = run(GiBackend::Lgh, alpha, format!("alpha-{alpha}"), extra)?;
+        let mut r = run(GiMethod::Lgh { alpha }, format!("alpha-{alpha}"), extra)?;
         r["alpha"] = json!(alpha);
         runs.push(r);
     }
     let lightcuts = if args.lightcuts {
         let extra = ("lightcuts_error", s.lightcuts_error.to_string());
-        let mut r = run(GiBackend::Lightcuts, 0.0, "lightcuts".into(), extra)?;
+        let mut r = run(lightcuts, "lightcuts".into(), extra)?;
         r["relative_error"] = json!(s.lightcuts_error);
         Some(r)
     } else {
@@ -656,17 +456,17 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
         "{}",
         json!({
             "scene": s.obj.display().to_string(),
-            "vpls": p.traced.vpls.len(),
-            "aggregation": s.aggregation.name(),
-            "coarse_shadows": s.coarse_shadows.name(),
-            "shadow_samples": p.mean_samples,
-            "max_shadow_samples": s.max_shadow_samples(),
-            "sample_allocation": s.sample_allocation().name(),
+            "vpls": scene.vpls().len(),
+            "aggregation": settings.aggregation.name(),
+            "coarse_shadows": settings.coarse_shadows.name(),
+            "shadow_samples": settings.shadow_samples(),
+            "max_shadow_samples": settings.max_shadow_samples(),
+            "sample_allocation": settings.sample_allocation().name(),
             "component": "indirect",
-            "pixels": exact.pixels_shaded,
+            "pixels": exact.rendered.pixels_shaded,
             "width": width,
             "height": height,
-            "brute_shadow_rays_per_pixel": per_pixel(brute_rays, &exact),
+            "brute_shadow_rays_per_pixel": exact.shadow_rays_per_point(),
             "runs": runs,
             "lightcuts": lightcuts,
         })

@@ -18,7 +18,7 @@ pub fn bar(len: u64, what: &str, quiet: bool) -> ProgressBar {
     b
 }
 
-/// The library's progress ([`lgh_volume::Progress`]) as one bar a phase on stderr: labelled by
+/// The libraries' progress ([`lgh_volume::Progress`], [`lgh_vpl::gi::GiProgress`]) as one bar a phase on stderr: labelled by
 /// the phase (the render's by `render_label` if given), hidden when quiet or when the phase has
 /// nothing to count.
 pub struct Bars {
@@ -50,24 +50,55 @@ impl Bars {
     }
 }
 
+impl Bars {
+    /// A phase labelled `label` begins with `total` steps: its bar, hidden when it has none.
+    fn begin_bar(&self, label: &str, total: u64) {
+        *self.current() = Some(bar(total, label, self.quiet || total == 0));
+    }
+
+    fn advance_bar(&self, steps: u64) {
+        if let Some(b) = self.current().as_ref() {
+            b.inc(steps);
+        }
+    }
+
+    fn end_bar(&self) {
+        if let Some(b) = self.current().take() {
+            b.finish_and_clear();
+        }
+    }
+}
+
 impl lgh_volume::Progress for Bars {
     fn begin(&self, phase: lgh_volume::Phase, total: u64) {
         let label = match (phase, &self.render_label) {
             (lgh_volume::Phase::Render, Some(label)) => label.as_str(),
             _ => phase.label(),
         };
-        *self.current() = Some(bar(total, label, self.quiet || total == 0));
+        self.begin_bar(label, total);
     }
 
     fn advance(&self, steps: u64) {
-        if let Some(b) = self.current().as_ref() {
-            b.inc(steps);
-        }
+        self.advance_bar(steps);
     }
 
     fn end(&self, _: lgh_volume::Phase) {
-        if let Some(b) = self.current().take() {
-            b.finish_and_clear();
-        }
+        self.end_bar();
+    }
+}
+
+/// lgh-vpl's progress of a global-illumination render ([`lgh_vpl::gi::GiProgress`]), the same
+/// way: one bar a phase.
+impl lgh_vpl::gi::GiProgress for Bars {
+    fn begin(&self, phase: lgh_vpl::gi::GiPhase, rows: u64) {
+        self.begin_bar(phase.label(), rows);
+    }
+
+    fn advance(&self, rows: u64) {
+        self.advance_bar(rows);
+    }
+
+    fn end(&self, _: lgh_vpl::gi::GiPhase) {
+        self.end_bar();
     }
 }

@@ -15,8 +15,10 @@
 //! virtual point lights traced from them, deterministic and energy-conserving, are [`vpl`];
 //! [`indirect`] shades them at surface points through any backend — the hierarchy, brute force
 //! over every VPL (the exact answer of the same model) or Lightcuts — with shadow rays through
-//! the BVH, restored cosine lobes and the singularity clamp. [`reference`](mod@reference) is an independent
-//! check on the VPL model itself: one-bounce path tracing.
+//! the BVH, restored cosine lobes and the singularity clamp. [`gi`] puts them together:
+//! [`GiScene`] traces a mesh's VPLs once and renders them through any [`GiMethod`] (the
+//! pipeline of `lgh gi`). [`reference`](mod@reference) is an independent check on the VPL model
+//! itself: one-bounce path tracing.
 //!
 //! The paper shades a coarse light as an isotropic point with Gaussian shadow samples
 //! (Fig. 11d); on surfaces that loses the VPLs' cosine lobes and puts samples inside walls, and
@@ -61,6 +63,7 @@
 pub mod brdf;
 pub mod bvh;
 pub mod direct;
+pub mod gi;
 pub mod indirect;
 pub mod mesh;
 mod obj;
@@ -73,6 +76,7 @@ pub mod scene;
 pub mod vpl;
 
 pub use bvh::{Bvh, Hit, Ray};
+pub use gi::{GiError, GiMethod, GiScene, GiSettings};
 pub use lgh_core;
 pub use lgh_image::camera::{CameraError, Pinhole as Camera};
 pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL, MAX_LINE_BYTES};

@@ -8,14 +8,14 @@
 use std::path::Path;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{BruteForce, GridSettings, LightingGridHierarchy};
+use lgh_core::{BruteForce, GridSettings, LightSample, LightingGridHierarchy, ShadingPoint};
 use lgh_image::Image;
 use lgh_vpl::direct::{Direct, DirectSettings};
-use lgh_vpl::indirect::{point_lights, render_input_lights, Indirect, IndirectSettings};
+use lgh_vpl::indirect::{point_lights, Indirect, IndirectSettings};
 use lgh_vpl::primary::area_lights;
 use lgh_vpl::reference::one_bounce;
 use lgh_vpl::vpl::{trace, VplSettings};
-use lgh_vpl::{Camera, Mesh, Scene};
+use lgh_vpl::{render_with_shader, Camera, Mesh, Scene};
 
 fn env(name: &str, default: u32) -> u32 {
     std::env::var(name)
@@ -107,7 +107,9 @@ fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
         };
         let shader = Indirect::new(&scene, vpls, settings);
         let brute = BruteForce::new(&point).unwrap();
-        render_input_lights(&scene, &camera, &brute, &shader, |_| {})
+        // Each of brute force's samples is its VPL (index for index), shaded with its lobe.
+        let shade = |p: &ShadingPoint, s: &LightSample| shader.shade(p, s, Some(s.index as usize));
+        render_with_shader(&scene, &camera, &brute, shade, |_| {})
             .unwrap()
             .image
     };

@@ -20,8 +20,8 @@
 //!   lose the lobes, and err by tens of percent where the representatives err by a few.
 //!
 //! Backends whose samples are the VPLs themselves — brute force, Lightcuts' representatives —
-//! go through [`render_input_lights`]; the hierarchy through [`render_lgh`], or
-//! [`render_buckets`] for [`NormalBuckets`].
+//! shade each sample as its VPL; the hierarchy shades its coarse lights as [`Coarse`] says, or
+//! through [`NormalBuckets`]. The way in is [`crate::gi::GiScene`], which renders through each.
 //!
 //! Surfaces reflect physically: Lambert `ρ/π`, Phong `k_d/π + k_s (n+2)/2π (R·E)^n`. The VPL
 //! singularity is clamped with the core's rule, `1 / max(d, h0)²`: a VPL closer than `h0` to the
@@ -34,8 +34,10 @@
 mod buckets;
 mod coarse;
 
-pub use buckets::{render_buckets, BucketsAt, NormalBuckets};
-pub use coarse::{render_lgh, Coarse};
+pub(crate) use buckets::render_buckets;
+pub use buckets::{BucketsAt, NormalBuckets};
+pub(crate) use coarse::render_lgh;
+pub use coarse::Coarse;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -334,7 +336,7 @@ fn facing(point: &ShadingPoint, normal: Vec3, q: Vec3) -> bool {
 /// include the VPLs' lobes, up to 2: a cluster's bound can be up to twice too low.)
 ///
 /// Errors: as [`render_lgh`].
-pub fn render_input_lights<B: ManyLights + Sync>(
+pub(crate) fn render_input_lights<B: ManyLights + Sync>(
     scene: &Scene,
     camera: &Camera,
     backend: &B,
@@ -360,15 +362,15 @@ fn gaussian3(rng: &mut SplitMix64) -> Vec3 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mesh::Mesh;
     use crate::primary::PrimaryLight;
     use crate::vpl::{trace, VplSettings};
     use lgh_core::{BruteForce, GridSettings, LghBackend, LightingGridHierarchy, Material};
     /// A room: floor, back wall and left wall of a 2-unit box, and a block on the floor that
-    /// casts shadows, lit by a lamp near the ceiling.
-    fn room() -> (Scene, Vec<Vpl>) {
+    /// casts shadows.
+    pub(crate) fn room_mesh() -> Mesh {
         let grey = Material::Lambert {
             albedo: Vec3::splat(0.7),
         };
@@ -414,22 +416,31 @@ mod tests {
         .unwrap();
         mesh.append(Mesh::cuboid(v(0.1, 0.0, -0.4), v(0.6, 0.8, 0.1), grey).unwrap())
             .unwrap();
-        let scene = Scene::new(mesh);
-        let lamp = PrimaryLight::Point {
-            position: v(-0.3, 1.8, 0.3),
+        mesh
+    }
+
+    /// The room's lamp, near the ceiling.
+    pub(crate) fn lamp() -> PrimaryLight {
+        PrimaryLight::Point {
+            position: Vec3::new(-0.3, 1.8, 0.3),
             intensity: Vec3::splat(2.0),
-        };
+        }
+    }
+
+    /// The room, lit by its lamp's 4,000 VPLs.
+    fn room() -> (Scene, Vec<Vpl>) {
+        let scene = Scene::new(room_mesh());
         let settings = VplSettings {
             count: 4000,
             max_bounces: 2,
             seed: 4,
         };
-        let vpls = trace(&scene, &[lamp], &settings).unwrap().vpls;
+        let vpls = trace(&scene, &[lamp()], &settings).unwrap().vpls;
         (scene, vpls)
     }
 
     /// The room's VPLs, their point lights and single hierarchy, and the shading settings.
-    pub(super) struct Fixture {
+    pub(crate) struct Fixture {
         pub(super) scene: Scene,
         pub(super) vpls: Vec<Vpl>,
         lights: Vec<PointLight>,
@@ -460,7 +471,7 @@ mod tests {
         }
 
         /// The room from the front, `w × h`.
-        pub(super) fn camera(w: usize, h: usize) -> Camera {
+        pub(crate) fn camera(w: usize, h: usize) -> Camera {
             let (eye, target) = (Vec3::new(0.4, 1.2, 3.0), Vec3::new(0.0, 0.6, 0.0));
             Camera::new(eye, target, Vec3::Y, 50.0, w, h).unwrap()
         }
