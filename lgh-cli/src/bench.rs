@@ -164,102 +164,153 @@ fn markdown(report: &Value) -> String {
     out
 }
 
+/// Benchmarks one light set: build and rebuild times, brute force, and each α's speed and error.
 fn bench_set(set: &Set, args: &CoreBenchArgs) -> Result<Value, crate::Error> {
     let lights = &set.lights;
-    let build = || LightingGridHierarchy::build(lights, &set.settings);
+    let (mut lgh, build_s) = time_builds(set, args.repeat)?;
+    let rebuild_s = time_rebuild(&mut lgh, lights, args.repeat)?;
+    let levels: Vec<usize> = (0..=lgh.max_level()).map(|l| lgh.level(l).len()).collect();
+    let queries = Queries::new(set, lgh.h0(), args)?;
+    let per_alpha = args
+        .alphas
+        .iter()
+        .map(|&alpha| queries.measure_alpha(set.name, &lgh, alpha, args.repeat))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(json!({
+        "name": set.name,
+        "description": set.description,
+        "lights": lights.len(),
+        "query_points": queries.points.len(),
+        "h1": lgh.h1(),
+        "max_level": lgh.max_level(),
+        "lights_per_level": levels,
+        "build_seconds": build_s,
+        "rebuild_intensities_seconds_2_threads": rebuild_s,
+        "brute_force_points_per_second_per_thread": queries.brute_pps,
+        "alphas": per_alpha,
+    }))
+}
+
+/// Builds the set's hierarchy on 1 and on 2 threads, the best of `repeat` builds each; returns
+/// the last hierarchy built and the best seconds by thread count.
+fn time_builds(
+    set: &Set,
+    repeat: usize,
+) -> Result<(LightingGridHierarchy, serde_json::Map<String, Value>), crate::Error> {
+    let build = || LightingGridHierarchy::build(&set.lights, &set.settings);
     let mut build_s = serde_json::Map::new();
     let mut lgh = None;
     for threads in [1usize, 2] {
         let p = pool(threads)?;
         let mut best = f64::INFINITY;
-        for _ in 0..args.repeat.max(1) {
+        for _ in 0..repeat.max(1) {
             let (h, s) = p.install(|| time(build));
             best = best.min(s);
             lgh = Some(h?);
         }
         build_s.insert(threads.to_string(), json!(best));
     }
-    let mut lgh = lgh.expect("built at least once");
-    // Rebuild with new intensities (same positions), 2 threads.
+    Ok((lgh.expect("built at least once"), build_s))
+}
+
+/// The best of `repeat` rebuilds of `lgh` with new intensities (the same positions) on 2
+/// threads, in seconds; `lgh` is left with the `lights`' own intensities.
+fn time_rebuild(
+    lgh: &mut LightingGridHierarchy,
+    lights: &[PointLight],
+    repeat: usize,
+) -> Result<f64, crate::Error> {
     let scaled: Vec<Vec3> = lights.iter().map(|l| l.intensity * 1.5).collect();
     let p2 = pool(2)?;
     let mut rebuild_s = f64::INFINITY;
-    for _ in 0..args.repeat.max(1) {
+    for _ in 0..repeat.max(1) {
         let (r, s) = p2.install(|| time(|| lgh.update_intensities(&scaled)));
         r?;
         rebuild_s = rebuild_s.min(s);
     }
     let unscaled: Vec<Vec3> = lights.iter().map(|l| l.intensity).collect();
     lgh.update_intensities(&unscaled)?;
-    let h0 = lgh.h0();
-    let levels: Vec<usize> = (0..=lgh.max_level()).map(|l| lgh.level(l).len()).collect();
+    Ok(rebuild_s)
+}
 
-    let (lo, hi) = lgh_core::bounds(lights);
-    let points = testsets::query_points(lo, hi, args.points, 42);
+/// A set's query points, in random and in coherent order, with brute force's answer at each
+/// and its single-thread throughput.
+struct Queries {
+    points: Vec<Vec3>,
+    /// The same points in a spatially coherent order, as a renderer visits them (tiles of
+    /// pixels, steps along rays): sorted along a Morton curve.
+    coherent: Vec<Vec3>,
+    /// Brute force's `L(x)` at each of `points`.
+    reference: Vec<Vec3>,
+    /// Brute force's points per second on one thread.
+    brute_pps: f64,
+}
 
-    // Brute force: single-thread throughput on a prefix, then the reference on every point.
-    let brute = BruteForce::new(lights)?;
-    let timed = &points[..args.brute_timing_points.clamp(1, points.len())];
-    let (_, brute_s) = time(|| {
-        timed
-            .iter()
-            .map(|&x| brute.falloff_sum(x, h0).map(|v| v.x))
-            .sum::<Result<f32, _>>()
-    });
-    let brute_pps = timed.len() as f64 / brute_s;
-    eprintln!(
-        "{}: brute force {:.0} points/s/thread; computing the reference on {} points",
-        set.name,
-        brute_pps,
-        points.len()
-    );
-    let reference: Vec<Vec3> = points
-        .par_iter()
-        .map(|&x| brute.falloff_sum(x, h0))
-        .collect::<Result<_, _>>()?;
+impl Queries {
+    /// The query points around `set`'s lights; brute force (fall-off clamped at `h0`) timed on
+    /// one thread over a prefix of them, then its reference at every point.
+    fn new(set: &Set, h0: f32, args: &CoreBenchArgs) -> Result<Self, crate::Error> {
+        let (lo, hi) = lgh_core::bounds(&set.lights);
+        let points = testsets::query_points(lo, hi, args.points, 42);
+        let brute = BruteForce::new(&set.lights)?;
+        let timed = &points[..args.brute_timing_points.clamp(1, points.len())];
+        let (_, brute_s) = time(|| {
+            timed
+                .iter()
+                .map(|&x| brute.falloff_sum(x, h0).map(|v| v.x))
+                .sum::<Result<f32, _>>()
+        });
+        let brute_pps = timed.len() as f64 / brute_s;
+        eprintln!(
+            "{}: brute force {:.0} points/s/thread; computing the reference on {} points",
+            set.name,
+            brute_pps,
+            points.len()
+        );
+        let reference: Vec<Vec3> = points
+            .par_iter()
+            .map(|&x| brute.falloff_sum(x, h0))
+            .collect::<Result<_, _>>()?;
+        let coherent = morton_sorted(&points);
+        Ok(Queries {
+            points,
+            coherent,
+            reference,
+            brute_pps,
+        })
+    }
 
-    // The same points in a spatially coherent order, as a renderer visits them (tiles of pixels,
-    // steps along rays): sorted along a Morton curve.
-    let coherent = morton_sorted(&points);
-
-    let mut per_alpha = Vec::new();
-    for &alpha in &args.alphas {
+    /// One α's record: single-thread throughput (the best of `repeat` passes over all points,
+    /// in each order), lights evaluated per point, and the error against brute force.
+    fn measure_alpha(
+        &self,
+        name: &str,
+        lgh: &LightingGridHierarchy,
+        alpha: f32,
+        repeat: usize,
+    ) -> Result<Value, crate::Error> {
+        let points = &self.points;
         let b = lgh.blending(alpha)?;
-        // Single thread; the best of `repeat` passes over all points, in each order.
-        let (values, evaluated, secs) = time_queries(&lgh, &b, &points, args.repeat)?;
-        let (_, _, coherent_secs) = time_queries(&lgh, &b, &coherent, args.repeat)?;
-        let err = ErrorStats::compare(&values, &reference).ok_or("empty comparison")?;
+        let (values, evaluated, secs) = time_queries(lgh, &b, points, repeat)?;
+        let (_, _, coherent_secs) = time_queries(lgh, &b, &self.coherent, repeat)?;
+        let err = ErrorStats::compare(&values, &self.reference).ok_or("empty comparison")?;
         let pps = points.len() as f64 / secs;
         let coherent_pps = points.len() as f64 / coherent_secs;
         eprintln!(
-            "{}: alpha {alpha}: {pps:.0} points/s/thread ({coherent_pps:.0} in coherent order), {:.0} lights/point, rel RMSE {:.3e}",
-            set.name,
+            "{name}: alpha {alpha}: {pps:.0} points/s/thread ({coherent_pps:.0} in coherent order), {:.0} lights/point, rel RMSE {:.3e}",
             evaluated as f64 / points.len() as f64,
             err.rel_rmse
         );
-        per_alpha.push(json!({
+        Ok(json!({
             "alpha": alpha,
             "points_per_second_per_thread": pps,
             "points_per_second_per_thread_coherent": coherent_pps,
             "lights_per_point": evaluated as f64 / points.len() as f64,
             "rel_rmse": err.rel_rmse,
             "max_rel_error": err.max_rel,
-            "speedup_vs_brute": pps / brute_pps,
-        }));
+            "speedup_vs_brute": pps / self.brute_pps,
+        }))
     }
-    Ok(json!({
-        "name": set.name,
-        "description": set.description,
-        "lights": lights.len(),
-        "query_points": points.len(),
-        "h1": lgh.h1(),
-        "max_level": lgh.max_level(),
-        "lights_per_level": levels,
-        "build_seconds": build_s,
-        "rebuild_intensities_seconds_2_threads": rebuild_s,
-        "brute_force_points_per_second_per_thread": brute_pps,
-        "alphas": per_alpha,
-    }))
 }
 
 /// Probe values `L(x) = Σ B·I·g(d)` at `points` on one thread, the lights evaluated in all, and

@@ -692,21 +692,7 @@ fn equal_error(
     runs: &[Run],
     measured: &[Measured],
 ) -> (Value, String) {
-    let of = |key: &'static str| {
-        runs.iter()
-            .zip(measured)
-            .filter(move |(r, _)| entries[r.entry].key == key)
-    };
-    let swept = |r: &Run, key: &str| match key {
-        "lightcuts" => args.sweep_lightcuts_errors.contains(&r.lightcuts_error),
-        _ => args.sweep_alphas.contains(&r.alpha),
-    };
-    // Rows in the order of the setting: Lightcuts' ε from the largest, the hierarchy's α from
-    // the smallest, so both go from the largest error down.
-    let mut lightcuts: Vec<(&Run, &Measured)> = of("lightcuts")
-        .filter(|(r, _)| swept(r, "lightcuts"))
-        .collect();
-    lightcuts.sort_by(|a, b| b.0.lightcuts_error.total_cmp(&a.0.lightcuts_error));
+    let lightcuts = swept_runs(args, entries, runs, measured, "lightcuts");
     let curve: Vec<(f64, f64)> = lightcuts
         .iter()
         .map(|(_, m)| (m.rel_rmse, m.flicker))
@@ -722,64 +708,117 @@ fn equal_error(
         .all(|w| w[1].0 <= w[0].0 && w[1].1 <= w[0].1);
     let mut value = serde_json::Map::new();
     value.insert("lightcuts_curve_monotone".into(), json!(monotone));
-    value.insert(
-        "lightcuts".into(),
-        lightcuts
-            .iter()
-            .map(|(r, m)| {
-                json!({
-                    "relative_error": r.lightcuts_error,
-                    "flicker": m.flicker,
-                    "rel_rmse": m.rel_rmse,
-                    "seconds_per_frame": m.seconds_per_frame,
-                })
-            })
-            .collect(),
-    );
+    value.insert("lightcuts".into(), lightcuts_json(&lightcuts));
     for key in SWEPT_HIERARCHIES {
         let mut points = Vec::new();
-        let mut hierarchy: Vec<(&Run, &Measured)> =
-            of(key).filter(|(r, _)| swept(r, key)).collect();
-        hierarchy.sort_by(|a, b| a.0.alpha.total_cmp(&b.0.alpha));
-        for (r, m) in hierarchy {
-            let at = flicker_at_error(&curve, m.rel_rmse);
-            // No ratio to a hierarchy that does not flicker at all (its cell says so).
-            let ratio = at.map(|(f, _)| f / m.flicker).filter(|q| q.is_finite());
-            let between = at.map(|(_, [a, b])| {
-                [
-                    lightcuts[a].0.lightcuts_error,
-                    lightcuts[b].0.lightcuts_error,
-                ]
-            });
-            points.push(json!({
-                "alpha": r.alpha,
-                "flicker": m.flicker,
-                "rel_rmse": m.rel_rmse,
-                "seconds_per_frame": m.seconds_per_frame,
-                "lightcuts_flicker_at_same_error": at.map(|(f, _)| f),
-                "lightcuts_over_lgh": ratio,
-                "between_lightcuts_errors": between,
-            }));
-            let cell = |x: Option<f64>, f: &dyn Fn(f64) -> String| {
-                x.map_or_else(|| "outside Lightcuts' errors".to_string(), f)
-            };
-            markdown += &format!(
-                "| `{key}` | {} | {:.2}% | {:.6} | {} | {} |\n",
-                r.alpha,
-                100.0 * m.rel_rmse,
-                m.flicker,
-                cell(at.map(|(f, _)| f), &|f| format!("{f:.6}")),
-                match (ratio, at) {
-                    (None, Some(_)) => "the hierarchy does not flicker".to_string(),
-                    _ => cell(ratio, &|q| format!("{q:.1}×")),
-                },
-            );
+        for run in swept_runs(args, entries, runs, measured, key) {
+            let (point, row) = at_equal_error(key, run, &curve, &lightcuts);
+            points.push(point);
+            markdown += &row;
         }
         value.insert(key.into(), Value::Array(points));
     }
-    markdown +=
-        "\n| Lightcuts ε | relative RMSE | flicker | seconds per frame |\n|---:|---:|---:|---:|\n";
-    for (r, m) in &lightcuts {
+    markdown += &lightcuts_table(&lightcuts, monotone);
+    (Value::Object(value), markdown)
+}
+
+/// The runs of method `key` at the settings --equal-error sweeps, with their measurements, in
+/// the order of the setting: Lightcuts' ε from the largest, a hierarchy's α from the smallest,
+/// so both go from the largest error down.
+#[must_use]
+fn swept_runs<'a>(
+    args: &FlickerArgs,
+    entries: &[Entry],
+    runs: &'a [Run],
+    measured: &'a [Measured],
+    key: &str,
+) -> Vec<(&'a Run, &'a Measured)> {
+    let swept = |r: &Run| match key {
+        "lightcuts" => args.sweep_lightcuts_errors.contains(&r.lightcuts_error),
+        _ => args.sweep_alphas.contains(&r.alpha),
+    };
+    let mut rows: Vec<(&Run, &Measured)> = runs
+        .iter()
+        .zip(measured)
+        .filter(|(r, _)| entries[r.entry].key == key)
+        .filter(|(r, _)| swept(r))
+        .collect();
+    match key {
+        "lightcuts" => rows.sort_by(|a, b| b.0.lightcuts_error.total_cmp(&a.0.lightcuts_error)),
+        _ => rows.sort_by(|a, b| a.0.alpha.total_cmp(&b.0.alpha)),
+    }
+    rows
+}
+
+/// Stochastic Lightcuts' curve over ε as JSON: each run's ε, flicker, error and time.
+#[must_use]
+fn lightcuts_json(lightcuts: &[(&Run, &Measured)]) -> Value {
+    lightcuts
+        .iter()
+        .map(|(r, m)| {
+            json!({
+                "relative_error": r.lightcuts_error,
+                "flicker": m.flicker,
+                "rel_rmse": m.rel_rmse,
+                "seconds_per_frame": m.seconds_per_frame,
+            })
+        })
+        .collect()
+}
+
+/// One run of hierarchy `key` against Lightcuts at the same error: its JSON point and its
+/// markdown row, Lightcuts' flicker read off `curve` ([`flicker_at_error`]) between two of the
+/// `lightcuts` runs (`null` where the error lies outside the curve).
+#[must_use]
+fn at_equal_error(
+    key: &str,
+    (r, m): (&Run, &Measured),
+    curve: &[(f64, f64)],
+    lightcuts: &[(&Run, &Measured)],
+) -> (Value, String) {
+    let at = flicker_at_error(curve, m.rel_rmse);
+    // No ratio to a hierarchy that does not flicker at all (its cell says so).
+    let ratio = at.map(|(f, _)| f / m.flicker).filter(|q| q.is_finite());
+    let between = at.map(|(_, [a, b])| {
+        [
+            lightcuts[a].0.lightcuts_error,
+            lightcuts[b].0.lightcuts_error,
+        ]
+    });
+    let point = json!({
+        "alpha": r.alpha,
+        "flicker": m.flicker,
+        "rel_rmse": m.rel_rmse,
+        "seconds_per_frame": m.seconds_per_frame,
+        "lightcuts_flicker_at_same_error": at.map(|(f, _)| f),
+        "lightcuts_over_lgh": ratio,
+        "between_lightcuts_errors": between,
+    });
+    let cell = |x: Option<f64>, f: &dyn Fn(f64) -> String| {
+        x.map_or_else(|| "outside Lightcuts' errors".to_string(), f)
+    };
+    let row = format!(
+        "| `{key}` | {} | {:.2}% | {:.6} | {} | {} |\n",
+        r.alpha,
+        100.0 * m.rel_rmse,
+        m.flicker,
+        cell(at.map(|(f, _)| f), &|f| format!("{f:.6}")),
+        match (ratio, at) {
+            (None, Some(_)) => "the hierarchy does not flicker".to_string(),
+            _ => cell(ratio, &|q| format!("{q:.1}×")),
+        },
+    );
+    (point, row)
+}
+
+/// Stochastic Lightcuts' curve over ε as a markdown table, with a note where its error or
+/// flicker does not fall monotonically with ε.
+#[must_use]
+fn lightcuts_table(lightcuts: &[(&Run, &Measured)], monotone: bool) -> String {
+    let mut markdown = String::from(
+        "\n| Lightcuts ε | relative RMSE | flicker | seconds per frame |\n|---:|---:|---:|---:|\n",
+    );
+    for (r, m) in lightcuts {
         markdown += &format!(
             "| {} | {:.2}% | {:.6} | {:.2} |\n",
             r.lightcuts_error,
@@ -791,7 +830,7 @@ fn equal_error(
     if !monotone {
         markdown += "\n(Lightcuts' error or flicker does not fall monotonically with ε here: each value above is read between the two runs of nearest error.)\n";
     }
-    (Value::Object(value), markdown)
+    markdown
 }
 
 /// The paper's Fig. 10 on frame `t` of `seq`, into `dir`: two stochastic Lightcuts renders

@@ -314,7 +314,9 @@ struct Setup {
 }
 
 impl Setup {
-    fn new(args: &ExplosionArgs) -> Result<Self, crate::Error> {
+    /// Checks every flag, then that each of `inputs` is a file, then makes the medium (its
+    /// blackbody table is the first work): a bad flag or path is said at once.
+    fn new(args: &ExplosionArgs, inputs: &[PathBuf]) -> Result<Self, crate::Error> {
         crate::check_alpha(args.alpha)?;
         lgh_volume::render::check_image_size(args.width, args.height)?;
         output::check_out(args.out()?)?;
@@ -336,6 +338,19 @@ impl Setup {
         }
         if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
             return Err(format!("--albedo {} must be in 0..=1", args.albedo).into());
+        }
+        let up = match args.up {
+            UpArg::Y => Up::Y,
+            UpArg::Z => Up::Z,
+        };
+        // Checked before any work (and before a manifest keeps it for every task).
+        let camera = args
+            .camera
+            .as_ref()
+            .map(|c| parse_camera(c, up.vector(), args.width, args.height))
+            .transpose()?;
+        for p in inputs {
+            crate::check_file(p)?;
         }
         let sigma_t = args.density_scale;
         let model = match args.emission_model {
@@ -360,16 +375,6 @@ impl Setup {
             },
             flame_required: args.flame_grid.is_some(),
         };
-        let up = match args.up {
-            UpArg::Y => Up::Y,
-            UpArg::Z => Up::Z,
-        };
-        // Checked before any work (and before a manifest keeps it for every task).
-        let camera = args
-            .camera
-            .as_ref()
-            .map(|c| parse_camera(c, up.vector(), args.width, args.height))
-            .transpose()?;
         Ok(Setup {
             march,
             medium,
@@ -420,7 +425,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             "--resume is for rendering: --prepare renders nothing",
         ));
     }
-    // The frames' files first: a wrong path is said before any work.
+    // Every flag, then the frames' files: a wrong one is said before any work.
     let frames = args.frame_numbers()?;
     let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
     let paths = frames
@@ -430,10 +435,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             Some(f) => cache::frame_path(vdb, *f),
         })
         .collect::<Result<Vec<_>, _>>()?;
-    for p in &paths {
-        crate::check_file(p)?;
-    }
-    let setup = Setup::new(args)?;
+    let setup = Setup::new(args, &paths)?;
     // The room is read (and its files hashed for the manifest) before any frame.
     let room = args.scene.as_deref().map(Room::load).transpose()?;
     let t = Instant::now();
@@ -575,7 +577,7 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
     let mut full = replay(&manifest)?;
     full.quiet = args.quiet;
     full.resume = args.resume;
-    let setup = Setup::new(&full)?;
+    let setup = Setup::new(&full, &[])?;
     let which = match (&args.frames, manifest.range()) {
         (None, _) => 0..manifest.files.len(),
         (Some(s), Some((first, last))) => {

@@ -358,136 +358,29 @@ impl Manifest {
     /// [`read`](Self::read) from bytes.
     pub fn parse(bytes: &[u8]) -> Result<Self, String> {
         let v: Value = serde_json::from_slice(bytes).map_err(|e| format!("not JSON: {e}"))?;
-        if v["format"] != FORMAT {
-            return Err(format!(
-                "not an lgh sequence manifest (no \"format\": \"{FORMAT}\")"
-            ));
-        }
-        if v["version"] != VERSION {
-            return Err(format!(
-                "manifest version {} (this lgh reads version {VERSION}): prepare it again",
-                v["version"]
-            ));
-        }
-        // Defaults of flags not given at --prepare are this build's; another version may
-        // render other pixels.
-        let version = env!("CARGO_PKG_VERSION");
-        if v["lgh_version"] != version {
-            return Err(format!(
-                "prepared by lgh {} and this is lgh {version}: render with the version that \
-                 prepared it, or prepare it again",
-                v["lgh_version"]
-            ));
-        }
-        let field = |key: &str| format!("\"{key}\" is missing or malformed");
-        let grid = &v["grid"];
-        let transform: [[f64; 4]; 4] = serde_json::from_value(grid["transform"].clone())
-            .map_err(|_| field("grid.transform"))?;
-        let lo: [i32; 3] =
-            serde_json::from_value(grid["lo"].clone()).map_err(|_| field("grid.lo"))?;
-        let hi: [i32; 3] =
-            serde_json::from_value(grid["hi"].clone()).map_err(|_| field("grid.hi"))?;
-        let layout = SequenceLayout { transform, lo, hi };
-        let voxels = layout.voxels().ok_or_else(|| field("grid.lo/hi"))?;
-        let vec3 = |x: &Value, key: &str| -> Result<Vec3, String> {
-            let a: [f32; 3] = serde_json::from_value(x.clone()).map_err(|_| field(key))?;
-            Ok(Vec3::from(a))
-        };
+        check_header(&v)?;
+        let layout = parse_layout(&v["grid"])?;
+        let voxels = layout.voxels().ok_or_else(|| malformed("grid.lo/hi"))?;
         let framing = match &v["framing"] {
             Value::Null => None,
-            f => Some((vec3(&f["lo"], "framing.lo")?, vec3(&f["hi"], "framing.hi")?)),
+            f => Some((
+                parse_vec3(&f["lo"], "framing.lo")?,
+                parse_vec3(&f["hi"], "framing.hi")?,
+            )),
         };
         let lights = match &v["lights"] {
             Value::Null => None,
-            l => {
-                let count = l["count"].as_u64().ok_or_else(|| field("lights.count"))?;
-                let text = l["voxels"].as_str().ok_or_else(|| field("lights.voxels"))?;
-                Some(decode_voxels(text, count as usize, voxels)?)
-            }
+            l => Some(parse_lights(l, voxels)?),
         };
         let all_dark = match &v["all_dark"] {
             Value::Null => None,
-            d => Some(d.as_str().ok_or_else(|| field("all_dark"))?.to_string()),
+            d => Some(d.as_str().ok_or_else(|| malformed("all_dark"))?.to_string()),
         };
-        let files = v["frames"]["files"]
-            .as_array()
-            .filter(|f| !f.is_empty())
-            .ok_or_else(|| field("frames.files"))?
-            .iter()
-            .map(|f| {
-                let s = |key: &str| {
-                    f[key]
-                        .as_str()
-                        .map(str::to_string)
-                        .ok_or_else(|| field(&format!("frames.files[].{key}")))
-                };
-                let frame = match &f["frame"] {
-                    Value::Null => None,
-                    n => Some(
-                        n.as_u64()
-                            .and_then(|n| u32::try_from(n).ok())
-                            .ok_or_else(|| field("frames.files[].frame"))?,
-                    ),
-                };
-                let config = match &f["config"] {
-                    Value::Null => None,
-                    c => Some((
-                        PathBuf::from(c["path"].as_str().ok_or_else(|| field("config.path"))?),
-                        c["sha256"]
-                            .as_str()
-                            .ok_or_else(|| field("config.sha256"))?
-                            .to_string(),
-                    )),
-                };
-                Ok(FrameFile {
-                    frame,
-                    path: PathBuf::from(s("path")?),
-                    bytes: f["bytes"]
-                        .as_u64()
-                        .ok_or_else(|| field("frames.files[].bytes"))?,
-                    sha256: s("sha256")?,
-                    config,
-                })
-            })
-            .collect::<Result<Vec<_>, String>>()?;
-        // One file without a frame number, or consecutive frames.
-        let consecutive = match files[0].frame {
-            None => files.len() == 1,
-            Some(first) => files
-                .iter()
-                .enumerate()
-                .all(|(i, f)| f.frame.map(u64::from) == Some(u64::from(first) + i as u64)),
-        };
-        if !consecutive {
-            return Err(field("frames.files (consecutive frames)"));
-        }
-        let settings = v["settings"]
-            .as_object()
-            .ok_or_else(|| field("settings"))?
-            .iter()
-            .map(|(k, vals)| {
-                let vals: Vec<String> = serde_json::from_value(vals.clone())
-                    .map_err(|_| field(&format!("settings.{k}")))?;
-                Ok((k.clone(), vals))
-            })
-            .collect::<Result<Vec<_>, String>>()?;
-        let scene = v["scene"]
-            .as_array()
-            .ok_or_else(|| field("scene"))?
-            .iter()
-            .map(|f| {
-                Ok(SceneFile {
-                    path: PathBuf::from(f["path"].as_str().ok_or_else(|| field("scene[].path"))?),
-                    bytes: f["bytes"].as_u64().ok_or_else(|| field("scene[].bytes"))?,
-                    sha256: f["sha256"]
-                        .as_str()
-                        .ok_or_else(|| field("scene[].sha256"))?
-                        .to_string(),
-                })
-            })
-            .collect::<Result<Vec<_>, String>>()?;
+        let files = parse_frame_files(&v["frames"]["files"])?;
+        let settings = parse_settings(&v["settings"])?;
+        let scene = parse_scene(&v["scene"])?;
         if scene.is_empty() == settings.iter().any(|(k, _)| k == "scene") {
-            return Err(field("scene (its files and --scene go together)"));
+            return Err(malformed("scene (its files and --scene go together)"));
         }
         Ok(Manifest {
             files,
@@ -505,6 +398,164 @@ impl Manifest {
     pub fn range(&self) -> Option<(u32, u32)> {
         Some((self.files.first()?.frame?, self.files.last()?.frame?))
     }
+}
+
+/// The error of a manifest whose `key` is missing or malformed.
+#[must_use]
+fn malformed(key: &str) -> String {
+    format!("\"{key}\" is missing or malformed")
+}
+
+/// Checks that `v` is a manifest of this [`VERSION`], prepared by this build of lgh.
+fn check_header(v: &Value) -> Result<(), String> {
+    if v["format"] != FORMAT {
+        return Err(format!(
+            "not an lgh sequence manifest (no \"format\": \"{FORMAT}\")"
+        ));
+    }
+    if v["version"] != VERSION {
+        return Err(format!(
+            "manifest version {} (this lgh reads version {VERSION}): prepare it again",
+            v["version"]
+        ));
+    }
+    // Defaults of flags not given at --prepare are this build's; another version may
+    // render other pixels.
+    let version = env!("CARGO_PKG_VERSION");
+    if v["lgh_version"] != version {
+        return Err(format!(
+            "prepared by lgh {} and this is lgh {version}: render with the version that \
+             prepared it, or prepare it again",
+            v["lgh_version"]
+        ));
+    }
+    Ok(())
+}
+
+/// The `grid` record: the frames' transform and common box.
+fn parse_layout(grid: &Value) -> Result<SequenceLayout, String> {
+    let transform: [[f64; 4]; 4] = serde_json::from_value(grid["transform"].clone())
+        .map_err(|_| malformed("grid.transform"))?;
+    let lo: [i32; 3] =
+        serde_json::from_value(grid["lo"].clone()).map_err(|_| malformed("grid.lo"))?;
+    let hi: [i32; 3] =
+        serde_json::from_value(grid["hi"].clone()).map_err(|_| malformed("grid.hi"))?;
+    Ok(SequenceLayout { transform, lo, hi })
+}
+
+/// A point `[x, y, z]` at `key`.
+fn parse_vec3(x: &Value, key: &str) -> Result<Vec3, String> {
+    let a: [f32; 3] = serde_json::from_value(x.clone()).map_err(|_| malformed(key))?;
+    Ok(Vec3::from(a))
+}
+
+/// The `lights` record: its light voxels, indices below `voxels`.
+fn parse_lights(l: &Value, voxels: usize) -> Result<Vec<usize>, String> {
+    let count = l["count"]
+        .as_u64()
+        .ok_or_else(|| malformed("lights.count"))?;
+    let text = l["voxels"]
+        .as_str()
+        .ok_or_else(|| malformed("lights.voxels"))?;
+    decode_voxels(text, count as usize, voxels)
+}
+
+/// The `frames.files` list: one file without a frame number, or consecutive frames.
+fn parse_frame_files(files: &Value) -> Result<Vec<FrameFile>, String> {
+    let files = files
+        .as_array()
+        .filter(|f| !f.is_empty())
+        .ok_or_else(|| malformed("frames.files"))?
+        .iter()
+        .map(parse_frame_file)
+        .collect::<Result<Vec<_>, String>>()?;
+    let consecutive = match files[0].frame {
+        None => files.len() == 1,
+        Some(first) => files
+            .iter()
+            .enumerate()
+            .all(|(i, f)| f.frame.map(u64::from) == Some(u64::from(first) + i as u64)),
+    };
+    if !consecutive {
+        return Err(malformed("frames.files (consecutive frames)"));
+    }
+    Ok(files)
+}
+
+/// One record of `frames.files`.
+fn parse_frame_file(f: &Value) -> Result<FrameFile, String> {
+    let s = |key: &str| {
+        f[key]
+            .as_str()
+            .map(str::to_string)
+            .ok_or_else(|| malformed(&format!("frames.files[].{key}")))
+    };
+    let frame = match &f["frame"] {
+        Value::Null => None,
+        n => Some(
+            n.as_u64()
+                .and_then(|n| u32::try_from(n).ok())
+                .ok_or_else(|| malformed("frames.files[].frame"))?,
+        ),
+    };
+    let config = match &f["config"] {
+        Value::Null => None,
+        c => Some((
+            PathBuf::from(c["path"].as_str().ok_or_else(|| malformed("config.path"))?),
+            c["sha256"]
+                .as_str()
+                .ok_or_else(|| malformed("config.sha256"))?
+                .to_string(),
+        )),
+    };
+    Ok(FrameFile {
+        frame,
+        path: PathBuf::from(s("path")?),
+        bytes: f["bytes"]
+            .as_u64()
+            .ok_or_else(|| malformed("frames.files[].bytes"))?,
+        sha256: s("sha256")?,
+        config,
+    })
+}
+
+/// The `settings` record: each flag's long name and its values as given.
+fn parse_settings(settings: &Value) -> Result<Vec<(String, Vec<String>)>, String> {
+    settings
+        .as_object()
+        .ok_or_else(|| malformed("settings"))?
+        .iter()
+        .map(|(k, vals)| {
+            let vals: Vec<String> = serde_json::from_value(vals.clone())
+                .map_err(|_| malformed(&format!("settings.{k}")))?;
+            Ok((k.clone(), vals))
+        })
+        .collect()
+}
+
+/// The `scene` list: the files of `--scene`.
+fn parse_scene(scene: &Value) -> Result<Vec<SceneFile>, String> {
+    scene
+        .as_array()
+        .ok_or_else(|| malformed("scene"))?
+        .iter()
+        .map(|f| {
+            Ok(SceneFile {
+                path: PathBuf::from(
+                    f["path"]
+                        .as_str()
+                        .ok_or_else(|| malformed("scene[].path"))?,
+                ),
+                bytes: f["bytes"]
+                    .as_u64()
+                    .ok_or_else(|| malformed("scene[].bytes"))?,
+                sha256: f["sha256"]
+                    .as_str()
+                    .ok_or_else(|| malformed("scene[].sha256"))?
+                    .to_string(),
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -190,33 +190,11 @@ fn case(
     let (lgh, build) =
         time(|| LightingGridHierarchy::build(&built.lights, &GridSettings::default()));
     let lgh = lgh?;
-    let mut chosen = None;
-    for alpha in LGH_ALPHAS {
-        let backend = LghBackend::new(&lgh, alpha)?;
-        let m = measure(&built, &backend, build, reference)?;
-        let good = m.max_error <= octree.max_error;
-        chosen = Some((alpha, m));
-        if good {
-            break;
-        }
-    }
-    let (alpha, lgh_m) = chosen.ok_or("no α to try")?;
+    let (alpha, lgh_m) = match_octree_error(&built, &lgh, build, reference, octree.max_error)?;
     if let Some(dir) = &args.out {
-        let stem = format!("{}_{lights}_{}", scene.name(), surface.name());
+        let case = (scene, lights, surface);
         for (name, m) in [("brute", &rt), ("octree", &octree), ("lgh", &lgh_m)] {
-            let attrs = crate::output::header_attributes(
-                name,
-                &[
-                    ("scene", scene.name().to_string()),
-                    ("lights", lights.to_string()),
-                    ("material", surface.name().to_string()),
-                    ("threshold_8bit", args.threshold.to_string()),
-                    ("render_seconds", format!("{:.3}", m.seconds)),
-                ],
-            );
-            // Exposure 1: radiance 1 is white, as on the paper's 8-bit scale.
-            let exr = dir.join(format!("{stem}_{name}.exr"));
-            crate::output::write_exr_png(&exr, &m.image, &attrs, Some(1.0))?;
+            write_render(dir, case, args.threshold, name, m)?;
         }
     }
     Ok(json!({
@@ -239,6 +217,54 @@ fn case(
         "lgh": { "alpha": alpha, "matched_octree_error": lgh_m.max_error <= octree.max_error,
                  "build_seconds": build, "method": method_json(&lgh_m, rt.seconds) },
     }))
+}
+
+/// LGH at the smallest α of [`LGH_ALPHAS`] whose largest 8-bit error is no larger than
+/// `octree_error` (the largest α when none is), with `build_seconds` of its build added.
+fn match_octree_error(
+    built: &Built,
+    lgh: &LightingGridHierarchy,
+    build_seconds: f64,
+    reference: Option<&Image>,
+    octree_error: u8,
+) -> Result<(f32, Measured), crate::Error> {
+    let mut chosen = None;
+    for alpha in LGH_ALPHAS {
+        let backend = LghBackend::new(lgh, alpha)?;
+        let m = measure(built, &backend, build_seconds, reference)?;
+        let good = m.max_error <= octree_error;
+        chosen = Some((alpha, m));
+        if good {
+            break;
+        }
+    }
+    Ok(chosen.ok_or("no α to try")?)
+}
+
+/// Writes method `name`'s render of the case `(scene, lights, surface)` into `dir` as EXR and
+/// PNG, its header naming the case, the `threshold` (8-bit levels) and the render's seconds.
+fn write_render(
+    dir: &std::path::Path,
+    (scene, lights, surface): (TestScene, usize, Surface),
+    threshold: f32,
+    name: &str,
+    m: &Measured,
+) -> Result<(), crate::Error> {
+    let stem = format!("{}_{lights}_{}", scene.name(), surface.name());
+    let attrs = crate::output::header_attributes(
+        name,
+        &[
+            ("scene", scene.name().to_string()),
+            ("lights", lights.to_string()),
+            ("material", surface.name().to_string()),
+            ("threshold_8bit", threshold.to_string()),
+            ("render_seconds", format!("{:.3}", m.seconds)),
+        ],
+    );
+    // Exposure 1: radiance 1 is white, as on the paper's 8-bit scale.
+    let exr = dir.join(format!("{stem}_{name}.exr"));
+    crate::output::write_exr_png(&exr, &m.image, &attrs, Some(1.0))?;
+    Ok(())
 }
 
 /// The paper's row for a case.

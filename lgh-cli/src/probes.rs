@@ -89,55 +89,101 @@ pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
     let t0 = Instant::now();
     let lights = read_lights(&args.lights)?;
     let mut cloud = ply::read(&args.points)?;
-    let points: Vec<Vec3> = {
-        let col = |n: &str| {
-            cloud
-                .float_column(n)
-                .map_err(|e| format!("{}: {e} (points need float x, y, z)", args.points.display()))
-        };
-        let (x, y, z) = (col("x")?, col("y")?, col("z")?);
-        (0..cloud.len())
-            .map(|i| Vec3::new(x[i] as f32, y[i] as f32, z[i] as f32))
-            .collect()
-    };
-    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-        return Err(format!("{}: point {i} is not finite", args.points.display()).into());
-    }
+    let points = probe_positions(&cloud, &args.points)?;
     let read_s = t0.elapsed().as_secs_f64();
     let settings = GridSettings {
         h1: args.h1,
         max_level: args.max_level,
         ..Default::default()
     };
-    let ctx = |e: lgh_core::BuildError| format!("{}: {e}", args.lights.display());
     let t1 = Instant::now();
-    let lgh = LightingGridHierarchy::build(&lights, &settings).map_err(ctx)?;
+    let lgh =
+        LightingGridHierarchy::build(&lights, &settings).map_err(|e| in_lights(&args.lights, e))?;
     let build_s = t1.elapsed().as_secs_f64();
-    let h0 = lgh.h0();
     let bar = progress::bar(points.len() as u64, "probes", args.quiet);
     let t2 = Instant::now();
-    let (values, evaluated) = match args.backend {
+    let (values, evaluated) = evaluate_backend(args, &lights, &lgh, &points, &bar)?;
+    bar.finish_and_clear();
+    let eval_s = t2.elapsed().as_secs_f64();
+    replace_rgb(&mut cloud, &values);
+    lgh_image::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
+    say!(
+        "{} probes from {} lights with {} (alpha {}, h1 {:.4}, levels 0..={}): {:.1} lights per probe; read {:.2} s, build {:.3} s, evaluate {:.3} s -> {}",
+        points.len(),
+        lights.len(),
+        backend_name(args.backend),
+        args.alpha,
+        lgh.h1(),
+        lgh.max_level(),
+        evaluated as f64 / points.len().max(1) as f64,
+        read_s,
+        build_s,
+        eval_s,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The probe positions of `cloud`, read from `path`: its float x, y, z, each finite.
+fn probe_positions(
+    cloud: &ply::PointCloud,
+    path: &std::path::Path,
+) -> Result<Vec<Vec3>, crate::Error> {
+    let col = |n: &str| {
+        cloud
+            .float_column(n)
+            .map_err(|e| format!("{}: {e} (points need float x, y, z)", path.display()))
+    };
+    let (x, y, z) = (col("x")?, col("y")?, col("z")?);
+    let points: Vec<Vec3> = (0..cloud.len())
+        .map(|i| Vec3::new(x[i] as f32, y[i] as f32, z[i] as f32))
+        .collect();
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(format!("{}: point {i} is not finite", path.display()).into());
+    }
+    Ok(points)
+}
+
+/// A build error of the lights read from `path`, naming the file.
+#[must_use]
+fn in_lights(path: &std::path::Path, e: lgh_core::BuildError) -> String {
+    format!("{}: {e}", path.display())
+}
+
+/// `L(x)` at every point with the `--backend` of `args` (`lgh` at its α, or one built over
+/// `lights`), and the total number of lights evaluated.
+fn evaluate_backend(
+    args: &ProbesArgs,
+    lights: &[PointLight],
+    lgh: &LightingGridHierarchy,
+    points: &[Vec3],
+    bar: &indicatif::ProgressBar,
+) -> Result<(Vec<Vec3>, u64), crate::Error> {
+    let h0 = lgh.h0();
+    match args.backend {
         ProbeBackend::Lgh => {
-            let backend = LghBackend::new(&lgh, args.alpha)?;
-            evaluate(&backend, &points, h0, &bar)?
+            let backend = LghBackend::new(lgh, args.alpha)?;
+            evaluate(&backend, points, h0, bar)
         }
         ProbeBackend::Brute => {
-            let backend = BruteForce::new(&lights).map_err(ctx)?;
-            evaluate(&backend, &points, h0, &bar)?
+            let backend = BruteForce::new(lights).map_err(|e| in_lights(&args.lights, e))?;
+            evaluate(&backend, points, h0, bar)
         }
         ProbeBackend::Lightcuts | ProbeBackend::LightcutsDeterministic => {
             let representative = match args.backend {
                 ProbeBackend::Lightcuts => lgh_core::Representative::Stochastic { seed: 0 },
                 _ => lgh_core::Representative::Brightest,
             };
-            let tree = lgh_core::LightTree::build(&lights, representative).map_err(ctx)?;
+            let tree = lgh_core::LightTree::build(lights, representative)
+                .map_err(|e| in_lights(&args.lights, e))?;
             let backend = lgh_core::LightcutsBackend::new(&tree, Default::default())?;
-            evaluate(&backend, &points, h0, &bar)?
+            evaluate(&backend, points, h0, bar)
         }
-    };
-    bar.finish_and_clear();
-    let eval_s = t2.elapsed().as_secs_f64();
+    }
+}
 
+/// Replaces `cloud`'s r, g, b properties, if any, with float r, g, b columns of `values`.
+fn replace_rgb(cloud: &mut ply::PointCloud, values: &[Vec3]) {
     for name in ["r", "g", "b"] {
         if let Some(k) = cloud.props.iter().position(|(n, _)| n == name) {
             cloud.props.remove(k);
@@ -150,27 +196,17 @@ pub fn run(args: &ProbesArgs) -> Result<(), crate::Error> {
             .columns
             .push(values.iter().map(|v| v[c] as f64).collect());
     }
-    lgh_image::write_atomic(&args.out, |w| ply::write(w, &cloud))?;
-    say!(
-        "{} probes from {} lights with {} (alpha {}, h1 {:.4}, levels 0..={}): {:.1} lights per probe; read {:.2} s, build {:.3} s, evaluate {:.3} s -> {}",
-        points.len(),
-        lights.len(),
-        match args.backend {
-            ProbeBackend::Brute => "brute force",
-            ProbeBackend::Lgh => "lgh",
-            ProbeBackend::Lightcuts => "lightcuts",
-            ProbeBackend::LightcutsDeterministic => "lightcuts-deterministic",
-        },
-        args.alpha,
-        lgh.h1(),
-        lgh.max_level(),
-        evaluated as f64 / points.len().max(1) as f64,
-        read_s,
-        build_s,
-        eval_s,
-        args.out.display()
-    );
-    Ok(())
+}
+
+/// The name of `backend` in the summary line.
+#[must_use]
+fn backend_name(backend: ProbeBackend) -> &'static str {
+    match backend {
+        ProbeBackend::Brute => "brute force",
+        ProbeBackend::Lgh => "lgh",
+        ProbeBackend::Lightcuts => "lightcuts",
+        ProbeBackend::LightcutsDeterministic => "lightcuts-deterministic",
+    }
 }
 
 /// `L(x)` at every point in parallel (deterministic: each point is independent), and the total

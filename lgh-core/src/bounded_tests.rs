@@ -62,7 +62,7 @@ fn scene(n: usize, seed: u64) -> (Vec<PointLight>, Vec<ShadingPoint>) {
 /// The number of terms of eq. (1) the octree bounds separately at `point` (diffuse, specular).
 fn terms(point: &ShadingPoint) -> f64 {
     match point.material {
-        crate::Material::Phong { .. } => 2.0,
+        crate::many_lights::Material::Phong { .. } => 2.0,
         _ => 1.0,
     }
 }
@@ -316,7 +316,7 @@ fn degenerate_scenes_are_handled() {
         position: Vec3::ZERO,
         normal: Some(Vec3::Y),
         view: Some(Vec3::new(0.6, 0.8, 0.0)),
-        material: crate::Material::Phong {
+        material: crate::many_lights::Material::Phong {
             kd: Vec3::splat(0.5),
             ks: Vec3::splat(0.5),
             exponent: 200.0,
@@ -364,7 +364,7 @@ fn degenerate_scenes_are_handled() {
     let mut shader = |_: &crate::many_lights::LightSample| Vec3::ZERO;
     assert_eq!(
         b.illuminate(&no_normal, &mut shader),
-        Err(crate::QueryError::InvalidSurface)
+        Err(crate::error::QueryError::InvalidSurface)
     );
 }
 

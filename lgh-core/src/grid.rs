@@ -143,6 +143,30 @@ pub(crate) fn place(
     }
     let cmin = abs_cell(lo, origin, h1);
     let cmax = abs_cell(hi, origin, h1);
+    check_extent((lo, hi), origin, h1, (cmin, cmax))?;
+    let max_level = max_level.unwrap_or_else(|| enclosing_level(cmin, cmax));
+    // The coarsest spacing squared (variances are in squared units) must be finite in f32.
+    let top = (h1 * level_scale(max_level.max(1))) as f32;
+    if !(top * top).is_finite() {
+        return Err(BuildError::InvalidSpacing { h1: h1 as f32 });
+    }
+    let (shifted, max_cell) = align_to_coarsest(origin, h1, max_level, (cmin, cmax));
+    Ok(Placement {
+        h1,
+        origin: shifted,
+        max_level,
+        max_cell,
+    })
+}
+
+/// Checks that the lights' box `(lo, hi)`, level-1 cells `(cmin, cmax)`, spans at most
+/// [`MAX_SPAN`] cells and lies within [`MAX_ORIGIN_CELLS`] cells of `origin`.
+fn check_extent(
+    (lo, hi): (Vec3, Vec3),
+    origin: [f64; 3],
+    h1: f64,
+    (cmin, cmax): ([f64; 3], [f64; 3]),
+) -> Result<(), BuildError> {
     let span = (0..3).map(|a| cmax[a] - cmin[a]).fold(0.0, f64::max);
     if span > MAX_SPAN as f64 {
         return Err(BuildError::GridTooFine {
@@ -161,24 +185,34 @@ pub(crate) fn place(
     if far > MAX_ORIGIN_CELLS {
         return Err(BuildError::OriginTooFar { cells: far });
     }
-    let max_level = max_level.unwrap_or_else(|| {
-        // Lowest ℓ ≥ 1 whose cells (level-1 cells divided by 2^(ℓ−1)) hold everything in one.
-        let mut l = 1u8;
-        while l < MAX_LEVEL {
-            let s = (1u64 << (l - 1)) as f64;
-            if (0..3).all(|a| floor64(cmin[a] / s) == floor64(cmax[a] / s)) {
-                break;
-            }
-            l += 1;
+    Ok(())
+}
+
+/// The automatic `ℓ_max`: the lowest ℓ ≥ 1 whose cells (level-1 cells divided by `2^(ℓ−1)`)
+/// hold the level-1 cells `cmin ..= cmax` in one, at most [`MAX_LEVEL`].
+#[must_use]
+fn enclosing_level(cmin: [f64; 3], cmax: [f64; 3]) -> u8 {
+    let mut l = 1u8;
+    while l < MAX_LEVEL {
+        let s = (1u64 << (l - 1)) as f64;
+        if (0..3).all(|a| floor64(cmin[a] / s) == floor64(cmax[a] / s)) {
+            break;
         }
-        l
-    });
-    // The coarsest spacing squared (variances are in squared units) must be finite in f32.
-    let top = (h1 * level_scale(max_level.max(1))) as f32;
-    if !(top * top).is_finite() {
-        return Err(BuildError::InvalidSpacing { h1: h1 as f32 });
+        l += 1;
     }
-    // Align the shift to the coarsest grid so every level keeps its vertices on the same lattice.
+    l
+}
+
+/// The origin shifted so that the lights' level-1 cells `cmin ..= cmax` start near 0, by a
+/// multiple of the coarsest grid's spacing so that every level keeps its vertices on the same
+/// lattice; and the largest level-1 cell coordinate per axis from the shifted origin.
+#[must_use]
+fn align_to_coarsest(
+    origin: [f64; 3],
+    h1: f64,
+    max_level: u8,
+    (cmin, cmax): ([f64; 3], [f64; 3]),
+) -> ([f64; 3], [u32; 3]) {
     let align = (1u64 << max_level.saturating_sub(1)) as f64;
     let mut shifted = [0.0; 3];
     let mut max_cell = [0u32; 3];
@@ -188,12 +222,7 @@ pub(crate) fn place(
         // cmax − base ≤ span + align − 1 ≤ MAX_CELL (checked at compile time above).
         max_cell[a] = (cmax[a] - base).min(MAX_CELL as f64) as u32;
     }
-    Ok(Placement {
-        h1,
-        origin: shifted,
-        max_level,
-        max_cell,
-    })
+    (shifted, max_cell)
 }
 
 /// The Sec. 6.4 rule: start from one cell over the bounding box and halve `h1` until the level-1

@@ -310,6 +310,10 @@ fn billows(p: Vec3, seed: u32, drift: Vec3) -> f32 {
     2.0 * sum
 }
 
+/// A setting's range: its name, its value, the lowest and highest valid values, and the rule
+/// an error states.
+type SettingRange = (&'static str, f32, f32, f32, &'static str);
+
 impl Explosion {
     /// Checks every field (see each one's range); non-finite values are refused.
     ///
@@ -321,7 +325,23 @@ impl Explosion {
     /// assert!(bad.validate().is_err());
     /// ```
     pub fn validate(&self) -> Result<(), RenderError> {
-        let ranges: [(&'static str, f32, f32, f32, &'static str); 12] = [
+        for (name, value, lo, hi, rule) in self.setting_ranges() {
+            check_setting(
+                value.is_finite() && (lo..=hi).contains(&value),
+                name,
+                value,
+                rule,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Every field with its allowed range, in the order [`validate`](Self::validate) checks
+    /// them: `(name, value, lo, hi, rule)`, the value valid when finite and in `lo..=hi`, the
+    /// rule naming the range in an error.
+    #[must_use]
+    fn setting_ranges(&self) -> [SettingRange; 12] {
+        [
             (
                 "explosion radius",
                 self.radius,
@@ -394,16 +414,7 @@ impl Explosion {
                 12.0,
                 "is outside 0..=12",
             ),
-        ];
-        for (name, value, lo, hi, rule) in ranges {
-            check_setting(
-                value.is_finite() && (lo..=hi).contains(&value),
-                name,
-                value,
-                rule,
-            )?;
-        }
-        Ok(())
+        ]
     }
 
     /// The fireball's radius at `time` (world units).

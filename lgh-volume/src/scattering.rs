@@ -9,10 +9,10 @@
 //! `I^k(x) = h³ σ_s(x) / (4π) · Φ^{k−1}(x)`,
 //!
 //! where `Φ^{k−1}(x)` is the shadowed fluence at `x` of the depth-`(k−1)` lights — exactly what
-//! [`Lights::incident`] returns with the response `1` at an isotropic point
+//! [`Lights::incident`](crate::lighting::Lights::incident) returns with the response `1` at an isotropic point
 //! (`Σ I · g(d) · V` over the lights the backend selects, eq. 1 with visibility), `h³` the voxel's
 //! volume and `σ_s/(4π)` the isotropic phase function times the scattering coefficient
-//! ([`Lights::in_scattered`] computes `I^k` from them). Each
+//! ([`Lights::in_scattered`](crate::lighting::Lights::in_scattered) computes `I^k` from them). Each
 //! depth is built into a hierarchy of its own ("the higher levels `S^k_ℓ` … in the same way as
 //! explained in Section 3") with its own shadows (the same [`Shadows`](crate::Shadows) choice and
 //! settings as the render: deep-shadow cube maps by default), which lights the next depth.

@@ -294,90 +294,28 @@ impl CubeMaps {
         settings: &CubeMapSettings,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Self, RenderError> {
-        crate::error::check_setting(
-            (0.01..=64.0).contains(&settings.step_voxels),
-            "cube maps: step",
-            settings.step_voxels,
-            "must be 0.01 to 64 voxels",
-        )?;
-        crate::error::check_setting(
-            (2..=MAX_DEPTHS).contains(&settings.depth_count),
-            "cube maps: depths per texel",
-            settings.depth_count as f32,
-            "must be 2 to 16",
-        )?;
+        check_settings(settings)?;
         let density = &volume.density;
         let plan = CubeMaps::plan(hierarchy, blending, density, settings);
-        let needed = plan.bytes() + plan.pyramid_bytes;
-        if needed > settings.memory_budget
-            || plan.levels.iter().map(|l| l.texels).sum::<u64>() >= u64::from(u32::MAX)
-        {
-            return Err(RenderError::ShadowMemory {
-                needed,
-                budget: settings.memory_budget,
-                alpha: blending.alpha(),
-            });
-        }
-        let h = density.voxel_size;
+        check_memory(&plan, settings, blending)?;
         let pyramid = DensityPyramid::for_hierarchy(density, hierarchy, settings.prefilter);
-        let (lo, hi) = density.bounds();
         let empty = EmptySpace::new(density);
-        let tracer = Tracer {
-            pyramid: &pyramid,
-            empty: &empty,
-            skip_empty: true,
-            simd: true,
-            kappa: medium.extinction(1.0),
-            lo,
-            hi,
-            h0: h,
-            min_step: settings.step_voxels * h,
-            prefilter: settings.prefilter,
-            depths: settings.depths,
-            n: settings.depth_count,
-        };
+        let tracer = Tracer::for_maps(&pyramid, &empty, density, medium, settings);
         let mut levels = Vec::new();
         let mut table = Vec::new();
         let total: u64 = plan.levels.iter().map(|l| l.texels).sum();
         let per_texel = settings.depth_count;
         let mut texels = vec![0u16; total as usize * per_texel];
-        let mut rest: &mut [u16] = &mut texels;
-        let mut offset = 0usize;
+        let mut slicer = TexelSlicer {
+            rest: &mut texels,
+            offset: 0,
+            per_texel,
+        };
         for (row, planned) in plan.levels.iter().zip(&plan.maps) {
             let t = Instant::now();
-            let mut slots = vec![NO_MAP; hierarchy.level(row.level).len()];
-            // Each light's slice of the texels, in order.
-            let mut jobs = Vec::with_capacity(planned.len());
-            for m in planned {
-                slots[m.index as usize] = Slot {
-                    offset: offset as u32,
-                    cells: m.cells,
-                };
-                let (map, tail) =
-                    core::mem::take(&mut rest).split_at_mut(cube::texels(m.cells) * per_texel);
-                offset += map.len() / per_texel;
-                jobs.push((map, *m));
-                rest = tail;
-            }
+            let (slots, jobs) = slicer.level(hierarchy.level(row.level).len(), planned);
             let r = blending.radius(row.level);
-            let mut samples = 0u64;
-            // Batches of about a million texels, so that progress is reported as the work goes
-            // (the maps of a batch are traced in parallel; each map depends only on its light).
-            let mut jobs = jobs.into_iter().peekable();
-            while jobs.peek().is_some() {
-                let mut batch = Vec::new();
-                let mut size = 0;
-                while let Some(job) = jobs.next_if(|_| size < 1 << 20) {
-                    size += job.0.len();
-                    batch.push(job);
-                }
-                let n = batch.len();
-                samples += batch
-                    .into_par_iter()
-                    .map(|(map, m)| tracer.trace_map(map, m.centre, m.size, r, row.reach, m.cells))
-                    .sum::<u64>();
-                progress(n);
-            }
+            let samples = tracer.trace_level(jobs, r, row.reach, progress);
             levels.push(Level {
                 inv_spacing: per_texel as f32 / row.reach,
                 slots,
@@ -467,6 +405,80 @@ impl CubeMaps {
 /// Quantisation steps per unit of optical depth, for module `avx2`.
 pub(super) const INV_QUANT: f32 = 1.0 / QUANT;
 
+/// Checks the settings [`CubeMaps::build`] traces with: the step (0.01 to 64 voxels) and the
+/// depths per texel (2 to [`MAX_DEPTHS`]).
+fn check_settings(settings: &CubeMapSettings) -> Result<(), RenderError> {
+    crate::error::check_setting(
+        (0.01..=64.0).contains(&settings.step_voxels),
+        "cube maps: step",
+        settings.step_voxels,
+        "must be 0.01 to 64 voxels",
+    )?;
+    crate::error::check_setting(
+        (2..=MAX_DEPTHS).contains(&settings.depth_count),
+        "cube maps: depths per texel",
+        settings.depth_count as f32,
+        "must be 2 to 16",
+    )?;
+    Ok(())
+}
+
+/// Refuses, with [`RenderError::ShadowMemory`], a `plan` whose maps and pyramid exceed
+/// `settings.memory_budget`, or whose texels a 32-bit [`Slot`] offset cannot address.
+fn check_memory(
+    plan: &CubeMapPlan,
+    settings: &CubeMapSettings,
+    blending: &Blending,
+) -> Result<(), RenderError> {
+    let needed = plan.bytes() + plan.pyramid_bytes;
+    if needed > settings.memory_budget
+        || plan.levels.iter().map(|l| l.texels).sum::<u64>() >= u64::from(u32::MAX)
+    {
+        return Err(RenderError::ShadowMemory {
+            needed,
+            budget: settings.memory_budget,
+            alpha: blending.alpha(),
+        });
+    }
+    Ok(())
+}
+
+/// The texels of every map, handed out light by light in the order of the plan: each light's
+/// own slice, so that the maps can be traced in parallel.
+struct TexelSlicer<'t> {
+    /// The texels not yet handed out.
+    rest: &'t mut [u16],
+    /// Texels handed out so far (the next map's [`Slot`] offset).
+    offset: usize,
+    /// Depths a texel.
+    per_texel: usize,
+}
+
+impl<'t> TexelSlicer<'t> {
+    /// The slots of a level of `lights` lights (those without a map [`NO_MAP`]) and the
+    /// `planned` maps' jobs: each map's slice of the texels, in order.
+    fn level(
+        &mut self,
+        lights: usize,
+        planned: &[Planned],
+    ) -> (Vec<Slot>, Vec<(&'t mut [u16], Planned)>) {
+        let mut slots = vec![NO_MAP; lights];
+        let mut jobs = Vec::with_capacity(planned.len());
+        for m in planned {
+            slots[m.index as usize] = Slot {
+                offset: self.offset as u32,
+                cells: m.cells,
+            };
+            let (map, tail) = core::mem::take(&mut self.rest)
+                .split_at_mut(cube::texels(m.cells) * self.per_texel);
+            self.offset += map.len() / self.per_texel;
+            jobs.push((map, *m));
+            self.rest = tail;
+        }
+        (slots, jobs)
+    }
+}
+
 /// What tracing a texel ray needs.
 pub(super) struct Tracer<'a> {
     pub(super) pyramid: &'a DensityPyramid,
@@ -492,6 +504,64 @@ pub(super) struct Tracer<'a> {
 }
 
 impl Tracer<'_> {
+    /// The tracer [`CubeMaps::build`] traces the maps with: through `pyramid` (and past the
+    /// `empty` space) of `density`, in `medium`, with `settings`' step, prefilter and depths.
+    #[must_use]
+    fn for_maps<'a>(
+        pyramid: &'a DensityPyramid,
+        empty: &'a EmptySpace,
+        density: &DenseGrid,
+        medium: &Medium,
+        settings: &CubeMapSettings,
+    ) -> Tracer<'a> {
+        let h = density.voxel_size;
+        let (lo, hi) = density.bounds();
+        Tracer {
+            pyramid,
+            empty,
+            skip_empty: true,
+            simd: true,
+            kappa: medium.extinction(1.0),
+            lo,
+            hi,
+            h0: h,
+            min_step: settings.step_voxels * h,
+            prefilter: settings.prefilter,
+            depths: settings.depths,
+            n: settings.depth_count,
+        }
+    }
+
+    /// Traces a level's maps, the `jobs` of [`TexelSlicer::level`], for its blending radius `r`
+    /// and depths to `reach`; returns the density samples taken. Batches of about a million
+    /// texels, so that `progress(n)` is reported as the work goes (the maps of a batch are
+    /// traced in parallel; each map depends only on its light).
+    fn trace_level(
+        &self,
+        jobs: Vec<(&mut [u16], Planned)>,
+        r: f32,
+        reach: f32,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> u64 {
+        let mut samples = 0u64;
+        let mut jobs = jobs.into_iter().peekable();
+        while jobs.peek().is_some() {
+            let mut batch = Vec::new();
+            let mut size = 0;
+            while let Some(job) = jobs.next_if(|_| size < 1 << 20) {
+                size += job.0.len();
+                batch.push(job);
+            }
+            let n = batch.len();
+            samples += batch
+                .into_par_iter()
+                .map(|(map, m)| self.trace_map(map, m.centre, m.size, r, reach, m.cells))
+                .sum::<u64>();
+            progress(n);
+        }
+        samples
+    }
+
     /// Traces the map of the light at `p` of size `s`, blending radius `r`, depths to `reach`;
     /// returns the density samples taken.
     fn trace_map(&self, map: &mut [u16], p: Vec3, s: f32, r: f32, reach: f32, cells: u32) -> u64 {

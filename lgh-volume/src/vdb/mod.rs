@@ -621,11 +621,7 @@ fn read_grid(
     }
     // Tree::readTopology: buffer count, then the root.
     let _buffers = c.u32()?;
-    let comps = value_type.components();
-    let full = value_type.size(false);
-    let mut bg = Vec::with_capacity(comps);
-    value_type.decode(c.bytes(full)?, false, &mut bg);
-    grid.background[..comps].copy_from_slice(&bg);
+    grid.background = read_full_value(c, value_type)?;
     let ctx = TreeCtx {
         value_type,
         half,
@@ -633,46 +629,68 @@ fn read_grid(
         background: grid.background,
         before,
     };
-    let num_tiles = c.count(12 + full + 1)?;
-    let num_children = c.count(12)?;
-    for _ in 0..num_tiles {
-        let origin = [c.i32()?, c.i32()?, c.i32()?];
-        let mut v = Vec::with_capacity(comps);
-        value_type.decode(c.bytes(full)?, false, &mut v);
-        let mut value = [0.0; 3];
-        value[..comps].copy_from_slice(&v);
-        let active = c.u8()? != 0;
-        // Aligned like the root's children: then `origin + 4095` never overflows an i32.
-        if origin.iter().any(|&o| o % 4096 != 0) {
-            return Err(VdbError::Malformed {
-                offset: c.pos() as u64,
-                what: "a root tile that is not aligned to its size",
-            });
-        }
-        grid.tiles.push(Tile {
-            origin,
-            edge: 4096,
-            value,
-            active,
-        });
-        ctx.before.with(&grid)?;
-    }
-    for _ in 0..num_children {
-        let origin = [c.i32()?, c.i32()?, c.i32()?];
-        if origin.iter().any(|&o| o % 4096 != 0) {
-            return Err(VdbError::Malformed {
-                offset: c.pos() as u64,
-                what: "a root child that is not aligned to its size",
-            });
-        }
-        read_internal(c, &ctx, origin, 5, &mut grid)?;
-    }
+    read_root(c, &ctx, &mut grid)?;
     // Tree::readBuffers: the leaves, in the order their topology was read.
     for leaf in &mut grid.leaves {
         leaf.mask = read_mask8(c)?;
         leaf.values = read_values(c, &ctx, 512, &leaf.mask)?;
     }
     Ok(grid)
+}
+
+/// One value of `value_type` stored at full precision (the background, a root tile's value),
+/// its unused components 0.
+fn read_full_value(c: &mut Cursor<'_>, value_type: ValueType) -> Result<[f32; 3], VdbError> {
+    let comps = value_type.components();
+    let mut v = Vec::with_capacity(comps);
+    value_type.decode(c.bytes(value_type.size(false))?, false, &mut v);
+    let mut value = [0.0; 3];
+    value[..comps].copy_from_slice(&v);
+    Ok(value)
+}
+
+/// The root node after its background (Tree::readTopology): its tiles, then its children with
+/// their subtrees, into `grid`, against the budget of `ctx`.
+fn read_root(c: &mut Cursor<'_>, ctx: &TreeCtx, grid: &mut Grid) -> Result<(), VdbError> {
+    let full = ctx.value_type.size(false);
+    let num_tiles = c.count(12 + full + 1)?;
+    let num_children = c.count(12)?;
+    for _ in 0..num_tiles {
+        let origin = [c.i32()?, c.i32()?, c.i32()?];
+        let value = read_full_value(c, ctx.value_type)?;
+        let active = c.u8()? != 0;
+        // Aligned like the root's children: then `origin + 4095` never overflows an i32.
+        check_root_aligned(c, origin, "a root tile that is not aligned to its size")?;
+        grid.tiles.push(Tile {
+            origin,
+            edge: 4096,
+            value,
+            active,
+        });
+        ctx.before.with(grid)?;
+    }
+    for _ in 0..num_children {
+        let origin = [c.i32()?, c.i32()?, c.i32()?];
+        check_root_aligned(c, origin, "a root child that is not aligned to its size")?;
+        read_internal(c, ctx, origin, 5, grid)?;
+    }
+    Ok(())
+}
+
+/// Refuses a root tile or child whose `origin` is not a multiple of its size (4096), as
+/// [`VdbError::Malformed`] at the cursor (`what` says which).
+fn check_root_aligned(
+    c: &Cursor<'_>,
+    origin: [i32; 3],
+    what: &'static str,
+) -> Result<(), VdbError> {
+    if origin.iter().any(|&o| o % 4096 != 0) {
+        return Err(VdbError::Malformed {
+            offset: c.pos() as u64,
+            what,
+        });
+    }
+    Ok(())
 }
 
 fn read_mask(c: &mut Cursor<'_>, words: usize) -> Result<Vec<u64>, VdbError> {

@@ -1,0 +1,257 @@
+//! The workspace's shape, checked as code (ARCHITECTURE.md, "Crates"): inside each crate the
+//! modules import one another without a circle, and none takes a name from its crate root's
+//! re-exports (a module low in the crate names the module that defines what it uses); no clippy
+//! allowance for long parameter lists (values that travel together are a struct); no library crate
+//! depends on `clap` or enables lgh-core's `testsets` outside its dev-dependencies; no file
+//! cites a document that is not in the repository.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The workspace root.
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The library crates, whose structure is checked.
+const CRATES: [&str; 6] = [
+    "lgh-core",
+    "lgh-image",
+    "lgh-volume",
+    "lgh-vpl",
+    "lgh-ply",
+    "lgh-cli",
+];
+
+/// Every `.rs` file below `dir`.
+fn rust_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A source file's module path inside its crate (`shadow::deep`; the crate root is "").
+fn module_of(src: &Path, file: &Path) -> String {
+    let rel = file.strip_prefix(src).unwrap().with_extension("");
+    let mut parts: Vec<String> = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    if parts.last().is_some_and(|l| l == "mod") {
+        parts.pop();
+    }
+    if parts == ["lib"] || parts == ["main"] {
+        parts.clear();
+    }
+    parts.join("::")
+}
+
+/// The code of a file outside comments and its unit tests.
+fn code(text: &str) -> String {
+    let body = text.split("#[cfg(test)]\nmod tests").next().unwrap_or("");
+    body.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The paths named after `crate::` in `code`: `crate::a::b::X`, and each item of
+/// `crate::a::{X, b::Y}`, as full paths without `crate::`.
+fn crate_paths(code: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = code;
+    while let Some(at) = rest.find("crate::") {
+        let tail = &rest[at + "crate::".len()..];
+        let end = tail
+            .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+            .unwrap_or(tail.len());
+        let path = tail[..end].trim_end_matches(':').to_string();
+        if tail[end..].starts_with('{') && tail[..end].ends_with("::") {
+            let close = tail[end..].find('}').map_or(tail.len(), |c| end + c);
+            for item in tail[end + 1..close].split(',') {
+                let item = item.trim().split("::").next().unwrap_or("").trim();
+                if !item.is_empty() {
+                    out.push(format!("{path}::{item}"));
+                }
+            }
+        } else {
+            out.push(path);
+        }
+        rest = &tail[end..];
+    }
+    out
+}
+
+/// The longest module of `modules` that `path` starts with ("" for the crate root).
+fn target(modules: &BTreeSet<String>, path: &str) -> String {
+    let parts: Vec<&str> = path.split("::").collect();
+    (1..=parts.len())
+        .rev()
+        .map(|i| parts[..i].join("::"))
+        .find(|m| modules.contains(m))
+        .unwrap_or_default()
+}
+
+/// A crate's module graph: module → the modules it imports (neither an ancestor nor a
+/// descendant), and the imports it takes from the crate root's re-exports.
+fn graph(krate: &str) -> (BTreeMap<String, BTreeSet<String>>, Vec<String>) {
+    let src = root().join(krate).join("src");
+    let files = rust_files(&src);
+    let modules: BTreeSet<String> = files.iter().map(|f| module_of(&src, f)).collect();
+    let mut edges = BTreeMap::new();
+    let mut via_root = Vec::new();
+    for f in &files {
+        let m = module_of(&src, f);
+        let mut out = BTreeSet::new();
+        for p in crate_paths(&code(&std::fs::read_to_string(f).unwrap())) {
+            let t = target(&modules, &p);
+            let item = p.split("::").next().unwrap_or("");
+            if t.is_empty() {
+                let capital = item.chars().next().is_some_and(char::is_uppercase);
+                // The CLI's one error type lives at its root by design.
+                if capital && !m.is_empty() && !(krate == "lgh-cli" && item == "Error") {
+                    via_root.push(format!("{krate}: {m} takes crate::{p}"));
+                }
+                continue;
+            }
+            let related =
+                t == m || m.starts_with(&format!("{t}::")) || t.starts_with(&format!("{m}::"));
+            if !related {
+                out.insert(t);
+            }
+        }
+        edges.insert(m, out);
+    }
+    (edges, via_root)
+}
+
+/// The circles of a graph: its strongly connected components of more than one module.
+fn circles(edges: &BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
+    // Two modules are in one circle when each reaches the other.
+    let reach = |from: &str| {
+        let mut seen = BTreeSet::new();
+        let mut stack = vec![from.to_string()];
+        while let Some(v) = stack.pop() {
+            for w in edges.get(&v).into_iter().flatten() {
+                if seen.insert(w.clone()) {
+                    stack.push(w.clone());
+                }
+            }
+        }
+        seen
+    };
+    let reached: BTreeMap<&String, BTreeSet<String>> =
+        edges.keys().map(|m| (m, reach(m))).collect();
+    let mut out: Vec<Vec<String>> = Vec::new();
+    for m in edges.keys() {
+        let circle: Vec<String> = edges
+            .keys()
+            .filter(|n| *n != m && reached[m].contains(*n) && reached[n].contains(m))
+            .cloned()
+            .collect();
+        if !circle.is_empty() && !out.iter().any(|c| c.contains(m)) {
+            out.push(std::iter::once(m.clone()).chain(circle).collect());
+        }
+    }
+    out
+}
+
+#[test]
+fn the_circle_finder_finds_a_circle() {
+    let edges: BTreeMap<String, BTreeSet<String>> = [
+        ("a", vec!["b"]),
+        ("b", vec!["c"]),
+        ("c", vec!["a"]),
+        ("d", vec!["a"]),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v.into_iter().map(String::from).collect()))
+    .collect();
+    assert_eq!(circles(&edges), vec![vec!["a", "b", "c"]]);
+    let paths = crate_paths("use crate::grid::{DenseGrid, MAX};\nlet x = crate::a::b(1);");
+    assert_eq!(paths, ["grid::DenseGrid", "grid::MAX", "a::b"]);
+}
+
+#[test]
+fn no_crate_has_an_import_circle_or_imports_through_its_root() {
+    let mut problems = Vec::new();
+    for krate in CRATES {
+        let (edges, via_root) = graph(krate);
+        for c in circles(&edges) {
+            problems.push(format!("{krate}: import circle {}", c.join(" ↔ ")));
+        }
+        problems.extend(via_root);
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Every `.rs` file of the workspace's crates (tests and benches included) and `.md` file.
+fn workspace_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for dir in CRATES.iter().chain(&["tests", "fuzz"]) {
+        files.extend(rust_files(&root().join(dir)));
+    }
+    let md = |d: &Path| {
+        std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "md"))
+            .collect::<Vec<_>>()
+    };
+    files.extend(md(&root()));
+    files.extend(md(&root().join("docs")));
+    files
+}
+
+#[test]
+fn no_allowance_for_long_parameter_lists_and_no_citation_of_a_missing_document() {
+    let allowance = ["too_many", "arguments"].join("_");
+    let missing = ["DESIGN", ".md"].concat();
+    let mut problems = Vec::new();
+    for f in workspace_files() {
+        let text = std::fs::read_to_string(&f).unwrap();
+        if text.contains(&allowance) {
+            problems.push(format!("{}: allows {allowance}", f.display()));
+        }
+        if text.contains(&missing) {
+            problems.push(format!("{}: cites {missing}", f.display()));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn library_crates_know_nothing_of_the_command_line_or_the_test_sets() {
+    for krate in ["lgh-core", "lgh-image", "lgh-volume", "lgh-vpl", "lgh-ply"] {
+        let manifest = std::fs::read_to_string(root().join(krate).join("Cargo.toml")).unwrap();
+        let normal = manifest
+            .split("[dev-dependencies]")
+            .next()
+            .unwrap_or_default();
+        let deps: Vec<&str> = normal
+            .lines()
+            .filter(|l| !l.trim_start().starts_with('#'))
+            .collect();
+        assert!(
+            !deps.iter().any(|l| l.trim_start().starts_with("clap")),
+            "{krate} depends on clap"
+        );
+        assert!(
+            !deps
+                .iter()
+                .any(|l| l.contains("lgh-core") && l.contains("testsets")),
+            "{krate} enables lgh-core's testsets outside its dev-dependencies"
+        );
+    }
+}
