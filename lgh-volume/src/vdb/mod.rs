@@ -422,18 +422,22 @@ pub fn parse(bytes: &[u8]) -> Result<VdbFile, VdbError> {
                 offset: bytes.len() as u64,
             });
         }
-        let (value_type, half) = parse_tree_type(&tree_type)?;
+        let tree = parse_tree_type(&tree_type)?;
+        let source = if parent.is_empty() {
+            TreeSource::Own
+        } else {
+            TreeSource::Instanced
+        };
         c.seek(grid_pos as u64)?;
         // The header says the grid fits in the file: data that runs past the file's end is
         // damaged (a corrupt count or size), not cut short.
-        let mut grid = read_grid(&mut c, name, value_type, half, !parent.is_empty(), budget)
-            .map_err(|e| match e {
-                VdbError::Truncated { offset } => VdbError::Malformed {
-                    offset,
-                    what: "a grid that runs past its end offset",
-                },
-                e => e,
-            })?;
+        let mut grid = read_grid(&mut c, name, tree, source, budget).map_err(|e| match e {
+            VdbError::Truncated { offset } => VdbError::Malformed {
+                offset,
+                what: "a grid that runs past its end offset",
+            },
+            e => e,
+        })?;
         if !parent.is_empty() {
             let src = grids.iter().find(|g| g.name == parent).ok_or_else(|| {
                 VdbError::Unsupported(format!("instance of unknown grid '{parent}'"))
@@ -462,8 +466,24 @@ fn strip_unique_suffix(name: &str) -> String {
     name.split('\u{1e}').next().unwrap_or("").to_string()
 }
 
+/// A grid's tree type: its value type, and whether values are stored as half floats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct TreeType {
+    value_type: ValueType,
+    half: bool,
+}
+
+/// Whether a grid's descriptor is followed by its own tree or instances another grid's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TreeSource {
+    /// The tree follows the grid's transform.
+    Own,
+    /// No tree: the grid shares a parent grid's (OpenVDB's instanced grids).
+    Instanced,
+}
+
 /// `Tree_float_5_4_3` or `Tree_vec3s_5_4_3_HalfFloat`.
-fn parse_tree_type(t: &str) -> Result<(ValueType, bool), VdbError> {
+fn parse_tree_type(t: &str) -> Result<TreeType, VdbError> {
     let unsupported = || VdbError::Unsupported(format!("grid type '{t}'"));
     let rest = t.strip_prefix("Tree_").ok_or_else(unsupported)?;
     let (rest, half) = match rest.strip_suffix("_HalfFloat") {
@@ -474,7 +494,10 @@ fn parse_tree_type(t: &str) -> Result<(ValueType, bool), VdbError> {
     let value = ValueType::parse(value).ok_or_else(unsupported)?;
     // Writers add the suffix to integer grids too; it only applies to floating-point values.
     let real = !matches!(value, ValueType::Int32 | ValueType::Int64);
-    Ok((value, half && real))
+    Ok(TreeType {
+        value_type: value,
+        half: half && real,
+    })
 }
 
 /// Skips a metadata map, returning its string entries.
@@ -590,12 +613,12 @@ impl Budget {
     }
 }
 
+/// A grid from its descriptor on: its metadata, transform and, unless instanced, its tree.
 fn read_grid(
     c: &mut Cursor<'_>,
     name: String,
-    value_type: ValueType,
-    half: bool,
-    instance: bool,
+    TreeType { value_type, half }: TreeType,
+    source: TreeSource,
     before: Budget,
 ) -> Result<Grid, VdbError> {
     let compression = c.u32()?;
@@ -616,7 +639,7 @@ fn read_grid(
         leaves: Vec::new(),
         tiles: Vec::new(),
     };
-    if instance {
+    if source == TreeSource::Instanced {
         return Ok(grid);
     }
     // Tree::readTopology: buffer count, then the root.
@@ -834,11 +857,17 @@ mod tests {
     fn tree_types() {
         assert_eq!(
             parse_tree_type("Tree_float_5_4_3").unwrap(),
-            (ValueType::Float, false)
+            TreeType {
+                value_type: ValueType::Float,
+                half: false
+            }
         );
         assert_eq!(
             parse_tree_type("Tree_vec3s_5_4_3_HalfFloat").unwrap(),
-            (ValueType::Vec3s, true)
+            TreeType {
+                value_type: ValueType::Vec3s,
+                half: true
+            }
         );
         assert!(parse_tree_type("Tree_float_6_5_4").is_err());
         assert!(parse_tree_type("Tree_ptdataidx32_5_4_3").is_err());
