@@ -357,7 +357,7 @@ fn shadow_choices(b: &Bench, alpha: f32) -> Result<(Value, RenderStats, f64), cr
         ("raymarch", Shadows::RayMarch),
         ("none", Shadows::None),
     ] {
-        let settings = MarchSettings::with_shadows(shadows, true);
+        let settings = MarchSettings::with_shadows(shadows);
         let lgh = Method::Lgh { alpha };
         let (frame, precompute_s) =
             time(|| FrameRender::new(lights, lgh, &s.volume, &s.medium, &settings, &()));

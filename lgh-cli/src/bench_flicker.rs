@@ -16,6 +16,7 @@ use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
+use lgh_volume::shadow::CoarseShadows;
 use lgh_volume::surfaces::Ground;
 use lgh_volume::{
     bouncing_balls, explosion, ExplosionLights, FrameRender, Method, Shadows, Variants,
@@ -187,18 +188,15 @@ struct Entry {
     method: Kind,
     variants: Variants,
     shadows: Shadows,
-    /// Coarse lights' shadows through the prefiltered density (the paper's) or as points.
-    prefilter: bool,
 }
 
 fn entries() -> Vec<Entry> {
-    let lgh = |key, what, variants, prefilter| Entry {
+    let lgh = |key, what, variants| Entry {
         key,
         what,
         method: Kind::Lgh,
         variants,
         shadows: Shadows::CubeMap,
-        prefilter,
     };
     let paper = Variants::default();
     let ray_marched = |key, what, method| Entry {
@@ -207,15 +205,9 @@ fn entries() -> Vec<Entry> {
         method,
         variants: paper,
         shadows: Shadows::RayMarch,
-        prefilter: true,
     };
     vec![
-        lgh(
-            "lgh",
-            "LGH, cube-map shadows (the paper's method)",
-            paper,
-            true,
-        ),
+        lgh("lgh", "LGH, cube-map shadows (the paper's method)", paper),
         ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Kind::Lgh),
         ray_marched(
             "lightcuts",
@@ -234,7 +226,6 @@ fn entries() -> Vec<Entry> {
                 clustering: Clustering::NearestVertex,
                 ..paper
             },
-            true,
         ),
         lgh(
             "hard_switches",
@@ -243,7 +234,6 @@ fn entries() -> Vec<Entry> {
                 hard_switches: true,
                 ..paper
             },
-            true,
         ),
         lgh(
             "grid_vertex",
@@ -252,13 +242,14 @@ fn entries() -> Vec<Entry> {
                 position: LightPosition::GridVertex,
                 ..paper
             },
-            true,
         ),
         lgh(
             "point_shadows",
             "LGH with coarse lights as points for shadows (no prefiltered density)",
-            paper,
-            false,
+            Variants {
+                coarse_shadows: CoarseShadows::Points,
+                ..paper
+            },
         ),
     ]
 }
@@ -563,7 +554,7 @@ impl Sequence {
                 }
             }
             let start = Instant::now();
-            let reference = march(Shadows::RayMarch, true);
+            let reference = march(Shadows::RayMarch);
             let image = self.render(t, &reference_lights, Method::Brute, &reference)?;
             out.reference_seconds += start.elapsed().as_secs_f64();
             out.reference.push(image);
@@ -573,7 +564,7 @@ impl Sequence {
                 let start = Instant::now();
                 lights[k].set_frame(frame, &self.medium)?;
                 let method = r.method(entries, t, self.lightcuts.max_cut);
-                let image = self.render(t, &lights[k], method, &march(e.shadows, e.prefilter))?;
+                let image = self.render(t, &lights[k], method, &march(e.shadows))?;
                 out.seconds[k] += start.elapsed().as_secs_f64();
                 out.images[k].push(image);
                 bar.inc(1);
@@ -848,7 +839,7 @@ fn fig10(
     let exact = &exact[t];
     let mut lights = seq.paper_lights()?;
     seq.lights_at(&mut lights, &seq.volumes[t])?;
-    let march = MarchSettings::with_shadows(Shadows::RayMarch, true);
+    let march = MarchSettings::with_shadows(Shadows::RayMarch);
     let lightcuts = |representative| Method::Lightcuts {
         settings: seq.lightcuts,
         representative,

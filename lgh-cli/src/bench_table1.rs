@@ -71,6 +71,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         .settings(crate::demo::DEMO_SHADOW_STEP, &ScatterArgs::default())?;
     let mut scene = args.scene.build()?;
     scene.lights.set_prune(args.march.prune)?;
+    scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     let mut choices = vec![march.shadows];
     let compare = args.compare.iter().map(|&s| Shadows::from(s));
     choices.extend(compare.filter(|&s| s != march.shadows));

@@ -119,6 +119,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     let march = args.march.settings(DEMO_SHADOW_STEP, &args.scatter)?;
     let mut scene = args.scene.build()?;
     scene.lights.set_prune(args.march.prune)?;
+    scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The ground under the explosion, where its smoke ends, so that its light falls on
     // something.
     let ground = if args.scene.no_ground {

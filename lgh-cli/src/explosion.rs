@@ -747,6 +747,7 @@ impl Frames<'_> {
         if lights.prune() != args.march.prune {
             lights.set_prune(args.march.prune)?;
         }
+        lights.set_coarse_shadows(args.march.coarse_shadows());
         lights.set_frame(volume, medium)?;
         Ok(lights.lit())
     }

@@ -7,7 +7,7 @@ use std::time::Instant;
 use lgh_image::Image;
 use lgh_volume::render::{Camera, MarchSettings, RenderStats};
 use lgh_volume::scattering::{self, Shares};
-use lgh_volume::shadow::{CubeMapSettings, Depths, LevelMaps};
+use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
 use lgh_volume::{FrameRender, Shadows};
 
 use crate::progress::Bars;
@@ -82,6 +82,15 @@ pub struct MarchArgs {
 }
 
 impl MarchArgs {
+    /// How coarse lights cast shadows (`--point-shadows`), a variant of the lights.
+    pub fn coarse_shadows(&self) -> CoarseShadows {
+        if self.point_shadows {
+            CoarseShadows::Points
+        } else {
+            CoarseShadows::Volumes
+        }
+    }
+
     /// The marcher's settings with `scatter`'s depth, checked ([`MarchSettings::check`]);
     /// `default_shadow_step` applies without `--shadow-step`.
     pub fn settings(
@@ -113,7 +122,6 @@ impl MarchArgs {
             cube_maps: CubeMapSettings {
                 // The texel rays step as the shadow rays do where the prefilter allows no more.
                 step_voxels: shadow_step,
-                prefilter: !self.point_shadows,
                 depths: if self.sampled_depths {
                     Depths::Sampled
                 } else {

@@ -411,105 +411,139 @@ pub fn read(path: &Path) -> Result<PointCloud, PlyError> {
 /// ```
 pub fn parse(bytes: &[u8]) -> Result<PointCloud, PlyError> {
     let (format, elements, body) = parse_header(bytes)?;
-    let mut cloud = None;
-    let mut pos = 0usize;
-    let mut ascii = match format {
-        Format::Ascii => Some(AsciiTokens::new(body)),
-        Format::Binary { .. } => None,
-    };
+    let mut body = Body::new(format, body);
     for el in &elements {
-        let keep = el.name == "vertex";
-        if el.props.is_empty() && !keep {
-            continue; // nothing to read, whatever the count
+        if el.name == "vertex" {
+            return read_vertices(&mut body, el);
         }
-        let mut columns: Vec<Vec<f64>> = Vec::new();
-        if keep {
-            // Each vertex needs at least one byte per property (binary) or two (ASCII), so this
-            // bounds the allocation by the file's size.
-            let remaining = match &ascii {
-                Some(t) => t.remaining() / 2,
-                None => body.len() - pos,
-            } as u64;
-            let min_record = el.props.len().max(1) as u64;
-            if el.count.saturating_mul(min_record) > remaining {
-                return Err(PlyError::TooManyVertices { count: el.count });
-            }
-            columns = el
-                .props
-                .iter()
-                .filter(|p| matches!(p, Property::Scalar { .. }))
-                .map(|_| Vec::with_capacity(el.count as usize))
-                .collect();
-        }
-        for i in 0..el.count {
-            let mut col = 0;
-            for p in &el.props {
-                match (p, &mut ascii, format) {
-                    (Property::Scalar { ty, .. }, Some(t), _) => {
-                        let v = t.number(*ty).ok_or_else(|| truncated(&el.name, i))?;
-                        if keep {
-                            columns[col].push(v);
-                        }
-                        col += 1;
-                    }
-                    (Property::Scalar { ty, .. }, None, Format::Binary { big }) => {
-                        let b = body
-                            .get(pos..pos + ty.size())
-                            .ok_or_else(|| truncated(&el.name, i))?;
-                        pos += ty.size();
-                        if keep {
-                            columns[col].push(ty.read(b, big));
-                        }
-                        col += 1;
-                    }
-                    (Property::List { count, item }, Some(t), _) => {
-                        let n = t.number(*count).ok_or_else(|| truncated(&el.name, i))?;
-                        if n.is_nan() || n < 0.0 {
-                            return Err(PlyError::NegativeListLength {
-                                element: el.name.clone(),
-                            });
-                        }
-                        for _ in 0..n as u64 {
-                            t.number(*item).ok_or_else(|| truncated(&el.name, i))?;
-                        }
-                    }
-                    (Property::List { count, item }, None, Format::Binary { big }) => {
-                        let b = body
-                            .get(pos..pos + count.size())
-                            .ok_or_else(|| truncated(&el.name, i))?;
-                        pos += count.size();
-                        let n = count.read(b, big);
-                        if n.is_nan() || n < 0.0 {
-                            return Err(PlyError::NegativeListLength {
-                                element: el.name.clone(),
-                            });
-                        }
-                        let skip = (n as u64).saturating_mul(item.size() as u64);
-                        if skip > (body.len() - pos) as u64 {
-                            return Err(truncated(&el.name, i));
-                        }
-                        pos += skip as usize;
-                    }
-                    (_, None, Format::Ascii) => {
-                        unreachable!("ASCII bodies always have a tokenizer")
-                    }
+        // Elements before the vertices are read past (nothing to read without properties,
+        // whatever the count).
+        if !el.props.is_empty() {
+            for i in 0..el.count {
+                for p in &el.props {
+                    body.skip(p, &el.name, i)?;
                 }
             }
         }
-        if keep {
-            let props = el
-                .props
-                .iter()
-                .filter_map(|p| match p {
-                    Property::Scalar { name, ty } => Some((name.clone(), *ty)),
-                    Property::List { .. } => None,
-                })
-                .collect();
-            cloud = Some(PointCloud { props, columns });
-            break;
+    }
+    Err(PlyError::NoVertexElement)
+}
+
+/// The vertex element `el`'s scalar properties, read from `body` as columns; its lists are read
+/// past. Refused before any allocation when the body cannot hold the announced count.
+fn read_vertices(body: &mut Body<'_>, el: &Element) -> Result<PointCloud, PlyError> {
+    // Each vertex needs at least one byte per property (binary) or two (ASCII), so this bounds
+    // the allocation by the file's size.
+    let min_record = el.props.len().max(1) as u64;
+    if el.count.saturating_mul(min_record) > body.values_left() {
+        return Err(PlyError::TooManyVertices { count: el.count });
+    }
+    let props: Vec<(String, Scalar)> = el
+        .props
+        .iter()
+        .filter_map(|p| match p {
+            Property::Scalar { name, ty } => Some((name.clone(), *ty)),
+            Property::List { .. } => None,
+        })
+        .collect();
+    let mut columns: Vec<Vec<f64>> = props
+        .iter()
+        .map(|_| Vec::with_capacity(el.count as usize))
+        .collect();
+    for i in 0..el.count {
+        let mut col = 0;
+        for p in &el.props {
+            match p {
+                Property::Scalar { ty, .. } => {
+                    let v = body.scalar(*ty).ok_or_else(|| truncated(&el.name, i))?;
+                    columns[col].push(v);
+                    col += 1;
+                }
+                Property::List { .. } => body.skip(p, &el.name, i)?,
+            }
         }
     }
-    cloud.ok_or(PlyError::NoVertexElement)
+    Ok(PointCloud { props, columns })
+}
+
+/// A PLY body read value by value: ASCII tokens, or binary values of one byte order.
+struct Body<'a> {
+    bytes: &'a [u8],
+    /// The next binary value's offset.
+    pos: usize,
+    big: bool,
+    /// The tokenizer of an ASCII body.
+    ascii: Option<AsciiTokens<'a>>,
+}
+
+impl<'a> Body<'a> {
+    fn new(format: Format, bytes: &'a [u8]) -> Self {
+        let (ascii, big) = match format {
+            Format::Ascii => (Some(AsciiTokens::new(bytes)), false),
+            Format::Binary { big } => (None, big),
+        };
+        Body {
+            bytes,
+            pos: 0,
+            big,
+            ascii,
+        }
+    }
+
+    /// A bound on the values still to read: the bytes left (binary) or half of them (ASCII: a
+    /// value and a separator at least).
+    fn values_left(&self) -> u64 {
+        (match &self.ascii {
+            Some(t) => t.remaining() / 2,
+            None => self.bytes.len() - self.pos,
+        }) as u64
+    }
+
+    /// The next value, of type `ty`; `None` at the end of the body.
+    fn scalar(&mut self, ty: Scalar) -> Option<f64> {
+        match &mut self.ascii {
+            Some(t) => t.number(ty),
+            None => {
+                let b = self.bytes.get(self.pos..self.pos + ty.size())?;
+                self.pos += ty.size();
+                Some(ty.read(b, self.big))
+            }
+        }
+    }
+
+    /// Reads past property `p` of record `i` of `element`.
+    fn skip(&mut self, p: &Property, element: &str, i: u64) -> Result<(), PlyError> {
+        let (count, item) = match p {
+            Property::Scalar { ty, .. } => {
+                return self
+                    .scalar(*ty)
+                    .map(|_| ())
+                    .ok_or_else(|| truncated(element, i));
+            }
+            Property::List { count, item } => (*count, *item),
+        };
+        let n = self.scalar(count).ok_or_else(|| truncated(element, i))?;
+        if n.is_nan() || n < 0.0 {
+            return Err(PlyError::NegativeListLength {
+                element: element.to_string(),
+            });
+        }
+        match &mut self.ascii {
+            Some(t) => {
+                for _ in 0..n as u64 {
+                    t.number(item).ok_or_else(|| truncated(element, i))?;
+                }
+            }
+            None => {
+                let skip = (n as u64).saturating_mul(item.size() as u64);
+                if skip > (self.bytes.len() - self.pos) as u64 {
+                    return Err(truncated(element, i));
+                }
+                self.pos += skip as usize;
+            }
+        }
+        Ok(())
+    }
 }
 
 fn truncated(element: &str, record: u64) -> PlyError {

@@ -13,7 +13,7 @@ use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::lgh_core::random::SplitMix64;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::shadow::{CubeMapSettings, CubeMaps, ShadowGrid};
+use lgh_volume::shadow::{Casters, CubeMapSettings, CubeMaps, ShadowGrid};
 use lgh_volume::{explosion, procedural, ExplosionLights, FrameRender, Medium, Method};
 
 fn renders(c: &mut Criterion) {
@@ -129,9 +129,25 @@ fn cube_maps(c: &mut Criterion) {
     let mut g = c.benchmark_group("cube_maps_64");
     g.sample_size(10);
     g.bench_function("trace", |b| {
-        b.iter(|| CubeMaps::build(lgh, &blending, &volume, &medium, &settings, &|_| {}).unwrap())
+        b.iter(|| {
+            CubeMaps::build(
+                Casters::new(lgh, &blending),
+                &volume,
+                &medium,
+                &settings,
+                &|_| {},
+            )
+            .unwrap()
+        })
     });
-    let maps = CubeMaps::build(lgh, &blending, &volume, &medium, &settings, &|_| {}).unwrap();
+    let maps = CubeMaps::build(
+        Casters::new(lgh, &blending),
+        &volume,
+        &medium,
+        &settings,
+        &|_| {},
+    )
+    .unwrap();
     let grid = ShadowGrid::new(&volume, &medium, 2.0, 1e-3);
     let (lo, hi) = volume.active_bounds().unwrap();
     let mut rng = SplitMix64(3);

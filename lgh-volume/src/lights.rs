@@ -15,6 +15,7 @@ use lgh_core::{Clustering, GridSettings, LightPosition, LightingGridHierarchy, P
 use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
+use crate::shadow::CoarseShadows;
 
 /// The paper's flickering variants of the hierarchy (Secs. 3.1, 3.2, Fig. 9), each one choice
 /// away from its method so that `lgh bench flicker` measures what each choice does to an
@@ -27,6 +28,8 @@ pub struct Variants {
     pub position: LightPosition,
     /// Hard level switches instead of eq. (3)'s blending.
     pub hard_switches: bool,
+    /// Coarse lights' shadows through the prefiltered density (eq. 6), or as points.
+    pub coarse_shadows: CoarseShadows,
 }
 
 /// The lights of a sequence of frames on one simulation grid.
@@ -231,6 +234,25 @@ impl ExplosionLights {
         }
         self.variants = variants;
         Ok(self)
+    }
+
+    /// Sets how coarse lights cast shadows ([`Variants::coarse_shadows`]): the one variant that
+    /// needs no rebuild, and that a scattering pass carries from the emission lights to its own
+    /// ([`crate::scattering`]), since the render's shadows are one choice.
+    ///
+    /// ```
+    /// use lgh_volume::shadow::CoarseShadows;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let mut lights = ExplosionLights::new(&[&volume], &medium)?;
+    /// lights.set_coarse_shadows(CoarseShadows::Points);
+    /// assert_eq!(lights.variants().coarse_shadows, CoarseShadows::Points);
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    pub fn set_coarse_shadows(&mut self, coarse: CoarseShadows) {
+        self.variants.coarse_shadows = coarse;
     }
 
     /// The hierarchy's variants ([`with_variants`](Self::with_variants)).

@@ -260,8 +260,11 @@ pub fn scatter(
         &vec![Vec3::ZERO; dense.len()],
         Some(max_level),
     )?;
-    // The emission lights' weak-light pruning carries over, to each depth and to the merge.
+    // The emission lights' weak-light pruning and coarse lights' shadows carry over, to each
+    // depth and to the merge.
     scattered.set_prune(emission.prune())?;
+    let coarse = emission.variants().coarse_shadows;
+    scattered.set_coarse_shadows(coarse);
     let single = MarchSettings {
         scatter_depth: 0,
         ..*settings
@@ -299,6 +302,7 @@ pub fn scatter(
     let mut merged =
         ExplosionLights::at_voxels(grid, voxels, &merged_intensities, Some(max_level))?;
     merged.set_prune(emission.prune())?;
+    merged.set_coarse_shadows(coarse);
     Ok(Scattered {
         merged,
         per_depth,

@@ -107,26 +107,20 @@ impl Default for MarchSettings {
 }
 
 impl MarchSettings {
-    /// The default march with `shadows`, coarse lights' shadows through the prefiltered density
-    /// (the paper's, eq. 6) when `prefilter`, else as points.
+    /// The default march with `shadows`.
     ///
     /// ```
     /// use lgh_volume::render::MarchSettings;
     /// use lgh_volume::Shadows;
     ///
-    /// let points = MarchSettings::with_shadows(Shadows::CubeMap, false);
-    /// assert_eq!(points.shadows, Shadows::CubeMap);
-    /// assert!(!points.cube_maps.prefilter);
-    /// assert_eq!(points.step_voxels, MarchSettings::default().step_voxels);
+    /// let maps = MarchSettings::with_shadows(Shadows::CubeMap);
+    /// assert_eq!(maps.shadows, Shadows::CubeMap);
+    /// assert_eq!(maps.step_voxels, MarchSettings::default().step_voxels);
     /// ```
     #[must_use]
-    pub fn with_shadows(shadows: Shadows, prefilter: bool) -> Self {
+    pub fn with_shadows(shadows: Shadows) -> Self {
         MarchSettings {
             shadows,
-            cube_maps: CubeMapSettings {
-                prefilter,
-                ..Default::default()
-            },
             ..Default::default()
         }
     }

@@ -10,7 +10,7 @@ use crate::medium::{Medium, Volume};
 use crate::method::{Method, Prepared};
 use crate::progress::{self, Phase, Progress};
 use crate::settings::MarchSettings;
-use crate::shadow::{CubeMaps, Shadows, Visibility, VolumeRays};
+use crate::shadow::{Casters, CubeMaps, Shadows, Visibility, VolumeRays};
 
 /// A light set's method and visibility for one frame (crate-internal: the light set itself is
 /// held by whoever holds this, a [`FrameRender`](crate::FrameRender) or a scattering depth).
@@ -41,28 +41,25 @@ impl Shading {
         let prepared = method.prepare(lights)?;
         let t = Instant::now();
         let (step, cutoff) = (settings.shadow_step_voxels, settings.min_transmittance);
-        let hierarchy = lights.hierarchy();
+        // The lights' own hierarchy and coarse lights' shadows, at the method's blending.
+        let casters = |blending| Casters {
+            hierarchy: lights.hierarchy(),
+            blending,
+            coarse: lights.variants().coarse_shadows,
+        };
         let visibility = match (&prepared, settings.shadows) {
             (Prepared::Emission, _) => Visibility::None,
             (Prepared::Lgh { blending, .. }, Shadows::CubeMap) => {
-                let maps = &settings.cube_maps;
-                let total = CubeMaps::plan(hierarchy, blending, &frame.density, maps).lights();
+                let (maps, casters) = (&settings.cube_maps, casters(blending));
+                let total = CubeMaps::plan(casters, &frame.density, maps).lights();
                 let maps = progress::phase(progress, Phase::ShadowMaps, total as u64, |p| {
-                    CubeMaps::build(hierarchy, blending, frame, medium, maps, p)
+                    CubeMaps::build(casters, frame, medium, maps, p)
                 })?;
                 Visibility::CubeMaps(maps)
             }
-            (Prepared::Lgh { blending, .. }, Shadows::RayMarchVolumes) => {
-                Visibility::VolumeRays(VolumeRays::new(
-                    hierarchy,
-                    blending,
-                    frame,
-                    medium,
-                    &settings.cube_maps,
-                    step,
-                    cutoff,
-                ))
-            }
+            (Prepared::Lgh { blending, .. }, Shadows::RayMarchVolumes) => Visibility::VolumeRays(
+                VolumeRays::new(casters(blending), frame, medium, step, cutoff),
+            ),
             (_, shadows) => Visibility::new(shadows, frame, medium, step, cutoff),
         };
         Ok(Shading {

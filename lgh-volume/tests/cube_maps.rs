@@ -9,8 +9,8 @@ use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::medium::{EmissionModel, Medium, Volume};
 use lgh_volume::procedural;
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows, Up};
-use lgh_volume::shadow::{CubeMapSettings, Depths};
-use lgh_volume::{ExplosionLights, FrameRender, Method};
+use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths};
+use lgh_volume::{ExplosionLights, FrameRender, Method, Variants};
 
 /// The demo's medium (`lgh demo`): albedo 0.75, glowing above 1000 K.
 fn medium() -> Medium {
@@ -38,6 +38,16 @@ fn render(
         camera,
         &settings,
     )
+}
+
+/// The same lights with their coarse lights' shadows as points (the paper's flickering
+/// variant of Fig. 9), not volume lights through the prefiltered density.
+fn points(lights: &ExplosionLights) -> ExplosionLights {
+    let points = Variants {
+        coarse_shadows: CoarseShadows::Points,
+        ..Variants::default()
+    };
+    lights.clone().with_variants(points).unwrap()
 }
 
 /// `lights` through `method` on `v` in `m` with `settings`, seen by `camera`.
@@ -110,13 +120,14 @@ fn cube_map_shadows_match_ray_marched_shadows_of_the_same_lights() {
         CubeMapSettings::default(),
     );
     let mut whole_errors = Vec::new();
+    let points = points(&lights);
     for (name, prefilter, depths) in variants {
         let cube = CubeMapSettings {
-            prefilter,
             depths,
             ..Default::default()
         };
-        let img = render(&v, &lights, &camera, Shadows::CubeMap, cube);
+        let shadowed = if prefilter { &lights } else { &points };
+        let img = render(&v, shadowed, &camera, Shadows::CubeMap, cube);
         if prefilter {
             let (whole, scattered) = errors(&img, &same_model, &emission);
             eprintln!(
@@ -195,46 +206,45 @@ fn flicker(a: &[Image], r: &[Image]) -> f64 {
 /// against it.
 fn flicker_of_variants(frames: &[Volume], m: &Medium, camera: &Camera) -> [f64; 3] {
     let refs: Vec<&Volume> = frames.iter().collect();
-    let mut lights = ExplosionLights::new(&refs, m).unwrap();
+    let mut volumes = ExplosionLights::new(&refs, m).unwrap();
+    let mut points = points(&volumes);
     let march = MarchSettings::with_shadows;
+    let lgh = Method::Lgh { alpha: 2.0 };
     let variants = [
-        (
-            "lgh, ray-marched shadows",
-            Method::Lgh { alpha: 2.0 },
-            march(Shadows::RayMarch, true),
-        ),
-        (
-            "lgh, cube maps",
-            Method::Lgh { alpha: 2.0 },
-            march(Shadows::CubeMap, true),
-        ),
+        ("lgh, ray-marched shadows", lgh, Shadows::RayMarch, false),
+        ("lgh, cube maps", lgh, Shadows::CubeMap, false),
         (
             "lgh, ray-marched volume lights (the cube maps' model)",
-            Method::Lgh { alpha: 2.0 },
-            march(Shadows::RayMarchVolumes, true),
+            lgh,
+            Shadows::RayMarchVolumes,
+            false,
         ),
         (
             "lgh, cube maps, coarse lights as points",
-            Method::Lgh { alpha: 2.0 },
-            march(Shadows::CubeMap, false),
+            lgh,
+            Shadows::CubeMap,
+            true,
         ),
         (
             "brute force, ray-marched (reference)",
             Method::Brute,
-            march(Shadows::RayMarch, true),
+            Shadows::RayMarch,
+            false,
         ),
     ];
     let mut images: Vec<Vec<Image>> = vec![Vec::new(); variants.len()];
     for f in frames {
-        lights.set_frame(f, m).unwrap();
-        for (k, (_, method, settings)) in variants.iter().enumerate() {
-            let img = render_with(&lights, *method, f, m, camera, settings);
+        volumes.set_frame(f, m).unwrap();
+        points.set_frame(f, m).unwrap();
+        for (k, &(_, method, shadows, as_points)) in variants.iter().enumerate() {
+            let lights = if as_points { &points } else { &volumes };
+            let img = render_with(lights, method, f, m, camera, &march(shadows));
             images[k].push(img);
         }
     }
     let reference = variants.len() - 1;
     let f = [0, 1, 2, 3].map(|k| flicker(&images[k], &images[reference]));
-    for (k, (name, _, _)) in variants.iter().take(reference).enumerate() {
+    for (k, (name, ..)) in variants.iter().take(reference).enumerate() {
         eprintln!("{name}: flicker {:.6}", f[k]);
     }
     // What the maps add to their own model's flicker: the same sequence with the same-model

@@ -41,13 +41,14 @@
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{Blending, LightingGridHierarchy};
+use lgh_core::Blending;
 use rayon::prelude::*;
 
 use super::cube;
 use super::empty::EmptySpace;
 use super::lookup::{self, Slot, NO_MAP};
 use super::prefilter::DensityPyramid;
+use super::{Casters, CoarseShadows};
 use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
@@ -79,10 +80,6 @@ pub enum Depths {
 pub struct CubeMapSettings {
     /// Shortest step along a texel ray, in voxels (longer where the prefilter is wider).
     pub step_voxels: f32,
-    /// Coarse lights as volume lights through the prefiltered density (eq. 6); `false` traces
-    /// every light as a point through the plain density (the flickering variant the paper
-    /// compares against).
-    pub prefilter: bool,
     /// What the depths hold.
     pub depths: Depths,
     /// Depths per texel, `2..=`[`MAX_DEPTHS`]: the paper's four (`D/4 … D`), or more at
@@ -96,7 +93,6 @@ impl Default for CubeMapSettings {
     fn default() -> Self {
         CubeMapSettings {
             step_voxels: 1.0,
-            prefilter: true,
             depths: Depths::Fitted,
             depth_count: 4,
             memory_budget: 8 << 30,
@@ -222,11 +218,15 @@ impl CubeMaps {
     /// leave the smoke while its filter is still wide, far less.
     #[must_use]
     pub fn plan(
-        hierarchy: &LightingGridHierarchy,
-        blending: &Blending,
+        casters: Casters<'_>,
         density: &DenseGrid,
         settings: &CubeMapSettings,
     ) -> CubeMapPlan {
+        let Casters {
+            hierarchy,
+            blending,
+            ..
+        } = casters;
         let h = density.voxel_size;
         let (lo, hi) = density.bounds();
         let diagonal = (hi - lo).length();
@@ -248,7 +248,7 @@ impl CubeMaps {
                         ((a - grow - p).abs().max((b + grow - p).abs())).length()
                     });
                     let d = r.min(far);
-                    let width = filter_width(settings.prefilter, d, s, r, h).max(h);
+                    let width = filter_width(casters.prefiltered(), d, s, r, h).max(h);
                     let own = (2.0 * d / width).ceil().clamp(1.0, cells as f32) as u32;
                     Planned {
                         index: i as u32,
@@ -287,20 +287,24 @@ impl CubeMaps {
     /// [`plan`](Self::plan) exceeds `settings.memory_budget`. `progress(n)` as each batch of `n`
     /// lights is done.
     pub fn build(
-        hierarchy: &LightingGridHierarchy,
-        blending: &Blending,
+        casters: Casters<'_>,
         volume: &Volume,
         medium: &Medium,
         settings: &CubeMapSettings,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Self, RenderError> {
+        let Casters {
+            hierarchy,
+            blending,
+            coarse,
+        } = casters;
         check_settings(settings)?;
         let density = &volume.density;
-        let plan = CubeMaps::plan(hierarchy, blending, density, settings);
+        let plan = CubeMaps::plan(casters, density, settings);
         check_memory(&plan, settings, blending)?;
-        let pyramid = DensityPyramid::for_hierarchy(density, hierarchy, settings.prefilter);
+        let pyramid = DensityPyramid::for_hierarchy(density, hierarchy, coarse);
         let empty = EmptySpace::new(density);
-        let tracer = Tracer::for_maps(&pyramid, &empty, density, medium, settings);
+        let tracer = Tracer::for_maps(&pyramid, &empty, density, medium, settings, coarse);
         let mut levels = Vec::new();
         let mut table = Vec::new();
         let total: u64 = plan.levels.iter().map(|l| l.texels).sum();
@@ -513,6 +517,7 @@ impl Tracer<'_> {
         density: &DenseGrid,
         medium: &Medium,
         settings: &CubeMapSettings,
+        coarse: CoarseShadows,
     ) -> Tracer<'a> {
         let h = density.voxel_size;
         let (lo, hi) = density.bounds();
@@ -526,7 +531,7 @@ impl Tracer<'_> {
             hi,
             h0: h,
             min_step: settings.step_voxels * h,
-            prefilter: settings.prefilter,
+            prefilter: coarse == CoarseShadows::Volumes,
             depths: settings.depths,
             n: settings.depth_count,
         }
@@ -780,7 +785,7 @@ impl Fit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lgh_core::{GridSettings, PointLight};
+    use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
 
     /// A volume of `n`³ voxels of size 1/16 centred on the origin, density `f(centre)`.
     fn volume(n: usize, f: impl Fn(Vec3) -> f32) -> Volume {
@@ -880,7 +885,7 @@ mod tests {
                 depth_count: n,
                 ..settings(depths)
             };
-            let maps = CubeMaps::build(&lgh, &b, &v, &m, &settings, &|_| {}).unwrap();
+            let maps = CubeMaps::build(Casters::new(&lgh, &b), &v, &m, &settings, &|_| {}).unwrap();
             let mut rng = lgh_core::random::SplitMix64(2);
             for _ in 0..2000 {
                 let x = p + rng.next_in(Vec3::splat(-0.3), Vec3::splat(0.3));
@@ -909,8 +914,14 @@ mod tests {
             let m = Medium::new(1.0, 0.0, 0.0, 0.0).unwrap();
             let p = Vec3::new(0.02, 0.01, -0.03);
             let (lgh, b) = one_light(&v, p, 4.0);
-            let maps =
-                CubeMaps::build(&lgh, &b, &v, &m, &settings(Depths::Sampled), &|_| {}).unwrap();
+            let maps = CubeMaps::build(
+                Casters::new(&lgh, &b),
+                &v,
+                &m,
+                &settings(Depths::Sampled),
+                &|_| {},
+            )
+            .unwrap();
             let slot = maps.levels[0].slots[0];
             let reach = 4.0 / maps.levels[0].inv_spacing;
             let q = reach / 4.0;
@@ -1056,7 +1067,7 @@ mod tests {
             depth_count: n,
             ..settings(Depths::Fitted)
         };
-        let maps = CubeMaps::build(lgh, b, v, m, &settings, &|_| {}).unwrap();
+        let maps = CubeMaps::build(Casters::new(lgh, b), v, m, &settings, &|_| {}).unwrap();
         let (lo, hi) = v.density.bounds();
         let mut rng = lgh_core::random::SplitMix64(12);
         let mut all: Vec<(Vec3, (u8, u32))> = Vec::new();
@@ -1164,7 +1175,15 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| CubeMaps::build(lgh, &b, &v, &m, &settings(Depths::Fitted), &|_| {}))
+                .install(|| {
+                    CubeMaps::build(
+                        Casters::new(lgh, &b),
+                        &v,
+                        &m,
+                        &settings(Depths::Fitted),
+                        &|_| {},
+                    )
+                })
                 .unwrap()
         };
         let one = build(1);
@@ -1175,14 +1194,14 @@ mod tests {
         }
         assert_eq!(one.texels, three.texels);
         // The plan's bytes are what was built; a budget one byte short refuses before tracing.
-        let plan = CubeMaps::plan(lgh, &b, &v.density, &settings(Depths::Fitted));
+        let plan = CubeMaps::plan(Casters::new(lgh, &b), &v.density, &settings(Depths::Fitted));
         assert_eq!(plan.bytes(), one.bytes());
         let tight = CubeMapSettings {
             memory_budget: plan.bytes() + plan.pyramid_bytes - 1,
             ..Default::default()
         };
         let calls = std::sync::atomic::AtomicUsize::new(0);
-        let err = CubeMaps::build(lgh, &b, &v, &m, &tight, &|_| {
+        let err = CubeMaps::build(Casters::new(lgh, &b), &v, &m, &tight, &|_| {
             calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         })
         .unwrap_err();

@@ -21,7 +21,7 @@
 //! with AVX2 (module `avx2`, the crate's only `unsafe` code), with the same result bit for bit.
 
 use lgh_core::glam::{Vec3, Vec3A};
-use lgh_core::LightSample;
+use lgh_core::{Blending, LightSample, LightingGridHierarchy};
 
 use crate::medium::{Medium, Volume};
 
@@ -33,6 +33,60 @@ pub mod prefilter;
 pub mod volume_rays;
 
 pub use deep::{CubeMapPlan, CubeMapSettings, CubeMaps, Depths, LevelMaps};
+
+/// How the coarse lights (levels ≥ 1) of the hierarchy cast their shadows: one of the paper's
+/// flickering variants ([`Variants`](crate::Variants) holds the choice of a light set).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CoarseShadows {
+    /// As volume lights, through the density prefiltered for their size `s` (eq. 6): the
+    /// paper's.
+    #[default]
+    Volumes,
+    /// As points through the plain density: the variant the paper compares against (Fig. 9).
+    Points,
+}
+
+/// The lights a visibility is made for: the hierarchy, the blending whose radii `r_ℓ` bound
+/// where each level is seen from (eq. 3), and how its coarse lights cast shadows.
+#[derive(Clone, Copy, Debug)]
+pub struct Casters<'a> {
+    /// The lights' hierarchy.
+    pub hierarchy: &'a LightingGridHierarchy,
+    /// The blending at the render's α.
+    pub blending: &'a Blending,
+    /// How coarse lights cast shadows.
+    pub coarse: CoarseShadows,
+}
+
+impl<'a> Casters<'a> {
+    /// The lights of `hierarchy` at `blending`, coarse lights as the paper's volume lights.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{LightingGridHierarchy, PointLight};
+    /// use lgh_volume::shadow::{Casters, CoarseShadows};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &Default::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// assert_eq!(Casters::new(&lgh, &blending).coarse, CoarseShadows::Volumes);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn new(hierarchy: &'a LightingGridHierarchy, blending: &'a Blending) -> Self {
+        Casters {
+            hierarchy,
+            blending,
+            coarse: CoarseShadows::Volumes,
+        }
+    }
+
+    /// Whether coarse lights are traced through the prefiltered density (eq. 6).
+    #[must_use]
+    pub(crate) fn prefiltered(&self) -> bool {
+        self.coarse == CoarseShadows::Volumes
+    }
+}
 pub use prefilter::DensityPyramid;
 pub use volume_rays::VolumeRays;
 

@@ -79,14 +79,14 @@ impl DensityPyramid {
     }
 
     /// The pyramid the lights of `hierarchy` need: up to the widest light's size `s_ℓi` (the
-    /// widest filter of eq. 6) with `prefilter`, the density alone without.
+    /// widest filter of eq. 6) for coarse lights as volumes, the density alone for points.
     #[must_use]
     pub fn for_hierarchy(
         density: &DenseGrid,
         hierarchy: &lgh_core::LightingGridHierarchy,
-        prefilter: bool,
+        coarse: super::CoarseShadows,
     ) -> Self {
-        let widest = if prefilter {
+        let widest = if coarse == super::CoarseShadows::Volumes {
             (0..=hierarchy.max_level())
                 .flat_map(|l| hierarchy.level(l).iter().map(|g| g.size))
                 .fold(0.0f32, f32::max)

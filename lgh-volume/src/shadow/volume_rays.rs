@@ -14,10 +14,10 @@
 //! pyramid levels per sample: a reference, slower than the point-light march.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{Blending, LightingGridHierarchy};
 
-use super::deep::{filter_width, CubeMapSettings};
+use super::deep::filter_width;
 use super::prefilter::DensityPyramid;
+use super::Casters;
 use crate::medium::{Medium, Volume};
 
 /// Transmittance from each light of a hierarchy's levels through the density prefiltered for
@@ -50,15 +50,15 @@ impl VolumeRays {
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;
     /// use lgh_volume::lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
-    /// use lgh_volume::shadow::{CubeMapSettings, VolumeRays};
+    /// use lgh_volume::shadow::{Casters, VolumeRays};
     /// use lgh_volume::{procedural, Medium};
     ///
     /// let volume = procedural(32, 0.5)?;
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let light = PointLight::new(Vec3::new(0.0, 0.0, 0.9), Vec3::ONE);
     /// let lgh = LightingGridHierarchy::build(&[light], &GridSettings::default())?;
-    /// let rays = VolumeRays::new(&lgh, &lgh.blending(2.0)?, &volume, &medium,
-    ///                            &CubeMapSettings::default(), 0.5, 1e-3);
+    /// let blending = lgh.blending(2.0)?;
+    /// let rays = VolumeRays::new(Casters::new(&lgh, &blending), &volume, &medium, 0.5, 1e-3);
     /// // Through the smoke's middle the light is dimmed; from right beside it, hardly.
     /// let far = rays.transmittance(Vec3::new(0.0, 0.0, -0.9), 0, 0, light.position);
     /// let near = rays.transmittance(Vec3::new(0.0, 0.0, 0.89), 0, 0, light.position);
@@ -67,14 +67,17 @@ impl VolumeRays {
     /// ```
     #[must_use]
     pub fn new(
-        hierarchy: &LightingGridHierarchy,
-        blending: &Blending,
+        casters: Casters<'_>,
         volume: &Volume,
         medium: &Medium,
-        settings: &CubeMapSettings,
         step_voxels: f32,
         cutoff: f32,
     ) -> Self {
+        let Casters {
+            hierarchy,
+            blending,
+            coarse,
+        } = casters;
         let density = &volume.density;
         let levels: Vec<(f32, Vec<f32>)> = (0..=hierarchy.max_level())
             .map(|l| {
@@ -84,13 +87,13 @@ impl VolumeRays {
             .collect();
         let (lo, hi) = density.bounds();
         VolumeRays {
-            pyramid: DensityPyramid::for_hierarchy(density, hierarchy, settings.prefilter),
+            pyramid: DensityPyramid::for_hierarchy(density, hierarchy, coarse),
             kappa: medium.extinction(1.0),
             lo,
             hi,
             h0: density.voxel_size,
             step: step_voxels.clamp(0.01, 64.0) * density.voxel_size,
-            prefilter: settings.prefilter,
+            prefilter: casters.prefiltered(),
             // e^{−τ} < cutoff ⇔ τ > −ln cutoff.
             tau_cut: -cutoff.max(f32::MIN_POSITIVE).ln(),
             levels,
@@ -164,6 +167,8 @@ impl VolumeRays {
 mod tests {
     use super::*;
     use crate::grid::DenseGrid;
+    use crate::shadow::CoarseShadows;
+    use lgh_core::{Blending, LightingGridHierarchy};
     use lgh_core::{GridSettings, PointLight};
 
     /// 64 lights on a 4³ lattice of spacing 0.2 around the origin, and its blending at α = 2.
@@ -205,15 +210,7 @@ mod tests {
         let volume = box_of(rho);
         let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
         let (lgh, blending) = lattice();
-        let rays = VolumeRays::new(
-            &lgh,
-            &blending,
-            &volume,
-            &medium,
-            &CubeMapSettings::default(),
-            0.5,
-            0.0,
-        );
+        let rays = VolumeRays::new(Casters::new(&lgh, &blending), &volume, &medium, 0.5, 0.0);
         let points = super::super::ShadowGrid::new(&volume, &medium, 0.5, 0.0);
         let x = Vec3::new(0.5, -0.4, 0.3);
         let mut checked = 0;
@@ -257,23 +254,15 @@ mod tests {
             }
         });
         let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
-        let settings = |prefilter| CubeMapSettings {
-            prefilter,
-            ..Default::default()
+        let rays = |coarse| {
+            let casters = Casters {
+                coarse,
+                ..Casters::new(&lgh, &blending)
+            };
+            VolumeRays::new(casters, &volume, &medium, 0.5, 0.0)
         };
-        let rays = |prefilter| {
-            VolumeRays::new(
-                &lgh,
-                &blending,
-                &volume,
-                &medium,
-                &settings(prefilter),
-                0.5,
-                0.0,
-            )
-        };
-        let soft = rays(true).transmittance(x, level, index as u32, p);
-        let hard = rays(false).transmittance(x, level, index as u32, p);
+        let soft = rays(CoarseShadows::Volumes).transmittance(x, level, index as u32, p);
+        let hard = rays(CoarseShadows::Points).transmittance(x, level, index as u32, p);
         assert!(hard < 0.5, "the blob is in the way: {hard}");
         assert!(soft > 1.5 * hard, "prefiltered {soft} against plain {hard}");
     }
