@@ -24,7 +24,7 @@
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
 //! - [`scattering`]: multiple scattering (Sec. 5): scattered lights at every voxel with smoke,
 //!   depth by depth, merged with the emission lights into one light per voxel.
-//! - [`error`]: [`RenderError`], the crate's one error type.
+//! - [`error`]: [`ReadError`] for reading a volume, [`RenderError`] for lighting and rendering it.
 //!
 //! Deep-shadow cube maps (Sec. 4) plug into [`Visibility`], multiple scattering (Sec. 5) calls
 //! [`Lights::incident`] at every voxel with smoke. The lighting itself lives in [`lgh_core`].

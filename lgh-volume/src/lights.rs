@@ -236,8 +236,8 @@ impl ExplosionLights {
         Ok(self)
     }
 
-    /// Sets how coarse lights cast shadows ([`Variants::coarse_shadows`]): the one variant that
-    /// needs no rebuild, and that a scattering pass carries from the emission lights to its own
+    /// Sets how coarse lights cast shadows ([`Variants::coarse_shadows`]), which needs no
+    /// rebuild: the one variant a scattering pass carries from the emission lights to its own
     /// ([`crate::scattering`]), since the render's shadows are one choice.
     ///
     /// ```

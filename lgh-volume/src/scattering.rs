@@ -202,9 +202,10 @@ pub struct Scattered {
     max_level: u8,
 }
 
-/// The multiple-scattering pass (paper Sec. 5; see the module docs): `depth` scattered depths
-/// of the `emission` lights in `frame` and `medium`, each depth's fluence through `method` at
-/// `alpha` with the shadows of `settings`, merged into one light per voxel. Checked before any
+/// The multiple-scattering pass (paper Sec. 5; see the module docs): `settings.scatter_depth`
+/// scattered depths of the `emission` lights in `frame` and `medium`, each depth's fluence
+/// through `method` (with its own parameters, the hierarchy's α) with the shadows of
+/// `settings`, merged into one light per voxel. Checked before any
 /// work: the depth ([`check_depth`]), the density's grid, the settings, and the plan's memory
 /// against `settings.cube_maps.memory_budget` ([`ScatterPlan`]). `progress(n)` as `n` more
 /// voxels' fluence is done (`depth × lights_per_depth` in all). Depth 0 returns the emission
@@ -324,13 +325,18 @@ fn check_pass(
     settings.check()?;
     method.check()?;
     if method == Method::Emission && depth > 0 {
-        return Err(RenderError::InvalidCount {
-            name: "scatter depth",
-            value: depth,
-            rule: "needs lights to scatter: emission alone has none",
-        });
+        return Err(nothing_to_scatter(depth));
     }
     plan.check(settings.cube_maps.memory_budget)
+}
+
+/// The error of a pass of `depth` asked of [`Method::Emission`], which has no lights.
+fn nothing_to_scatter(depth: usize) -> RenderError {
+    RenderError::InvalidCount {
+        name: "scatter depth",
+        value: depth,
+        rule: "needs lights to scatter: emission alone has none",
+    }
 }
 
 /// `len` intensities, `values` at their `slots` and zero elsewhere.
@@ -410,12 +416,9 @@ impl Fluence<'_> {
             &(),
         )?;
         let (visibility, shadow_seconds) = (&shading.visibility, shading.shadow_seconds);
+        // Refused by `check_pass` before any work; never met here.
         let Some(lights) = shading.prepared.lights(source)? else {
-            return Err(RenderError::InvalidCount {
-                name: "scatter depth",
-                value: 1,
-                rule: "needs lights to scatter: emission alone has none",
-            });
+            return Err(nothing_to_scatter(1));
         };
         let grid = &self.frame.density;
         let h3 = grid.voxel_size.powi(3);

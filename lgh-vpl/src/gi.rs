@@ -32,11 +32,13 @@ use crate::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
     IndirectSettings, NormalBuckets,
 };
+use crate::mesh::Mesh;
 use crate::primary::{area_lights, PrimaryLight};
 use crate::render::{RenderError, Rendered};
 use crate::representatives::{Allocation, Representatives, MAX_PER_LIGHT};
+use crate::scene::Scene;
 use crate::vpl::{trace, Vpl, VplError, VplSettings, Vpls};
-use crate::{Camera, CameraError, Mesh, Scene};
+use lgh_image::camera::{CameraError, Pinhole as Camera};
 
 /// How the hierarchy aggregates the VPLs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -66,23 +66,55 @@ fn code(text: &str) -> String {
         .join("\n")
 }
 
-/// The paths named after `crate::` in `code`: `crate::a::b::X`, and each item of
-/// `crate::a::{X, b::Y}`, as full paths without `crate::`.
-fn crate_paths(code: &str) -> Vec<String> {
+/// The paths named after `crate::` in `code` (or after `super::`, resolved from `module`):
+/// `crate::a::b::X`, and each item of `crate::a::{X, b::Y}` or `crate::{X, a::Y}`, as full
+/// paths without `crate::`.
+fn crate_paths(code: &str, module: &str) -> Vec<String> {
+    let mut out = crate_paths_after(code, "crate::", "");
+    // `super::` in module `a::b` names `a::`; the crate root's children have no `super`.
+    let parent = module.rsplit_once("::").map_or("", |(p, _)| p);
+    if !module.is_empty() {
+        let prefix = if parent.is_empty() {
+            String::new()
+        } else {
+            format!("{parent}::")
+        };
+        out.extend(crate_paths_after(code, "super::", &prefix));
+    }
+    out
+}
+
+/// The paths after each `marker` in `code`, with `prefix` put before them.
+fn crate_paths_after(code: &str, marker: &str, prefix: &str) -> Vec<String> {
     let mut out = Vec::new();
     let mut rest = code;
-    while let Some(at) = rest.find("crate::") {
-        let tail = &rest[at + "crate::".len()..];
+    while let Some(at) = rest.find(marker) {
+        let preceded = rest[..at]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':');
+        let tail = &rest[at + marker.len()..];
         let end = tail
             .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
             .unwrap_or(tail.len());
-        let path = tail[..end].trim_end_matches(':').to_string();
-        if tail[end..].starts_with('{') && tail[..end].ends_with("::") {
+        if preceded {
+            // `super::super::` or `a::crate::`: not this marker's own path.
+            rest = &tail[end..];
+            continue;
+        }
+        let path = format!("{prefix}{}", tail[..end].trim_end_matches(':'));
+        let path = path.trim_end_matches(':').to_string();
+        let group = tail[..end].is_empty() || tail[..end].ends_with("::");
+        if tail[end..].starts_with('{') && group {
             let close = tail[end..].find('}').map_or(tail.len(), |c| end + c);
             for item in tail[end + 1..close].split(',') {
                 let item = item.trim().split("::").next().unwrap_or("").trim();
                 if !item.is_empty() {
-                    out.push(format!("{path}::{item}"));
+                    out.push(if path.is_empty() {
+                        item.to_string()
+                    } else {
+                        format!("{path}::{item}")
+                    });
                 }
             }
         } else {
@@ -114,7 +146,7 @@ fn graph(krate: &str) -> (BTreeMap<String, BTreeSet<String>>, Vec<String>) {
     for f in &files {
         let m = module_of(&src, f);
         let mut out = BTreeSet::new();
-        for p in crate_paths(&code(&std::fs::read_to_string(f).unwrap())) {
+        for p in crate_paths(&code(&std::fs::read_to_string(f).unwrap()), &m) {
             let t = target(&modules, &p);
             let item = p.split("::").next().unwrap_or("");
             if t.is_empty() {
@@ -179,8 +211,20 @@ fn the_circle_finder_finds_a_circle() {
     .map(|(k, v)| (k.to_string(), v.into_iter().map(String::from).collect()))
     .collect();
     assert_eq!(circles(&edges), vec![vec!["a", "b", "c"]]);
-    let paths = crate_paths("use crate::grid::{DenseGrid, MAX};\nlet x = crate::a::b(1);");
-    assert_eq!(paths, ["grid::DenseGrid", "grid::MAX", "a::b"]);
+    let code = "use crate::grid::{DenseGrid, MAX};\nuse crate::{Camera, mesh::Mesh};\n\
+                let x = crate::a::b(1);\nuse super::prefilter::Pyramid;";
+    let paths = crate_paths(code, "shadow::deep");
+    assert_eq!(
+        paths,
+        [
+            "grid::DenseGrid",
+            "grid::MAX",
+            "Camera",
+            "mesh",
+            "a::b",
+            "shadow::prefilter::Pyramid"
+        ]
+    );
 }
 
 #[test]
