@@ -59,7 +59,13 @@ impl BackendArg {
 
     /// The name in the EXR header and the summary (`lgh`, `brute`, …, `pathtrace`).
     fn name(self) -> &'static str {
-        self.method(1.0, None).map_or("pathtrace", Method::name)
+        match self {
+            BackendArg::Lgh => "lgh",
+            BackendArg::Brute => "brute",
+            BackendArg::Lightcuts => "lightcuts",
+            BackendArg::LightcutsDeterministic => "lightcuts-deterministic",
+            BackendArg::Pathtrace => "pathtrace",
+        }
     }
 }
 
@@ -792,11 +798,8 @@ impl Frames<'_> {
         let mut work = rendered.stats.map_or(String::new(), |st| {
             format!(", {:.1} lights per shading point", st.lights_per_point())
         });
-        if let Some(maps) = frame.as_ref().and_then(|(f, _)| f.cube_maps()) {
-            let (mb, s) = (
-                maps.bytes() as f64 / 1e6,
-                frame.as_ref().unwrap().0.seconds(),
-            );
+        if let Some((f, maps)) = frame.as_ref().and_then(|(f, _)| Some((f, f.cube_maps()?))) {
+            let (mb, s) = (maps.bytes() as f64 / 1e6, f.seconds());
             work += &format!(", cube maps {mb:.1} MB traced in {:.2} s", s.shadows);
         }
         say!(

@@ -23,7 +23,7 @@ use crate::medium::{Medium, Volume};
 use crate::method::{FrameBackend, Method};
 use crate::progress::{self, Phase, Progress, Steps};
 use crate::render::Marcher;
-use crate::scattering::{self, ScatterPlan, Scattered, Shares};
+use crate::scattering::{self, Scattered, Shares};
 use crate::settings::MarchSettings;
 use crate::shading::Shading;
 use crate::shadow::{CubeMaps, Visibility};
@@ -88,13 +88,9 @@ impl<'a> FrameRender<'a> {
         let t = Instant::now();
         let scattered = match settings.scatter_depth {
             0 => None,
-            depth => {
-                let plan = ScatterPlan::new(lights, frame, depth)?;
-                let total = (plan.depth * plan.lights_per_depth) as u64;
-                Some(progress::phase(progress, Phase::Scattering, total, |p| {
-                    scattering::scatter(lights, method, frame, medium, settings, p)
-                })?)
-            }
+            _ => Some(scattering::scatter(
+                lights, method, frame, medium, settings, progress,
+            )?),
         };
         let scattering = if scattered.is_some() {
             t.elapsed().as_secs_f64()

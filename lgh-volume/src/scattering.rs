@@ -68,6 +68,7 @@ use crate::lighting::LightScratch;
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::Method;
+use crate::progress::{self, Phase, Progress};
 use crate::settings::MarchSettings;
 pub use crate::settings::{check_depth, MAX_SCATTER_DEPTH};
 use crate::shading::Shading;
@@ -207,8 +208,8 @@ pub struct Scattered {
 /// through `method` (with its own parameters, the hierarchy's α) with the shadows of
 /// `settings`, merged into one light per voxel. Checked before any
 /// work: the depth ([`check_depth`]), the density's grid, the settings, and the plan's memory
-/// against `settings.cube_maps.memory_budget` ([`ScatterPlan`]). `progress(n)` as `n` more
-/// voxels' fluence is done (`depth × lights_per_depth` in all). Depth 0 returns the emission
+/// against `settings.cube_maps.memory_budget` ([`ScatterPlan`]). `progress` hears
+/// [`Phase::Scattering`] over the voxels (`depth × lights_per_depth` in all). Depth 0 returns the emission
 /// lights as they are.
 ///
 /// ```
@@ -220,7 +221,7 @@ pub struct Scattered {
 /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
 /// let emission = ExplosionLights::new(&[&volume], &medium)?;
 /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
-/// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
+/// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
 /// // One merged light per voxel that emits or has smoke; the scattered light is there.
 /// assert!(s.lights().lights().len() > emission.lights().len());
 /// assert!(s.depths()[0].power > 0.0);
@@ -232,10 +233,25 @@ pub fn scatter(
     frame: &Volume,
     medium: &Medium,
     settings: &MarchSettings,
+    progress: &dyn Progress,
+) -> Result<Scattered, RenderError> {
+    let plan = check_pass(emission, method, frame, settings)?;
+    let total = (plan.depth * plan.lights_per_depth) as u64;
+    progress::phase(progress, Phase::Scattering, total, |p| {
+        pass(emission, method, frame, medium, settings, p)
+    })
+}
+
+/// [`scatter`] after its checks, `progress(n)` as `n` more voxels' fluence is done.
+fn pass(
+    emission: &ExplosionLights,
+    method: Method,
+    frame: &Volume,
+    medium: &Medium,
+    settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Scattered, RenderError> {
     let depth = settings.scatter_depth;
-    check_pass(emission, method, frame, settings)?;
     let max_level = emission.hierarchy().max_level();
     if depth == 0 {
         return Ok(Scattered {
@@ -313,13 +329,13 @@ pub fn scatter(
 }
 
 /// Every check of a pass, before any work: the settings, the method (emission alone has no
-/// lights to scatter), and the pass's memory ([`ScatterPlan`]).
+/// lights to scatter), and the pass's memory; the pass's [`ScatterPlan`].
 fn check_pass(
     emission: &ExplosionLights,
     method: Method,
     frame: &Volume,
     settings: &MarchSettings,
-) -> Result<(), RenderError> {
+) -> Result<ScatterPlan, RenderError> {
     let depth = settings.scatter_depth;
     let plan = ScatterPlan::new(emission, frame, depth)?;
     settings.check()?;
@@ -327,7 +343,8 @@ fn check_pass(
     if method == Method::Emission && depth > 0 {
         return Err(nothing_to_scatter(depth));
     }
-    plan.check(settings.cube_maps.memory_budget)
+    plan.check(settings.cube_maps.memory_budget)?;
+    Ok(plan)
 }
 
 /// The error of a pass of `depth` asked of [`Method::Emission`], which has no lights.
@@ -500,7 +517,7 @@ impl Scattered {
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
     /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
-    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
     /// // The merged hierarchy is on the emission lights' grid.
     /// assert_eq!(s.lights().hierarchy().h1(), emission.hierarchy().h1());
     /// assert_eq!(s.lights().hierarchy().max_level(), emission.hierarchy().max_level());
@@ -523,7 +540,7 @@ impl Scattered {
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
     /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
     /// let settings = MarchSettings { scatter_depth: 2, ..settings };
-    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
     /// let d = s.depths();
     /// assert_eq!((d[0].depth, d[1].depth), (1, 2));
     /// assert_eq!(d[0].stats.shading_points, d[0].lights as u64); // one query per voxel
@@ -546,7 +563,7 @@ impl Scattered {
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
     /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
-    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
     /// // A merged light is its voxel's depths summed in order.
     /// let (e, one) = (s.intensities(0).unwrap(), s.intensities(1).unwrap());
     /// for ((l, &a), &b) in s.lights().lights().iter().zip(e).zip(one) {
@@ -573,7 +590,7 @@ impl Scattered {
     /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
     /// let emission = ExplosionLights::new(&[&volume], &medium)?;
     /// let settings = MarchSettings { shadows: Shadows::None, scatter_depth: 1, ..Default::default() };
-    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &|_| {})?;
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
     /// assert_eq!(s.depth_lights(0)?.lit(), emission.lit());
     /// assert!(s.depth_lights(2).is_err());
     /// # Ok::<(), lgh_volume::RenderError>(())
@@ -607,8 +624,6 @@ mod tests {
         v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
     }
 
-    const NONE: &(dyn Fn(usize) + Sync) = &|_| {};
-
     /// The pass of `depth` with `settings` and no progress.
     fn pass(
         emission: &ExplosionLights,
@@ -622,7 +637,7 @@ mod tests {
             scatter_depth: depth,
             ..*settings
         };
-        scatter(emission, method, volume, medium, &settings, NONE).unwrap()
+        scatter(emission, method, volume, medium, &settings, &()).unwrap()
     }
 
     #[test]
@@ -911,17 +926,23 @@ mod tests {
         let volume = procedural(32, 0.5).unwrap();
         let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
         let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
-        let work = std::sync::atomic::AtomicUsize::new(0);
-        let progress = |n: usize| {
-            work.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-        };
+        /// Counts the voxels whose fluence was computed.
+        #[derive(Default)]
+        struct Work(std::sync::atomic::AtomicU64);
+        impl Progress for Work {
+            fn advance(&self, steps: u64) {
+                self.0
+                    .fetch_add(steps, std::sync::atomic::Ordering::Relaxed);
+            }
+        }
+        let work = Work::default();
         let run = |depth, settings: &MarchSettings, frame: &Volume| {
             let settings = MarchSettings {
                 scatter_depth: depth,
                 ..*settings
             };
             let lgh = Method::Lgh { alpha: 2.0 };
-            scatter(&emission, lgh, frame, &medium, &settings, &progress).map(|_| ())
+            scatter(&emission, lgh, frame, &medium, &settings, &work).map(|_| ())
         };
         let ok = MarchSettings::default();
         let e = run(17, &ok, &volume).unwrap_err();
@@ -947,7 +968,7 @@ mod tests {
             run(1, &ok, &moved).unwrap_err(),
             RenderError::DensityOffGrid
         ));
-        assert_eq!(work.into_inner(), 0, "no voxel's fluence was computed");
+        assert_eq!(work.0.into_inner(), 0, "no voxel's fluence was computed");
     }
 
     #[test]

@@ -91,22 +91,7 @@ impl MarchSettings {
         check_depth(self.scatter_depth)?;
         Ok(())
     }
-}
 
-impl Default for MarchSettings {
-    fn default() -> Self {
-        MarchSettings {
-            step_voxels: 1.0,
-            shadow_step_voxels: 1.0,
-            min_transmittance: 1e-3,
-            shadows: Shadows::RayMarch,
-            cube_maps: CubeMapSettings::default(),
-            scatter_depth: 0,
-        }
-    }
-}
-
-impl MarchSettings {
     /// The default march with `shadows`.
     ///
     /// ```
@@ -122,6 +107,19 @@ impl MarchSettings {
         MarchSettings {
             shadows,
             ..Default::default()
+        }
+    }
+}
+
+impl Default for MarchSettings {
+    fn default() -> Self {
+        MarchSettings {
+            step_voxels: 1.0,
+            shadow_step_voxels: 1.0,
+            min_transmittance: 1e-3,
+            shadows: Shadows::RayMarch,
+            cube_maps: CubeMapSettings::default(),
+            scatter_depth: 0,
         }
     }
 }
