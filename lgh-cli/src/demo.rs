@@ -164,6 +164,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     if let Some(maps) = frame.cube_maps() {
         output::say_cube_maps(maps.table(), maps.bytes(), frame.seconds().shadows)?;
     }
+    output::say_lighting_cache(&frame)?;
     let stats = rendered.stats.unwrap_or_default();
     say!(
         "  render     {}x{}, shadows {}: {:.1} s ({:.1} s with the shadows' precompute){cpu}, {} shading points, {:.1} lights each, {:.1} shadow samples per light",

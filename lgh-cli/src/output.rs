@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
+use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
 use lgh_volume::render::{Camera, MarchSettings, RenderStats};
 use lgh_volume::scattering::{self, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
@@ -38,6 +39,26 @@ impl From<ShadowsArg> for Shadows {
             ShadowsArg::RayMarch => Shadows::RayMarch,
             ShadowsArg::RayMarchVolumes => Shadows::RayMarchVolumes,
             ShadowsArg::None => Shadows::None,
+        }
+    }
+}
+
+/// Whether the coarse levels' light is cached (`--lighting-cache`): [`CacheMode`]'s choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CacheArg {
+    /// Every light shaded at every march sample.
+    None,
+    /// The hierarchy's levels from --cache-level up computed once per frame at the vertices of a
+    /// grid over the smoke (filled where the camera's rays need it) and interpolated
+    /// trilinearly; the finer levels shaded at every sample. Surfaces keep per-point lighting.
+    Coarse,
+}
+
+impl From<CacheArg> for CacheMode {
+    fn from(c: CacheArg) -> Self {
+        match c {
+            CacheArg::None => CacheMode::None,
+            CacheArg::Coarse => CacheMode::Coarse,
         }
     }
 }
@@ -79,6 +100,19 @@ pub struct MarchArgs {
     /// for lgh demo]
     #[arg(long)]
     pub shadow_step: Option<f32>,
+    /// Lighting cache for the hierarchy's coarse levels: their in-scattered light computed once
+    /// per frame at grid vertices over the smoke and interpolated, the finest level shaded at
+    /// every sample. Other methods than the hierarchy shade every sample.
+    #[arg(long, value_enum, default_value_t = CacheArg::None)]
+    pub lighting_cache: CacheArg,
+    /// Distance between the lighting cache's vertices, in voxels (0.25 to 16; 1: the voxel
+    /// centres).
+    #[arg(long, default_value_t = 1.0)]
+    pub cache_spacing: f32,
+    /// The first level of the hierarchy the lighting cache holds (finer levels are shaded at
+    /// every sample).
+    #[arg(long, default_value_t = 1)]
+    pub cache_level: u8,
 }
 
 impl MarchArgs {
@@ -130,6 +164,11 @@ impl MarchArgs {
                 depth_count: self.shadow_depths,
                 memory_budget: budget,
             },
+            lighting_cache: LightingCacheSettings {
+                mode: self.lighting_cache.into(),
+                spacing_voxels: self.cache_spacing,
+                first_level: self.cache_level,
+            },
             ..Default::default()
         };
         settings.check()?;
@@ -179,6 +218,16 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         let seconds = frame.seconds().shadows;
         out.push(("shadow_precompute_seconds", format!("{seconds:.3}")));
     }
+    if let Some(c) = frame.lighting_cache() {
+        let stats = c.stats();
+        out.push(("lighting_cache", c.settings().mode.name().to_string()));
+        out.push((
+            "lighting_cache_spacing",
+            c.settings().spacing_voxels.to_string(),
+        ));
+        out.push(("lighting_cache_level", c.settings().first_level.to_string()));
+        out.push(("lighting_cache_vertices", stats.vertices.to_string()));
+    }
     let Some(s) = frame.scattered() else {
         out.push(("scatter_depth", "0".to_string()));
         return out;
@@ -216,6 +265,23 @@ fn fractions(shares: &Shares) -> Vec<f64> {
         .iter()
         .map(|p| p / sum.max(f64::MIN_POSITIVE))
         .collect()
+}
+
+/// The summary line of a frame's lighting cache (nothing without one).
+pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
+    let Some(c) = frame.lighting_cache() else {
+        return Ok(());
+    };
+    let (s, settings) = (c.stats(), c.settings());
+    say!(
+        "  cache      levels {}.. at {} voxel spacing: {} vertices, {:.1} CPU-s, {:.1} lights each",
+        settings.first_level,
+        settings.spacing_voxels,
+        s.vertices,
+        s.cpu_seconds,
+        s.lights_evaluated as f64 / s.vertices.max(1) as f64
+    );
+    Ok(())
 }
 
 /// The summary lines of a frame's scattering pass (nothing without one).

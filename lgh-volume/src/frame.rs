@@ -18,11 +18,12 @@ use lgh_image::Image;
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::lighting::Lights;
+use crate::lighting_cache::{CacheMode, CachedLights, LightingCache};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
-use crate::method::{FrameBackend, Method};
+use crate::method::{FrameBackend, Method, Prepared};
 use crate::progress::{self, Phase, Progress, Steps};
-use crate::render::Marcher;
+use crate::render::{Lit, Marcher};
 use crate::scattering::{self, Scattered, Shares};
 use crate::settings::MarchSettings;
 use crate::shading::Shading;
@@ -64,8 +65,11 @@ pub struct FrameRender<'a> {
     scattered: Option<Scattered>,
     method: Method,
     /// The method over the rendered lights, and their visibility (moved into the marcher).
-    prepared: crate::method::Prepared,
+    prepared: Prepared,
     marcher: Marcher<'a>,
+    /// The coarse levels' lighting cache, if the settings ask for one and the method is the
+    /// hierarchy (filled as renders need it).
+    cache: Option<LightingCache>,
     seconds: PrepareSeconds,
 }
 
@@ -100,12 +104,21 @@ impl<'a> FrameRender<'a> {
         let rendered = scattered.as_ref().map_or(lights, Scattered::lights);
         let shading = Shading::new(rendered, method, frame, medium, settings, progress)?;
         let shadows = shading.shadow_seconds;
+        let cache = match (&shading.prepared, settings.lighting_cache.mode) {
+            (Prepared::Lgh { .. }, CacheMode::Coarse) => Some(LightingCache::new(
+                &frame.density,
+                medium,
+                &settings.lighting_cache,
+            )?),
+            _ => None,
+        };
         Ok(FrameRender {
             emission: lights,
             scattered,
             method,
             prepared: shading.prepared,
             marcher: Marcher::with_visibility(frame, medium, settings, shading.visibility)?,
+            cache,
             seconds: PrepareSeconds {
                 scattering,
                 shadows,
@@ -129,8 +142,13 @@ impl<'a> FrameRender<'a> {
         progress: &dyn Progress,
     ) -> Result<(Image, RenderStats), RenderError> {
         let lights = self.shading_lights()?;
+        let cached = self.cached(lights.as_ref());
+        let lit = Lit {
+            lights: lights.as_ref(),
+            cached: cached.as_ref(),
+        };
         progress::phase(progress, Phase::Render, camera.height() as u64, |p| {
-            self.marcher.render_lit(lights.as_ref(), camera, p)
+            self.marcher.render_lit(lit, camera, p)
         })
     }
 
@@ -142,8 +160,37 @@ impl<'a> FrameRender<'a> {
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
         let lights = self.shading_lights()?;
-        self.marcher
-            .render_pixels_lit(lights.as_ref(), camera, pixels)
+        let cached = self.cached(lights.as_ref());
+        let lit = Lit {
+            lights: lights.as_ref(),
+            cached: cached.as_ref(),
+        };
+        self.marcher.render_pixels_lit(lit, camera, pixels)
+    }
+
+    /// `lights` split for the lighting cache, if there is one (the hierarchy's only).
+    fn cached<'l>(&'l self, lights: Option<&Lights<FrameBackend<'l>>>) -> Option<CachedLights<'l>> {
+        match (&self.cache, lights) {
+            (
+                Some(cache),
+                Some(Lights {
+                    backend: FrameBackend::Lgh(b),
+                    h0,
+                }),
+            ) => Some(CachedLights::new(
+                cache,
+                &self.marcher.volume().density,
+                &Lights::new(*b, *h0),
+            )),
+            _ => None,
+        }
+    }
+
+    /// The coarse levels' lighting cache, if the settings asked for one (the hierarchy's only):
+    /// what it has computed so far.
+    #[must_use]
+    pub fn lighting_cache(&self) -> Option<&LightingCache> {
+        self.cache.as_ref()
     }
 
     /// The rendered lights through the method, with the fall-off clamp `h0 = h` (what

@@ -60,6 +60,7 @@ pub mod error;
 pub mod frame;
 pub mod grid;
 pub mod lighting;
+pub mod lighting_cache;
 pub mod lights;
 pub mod medium;
 pub mod method;

@@ -93,7 +93,26 @@ impl<B: ManyLights> Lights<B> {
             stats.shadow_samples += samples;
             return Ok(sum.radiance);
         }
-        // Gather the lights, then evaluate their visibility together (shadow rays eight abreast).
+        self.gather(point, visibility, response, scratch, stats)?;
+        // Summed in the backend's order, as the backend sums what a shader returns.
+        let mut radiance = Vec3::ZERO;
+        for (&(weighted, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
+            radiance += weighted * (g * v);
+        }
+        Ok(radiance)
+    }
+
+    /// The lights `point` sees, gathered into `scratch` with their unshadowed terms, then their
+    /// visibility evaluated together (shadow rays eight abreast).
+    fn gather(
+        &self,
+        point: &ShadingPoint,
+        visibility: &Visibility,
+        mut response: impl FnMut(&LightSample) -> Vec3,
+        scratch: &mut LightScratch,
+        stats: &mut crate::stats::RenderStats,
+    ) -> Result<(), QueryError> {
+        let h0 = self.h0;
         scratch.lights.clear();
         scratch.unshadowed.clear();
         let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
@@ -107,12 +126,37 @@ impl<B: ManyLights> Lights<B> {
         stats.lights_evaluated += u64::from(sum.lights);
         stats.shadow_samples +=
             visibility.transmittances(point.position, &scratch.lights, &mut scratch.visibility);
-        // Summed in the backend's order, as the backend sums what a shader returns.
-        let mut radiance = Vec3::ZERO;
-        for (&(weighted, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
-            radiance += weighted * (g * v);
+        Ok(())
+    }
+
+    /// The [`incident`](Self::incident) light at `x` from every direction (the bare light,
+    /// `f = 1`), and its flux vector `F = Σ_j lum(I_j g_j V_j) ω_j`, with `ω_j` the unit
+    /// direction from light `j` to `x`: what the lighting cache needs to follow a shadow's
+    /// gradient (`∇_x τ_j ≈ σ_t(x) ω_j`, so `∇L ≈ −σ_t F`; `lighting_cache`). The flux is 0
+    /// without shadows, where nothing shadows the gradient, and for backends whose selection
+    /// follows the shader (Lightcuts), which the cache does not serve.
+    pub fn incident_flux(
+        &self,
+        x: Vec3,
+        visibility: &Visibility,
+        scratch: &mut LightScratch,
+        stats: &mut crate::stats::RenderStats,
+    ) -> Result<(Vec3, Vec3), QueryError> {
+        let point = ShadingPoint::in_medium(x);
+        if visibility.is_none() || self.backend.selection_follows_shader() {
+            let l = self.incident(&point, visibility, |_| Vec3::ONE, scratch, stats)?;
+            return Ok((l, Vec3::ZERO));
         }
-        Ok(radiance)
+        self.gather(&point, visibility, |_| Vec3::ONE, scratch, stats)?;
+        let mut radiance = Vec3::ZERO;
+        let mut flux = Vec3::ZERO;
+        let terms = scratch.unshadowed.iter().zip(&scratch.visibility);
+        for ((&(weighted, g), &v), &p) in terms.zip(scratch.lights.positions()) {
+            let term = weighted * (g * v);
+            radiance += term;
+            flux += (x - p).normalize_or_zero() * lgh_core::luminance(term);
+        }
+        Ok((radiance, flux))
     }
 
     /// The light in-scattered at `x` in a medium, per unit solid angle: `scale` (`σ_s`, or

@@ -18,6 +18,7 @@ use rayon::prelude::*;
 
 use crate::error::RenderError;
 use crate::lighting::{LightScratch, Lights};
+use crate::lighting_cache::CachedLights;
 use crate::medium::{Medium, Volume};
 pub use crate::shadow::Shadows;
 use crate::shadow::Visibility;
@@ -114,13 +115,13 @@ impl<'a> Marcher<'a> {
         camera: &Camera,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(Image, RenderStats), RenderError> {
-        self.render_lit(Some(lights), camera, progress)
+        self.render_lit(Lit::lights(Some(lights)), camera, progress)
     }
 
     /// [`render`](Self::render), emission alone without `lights`.
     pub(crate) fn render_lit<B: ManyLights + Sync>(
         &self,
-        lights: Option<&Lights<B>>,
+        lights: Lit<'_, B>,
         camera: &Camera,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(Image, RenderStats), RenderError> {
@@ -137,13 +138,13 @@ impl<'a> Marcher<'a> {
         camera: &Camera,
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
-        self.render_pixels_lit(Some(lights), camera, pixels)
+        self.render_pixels_lit(Lit::lights(Some(lights)), camera, pixels)
     }
 
     /// [`render_pixels`](Self::render_pixels), emission alone without `lights`.
     pub(crate) fn render_pixels_lit<B: ManyLights + Sync>(
         &self,
-        lights: Option<&Lights<B>>,
+        lights: Lit<'_, B>,
         camera: &Camera,
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
@@ -184,7 +185,7 @@ impl<'a> Marcher<'a> {
         stats: &mut RenderStats,
     ) -> Result<Vec3, RenderError> {
         self.march_with(
-            Some(lights),
+            Lit::lights(Some(lights)),
             origin,
             dir,
             stats,
@@ -196,13 +197,14 @@ impl<'a> Marcher<'a> {
     /// reuses from ray to ray.
     fn march_with<B: ManyLights>(
         &self,
-        lights: Option<&Lights<B>>,
+        lit: Lit<'_, B>,
         origin: Vec3,
         dir: Vec3,
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
     ) -> Result<Vec3, RenderError> {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
+        let lights = lit.lights;
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
         let hit = self.surfaces.and_then(|s| Some((s, s.hit(origin, dir)?)));
@@ -232,7 +234,17 @@ impl<'a> Marcher<'a> {
             let mut source = volume.emission(medium, x);
             let sigma_s = medium.scattering * rho;
             if let (Some(lights), true) = (lights, sigma_s > 0.0) {
-                source += lights.in_scattered(x, sigma_s, &self.visibility, scratch, stats)?;
+                source += match lit.cached {
+                    Some(cached) => cached.in_scattered(
+                        x,
+                        sigma_s,
+                        sigma_t,
+                        &self.visibility,
+                        scratch,
+                        stats,
+                    )?,
+                    None => lights.in_scattered(x, sigma_s, &self.visibility, scratch, stats)?,
+                };
             }
             // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
             let step_t = (-sigma_t * dt).exp();
@@ -332,10 +344,35 @@ pub fn shade_pixels<T: Send, S>(
     results.into_iter().collect()
 }
 
+/// What a march shades with: the lights (of surfaces, and of the medium without a cache;
+/// `None` for emission alone) and the lights split for a lighting cache, if any.
+pub(crate) struct Lit<'s, B> {
+    pub(crate) lights: Option<&'s Lights<B>>,
+    pub(crate) cached: Option<&'s CachedLights<'s>>,
+}
+
+impl<B> Clone for Lit<'_, B> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<B> Copy for Lit<'_, B> {}
+
+impl<'s, B> Lit<'s, B> {
+    /// `lights` alone, no cache.
+    pub(crate) fn lights(lights: Option<&'s Lights<B>>) -> Self {
+        Lit {
+            lights,
+            cached: None,
+        }
+    }
+}
+
 /// The marcher's radiance and counts for `pixels` (`None`: the whole image) of `camera`.
 fn march_pixels<B: ManyLights + Sync>(
     marcher: &Marcher<'_>,
-    lights: Option<&Lights<B>>,
+    lights: Lit<'_, B>,
     camera: &Camera,
     pixels: Option<&[[usize; 2]]>,
     progress: &(dyn Fn(usize) + Sync),
@@ -399,7 +436,7 @@ mod tests {
             let got = Marcher::new(&v, &m, &MarchSettings::default())
                 .unwrap()
                 .march_with::<BruteForce>(
-                    None,
+                    Lit::lights(None),
                     Vec3::new(0.0, 0.0, 5.0),
                     -Vec3::Z,
                     &mut RenderStats::default(),
@@ -460,7 +497,7 @@ mod tests {
         // Without lights nothing is queried, and the render succeeds.
         let marcher = Marcher::new(&v, &m, &MarchSettings::default()).unwrap();
         assert!(marcher
-            .render_lit::<Failing>(None, &camera, &|_| {})
+            .render_lit::<Failing>(Lit::lights(None), &camera, &|_| {})
             .is_ok());
     }
 

@@ -3,6 +3,7 @@
 //! checked before any work.
 
 use crate::error::{check_setting, RenderError};
+use crate::lighting_cache::LightingCacheSettings;
 use crate::shadow::{CubeMapSettings, Shadows};
 
 /// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
@@ -54,6 +55,9 @@ pub struct MarchSettings {
     /// times, so paths of up to `n + 1` scattering events (the paper's Fig. 7 uses 4). At most
     /// [`MAX_SCATTER_DEPTH`].
     pub scatter_depth: usize,
+    /// Whether the hierarchy's coarse levels are shaded through a lighting cache
+    /// ([`crate::lighting_cache`]; the hierarchy only, none by default).
+    pub lighting_cache: LightingCacheSettings,
 }
 
 impl MarchSettings {
@@ -89,6 +93,7 @@ impl MarchSettings {
             "must be in [0, 1)",
         )?;
         check_depth(self.scatter_depth)?;
+        self.lighting_cache.check()?;
         Ok(())
     }
 
@@ -120,6 +125,7 @@ impl Default for MarchSettings {
             shadows: Shadows::RayMarch,
             cube_maps: CubeMapSettings::default(),
             scatter_depth: 0,
+            lighting_cache: LightingCacheSettings::default(),
         }
     }
 }

@@ -12,6 +12,9 @@ use crate::many_lights::{Illumination, ManyLights, Shader, ShadingPoint};
 pub struct LghBackend<'a> {
     hierarchy: &'a LightingGridHierarchy,
     blending: Blending,
+    /// The levels shaded, `first..=last` (every level unless [`with_levels`](Self::with_levels)).
+    first: u8,
+    last: u8,
 }
 
 impl<'a> LghBackend<'a> {
@@ -44,6 +47,8 @@ impl<'a> LghBackend<'a> {
         Ok(LghBackend {
             hierarchy,
             blending: hierarchy.blending(alpha)?,
+            first: 0,
+            last: u8::MAX,
         })
     }
 
@@ -72,7 +77,41 @@ impl<'a> LghBackend<'a> {
         Ok(LghBackend {
             hierarchy,
             blending,
+            first: 0,
+            last: u8::MAX,
         })
+    }
+
+    /// The same backend shading only the lights of the levels in `levels` (eq. 3's sum split
+    /// by level, as [`LightingGridHierarchy::query_levels`]): a lighting cache shades the finest
+    /// level per point and interpolates the rest.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, ManyLights, PointLight, ShadingPoint};
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let all = LghBackend::new(&lgh, 2.0)?;
+    /// let point = ShadingPoint::in_medium(Vec3::new(1.5, 1.5, 2.5));
+    /// let mut intensity = |s: &lgh_core::LightSample| s.intensity;
+    /// let whole = all.illuminate(&point, &mut intensity)?;
+    /// let fine = all.with_levels(0..=0).illuminate(&point, &mut intensity)?;
+    /// let coarse = all.with_levels(1..=u8::MAX).illuminate(&point, &mut intensity)?;
+    /// assert_eq!(fine.lights + coarse.lights, whole.lights);
+    /// assert!((fine.radiance + coarse.radiance - whole.radiance).abs().max_element() < 1e-5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn with_levels(self, levels: core::ops::RangeInclusive<u8>) -> Self {
+        LghBackend {
+            first: *levels.start(),
+            last: *levels.end(),
+            ..self
+        }
     }
 
     /// The hierarchy.
@@ -99,9 +138,12 @@ impl ManyLights for LghBackend<'_> {
         shader: &mut S,
     ) -> Result<Illumination, QueryError> {
         let mut radiance = Vec3::ZERO;
-        let lights = self.hierarchy.query(point.position, &self.blending, |s| {
-            radiance += shader.shade(s)
-        })?;
+        let levels = self.first..=self.last;
+        let lights = self
+            .hierarchy
+            .query_levels(point.position, &self.blending, levels, |s| {
+                radiance += shader.shade(s)
+            })?;
         Ok(Illumination { radiance, lights })
     }
 }

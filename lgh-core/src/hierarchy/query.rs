@@ -1,6 +1,8 @@
 //! The radius query of the lighting grid hierarchy (paper Sec. 3, eq. 3): every light whose
 //! blending weight `B_ℓ` is non-zero at a point, with its weighted intensity.
 
+use core::ops::RangeInclusive;
+
 use glam::Vec3;
 
 use super::LightingGridHierarchy;
@@ -9,6 +11,9 @@ use crate::bricks::Ball;
 use crate::error::QueryError;
 use crate::light::{Contribution, Hit, LevelLights};
 use crate::many_lights::{LightSample, Lobe};
+
+/// Every level: what the unrestricted queries pass.
+const ALL_LEVELS: RangeInclusive<u8> = 0..=u8::MAX;
 
 impl LightingGridHierarchy {
     /// Blending parameters for this hierarchy and the paper's α (`r_ℓ = α h_ℓ`).
@@ -141,7 +146,8 @@ impl LightingGridHierarchy {
         blending: &Blending,
         mut f: F,
     ) -> Result<u32, QueryError> {
-        self.gather(x, blending, |s| f(s)).map(|((), n)| n)
+        self.gather(x, blending, ALL_LEVELS, |s| f(s))
+            .map(|((), n)| n)
     }
 
     /// Like [`query`](Self::query), but sums what `f` returns for each light (radiance, say) and
@@ -178,7 +184,41 @@ impl LightingGridHierarchy {
         blending: &Blending,
         f: F,
     ) -> Result<(Vec3, u32), QueryError> {
-        self.gather(x, blending, f)
+        self.gather(x, blending, ALL_LEVELS, f)
+    }
+
+    /// [`query`](Self::query) restricted to the lights of the levels in `levels`: the same
+    /// lights with the same weights, in the same order, as the full query reports for those
+    /// levels. A lighting cache splits eq. (3)'s sum this way: the finest level per point, the
+    /// coarse levels interpolated (lgh-volume's `lighting_cache`).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let (blending, x) = (lgh.blending(2.0)?, Vec3::new(1.5, 1.5, 2.5));
+    /// let mut all = Vec::new();
+    /// lgh.query(x, &blending, |s| all.push((s.level, s.index)))?;
+    /// let mut split = Vec::new();
+    /// lgh.query_levels(x, &blending, 0..=0, |s| split.push((s.level, s.index)))?;
+    /// assert!(split.iter().all(|&(level, _)| level == 0));
+    /// lgh.query_levels(x, &blending, 1..=u8::MAX, |s| split.push((s.level, s.index)))?;
+    /// assert_eq!(split, all);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn query_levels<F: FnMut(&LightSample)>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        levels: RangeInclusive<u8>,
+        mut f: F,
+    ) -> Result<u32, QueryError> {
+        self.gather(x, blending, levels, |s| f(s)).map(|((), n)| n)
     }
 
     /// `Ok` if `blending` is for this hierarchy's levels (its `h1` and top level), else
@@ -196,6 +236,7 @@ impl LightingGridHierarchy {
         &self,
         x: Vec3,
         blending: &Blending,
+        levels: RangeInclusive<u8>,
         mut f: F,
     ) -> Result<(R, u32), QueryError> {
         QueryError::check_point(x)?;
@@ -203,6 +244,7 @@ impl LightingGridHierarchy {
         if self.level0.is_empty() {
             return Ok((R::ZERO, 0));
         }
+        let wanted = |l: u8| levels.contains(&l);
         let top = self.max_level();
         let mut sum = R::ZERO;
         let mut count = 0u32;
@@ -227,17 +269,21 @@ impl LightingGridHierarchy {
         // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1. The cells of
         // a brick are contiguous, and so are their lights.
         if top == 0 {
-            scan(0, &self.level0, 0, self.level0.len(), -1.0, f32::INFINITY);
+            if wanted(0) {
+                scan(0, &self.level0, 0, self.level0.len(), -1.0, f32::INFINITY);
+            }
             return Ok((sum, count));
         }
-        let (_, outer) = blending.support(0);
-        let outer2 = outer * outer;
-        self.for_each_range(0, x, outer, |s, e| {
-            scan(0, &self.level0, s, e, -1.0, outer2)
-        });
+        if wanted(0) {
+            let (_, outer) = blending.support(0);
+            let outer2 = outer * outer;
+            self.for_each_range(0, x, outer, |s, e| {
+                scan(0, &self.level0, s, e, -1.0, outer2)
+            });
+        }
 
         // Levels 0 < ℓ < ℓ_max: lights within 2 r_ℓ of x; a centre lies within h_ℓ of its vertex.
-        for l in 1..top {
+        for l in (1..top).filter(|&l| wanted(l)) {
             let level = &self.levels[l as usize - 1];
             let (inner, outer) = blending.support(l);
             let (inner2, outer2) = (inner * inner, outer * outer);
@@ -247,6 +293,9 @@ impl LightingGridHierarchy {
         }
 
         // The top level has no outer cutoff: every light beyond r_{ℓmax−1}.
+        if !wanted(top) {
+            return Ok((sum, count));
+        }
         let (inner, _) = blending.support(top);
         let level = &self.levels[top as usize - 1];
         scan(

@@ -226,6 +226,12 @@ impl ShadowQuery {
         self.ids.push((light.level, light.index));
     }
 
+    /// The lights' positions, in the order they were pushed.
+    #[must_use]
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
     /// Number of lights.
     #[must_use]
     pub fn len(&self) -> usize {
