@@ -15,6 +15,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_volume::cache::{self, GridNames, Placement};
 use lgh_volume::explosion;
+use lgh_volume::lighting_cache::LightingCacheSettings;
 use lgh_volume::medium::{framing_bounds, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, RenderStats, Up};
@@ -249,7 +250,8 @@ impl Bench<'_> {
         ladder: &Ladder,
     ) -> Result<Value, crate::Error> {
         // The whole image with ray-marched shadows is one of the shadow choices.
-        let (shadows, stats, image_s) = shadow_choices(self, alpha)?;
+        let choices = shadow_choices(self, alpha)?;
+        let (stats, image_s) = (choices.ray_marched, choices.exact_seconds);
         let (sub, _, sub_s) = self.subset(Method::Lgh { alpha })?;
         let err = rel_rmse(&sub, brute).unwrap_or(f64::NAN);
         let matched = ladder.rungs.iter().find(|(_, _, e)| *e <= err);
@@ -269,7 +271,7 @@ impl Bench<'_> {
             stats.lights_per_point(),
             err
         );
-        Ok(json!({
+        let mut row = json!({
             "alpha": alpha,
             "render_seconds": image_s,
             "shading_points": stats.shading_points,
@@ -283,8 +285,12 @@ impl Bench<'_> {
             "pathtrace_time_ratio": matched.map(|m| m.1 / sub_s),
             "pathtrace_spp_to_match_extrapolated": extrapolated.map(|x| x.0),
             "pathtrace_time_ratio_extrapolated": extrapolated.map(|x| x.1 / sub_s),
-            "shadows": shadows,
-        }))
+            "shadows": choices.shadows,
+        });
+        if let (Value::Object(row), Value::Object(extra)) = (&mut row, choices.default_path) {
+            row.extend(extra);
+        }
+        Ok(row)
     }
 }
 
@@ -341,31 +347,42 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
     }))
 }
 
-/// The whole image at `alpha` with each shadow choice of `lgh demo` and `lgh explosion`
-/// (issue 13's comparison, in one run): the deep-shadow cube maps (their precompute and the
-/// render apart), ray-marched shadows (`MarchSettings::default()`'s, the rows' render) and
-/// none; the cube maps' relative RMSE against the ray-marched image, and the two ratios the
-/// issue states its target in. Also returns the ray-marched render's statistics and seconds.
-fn shadow_choices(b: &Bench, alpha: f32) -> Result<(Value, RenderStats, f64), crate::Error> {
+/// The whole image at `alpha` with each shadow choice of `lgh demo` and `lgh explosion`, in
+/// one run: the deep-shadow cube maps (their precompute and the render apart), ray-marched
+/// shadows (`MarchSettings::default()`'s: the exact image, uncached), none, and the default
+/// path — ray-marched shadows through the lighting cache; the cube maps' and the default path's
+/// relative RMSE against the exact image, and the ratios the issues state their targets in.
+/// Also returns the ray-marched render's statistics and seconds, and the default path's
+/// comparison with the exact image (`exact`, `speedup_vs_exact`, `rel_rmse_vs_exact`,
+/// `lighting_cache`).
+fn shadow_choices(b: &Bench, alpha: f32) -> Result<Choices, crate::Error> {
     let (s, lights, camera) = (b.s, &b.lights, &b.camera);
     let mut out = serde_json::Map::new();
     let mut totals = Vec::new();
     let mut images = Vec::new();
     let mut ray_marched = RenderStats::default();
-    for (key, shadows) in [
-        ("cubemap", Shadows::CubeMap),
-        ("raymarch", Shadows::RayMarch),
-        ("none", Shadows::None),
+    let mut cache = None;
+    let cached = MarchSettings {
+        lighting_cache: LightingCacheSettings::coarse(),
+        ..MarchSettings::with_shadows(Shadows::RayMarch)
+    };
+    for (key, settings) in [
+        ("cubemap", MarchSettings::with_shadows(Shadows::CubeMap)),
+        ("raymarch", MarchSettings::with_shadows(Shadows::RayMarch)),
+        ("none", MarchSettings::with_shadows(Shadows::None)),
+        ("raymarch_cached", cached),
     ] {
-        let settings = MarchSettings::with_shadows(shadows);
         let lgh = Method::Lgh { alpha };
         let (frame, precompute_s) =
             time(|| FrameRender::new(lights, lgh, &s.volume, &s.medium, &settings, &()));
         let frame = frame?;
         let (image, render_s) = time(|| frame.render(camera, &()));
         let (image, stats) = image?;
-        if shadows == Shadows::RayMarch {
+        if key == "raymarch" {
             ray_marched = stats;
+        }
+        if let Some(c) = frame.lighting_cache() {
+            cache = Some(c.stats());
         }
         images.push(image);
         totals.push(precompute_s + render_s);
@@ -378,14 +395,41 @@ fn shadow_choices(b: &Bench, alpha: f32) -> Result<(Value, RenderStats, f64), cr
             }),
         );
     }
-    out.insert(
-        "cubemap_rel_rmse_vs_raymarch".into(),
-        json!(rel_rmse(&images[0].pixels, &images[1].pixels)),
-    );
+    let vs_exact = |k: usize| rel_rmse(&images[k].pixels, &images[1].pixels);
+    out.insert("cubemap_rel_rmse_vs_raymarch".into(), json!(vs_exact(0)));
     out.insert(
         "cubemap_speedup_vs_raymarch".into(),
         json!(totals[1] / totals[0]),
     );
     out.insert("cubemap_over_none".into(), json!(totals[0] / totals[2]));
-    Ok((Value::Object(out), ray_marched, totals[1]))
+    let cache = cache.unwrap_or_default();
+    let default_path = json!({
+        "exact": { "seconds": totals[1] },
+        "speedup_vs_exact": totals[1] / totals[3],
+        "rel_rmse_vs_exact": vs_exact(3),
+        "lighting_cache": {
+            "vertices": cache.vertices,
+            "seconds": cache.cpu_seconds,
+            "rel_rmse_vs_uncached": vs_exact(3),
+        },
+    });
+    Ok(Choices {
+        shadows: Value::Object(out),
+        ray_marched,
+        exact_seconds: totals[1],
+        default_path,
+    })
+}
+
+/// What [`shadow_choices`] measured.
+struct Choices {
+    /// Each shadow choice's seconds and the ratios between them.
+    shadows: Value,
+    /// The ray-marched render's statistics.
+    ray_marched: RenderStats,
+    /// The ray-marched (exact) render's seconds.
+    exact_seconds: f64,
+    /// The default path (ray-marched shadows through the lighting cache) against the exact
+    /// image: `exact`, `speedup_vs_exact`, `rel_rmse_vs_exact`, `lighting_cache`.
+    default_path: Value,
 }

@@ -14,6 +14,7 @@ use std::time::Instant;
 use lgh_core::{Clustering, LightPosition, LightcutsSettings, Representative};
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames, Placement};
+use lgh_volume::lighting_cache::LightingCacheSettings;
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::shadow::CoarseShadows;
@@ -188,6 +189,23 @@ struct Entry {
     method: Kind,
     variants: Variants,
     shadows: Shadows,
+    /// Through the lighting cache (levels ≥ 1 at the voxel centres).
+    cached: bool,
+}
+
+impl Entry {
+    /// The march settings of the entry.
+    fn march(&self) -> MarchSettings {
+        let cache = if self.cached {
+            LightingCacheSettings::coarse()
+        } else {
+            LightingCacheSettings::default()
+        };
+        MarchSettings {
+            lighting_cache: cache,
+            ..MarchSettings::with_shadows(self.shadows)
+        }
+    }
 }
 
 fn entries() -> Vec<Entry> {
@@ -197,6 +215,7 @@ fn entries() -> Vec<Entry> {
         method: Kind::Lgh,
         variants,
         shadows: Shadows::CubeMap,
+        cached: false,
     };
     let paper = Variants::default();
     let ray_marched = |key, what, method| Entry {
@@ -205,10 +224,19 @@ fn entries() -> Vec<Entry> {
         method,
         variants: paper,
         shadows: Shadows::RayMarch,
+        cached: false,
     };
     vec![
         lgh("lgh", "LGH, cube-map shadows (the paper's method)", paper),
         ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Kind::Lgh),
+        Entry {
+            cached: true,
+            ..ray_marched(
+                "lgh_cached",
+                "LGH, ray-marched shadows through the lighting cache (levels >= 1 at the voxel centres)",
+                Kind::Lgh,
+            )
+        },
         ray_marched(
             "lightcuts",
             "Lightcuts at --lightcuts-error (2%), random representatives, a new tree every frame",
@@ -538,7 +566,6 @@ impl Sequence {
         };
         let steps = (self.volumes.len() * (runs.len() + 1)) as u64;
         let bar = crate::progress::bar(steps, "rendering", args.quiet);
-        let march = MarchSettings::with_shadows;
         for (t, frame) in self.volumes.iter().enumerate() {
             let start = Instant::now();
             self.lights_at(&mut reference_lights, frame)?;
@@ -554,7 +581,7 @@ impl Sequence {
                 }
             }
             let start = Instant::now();
-            let reference = march(Shadows::RayMarch);
+            let reference = MarchSettings::with_shadows(Shadows::RayMarch);
             let image = self.render(t, &reference_lights, Method::Brute, &reference)?;
             out.reference_seconds += start.elapsed().as_secs_f64();
             out.reference.push(image);
@@ -564,7 +591,7 @@ impl Sequence {
                 let start = Instant::now();
                 lights[k].set_frame(frame, &self.medium)?;
                 let method = r.method(entries, t, self.lightcuts.max_cut);
-                let image = self.render(t, &lights[k], method, &march(e.shadows))?;
+                let image = self.render(t, &lights[k], method, &e.march())?;
                 out.seconds[k] += start.elapsed().as_secs_f64();
                 out.images[k].push(image);
                 bar.inc(1);

@@ -7,6 +7,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use lgh_volume::lighting_cache::{CacheStats, LightingCacheSettings};
 use lgh_volume::render::MarchSettings;
 use lgh_volume::{FrameRender, Method, Shadows};
 use serde_json::{json, Value};
@@ -19,12 +20,14 @@ use crate::output::{MarchArgs, ScatterArgs, ShadowsArg};
 pub struct Table1Args {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// The frame is also rendered with these shadows, for the ratios (empty: none).
+    /// The frame is also rendered with these shadows, without the lighting cache, for the
+    /// ratios; ray-marched shadows (the exact image) always are. The cube maps' run gives the
+    /// Table-1 rows.
     #[arg(
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "raymarch,none"
+        default_value = "cubemap,raymarch,none"
     )]
     pub compare: Vec<ShadowsArg>,
     #[command(flatten)]
@@ -40,6 +43,8 @@ pub struct Table1Args {
 /// One shadow choice's render of the frame.
 struct Run {
     shadows: Shadows,
+    /// The lighting cache's work, if the run had one.
+    cache: Option<CacheStats>,
     /// Seconds making the visibility (the cube maps' tracing).
     precompute: f64,
     /// Seconds rendering.
@@ -53,6 +58,12 @@ struct Run {
 impl Run {
     fn total(&self) -> f64 {
         self.precompute + self.render
+    }
+
+    /// The run's key in the JSON: the shadows' name, `_cached` through the lighting cache.
+    fn name(&self) -> String {
+        let cached = if self.cache.is_some() { "_cached" } else { "" };
+        format!("{}{cached}", self.shadows.name())
     }
 }
 
@@ -72,18 +83,23 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     let mut scene = args.scene.build()?;
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
-    let mut choices = vec![march.shadows];
+    // The args' settings first, then each comparison without the cache (the exact image, the
+    // ray-marched one, always among them).
+    let uncached = |shadows| MarchSettings {
+        shadows,
+        lighting_cache: LightingCacheSettings::default(),
+        ..march
+    };
+    let mut choices = vec![march];
     let compare = args.compare.iter().map(|&s| Shadows::from(s));
-    choices.extend(compare.filter(|&s| s != march.shadows));
+    for settings in compare.chain([Shadows::RayMarch]).map(uncached) {
+        if !choices.contains(&settings) {
+            choices.push(settings);
+        }
+    }
     let runs = choices
-        .into_iter()
-        .map(|shadows| {
-            Run::of(
-                &scene,
-                args.scene.alpha,
-                &MarchSettings { shadows, ..march },
-            )
-        })
+        .iter()
+        .map(|settings| Run::of(&scene, args.scene.alpha, settings))
         .collect::<Result<Vec<_>, _>>()?;
     let report = report(args, &scene, &runs);
     let text = serde_json::to_string_pretty(&report)?;
@@ -109,18 +125,21 @@ impl Run {
         let (image, stats) = frame.render(&scene.camera, &())?;
         let render = t.elapsed().as_secs_f64();
         let shadows = settings.shadows;
-        eprintln!(
-            "  {}: precompute {precompute:.2} s, render {render:.2} s",
-            shadows.name()
-        );
-        Ok(Run {
+        let cache = frame.lighting_cache().map(|c| c.stats());
+        let run = Run {
             shadows,
+            cache,
             precompute,
             render,
             image,
             table,
             stats,
-        })
+        };
+        eprintln!(
+            "  {}: precompute {precompute:.2} s, render {render:.2} s",
+            run.name()
+        );
+        Ok(run)
     }
 }
 
@@ -135,14 +154,18 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
             "total_seconds": r.total(),
             "lights_per_shading_point": r.stats.lights_per_point(),
         });
-        if r.shadows != first.shadows {
+        if !std::ptr::eq(r, first) {
             let err = lgh_image::compare(&first.image, &r.image).map(|e| e.rel_rmse);
             o["rel_rmse_of_first_against_this"] = json!(err);
             o["first_speedup"] = json!(r.total() / first.total());
         }
-        shadows.insert(r.shadows.name().to_string(), o);
+        shadows.insert(r.name(), o);
     }
-    let levels: Vec<Value> = first.table.as_ref().map_or(Vec::new(), |table| {
+    let vs = |r: &Run| lgh_image::compare(&first.image, &r.image).map(|e| e.rel_rmse);
+    let uncached = |s: Shadows| runs.iter().find(|r| r.shadows == s && r.cache.is_none());
+    let exact = uncached(Shadows::RayMarch).expect("always rendered");
+    let maps = runs.iter().find_map(|r| r.table.as_ref());
+    let levels: Vec<Value> = maps.map_or(Vec::new(), |table| {
         table
             .iter()
             .map(|l| {
@@ -180,21 +203,34 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
         "hierarchy_seconds": scene.lights_seconds,
         "lights_per_level": lights_per_level,
         "shadows": shadows,
-        "first": first.shadows.name(),
+        "first": first.name(),
+        "exact": { "seconds": exact.total() },
+        "speedup_vs_exact": exact.total() / first.total(),
+        "rel_rmse_vs_exact": vs(exact),
+        "core_seconds": first.total() * rayon::current_num_threads() as f64,
+        "lighting_cache": first.cache.map(|c| json!({
+            "vertices": c.vertices,
+            "seconds": c.cpu_seconds,
+            "rel_rmse_vs_uncached": uncached(first.shadows).and_then(vs),
+        })),
         "cube_maps": levels,
-        "shadow_bytes": first.table.as_ref().map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
+        "shadow_bytes": maps.map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
         "peak_memory_bytes": peak_memory(),
     })
 }
 
 /// The markdown table: the cube maps per level, then each shadow choice's seconds.
 fn markdown(runs: &[Run]) -> Result<(), crate::Error> {
-    let first = &runs[0];
     {
         say!("");
         say!("| level | lights | cube-map bytes | precompute s |");
         say!("|---|---|---|---|");
-        for l in first.table.iter().flatten() {
+        for l in runs
+            .iter()
+            .find_map(|r| r.table.as_ref())
+            .into_iter()
+            .flatten()
+        {
             say!(
                 "| S{} | {} | {:.1} MB | {:.2} |",
                 l.level,
@@ -206,7 +242,7 @@ fn markdown(runs: &[Run]) -> Result<(), crate::Error> {
         for r in runs {
             say!(
                 "| {} | | precompute {:.1} s | render {:.1} s |",
-                r.shadows.name(),
+                r.name(),
                 r.precompute,
                 r.render
             );

@@ -1,7 +1,8 @@
 //! `lgh demo`: renders the embedded procedural explosion ([`lgh_volume::procedural::explosion`]:
 //! a billowing fireball in a shell of soot), lit by its own hot voxels through the lighting grid
-//! hierarchy with the paper's deep-shadow cube maps (`--shadows raymarch` for the exact
-//! reference), to a linear EXR and a filmic tone-mapped PNG beside it.
+//! hierarchy, shadows ray-marched through the lighting cache (`--lighting-cache none` for the
+//! exact image, `--shadows cubemap` for the paper's deep-shadow cube maps), to a linear EXR and
+//! a filmic tone-mapped PNG beside it.
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
-use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
+use lgh_volume::lighting_cache::{CacheMode, CacheSpacing, LightingCacheSettings};
 use lgh_volume::render::{Camera, MarchSettings, RenderStats};
 use lgh_volume::scattering::{self, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
@@ -63,6 +63,25 @@ impl From<CacheArg> for CacheMode {
     }
 }
 
+/// `--cache-spacing`: `auto` or a number of voxels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpacingArg {
+    /// By optical depth (`--cache-depth`).
+    Auto,
+    /// Voxels apart.
+    Voxels(f32),
+}
+
+/// `auto` or a number of voxels.
+fn parse_spacing(s: &str) -> Result<SpacingArg, String> {
+    if s == "auto" {
+        return Ok(SpacingArg::Auto);
+    }
+    s.parse::<f32>()
+        .map(SpacingArg::Voxels)
+        .map_err(|_| format!("expected auto or a number of voxels, not '{s}'"))
+}
+
 /// The ray marcher's options, shared by the render commands.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MarchArgs {
@@ -71,10 +90,11 @@ pub struct MarchArgs {
     /// coarser levels). On the demo 3e-4 renders 1.7x faster and changes the image by 0.16%
     #[arg(long, default_value_t = 0.0)]
     pub prune: f32,
-    /// Shadows of the lights: the paper's precomputed deep-shadow cube maps, shadow rays marched
-    /// to every light (the exact reference), or none. Brute force has no hierarchy to make
-    /// cube maps for: it ray-marches.
-    #[arg(long, value_enum, default_value_t = ShadowsArg::CubeMap)]
+    /// Shadows of the lights: shadow rays marched to every light (exact; with the lighting cache,
+    /// the default, marched from its vertices for the levels it holds), the paper's precomputed
+    /// deep-shadow cube maps, or none. Brute force has no hierarchy to make cube maps for: it
+    /// ray-marches.
+    #[arg(long, value_enum, default_value_t = ShadowsArg::RayMarch)]
     pub shadows: ShadowsArg,
     /// Memory the cube maps may take, in GB (maps that would need more are refused before any
     /// work) [default: 8 GiB, or 3/4 of the available memory if less]
@@ -101,14 +121,20 @@ pub struct MarchArgs {
     #[arg(long)]
     pub shadow_step: Option<f32>,
     /// Lighting cache for the hierarchy's coarse levels: their in-scattered light computed once
-    /// per frame at grid vertices over the smoke and interpolated, the finest level shaded at
-    /// every sample. Other methods than the hierarchy shade every sample.
-    #[arg(long, value_enum, default_value_t = CacheArg::None)]
+    /// per frame at grid vertices over the smoke and interpolated along each vertex's shadow
+    /// gradient, the finest level shaded at every sample (`none`: every light at every sample,
+    /// the exact image). Other methods than the hierarchy shade every sample.
+    #[arg(long, value_enum, default_value_t = CacheArg::Coarse)]
     pub lighting_cache: CacheArg,
-    /// Distance between the lighting cache's vertices, in voxels (0.25 to 16; 1: the voxel
+    /// Distance between the lighting cache's vertices: `auto` (cells of --cache-depth optical
+    /// depth across the densest smoke, 0.25 to 4 voxels) or voxels (0.25 to 16; 1: the voxel
     /// centres).
+    #[arg(long, default_value = "auto", value_parser = parse_spacing)]
+    pub cache_spacing: SpacingArg,
+    /// With --cache-spacing auto: the optical depth across a cell of the densest smoke (the 99th
+    /// percentile of its density); the interpolation's error grows with it.
     #[arg(long, default_value_t = 1.0)]
-    pub cache_spacing: f32,
+    pub cache_depth: f32,
     /// The first level of the hierarchy the lighting cache holds (finer levels are shaded at
     /// every sample).
     #[arg(long, default_value_t = 1)]
@@ -166,7 +192,10 @@ impl MarchArgs {
             },
             lighting_cache: LightingCacheSettings {
                 mode: self.lighting_cache.into(),
-                spacing_voxels: self.cache_spacing,
+                spacing: match self.cache_spacing {
+                    SpacingArg::Voxels(voxels) => CacheSpacing::Voxels(voxels),
+                    SpacingArg::Auto => CacheSpacing::OpticalDepth(self.cache_depth),
+                },
                 first_level: self.cache_level,
             },
             ..Default::default()
@@ -221,10 +250,7 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
     if let Some(c) = frame.lighting_cache() {
         let stats = c.stats();
         out.push(("lighting_cache", c.settings().mode.name().to_string()));
-        out.push((
-            "lighting_cache_spacing",
-            c.settings().spacing_voxels.to_string(),
-        ));
+        out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
         out.push(("lighting_cache_vertices", stats.vertices.to_string()));
     }
@@ -274,9 +300,9 @@ pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
     };
     let (s, settings) = (c.stats(), c.settings());
     say!(
-        "  cache      levels {}.. at {} voxel spacing: {} vertices, {:.1} CPU-s, {:.1} lights each",
+        "  cache      levels {}.. at {:.3} voxel spacing: {} vertices, {:.1} CPU-s, {:.1} lights each",
         settings.first_level,
-        settings.spacing_voxels,
+        c.spacing_voxels(),
         s.vertices,
         s.cpu_seconds,
         s.lights_evaluated as f64 / s.vertices.max(1) as f64

@@ -8,8 +8,8 @@
 //! sum vary over `h_ℓ`, not over a voxel: the hierarchy makes the coarse part smooth by
 //! construction. Its shadows `V` do vary at the voxel scale near the shading point, where the
 //! smoke does — so the vertices sit on the voxel centres by default
-//! ([`LightingCacheSettings::spacing_voxels`]), the lattice the density itself is interpolated
-//! on.
+//! (the lattice the density itself is interpolated on) or closer, where the smoke is so dense
+//! that a voxel's optical depth passes 1 ([`CacheSpacing`]).
 //!
 //! **How it is interpolated.** Trilinear interpolation of `L` leaks light into smoke: across a
 //! voxel of dense soot the light falls like `e^{−σ_t d}`, and a chord of an exponential lies above
@@ -78,35 +78,56 @@ impl CacheMode {
     }
 }
 
+/// The distance between the cache's vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CacheSpacing {
+    /// The distance across which the densest smoke (the 99th percentile of the density over
+    /// the voxels with smoke) has this optical depth, or the next shorter of `1/k` or `k` voxels
+    /// (on the density's lattice), between [`MIN_SPACING`] and [`MAX_SPACING`] voxels. The interpolation's error follows the optical depth of a cell,
+    /// not its size in voxels: the demo's explosion at 128³ has 0.95 a voxel and errs by 1.8%
+    /// at voxel spacing, at 64³ 1.9 a voxel and 5.3%, at 64³ with half-voxel spacing 1.9%.
+    OpticalDepth(f32),
+    /// A fixed distance, in voxels (1: the voxel centres).
+    Voxels(f32),
+}
+
+/// The closest the vertices of an automatic spacing come, in voxels.
+pub const MIN_SPACING: f32 = 0.25;
+/// The farthest apart the vertices of an automatic spacing are, in voxels.
+pub const MAX_SPACING: f32 = 4.0;
+
 /// How the lighting cache is laid out.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightingCacheSettings {
     /// Cached or not.
     pub mode: CacheMode,
-    /// Distance between the cache's vertices, in voxels (1: the voxel centres).
-    pub spacing_voxels: f32,
+    /// Distance between the cache's vertices.
+    pub spacing: CacheSpacing,
     /// The first level cached: levels below it are shaded at every sample.
     pub first_level: u8,
 }
 
 impl Default for LightingCacheSettings {
+    /// No cache; when on, cells of optical depth 1 across the densest smoke, levels ≥ 1.
     fn default() -> Self {
         LightingCacheSettings {
             mode: CacheMode::None,
-            spacing_voxels: 1.0,
+            spacing: CacheSpacing::OpticalDepth(1.0),
             first_level: 1,
         }
     }
 }
 
 impl LightingCacheSettings {
-    /// The coarse cache with the default layout (vertices on the voxel centres, levels ≥ 1).
+    /// The coarse cache with the default layout (cells of optical depth 1 across the densest
+    /// smoke, levels ≥ 1).
     ///
     /// ```
-    /// use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
+    /// use lgh_volume::lighting_cache::{CacheMode, CacheSpacing, LightingCacheSettings};
     ///
     /// let cache = LightingCacheSettings::coarse();
-    /// assert_eq!((cache.mode, cache.spacing_voxels, cache.first_level), (CacheMode::Coarse, 1.0, 1));
+    /// assert_eq!(cache.mode, CacheMode::Coarse);
+    /// assert_eq!((cache.spacing, cache.first_level), (CacheSpacing::OpticalDepth(1.0), 1));
     /// ```
     #[must_use]
     pub fn coarse() -> Self {
@@ -116,25 +137,34 @@ impl LightingCacheSettings {
         }
     }
 
-    /// Checks the layout before any work: a spacing of 0.25 to 16 voxels, a first level of at
-    /// most 21 (a level above the hierarchy's top caches nothing).
+    /// Checks the layout before any work: a fixed spacing of 0.25 to 16 voxels, an optical
+    /// depth a cell of 0.01 to 100, a first level of at most 21 (a level above the hierarchy's
+    /// top caches nothing).
     ///
     /// ```
-    /// use lgh_volume::lighting_cache::LightingCacheSettings;
+    /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCacheSettings};
     ///
-    /// let zero = LightingCacheSettings { spacing_voxels: 0.0, ..LightingCacheSettings::coarse() };
+    /// let zero = LightingCacheSettings { spacing: CacheSpacing::Voxels(0.0), ..LightingCacheSettings::coarse() };
     /// assert_eq!(
     ///     zero.check().unwrap_err().to_string(),
     ///     "lighting cache: spacing 0 must be 0.25 to 16 voxels"
     /// );
     /// ```
     pub fn check(&self) -> Result<(), RenderError> {
-        check_setting(
-            (0.25..=16.0).contains(&self.spacing_voxels),
-            "lighting cache: spacing",
-            self.spacing_voxels,
-            "must be 0.25 to 16 voxels",
-        )?;
+        match self.spacing {
+            CacheSpacing::Voxels(v) => check_setting(
+                (0.25..=16.0).contains(&v),
+                "lighting cache: spacing",
+                v,
+                "must be 0.25 to 16 voxels",
+            )?,
+            CacheSpacing::OpticalDepth(t) => check_setting(
+                (0.01..=100.0).contains(&t),
+                "lighting cache: optical depth a cell",
+                t,
+                "must be 0.01 to 100",
+            )?,
+        };
         check_setting(
             self.first_level <= lgh_core::MAX_LEVEL,
             "lighting cache: first level",
@@ -176,6 +206,8 @@ pub struct LightingCache {
     filled: Vec<OnceLock<Box<[Vertex]>>>,
     /// `σ_t` per unit density.
     kappa: f32,
+    /// The spacing in voxels.
+    voxels: f32,
     vertices: AtomicU64,
     nanos: AtomicU64,
     lights_evaluated: AtomicU64,
@@ -183,17 +215,23 @@ pub struct LightingCache {
 }
 
 impl LightingCache {
-    /// An empty cache over `density`'s box with `settings` (checked): vertices from the first
-    /// voxel centre to (at least) the last, `settings.spacing_voxels` voxels apart.
+    /// An empty cache over `density`'s box in `medium` with `settings` (checked): vertices
+    /// from the first voxel centre to (at least) the last, [`spacing_voxels`](Self::spacing_voxels)
+    /// apart.
     ///
     /// ```
-    /// use lgh_volume::lighting_cache::{LightingCache, LightingCacheSettings};
-    /// use lgh_volume::procedural;
+    /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCache, LightingCacheSettings};
+    /// use lgh_volume::{explosion, Medium};
     ///
-    /// let volume = procedural(32, 0.5)?;
-    /// let cache = LightingCache::new(&volume.density, &LightingCacheSettings::coarse())?;
+    /// let volume = explosion(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let voxels = LightingCacheSettings { spacing: CacheSpacing::Voxels(1.0), ..LightingCacheSettings::coarse() };
+    /// let cache = LightingCache::new(&volume.density, &medium, &voxels)?;
     /// assert_eq!(cache.dims(), [32; 3]);
     /// assert_eq!(cache.stats().vertices, 0); // nothing computed before it is sampled
+    /// // By optical depth: this coarse explosion's soot is 3.8 deep a voxel, so a quarter voxel.
+    /// let auto = LightingCache::new(&volume.density, &medium, &LightingCacheSettings::coarse())?;
+    /// assert!(auto.spacing_voxels() < 0.3);
     /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     pub fn new(
@@ -202,9 +240,17 @@ impl LightingCache {
         settings: &LightingCacheSettings,
     ) -> Result<Self, RenderError> {
         settings.check()?;
-        let spacing = density.voxel_size * settings.spacing_voxels;
+        let kappa = medium.extinction(1.0);
+        let voxels = match settings.spacing {
+            CacheSpacing::Voxels(v) => v,
+            CacheSpacing::OpticalDepth(t) => {
+                let depth = kappa * dense_smoke(density) * density.voxel_size;
+                aligned(if depth > 0.0 { t / depth } else { MAX_SPACING })
+            }
+        };
+        let spacing = density.voxel_size * voxels;
         let dims = density.dims.map(|n| {
-            let span = n.saturating_sub(1) as f32 / settings.spacing_voxels;
+            let span = n.saturating_sub(1) as f32 / voxels;
             span.ceil() as usize + 1
         });
         let bricks = dims.map(|n| n.div_ceil(BRICK));
@@ -217,7 +263,8 @@ impl LightingCache {
             dims,
             bricks,
             filled: (0..count).map(|_| OnceLock::new()).collect(),
-            kappa: medium.extinction(1.0),
+            kappa,
+            voxels,
             vertices: AtomicU64::new(0),
             nanos: AtomicU64::new(0),
             lights_evaluated: AtomicU64::new(0),
@@ -229,6 +276,12 @@ impl LightingCache {
     #[must_use]
     pub fn dims(&self) -> [usize; 3] {
         self.dims
+    }
+
+    /// The distance between vertices, in voxels (chosen by optical depth, or as set).
+    #[must_use]
+    pub fn spacing_voxels(&self) -> f32 {
+        self.voxels
     }
 
     /// The layout.
@@ -362,6 +415,32 @@ impl LightingCache {
             .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
         Ok((values, count, stats))
     }
+}
+
+/// The largest spacing of at most `voxels` voxels that keeps the vertices on the voxel
+/// centres' lattice — `1/k` or `k` voxels — between [`MIN_SPACING`] and [`MAX_SPACING`]: off
+/// the density's own lattice the interpolation errs more (the demo's explosion: 2.17% at 1.058
+/// voxels against 1.82% at 1).
+#[must_use]
+fn aligned(voxels: f32) -> f32 {
+    let v = voxels.clamp(MIN_SPACING, MAX_SPACING);
+    if v >= 1.0 {
+        v.floor()
+    } else {
+        1.0 / (1.0 / v).ceil()
+    }
+}
+
+/// The 99th percentile of `density` over its voxels with smoke (0 without smoke): the densest
+/// smoke, give or take a few outlying voxels.
+#[must_use]
+fn dense_smoke(density: &DenseGrid) -> f32 {
+    let mut smoke: Vec<f32> = density.data.iter().copied().filter(|&d| d > 0.0).collect();
+    if smoke.is_empty() {
+        return 0.0;
+    }
+    let k = (smoke.len() - 1) * 99 / 100;
+    *smoke.select_nth_unstable_by(k, f32::total_cmp).1
 }
 
 /// What the cache holds at a vertex.

@@ -3,7 +3,7 @@
 //! interpolation of the cached levels' light between the cache's vertices.
 
 use lgh_image::Image;
-use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
+use lgh_volume::lighting_cache::{CacheMode, CacheSpacing, LightingCacheSettings};
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Shadows};
 use lgh_volume::{ExplosionLights, FrameRender, Method, RenderError};
@@ -41,7 +41,7 @@ fn render(
 fn spaced(spacing_voxels: f32, first_level: u8) -> Option<LightingCacheSettings> {
     Some(LightingCacheSettings {
         mode: CacheMode::Coarse,
-        spacing_voxels,
+        spacing: CacheSpacing::Voxels(spacing_voxels),
         first_level,
     })
 }
