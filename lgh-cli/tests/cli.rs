@@ -306,7 +306,9 @@ fn demo_marches_the_cube_maps_model() {
     let dir = tempfile::tempdir().unwrap();
     let render = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let o = small_demo(&out, (16, 9), extra);
+        let mut args = vec!["--lighting-cache", "none"];
+        args.extend_from_slice(extra);
+        let o = small_demo(&out, (16, 9), &args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         out
     };
@@ -351,7 +353,7 @@ fn bench_table1_prints_the_rows_and_the_settings() {
             "--height",
             "9",
             "--compare",
-            "none",
+            "cubemap,none",
             "--prune",
             prune,
         ])
@@ -360,8 +362,25 @@ fn bench_table1_prints_the_rows_and_the_settings() {
     assert_eq!(all["prune"], 0.0);
     assert!((pruned["prune"].as_f64().unwrap() - 1e-3).abs() < 1e-9);
     for t in [&all, &pruned] {
-        assert!(t["shadows"]["cubemap"].is_object() && t["shadows"]["none"].is_object());
+        // The default path first (ray-marched shadows through the lighting cache), then each
+        // comparison without the cache, the exact image (ray-marched) always among them.
+        assert_eq!(t["first"], "raymarch_cached");
+        for k in ["raymarch_cached", "cubemap", "none", "raymarch"] {
+            assert!(t["shadows"][k].is_object(), "{k}: {t}");
+        }
         assert!(t["cube_maps"].as_array().unwrap().len() > 1);
+        let exact = t["exact"]["seconds"].as_f64().unwrap();
+        let first = t["shadows"]["raymarch_cached"]["total_seconds"]
+            .as_f64()
+            .unwrap();
+        let speedup = t["speedup_vs_exact"].as_f64().unwrap();
+        assert!((speedup - exact / first).abs() < 1e-9 * speedup, "{t}");
+        let err = t["rel_rmse_vs_exact"].as_f64().unwrap();
+        assert!(err > 0.0 && err < 1.0, "{t}");
+        let cache = &t["lighting_cache"];
+        assert!(cache["vertices"].as_u64().unwrap() > 0, "{t}");
+        assert!(cache["seconds"].as_f64().unwrap() > 0.0, "{t}");
+        assert_eq!(cache["rel_rmse_vs_uncached"], t["rel_rmse_vs_exact"]);
     }
     let level0 = |t: &serde_json::Value| t["cube_maps"][0]["lights"].as_u64().unwrap();
     assert!(
@@ -389,7 +408,24 @@ fn demo_renders_an_exr_and_a_png() {
     assert_eq!(get("lgh:backend"), "lgh");
     assert_eq!(get("lgh:alpha"), "2");
     assert_eq!(get("lgh:prune"), "0");
-    // The paper's deep-shadow cube maps by default, with their bytes and precompute time.
+    // Ray-marched shadows through the lighting cache by default, with its layout and size.
+    assert_eq!(get("lgh:shadows"), "raymarch");
+    assert_eq!(get("lgh:lighting_cache"), "coarse");
+    assert_eq!(get("lgh:lighting_cache_level"), "1");
+    // The 32³ explosion's soot is 3.8 optical depths a voxel: a quarter-voxel spacing.
+    assert_eq!(get("lgh:lighting_cache_spacing"), "0.25");
+    assert!(get("lgh:lighting_cache_vertices").parse::<u64>().unwrap() > 0);
+    assert!(text.contains("cache      levels 1.."), "{text}");
+    // The paper's deep-shadow cube maps, with their bytes and precompute time.
+    let maps = dir.path().join("maps.exr");
+    let o = small_demo(
+        &maps,
+        (24, 16),
+        &["--shadows", "cubemap", "--lighting-cache", "none"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let get = header(&maps);
     assert_eq!(get("lgh:shadows"), "cubemap");
     assert!(get("lgh:shadow_bytes").parse::<u64>().unwrap() > 0);
     assert_eq!(get("lgh:shadow_depths"), "4");
@@ -419,14 +455,22 @@ fn demo_renders_an_exr_and_a_png() {
         (vec!["demo", "--step", "nan"], "step NaN"),
         // Cube maps that would not fit the memory allowed them: refused before any tracing.
         (
-            vec!["demo", "--alpha", "64"],
+            vec!["demo", "--shadows", "cubemap", "--alpha", "64"],
             "cube maps at alpha 64 would need",
         ),
-        (vec!["demo", "--shadow-memory", "0.001"], "cube maps"),
         (
-            vec!["demo", "--shadow-depths", "17"],
+            vec!["demo", "--shadows", "cubemap", "--shadow-memory", "0.001"],
+            "cube maps",
+        ),
+        (
+            vec!["demo", "--shadows", "cubemap", "--shadow-depths", "17"],
             "depths per texel 17 must be 2 to 16",
         ),
+        // A lighting cache laid out wrongly.
+        (vec!["demo", "--cache-spacing", "0"], "spacing 0"),
+        (vec!["demo", "--cache-spacing", "wide"], "--cache-spacing"),
+        (vec!["demo", "--cache-depth", "0"], "optical depth a cell 0"),
+        (vec!["demo", "--cache-level", "22"], "first level 22"),
         (vec!["demo", "--shadow-memory", "0"], "--shadow-memory 0"),
         (vec!["demo", "--prune", "1"], "--prune 1 must be a fraction"),
         (
@@ -1283,6 +1327,21 @@ fn bench_explosion_reports_each_shadow_choice() {
     );
     let err = s["cubemap_rel_rmse_vs_raymarch"].as_f64().unwrap();
     assert!(err > 0.0 && err < 1.0, "{s}");
+    // The default path (ray-marched shadows through the lighting cache) against the exact
+    // image: its speed-up, its error and the cache's size.
+    assert!(s["raymarch_cached"]["render_seconds"].as_f64().unwrap() > 0.0);
+    assert_eq!(row["exact"]["seconds"].as_f64().unwrap(), total("raymarch"));
+    let speedup = row["speedup_vs_exact"].as_f64().unwrap();
+    assert!(
+        (speedup - total("raymarch") / total("raymarch_cached")).abs() < 1e-9 * speedup,
+        "{row}"
+    );
+    let err = row["rel_rmse_vs_exact"].as_f64().unwrap();
+    assert!(err > 0.0 && err < 1.0, "{row}");
+    assert!(
+        row["lighting_cache"]["vertices"].as_u64().unwrap() > 0,
+        "{row}"
+    );
     let dir = tempfile::tempdir().unwrap();
     assert_refused(
         dir.path(),
