@@ -468,7 +468,6 @@ fn demo_renders_an_exr_and_a_png() {
         ),
         // A lighting cache laid out wrongly.
         (vec!["demo", "--cache-spacing", "0"], "spacing 0"),
-        (vec!["demo", "--cache-spacing", "wide"], "--cache-spacing"),
         (vec!["demo", "--cache-depth", "0"], "optical depth a cell 0"),
         (vec!["demo", "--cache-level", "22"], "first level 22"),
         (vec!["demo", "--shadow-memory", "0"], "--shadow-memory 0"),
@@ -480,6 +479,10 @@ fn demo_renders_an_exr_and_a_png() {
     ] {
         assert_refused(work.path(), &bad, names);
     }
+    // A spacing that is neither `auto` nor a number: clap's usage error, which names it.
+    let o = lgh(&["demo", "--cache-spacing", "wide", "--out", "x.exr"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("expected auto or a number of voxels"), "{err}");
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
 }
 
