@@ -14,7 +14,9 @@ use std::time::Instant;
 use lgh_core::{Clustering, LightPosition, LightcutsSettings, Representative};
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames, Placement};
-use lgh_volume::lighting_cache::LightingCacheSettings;
+use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
+
+use crate::output::CacheArgs;
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::shadow::CoarseShadows;
@@ -27,6 +29,9 @@ use serde_json::{json, Value};
 /// Arguments of `lgh bench flicker`.
 #[derive(Debug, clap::Args)]
 pub struct FlickerArgs {
+    /// The lighting cache of `lgh_cached` (the others have none).
+    #[command(flatten)]
+    pub cache: CacheArgs,
     /// Any frame of an OpenVDB cache, with --frames (Blender's grids and its domain offset).
     #[arg(long, requires = "frames", conflicts_with = "procedural")]
     pub vdb: Option<PathBuf>,
@@ -194,10 +199,13 @@ struct Entry {
 }
 
 impl Entry {
-    /// The march settings of the entry.
-    fn march(&self) -> MarchSettings {
+    /// The march settings of the entry (`cache`, the cache's settings, if it is cached).
+    fn march(&self, cache: &CacheArgs) -> MarchSettings {
         let cache = if self.cached {
-            LightingCacheSettings::coarse()
+            LightingCacheSettings {
+                mode: CacheMode::Coarse,
+                ..cache.settings()
+            }
         } else {
             LightingCacheSettings::default()
         };
@@ -591,7 +599,7 @@ impl Sequence {
                 let start = Instant::now();
                 lights[k].set_frame(frame, &self.medium)?;
                 let method = r.method(entries, t, self.lightcuts.max_cut);
-                let image = self.render(t, &lights[k], method, &e.march())?;
+                let image = self.render(t, &lights[k], method, &e.march(&args.cache))?;
                 out.seconds[k] += start.elapsed().as_secs_f64();
                 out.images[k].push(image);
                 bar.inc(1);

@@ -82,6 +82,44 @@ fn parse_spacing(s: &str) -> Result<SpacingArg, String> {
         .map_err(|_| format!("expected auto or a number of voxels, not '{s}'"))
 }
 
+/// The lighting cache's options, shared by the render commands and `lgh bench flicker`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CacheArgs {
+    /// Lighting cache for the hierarchy's coarse levels: their in-scattered light computed once
+    /// per frame at grid vertices over the smoke and interpolated along each vertex's shadow
+    /// gradient, the finest level shaded at every sample (`none`: every light at every sample,
+    /// the exact image). Other methods than the hierarchy shade every sample.
+    #[arg(long, value_enum, default_value_t = CacheArg::Coarse)]
+    pub lighting_cache: CacheArg,
+    /// Distance between the lighting cache's vertices: `auto` (cells of --cache-depth optical
+    /// depth across the densest smoke, 0.25 to 4 voxels) or voxels (0.25 to 16; 1: the voxel
+    /// centres).
+    #[arg(long, default_value = "auto", value_parser = parse_spacing)]
+    pub cache_spacing: SpacingArg,
+    /// With --cache-spacing auto: the optical depth across a cell of the densest smoke (the 99th
+    /// percentile of its density); the interpolation's error grows with it.
+    #[arg(long, default_value_t = 1.0)]
+    pub cache_depth: f32,
+    /// The first level of the hierarchy the lighting cache holds (finer levels are shaded at
+    /// every sample).
+    #[arg(long, default_value_t = 1)]
+    pub cache_level: u8,
+}
+
+impl CacheArgs {
+    /// The cache's settings (checked with the march's).
+    pub fn settings(&self) -> LightingCacheSettings {
+        LightingCacheSettings {
+            mode: self.lighting_cache.into(),
+            spacing: match self.cache_spacing {
+                SpacingArg::Voxels(voxels) => CacheSpacing::Voxels(voxels),
+                SpacingArg::Auto => CacheSpacing::OpticalDepth(self.cache_depth),
+            },
+            first_level: self.cache_level,
+        }
+    }
+}
+
 /// The ray marcher's options, shared by the render commands.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MarchArgs {
@@ -120,25 +158,8 @@ pub struct MarchArgs {
     /// for lgh demo]
     #[arg(long)]
     pub shadow_step: Option<f32>,
-    /// Lighting cache for the hierarchy's coarse levels: their in-scattered light computed once
-    /// per frame at grid vertices over the smoke and interpolated along each vertex's shadow
-    /// gradient, the finest level shaded at every sample (`none`: every light at every sample,
-    /// the exact image). Other methods than the hierarchy shade every sample.
-    #[arg(long, value_enum, default_value_t = CacheArg::Coarse)]
-    pub lighting_cache: CacheArg,
-    /// Distance between the lighting cache's vertices: `auto` (cells of --cache-depth optical
-    /// depth across the densest smoke, 0.25 to 4 voxels) or voxels (0.25 to 16; 1: the voxel
-    /// centres).
-    #[arg(long, default_value = "auto", value_parser = parse_spacing)]
-    pub cache_spacing: SpacingArg,
-    /// With --cache-spacing auto: the optical depth across a cell of the densest smoke (the 99th
-    /// percentile of its density); the interpolation's error grows with it.
-    #[arg(long, default_value_t = 1.0)]
-    pub cache_depth: f32,
-    /// The first level of the hierarchy the lighting cache holds (finer levels are shaded at
-    /// every sample).
-    #[arg(long, default_value_t = 1)]
-    pub cache_level: u8,
+    #[command(flatten)]
+    pub cache: CacheArgs,
 }
 
 impl MarchArgs {
@@ -190,14 +211,7 @@ impl MarchArgs {
                 depth_count: self.shadow_depths,
                 memory_budget: budget,
             },
-            lighting_cache: LightingCacheSettings {
-                mode: self.lighting_cache.into(),
-                spacing: match self.cache_spacing {
-                    SpacingArg::Voxels(voxels) => CacheSpacing::Voxels(voxels),
-                    SpacingArg::Auto => CacheSpacing::OpticalDepth(self.cache_depth),
-                },
-                first_level: self.cache_level,
-            },
+            lighting_cache: self.cache.settings(),
             ..Default::default()
         };
         settings.check()?;

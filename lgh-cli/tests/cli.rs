@@ -482,7 +482,10 @@ fn demo_renders_an_exr_and_a_png() {
     // A spacing that is neither `auto` nor a number: clap's usage error, which names it.
     let o = lgh(&["demo", "--cache-spacing", "wide", "--out", "x.exr"]);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success() && err.contains("expected auto or a number of voxels"), "{err}");
+    assert!(
+        !o.status.success() && err.contains("expected auto or a number of voxels"),
+        "{err}"
+    );
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
 }
 

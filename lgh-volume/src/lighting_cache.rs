@@ -253,8 +253,8 @@ impl LightingCache {
                 let h = density.voxel_size;
                 let depth = kappa * dense_smoke(density) * h;
                 let by_depth = if depth > 0.0 { t / depth } else { MAX_SPACING };
-                // The first cached level's B_ℓ and fall-off vary over h_ℓ (h_0 = h1 / 2).
-                let level = 0.5 * h1 * 2f32.powi(i32::from(settings.first_level) - 1);
+                // The first cached level's B_ℓ and fall-off vary over h_ℓ = 2^ℓ h1 / 2.
+                let level = 0.5 * h1 * 2f32.powi(i32::from(settings.first_level));
                 aligned(by_depth.min(0.5 * level / h))
             }
         };
