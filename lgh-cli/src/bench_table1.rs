@@ -174,6 +174,7 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
                     "lights": l.lights,
                     "cells": l.cells,
                     "texels": l.texels,
+                    "tiles": l.tiles,
                     "shadow_bytes": l.bytes,
                     "density_samples": l.samples,
                     "precompute_seconds": l.seconds,
@@ -223,8 +224,8 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
 fn markdown(runs: &[Run]) -> Result<(), crate::Error> {
     {
         say!("");
-        say!("| level | lights | cube-map bytes | precompute s |");
-        say!("|---|---|---|---|");
+        say!("| level | lights | tiles | cube-map bytes | precompute s |");
+        say!("|---|---|---|---|---|");
         for l in runs
             .iter()
             .find_map(|r| r.table.as_ref())
@@ -232,16 +233,17 @@ fn markdown(runs: &[Run]) -> Result<(), crate::Error> {
             .flatten()
         {
             say!(
-                "| S{} | {} | {:.1} MB | {:.2} |",
+                "| S{} | {} | {} | {:.1} MB | {:.2} |",
                 l.level,
                 l.lights,
+                l.tiles,
                 l.bytes as f64 / 1e6,
                 l.seconds
             );
         }
         for r in runs {
             say!(
-                "| {} | | precompute {:.1} s | render {:.1} s |",
+                "| {} | | | precompute {:.1} s | render {:.1} s |",
                 r.name(),
                 r.precompute,
                 r.render

@@ -414,11 +414,12 @@ pub fn say_cube_maps(table: &[LevelMaps], bytes: u64, seconds: f64) -> Result<()
     );
     for l in table {
         say!(
-            "    level {:>2}: {:>7} lights, up to {:>4} cells per face side, {:>10} texels, depths to {:.3}, {:>9.2} MB, {:>6.1}M samples, {:.2} s",
+            "    level {:>2}: {:>7} lights, up to {:>4} cells per face side, {:>10} texels in {:>6} tiles, depths to {:.3}, {:>9.2} MB, {:>6.1}M samples, {:.2} s",
             l.level,
             l.lights,
             l.cells,
             l.texels,
+            l.tiles,
             l.reach,
             l.bytes as f64 / 1e6,
             l.samples as f64 / 1e6,

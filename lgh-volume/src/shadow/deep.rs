@@ -35,8 +35,9 @@
 //! cannot place that rise: 8.65% relative RMSE of the image against the same model marched
 //! (`super::volume_rays`), 2.76% with eight depths, 1.67% with twelve (`docs/shadows.md`).
 //!
-//! The maps are traced in parallel (rayon), one light at a time, each into its own slice: the
-//! result does not depend on the thread count. Nothing is allocated per texel.
+//! The maps are traced in parallel (rayon) in tiles of texel rows, each into its own slice, so
+//! that a level of few lights with large maps keeps every core busy: the result does not
+//! depend on the thread count. Nothing is allocated per texel.
 
 use std::time::Instant;
 
@@ -112,6 +113,9 @@ pub struct LevelMaps {
     pub cells: u32,
     /// Texels of all the level's maps.
     pub texels: u64,
+    /// Tiles the level's tracing is split into, the items traced in parallel (whole small
+    /// maps, or runs of texel rows of at most 1,024 texels).
+    pub tiles: u64,
     /// Distance of the last stored depth `D`.
     pub reach: f32,
     /// Bytes of the level's maps and index.
@@ -259,11 +263,13 @@ impl CubeMaps {
                 })
                 .collect();
             let texels: u64 = planned.iter().map(|m| cube::texels(m.cells) as u64).sum();
+            let tiles: u64 = planned.iter().map(|m| tile_count(m.cells) as u64).sum();
             levels.push(LevelMaps {
                 level,
                 lights: planned.len(),
                 cells,
                 texels,
+                tiles,
                 reach,
                 bytes: texels * 2 * settings.depth_count as u64
                     + hierarchy.level(level).len() as u64 * 8,
@@ -483,6 +489,45 @@ impl<'t> TexelSlicer<'t> {
     }
 }
 
+/// Texels a [`Tile`] holds at most, unless one texel row of its map is longer: small enough that
+/// the demo's levels of a few large maps make thousands of tiles (a 64-core node kept busy),
+/// large enough that a tile's setup is nothing beside its rays.
+const TILE_TEXELS: usize = 1024;
+
+/// A run of consecutive texels of one light's map: the unit of parallel tracing.
+struct Tile<'t> {
+    /// The run's depths.
+    texels: &'t mut [u16],
+    /// Index in the map of its first texel.
+    first: usize,
+    /// The light whose map it is.
+    light: Planned,
+}
+
+/// Texel rows a tile of a map with `cells` per face side holds.
+fn tile_rows(cells: u32) -> usize {
+    (TILE_TEXELS / cube::side(cells)).max(1)
+}
+
+/// Tiles of a map with `cells` per face side ([`tiles_of`]).
+fn tile_count(cells: u32) -> usize {
+    (6 * cube::side(cells)).div_ceil(tile_rows(cells))
+}
+
+/// `map` (of light `m`, `depths` values a texel) as tiles of whole texel rows, at most
+/// [`TILE_TEXELS`] texels each (one row if a row is longer); a small map is one tile.
+fn tiles_of(map: &mut [u16], m: Planned, depths: usize) -> impl Iterator<Item = Tile<'_>> {
+    let side = cube::side(m.cells);
+    let rows = tile_rows(m.cells);
+    map.chunks_mut(rows * side * depths)
+        .enumerate()
+        .map(move |(k, texels)| Tile {
+            texels,
+            first: k * rows * side,
+            light: m,
+        })
+}
+
 /// What tracing a texel ray needs.
 pub(super) struct Tracer<'a> {
     pub(super) pyramid: &'a DensityPyramid,
@@ -539,8 +584,11 @@ impl Tracer<'_> {
 
     /// Traces a level's maps, the `jobs` of [`TexelSlicer::level`], for its blending radius `r`
     /// and depths to `reach`; returns the density samples taken. Batches of about a million
-    /// texels, so that `progress(n)` is reported as the work goes (the maps of a batch are
-    /// traced in parallel; each map depends only on its light).
+    /// texels, so that `progress(n)` is reported as the work goes; within a batch the work is
+    /// split into [`Tile`]s of about [`TILE_TEXELS`] texels — whole maps, or runs of texel rows
+    /// of one map — traced in parallel: a level of 27 lights with 444-cell faces keeps every core
+    /// busy, and each texel depends only on its light and direction, so the maps are the same
+    /// whatever the thread count.
     fn trace_level(
         &self,
         jobs: Vec<(&mut [u16], Planned)>,
@@ -551,48 +599,76 @@ impl Tracer<'_> {
         let mut samples = 0u64;
         let mut jobs = jobs.into_iter().peekable();
         while jobs.peek().is_some() {
-            let mut batch = Vec::new();
-            let mut size = 0;
-            while let Some(job) = jobs.next_if(|_| size < 1 << 20) {
-                size += job.0.len();
-                batch.push(job);
+            let mut tiles = Vec::new();
+            let (mut size, mut maps) = (0, 0);
+            while let Some((map, m)) = jobs.next_if(|_| size < 1 << 20) {
+                size += map.len();
+                maps += 1;
+                tiles.extend(tiles_of(map, m, self.n));
             }
-            let n = batch.len();
-            samples += batch
+            samples += tiles
                 .into_par_iter()
-                .map(|(map, m)| self.trace_map(map, m.centre, m.size, r, reach, m.cells))
+                .map(|tile| self.trace_tile(tile, r, reach))
                 .sum::<u64>();
-            progress(n);
+            progress(maps);
         }
         samples
     }
 
     /// Traces the map of the light at `p` of size `s`, blending radius `r`, depths to `reach`;
     /// returns the density samples taken.
+    #[cfg(test)]
     fn trace_map(&self, map: &mut [u16], p: Vec3, s: f32, r: f32, reach: f32, cells: u32) -> u64 {
+        let light = Planned {
+            index: 0,
+            centre: p,
+            size: s,
+            cells,
+        };
+        self.trace_tile(
+            Tile {
+                texels: map,
+                first: 0,
+                light,
+            },
+            r,
+            reach,
+        )
+    }
+
+    /// Traces `tile`'s texels of its light's map (blending radius `r`, depths to `reach`);
+    /// returns the density samples taken.
+    fn trace_tile(&self, tile: Tile<'_>, r: f32, reach: f32) -> u64 {
+        let Tile {
+            texels: map,
+            first,
+            light,
+        } = tile;
+        let (p, s, cells) = (light.centre, light.size, light.cells);
         let side = cube::side(cells);
         let mut samples = 0u64;
-        let texels = 6 * side * side;
+        let count = map.len() / self.n;
         let direction = |t: usize| {
+            let t = first + t;
             let (face, j, i) = (t / (side * side), (t / side) % side, t % side);
             cube::direction(face, i, j, cells).normalize()
         };
         let mut t = 0;
         #[cfg(target_arch = "x86_64")]
         if self.simd {
-            while t < texels {
-                let dirs: [Vec3; 8] = core::array::from_fn(|l| direction((t + l).min(texels - 1)));
+            while t < count {
+                let dirs: [Vec3; 8] = core::array::from_fn(|l| direction((t + l).min(count - 1)));
                 let Some(rays) = avx2::trace8(self, p, &dirs, s, r, reach) else {
                     break;
                 };
-                for (l, (tau, n)) in rays.into_iter().enumerate().take(texels - t) {
+                for (l, (tau, n)) in rays.into_iter().enumerate().take(count - t) {
                     samples += u64::from(n);
                     quantise(&tau[..self.n], self.texel(map, t + l));
                 }
                 t += 8;
             }
         }
-        for t in t..texels {
+        for t in t..count {
             let (tau, n) = self.trace(p, direction(t), s, r, reach);
             samples += u64::from(n);
             quantise(&tau[..self.n], self.texel(map, t));
@@ -1163,6 +1239,49 @@ mod tests {
             }
         }
         assert!(compared > 1000, "{compared}");
+    }
+
+    #[test]
+    fn a_map_traced_in_tiles_is_the_map_traced_whole() {
+        // Maps large enough to be cut (a face side of 65 and 129 texels: 15 and 7 rows a
+        // tile) and one smaller than a tile; tiles of rows traced apart, eight texels abreast
+        // from each tile's first, give the whole map's bits, and as many tiles as planned.
+        let v = blobs(
+            30,
+            Vec3::new(0.3, 0.2, 0.1),
+            Vec3::new(-0.5, -0.4, 0.0),
+            6.0,
+        );
+        let m = Medium::new(2.0, 1.0, 0.0, 0.0).unwrap();
+        let pyramid = DensityPyramid::new(&v.density, 0.5);
+        let empty = EmptySpace::new(&v.density);
+        let tracer = tracer(
+            &pyramid,
+            &empty,
+            &v,
+            m.extinction(1.0),
+            (true, true, Depths::Fitted),
+        );
+        for cells in [4u32, 64, 128] {
+            let light = Planned {
+                index: 0,
+                centre: Vec3::new(0.1, -0.2, 0.05),
+                size: 0.1,
+                cells,
+            };
+            let (r, n) = (0.5, tracer.n);
+            let mut whole = vec![0u16; cube::texels(cells) * n];
+            tracer.trace_map(&mut whole, light.centre, light.size, r, 2.0 * r, cells);
+            let mut tiled = vec![0u16; whole.len()];
+            let tiles: Vec<Tile> = tiles_of(&mut tiled, light, n).collect();
+            assert_eq!(tiles.len(), tile_count(cells), "{cells} cells");
+            assert!(tiles.iter().all(|t| t.texels.len() <= TILE_TEXELS * n));
+            for tile in tiles {
+                tracer.trace_tile(tile, r, 2.0 * r);
+            }
+            assert_eq!(tiled, whole, "{cells} cells");
+            assert!(whole.iter().any(|&q| q > 0));
+        }
     }
 
     #[test]
