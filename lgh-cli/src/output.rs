@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
-use lgh_volume::lighting_cache::{CacheMode, CacheSpacing, LightingCacheSettings};
+use lgh_volume::lighting_cache::{CacheMode, CacheSpacing, LightingCache, LightingCacheSettings};
 use lgh_volume::render::{Camera, MarchSettings, RenderStats};
 use lgh_volume::scattering::{self, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
@@ -267,6 +267,7 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
         out.push(("lighting_cache_vertices", stats.vertices.to_string()));
+        out.push(("lighting_cache_tiers", tiers(c)));
     }
     let Some(s) = frame.scattered() else {
         out.push(("scatter_depth", "0".to_string()));
@@ -307,16 +308,26 @@ fn fractions(shares: &Shares) -> Vec<f64> {
         .collect()
 }
 
+/// A cache's grids as `first level:spacing in voxels`, comma-separated (`1:1,2:2`).
+fn tiers(c: &LightingCache) -> String {
+    let tiers: Vec<String> = c.tiers().iter().map(|(l, v)| format!("{l}:{v}")).collect();
+    tiers.join(",")
+}
+
 /// The summary line of a frame's lighting cache (nothing without one).
 pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
     let Some(c) = frame.lighting_cache() else {
         return Ok(());
     };
-    let (s, settings) = (c.stats(), c.settings());
+    let s = c.stats();
+    let tiers: Vec<String> = c
+        .tiers()
+        .iter()
+        .map(|(l, v)| format!("levels {l}.. at {v:.3} voxels"))
+        .collect();
     say!(
-        "  cache      levels {}.. at {:.3} voxel spacing: {} vertices, {:.1} CPU-s, {:.1} lights each",
-        settings.first_level,
-        c.spacing_voxels(),
+        "  cache      {}: {} vertices, {:.1} CPU-s, {:.1} lights each",
+        tiers.join(", "),
         s.vertices,
         s.cpu_seconds,
         s.lights_evaluated as f64 / s.vertices.max(1) as f64

@@ -108,7 +108,7 @@ impl<'a> FrameRender<'a> {
             (Prepared::Lgh { .. }, CacheMode::Coarse) => Some(LightingCache::new(
                 &frame.density,
                 medium,
-                rendered.hierarchy().h1(),
+                rendered.hierarchy(),
                 &settings.lighting_cache,
             )?),
             _ => None,

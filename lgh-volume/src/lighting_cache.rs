@@ -9,7 +9,8 @@
 //! construction. Its shadows `V` do vary at the voxel scale near the shading point, where the
 //! smoke does — so the vertices sit on the voxel centres by default
 //! (the lattice the density itself is interpolated on) or closer, where the smoke is so dense
-//! that a voxel's optical depth passes 1 ([`CacheSpacing`]).
+//! that a voxel's optical depth passes 1, and coarser levels on coarser grids where the smoke is
+//! thin ([`CacheSpacing`]).
 //!
 //! **How it is interpolated.** Trilinear interpolation of `L` leaks light into smoke: across a
 //! voxel of dense soot the light falls like `e^{−σ_t d}`, and a chord of an exponential lies above
@@ -44,7 +45,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{LghBackend, QueryError, ISOTROPIC_PHASE};
+use lgh_core::{LghBackend, LightingGridHierarchy, QueryError, ISOTROPIC_PHASE};
 
 use crate::error::{check_setting, RenderError};
 use crate::grid::DenseGrid;
@@ -82,10 +83,11 @@ impl CacheMode {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CacheSpacing {
     /// The distance across which the densest smoke (the 99th percentile of the density over
-    /// the voxels with smoke) has this optical depth, and at most half the first cached level's
-    /// spacing `h_ℓ` (its blending ramp and fall-off vary over `h_ℓ`: a voxel for levels ≥ 1,
-    /// the explosions' `h_1` being two), or the next shorter of `1/k` or `k` voxels (on the
-    /// density's lattice), between [`MIN_SPACING`] and [`MAX_SPACING`] voxels. Without the
+    /// the voxels with smoke) has this optical depth, and for each level at most half its grid
+    /// spacing `h_ℓ` (its blending ramp and fall-off vary over `h_ℓ`: a voxel for level 1, the
+    /// explosions' `h_1` being two, two for level 2, …), or the next shorter of `1/k` or `k`
+    /// voxels (on the density's lattice), between [`MIN_SPACING`] and [`MAX_SPACING`] voxels.
+    /// Levels that get the same spacing share a grid. Without the
     /// second bound the dev fire's thin smoke got 4-voxel cells and flickered 4.5× as much as
     /// the uncached render; at one voxel, 8% less. The interpolation's error follows the optical depth of a cell,
     /// not its size in voxels: the demo's explosion at 128³ has 0.95 a voxel and errs by 1.8%
@@ -192,14 +194,32 @@ pub struct CacheStats {
     pub shadow_samples: u64,
 }
 
-/// The coarse levels' incident light `Σ_{ℓ≥ℓ_c} Σ_i V g B_ℓ I` at the vertices of a grid over a
-/// volume's box, filled brick by brick on demand (see the module docs).
+/// The coarse levels' incident light `Σ_{ℓ≥ℓ_c} Σ_i V g B_ℓ I` at the vertices of grids over a
+/// volume's box — one grid per run of levels that share a spacing — filled brick by brick on
+/// demand (see the module docs).
 #[derive(Debug)]
 pub struct LightingCache {
     settings: LightingCacheSettings,
+    /// The grids, finest (lowest levels) first.
+    tiers: Vec<Lattice>,
+    /// `σ_t` per unit density.
+    kappa: f32,
+    vertices: AtomicU64,
+    nanos: AtomicU64,
+    lights_evaluated: AtomicU64,
+    shadow_samples: AtomicU64,
+}
+
+/// One grid of the cache: the levels it holds and its vertices.
+#[derive(Debug)]
+struct Lattice {
+    /// The levels, `first..=last`.
+    first: u8,
+    last: u8,
     /// World position of vertex (0, 0, 0): the first voxel centre.
     origin: Vec3,
-    /// World distance between vertices, and its inverse.
+    /// The spacing in voxels, in world units, and its inverse.
+    voxels: f32,
     spacing: f32,
     inv_spacing: f32,
     /// Vertices per axis.
@@ -208,56 +228,11 @@ pub struct LightingCache {
     bricks: [usize; 3],
     /// Each brick's [`BRICK`]³ values once filled, x fastest.
     filled: Vec<OnceLock<Box<[Vertex]>>>,
-    /// `σ_t` per unit density.
-    kappa: f32,
-    /// The spacing in voxels.
-    voxels: f32,
-    vertices: AtomicU64,
-    nanos: AtomicU64,
-    lights_evaluated: AtomicU64,
-    shadow_samples: AtomicU64,
 }
 
-impl LightingCache {
-    /// An empty cache over `density`'s box in `medium` with `settings` (checked), for a
-    /// hierarchy of level-1 spacing `h1`: vertices from the first voxel centre to (at least)
-    /// the last, [`spacing_voxels`](Self::spacing_voxels) apart.
-    ///
-    /// ```
-    /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCache, LightingCacheSettings};
-    /// use lgh_volume::{explosion, Medium};
-    ///
-    /// let volume = explosion(32, 0.5)?;
-    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
-    /// let voxels = LightingCacheSettings { spacing: CacheSpacing::Voxels(1.0), ..LightingCacheSettings::coarse() };
-    /// let h1 = 2.0 * volume.density.voxel_size; // the explosions' level-1 spacing
-    /// let cache = LightingCache::new(&volume.density, &medium, h1, &voxels)?;
-    /// assert_eq!(cache.dims(), [32; 3]);
-    /// assert_eq!(cache.stats().vertices, 0); // nothing computed before it is sampled
-    /// // By optical depth: this coarse explosion's soot is 3.8 deep a voxel, so a quarter voxel.
-    /// let auto = LightingCache::new(&volume.density, &medium, h1, &LightingCacheSettings::coarse())?;
-    /// assert!(auto.spacing_voxels() < 0.3);
-    /// # Ok::<(), lgh_volume::RenderError>(())
-    /// ```
-    pub fn new(
-        density: &DenseGrid,
-        medium: &Medium,
-        h1: f32,
-        settings: &LightingCacheSettings,
-    ) -> Result<Self, RenderError> {
-        settings.check()?;
-        let kappa = medium.extinction(1.0);
-        let voxels = match settings.spacing {
-            CacheSpacing::Voxels(v) => v,
-            CacheSpacing::OpticalDepth(t) => {
-                let h = density.voxel_size;
-                let depth = kappa * dense_smoke(density) * h;
-                let by_depth = if depth > 0.0 { t / depth } else { MAX_SPACING };
-                // The first cached level's B_ℓ and fall-off vary over h_ℓ = 2^ℓ h1 / 2.
-                let level = 0.5 * h1 * 2f32.powi(i32::from(settings.first_level));
-                aligned(by_depth.min(0.5 * level / h))
-            }
-        };
+impl Lattice {
+    /// An empty grid of levels `first..=last` over `density`'s box, `voxels` voxels apart.
+    fn new(density: &DenseGrid, voxels: f32, first: u8, last: u8) -> Self {
         let spacing = density.voxel_size * voxels;
         let dims = density.dims.map(|n| {
             let span = n.saturating_sub(1) as f32 / voxels;
@@ -265,16 +240,91 @@ impl LightingCache {
         });
         let bricks = dims.map(|n| n.div_ceil(BRICK));
         let count = bricks.iter().product();
-        Ok(LightingCache {
-            settings: *settings,
+        Lattice {
+            first,
+            last,
             origin: density.centre(0, 0, 0),
+            voxels,
             spacing,
             inv_spacing: 1.0 / spacing,
             dims,
             bricks,
             filled: (0..count).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    /// World position of vertex `v`.
+    fn vertex(&self, v: [usize; 3]) -> Vec3 {
+        self.origin + Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32) * self.spacing
+    }
+}
+
+impl LightingCache {
+    /// An empty cache over `density`'s box in `medium` with `settings` (checked), for the
+    /// levels of `hierarchy` from the settings' first up: each level's spacing is the
+    /// settings' (by optical depth, at most half the level's `h_ℓ`), and the levels that share
+    /// one share a grid of vertices from the first voxel centre to (at least) the last.
+    ///
+    /// ```
+    /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCache, LightingCacheSettings};
+    /// use lgh_volume::{explosion, ExplosionLights, Medium};
+    ///
+    /// let volume = explosion(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let lights = ExplosionLights::new(&[&volume], &medium)?;
+    /// let voxels = LightingCacheSettings { spacing: CacheSpacing::Voxels(1.0), ..LightingCacheSettings::coarse() };
+    /// let cache = LightingCache::new(&volume.density, &medium, lights.hierarchy(), &voxels)?;
+    /// assert_eq!(cache.dims(), [32; 3]);
+    /// assert_eq!(cache.stats().vertices, 0); // nothing computed before it is sampled
+    /// // By optical depth: this coarse explosion's soot is 3.8 deep a voxel, so a quarter voxel
+    /// // for every level.
+    /// let auto = LightingCacheSettings::coarse();
+    /// let auto = LightingCache::new(&volume.density, &medium, lights.hierarchy(), &auto)?;
+    /// assert_eq!(auto.spacing_voxels(), 0.25);
+    /// assert_eq!(auto.tiers().len(), 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(
+        density: &DenseGrid,
+        medium: &Medium,
+        hierarchy: &LightingGridHierarchy,
+        settings: &LightingCacheSettings,
+    ) -> Result<Self, RenderError> {
+        settings.check()?;
+        let kappa = medium.extinction(1.0);
+        let (h, h1) = (density.voxel_size, hierarchy.h1());
+        let by_depth = match settings.spacing {
+            CacheSpacing::Voxels(_) => None,
+            CacheSpacing::OpticalDepth(t) => {
+                let depth = kappa * dense_smoke(density) * h;
+                Some(if depth > 0.0 { t / depth } else { MAX_SPACING })
+            }
+        };
+        // Each level's spacing: fixed, or by optical depth and at most half its h_ℓ (its B_ℓ
+        // and fall-off vary over h_ℓ = 2^ℓ h1 / 2).
+        let spacing = |level: u8| match (settings.spacing, by_depth) {
+            (CacheSpacing::Voxels(v), _) => v,
+            (_, depth) => {
+                let h_level = 0.5 * h1 * 2f32.powi(i32::from(level));
+                aligned(depth.unwrap_or(MAX_SPACING).min(0.5 * h_level / h))
+            }
+        };
+        let mut tiers: Vec<Lattice> = Vec::new();
+        let top = hierarchy.max_level().max(settings.first_level);
+        for level in settings.first_level..=top {
+            let voxels = spacing(level);
+            match tiers.last_mut() {
+                Some(t) if t.voxels == voxels => t.last = level,
+                _ => tiers.push(Lattice::new(density, voxels, level, level)),
+            }
+        }
+        if let Some(t) = tiers.last_mut() {
+            t.last = u8::MAX; // whatever lies above, as the backend's levels do
+        }
+        Ok(LightingCache {
+            settings: *settings,
+            tiers,
             kappa,
-            voxels,
             vertices: AtomicU64::new(0),
             nanos: AtomicU64::new(0),
             lights_evaluated: AtomicU64::new(0),
@@ -282,16 +332,23 @@ impl LightingCache {
         })
     }
 
-    /// Vertices per axis.
+    /// Vertices per axis of the finest grid.
     #[must_use]
     pub fn dims(&self) -> [usize; 3] {
-        self.dims
+        self.tiers[0].dims
     }
 
-    /// The distance between vertices, in voxels (chosen by optical depth, or as set).
+    /// The finest grid's spacing, in voxels (chosen by optical depth, or as set).
     #[must_use]
     pub fn spacing_voxels(&self) -> f32 {
-        self.voxels
+        self.tiers[0].voxels
+    }
+
+    /// Each grid's first level and spacing in voxels, finest first (one grid with a fixed
+    /// spacing; by optical depth, coarser levels may get coarser grids).
+    #[must_use]
+    pub fn tiers(&self) -> Vec<(u8, f32)> {
+        self.tiers.iter().map(|t| (t.first, t.voxels)).collect()
     }
 
     /// The layout.
@@ -311,15 +368,11 @@ impl LightingCache {
         }
     }
 
-    /// World position of vertex `v`.
-    fn vertex(&self, v: [usize; 3]) -> Vec3 {
-        self.origin + Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32) * self.spacing
-    }
-
-    /// The cached levels' incident light at `x`, where the extinction is `sigma_t`: the eight
-    /// vertices around it (the nearest face of the grid beyond its outermost vertices)
-    /// interpolated as the module docs say, their bricks filled with `coarse`'s lights and
-    /// `visibility` first if they are not yet (`density` gives the vertices' extinction).
+    /// The cached levels' incident light at `x`, where the extinction is `sigma_t`: on each
+    /// grid, the eight vertices around it (the nearest face of the grid beyond its outermost
+    /// vertices) interpolated as the module docs say, their bricks filled with `coarse`'s
+    /// lights of the grid's levels and `visibility` first if they are not yet (`density` gives
+    /// the vertices' extinction).
     pub fn incident(
         &self,
         x: Vec3,
@@ -329,13 +382,34 @@ impl LightingCache {
         density: &DenseGrid,
     ) -> Result<Vec3, QueryError> {
         QueryError::check_point(x)?;
-        let u = (x - self.origin) * self.inv_spacing;
+        let mut sum = Vec3::ZERO;
+        for tier in &self.tiers {
+            let lights = Lights::new(
+                coarse.backend.with_levels(tier.first..=tier.last),
+                coarse.h0,
+            );
+            sum += self.tier_incident(tier, x, sigma_t, &lights, visibility, density)?;
+        }
+        Ok(sum)
+    }
+
+    /// [`incident`](Self::incident) on one grid, `lights` its levels.
+    fn tier_incident(
+        &self,
+        tier: &Lattice,
+        x: Vec3,
+        sigma_t: f32,
+        lights: &Lights<LghBackend<'_>>,
+        visibility: &Visibility,
+        density: &DenseGrid,
+    ) -> Result<Vec3, QueryError> {
+        let u = (x - tier.origin) * tier.inv_spacing;
         let mut base = [0usize; 3];
         let mut w = [0.0f32; 3];
         for a in 0..3 {
-            let top = self.dims[a].saturating_sub(1) as f32;
+            let top = tier.dims[a].saturating_sub(1) as f32;
             let c = u[a].clamp(0.0, top);
-            let i = (c as usize).min(self.dims[a].saturating_sub(2));
+            let i = (c as usize).min(tier.dims[a].saturating_sub(2));
             base[a] = i;
             w[a] = (c - i as f32).clamp(0.0, 1.0);
         }
@@ -346,10 +420,10 @@ impl LightingCache {
                 .map(|a| if d[a] == 1 { w[a] } else { 1.0 - w[a] })
                 .product();
             if weight > 0.0 {
-                let v = core::array::from_fn(|a| (base[a] + d[a]).min(self.dims[a] - 1));
+                let v = core::array::from_fn(|a| (base[a] + d[a]).min(tier.dims[a] - 1));
                 *corner = Corner {
-                    vertex: self.value(v, coarse, visibility, density)?,
-                    offset: x - self.vertex(v),
+                    vertex: self.value(tier, v, lights, visibility, density)?,
+                    offset: x - tier.vertex(v),
                     weight,
                 };
             }
@@ -357,21 +431,22 @@ impl LightingCache {
         Ok(interpolate(&corners, sigma_t))
     }
 
-    /// The vertex `v`, its brick filled first if need be.
+    /// Vertex `v` of grid `tier`, its brick filled first if need be.
     fn value(
         &self,
+        tier: &Lattice,
         v: [usize; 3],
-        coarse: &Lights<LghBackend<'_>>,
+        lights: &Lights<LghBackend<'_>>,
         visibility: &Visibility,
         density: &DenseGrid,
     ) -> Result<Vertex, QueryError> {
         let b = v.map(|i| i / BRICK);
-        let index = (b[2] * self.bricks[1] + b[1]) * self.bricks[0] + b[0];
-        let cell = &self.filled[index];
+        let index = (b[2] * tier.bricks[1] + b[1]) * tier.bricks[0] + b[0];
+        let cell = &tier.filled[index];
         let values = match cell.get() {
             Some(values) => values,
             None => {
-                let (values, count, stats) = self.fill(b, coarse, visibility, density)?;
+                let (values, count, stats) = self.fill(tier, b, lights, visibility, density)?;
                 // Another thread may have set the same values first: then this work is counted
                 // in the seconds only.
                 if cell.set(values).is_ok() {
@@ -388,12 +463,13 @@ impl LightingCache {
         Ok(values[(k * BRICK + j) * BRICK + i])
     }
 
-    /// Computes brick `b`'s vertices (those outside the grid stay zero); also returns how many
-    /// it computed and their work counts.
+    /// Computes brick `b` of grid `tier` (its vertices outside the grid stay zero); also
+    /// returns how many it computed and their work counts.
     fn fill(
         &self,
+        tier: &Lattice,
         b: [usize; 3],
-        coarse: &Lights<LghBackend<'_>>,
+        lights: &Lights<LghBackend<'_>>,
         visibility: &Visibility,
         density: &DenseGrid,
     ) -> Result<(Box<[Vertex]>, u64, RenderStats), QueryError> {
@@ -405,12 +481,12 @@ impl LightingCache {
             for j in 0..BRICK {
                 for i in 0..BRICK {
                     let v = [b[0] * BRICK + i, b[1] * BRICK + j, b[2] * BRICK + k];
-                    if (0..3).any(|a| v[a] >= self.dims[a]) {
+                    if (0..3).any(|a| v[a] >= tier.dims[a]) {
                         continue;
                     }
-                    let x = self.vertex(v);
+                    let x = tier.vertex(v);
                     let (light, flux) =
-                        coarse.incident_flux(x, visibility, &mut scratch, &mut stats)?;
+                        lights.incident_flux(x, visibility, &mut scratch, &mut stats)?;
                     let lum = lgh_core::luminance(light);
                     values[(k * BRICK + j) * BRICK + i] = Vertex {
                         light,
