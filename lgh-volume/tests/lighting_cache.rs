@@ -148,3 +148,42 @@ fn bad_cache_settings_are_refused_before_any_work() {
         assert!(start.elapsed().as_secs_f64() < 1.0);
     }
 }
+
+/// Where the smoke is thin, coarser levels get coarser grids: a level's spacing is at most half
+/// its `h_ℓ` (the explosions' `h_1` is two voxels) and at most four voxels, so with smoke a
+/// hundred times thinner than the demo's (0.04 optical depths a voxel at its densest) level 1
+/// sits on a one-voxel grid, level 2 on a two-voxel one and the levels above on four-voxel
+/// ones. The tiered cache renders the same bits on any thread count.
+#[test]
+fn thin_smoke_puts_coarser_levels_on_coarser_grids() {
+    use lgh_volume::lighting_cache::LightingCache;
+    let v = lgh_volume::procedural::explosion(32, 0.5).unwrap();
+    let thin = Medium::new(0.02, 0.06, 1e-4, 1000.0).unwrap();
+    let lights = ExplosionLights::new(&[&v], &thin).unwrap();
+    assert!(lights.hierarchy().max_level() >= 3);
+    let auto = LightingCacheSettings::coarse();
+    let cache = LightingCache::new(&v.density, &thin, lights.hierarchy(), &auto).unwrap();
+    assert_eq!(cache.tiers(), vec![(1, 1.0), (2, 2.0), (3, 4.0)]);
+    let (lo, hi) = framing_bounds(&[&v]).unwrap();
+    let camera = Camera::frame(lo, hi, 48, 27).unwrap();
+    let settings = MarchSettings {
+        lighting_cache: auto,
+        ..Default::default()
+    };
+    let on = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let method = Method::Lgh { alpha: 2.0 };
+                let frame = FrameRender::new(&lights, method, &v, &thin, &settings, &()).unwrap();
+                let image = frame.render(&camera, &()).unwrap().0;
+                let tiers = frame.lighting_cache().unwrap().tiers();
+                (image.pixels, tiers)
+            })
+    };
+    let (a, b) = (on(1), on(2));
+    assert_eq!(a, b);
+    assert!(a.0.iter().any(|p| p.max_element() > 0.0));
+}
