@@ -894,6 +894,18 @@ mod tests {
         (lgh, b)
     }
 
+    /// Two blobs of smoke with empty space between, 30³ voxels, and a medium dense enough that
+    /// maps through them vary: what the tracing tests trace through.
+    fn two_blobs() -> (Volume, Medium) {
+        let v = blobs(
+            30,
+            Vec3::new(0.3, 0.2, 0.1),
+            Vec3::new(-0.5, -0.4, 0.0),
+            6.0,
+        );
+        (v, Medium::new(2.0, 1.0, 0.0, 0.0).unwrap())
+    }
+
     /// Two blobs of smoke (peak density `peak`) with empty space between, on an `n`³ grid.
     fn blobs(n: usize, a: Vec3, b: Vec3, peak: f32) -> Volume {
         volume(n, |c| {
@@ -1191,13 +1203,7 @@ mod tests {
         }
         // Lights of every size inside and outside the box, in smoke with empty space between
         // blobs, both depth rules: whole maps traced with and without AVX2 must agree.
-        let v = blobs(
-            30,
-            Vec3::new(0.3, 0.2, 0.1),
-            Vec3::new(-0.5, -0.4, 0.0),
-            6.0,
-        );
-        let m = Medium::new(2.0, 1.0, 0.0, 0.0).unwrap();
+        let (v, m) = two_blobs();
         let pyramid = DensityPyramid::new(&v.density, 0.5);
         let empty = EmptySpace::new(&v.density);
         let (lo, hi) = v.density.bounds();
@@ -1246,13 +1252,7 @@ mod tests {
         // Maps large enough to be cut (a face side of 65 and 129 texels: 15 and 7 rows a
         // tile) and one smaller than a tile; tiles of rows traced apart, eight texels abreast
         // from each tile's first, give the whole map's bits, and as many tiles as planned.
-        let v = blobs(
-            30,
-            Vec3::new(0.3, 0.2, 0.1),
-            Vec3::new(-0.5, -0.4, 0.0),
-            6.0,
-        );
-        let m = Medium::new(2.0, 1.0, 0.0, 0.0).unwrap();
+        let (v, m) = two_blobs();
         let pyramid = DensityPyramid::new(&v.density, 0.5);
         let empty = EmptySpace::new(&v.density);
         let tracer = tracer(
