@@ -802,6 +802,13 @@ impl Frames<'_> {
             let (mb, s) = (maps.bytes() as f64 / 1e6, f.seconds());
             work += &format!(", cube maps {mb:.1} MB traced in {:.2} s", s.shadows);
         }
+        if let Some(c) = frame.as_ref().and_then(|(f, _)| f.lighting_cache()) {
+            let s = c.stats();
+            work += &format!(
+                ", lighting cache {} vertices ({:.1} CPU-s)",
+                s.vertices, s.cpu_seconds
+            );
+        }
         say!(
             "  {}: {lit} lights, {} {:.1} s{work} -> {}, {}",
             file.path
