@@ -21,6 +21,7 @@
 //! changes its shadow a little.
 
 use lgh_core::glam::Vec3;
+use rayon::prelude::*;
 
 use super::PaddedGrid;
 use crate::grid::DenseGrid;
@@ -205,42 +206,25 @@ fn filter_axis(
     // The tent's weights, the same for every output sample: 1 − |k|/width for |k| < width.
     let weights: Vec<f32> = (0..width).map(|k| 1.0 - k as f32 / width as f32).collect();
     let stride = [1, dims[0], dims[0] * dims[1]][axis];
-    let out_stride = [1, out_dims[0], out_dims[0] * out_dims[1]][axis];
     let mut out = vec![0.0f32; out_dims.iter().product()];
-    // Every line along `axis` is independent: (base index in, base index out).
-    let lines: Vec<(usize, usize)> = {
-        let [nx, ny, nz] = dims;
-        let mut v = Vec::new();
-        let (ri, rj, rk) = match axis {
-            0 => (1, ny, nz),
-            1 => (nx, 1, nz),
-            _ => (nx, ny, 1),
-        };
-        for k in 0..rk {
-            for j in 0..rj {
-                for i in 0..ri {
-                    let inb = i + j * dims[0] + k * dims[0] * dims[1];
-                    let outb = i + j * out_dims[0] + k * out_dims[0] * out_dims[1];
-                    v.push((inb, outb));
-                }
-            }
+    // Every output sample is independent (its sum runs over its line in a fixed order), so they
+    // are computed in parallel with the same bits on any thread count.
+    let [ox, oy, _] = out_dims;
+    out.par_iter_mut().enumerate().for_each(|(idx, value)| {
+        let mut at = [idx % ox, (idx / ox) % oy, idx / (ox * oy)];
+        let c = at[axis] * spacing;
+        at[axis] = 0;
+        let inb = at[0] + at[1] * dims[0] + at[2] * dims[0] * dims[1];
+        let lo = c.saturating_sub(width - 1);
+        let hi = (c + width - 1).min(n - 1);
+        let (mut sum, mut wsum) = (0.0f32, 0.0f32);
+        for i in lo..=hi {
+            let w = weights[c.abs_diff(i)];
+            sum += w * data[inb + i * stride];
+            wsum += w;
         }
-        v
-    };
-    for (inb, outb) in lines {
-        for o in 0..m {
-            let c = o * spacing;
-            let lo = c.saturating_sub(width - 1);
-            let hi = (c + width - 1).min(n - 1);
-            let (mut sum, mut wsum) = (0.0f32, 0.0f32);
-            for i in lo..=hi {
-                let w = weights[c.abs_diff(i)];
-                sum += w * data[inb + i * stride];
-                wsum += w;
-            }
-            out[outb + o * out_stride] = sum / wsum;
-        }
-    }
+        *value = sum / wsum;
+    });
     (out, out_dims)
 }
 
