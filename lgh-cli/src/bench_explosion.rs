@@ -351,7 +351,8 @@ fn bench_scene(s: &Scene, args: &ExplosionBenchArgs) -> Result<Value, crate::Err
 /// one run: the deep-shadow cube maps (their precompute and the render apart), ray-marched
 /// shadows (`MarchSettings::default()`'s: the exact image, uncached), none, and the default
 /// path — ray-marched shadows through the lighting cache; the cube maps' and the default path's
-/// relative RMSE against the exact image, and the ratios the issues state their targets in.
+/// relative RMSE against the exact image, and the ratios the targets are stated in
+/// (`docs/shadows.md`).
 /// Also returns the ray-marched render's statistics and seconds, and the default path's
 /// comparison with the exact image (`exact`, `speedup_vs_exact`, `rel_rmse_vs_exact`,
 /// `lighting_cache`).
