@@ -142,14 +142,10 @@ impl<'a> FrameRender<'a> {
         camera: &Camera,
         progress: &dyn Progress,
     ) -> Result<(Image, RenderStats), RenderError> {
-        let lights = self.shading_lights()?;
-        let cached = self.cached(lights.as_ref());
-        let lit = Lit {
-            lights: lights.as_ref(),
-            cached: cached.as_ref(),
-        };
-        progress::phase(progress, Phase::Render, camera.height() as u64, |p| {
-            self.marcher.render_lit(lit, camera, p)
+        self.with_lit(|lit| {
+            progress::phase(progress, Phase::Render, camera.height() as u64, |p| {
+                self.marcher.render_lit(lit, camera, p)
+            })
         })
     }
 
@@ -160,13 +156,21 @@ impl<'a> FrameRender<'a> {
         camera: &Camera,
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
+        self.with_lit(|lit| self.marcher.render_pixels_lit(lit, camera, pixels))
+    }
+
+    /// `f` with what the marcher shades with: the rendered lights through the method, split
+    /// for the lighting cache if there is one.
+    fn with_lit<R>(
+        &self,
+        f: impl FnOnce(Lit<'_, FrameBackend<'_>>) -> Result<R, RenderError>,
+    ) -> Result<R, RenderError> {
         let lights = self.shading_lights()?;
         let cached = self.cached(lights.as_ref());
-        let lit = Lit {
+        f(Lit {
             lights: lights.as_ref(),
             cached: cached.as_ref(),
-        };
-        self.marcher.render_pixels_lit(lit, camera, pixels)
+        })
     }
 
     /// `lights` split for the lighting cache, if there is one (the hierarchy's only).

@@ -384,24 +384,26 @@ impl LightingCache {
         QueryError::check_point(x)?;
         let mut sum = Vec3::ZERO;
         for tier in &self.tiers {
-            let lights = Lights::new(
-                coarse.backend.with_levels(tier.first..=tier.last),
-                coarse.h0,
-            );
-            sum += self.tier_incident(tier, x, sigma_t, &lights, visibility, density)?;
+            let source = Source {
+                lights: Lights::new(
+                    coarse.backend.with_levels(tier.first..=tier.last),
+                    coarse.h0,
+                ),
+                visibility,
+                density,
+            };
+            sum += self.tier_incident(tier, x, sigma_t, &source)?;
         }
         Ok(sum)
     }
 
-    /// [`incident`](Self::incident) on one grid, `lights` its levels.
+    /// [`incident`](Self::incident) on one grid, filled from `source`.
     fn tier_incident(
         &self,
         tier: &Lattice,
         x: Vec3,
         sigma_t: f32,
-        lights: &Lights<LghBackend<'_>>,
-        visibility: &Visibility,
-        density: &DenseGrid,
+        source: &Source<'_, '_>,
     ) -> Result<Vec3, QueryError> {
         let u = (x - tier.origin) * tier.inv_spacing;
         let mut base = [0usize; 3];
@@ -422,7 +424,7 @@ impl LightingCache {
             if weight > 0.0 {
                 let v = core::array::from_fn(|a| (base[a] + d[a]).min(tier.dims[a] - 1));
                 *corner = Corner {
-                    vertex: self.value(tier, v, lights, visibility, density)?,
+                    vertex: self.value(tier, v, source)?,
                     offset: x - tier.vertex(v),
                     weight,
                 };
@@ -431,14 +433,12 @@ impl LightingCache {
         Ok(interpolate(&corners, sigma_t))
     }
 
-    /// Vertex `v` of grid `tier`, its brick filled first if need be.
+    /// Vertex `v` of grid `tier`, its brick filled from `source` first if need be.
     fn value(
         &self,
         tier: &Lattice,
         v: [usize; 3],
-        lights: &Lights<LghBackend<'_>>,
-        visibility: &Visibility,
-        density: &DenseGrid,
+        source: &Source<'_, '_>,
     ) -> Result<Vertex, QueryError> {
         let b = v.map(|i| i / BRICK);
         let index = (b[2] * tier.bricks[1] + b[1]) * tier.bricks[0] + b[0];
@@ -446,7 +446,7 @@ impl LightingCache {
         let values = match cell.get() {
             Some(values) => values,
             None => {
-                let (values, count, stats) = self.fill(tier, b, lights, visibility, density)?;
+                let (values, count, stats) = self.fill(tier, b, source)?;
                 // Another thread may have set the same values first: then this work is counted
                 // in the seconds only.
                 if cell.set(values).is_ok() {
@@ -463,16 +463,19 @@ impl LightingCache {
         Ok(values[(k * BRICK + j) * BRICK + i])
     }
 
-    /// Computes brick `b` of grid `tier` (its vertices outside the grid stay zero); also
-    /// returns how many it computed and their work counts.
+    /// Computes brick `b` of grid `tier` from `source` (its vertices outside the grid stay
+    /// zero); also returns how many it computed and their work counts.
     fn fill(
         &self,
         tier: &Lattice,
         b: [usize; 3],
-        lights: &Lights<LghBackend<'_>>,
-        visibility: &Visibility,
-        density: &DenseGrid,
+        source: &Source<'_, '_>,
     ) -> Result<(Box<[Vertex]>, u64, RenderStats), QueryError> {
+        let Source {
+            lights,
+            visibility,
+            density,
+        } = source;
         let t = Instant::now();
         let mut values = vec![Vertex::default(); BRICK * BRICK * BRICK].into_boxed_slice();
         let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
@@ -527,6 +530,14 @@ fn dense_smoke(density: &DenseGrid) -> f32 {
     }
     let k = (smoke.len() - 1) * 99 / 100;
     *smoke.select_nth_unstable_by(k, f32::total_cmp).1
+}
+
+/// What a grid's vertices are computed from: the lights of its levels, their visibility, and
+/// the density (for the vertices' extinction).
+struct Source<'s, 'l> {
+    lights: Lights<LghBackend<'l>>,
+    visibility: &'s Visibility,
+    density: &'s DenseGrid,
 }
 
 /// What the cache holds at a vertex.
@@ -586,8 +597,9 @@ fn interpolate(corners: &[Corner; 8], sigma_t: f32) -> Vec3 {
 pub(crate) struct CachedLights<'l> {
     pub(crate) cache: &'l LightingCache,
     pub(crate) density: &'l DenseGrid,
-    /// Levels below the cache's first, shaded at every sample.
-    pub(crate) fine: Lights<LghBackend<'l>>,
+    /// Levels below the cache's first, shaded at every sample (none when it caches every
+    /// level).
+    pub(crate) fine: Option<Lights<LghBackend<'l>>>,
     /// The cached levels, what the cache is filled with.
     pub(crate) coarse: Lights<LghBackend<'l>>,
 }
@@ -604,7 +616,7 @@ impl<'l> CachedLights<'l> {
         CachedLights {
             cache,
             density,
-            fine: split(0..=first.saturating_sub(1)), // unused when the first level is 0
+            fine: first.checked_sub(1).map(|last| split(0..=last)),
             coarse: split(first..=u8::MAX),
         }
     }
@@ -620,11 +632,9 @@ impl<'l> CachedLights<'l> {
         scratch: &mut LightScratch,
         stats: &mut RenderStats,
     ) -> Result<Vec3, QueryError> {
-        let fine = if self.cache.settings.first_level == 0 {
-            Vec3::ZERO
-        } else {
-            self.fine
-                .in_scattered(x, scale, visibility, scratch, stats)?
+        let fine = match &self.fine {
+            Some(fine) => fine.in_scattered(x, scale, visibility, scratch, stats)?,
+            None => Vec3::ZERO,
         };
         let coarse = self
             .cache
