@@ -138,15 +138,20 @@ pub struct MarchArgs {
     /// work) [default: 8 GiB, or 3/4 of the available memory if less]
     #[arg(long)]
     pub shadow_memory: Option<f64>,
-    /// Cube maps store optical depth sampled at their four distances, as the paper does,
-    /// instead of the least-squares fit that leaks less light through smoke.
+    /// Cube maps store optical depth sampled at fixed distances (`--shadow-depths`, 4 by
+    /// default), as the paper does, instead of adaptive knots
     #[arg(long)]
     pub sampled_depths: bool,
-    /// Optical depths a cube-map texel stores, 2 to 16: the paper's 4, or more for shadows that
-    /// follow thin dense shells of smoke more closely (2 bytes each; on the demo, 8 cut the maps'
-    /// error threefold for twice the memory, 12 bring it under 2% for three times)
-    #[arg(long, default_value_t = 4)]
-    pub shadow_depths: usize,
+    /// Cube-map texels store the least-squares fit of the optical depth at n fixed distances
+    /// D/n ... D, 2 to 16 (the paper's layout with n = 4; 2 bytes each), instead of adaptive
+    /// knots
+    #[arg(long, value_name = "N")]
+    pub shadow_depths: Option<usize>,
+    /// Knots a cube-map texel stores, 2 to 16: the transmittance at K distances placed per texel
+    /// where it changes (adaptive deep shadow maps; 2 bytes each, so the default 4 take the
+    /// memory of the paper's four depths; on the demo within 2% of the maps' own model)
+    #[arg(long, value_name = "K", conflicts_with_all = ["sampled_depths", "shadow_depths"])]
+    pub shadow_knots: Option<usize>,
     /// Cube maps trace coarse lights as points through the plain density instead of as volume
     /// lights through the prefiltered density (eq. 6): the flickering variant of the paper.
     #[arg(long)]
@@ -205,10 +210,12 @@ impl MarchArgs {
                 step_voxels: shadow_step,
                 depths: if self.sampled_depths {
                     Depths::Sampled
-                } else {
+                } else if self.shadow_depths.is_some() {
                     Depths::Fitted
+                } else {
+                    Depths::Adaptive
                 },
-                depth_count: self.shadow_depths,
+                depth_count: self.shadow_knots.or(self.shadow_depths).unwrap_or(4),
                 memory_budget: budget,
             },
             lighting_cache: self.cache.settings(),
@@ -258,6 +265,7 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
     if let Some(m) = frame.cube_maps() {
         out.push(("shadow_bytes", m.bytes().to_string()));
         out.push(("shadow_depths", m.depths_per_texel().to_string()));
+        out.push(("shadow_storage", m.storage().name().to_string()));
         let seconds = frame.seconds().shadows;
         out.push(("shadow_precompute_seconds", format!("{seconds:.3}")));
     }

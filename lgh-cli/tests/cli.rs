@@ -429,6 +429,7 @@ fn demo_renders_an_exr_and_a_png() {
     assert_eq!(get("lgh:shadows"), "cubemap");
     assert!(get("lgh:shadow_bytes").parse::<u64>().unwrap() > 0);
     assert_eq!(get("lgh:shadow_depths"), "4");
+    assert_eq!(get("lgh:shadow_storage"), "knots");
     assert!(get("lgh:shadow_precompute_seconds").parse::<f64>().unwrap() >= 0.0);
     assert!(
         text.contains("cube maps:") && text.contains("level  0:"),
@@ -465,6 +466,15 @@ fn demo_renders_an_exr_and_a_png() {
         (
             vec!["demo", "--shadows", "cubemap", "--shadow-depths", "17"],
             "depths per texel 17 must be 2 to 16",
+        ),
+        // Knots out of range.
+        (
+            vec!["demo", "--shadows", "cubemap", "--shadow-knots", "1"],
+            "knots per texel 1 must be 2 to 16",
+        ),
+        (
+            vec!["demo", "--shadows", "cubemap", "--shadow-knots", "17"],
+            "knots per texel 17 must be 2 to 16",
         ),
         // A lighting cache laid out wrongly.
         (vec!["demo", "--cache-spacing", "0"], "spacing 0"),

@@ -47,6 +47,7 @@ use rayon::prelude::*;
 
 use super::cube;
 use super::empty::EmptySpace;
+use super::knots::{self, Knots, Support};
 use super::lookup::{self, Slot, NO_MAP};
 use super::prefilter::DensityPyramid;
 use super::{Casters, CoarseShadows};
@@ -69,11 +70,27 @@ const QUANT: f32 = 65535.0 / TAU_MAX;
 /// What the depths of a texel hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Depths {
-    /// The least-squares fit of the traced `τ`, weighted by density × `V²` (see the module docs).
+    /// Transmittance at knots placed per texel where it changes (module `knots`: deep shadow
+    /// maps compressed by Salvi's node removal), `depth_count` knots of two bytes each.
     #[default]
+    Adaptive,
+    /// The least-squares fit of the traced `τ` at the fixed distances `D/n … D`, weighted by
+    /// density × `V²` (see the module docs).
     Fitted,
-    /// `τ` at the four distances, as the paper records it.
+    /// `τ` at the fixed distances, as the paper records it.
     Sampled,
+}
+
+impl Depths {
+    /// The name in EXR headers and reports: `knots`, `fitted` or `sampled`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Depths::Adaptive => "knots",
+            Depths::Fitted => "fitted",
+            Depths::Sampled => "sampled",
+        }
+    }
 }
 
 /// How the maps are traced.
@@ -83,8 +100,9 @@ pub struct CubeMapSettings {
     pub step_voxels: f32,
     /// What the depths hold.
     pub depths: Depths,
-    /// Depths per texel, `2..=`[`MAX_DEPTHS`]: the paper's four (`D/4 … D`), or more at
-    /// `D/n … D` for a shadow that follows thin shells of smoke more closely (two bytes each).
+    /// Depths (or knots) per texel, `2..=`[`MAX_DEPTHS`], two bytes each: 4 knots by default
+    /// (the memory of the paper's four depths); fixed depths at `D/n … D`, the paper's four
+    /// or more for a shadow that follows thin shells of smoke more closely.
     pub depth_count: usize,
     /// Bytes the maps may take; a plan above it is refused before any work.
     pub memory_budget: u64,
@@ -94,7 +112,7 @@ impl Default for CubeMapSettings {
     fn default() -> Self {
         CubeMapSettings {
             step_voxels: 1.0,
-            depths: Depths::Fitted,
+            depths: Depths::Adaptive,
             depth_count: 4,
             memory_budget: 8 << 30,
         }
@@ -158,12 +176,14 @@ struct Planned {
     centre: Vec3,
     size: f32,
     cells: u32,
+    /// Where its level's blending weight `B_ℓ` is not zero (and no lookup is outside).
+    support: Support,
 }
 
 /// One level's maps.
 #[derive(Clone, Debug)]
 struct Level {
-    /// n / D: spacings of the depths per unit distance.
+    /// n / D: spacings of the depths per unit distance (255 / D with adaptive knots).
     inv_spacing: f32,
     /// Each light's map in [`CubeMaps`]' texels, or [`NO_MAP`].
     slots: Vec<Slot>,
@@ -176,8 +196,12 @@ pub struct CubeMaps {
     /// Every map of every level: quantised `τ` at the depths, `per_texel` values a texel,
     /// `6 (R + 1)²` texels a map.
     texels: Vec<u16>,
-    /// Depths a texel.
+    /// Depths (or knots) a texel.
     per_texel: usize,
+    /// Whether the texels hold adaptive knots (module `knots`) rather than depths.
+    adaptive: bool,
+    /// What they hold.
+    storage: Depths,
     table: Vec<LevelMaps>,
 }
 
@@ -259,6 +283,11 @@ impl CubeMaps {
                         centre: p,
                         size: s,
                         cells: own,
+                        support: Support {
+                            inner: blending.support(level).0,
+                            peak: r,
+                            outer: blending.support(level).1,
+                        },
                     }
                 })
                 .collect();
@@ -327,7 +356,11 @@ impl CubeMaps {
             let r = blending.radius(row.level);
             let samples = tracer.trace_level(jobs, r, row.reach, progress);
             levels.push(Level {
-                inv_spacing: per_texel as f32 / row.reach,
+                inv_spacing: if settings.depths == Depths::Adaptive {
+                    knots::STEPS / row.reach
+                } else {
+                    per_texel as f32 / row.reach
+                },
                 slots,
             });
             table.push(LevelMaps {
@@ -340,6 +373,8 @@ impl CubeMaps {
             levels,
             texels,
             per_texel,
+            adaptive: settings.depths == Depths::Adaptive,
+            storage: settings.depths,
             table,
         })
     }
@@ -370,6 +405,11 @@ impl CubeMaps {
     #[must_use]
     pub fn transmittance(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> f32 {
         let (slot, inv_spacing) = self.slot(level, index);
+        if self.adaptive {
+            let (texels, n) = (&self.texels, self.per_texel);
+            return lookup::knots_transmittance(texels, n, slot, inv_spacing, x, centre)
+                .unwrap_or(1.0);
+        }
         lookup::quantised_depth(&self.texels, self.per_texel, slot, inv_spacing, x, centre)
             .map_or(1.0, |q| lookup::exp_neg(q * (1.0 / QUANT)))
     }
@@ -392,7 +432,7 @@ impl CubeMaps {
         out.clear();
         out.resize(centres.len(), 1.0);
         #[cfg(target_arch = "x86_64")]
-        if avx2::cube_transmittances(self, x, centres, ids, out) {
+        if !self.adaptive && avx2::cube_transmittances(self, x, centres, ids, out) {
             return;
         }
         for ((o, &c), &(level, index)) in out.iter_mut().zip(centres).zip(ids) {
@@ -405,10 +445,16 @@ impl CubeMaps {
         &self.texels
     }
 
-    /// Depths a texel.
+    /// Depths (or knots) a texel.
     #[must_use]
     pub fn depths_per_texel(&self) -> usize {
         self.per_texel
+    }
+
+    /// What the texels hold.
+    #[must_use]
+    pub fn storage(&self) -> Depths {
+        self.storage
     }
 }
 
@@ -424,9 +470,14 @@ fn check_settings(settings: &CubeMapSettings) -> Result<(), RenderError> {
         settings.step_voxels,
         "must be 0.01 to 64 voxels",
     )?;
+    let what = if settings.depths == Depths::Adaptive {
+        "cube maps: knots per texel"
+    } else {
+        "cube maps: depths per texel"
+    };
     crate::error::check_setting(
         (2..=MAX_DEPTHS).contains(&settings.depth_count),
-        "cube maps: depths per texel",
+        what,
         settings.depth_count as f32,
         "must be 2 to 16",
     )?;
@@ -624,6 +675,7 @@ impl Tracer<'_> {
             centre: p,
             size: s,
             cells,
+            support: Support::FLAT,
         };
         self.trace_tile(
             Tile {
@@ -654,24 +706,38 @@ impl Tracer<'_> {
             cube::direction(face, i, j, cells).normalize()
         };
         let mut t = 0;
+        let adaptive = self.depths == Depths::Adaptive;
         #[cfg(target_arch = "x86_64")]
         if self.simd {
             while t < count {
                 let dirs: [Vec3; 8] = core::array::from_fn(|l| direction((t + l).min(count - 1)));
-                let Some(rays) = avx2::trace8(self, p, &dirs, s, r, reach) else {
+                let mut knots = [Knots::new(self.n, light.support, reach); 8];
+                let recorder = adaptive.then_some(&mut knots);
+                let Some(rays) = avx2::trace8(self, p, &dirs, s, r, reach, recorder) else {
                     break;
                 };
                 for (l, (tau, n)) in rays.into_iter().enumerate().take(count - t) {
                     samples += u64::from(n);
-                    quantise(&tau[..self.n], self.texel(map, t + l));
+                    let out = self.texel(map, t + l);
+                    if adaptive {
+                        knots[l].store(tau[self.n - 1], out);
+                    } else {
+                        quantise(&tau[..self.n], out);
+                    }
                 }
                 t += 8;
             }
         }
         for t in t..count {
-            let (tau, n) = self.trace(p, direction(t), s, r, reach);
-            samples += u64::from(n);
-            quantise(&tau[..self.n], self.texel(map, t));
+            let out = self.texel(map, t);
+            if adaptive {
+                let ray = (p, direction(t), light.support);
+                samples += u64::from(self.trace_knots(ray, (s, r, reach), out));
+            } else {
+                let (tau, n) = self.trace(p, direction(t), s, r, reach);
+                samples += u64::from(n);
+                quantise(&tau[..self.n], out);
+            }
         }
         samples
     }
@@ -699,11 +765,60 @@ impl Tracer<'_> {
     /// these operations.
     fn trace(&self, p: Vec3, dir: Vec3, s: f32, r: f32, reach: f32) -> ([f32; MAX_DEPTHS], u32) {
         let spacing = reach / self.n as f32;
+        let mut fit = Fit::new(self.n);
+        let fitted = self.depths == Depths::Fitted;
+        let (at, samples) = self.march(p, dir, s, r, reach, |d, dt, rho, tau, dtau| {
+            if fitted && rho > 0.0 {
+                // The sample stands for the step: τ at its middle, weight ρ·V²·dt.
+                let mid = tau + 0.5 * dtau;
+                let w = rho * lookup::exp_neg((2.0 * mid).min(80.0)) * dt;
+                fit.add(d / spacing, mid, w);
+            }
+        });
+        let depths = match self.depths {
+            Depths::Fitted => fit.solve(&at, 1e-6 * spacing),
+            Depths::Sampled | Depths::Adaptive => at,
+        };
+        (depths, samples)
+    }
+
+    /// The ray from `p` along `dir` of [`trace`](Self::trace) marched the same way, its `n`
+    /// adaptive knots (module `knots`) for lookups over `support` stored into `out`; returns
+    /// the density samples taken.
+    fn trace_knots(
+        &self,
+        (p, dir, support): (Vec3, Vec3, Support),
+        (s, r, reach): (f32, f32, f32),
+        out: &mut [u16],
+    ) -> u32 {
+        let mut knots = Knots::new(self.n, support, reach);
+        let (at, samples) = self.march(p, dir, s, r, reach, |d, dt, _, tau, dtau| {
+            if dtau > 0.0 {
+                knots.step(d - 0.5 * dt, tau, d + 0.5 * dt, tau + dtau);
+            }
+        });
+        knots.store(at[self.n - 1], out);
+        samples
+    }
+
+    /// The march of [`trace`](Self::trace): `τ` at the `n` depths and the density samples
+    /// taken; each sample at distance `d` standing for a step `dt` of density `rho`, reached
+    /// with optical depth `tau` and adding `dtau`, is also handed to `step`.
+    #[inline]
+    fn march(
+        &self,
+        p: Vec3,
+        dir: Vec3,
+        s: f32,
+        r: f32,
+        reach: f32,
+        mut step: impl FnMut(f32, f32, f32, f32, f32),
+    ) -> ([f32; MAX_DEPTHS], u32) {
+        let spacing = reach / self.n as f32;
         let p_inside = self.inside(p);
         let mut samples = 0u32;
         let mut tau = 0.0f32;
         let mut at = [0.0f32; MAX_DEPTHS];
-        let mut fit = Fit::new(self.n);
         let mut look_again = 0.0f32;
         let mut live = true;
         for (k, at_k) in at.iter_mut().enumerate().take(self.n) {
@@ -735,12 +850,7 @@ impl Tracer<'_> {
                     let rho = self.pyramid.sample(x, width);
                     samples += 1;
                     let dtau = self.kappa * rho * dt;
-                    if self.depths == Depths::Fitted && rho > 0.0 {
-                        // The sample stands for the step: τ at its middle, weight ρ·V²·dt.
-                        let mid = tau + 0.5 * dtau;
-                        let w = rho * lookup::exp_neg((2.0 * mid).min(80.0)) * dt;
-                        fit.add(d / spacing, mid, w);
-                    }
+                    step(d, dt, rho, tau, dtau);
                     tau += dtau;
                     i += 1;
                     if tau > TAU_MAX {
@@ -751,11 +861,7 @@ impl Tracer<'_> {
             }
             *at_k = tau;
         }
-        let depths = match self.depths {
-            Depths::Sampled => at,
-            Depths::Fitted => fit.solve(&at, 1e-6 * spacing),
-        };
-        (depths, samples)
+        (at, samples)
     }
 
     /// Interval `k`'s steps (between depths `k` and `k + 1`, `spacing` apart), the same for
@@ -983,6 +1089,30 @@ mod tests {
                 assert!(
                     (got / want - 1.0).abs() < 1.3e-4 + 2e-6,
                     "{depths:?} {n} depths, d = {d}: {got} vs {want}"
+                );
+            }
+        }
+        // Adaptive knots: the nodes are collinear in τ, which the lookup interpolates, so any
+        // knots hold it; what remains is their 8-bit quantisation. A knot's distance moves by
+        // at most half a 255th of the reach 0.5, τ by σ_t = 4.5 times that (0.0044); its value
+        // by half a 255th of V ≥ e^{−2.25} at the reach, τ by at most 0.5 / (255 · 0.105) =
+        // 0.0187. So |ln(V_map / V)| ≤ 0.0231.
+        for n in [2, 4, 8] {
+            let settings = CubeMapSettings {
+                depth_count: n,
+                ..settings(Depths::Adaptive)
+            };
+            let maps = CubeMaps::build(Casters::new(&lgh, &b), &v, &m, &settings, &|_| {}).unwrap();
+            let mut rng = lgh_core::random::SplitMix64(2);
+            for _ in 0..2000 {
+                let x = p + rng.next_in(Vec3::splat(-0.3), Vec3::splat(0.3));
+                let d = (x - p).length();
+                let want = (-m.extinction(1.5) * d.min(0.5)).exp();
+                let got = maps.transmittance(x, 0, 0, p);
+                let bound = 4.5 * 0.25 / 255.0 + 0.5 / (255.0 * (-2.25f32).exp()) + 1e-5;
+                assert!(
+                    (got / want).ln().abs() < bound,
+                    "{n} knots, d = {d}: {got} vs {want}"
                 );
             }
         }
@@ -1215,6 +1345,8 @@ mod tests {
             (Depths::Fitted, 8),
             (Depths::Sampled, 8),
             (Depths::Fitted, MAX_DEPTHS),
+            (Depths::Adaptive, 4),
+            (Depths::Adaptive, MAX_DEPTHS),
         ] {
             let tracer = |simd| Tracer {
                 n,
@@ -1255,19 +1387,25 @@ mod tests {
         let (v, m) = two_blobs();
         let pyramid = DensityPyramid::new(&v.density, 0.5);
         let empty = EmptySpace::new(&v.density);
-        let tracer = tracer(
-            &pyramid,
-            &empty,
-            &v,
-            m.extinction(1.0),
-            (true, true, Depths::Fitted),
-        );
-        for cells in [4u32, 64, 128] {
+        for (depths, cells) in [
+            (Depths::Fitted, 4u32),
+            (Depths::Fitted, 64),
+            (Depths::Fitted, 128),
+            (Depths::Adaptive, 64),
+        ] {
+            let tracer = tracer(
+                &pyramid,
+                &empty,
+                &v,
+                m.extinction(1.0),
+                (true, true, depths),
+            );
             let light = Planned {
                 index: 0,
                 centre: Vec3::new(0.1, -0.2, 0.05),
                 size: 0.1,
                 cells,
+                support: Support::FLAT,
             };
             let (r, n) = (0.5, tracer.n);
             let mut whole = vec![0u16; cube::texels(cells) * n];
@@ -1299,7 +1437,7 @@ mod tests {
                         Casters::new(lgh, &b),
                         &v,
                         &m,
-                        &settings(Depths::Fitted),
+                        &settings(Depths::Adaptive),
                         &|_| {},
                     )
                 })

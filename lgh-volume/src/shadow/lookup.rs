@@ -6,6 +6,7 @@
 use lgh_core::glam::Vec3;
 
 use super::cube;
+use super::knots;
 
 /// Where a light's map is: its first texel in the maps' one texel array, and its cells per
 /// face side; `offset == u32::MAX` for a light without a map.
@@ -69,17 +70,7 @@ pub(super) fn quantised_depth(
     x: Vec3,
     c: Vec3,
 ) -> Option<f32> {
-    let (vx, vy, vz) = (x.x - c.x, x.y - c.y, x.z - c.z);
-    let d = (vx * vx + vy * vy + vz * vz).sqrt();
-    if slot == NO_MAP || !d.is_finite() || d <= 0.0 {
-        return None;
-    }
-    // The texels around the direction: `cube::footprint`'s face and weights, in this map.
-    let at = cube::footprint(Vec3::new(vx, vy, vz), slot.cells);
-    let at = cube::Footprint {
-        first: slot.offset as usize + at.first,
-        ..at
-    };
+    let (at, d) = locate(slot, x, c)?;
     // The two depths around the distance: knots 0 (τ = 0 at the light), 1..=n stored.
     let q = (d * inv_spacing).min(n as f32);
     let k = (q as u32).min(n as u32 - 1);
@@ -96,6 +87,47 @@ pub(super) fn quantised_depth(
         f32::from(texels[t * n + kk + usize::from(k > 0)])
     });
     Some(lerp(lo, hi, f))
+}
+
+/// The texels around the direction from `c` to `x` in the map `slot` (`cube::footprint`'s face
+/// and weights, offset to the map) and the distance, or `None` when the light is unshadowed
+/// there (no map, `x` on the light or not finite).
+#[inline(always)]
+fn locate(slot: Slot, x: Vec3, c: Vec3) -> Option<(cube::Footprint, f32)> {
+    let (vx, vy, vz) = (x.x - c.x, x.y - c.y, x.z - c.z);
+    let d = (vx * vx + vy * vy + vz * vz).sqrt();
+    if slot == NO_MAP || !d.is_finite() || d <= 0.0 {
+        return None;
+    }
+    let at = cube::footprint(Vec3::new(vx, vy, vz), slot.cells);
+    let at = cube::Footprint {
+        first: slot.offset as usize + at.first,
+        ..at
+    };
+    Some((at, d))
+}
+
+/// The transmittance at `x` of the light centred at `c` whose map of adaptive knots (module
+/// `knots`, `n` a texel) is `slot` in `texels`, with `scale` = 255 / its reach: each of the four
+/// texels' `τ` around the direction evaluated at the distance, blended bilinearly, `e^{−τ}` of
+/// that; `None` as
+/// [`quantised_depth`].
+#[inline]
+#[must_use]
+pub(super) fn knots_transmittance(
+    texels: &[u16],
+    n: usize,
+    slot: Slot,
+    scale: f32,
+    x: Vec3,
+    c: Vec3,
+) -> Option<f32> {
+    let (at, d) = locate(slot, x, c)?;
+    let q = d * scale;
+    let tau = cube::bilinear(&at, slot.cells, |t| {
+        knots::depth(&texels[t * n..(t + 1) * n], q)
+    });
+    Some(exp_neg(tau))
 }
 
 #[cfg(test)]

@@ -28,6 +28,7 @@ use crate::medium::{Medium, Volume};
 pub mod cube;
 pub mod deep;
 mod empty;
+mod knots;
 mod lookup;
 pub mod prefilter;
 pub mod volume_rays;

@@ -12,7 +12,7 @@ use core::arch::x86_64::*;
 
 use lgh_core::glam::Vec3;
 
-use super::{CubeMaps, Depths, Fit, Tracer, INV_QUANT, MAX_DEPTHS, TAU_MAX};
+use super::{CubeMaps, Depths, Fit, Knots, Tracer, INV_QUANT, MAX_DEPTHS, TAU_MAX};
 use crate::shadow::avx2::{from_array, lerp, to_array, Gathers, LANES};
 use crate::shadow::lookup::{Slot, EXP2, NO_MAP};
 use crate::shadow::prefilter::Mix;
@@ -281,8 +281,9 @@ fn exp_neg8(y: __m256) -> __m256 {
 /// the same operations in the same order, so the depths are the same bit for bit (the sample
 /// counts may differ: lanes jump over empty space together, only where all of them can). The
 /// rays share the light's step schedule, so each step's distance, filter width and pyramid
-/// levels are the same for all eight; only the positions differ. `None` without AVX2 or when a
-/// pyramid level is too large for 32-bit gather offsets.
+/// levels are the same for all eight; only the positions differ. With `knots`, each lane's
+/// steps are also handed to its adaptive knots, as `Tracer::trace_knots` does. `None` without
+/// AVX2 or when a pyramid level is too large for 32-bit gather offsets.
 pub(super) fn trace8(
     tracer: &Tracer<'_>,
     p: Vec3,
@@ -290,6 +291,7 @@ pub(super) fn trace8(
     s: f32,
     r: f32,
     reach: f32,
+    knots: Option<&mut [Knots; LANES]>,
 ) -> Option<[([f32; MAX_DEPTHS], u32); LANES]> {
     let pyramid = tracer.pyramid;
     let fits = (0..pyramid.levels()).all(|m| {
@@ -300,7 +302,7 @@ pub(super) fn trace8(
         return None;
     }
     // SAFETY: the CPU supports AVX2, checked above; every level fits 32-bit offsets.
-    Some(unsafe { trace8_avx2(tracer, p, dirs, s, r, reach) })
+    Some(unsafe { trace8_avx2(tracer, p, dirs, (s, r, reach), knots) })
 }
 
 /// Eight f64 accumulators of `deep::Fit` (lanes 0–3 and 4–7).
@@ -352,9 +354,8 @@ fn trace8_avx2(
     tracer: &Tracer<'_>,
     p: Vec3,
     dirs: &[Vec3; LANES],
-    s: f32,
-    r: f32,
-    reach: f32,
+    (s, r, reach): (f32, f32, f32),
+    mut knots: Option<&mut [Knots; LANES]>,
 ) -> [([f32; MAX_DEPTHS], u32); LANES] {
     let depths = tracer.n;
     let spacing = reach / depths as f32;
@@ -474,6 +475,17 @@ fn trace8_avx2(
                             diag[fk - 1].add(&w, 1.0 - t, &u_all);
                             rhs[fk - 1].add(&w, 1.0 - t, &mid);
                             upper[fk - 1].add(&w, 1.0 - t, &t_all);
+                        }
+                    }
+                }
+                if let Some(knots) = knots.as_deref_mut() {
+                    // Knots::step lane by lane, as `Tracer::trace_knots` calls it (inactive
+                    // lanes have dtau = 0).
+                    let (t0, dt0) = (to_array(tau), to_array(dtau));
+                    let (d0, d1) = (d - 0.5 * dt, d + 0.5 * dt);
+                    for (l, k) in knots.iter_mut().enumerate() {
+                        if dt0[l] > 0.0 {
+                            k.step(d0, t0[l], d1, t0[l] + dt0[l]);
                         }
                     }
                 }
