@@ -19,7 +19,7 @@ use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
 use crate::output::CacheArgs;
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
-use lgh_volume::shadow::CoarseShadows;
+use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths};
 use lgh_volume::surfaces::Ground;
 use lgh_volume::{
     bouncing_balls, explosion, ExplosionLights, FrameRender, Method, Shadows, Variants,
@@ -196,6 +196,8 @@ struct Entry {
     shadows: Shadows,
     /// Through the lighting cache (levels ≥ 1 at the voxel centres).
     cached: bool,
+    /// What cube-map texels hold (with cube-map shadows).
+    depths: Depths,
 }
 
 impl Entry {
@@ -209,9 +211,14 @@ impl Entry {
         } else {
             LightingCacheSettings::default()
         };
+        let plain = MarchSettings::with_shadows(self.shadows);
         MarchSettings {
             lighting_cache: cache,
-            ..MarchSettings::with_shadows(self.shadows)
+            cube_maps: CubeMapSettings {
+                depths: self.depths,
+                ..plain.cube_maps
+            },
+            ..plain
         }
     }
 }
@@ -224,6 +231,7 @@ fn entries() -> Vec<Entry> {
         variants,
         shadows: Shadows::CubeMap,
         cached: false,
+        depths: Depths::default(),
     };
     let paper = Variants::default();
     let ray_marched = |key, what, method| Entry {
@@ -233,9 +241,22 @@ fn entries() -> Vec<Entry> {
         variants: paper,
         shadows: Shadows::RayMarch,
         cached: false,
+        depths: Depths::default(),
     };
     vec![
-        lgh("lgh", "LGH, cube-map shadows (the paper's method)", paper),
+        lgh(
+            "lgh",
+            "LGH, cube-map shadows (the paper's method), four adaptive knots a texel",
+            paper,
+        ),
+        Entry {
+            depths: Depths::Fitted,
+            ..lgh(
+                "lgh_fixed_depths",
+                "LGH, cube-map shadows with the paper's four fixed depths (fitted)",
+                paper,
+            )
+        },
         ray_marched("lgh_ray_marched", "LGH, ray-marched shadows", Kind::Lgh),
         Entry {
             cached: true,

@@ -18,7 +18,7 @@ use lgh_image::Image;
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::lighting::Lights;
-use crate::lighting_cache::{CacheMode, CachedLights, LightingCache};
+use crate::lighting_cache::{CachedLights, LightingCache};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{FrameBackend, Method, Prepared};
@@ -104,15 +104,7 @@ impl<'a> FrameRender<'a> {
         let rendered = scattered.as_ref().map_or(lights, Scattered::lights);
         let shading = Shading::new(rendered, method, frame, medium, settings, progress)?;
         let shadows = shading.shadow_seconds;
-        let cache = match (&shading.prepared, settings.lighting_cache.mode) {
-            (Prepared::Lgh { .. }, CacheMode::Coarse) => Some(LightingCache::new(
-                &frame.density,
-                medium,
-                rendered.hierarchy(),
-                &settings.lighting_cache,
-            )?),
-            _ => None,
-        };
+        let cache = shading.cache;
         Ok(FrameRender {
             emission: lights,
             scattered,
@@ -175,20 +167,7 @@ impl<'a> FrameRender<'a> {
 
     /// `lights` split for the lighting cache, if there is one (the hierarchy's only).
     fn cached<'l>(&'l self, lights: Option<&Lights<FrameBackend<'l>>>) -> Option<CachedLights<'l>> {
-        match (&self.cache, lights) {
-            (
-                Some(cache),
-                Some(Lights {
-                    backend: FrameBackend::Lgh(b),
-                    h0,
-                }),
-            ) => Some(CachedLights::new(
-                cache,
-                &self.marcher.volume().density,
-                &Lights::new(*b, *h0),
-            )),
-            _ => None,
-        }
+        CachedLights::of(self.cache.as_ref(), &self.marcher.volume().density, lights?)
     }
 
     /// The coarse levels' lighting cache, if the settings asked for one (the hierarchy's only):

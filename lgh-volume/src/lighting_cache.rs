@@ -47,6 +47,8 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_core::{LghBackend, LightingGridHierarchy, QueryError, ISOTROPIC_PHASE};
 
+use crate::method::FrameBackend;
+
 use crate::error::{check_setting, RenderError};
 use crate::grid::DenseGrid;
 use crate::lighting::{LightScratch, Lights};
@@ -618,6 +620,23 @@ impl<'l> CachedLights<'l> {
             density,
             fine: first.checked_sub(1).map(|last| split(0..=last)),
             coarse: split(first..=u8::MAX),
+        }
+    }
+
+    /// A frame's `lights` split at `cache`'s first level, if there is a cache and the lights
+    /// are the hierarchy's (`None` otherwise: shade them per point).
+    pub(crate) fn of(
+        cache: Option<&'l LightingCache>,
+        density: &'l DenseGrid,
+        lights: &Lights<FrameBackend<'l>>,
+    ) -> Option<Self> {
+        match (cache, &lights.backend) {
+            (Some(cache), FrameBackend::Lgh(b)) => Some(CachedLights::new(
+                cache,
+                density,
+                &Lights::new(*b, lights.h0),
+            )),
+            _ => None,
         }
     }
 

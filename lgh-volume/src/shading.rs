@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use crate::error::RenderError;
+use crate::lighting_cache::{CacheMode, LightingCache};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{Method, Prepared};
@@ -12,7 +13,7 @@ use crate::progress::{self, Phase, Progress};
 use crate::settings::MarchSettings;
 use crate::shadow::{Casters, CubeMaps, Shadows, Visibility, VolumeRays};
 
-/// A light set's method and visibility for one frame (crate-internal: the light set itself is
+/// A light set's method, visibility and lighting cache for one frame (crate-internal: the light set itself is
 /// held by whoever holds this, a [`FrameRender`](crate::FrameRender) or a scattering depth).
 pub(crate) struct Shading {
     /// The method made ready.
@@ -21,6 +22,9 @@ pub(crate) struct Shading {
     pub(crate) visibility: Visibility,
     /// Seconds spent making the visibility (the cube maps' tracing).
     pub(crate) shadow_seconds: f64,
+    /// The coarse levels' lighting cache, if the settings ask for one and the method is the
+    /// hierarchy (empty: filled as shading needs it).
+    pub(crate) cache: Option<LightingCache>,
 }
 
 impl Shading {
@@ -62,10 +66,21 @@ impl Shading {
             ),
             (_, shadows) => Visibility::new(shadows, frame, medium, step, cutoff),
         };
+        let shadow_seconds = t.elapsed().as_secs_f64();
+        let cache = match (&prepared, settings.lighting_cache.mode) {
+            (Prepared::Lgh { .. }, CacheMode::Coarse) => Some(LightingCache::new(
+                &frame.density,
+                medium,
+                lights.hierarchy(),
+                &settings.lighting_cache,
+            )?),
+            _ => None,
+        };
         Ok(Shading {
             prepared,
             visibility,
-            shadow_seconds: t.elapsed().as_secs_f64(),
+            shadow_seconds,
+            cache,
         })
     }
 }
