@@ -64,8 +64,7 @@ use crate::medium::{Medium, Volume};
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 
-/// The largest optical depth a texel stores (`V = e^{−16} ≈ 1.1·10⁻⁷`).
-pub const TAU_MAX: f32 = 16.0;
+pub use super::lookup::TAU_MAX;
 
 /// The most depths a texel can store ([`CubeMapSettings::depth_count`]).
 pub const MAX_DEPTHS: usize = 16;
@@ -413,8 +412,7 @@ impl CubeMaps {
         let (slot, inv_spacing) = self.slot(level, index);
         if self.adaptive {
             let (texels, n) = (&self.texels, self.per_texel);
-            return lookup::knots_transmittance(texels, n, slot, inv_spacing, x, centre)
-                .unwrap_or(1.0);
+            return knots::transmittance(texels, n, slot, inv_spacing, x, centre).unwrap_or(1.0);
         }
         lookup::quantised_depth(&self.texels, self.per_texel, slot, inv_spacing, x, centre)
             .map_or(1.0, |q| lookup::exp_neg(q * (1.0 / QUANT)))

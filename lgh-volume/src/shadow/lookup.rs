@@ -6,7 +6,9 @@
 use lgh_core::glam::Vec3;
 
 use super::cube;
-use super::knots;
+
+/// The largest optical depth a texel stores (`V = e^{−16} ≈ 1.1·10⁻⁷`).
+pub const TAU_MAX: f32 = 16.0;
 
 /// Where a light's map is: its first texel in the maps' one texel array, and its cells per
 /// face side; `offset == u32::MAX` for a light without a map.
@@ -93,7 +95,7 @@ pub(super) fn quantised_depth(
 /// and weights, offset to the map) and the distance, or `None` when the light is unshadowed
 /// there (no map, `x` on the light or not finite).
 #[inline(always)]
-fn locate(slot: Slot, x: Vec3, c: Vec3) -> Option<(cube::Footprint, f32)> {
+pub(super) fn locate(slot: Slot, x: Vec3, c: Vec3) -> Option<(cube::Footprint, f32)> {
     let (vx, vy, vz) = (x.x - c.x, x.y - c.y, x.z - c.z);
     let d = (vx * vx + vy * vy + vz * vz).sqrt();
     if slot == NO_MAP || !d.is_finite() || d <= 0.0 {
@@ -105,29 +107,6 @@ fn locate(slot: Slot, x: Vec3, c: Vec3) -> Option<(cube::Footprint, f32)> {
         ..at
     };
     Some((at, d))
-}
-
-/// The transmittance at `x` of the light centred at `c` whose map of adaptive knots (module
-/// `knots`, `n` a texel) is `slot` in `texels`, with `scale` = 255 / its reach: each of the four
-/// texels' `τ` around the direction evaluated at the distance, blended bilinearly, `e^{−τ}` of
-/// that; `None` as
-/// [`quantised_depth`].
-#[inline]
-#[must_use]
-pub(super) fn knots_transmittance(
-    texels: &[u16],
-    n: usize,
-    slot: Slot,
-    scale: f32,
-    x: Vec3,
-    c: Vec3,
-) -> Option<f32> {
-    let (at, d) = locate(slot, x, c)?;
-    let q = d * scale;
-    let tau = cube::bilinear(&at, slot.cells, |t| {
-        knots::depth(&texels[t * n..(t + 1) * n], q)
-    });
-    Some(exp_neg(tau))
 }
 
 #[cfg(test)]
