@@ -436,7 +436,7 @@ impl CubeMaps {
         out.clear();
         out.resize(centres.len(), 1.0);
         #[cfg(target_arch = "x86_64")]
-        if !self.adaptive && avx2::cube_transmittances(self, x, centres, ids, out) {
+        if avx2::cube_transmittances(self, x, centres, ids, out) {
             return;
         }
         for ((o, &c), &(level, index)) in out.iter_mut().zip(centres).zip(ids) {
@@ -1273,7 +1273,11 @@ mod tests {
         let lgh = lights.hierarchy();
         let b = lgh.blending(2.0).unwrap();
         for n in [2, 4, 8, MAX_DEPTHS] {
-            batched_lookups_match(&v, &m, lgh, &b, n);
+            batched_lookups_match(&v, &m, lgh, &b, (Depths::Fitted, n));
+        }
+        // Adaptive knots: eight abreast for an even count, one by one for an odd one.
+        for n in [2, 3, 4, 8] {
+            batched_lookups_match(&v, &m, lgh, &b, (Depths::Adaptive, n));
         }
     }
 
@@ -1283,11 +1287,11 @@ mod tests {
         m: &Medium,
         lgh: &LightingGridHierarchy,
         b: &Blending,
-        n: usize,
+        (depths, n): (Depths, usize),
     ) {
         let settings = CubeMapSettings {
             depth_count: n,
-            ..settings(Depths::Fitted)
+            ..settings(depths)
         };
         let maps = CubeMaps::build(Casters::new(lgh, b), v, m, &settings, &|_| {}).unwrap();
         let (lo, hi) = v.density.bounds();

@@ -292,8 +292,8 @@ pub(super) fn depth(knots: &[u16], q: f32) -> f32 {
 }
 
 /// The optical depth of each stored value: `τ = −ln(v/255)`, and [`TAU_MAX`] for 0 (`V` below
-/// half a step).
-const TAU: [f32; 256] = {
+/// half a step). A `static`, so that the AVX2 lookups gather from one table.
+pub(super) static TAU: [f32; 256] = {
     let mut t = [TAU_MAX; 256];
     let mut v = 1;
     while v < 256 {

@@ -12,6 +12,7 @@ use core::arch::x86_64::*;
 
 use lgh_core::glam::Vec3;
 
+use super::knots::TAU;
 use super::{CubeMaps, Depths, Fit, Knots, Tracer, INV_QUANT, MAX_DEPTHS, TAU_MAX};
 use crate::shadow::avx2::{from_array, lerp, to_array, Gathers, LANES};
 use crate::shadow::lookup::{Slot, EXP2, NO_MAP};
@@ -40,6 +41,31 @@ pub(super) fn cube_transmittances(
     }
     let n = centres.len();
     let whole = n - n % LANES;
+    if maps.adaptive {
+        // Knots are read two a gather: an odd count is left to the one-by-one code.
+        if depths % 2 != 0 {
+            return false;
+        }
+        for first in (0..whole).step_by(LANES) {
+            let mut c = [[0.0f32; LANES]; 3];
+            let mut slots = [NO_MAP; LANES];
+            let mut scale = [0.0f32; LANES];
+            for l in 0..LANES {
+                let p = centres[first + l];
+                (c[0][l], c[1][l], c[2][l]) = (p.x, p.y, p.z);
+                let (level, index) = ids[first + l];
+                (slots[l], scale[l]) = maps.slot(level, index);
+            }
+            // SAFETY: the CPU supports AVX2, checked above.
+            let v = unsafe { knots8(texels, depths, x, &c, &slots, &scale) };
+            out[first..first + LANES].copy_from_slice(&v);
+        }
+        for i in whole..n {
+            let (level, index) = ids[i];
+            out[i] = maps.transmittance(x, level, index, centres[i]);
+        }
+        return true;
+    }
     // Groups of chunks: every chunk of a group is located and its texels' cache lines are
     // requested, then the group's texels are gathered. The lookups of a shading point read
     // lines scattered over the maps; requested together, their fetches overlap.
@@ -90,17 +116,23 @@ struct Located8 {
     valid: __m256,
 }
 
-/// The first half of eight lookups of `lookup::quantised_depth`: where each lane's texels are,
-/// lane by lane the same operations in the same order; their cache lines are requested.
+/// Eight lookups' texels: lane by lane `lookup::locate` (the distance, the map's first texel
+/// of the footprint, the bilinear weights) with the same operations in the same order, and
+/// which lanes are valid (a map, `d` finite and > 0).
+#[derive(Clone, Copy)]
+struct Footprint8 {
+    d: __m256,
+    first: __m256i,
+    side: __m256i,
+    tx: __m256,
+    ty: __m256,
+    valid: __m256,
+}
+
+/// [`Footprint8`] of the lights centred at `c` (x, y, z lanes) with maps `slots`, seen from `x`.
+#[inline]
 #[target_feature(enable = "avx2")]
-fn locate8(
-    texels: &[u16],
-    depths: usize,
-    x: Vec3,
-    c: &[[f32; LANES]; 3],
-    slots: &[Slot; LANES],
-    inv_spacing: &[f32; LANES],
-) -> Located8 {
+fn footprint8(x: Vec3, c: &[[f32; LANES]; 3], slots: &[Slot; LANES]) -> Footprint8 {
     let ld = |a: &[f32; LANES]| unsafe { _mm256_loadu_ps(a.as_ptr()) };
     let zero = _mm256_setzero_ps();
     let one = _mm256_set1_ps(1.0);
@@ -167,6 +199,38 @@ fn locate8(
             cxi,
         ),
     );
+    Footprint8 {
+        d,
+        first,
+        side,
+        tx,
+        ty,
+        valid,
+    }
+}
+
+/// The first half of eight lookups of `lookup::quantised_depth`: where each lane's texels are,
+/// lane by lane the same operations in the same order; their cache lines are requested.
+#[target_feature(enable = "avx2")]
+fn locate8(
+    texels: &[u16],
+    depths: usize,
+    x: Vec3,
+    c: &[[f32; LANES]; 3],
+    slots: &[Slot; LANES],
+    inv_spacing: &[f32; LANES],
+) -> Located8 {
+    let ld = |a: &[f32; LANES]| unsafe { _mm256_loadu_ps(a.as_ptr()) };
+    let Footprint8 {
+        d,
+        first,
+        side,
+        tx,
+        ty,
+        valid,
+    } = footprint8(x, c, slots);
+    let (zero, one) = (_mm256_setzero_ps(), _mm256_set1_ps(1.0));
+    let unit = |t: __m256| _mm256_min_ps(_mm256_max_ps(t, zero), one);
     let q = _mm256_min_ps(
         _mm256_mul_ps(d, ld(inv_spacing)),
         _mm256_set1_ps(depths as f32),
@@ -251,6 +315,88 @@ fn finish8(texels: &[u16], at: &Located8) -> [f32; LANES] {
     let tau = _mm256_mul_ps(lerp(lo, hi, f), _mm256_set1_ps(INV_QUANT));
     let e = exp_neg8(tau);
     let v = _mm256_blendv_ps(one, e, valid);
+    let mut out = [0.0f32; LANES];
+    // SAFETY: `out` holds eight floats.
+    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
+    out
+}
+
+/// Eight lookups of `knots::transmittance` (adaptive knots, `n` a texel, `n` even), lane by
+/// lane the same operations in the same order: each corner texel's knots gathered two at a
+/// time, walked to the two around the distance, `τ` interpolated; the corners blended
+/// bilinearly, then `exp_neg`. Invalid lanes read texel 0 and give 1.
+#[target_feature(enable = "avx2")]
+fn knots8(
+    texels: &[u16],
+    n: usize,
+    x: Vec3,
+    c: &[[f32; LANES]; 3],
+    slots: &[Slot; LANES],
+    scale: &[f32; LANES],
+) -> [f32; LANES] {
+    let Footprint8 {
+        d,
+        first,
+        side,
+        tx,
+        ty,
+        valid,
+    } = footprint8(x, c, slots);
+    // SAFETY: `scale` holds eight floats.
+    let q = _mm256_mul_ps(d, unsafe { _mm256_loadu_ps(scale.as_ptr()) });
+    let vi = _mm256_castps_si256(valid);
+    let per_texel = _mm256_set1_epi32(n as i32);
+    let ptr = texels.as_ptr().cast::<i32>();
+    let tau_of = TAU.as_ptr();
+    let depth = |texel: __m256i| {
+        // Two-byte index of the texel's first knot (0 for invalid lanes).
+        let base = _mm256_and_si256(_mm256_mullo_epi32(texel, per_texel), vi);
+        let (mut q0, mut t0) = (_mm256_setzero_ps(), _mm256_setzero_ps());
+        let mut found = _mm256_setzero_ps();
+        let mut out = _mm256_setzero_ps();
+        for pair in (0..n).step_by(2) {
+            // SAFETY: a valid lane's texel lies in its map, inside `texels`, and a four-byte
+            // read at its knot `pair` (even, pair + 1 < n) reads knots pair and pair + 1 of it;
+            // invalid lanes read knots 0 and 1 of texel 0.
+            let g = unsafe {
+                _mm256_i32gather_epi32::<2>(
+                    ptr,
+                    _mm256_add_epi32(base, _mm256_set1_epi32(pair as i32)),
+                )
+            };
+            for k in [
+                _mm256_and_si256(g, _mm256_set1_epi32(0xffff)),
+                _mm256_srli_epi32::<16>(g),
+            ] {
+                let q1 = _mm256_cvtepi32_ps(_mm256_srli_epi32::<8>(k));
+                let v1 = _mm256_and_si256(k, _mm256_set1_epi32(0xff));
+                // SAFETY: v1 < 256, the table's length.
+                let t1 = unsafe { _mm256_i32gather_ps::<4>(tau_of, v1) };
+                let here = _mm256_andnot_ps(found, _mm256_cmp_ps::<_CMP_LT_OQ>(q, q1));
+                let t = _mm256_add_ps(
+                    t0,
+                    _mm256_mul_ps(
+                        _mm256_sub_ps(t1, t0),
+                        _mm256_div_ps(_mm256_sub_ps(q, q0), _mm256_sub_ps(q1, q0)),
+                    ),
+                );
+                out = _mm256_blendv_ps(out, t, here);
+                found = _mm256_or_ps(found, here);
+                (q0, t0) = (q1, t1);
+            }
+        }
+        // Beyond the last knot: its value.
+        _mm256_blendv_ps(t0, out, found)
+    };
+    let one = _mm256_set1_epi32(1);
+    let t00 = depth(first);
+    let t10 = depth(_mm256_add_epi32(first, one));
+    let t01 = depth(_mm256_add_epi32(first, side));
+    let t11 = depth(_mm256_add_epi32(_mm256_add_epi32(first, side), one));
+    let lerp =
+        |a: __m256, b: __m256, t: __m256| _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t));
+    let tau = lerp(lerp(t00, t10, tx), lerp(t01, t11, tx), ty);
+    let v = _mm256_blendv_ps(_mm256_set1_ps(1.0), exp_neg8(tau), valid);
     let mut out = [0.0f32; LANES];
     // SAFETY: `out` holds eight floats.
     unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
