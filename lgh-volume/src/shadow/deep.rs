@@ -30,8 +30,8 @@
 //! stores instead the four values whose piecewise-linear `τ` is closest, in least squares, to the
 //! traced `τ` at the ray's samples, each weighted by what an error there costs the image:
 //! the density there (the scattering a shading point adds is `∝ ρ`) times `V² = e^{−2τ}` (an
-//! error `Δτ` changes `V` by `V·Δτ`). Same storage, same lookup. Fixed depths make lookups eight
-//! abreast with AVX2 (module `avx2`); knots are looked up one by one.
+//! error `Δτ` changes `V` by `V·Δτ`). Same storage, same lookup. Both layouts are looked up eight
+//! lights abreast with AVX2 (module `avx2`).
 //!
 //! **Storage of fixed depths.** `τ` is quantised to 16 bits on `[0, TAU_MAX]`: an absolute error of at most
 //! `TAU_MAX / 131070 ≈ 1.2·10⁻⁴` in `τ`, a relative error of at most that in `V`; depths beyond
