@@ -20,7 +20,7 @@
 //!
 //! **What a texel stores.** By default, [`Depths::Adaptive`]: four knots (distance,
 //! transmittance) placed along the texel's ray where `V` changes, in the eight bytes of the
-//! paper's four depths (module `knots`): 1.78% against the maps' own model on the demo, where the
+//! paper's four depths (module `knots`): 1.74% against the maps' own model on the demo, where the
 //! fixed depths below err by 8.65% (`docs/shadows.md`).
 //!
 //! **Fixed depths.** The paper records `τ` at the four distances. We can

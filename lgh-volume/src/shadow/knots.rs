@@ -12,7 +12,7 @@
 //! moves (the scattering a point adds is `∝ ρ`, and `∫ρ` is `τ` itself), weighted by the
 //! level's blending weight `B_ℓ` (eq. 3), which is zero nearer than `r_{ℓ−1}`: no knot is spent
 //! where the level is never looked up. On the demo this takes four knots from 5.45% (Salvi's
-//! area) to 1.78% against the maps' own model (`docs/shadows.md`). Steps through clear space
+//! area) to 1.74% against the maps' own model (`docs/shadows.md`). Steps through clear space
 //! add no node: `τ` is constant there, and the node that starts the next rise is added with it,
 //! so the polyline is flat across gaps.
 //!
@@ -32,7 +32,7 @@
 use lgh_core::glam::Vec3;
 
 use super::cube;
-use super::lookup::{self, Slot, TAU_MAX};
+use super::lookup::{self, Slot};
 
 /// Nodes the streaming buffer holds, besides the light's `(0, 1)`: the most knots a texel may
 /// keep. A larger buffer lets the removals see more of the ray at once; on the demo, 32 moved
@@ -297,10 +297,14 @@ pub(super) fn depth(knots: &[u16], q: f32) -> f32 {
     t0
 }
 
-/// The optical depth of each stored value: `τ = −ln(v/255)`, and [`TAU_MAX`] for 0 (`V` below
-/// half a step). A `static`, so that the AVX2 lookups gather from one table.
+/// The optical depth of each stored value: `τ = −ln(v/255)`, and for 0 (`V` below half a step,
+/// `1/510`) the middle of that bin, `ln 1020 ≈ 6.93`: a knot past an opaque rise is read as
+/// `V = 1/1020`, off by at most that, and the `τ` interpolated towards it is not pulled to the
+/// much larger `TAU_MAX` (which would darken the whole segment before it). A `static`, so that
+/// the AVX2 lookups gather from one table.
 pub(super) static TAU: [f32; 256] = {
-    let mut t = [TAU_MAX; 256];
+    let mut t = [0.0; 256];
+    t[0] = -ln(0.25 / 255.0) as f32;
     let mut v = 1;
     while v < 256 {
         t[v] = -ln(v as f64 / 255.0) as f32;
@@ -335,6 +339,7 @@ const fn ln(mut x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shadow::deep::TAU_MAX;
 
     /// The stored knots of `tau(d)` marched in `steps` steps to `reach` (steps through which `τ`
     /// does not rise add nothing, as in the march), for lookups over `support`.
@@ -365,7 +370,7 @@ mod tests {
     #[test]
     fn stored_values_decode_to_their_optical_depth() {
         assert_eq!(TAU[255], 0.0);
-        assert_eq!(TAU[0], TAU_MAX);
+        assert!((TAU[0] - 1020f32.ln()).abs() < 1e-6);
         for v in 1..255 {
             let want = -(f64::from(v) / 255.0).ln();
             assert!(
