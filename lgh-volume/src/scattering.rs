@@ -20,7 +20,9 @@
 //! computed as the render's in-scattering is: its finest levels at every voxel, its coarse levels
 //! at the cache's vertices (each depth's own cache, filled where the voxels need it) and
 //! interpolated — the cache's vertices of level 1 are the voxel centres themselves, coarser
-//! levels' fewer, where their light varies slowly.
+//! levels' fewer, where their light varies slowly. Where no grid of the cache is coarser than
+//! the voxels (dense smoke), the pass shades every voxel exactly: such a cache would only add
+//! work.
 //!
 //! [`LightingCacheSettings`]: crate::lighting_cache::LightingCacheSettings
 //!
@@ -72,7 +74,7 @@ use lgh_image::Image;
 
 use crate::error::RenderError;
 use crate::lighting::LightScratch;
-use crate::lighting_cache::CachedLights;
+use crate::lighting_cache::{CachedLights, LightingCache};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::Method;
@@ -446,8 +448,12 @@ impl Fluence<'_> {
             return Err(nothing_to_scatter(1));
         };
         let grid = &self.frame.density;
-        // With a lighting cache, the coarse levels' fluence comes from it, as in the render.
-        let cached = CachedLights::of(shading.cache.as_ref(), grid, &lights);
+        // With a lighting cache, the coarse levels' fluence comes from it, as in the render —
+        // where some grid is coarser than the voxels: the pass queries every voxel, so a cache
+        // whose vertices are all at least as dense as the voxels would only add work.
+        let sparse = |c: &&LightingCache| c.tiers().iter().any(|&(_, voxels)| voxels > 1.0);
+        let cache = shading.cache.as_ref().filter(sparse);
+        let cached = CachedLights::of(cache, grid, &lights);
         let h3 = grid.voxel_size.powi(3);
         let chunks: Vec<Result<RenderStats, RenderError>> = out
             .par_chunks_mut(CHUNK_VOXELS)
@@ -1025,28 +1031,32 @@ mod tests {
     }
 
     #[test]
-    fn through_a_lighting_cache_at_voxel_spacing_each_depth_is_the_uncached_one() {
-        // With every cached level's vertices one voxel apart on the voxel centres' lattice,
-        // every voxel the pass queries is a vertex: the cache holds the coarse levels' fluence
-        // computed there, exactly as the uncached query computes it, and a vertex's own value
-        // comes back through the interpolation with weight 1 and a zero offset. What may differ
-        // is the order of the sums (fine and coarse levels apart, then added) and e^{ln L}:
-        // a few ulps, relative 1e-5 at most. Coarser cached levels (2 voxels) interpolate and
-        // move each depth's power by a measured amount, printed.
+    fn through_a_lighting_cache_depth_one_is_exact_at_its_vertices_and_dense_caches_are_skipped() {
+        // Cells two voxels wide on the voxel centres' lattice: an eighth of the voxels are
+        // vertices, where the cache holds the coarse levels' fluence computed exactly as the
+        // uncached query computes it, and a vertex's own value comes back through the
+        // interpolation with weight 1 and a zero offset. What may differ there is the order of
+        // the sums (fine and coarse levels apart, then added) and e^{ln L}: a few ulps,
+        // relative 1e-5 at most. Between vertices the cache interpolates: those voxels differ
+        // (the cache is used), by an amount printed as each depth's power. A cache one voxel
+        // apart has no vertex fewer than the voxels: the pass skips it, bit for bit.
         use crate::lighting_cache::{CacheMode, CacheSpacing, LightingCacheSettings};
         let volume = blob(20);
         let medium = Medium::new(4.0, 6.0, 1e-4, 1000.0).unwrap();
         let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
-        let cached = |spacing| MarchSettings {
-            shadows: Shadows::RayMarch,
-            lighting_cache: LightingCacheSettings {
-                mode: CacheMode::Coarse,
-                spacing,
-                ..Default::default()
-            },
-            ..Default::default()
-        };
         let lgh = Method::Lgh { alpha: 2.0 };
+        let with = |spacing| {
+            let settings = MarchSettings {
+                shadows: Shadows::RayMarch,
+                lighting_cache: LightingCacheSettings {
+                    mode: CacheMode::Coarse,
+                    spacing,
+                    ..Default::default()
+                },
+                ..Default::default()
+            };
+            pass(&emission, 2, lgh, &volume, &medium, &settings)
+        };
         let plain = pass(
             &emission,
             2,
@@ -1055,35 +1065,33 @@ mod tests {
             &medium,
             &MarchSettings::with_shadows(Shadows::RayMarch),
         );
-        let exact = pass(
-            &emission,
-            2,
-            lgh,
-            &volume,
-            &medium,
-            &cached(CacheSpacing::Voxels(1.0)),
-        );
-        let coarse = pass(
-            &emission,
-            2,
-            lgh,
-            &volume,
-            &medium,
-            &cached(CacheSpacing::Voxels(2.0)),
+        let (dense, coarse) = (
+            with(CacheSpacing::Voxels(1.0)),
+            with(CacheSpacing::Voxels(2.0)),
         );
         for depth in 1..=2 {
-            let (a, b) = (
-                plain.intensities(depth).unwrap(),
-                exact.intensities(depth).unwrap(),
+            let a = plain.intensities(depth).unwrap();
+            assert_eq!(
+                bits(a),
+                bits(dense.intensities(depth).unwrap()),
+                "depth {depth}"
             );
-            let lit = a.iter().filter(|v| v.max_element() > 0.0).count();
-            assert!(lit > 1000, "{lit}");
-            for (x, y) in a.iter().zip(b) {
-                assert!(
-                    (*x - *y).abs().max_element() <= 1e-5 * x.max_element() + 1e-30,
-                    "depth {depth}: {x} vs {y}"
-                );
-            }
+        }
+        let (a, b) = (
+            plain.intensities(1).unwrap(),
+            coarse.intensities(1).unwrap(),
+        );
+        let lit = a.iter().filter(|v| v.max_element() > 0.0).count();
+        let same = a
+            .iter()
+            .zip(b)
+            .filter(|(x, y)| {
+                x.max_element() > 0.0 && (**x - **y).abs().max_element() <= 1e-5 * x.max_element()
+            })
+            .count();
+        assert!(lit > 1000, "{lit}");
+        assert!(10 * same >= lit && same < lit, "{same} of {lit}");
+        for depth in 1..=2 {
             let power = |s: &Scattered| s.depths()[depth - 1].power;
             eprintln!(
                 "depth {depth}: power {:.6e} uncached, {:.6e} through 2-voxel cells",

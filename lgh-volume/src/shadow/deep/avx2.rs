@@ -42,8 +42,9 @@ pub(super) fn cube_transmittances(
     let n = centres.len();
     let whole = n - n % LANES;
     if maps.adaptive {
-        // Knots are read two a gather: an odd count is left to the one-by-one code.
-        if depths % 2 != 0 {
+        // Knots are read two a gather: an odd count is left to the one-by-one code. Invalid
+        // lanes read the knots of texel 0, which must be there.
+        if depths % 2 != 0 || texels.len() < depths {
             return false;
         }
         for first in (0..whole).step_by(LANES) {
