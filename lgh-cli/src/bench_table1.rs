@@ -182,6 +182,14 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
             })
             .collect()
     });
+    // What the maps' texels hold (`--shadow-knots` / `--shadow-depths`), checked in `run`.
+    let storage = args
+        .march
+        .settings(crate::demo::DEMO_SHADOW_STEP, &ScatterArgs::default())
+        .ok()
+        .map(
+            |s| json!({ "kind": s.cube_maps.depths.name(), "per_texel": s.cube_maps.depth_count }),
+        );
     let (lights, volume, table) = (&scene.lights, &scene.volume, &args.scene);
     let h = lights.hierarchy();
     let lights_per_level: Vec<usize> = (0..=h.max_level())
@@ -215,6 +223,7 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
             "rel_rmse_vs_uncached": uncached(first.shadows).and_then(vs),
         })),
         "cube_maps": levels,
+        "shadow_storage": storage,
         "shadow_bytes": maps.map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
         "peak_memory_bytes": peak_memory(),
     })

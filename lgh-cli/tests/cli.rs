@@ -369,6 +369,8 @@ fn bench_table1_prints_the_rows_and_the_settings() {
             assert!(t["shadows"][k].is_object(), "{k}: {t}");
         }
         assert!(t["cube_maps"].as_array().unwrap().len() > 1);
+        assert_eq!(t["shadow_storage"]["kind"], "knots", "{t}");
+        assert_eq!(t["shadow_storage"]["per_texel"], 4, "{t}");
         let exact = t["exact"]["seconds"].as_f64().unwrap();
         let first = t["shadows"]["raymarch_cached"]["total_seconds"]
             .as_f64()
