@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use lgh_volume::lighting_cache::{CacheStats, LightingCacheSettings};
 use lgh_volume::render::MarchSettings;
+use lgh_volume::shadow::CubeMapSettings;
 use lgh_volume::{FrameRender, Method, Shadows};
 use serde_json::{json, Value};
 
@@ -101,7 +102,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         .iter()
         .map(|settings| Run::of(&scene, args.scene.alpha, settings))
         .collect::<Result<Vec<_>, _>>()?;
-    let report = report(args, &scene, &runs);
+    let report = report(args, &scene, &runs, &march.cube_maps);
     let text = serde_json::to_string_pretty(&report)?;
     say!("{text}");
     if let Some(out) = &args.out {
@@ -143,8 +144,8 @@ impl Run {
     }
 }
 
-/// The benchmark's JSON.
-fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
+/// The benchmark's JSON; `storage`, the cube maps' settings of every run.
+fn report(args: &Table1Args, scene: &Scene, runs: &[Run], storage: &CubeMapSettings) -> Value {
     let first = &runs[0];
     let mut shadows = serde_json::Map::new();
     for r in runs {
@@ -182,14 +183,6 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
             })
             .collect()
     });
-    // What the maps' texels hold (`--shadow-knots` / `--shadow-depths`), checked in `run`.
-    let storage = args
-        .march
-        .settings(crate::demo::DEMO_SHADOW_STEP, &ScatterArgs::default())
-        .ok()
-        .map(
-            |s| json!({ "kind": s.cube_maps.depths.name(), "per_texel": s.cube_maps.depth_count }),
-        );
     let (lights, volume, table) = (&scene.lights, &scene.volume, &args.scene);
     let h = lights.hierarchy();
     let lights_per_level: Vec<usize> = (0..=h.max_level())
@@ -223,7 +216,7 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run]) -> Value {
             "rel_rmse_vs_uncached": uncached(first.shadows).and_then(vs),
         })),
         "cube_maps": levels,
-        "shadow_storage": storage,
+        "shadow_storage": { "kind": storage.depths.name(), "per_texel": storage.depth_count },
         "shadow_bytes": maps.map(|t| t.iter().map(|l| l.bytes).sum::<u64>()),
         "peak_memory_bytes": peak_memory(),
     })

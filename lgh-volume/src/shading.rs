@@ -13,8 +13,9 @@ use crate::progress::{self, Phase, Progress};
 use crate::settings::MarchSettings;
 use crate::shadow::{Casters, CubeMaps, Shadows, Visibility, VolumeRays};
 
-/// A light set's method, visibility and lighting cache for one frame (crate-internal: the light set itself is
-/// held by whoever holds this, a [`FrameRender`](crate::FrameRender) or a scattering depth).
+/// A light set's method, visibility and lighting cache for one frame (crate-internal: the light
+/// set itself is held by whoever holds this, a [`FrameRender`](crate::FrameRender) or a
+/// scattering depth).
 pub(crate) struct Shading {
     /// The method made ready.
     pub(crate) prepared: Prepared,

@@ -203,9 +203,7 @@ pub struct CubeMaps {
     texels: Vec<u16>,
     /// Depths (or knots) a texel.
     per_texel: usize,
-    /// Whether the texels hold adaptive knots (module `knots`) rather than depths.
-    adaptive: bool,
-    /// What they hold.
+    /// What the texels hold.
     storage: Depths,
     table: Vec<LevelMaps>,
 }
@@ -378,7 +376,6 @@ impl CubeMaps {
             levels,
             texels,
             per_texel,
-            adaptive: settings.depths == Depths::Adaptive,
             storage: settings.depths,
             table,
         })
@@ -410,7 +407,7 @@ impl CubeMaps {
     #[must_use]
     pub fn transmittance(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> f32 {
         let (slot, inv_spacing) = self.slot(level, index);
-        if self.adaptive {
+        if self.adaptive() {
             let (texels, n) = (&self.texels, self.per_texel);
             return knots::transmittance(texels, n, slot, inv_spacing, x, centre).unwrap_or(1.0);
         }
@@ -459,6 +456,11 @@ impl CubeMaps {
     #[must_use]
     pub fn storage(&self) -> Depths {
         self.storage
+    }
+
+    /// Whether the texels hold adaptive knots (module `knots`) rather than depths.
+    fn adaptive(&self) -> bool {
+        self.storage == Depths::Adaptive
     }
 }
 
@@ -715,18 +717,16 @@ impl Tracer<'_> {
         if self.simd {
             while t < count {
                 let dirs: [Vec3; 8] = core::array::from_fn(|l| direction((t + l).min(count - 1)));
-                let mut knots = [Knots::new(self.n, light.support, reach); 8];
-                let recorder = adaptive.then_some(&mut knots);
-                let Some(rays) = avx2::trace8(self, p, &dirs, s, r, reach, recorder) else {
+                let mut knots = adaptive.then(|| [Knots::new(self.n, light.support, reach); 8]);
+                let Some(rays) = avx2::trace8(self, p, &dirs, s, r, reach, knots.as_mut()) else {
                     break;
                 };
                 for (l, (tau, n)) in rays.into_iter().enumerate().take(count - t) {
                     samples += u64::from(n);
                     let out = self.texel(map, t + l);
-                    if adaptive {
-                        knots[l].store(tau[self.n - 1], out);
-                    } else {
-                        quantise(&tau[..self.n], out);
+                    match &knots {
+                        Some(knots) => knots[l].store(tau[self.n - 1], out),
+                        None => quantise(&tau[..self.n], out),
                     }
                 }
                 t += 8;

@@ -41,7 +41,7 @@ pub(super) fn cube_transmittances(
     }
     let n = centres.len();
     let whole = n - n % LANES;
-    if maps.adaptive {
+    if maps.adaptive() {
         // Knots are read two a gather: an odd count is left to the one-by-one code. Invalid
         // lanes read the knots of texel 0, which must be there.
         if depths % 2 != 0 || texels.len() < depths {
@@ -335,17 +335,10 @@ fn knots8(
     slots: &[Slot; LANES],
     scale: &[f32; LANES],
 ) -> [f32; LANES] {
-    let Footprint8 {
-        d,
-        first,
-        side,
-        tx,
-        ty,
-        valid,
-    } = footprint8(x, c, slots);
+    let at = footprint8(x, c, slots);
     // SAFETY: `scale` holds eight floats.
-    let q = _mm256_mul_ps(d, unsafe { _mm256_loadu_ps(scale.as_ptr()) });
-    let vi = _mm256_castps_si256(valid);
+    let q = _mm256_mul_ps(at.d, unsafe { _mm256_loadu_ps(scale.as_ptr()) });
+    let vi = _mm256_castps_si256(at.valid);
     let per_texel = _mm256_set1_epi32(n as i32);
     let ptr = texels.as_ptr().cast::<i32>();
     let tau_of = TAU.as_ptr();
@@ -390,14 +383,15 @@ fn knots8(
         _mm256_blendv_ps(t0, out, found)
     };
     let one = _mm256_set1_epi32(1);
+    let (first, side) = (at.first, at.side);
     let t00 = depth(first);
     let t10 = depth(_mm256_add_epi32(first, one));
     let t01 = depth(_mm256_add_epi32(first, side));
     let t11 = depth(_mm256_add_epi32(_mm256_add_epi32(first, side), one));
     let lerp =
         |a: __m256, b: __m256, t: __m256| _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t));
-    let tau = lerp(lerp(t00, t10, tx), lerp(t01, t11, tx), ty);
-    let v = _mm256_blendv_ps(_mm256_set1_ps(1.0), exp_neg8(tau), valid);
+    let tau = lerp(lerp(t00, t10, at.tx), lerp(t01, t11, at.tx), at.ty);
+    let v = _mm256_blendv_ps(_mm256_set1_ps(1.0), exp_neg8(tau), at.valid);
     let mut out = [0.0f32; LANES];
     // SAFETY: `out` holds eight floats.
     unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
