@@ -14,7 +14,8 @@ use core::arch::x86_64::*;
 
 use lgh_core::glam::Vec3;
 
-use super::{transmittance, PaddedGrid, Ray, ShadowGrid, ROUND};
+use super::padded::{self, PaddedGrid};
+use super::{transmittance, Ray, ShadowGrid, ROUND};
 
 /// Rays marched together, one per lane of a 256-bit register.
 pub(super) const LANES: usize = 8;
@@ -27,13 +28,20 @@ pub(super) fn transmittances(
     lights: &[Vec3],
     out: &mut [f32],
 ) -> Option<u64> {
-    let fits =
-        i32::try_from(grid.grid.data.len()).is_ok() && grid.grid.data.len() >= grid.grid.span;
-    if !fits || !std::arch::is_x86_feature_detected!("avx2") || out.len() != lights.len() {
+    if !fits(&grid.grid)
+        || !std::arch::is_x86_feature_detected!("avx2")
+        || out.len() != lights.len()
+    {
         return None;
     }
     // SAFETY: the CPU supports AVX2, checked just above.
     Some(unsafe { batches(grid, x, lights, out) })
+}
+
+/// Whether eight-abreast lookups can read `grid`: it holds values, fewer than 2^31 of them
+/// (32-bit gather offsets).
+pub(super) fn fits(grid: &PaddedGrid) -> bool {
+    !grid.is_empty() && i32::try_from(grid.data.len()).is_ok()
 }
 
 /// Marches the rays eight at a time. Where the shading point and eight consecutive lights are all
@@ -202,41 +210,57 @@ fn floor(p: __m256) -> (__m256i, __m256) {
     (i, w)
 }
 
-/// Index of voxel `(i, j, k)` in a grid of `nx × ny × …` voxels, clamped into `0..=max_base`
-/// (wrapping in between), so whatever the voxel, reads from there up to `max_base` on stay put.
+/// Index of the first value of cell `(i, j, k)` in a [`PaddedGrid`]'s bricks, each index
+/// clamped into `0..=last` first (as `PaddedGrid::first` clamps), so whatever the cell, its
+/// eight values are inside the grid.
 #[inline]
 #[target_feature(enable = "avx2")]
-fn clamped_base([i, j, k]: [__m256i; 3], nx: __m256i, ny: __m256i, max_base: __m256i) -> __m256i {
-    let base = _mm256_add_epi32(
-        _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(k, ny), j), nx),
-        i,
+fn first_value(cell: [__m256i; 3], last: [__m256i; 3], bricks: [__m256i; 2]) -> __m256i {
+    let zero = _mm256_setzero_si256();
+    let [i, j, k] = [0, 1, 2].map(|a| _mm256_min_epi32(_mm256_max_epi32(cell[a], zero), last[a]));
+    let brick_of = |c: __m256i| _mm256_srli_epi32::<{ padded::BRICK_BITS as i32 }>(c);
+    let within = |c: __m256i| _mm256_and_si256(c, _mm256_set1_epi32(padded::BRICK as i32 - 1));
+    let brick = _mm256_add_epi32(
+        _mm256_mullo_epi32(
+            _mm256_add_epi32(_mm256_mullo_epi32(brick_of(k), bricks[1]), brick_of(j)),
+            bricks[0],
+        ),
+        brick_of(i),
     );
-    _mm256_min_epi32(_mm256_max_epi32(base, _mm256_setzero_si256()), max_base)
+    let side = _mm256_set1_epi32(padded::SIDE as i32);
+    let offset = _mm256_add_epi32(
+        _mm256_mullo_epi32(
+            _mm256_add_epi32(_mm256_mullo_epi32(within(k), side), within(j)),
+            side,
+        ),
+        within(i),
+    );
+    _mm256_add_epi32(
+        _mm256_mullo_epi32(brick, _mm256_set1_epi32(padded::BRICK_VALUES as i32)),
+        offset,
+    )
 }
 
 /// What gathering trilinear samples of a [`PaddedGrid`] eight at a time needs.
 pub(super) struct Gathers {
-    /// The eight neighbours' offsets from a sample's base voxel, in `trilinear`'s order.
-    offsets: [usize; 8],
-    /// Bases from 0 to len − span keep every neighbour inside the grid.
-    max_base: __m256i,
-    nx: __m256i,
-    ny: __m256i,
+    /// The last cell per axis.
+    last: [__m256i; 3],
+    /// Bricks along x and y.
+    bricks: [__m256i; 2],
     data: *const f32,
 }
 
 impl Gathers {
-    /// For `grid`, which must hold `span ≤ len < 2^31` values (checked by the callers).
+    /// For `grid`, which must be non-empty and hold fewer than 2^31 values (checked by the
+    /// callers, [`fits`]).
     #[inline]
     #[target_feature(enable = "avx2")]
     pub(super) fn new(grid: &PaddedGrid) -> Self {
-        let [nx, ny, _] = grid.dims;
-        let (dj, dk) = (nx, nx * ny);
+        let (last, bricks) = grid.layout();
+        let v = |n: usize| _mm256_set1_epi32(n as i32);
         Gathers {
-            offsets: [0, 1, dj, dj + 1, dk, dk + 1, dk + dj, dk + dj + 1],
-            max_base: _mm256_set1_epi32((grid.data.len() - grid.span) as i32),
-            nx: _mm256_set1_epi32(nx as i32),
-            ny: _mm256_set1_epi32(ny as i32),
+            last: last.map(v),
+            bricks: [v(bricks[0]), v(bricks[1])],
             data: grid.data.as_ptr(),
         }
     }
@@ -249,17 +273,43 @@ impl Gathers {
         let (ix, wx) = floor(px);
         let (iy, wy) = floor(py);
         let (iz, wz) = floor(pz);
-        let base = clamped_base([ix, iy, iz], self.nx, self.ny, self.max_base);
-        // SAFETY: every base is in 0..=len − span and every offset below span, so each gathered
-        // element is inside the grid's data, whose pointer this is.
-        let c = self
-            .offsets
-            .map(|o| unsafe { _mm256_i32gather_ps::<4>(self.data.add(o), base) });
-        let x00 = lerp(c[0], c[1], wx);
-        let x10 = lerp(c[2], c[3], wx);
-        let x01 = lerp(c[4], c[5], wx);
-        let x11 = lerp(c[6], c[7], wx);
+        let base = first_value([ix, iy, iz], self.last, self.bricks);
+        // Each of the cell's four x-rows is a pair of neighbouring values, gathered as one
+        // 64-bit element: half the elements of gathering the eight corners one by one, which
+        // is what a lookup costs (a gather's time grows with its elements).
+        let [x00, x10, x01, x11] = [0, 2, 4, 6].map(|c| {
+            let row = padded::CORNERS[c];
+            // SAFETY: every base is the first value of a cell of the grid, whose eight values
+            // lie at the corners' offsets inside the grid's data, whose pointer this is; a row's
+            // two values are its corners `c` and `c + 1`, one apart.
+            let (a, b) = unsafe { self.pairs(row, base) };
+            lerp(a, b, wx)
+        });
         lerp(lerp(x00, x10, wy), lerp(x01, x11, wy), wz)
+    }
+
+    /// The values at `base + offset` and `base + offset + 1` of each lane, gathered in pairs.
+    ///
+    /// # Safety
+    /// Both must be inside the grid's data for every lane.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn pairs(&self, offset: usize, base: __m256i) -> (__m256, __m256) {
+        let at = self.data.add(offset).cast::<f64>();
+        // Lanes 0–3 and 4–7: [a0 b0 a1 b1 | a2 b2 a3 b3] and [a4 b4 a5 b5 | a6 b6 a7 b7].
+        let lo = _mm256_castpd_ps(_mm256_i32gather_pd::<4>(at, _mm256_castsi256_si128(base)));
+        let hi = _mm256_castpd_ps(_mm256_i32gather_pd::<4>(
+            at,
+            _mm256_extracti128_si256::<1>(base),
+        ));
+        // [a0 a1 a4 a5 | a2 a3 a6 a7], then the middle quarters swapped.
+        let order = |v: __m256| {
+            _mm256_castpd_ps(_mm256_permute4x64_pd::<0b11_01_10_00>(_mm256_castps_pd(v)))
+        };
+        (
+            order(_mm256_shuffle_ps::<0b10_00_10_00>(lo, hi)),
+            order(_mm256_shuffle_ps::<0b11_01_11_01>(lo, hi)),
+        )
     }
 }
 
@@ -322,7 +372,7 @@ mod tests {
     }
 
     /// Coordinates no ray setup makes (billions of voxels away, infinite, not a number) give
-    /// bases in `0..=max_base`, and so reads inside the grid.
+    /// first values whose cell lies inside the grid, and so reads inside it.
     #[target_feature(enable = "avx2")]
     fn check_clamped_bases() {
         let wild = [
@@ -335,21 +385,19 @@ mod tests {
             -0.7,
             5.5,
         ];
-        let (nx, ny, max_base) = (130, 131, 130 * 131 * 132 - (130 * 131 + 132));
+        let density = crate::grid::DenseGrid::zeros([128, 129, 130], 1.0, Vec3::ZERO);
+        let grid = PaddedGrid::new(&density);
+        let g = Gathers::new(&grid);
+        let most = (grid.data.len() - 1 - padded::CORNERS[7]) as i32;
         let v = from_array;
         let rotate = |r: usize| core::array::from_fn(|l| wild[(l + r) % LANES]);
         for r in 0..LANES {
             let p = [v(wild), v(rotate(r)), v(rotate(3 * r + 1))];
-            let base = clamped_base(
-                p.map(|p| floor(p).0),
-                _mm256_set1_epi32(nx),
-                _mm256_set1_epi32(ny),
-                _mm256_set1_epi32(max_base),
-            );
+            let base = first_value(p.map(|p| floor(p).0), g.last, g.bricks);
             let mut got = [0i32; LANES];
             // SAFETY: `got` holds eight 32-bit integers.
             unsafe { _mm256_storeu_si256(got.as_mut_ptr().cast(), base) };
-            assert!(got.iter().all(|b| (0..=max_base).contains(b)), "{got:?}");
+            assert!(got.iter().all(|b| (0..=most).contains(b)), "{got:?}");
         }
     }
 }

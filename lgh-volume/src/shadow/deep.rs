@@ -311,8 +311,8 @@ impl CubeMaps {
             maps.push(planned);
         }
         // The pyramid: a padded copy of the density, a full-resolution level, then 1/8 of the
-        // previous each (at most 8/7 of the full-resolution level), padded.
-        let padded = density.dims.iter().map(|&n| n as u64 + 4).product::<u64>() * 4;
+        // previous each (at most 8/7 of the full-resolution level), padded and bricked.
+        let padded = super::PaddedGrid::bytes_for(density.dims.map(|n| n + 2));
         CubeMapPlan {
             levels,
             pyramid_bytes: padded + padded * 8 / 7,

@@ -30,6 +30,7 @@ pub mod deep;
 mod empty;
 mod knots;
 mod lookup;
+mod padded;
 pub mod prefilter;
 pub mod volume_rays;
 
@@ -88,6 +89,7 @@ impl<'a> Casters<'a> {
         self.coarse == CoarseShadows::Volumes
     }
 }
+pub use padded::PaddedGrid;
 pub use prefilter::DensityPyramid;
 pub use volume_rays::VolumeRays;
 
@@ -252,94 +254,6 @@ mod avx2;
 /// 2^23: a float in [−2^22, 2^22] plus this is rounded to the nearest integer, which the sum's
 /// low mantissa bits hold.
 const ROUND: f32 = 8_388_608.0;
-
-/// A grid padded by one voxel on every side with its border values, so that a trilinear lookup
-/// anywhere in its box is a clamp-free read of eight neighbours: what shadow rays and cube-map
-/// texel rays read.
-#[derive(Clone, Debug)]
-pub struct PaddedGrid {
-    /// Padded values, x fastest.
-    data: Vec<f32>,
-    /// Padded dimensions (the grid's plus 2).
-    dims: [usize; 3],
-    /// Values from a voxel to its far neighbour `(+1, +1, +1)`, inclusive.
-    span: usize,
-    /// World position of the centre of padded voxel `(0, 0, 0)`.
-    origin: Vec3,
-    inv_voxel_size: f32,
-}
-
-impl PaddedGrid {
-    /// `g` padded (an empty grid stays empty).
-    #[must_use]
-    pub fn new(g: &crate::grid::DenseGrid) -> Self {
-        let [nx, ny, nz] = g.dims;
-        let dims = [nx + 2, ny + 2, nz + 2];
-        // Padded index p maps to the clamped source index p − 1 (the border value repeats, as
-        // the grid's own trilinear lookup clamps to its outermost centres).
-        let src = |p: usize, n: usize| p.saturating_sub(1).min(n.saturating_sub(1));
-        let mut data = Vec::new();
-        if !g.data.is_empty() {
-            data.reserve(dims.iter().product());
-            for k in 0..dims[2] {
-                for j in 0..dims[1] {
-                    let row = (src(k, nz) * ny + src(j, ny)) * nx;
-                    data.extend((0..dims[0]).map(|i| g.data[row + src(i, nx)]));
-                }
-            }
-        }
-        PaddedGrid {
-            data,
-            dims,
-            span: dims[0] * dims[1] + dims[0] + 2,
-            origin: g.origin - Vec3::splat(g.voxel_size),
-            inv_voxel_size: 1.0 / g.voxel_size,
-        }
-    }
-
-    /// World position `x` in padded voxel units.
-    #[inline(always)]
-    #[must_use]
-    pub fn local(&self, x: Vec3) -> Vec3A {
-        Vec3A::from((x - self.origin) * self.inv_voxel_size)
-    }
-
-    /// Whether the grid holds no values.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.data.is_empty()
-    }
-
-    /// Trilinear value at `p`, in padded voxel units, for `p` in the grid's box (padded
-    /// `[0.5, n + 0.5]` per axis, `n` the grid's size) give or take rounding.
-    #[inline(always)]
-    #[must_use]
-    pub fn sample(&self, p: Vec3A) -> f32 {
-        // floor(p) without a saturating float-to-integer conversion: adding 2^23 rounds p − ½
-        // (exact) to the nearest integer, whose value sits in the float's low mantissa bits.
-        // At an integer p the tie may round down to p − 1, with weight 1: the same value.
-        let r = (p - Vec3A::splat(0.5)) + Vec3A::splat(ROUND);
-        let w = p - (r - Vec3A::splat(ROUND));
-        let [i, j, k] = r
-            .to_array()
-            .map(|v| v.to_bits().wrapping_sub(ROUND.to_bits()) as usize);
-        let [nx, ny, _] = self.dims;
-        let b = k
-            .wrapping_mul(ny)
-            .wrapping_add(j)
-            .wrapping_mul(nx)
-            .wrapping_add(i);
-        // One bounds check for all eight neighbours; a point outside the padded box (which
-        // clipping rules out) reads nothing rather than clamping.
-        match self.data.get(b..b.wrapping_add(self.span)) {
-            Some(c) => crate::grid::trilinear(c, 1, nx, nx * ny, w.into()),
-            None => {
-                debug_assert!(false, "sample outside the padded grid: {p}");
-                0.0
-            }
-        }
-    }
-}
 
 /// The density padded ([`PaddedGrid`]) and the medium's extinction per unit density: what
 /// [`transmittance`](Self::transmittance) reads.

@@ -14,7 +14,7 @@ use lgh_core::glam::Vec3;
 
 use super::knots::TAU;
 use super::{CubeMaps, Depths, Fit, Knots, Tracer, INV_QUANT, MAX_DEPTHS, TAU_MAX};
-use crate::shadow::avx2::{from_array, lerp, to_array, Gathers, LANES};
+use crate::shadow::avx2::{fits, from_array, lerp, to_array, Gathers, LANES};
 use crate::shadow::lookup::{Slot, EXP2, NO_MAP};
 use crate::shadow::prefilter::Mix;
 
@@ -435,10 +435,7 @@ pub(super) fn trace8(
     knots: Option<&mut [Knots; LANES]>,
 ) -> Option<[([f32; MAX_DEPTHS], u32); LANES]> {
     let pyramid = tracer.pyramid;
-    let fits = (0..pyramid.levels()).all(|m| {
-        let g = pyramid.grid(m);
-        i32::try_from(g.data.len()).is_ok() && g.data.len() >= g.span
-    });
+    let fits = (0..pyramid.levels()).all(|m| fits(pyramid.grid(m)));
     if !fits || !std::arch::is_x86_feature_detected!("avx2") {
         return None;
     }
