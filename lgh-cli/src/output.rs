@@ -104,6 +104,37 @@ pub struct CacheArgs {
     /// every sample).
     #[arg(long, default_value_t = 1)]
     pub cache_level: u8,
+    /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
+    /// fluence on a grid this many voxels apart, every level cached, and interpolate it to the
+    /// voxels (their light has scattered already and varies slowly); 1 computes it at every
+    /// voxel, as depth 1 does
+    #[arg(long, default_value_t = lgh_volume::lighting_cache::SCATTERED_SPACING)]
+    pub scatter_spacing: u8,
+    /// With --scatter-depth, the lighting cache and ray-marched shadows: how the render takes
+    /// in the scattered light
+    #[arg(long, value_enum, default_value_t = ScatteredLightArg::Grid)]
+    pub scattered_light: ScatteredLightArg,
+}
+
+/// How a render with multiple scattering takes in the scattered light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ScatteredLightArg {
+    /// The paper's merged lights (one a voxel: its emission and every scattered depth), shaded
+    /// at every march sample
+    Merged,
+    /// The scattered depths' in-scattered radiance, computed at the voxels by one more fluence
+    /// pass and interpolated at every sample, which then shades the emission lights only;
+    /// surfaces are lit by the merged lights
+    Grid,
+}
+
+impl From<ScatteredLightArg> for lgh_volume::lighting_cache::ScatteredLight {
+    fn from(a: ScatteredLightArg) -> Self {
+        match a {
+            ScatteredLightArg::Merged => Self::Merged,
+            ScatteredLightArg::Grid => Self::Grid,
+        }
+    }
 }
 
 impl CacheArgs {
@@ -116,6 +147,8 @@ impl CacheArgs {
                 SpacingArg::Auto => CacheSpacing::OpticalDepth(self.cache_depth),
             },
             first_level: self.cache_level,
+            scattered_spacing: self.scatter_spacing,
+            scattered_light: self.scattered_light.into(),
         }
     }
 }
@@ -293,7 +326,20 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
             list(&mut s.depths().iter().map(|d| format!("{:.3}", d.seconds))),
         ),
         ("scatter_lights", s.lights().lights().len().to_string()),
+        (
+            "scattered_light",
+            frame
+                .settings()
+                .lighting_cache
+                .scattered_light
+                .name()
+                .to_string(),
+        ),
     ]);
+    if let Some((_, r)) = s.radiance() {
+        // The scattered light as a grid (otherwise the merged lights).
+        out.push(("scatter_grid_seconds", format!("{:.3}", r.seconds)));
+    }
     if let Some(shares) = shares {
         let f = fractions(shares);
         out.push((
@@ -365,6 +411,15 @@ pub fn say_scattering(frame: &FrameRender, shares: Option<&Shares>) -> Result<()
             r.shadow_seconds,
             r.power,
             r.stats.lights_per_point()
+        );
+    }
+    if let Some((grid, r)) = s.radiance() {
+        say!(
+            "    grid    : {:.2} s (depth {}'s fluence at the voxels: the scattered light's radiance, {:.1} MB), power {:.4e}",
+            r.seconds,
+            r.depth - 1,
+            grid.bytes() as f64 / 1e6,
+            r.power
         );
     }
     if let Some(shares) = shares {

@@ -64,8 +64,13 @@ pub struct FrameRender<'a> {
     /// The multiple-scattering pass, whose merged lights are rendered (`None` at depth 0).
     scattered: Option<Scattered>,
     method: Method,
-    /// The method over the rendered lights, and their visibility (moved into the marcher).
+    /// The method over the lights the medium is shaded with, and their visibility (moved into
+    /// the marcher).
     prepared: Prepared,
+    /// The method over the merged lights, for surfaces, when the medium takes the scattered
+    /// light in as a grid and is shaded with the emission lights
+    /// ([`MarchSettings::scattered_grid`]).
+    surface_prepared: Option<Prepared>,
     marcher: Marcher<'a>,
     /// The coarse levels' lighting cache, if the settings ask for one and the method is the
     /// hierarchy (filled as renders need it).
@@ -101,7 +106,15 @@ impl<'a> FrameRender<'a> {
         } else {
             0.0
         };
-        let rendered = scattered.as_ref().map_or(lights, Scattered::lights);
+        let merged = scattered.as_ref().map_or(lights, Scattered::lights);
+        // With the scattered light as a grid the medium is shaded with the emission lights and
+        // surfaces with the merged ones; their shadows (ray-marched or none) serve both.
+        let grid = scattered.as_ref().is_some_and(|s| s.radiance().is_some());
+        let (rendered, surface_prepared) = if grid {
+            (lights, Some(method.prepare(merged)?))
+        } else {
+            (merged, None)
+        };
         let shading = Shading::new(rendered, method, frame, medium, settings, progress)?;
         let shadows = shading.shadow_seconds;
         let cache = shading.cache;
@@ -110,6 +123,7 @@ impl<'a> FrameRender<'a> {
             scattered,
             method,
             prepared: shading.prepared,
+            surface_prepared,
             marcher: Marcher::with_visibility(frame, medium, settings, shading.visibility)?,
             cache,
             seconds: PrepareSeconds {
@@ -159,9 +173,16 @@ impl<'a> FrameRender<'a> {
     ) -> Result<R, RenderError> {
         let lights = self.shading_lights()?;
         let cached = self.cached(lights.as_ref());
+        let surface = match &self.surface_prepared {
+            Some(p) => p.lights(self.lights())?,
+            None => None,
+        };
+        let scattered = self.scattered.as_ref().and_then(Scattered::radiance);
         f(Lit {
             lights: lights.as_ref(),
             cached: cached.as_ref(),
+            scattered: scattered.map(|(r, _)| r),
+            surface: surface.as_ref(),
         })
     }
 
@@ -177,10 +198,17 @@ impl<'a> FrameRender<'a> {
         self.cache.as_ref()
     }
 
-    /// The rendered lights through the method, with the fall-off clamp `h0 = h` (what
-    /// [`Lights::incident`] shades a point with); `None` for [`Method::Emission`].
+    /// The lights the medium is shaded with through the method, with the fall-off clamp
+    /// `h0 = h` (what [`Lights::incident`] shades a point with): [`lights`](Self::lights), or
+    /// the emission lights when the scattered light comes as a grid
+    /// ([`MarchSettings::scattered_grid`]); `None` for [`Method::Emission`].
     pub fn shading_lights(&self) -> Result<Option<Lights<FrameBackend<'_>>>, RenderError> {
-        self.prepared.lights(self.lights())
+        let medium = if self.surface_prepared.is_some() {
+            self.emission
+        } else {
+            self.lights()
+        };
+        self.prepared.lights(medium)
     }
 
     /// Each scattering depth's share of `camera`'s image (`None` without scattering): renders
@@ -223,6 +251,8 @@ impl<'a> FrameRender<'a> {
     }
 
     /// The lights rendered: the merged lights of the scattering pass, or the emission lights.
+    /// (With the scattered light as a grid, the merged lights light the surfaces, and the
+    /// medium is shaded with the emission lights and the grid.)
     #[must_use]
     pub fn lights(&self) -> &ExplosionLights {
         self.scattered

@@ -68,6 +68,7 @@ pub mod pathtrace;
 pub mod procedural;
 pub mod progress;
 pub mod render;
+pub mod scattered_light;
 pub mod scattering;
 pub mod settings;
 mod shading;

@@ -20,6 +20,7 @@ use crate::error::RenderError;
 use crate::lighting::{LightScratch, Lights};
 use crate::lighting_cache::CachedLights;
 use crate::medium::{Medium, Volume};
+use crate::scattered_light::ScatteredRadiance;
 pub use crate::shadow::Shadows;
 use crate::shadow::Visibility;
 use crate::surfaces::{SurfaceHit, Surfaces};
@@ -210,7 +211,7 @@ impl<'a> Marcher<'a> {
         let hit = self.surfaces.and_then(|s| Some((s, s.hit(origin, dir)?)));
         let surface = |stats: &mut RenderStats, scratch: &mut LightScratch| match hit {
             Some((s, hit)) => {
-                let lights = lights.map(|l| (l, s));
+                let lights = lit.surface.or(lights).map(|l| (l, s));
                 self.shade_surface(lights, origin + dir * hit.t, hit, stats, scratch)
             }
             None => Ok(Vec3::ZERO),
@@ -232,6 +233,9 @@ impl<'a> Marcher<'a> {
             let rho = volume.density.sample(x);
             let sigma_t = medium.extinction(rho);
             let mut source = volume.emission(medium, x);
+            if let Some(scattered) = lit.scattered {
+                source += scattered.sample(x);
+            }
             let sigma_s = medium.scattering * rho;
             if let (Some(lights), true) = (lights, sigma_s > 0.0) {
                 source += match lit.cached {
@@ -349,6 +353,12 @@ pub fn shade_pixels<T: Send, S>(
 pub(crate) struct Lit<'s, B> {
     pub(crate) lights: Option<&'s Lights<B>>,
     pub(crate) cached: Option<&'s CachedLights<'s>>,
+    /// Multiple scattering's light as in-scattered radiance at the voxels, added at every
+    /// sample ([`crate::scattered_light`]); `lights` are then the emission's.
+    pub(crate) scattered: Option<&'s ScatteredRadiance>,
+    /// The lights of surfaces, where they differ from `lights` (the merged lights, with the
+    /// scattered light as a grid).
+    pub(crate) surface: Option<&'s Lights<B>>,
 }
 
 impl<B> Clone for Lit<'_, B> {
@@ -365,6 +375,8 @@ impl<'s, B> Lit<'s, B> {
         Lit {
             lights,
             cached: None,
+            scattered: None,
+            surface: None,
         }
     }
 }

@@ -4,6 +4,7 @@
 
 use crate::error::{check_setting, RenderError};
 use crate::lighting_cache::LightingCacheSettings;
+use crate::method::Method;
 use crate::shadow::{CubeMapSettings, Shadows};
 
 /// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
@@ -95,6 +96,32 @@ impl MarchSettings {
         check_depth(self.scatter_depth)?;
         self.lighting_cache.check()?;
         Ok(())
+    }
+
+    /// Whether a render through `method` takes the scattered light in as a grid
+    /// ([`crate::scattered_light`]): scattered depths asked for, the lighting cache's
+    /// [`scattered_grid`](LightingCacheSettings::scattered_grid), the hierarchy (the cache's
+    /// only method), and shadows that every light set shares (ray-marched or none; cube maps
+    /// and their model are made for one light set's hierarchy).
+    ///
+    /// ```
+    /// use lgh_volume::lighting_cache::LightingCacheSettings;
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::{Method, Shadows};
+    ///
+    /// let lgh = Method::Lgh { alpha: 2.0 };
+    /// let cached = MarchSettings { scatter_depth: 4, lighting_cache: LightingCacheSettings::coarse(), ..Default::default() };
+    /// assert!(cached.scattered_grid(lgh));
+    /// assert!(!cached.scattered_grid(Method::Brute));
+    /// assert!(!MarchSettings { shadows: Shadows::CubeMap, ..cached }.scattered_grid(lgh));
+    /// assert!(!MarchSettings { scatter_depth: 0, ..cached }.scattered_grid(lgh));
+    /// ```
+    #[must_use]
+    pub fn scattered_grid(&self, method: Method) -> bool {
+        self.scatter_depth > 0
+            && self.lighting_cache.scattered_grid()
+            && matches!(method, Method::Lgh { .. })
+            && matches!(self.shadows, Shadows::RayMarch | Shadows::None)
     }
 
     /// The default march with `shadows`.

@@ -44,6 +44,7 @@ fn spaced(spacing_voxels: f32, first_level: u8) -> Option<LightingCacheSettings>
         mode: CacheMode::Coarse,
         spacing: CacheSpacing::Voxels(spacing_voxels),
         first_level,
+        ..LightingCacheSettings::default()
     })
 }
 

@@ -12,6 +12,7 @@
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_image::Image;
+use lgh_volume::lighting_cache::{LightingCacheSettings, ScatteredLight};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::{ExplosionLights, FrameRender, Medium, Method, Shadows, Volume};
@@ -103,12 +104,24 @@ fn multiple_scattering_approaches_the_path_tracer() {
     );
     assert!(scattered_share >= 0.2, "{scattered_share}");
 
-    for (method, shadows) in [
-        (Method::Brute, Shadows::RayMarch),
-        (Method::Lgh { alpha: 2.0 }, Shadows::CubeMap),
+    let lgh = Method::Lgh { alpha: 2.0 };
+    let cached = |scattered_light| LightingCacheSettings {
+        scattered_light,
+        ..LightingCacheSettings::coarse()
+    };
+    for (method, shadows, lighting_cache) in [
+        (
+            Method::Brute,
+            Shadows::RayMarch,
+            LightingCacheSettings::default(),
+        ),
+        (lgh, Shadows::CubeMap, LightingCacheSettings::default()),
+        (lgh, Shadows::RayMarch, cached(ScatteredLight::Merged)),
+        (lgh, Shadows::RayMarch, cached(ScatteredLight::Grid)),
     ] {
         let march = MarchSettings {
             shadows,
+            lighting_cache,
             ..Default::default()
         };
         let t = std::time::Instant::now();
@@ -131,11 +144,12 @@ fn multiple_scattering_approaches_the_path_tracer() {
         let mean_ratio = mean_luminance(&multi) / mean_luminance(&ptn);
         let single_ratio = mean_luminance(&single) / mean_luminance(&pt1);
         eprintln!(
-            "{method:?} {shadows:?}: single scattering vs path tracer(1): relRMSE {offset:.4} \
+            "{method:?} {shadows:?} {:?}: single scattering vs path tracer(1): relRMSE {offset:.4} \
              (noise {noise1:.4}), mean ratio {single_ratio:.4}; depth {n} vs path tracer({}): relRMSE {error:.4} (noise {noisen:.4}), \
              mean ratio {mean_ratio:.4}; without the pass {without_pass:.4}; scattered light alone \
              (depth {n} − depth 0 vs PT({}) − PT(1)): relRMSE {increment:.4}; render {t_single:.1} s, \
              pass {t_pass:.1} s",
+            lighting_cache.scattered_grid(),
             n + 1,
             n + 1
         );
