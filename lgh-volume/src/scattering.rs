@@ -22,7 +22,17 @@
 //! interpolated — the cache's vertices of level 1 are the voxel centres themselves, coarser
 //! levels' fewer, where their light varies slowly. Where no grid of the cache is coarser than
 //! the voxels (dense smoke), the pass shades every voxel exactly: such a cache would only add
-//! work.
+//! work. Depths ≥ 2 light the smoke with light that has scattered already, spread over all of
+//! it: they go through a cache of every level, the finest included, on a grid
+//! [`scattered_spacing`](crate::lighting_cache::LightingCacheSettings::scattered_spacing) voxels apart (four by
+//! default; on the Fig. 8-class frame a depth takes 8 s instead of 65–70 s, its power within
+//! 2.2% of the pass at every voxel at depth 4).
+//!
+//! **The scattered light as a grid.** With the cache and shadows that every light set shares
+//! ([`MarchSettings::scattered_grid`]), the pass computes one depth more, `n + 1`, and keeps
+//! `Σ_{k=2}^{n+1} I^k / h³` at the voxels: the in-scattered radiance of depths `1..=n`
+//! ([`crate::scattered_light`]), which the render interpolates at every sample instead of shading
+//! the merged lights there. The merged lights are still made: surfaces are lit by them.
 //!
 //! [`LightingCacheSettings`]: crate::lighting_cache::LightingCacheSettings
 //!
