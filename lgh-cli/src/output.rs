@@ -112,7 +112,7 @@ pub struct CacheArgs {
     pub scatter_spacing: u8,
     /// With --scatter-depth, the lighting cache and ray-marched shadows: how the render takes
     /// in the scattered light
-    #[arg(long, value_enum, default_value_t = ScatteredLightArg::Grid)]
+    #[arg(long, value_enum, default_value_t = ScatteredLightArg::Merged)]
     pub scattered_light: ScatteredLightArg,
 }
 
@@ -124,7 +124,9 @@ pub enum ScatteredLightArg {
     Merged,
     /// The scattered depths' in-scattered radiance, computed at the voxels by one more fluence
     /// pass and interpolated at every sample, which then shades the emission lights only;
-    /// surfaces are lit by the merged lights
+    /// surfaces are lit by the merged lights. Faster, but smooth between voxel centres where
+    /// the merged lights are not (on the Fig. 8-class frame at depth 4: 442 core-seconds against
+    /// 664, 6.2% from the merged lights' image)
     Grid,
 }
 

@@ -105,12 +105,13 @@ impl MarchSettings {
     /// and their model are made for one light set's hierarchy).
     ///
     /// ```
-    /// use lgh_volume::lighting_cache::LightingCacheSettings;
+    /// use lgh_volume::lighting_cache::{LightingCacheSettings, ScatteredLight};
     /// use lgh_volume::render::MarchSettings;
     /// use lgh_volume::{Method, Shadows};
     ///
     /// let lgh = Method::Lgh { alpha: 2.0 };
-    /// let cached = MarchSettings { scatter_depth: 4, lighting_cache: LightingCacheSettings::coarse(), ..Default::default() };
+    /// let grid = LightingCacheSettings { scattered_light: ScatteredLight::Grid, ..LightingCacheSettings::coarse() };
+    /// let cached = MarchSettings { scatter_depth: 4, lighting_cache: grid, ..Default::default() };
     /// assert!(cached.scattered_grid(lgh));
     /// assert!(!cached.scattered_grid(Method::Brute));
     /// assert!(!MarchSettings { shadows: Shadows::CubeMap, ..cached }.scattered_grid(lgh));
