@@ -235,7 +235,8 @@ pub struct Scattered {
 /// `settings`, merged into one light per voxel. Checked before any
 /// work: the depth ([`check_depth`]), the density's grid, the settings, and the plan's memory
 /// against `settings.cube_maps.memory_budget` ([`ScatterPlan`]). `progress` hears
-/// [`Phase::Scattering`] over the voxels (`depth × lights_per_depth` in all). Depth 0 returns the emission
+/// [`Phase::Scattering`] over the voxels (`depth × lights_per_depth` in all, one depth more
+/// with the scattered light as a grid). Depth 0 returns the emission
 /// lights as they are.
 ///
 /// ```
@@ -262,7 +263,8 @@ pub fn scatter(
     progress: &dyn Progress,
 ) -> Result<Scattered, RenderError> {
     let plan = check_pass(emission, method, frame, settings)?;
-    let total = (plan.depth * plan.lights_per_depth) as u64;
+    let passes = plan.depth + usize::from(settings.scattered_grid(method));
+    let total = (passes * plan.lights_per_depth) as u64;
     progress::phase(progress, Phase::Scattering, total, |p| {
         pass(emission, method, frame, medium, settings, p)
     })
@@ -315,14 +317,15 @@ fn pass(
         ..*settings
     };
     // Depths ≥ 2 through their own cache of every level, where the settings ask for one.
-    let later = single
-        .lighting_cache
-        .scattered_depths()
-        .map_or(single, |lighting_cache| MarchSettings {
-            lighting_cache,
-            ..single
-        });
-    let pass = |settings| Fluence {
+    let later_settings =
+        single
+            .lighting_cache
+            .scattered_depths()
+            .map_or(single, |lighting_cache| MarchSettings {
+                lighting_cache,
+                ..single
+            });
+    let fluence = |settings| Fluence {
         method,
         frame,
         medium,
@@ -330,7 +333,7 @@ fn pass(
         voxels: &dense,
         progress,
     };
-    let (first, later) = (pass(&single), pass(&later));
+    let (first, later) = (fluence(&single), fluence(&later_settings));
     let mut next = vec![Vec3::ZERO; dense.len()];
     let mut reports = Vec::with_capacity(depth);
     // With the scattered light as a grid: depths ≥ 2's intensities summed, each `h³ σ_s Φ/4π`

@@ -266,7 +266,7 @@ impl Gathers {
     }
 
     /// [`PaddedGrid::sample`] of eight points in padded voxel units, bit for bit (points outside
-    /// the padded box read clamped garbage rather than nothing: mask them).
+    /// the padded box read their nearest cell's values, clamped, rather than nothing: mask them).
     #[inline]
     #[target_feature(enable = "avx2")]
     pub(super) fn sample(&self, [px, py, pz]: [__m256; 3]) -> __m256 {

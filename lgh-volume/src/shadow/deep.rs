@@ -310,12 +310,21 @@ impl CubeMaps {
             });
             maps.push(planned);
         }
-        // The pyramid: a padded copy of the density, a full-resolution level, then 1/8 of the
-        // previous each (at most 8/7 of the full-resolution level), padded and bricked.
-        let padded = super::PaddedGrid::bytes_for(density.dims.map(|n| n + 2));
+        // The pyramid: a padded copy of the density, a full-resolution level, then levels
+        // sampled every 2, 4, … voxels, each padded and bricked. Bricks round each level up, so
+        // the levels are bounded one by one (at most n/s + 2 samples an axis at spacing s), up
+        // to the last level any light could ask for.
+        let mut pyramid_bytes = super::PaddedGrid::bytes_for(density.dims);
+        for m in 0..24 {
+            let dims = density.dims.map(|n| (n >> m) + 2);
+            pyramid_bytes += super::PaddedGrid::bytes_for(dims);
+            if dims.iter().all(|&n| n <= 4) {
+                break;
+            }
+        }
         CubeMapPlan {
             levels,
-            pyramid_bytes: padded + padded * 8 / 7,
+            pyramid_bytes,
             maps,
         }
     }

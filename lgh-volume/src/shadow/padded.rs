@@ -5,13 +5,12 @@
 //!
 //! **Why bricks.** Shadow rays and texel rays cross the grid in every direction. Stored x
 //! fastest, a lookup's eight values lie on four rows far apart (a z-neighbour is a whole slice
-//! away: 285 KB on a 267³ grid), and every step of a ray that is not along x reads four new
+//! away: 289 KB on a 267³ grid), and every step of a ray that is not along x reads four new
 //! cache lines and touches new pages: on the Fig. 8-class frame three quarters of the shadow
 //! march's time was spent waiting on those gathers. In a brick the `(BRICK + 1)³` values of its
 //! cells are stored together (x fastest within the brick), each brick holding its cells' far
 //! faces as well (the first values of its neighbours, repeated), so a lookup's eight values are
-//! in one brick, two to four cache lines of it, and a ray's next few samples read the same
-//! brick. The repeated faces cost `(9/8)³ ≈ 1.42` times the memory of the padded grid.
+//! in one brick, a few cache lines of it, and a ray's next few samples read the same brick. The repeated faces cost `(9/8)³ ≈ 1.42` times the memory of the padded grid.
 //!
 //! The values read and the arithmetic on them are those of the plain layout: a lookup is the
 //! same bits whatever the layout.
@@ -163,7 +162,8 @@ impl PaddedGrid {
 
     /// Trilinear value at `p`, in padded voxel units, for `p` in the grid's box (padded
     /// `[0.5, n + 0.5]` per axis, `n` the grid's size) give or take rounding; outside it, the
-    /// value of the nearest cell's lookup (clamped, never a read outside the grid).
+    /// value of the nearest cell's lookup for finite `p` (clamped, never a read outside the
+    /// grid; not a number for infinite or NaN `p`); zero for an empty grid.
     #[inline(always)]
     #[must_use]
     pub fn sample(&self, p: Vec3A) -> f32 {
@@ -181,8 +181,13 @@ impl PaddedGrid {
                 .all(|(&c, n)| (0..n as i32 - 1).contains(&c)),
             "sample outside the padded grid: {p}"
         );
-        let b = self.first(cell);
-        let c = &self.data[b..b + CORNERS[7] + 1];
-        crate::grid::trilinear(c, 1, SIDE, SIDE * SIDE, w.into())
+        match self
+            .data
+            .get(self.first(cell)..)
+            .filter(|c| c.len() > CORNERS[7])
+        {
+            Some(c) => crate::grid::trilinear(c, 1, SIDE, SIDE * SIDE, w.into()),
+            None => 0.0, // an empty grid
+        }
     }
 }
