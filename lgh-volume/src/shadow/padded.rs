@@ -28,7 +28,7 @@ pub(super) const SIDE: usize = BRICK + 1;
 /// Values per brick.
 pub(super) const BRICK_VALUES: usize = SIDE * SIDE * SIDE;
 
-/// A grid padded by one voxel on every side with its border values, in bricks of [`BRICK`]³
+/// A grid padded by one voxel on every side with its border values, in bricks of 8³
 /// cells (module docs), so that a trilinear lookup anywhere in its box is a clamp-free read of
 /// eight neighbours close together: what shadow rays and cube-map texel rays read.
 #[derive(Clone, Debug)]
