@@ -208,7 +208,8 @@ pub struct DepthReport {
     pub seconds: f64,
     /// Luminance of the depth's summed intensity, `‖Σ I^k‖` (summed in voxel order, in f64).
     pub power: f64,
-    /// The fluence queries' counts (one shading point per voxel).
+    /// The fluence queries' counts (one shading point per voxel), the lights and shadow samples
+    /// of the lighting cache's vertices included.
     pub stats: RenderStats,
 }
 
@@ -539,6 +540,15 @@ impl Fluence<'_> {
         let mut stats = RenderStats::default();
         for c in chunks {
             stats.add(&c?);
+        }
+        // One shading point per voxel, whether it shaded lights or only read the cache; the
+        // cache's vertices are this depth's work too: their lights and shadow samples count
+        // with the voxels' (a depth through a cache of every level shades no light per voxel).
+        stats.shading_points = self.voxels.len() as u64;
+        if let Some(c) = cache {
+            let filled = c.stats();
+            stats.lights_evaluated += filled.lights_evaluated;
+            stats.shadow_samples += filled.shadow_samples;
         }
         Ok((stats, shadow_seconds))
     }
