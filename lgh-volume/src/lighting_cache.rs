@@ -247,6 +247,11 @@ impl LightingCacheSettings {
     ///     zero.check().unwrap_err().to_string(),
     ///     "lighting cache: spacing 0 must be 0.25 to 16 voxels"
     /// );
+    /// let far = LightingCacheSettings { scattered_spacing: 9, ..LightingCacheSettings::coarse() };
+    /// assert_eq!(
+    ///     far.check().unwrap_err().to_string(),
+    ///     "lighting cache: spacing of the scattered depths 9 must be 1 to 8 voxels"
+    /// );
     /// ```
     pub fn check(&self) -> Result<(), RenderError> {
         match self.spacing {

@@ -130,15 +130,22 @@ fn the_cached_image_is_the_same_on_any_thread_count() {
 fn bad_cache_settings_are_refused_before_any_work() {
     let (v, lights, _) = scene(32);
     let m = medium();
-    for (spacing, first_level, name) in [
-        (0.0f32, 1u8, "lighting cache: spacing"),
-        (f32::NAN, 1, "lighting cache: spacing"),
-        (32.0, 1, "lighting cache: spacing"),
-        (1.0, 22, "lighting cache: first level"),
+    let scattered = "lighting cache: spacing of the scattered depths";
+    for (spacing, first_level, scattered_spacing, name) in [
+        (0.0f32, 1u8, 4u8, "lighting cache: spacing"),
+        (f32::NAN, 1, 4, "lighting cache: spacing"),
+        (32.0, 1, 4, "lighting cache: spacing"),
+        (1.0, 22, 4, "lighting cache: first level"),
+        (1.0, 1, 0, scattered),
+        (1.0, 1, 9, scattered),
     ] {
         let settings = MarchSettings {
             shadows: Shadows::CubeMap, // would take the longest to build
-            lighting_cache: spaced(spacing, first_level).unwrap(),
+            lighting_cache: LightingCacheSettings {
+                scattered_spacing,
+                ..spaced(spacing, first_level).unwrap()
+            },
+            scatter_depth: 2, // and a scattering pass before them
             ..Default::default()
         };
         let heard = Heard::default();
