@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use lgh_image::Image;
-use lgh_volume::lighting_cache::{CacheMode, CacheSpacing, LightingCache, LightingCacheSettings};
+use lgh_volume::lighting_cache::{
+    CacheMode, CacheSpacing, LightingCache, LightingCacheSettings, ScatteredLight,
+};
 use lgh_volume::render::{Camera, MarchSettings, RenderStats};
 use lgh_volume::scattering::{self, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
@@ -130,7 +132,7 @@ pub enum ScatteredLightArg {
     Grid,
 }
 
-impl From<ScatteredLightArg> for lgh_volume::lighting_cache::ScatteredLight {
+impl From<ScatteredLightArg> for ScatteredLight {
     fn from(a: ScatteredLightArg) -> Self {
         match a {
             ScatteredLightArg::Merged => Self::Merged,
@@ -332,10 +334,11 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
             // What the render used: the grid needs the cache and shared shadows.
             "scattered_light",
             if s.radiance().is_some() {
-                "grid"
+                ScatteredLight::Grid
             } else {
-                "merged"
+                ScatteredLight::Merged
             }
+            .name()
             .to_string(),
         ),
         (

@@ -168,6 +168,30 @@ impl ScatterPlan {
         })
     }
 
+    /// The plan with the scattered light kept as a grid ([`MarchSettings::scattered_grid`]):
+    /// its three channels over every voxel of `frame`, and the summed intensities of the
+    /// voxels with smoke.
+    ///
+    /// ```
+    /// use lgh_volume::scattering::ScatterPlan;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let emission = ExplosionLights::new(&[&volume], &Medium::new(2.0, 6.0, 1e-4, 1000.0)?)?;
+    /// let plan = ScatterPlan::new(&emission, &volume, 2)?;
+    /// let grid = plan.with_grid(&volume);
+    /// assert_eq!(grid.bytes - plan.bytes, 12 * (32 * 32 * 32 + plan.lights_per_depth as u64));
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn with_grid(self, frame: &Volume) -> Self {
+        let extra = 12 * (frame.density.data.len() as u64 + self.lights_per_depth as u64);
+        ScatterPlan {
+            bytes: self.bytes + extra,
+            ..self
+        }
+    }
+
     /// `Ok` if the plan fits in `budget` bytes, else [`RenderError::ScatterMemory`].
     ///
     /// ```
@@ -403,8 +427,7 @@ fn check_pass(
     let depth = settings.scatter_depth;
     let mut plan = ScatterPlan::new(emission, frame, depth)?;
     if settings.scattered_grid(method) {
-        // The grid's three channels over every voxel, and the summed intensities.
-        plan.bytes += frame.density.data.len() as u64 * 12 + plan.lights_per_depth as u64 * 12;
+        plan = plan.with_grid(frame);
     }
     settings.check()?;
     method.check()?;
@@ -1202,38 +1225,19 @@ mod tests {
             },
             ..Default::default()
         };
-        let exact = pass(
-            &emission,
-            3,
-            lgh,
-            &volume,
-            &medium,
-            &cache(1, ScatteredLight::Merged),
-        );
-        let coarse = pass(
-            &emission,
-            2,
-            lgh,
-            &volume,
-            &medium,
-            &cache(2, ScatteredLight::Grid),
-        );
-        let exact2 = pass(
-            &emission,
-            2,
-            lgh,
-            &volume,
-            &medium,
-            &cache(1, ScatteredLight::Merged),
-        );
-        let merged3 = pass(
-            &emission,
-            3,
-            lgh,
-            &volume,
-            &medium,
-            &cache(2, ScatteredLight::Merged),
-        );
+        let run = |depth, spacing, light| {
+            pass(
+                &emission,
+                depth,
+                lgh,
+                &volume,
+                &medium,
+                &cache(spacing, light),
+            )
+        };
+        let exact = run(3, 1, ScatteredLight::Merged);
+        let coarse = run(2, 2, ScatteredLight::Grid);
+        let merged3 = run(3, 2, ScatteredLight::Merged);
         // Depth 1 is the same pass in both.
         assert_eq!(
             bits(exact.intensities(1).unwrap()),
@@ -1241,11 +1245,11 @@ mod tests {
         );
         // Depth 2 from the same depth-1 lights: equal on the vertices, not between them.
         let (a, b) = (
-            exact2.intensities(2).unwrap(),
+            exact.intensities(2).unwrap(),
             coarse.intensities(2).unwrap(),
         );
         let grid = &volume.density;
-        let voxels = &exact2.lights().voxels().to_vec();
+        let voxels = &exact.lights().voxels().to_vec();
         let (mut on, mut off, mut off_same) = (0, 0, 0);
         for ((x, y), &v) in a.iter().zip(b).zip(voxels) {
             if x.max_element() <= 0.0 {

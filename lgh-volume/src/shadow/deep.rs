@@ -1083,7 +1083,7 @@ mod tests {
         let m = Medium::new(1.0, 1.0, 0.0, 0.0).unwrap(); // σ_t = 3 per unit density... ×1.5
         let p = Vec3::new(0.013, -0.021, 0.007);
         let (lgh, b) = one_light(&v, p, 4.0); // r_0 = 4h, depths to 8h = 0.5: inside the box
-                                              // Every lookup of maps of `n` values of `depths` within `bound(V_map, V)`.
+                                              // Every lookup of maps of `n` values of `depths` is `within` its exact value.
         let check = |depths, n, within: &dyn Fn(f32, f32) -> bool| {
             let settings = CubeMapSettings {
                 depth_count: n,

@@ -220,8 +220,7 @@ impl Knots {
 /// The transmittance at `x` of the light centred at `c` whose map of adaptive knots (module
 /// `knots`, `n` a texel) is `slot` in `texels`, with `scale` = 255 / its reach: each of the four
 /// texels' `τ` around the direction evaluated at the distance, blended bilinearly, `e^{−τ}` of
-/// that; `None` as
-/// `lookup::quantised_depth`.
+/// that; `None` as `lookup::quantised_depth`.
 #[inline]
 #[must_use]
 pub(super) fn transmittance(

@@ -44,6 +44,12 @@ pub struct PaddedGrid {
     pub(super) inv_voxel_size: f32,
 }
 
+/// Bricks per axis of a grid of `dims` voxels, padded: its `n + 1` cells per axis (each between
+/// two of its `n + 2` padded values), [`BRICK`] to a brick.
+fn bricks(dims: [usize; 3]) -> [usize; 3] {
+    dims.map(|n| (n + 1).div_ceil(BRICK))
+}
+
 /// Offsets of a cell's eight corners from its first, in [`crate::grid::trilinear`]'s order.
 pub(super) const CORNERS: [usize; 8] = [
     0,
@@ -78,8 +84,7 @@ impl PaddedGrid {
     pub fn new(g: &crate::grid::DenseGrid) -> Self {
         let [nx, ny, nz] = g.dims;
         let dims = [nx + 2, ny + 2, nz + 2];
-        // Cells 0..dims − 1 per axis (each between two values), BRICK to a brick.
-        let bricks = dims.map(|n| (n - 1).div_ceil(BRICK));
+        let bricks = bricks(g.dims);
         // Padded index p maps to the clamped source index p − 1 (the border value repeats, as
         // the grid's own trilinear lookup clamps to its outermost centres); values beyond the
         // padded grid (the last bricks' unused faces) repeat it too.
@@ -122,11 +127,7 @@ impl PaddedGrid {
     /// counts before building one.
     #[must_use]
     pub fn bytes_for(dims: [usize; 3]) -> u64 {
-        dims.iter()
-            .map(|&n| (n as u64 + 1).div_ceil(BRICK as u64))
-            .product::<u64>()
-            * BRICK_VALUES as u64
-            * 4
+        bricks(dims).iter().map(|&b| b as u64).product::<u64>() * BRICK_VALUES as u64 * 4
     }
 
     /// World position `x` in padded voxel units.

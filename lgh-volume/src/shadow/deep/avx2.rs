@@ -48,52 +48,30 @@ pub(super) fn cube_transmittances(
             return false;
         }
         for first in (0..whole).step_by(LANES) {
-            let mut c = [[0.0f32; LANES]; 3];
-            let mut slots = [NO_MAP; LANES];
-            let mut scale = [0.0f32; LANES];
-            for l in 0..LANES {
-                let p = centres[first + l];
-                (c[0][l], c[1][l], c[2][l]) = (p.x, p.y, p.z);
-                let (level, index) = ids[first + l];
-                (slots[l], scale[l]) = maps.slot(level, index);
-            }
+            let (c, slots, scale) = chunk(maps, &centres[first..], &ids[first..]);
             // SAFETY: the CPU supports AVX2, checked above.
             let v = unsafe { knots8(texels, depths, x, &c, &slots, &scale) };
             out[first..first + LANES].copy_from_slice(&v);
         }
-        for i in whole..n {
-            let (level, index) = ids[i];
-            out[i] = maps.transmittance(x, level, index, centres[i]);
-        }
-        return true;
-    }
-    // Groups of chunks: every chunk of a group is located and its texels' cache lines are
-    // requested, then the group's texels are gathered. The lookups of a shading point read
-    // lines scattered over the maps; requested together, their fetches overlap.
-    const GROUP: usize = 8;
-    let mut located = [None; GROUP];
-    for group in (0..whole).step_by(LANES * GROUP) {
-        let end = (group + LANES * GROUP).min(whole);
-        for (g, first) in (group..end).step_by(LANES).enumerate() {
-            let mut c = [[0.0f32; LANES]; 3];
-            let mut slots = [NO_MAP; LANES];
-            let mut inv_spacing = [0.0f32; LANES];
-            for l in 0..LANES {
-                let p = centres[first + l];
-                c[0][l] = p.x;
-                c[1][l] = p.y;
-                c[2][l] = p.z;
-                let (level, index) = ids[first + l];
-                (slots[l], inv_spacing[l]) = maps.slot(level, index);
+    } else {
+        // Groups of chunks: every chunk of a group is located and its texels' cache lines are
+        // requested, then the group's texels are gathered. The lookups of a shading point read
+        // lines scattered over the maps; requested together, their fetches overlap.
+        const GROUP: usize = 8;
+        let mut located = [None; GROUP];
+        for group in (0..whole).step_by(LANES * GROUP) {
+            let end = (group + LANES * GROUP).min(whole);
+            for (g, first) in (group..end).step_by(LANES).enumerate() {
+                let (c, slots, inv_spacing) = chunk(maps, &centres[first..], &ids[first..]);
+                // SAFETY: the CPU supports AVX2, checked above.
+                located[g] = Some(unsafe { locate8(texels, depths, x, &c, &slots, &inv_spacing) });
             }
-            // SAFETY: the CPU supports AVX2, checked above.
-            located[g] = Some(unsafe { locate8(texels, depths, x, &c, &slots, &inv_spacing) });
-        }
-        for (g, first) in (group..end).step_by(LANES).enumerate() {
-            let at = located[g].take().expect("located above");
-            // SAFETY: the CPU supports AVX2, checked above; `at` was located in `texels`.
-            let v = unsafe { finish8(texels, &at) };
-            out[first..first + LANES].copy_from_slice(&v);
+            for (g, first) in (group..end).step_by(LANES).enumerate() {
+                let at = located[g].take().expect("located above");
+                // SAFETY: the CPU supports AVX2, checked above; `at` was located in `texels`.
+                let v = unsafe { finish8(texels, &at) };
+                out[first..first + LANES].copy_from_slice(&v);
+            }
         }
     }
     for i in whole..n {
@@ -101,6 +79,25 @@ pub(super) fn cube_transmittances(
         out[i] = maps.transmittance(x, level, index, centres[i]);
     }
     true
+}
+
+/// The first eight lights of `centres` and `ids`, a lane each: their centres (x, y, z lanes),
+/// their maps and their maps' depth scale ([`CubeMaps::slot`]).
+fn chunk(
+    maps: &CubeMaps,
+    centres: &[Vec3],
+    ids: &[(u8, u32)],
+) -> ([[f32; LANES]; 3], [Slot; LANES], [f32; LANES]) {
+    let mut c = [[0.0f32; LANES]; 3];
+    let mut slots = [NO_MAP; LANES];
+    let mut scale = [0.0f32; LANES];
+    for l in 0..LANES {
+        let p = centres[l];
+        (c[0][l], c[1][l], c[2][l]) = (p.x, p.y, p.z);
+        let (level, index) = ids[l];
+        (slots[l], scale[l]) = maps.slot(level, index);
+    }
+    (c, slots, scale)
 }
 
 /// Eight lookups located: the two-byte index of each lane's first texel pair, the offsets to
@@ -388,8 +385,6 @@ fn knots8(
     let t10 = depth(_mm256_add_epi32(first, one));
     let t01 = depth(_mm256_add_epi32(first, side));
     let t11 = depth(_mm256_add_epi32(_mm256_add_epi32(first, side), one));
-    let lerp =
-        |a: __m256, b: __m256, t: __m256| _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t));
     let tau = lerp(lerp(t00, t10, at.tx), lerp(t01, t11, at.tx), at.ty);
     let v = _mm256_blendv_ps(_mm256_set1_ps(1.0), exp_neg8(tau), at.valid);
     let mut out = [0.0f32; LANES];
