@@ -69,6 +69,7 @@ pub mod lightcuts;
 mod many_lights;
 mod math;
 pub mod metrics;
+pub mod near_field;
 pub mod morton;
 pub mod octree;
 mod radix;
@@ -93,5 +94,6 @@ pub use many_lights::{
     probe, Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
     ISOTROPIC_PHASE,
 };
+pub use near_field::NearField;
 pub use octree::{LightOctree, OctreeBackend, OctreeSettings};
 pub use ward::WardBackend;
