@@ -81,7 +81,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     let march = args
         .march
         .settings(crate::demo::DEMO_SHADOW_STEP, &ScatterArgs::default())?;
-    let mut scene = args.scene.build()?;
+    let mut scene = args.scene.build(args.march.near_field.into())?;
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The args' settings first, then each comparison without the cache (the exact image, the

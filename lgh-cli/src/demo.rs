@@ -8,10 +8,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgh_volume::lgh_core::glam::Vec3;
+use lgh_volume::lgh_core::NearField;
 use lgh_volume::medium::framing_bounds;
 use lgh_volume::render::{Camera, Framing, Up};
 use lgh_volume::surfaces::Ground;
-use lgh_volume::{explosion, ExplosionLights, FrameRender, Medium, Method, Volume};
+use lgh_volume::{explosion, ExplosionLights, FrameRender, Medium, Method, RenderError, Volume};
 
 use crate::output::{self, MarchArgs, Rendered, ScatterArgs};
 use crate::progress::Bars;
@@ -79,14 +80,17 @@ impl SceneArgs {
         )?)
     }
 
-    /// The procedural explosion, its lights and a camera framing it.
-    pub fn build(&self) -> Result<Scene, crate::Error> {
+    /// The procedural explosion, its lights (voxels or the paper's points: `near_field`) and a
+    /// camera framing it.
+    pub fn build(&self, near_field: NearField) -> Result<Scene, crate::Error> {
         let t = Instant::now();
         let volume = explosion(self.resolution, self.time)?;
         let medium = demo_medium();
         let volume_seconds = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let lights = ExplosionLights::new(&[&volume], &medium)?;
+        let mut lights = ExplosionLights::from_frames([Ok::<_, RenderError>(&volume)], &medium)?;
+        lights.set_near_field(near_field);
+        lights.set_frame(&volume, &medium)?;
         let lights_seconds = t.elapsed().as_secs_f64();
         let (lo, hi) = framing_bounds(&[&volume]).expect("one frame");
         let camera = Camera::frame(lo, hi, self.width, self.height)?;
@@ -118,7 +122,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     args.scene.check()?;
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_SHADOW_STEP, &args.scatter)?;
-    let mut scene = args.scene.build()?;
+    let mut scene = args.scene.build(args.march.near_field.into())?;
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The ground under the explosion, where its smoke ends, so that its light falls on

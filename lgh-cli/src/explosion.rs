@@ -754,6 +754,7 @@ impl Frames<'_> {
             lights.set_prune(args.march.prune)?;
         }
         lights.set_coarse_shadows(args.march.coarse_shadows());
+        lights.set_near_field(args.march.near_field.into());
         lights.set_frame(volume, medium)?;
         Ok(lights.lit())
     }

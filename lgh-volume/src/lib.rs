@@ -76,6 +76,7 @@ pub mod shadow;
 pub mod stats;
 pub mod surfaces;
 pub mod vdb;
+pub mod voxel_light;
 
 pub use error::{ReadError, RenderError};
 pub use frame::{FrameRender, PrepareSeconds};

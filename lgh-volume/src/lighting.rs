@@ -8,19 +8,26 @@
 //! (ARCHITECTURE.md, "lgh-core"); this is where it is applied.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{falloff, LightSample, ManyLights, QueryError, ShadingPoint, ISOTROPIC_PHASE};
+use lgh_core::{
+    falloff, LightSample, ManyLights, NearField, QueryError, ShadingPoint, ISOTROPIC_PHASE,
+};
 
 use crate::shadow::{ShadowQuery, Visibility};
 
-/// The lights a renderer shades with: a many-lights backend and the fall-off clamp of the light
-/// model, `g(d) = 1 / max(d, h0)²` (the paper's Sec. 6, ARCHITECTURE.md "From a VDB file to an
-/// EXR", step 3; for explosions `h0` is the voxel size).
+/// The lights a renderer shades with: a many-lights backend and the fall-off `g` of the light
+/// model: `g(d) = 1 / max(d, h0)²` for a point light (the paper's Sec. 6, ARCHITECTURE.md "From a
+/// VDB file to an EXR", step 3; for explosions `h0` is the voxel size), and for a voxel light
+/// seen from a point in a medium the voxel's mean of `1/r²` ([`NearField`],
+/// [`lgh_core::near_field`]).
 #[derive(Clone, Debug)]
 pub struct Lights<B> {
     /// The many-lights method.
     pub backend: B,
-    /// `h0`, where the inverse-square fall-off is clamped.
+    /// `h0`: where the inverse-square fall-off is clamped, and the side of a voxel light.
     pub h0: f32,
+    /// Whether the level-0 lights are points ([`NearField::Clamp`], what [`new`](Self::new)
+    /// makes) or voxels ([`NearField::Voxel`], what an explosion's lights are by default).
+    pub near_field: NearField,
 }
 
 impl<B: ManyLights> Lights<B> {
@@ -44,13 +51,74 @@ impl<B: ManyLights> Lights<B> {
     /// ```
     #[must_use]
     pub fn new(backend: B, h0: f32) -> Self {
-        Lights { backend, h0 }
+        Lights {
+            backend,
+            h0,
+            near_field: NearField::Clamp,
+        }
+    }
+
+    /// The same lights with the level-0 lights' near field `near_field`: with
+    /// [`NearField::Voxel`], a level-0 light at distance `d` from a point in a medium gives
+    /// `I · G(d)`, the mean of `1/r²` over a voxel of side `h0` (`7.674/h0²` at its centre),
+    /// instead of `I / max(d, h0)²`. Surfaces and coarse lights keep the point's fall-off.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{BruteForce, NearField, PointLight, ShadingPoint};
+    /// use lgh_volume::lighting::{LightScratch, Lights};
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    ///
+    /// let one = BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::ONE)])?;
+    /// let h = 0.5;
+    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    /// let mut at_centre = |lights: &Lights<&BruteForce>| {
+    ///     let p = ShadingPoint::in_medium(Vec3::ZERO);
+    ///     lights.incident(&p, &Visibility::None, |_| Vec3::ONE, &mut scratch, &mut stats)
+    /// };
+    /// let point = at_centre(&Lights::new(&one, h))?;
+    /// let voxel = at_centre(&Lights::new(&one, h).with_near_field(NearField::Voxel))?;
+    /// assert_eq!(point.x * h * h, 1.0); // clamped: 1/h²
+    /// assert!((voxel.x * h * h - 7.674).abs() < 1e-3); // the voxel's mean of 1/r²
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn with_near_field(mut self, near_field: NearField) -> Self {
+        self.near_field = near_field;
+        self
+    }
+
+    /// `backend` with these lights' fall-off (`h0` and near field): the same light model over
+    /// another selection of the lights (some levels of a hierarchy, say).
+    #[must_use]
+    pub(crate) fn with_backend<C: ManyLights>(&self, backend: C) -> Lights<C> {
+        Lights {
+            backend,
+            h0: self.h0,
+            near_field: self.near_field,
+        }
+    }
+
+    /// The fall-off the lights are shaded with at `point`: [`NearField::falloff`] in a medium,
+    /// a point's `1/max(d, h0)²` on a surface.
+    #[inline(always)]
+    fn falloff_at(&self, point: &ShadingPoint) -> impl Fn(&LightSample) -> f32 {
+        let (h0, near_field) = (self.h0, self.near_field);
+        let medium = point.normal.is_none();
+        move |l: &LightSample| {
+            if medium {
+                near_field.falloff(l.level, l.distance, h0)
+            } else {
+                falloff(l.distance, h0)
+            }
+        }
     }
 
     /// `Σ_lights f(light) · I · g(d) · V(x, light)` at `point`: every light the backend selects
     /// (its intensity already weighted by `B_ℓ(d)`), times `response(light)` — the phase
     /// function or BRDF × cosine towards it, `Vec3::ONE` for the bare incident light — times the
-    /// clamped fall-off `g`, times the visibility `V`. Counted into `stats`; `scratch` holds
+    /// fall-off `g` ([`with_near_field`](Self::with_near_field)), times the visibility `V`. Counted into `stats`; `scratch` holds
     /// the lights while their visibility is evaluated together, and is reused from call to call.
     ///
     /// Each term is `(I · f) · (g · V)`, summed in the backend's order, whatever the visibility
@@ -64,9 +132,8 @@ impl<B: ManyLights> Lights<B> {
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
-        let h0 = self.h0;
-        let term =
-            |l: &LightSample, f: Vec3, v: f32| (l.intensity * f) * (falloff(l.distance, h0) * v);
+        let g = self.falloff_at(point);
+        let term = |l: &LightSample, f: Vec3, v: f32| (l.intensity * f) * (g(l) * v);
         if visibility.is_none() {
             let sum = self
                 .backend
@@ -112,14 +179,14 @@ impl<B: ManyLights> Lights<B> {
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<(), QueryError> {
-        let h0 = self.h0;
+        let g = self.falloff_at(point);
         scratch.lights.clear();
         scratch.unshadowed.clear();
         let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
             scratch.lights.push(l);
             scratch
                 .unshadowed
-                .push((l.intensity * response(l), falloff(l.distance, h0)));
+                .push((l.intensity * response(l), g(l)));
             Vec3::ZERO
         })?;
         stats.shading_points += 1;

@@ -29,6 +29,14 @@
 //!    further), which keeps a black corner from blacking out its cell and keeps the result
 //!    continuous in `x` across cells.
 //!
+//! A grid that holds level 0 (the scattering depths' cache of every level,
+//! [`LightingCacheSettings::scattered_depths`]) blends the extrapolated corners linearly
+//! instead. Level 0's voxel lights give each voxel a share of its own light, `I_v · 7.7/h²`
+//! at its centre (`lgh_core::near_field`), so that light varies from voxel to voxel with the
+//! density and the geometric mean of such corners falls below their mean (AM–GM): on a 20³
+//! ball of smoke, depth 2 two voxels apart lost 22% of its power blended geometrically, 0.2%
+//! linearly (0.5% at depth 3).
+//!
 //! At a vertex the cache returns the vertex's exact value. On the demo's explosion (320×180,
 //! levels ≥ 1 cached, 2-voxel shadow steps) against the uncached render: trilinear 3.06%
 //! relative RMSE, geometric 2.51%, transport-corrected 2.03%, both 1.82% (`docs/shadows.md`).
@@ -151,15 +159,17 @@ impl ScatteredLight {
     }
 }
 
-/// The default [`LightingCacheSettings::scattered_spacing`]: the fluence of depths ≥ 2 four
-/// voxels apart. On the Fig. 8-class frame (`docs/shadows.md`) a depth then takes 7.9 s
-/// instead of 65–70 s at every voxel (two apart: 45 s), its power within 2.2% of the pass at
-/// every voxel at depth 4 (two apart: 1.5%), the image with four depths 1.3% from it.
-pub const SCATTERED_SPACING: u8 = 4;
+/// The default [`LightingCacheSettings::scattered_spacing`]: the fluence of depths ≥ 2 two
+/// voxels apart. With the voxel lights' near field (`lgh_core::near_field`) four voxels apart
+/// moved the 24³ ball of the path-tracer test (`tests/tests/scattering.rs`) by +6.5% at depth
+/// 4 against every voxel, two apart by +0.5%; with the paper's point lights, on the
+/// Fig. 8-class frame (`docs/shadows.md`), a depth took 7.9 s four voxels apart, 45 s two
+/// apart, 65–70 s at every voxel.
+pub const SCATTERED_SPACING: u8 = 2;
 
 impl Default for LightingCacheSettings {
     /// No cache; when on, cells of optical depth 1 across the densest smoke, levels ≥ 1,
-    /// scattering depths ≥ 2 on a grid four voxels apart, the scattered light merged.
+    /// scattering depths ≥ 2 on a grid two voxels apart, the scattered light merged.
     fn default() -> Self {
         LightingCacheSettings {
             mode: CacheMode::None,
@@ -202,7 +212,7 @@ impl LightingCacheSettings {
     /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCacheSettings};
     ///
     /// let later = LightingCacheSettings::coarse().scattered_depths().unwrap();
-    /// assert_eq!((later.spacing, later.first_level), (CacheSpacing::Voxels(4.0), 0));
+    /// assert_eq!((later.spacing, later.first_level), (CacheSpacing::Voxels(2.0), 0));
     /// assert!(LightingCacheSettings::default().scattered_depths().is_none()); // no cache
     /// let every = LightingCacheSettings { scattered_spacing: 1, ..LightingCacheSettings::coarse() };
     /// assert!(every.scattered_depths().is_none());
@@ -488,10 +498,7 @@ impl LightingCache {
         let mut sum = Vec3::ZERO;
         for tier in &self.tiers {
             let source = Source {
-                lights: Lights::new(
-                    coarse.backend.with_levels(tier.first..=tier.last),
-                    coarse.h0,
-                ),
+                lights: coarse.with_backend(coarse.backend.with_levels(tier.first..=tier.last)),
                 visibility,
                 density,
             };
@@ -533,7 +540,13 @@ impl LightingCache {
                 };
             }
         }
-        Ok(interpolate(&corners, sigma_t))
+        // A grid that holds level 0 holds the voxel lights' near field: blended linearly.
+        let blend = if tier.first == 0 {
+            Blend::Linear
+        } else {
+            Blend::Geometric
+        };
+        Ok(interpolate(&corners, sigma_t, blend))
     }
 
     /// Vertex `v` of grid `tier`, its brick filled from `source` first if need be.
@@ -664,11 +677,20 @@ struct Corner {
     weight: f32,
 }
 
+/// How the corners' estimates are blended (module docs, step 2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Blend {
+    /// In the logarithm, with a floor of a thousandth of the linear blend: the coarse levels.
+    Geometric,
+    /// With the trilinear weights: a grid that holds level 0.
+    Linear,
+}
+
 /// The light at a sample of extinction `sigma_t` from the `corners` around it: each corner's
-/// light extrapolated along its shadow's gradient, blended geometrically with a floor of a
-/// thousandth of the linear blend (see the module docs).
+/// light extrapolated along its shadow's gradient, then blended as `blend` says (see the
+/// module docs).
 #[must_use]
-fn interpolate(corners: &[Corner; 8], sigma_t: f32) -> Vec3 {
+fn interpolate(corners: &[Corner; 8], sigma_t: f32, blend: Blend) -> Vec3 {
     // ln of the largest factor a corner's extrapolation may apply (e^±30): far beyond any
     // physical σ̄ |δ| of a cell, it only keeps the exponential finite.
     const MAX_EXPONENT: f32 = 30.0;
@@ -681,6 +703,9 @@ fn interpolate(corners: &[Corner; 8], sigma_t: f32) -> Vec3 {
             *e = c.vertex.light * exponent.clamp(-MAX_EXPONENT, MAX_EXPONENT).exp();
             linear += *e * c.weight;
         }
+    }
+    if blend == Blend::Linear {
+        return linear;
     }
     let floor = linear * 1e-3;
     let mut log = Vec3::ZERO;
@@ -715,7 +740,7 @@ impl<'l> CachedLights<'l> {
         lights: &Lights<LghBackend<'l>>,
     ) -> Self {
         let first = cache.settings.first_level;
-        let split = |levels| Lights::new(lights.backend.with_levels(levels), lights.h0);
+        let split = |levels| lights.with_backend(lights.backend.with_levels(levels));
         CachedLights {
             cache,
             density,
@@ -735,7 +760,7 @@ impl<'l> CachedLights<'l> {
             (Some(cache), FrameBackend::Lgh(b)) => Some(CachedLights::new(
                 cache,
                 density,
-                &Lights::new(*b, lights.h0),
+                &lights.with_backend(*b),
             )),
             _ => None,
         }
@@ -800,7 +825,7 @@ mod tests {
         let beam = beam(Vec3::new(1.0, 0.5, 0.2), Vec3::X, 3.0);
         for n in 0..8 {
             let v = Vec3::new((n & 1) as f32, ((n >> 1) & 1) as f32, (n >> 2) as f32);
-            let got = interpolate(&cell(v, Vec3::ZERO, &beam), 3.0);
+            let got = interpolate(&cell(v, Vec3::ZERO, &beam), 3.0, Blend::Geometric);
             let want = beam(v).light;
             assert!(
                 (got - want).abs().max_element() <= 1e-6 * want.max_element(),
@@ -820,7 +845,7 @@ mod tests {
         let mut rng = lgh_core::random::SplitMix64(3);
         for _ in 0..200 {
             let x = rng.next_in(Vec3::ZERO, Vec3::ONE);
-            let got = interpolate(&cell(x, Vec3::ZERO, &beam), sigma);
+            let got = interpolate(&cell(x, Vec3::ZERO, &beam), sigma, Blend::Geometric);
             let want = beam(x).light;
             let err = ((got - want) / want).abs().max_element();
             assert!(err < 1e-5, "{x}: {got} against {want}");
@@ -838,15 +863,15 @@ mod tests {
         };
         // Half the corners black, at the centre: the linear blend is 0.5, the geometric blend
         // of (1 + ε, ε) with ε = 0.0005 is √(1.0005 · 0.0005) − ε ≈ 0.0219.
-        let got = interpolate(&cell(Vec3::splat(0.5), Vec3::ZERO, lit(1.0)), 0.0);
+        let got = interpolate(&cell(Vec3::splat(0.5), Vec3::ZERO, lit(1.0)), 0.0, Blend::Geometric);
         let want = (1.0005f32 * 0.0005).sqrt() - 0.0005;
         assert!((got.x - want).abs() < 1e-5, "{got}");
         // Every corner black: black, not NaN.
-        let got = interpolate(&cell(Vec3::splat(0.3), Vec3::ZERO, lit(0.0)), 0.0);
+        let got = interpolate(&cell(Vec3::splat(0.3), Vec3::ZERO, lit(0.0)), 0.0, Blend::Geometric);
         assert_eq!(got, Vec3::ZERO);
         // Scaling the light scales the result (the floor is relative).
-        let a = interpolate(&cell(Vec3::splat(0.7), Vec3::ZERO, lit(1.0)), 0.0);
-        let b = interpolate(&cell(Vec3::splat(0.7), Vec3::ZERO, lit(8.0)), 0.0);
+        let a = interpolate(&cell(Vec3::splat(0.7), Vec3::ZERO, lit(1.0)), 0.0, Blend::Geometric);
+        let b = interpolate(&cell(Vec3::splat(0.7), Vec3::ZERO, lit(8.0)), 0.0, Blend::Geometric);
         assert!((b - 8.0 * a).abs().max_element() < 1e-5 * b.x, "{a} {b}");
     }
 
@@ -864,8 +889,8 @@ mod tests {
         };
         for (y, z) in [(0.2f32, 0.7f32), (0.9, 0.1), (0.5, 0.5)] {
             let eps = 1e-4;
-            let left = interpolate(&cell(Vec3::new(1.0 - eps, y, z), Vec3::ZERO, vertex), 2.5);
-            let right = interpolate(&cell(Vec3::new(1.0 + eps, y, z), Vec3::X, vertex), 2.5);
+            let left = interpolate(&cell(Vec3::new(1.0 - eps, y, z), Vec3::ZERO, vertex), 2.5, Blend::Geometric);
+            let right = interpolate(&cell(Vec3::new(1.0 + eps, y, z), Vec3::X, vertex), 2.5, Blend::Geometric);
             let jump = (left - right).abs().max_element() / left.max_element();
             assert!(jump < 1e-3, "({y}, {z}): {left} | {right}");
         }

@@ -10,7 +10,9 @@
 use std::borrow::Borrow;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{Clustering, GridSettings, LightPosition, LightingGridHierarchy, PointLight};
+use lgh_core::{
+    Clustering, GridSettings, LightPosition, LightingGridHierarchy, NearField, PointLight,
+};
 
 use crate::error::RenderError;
 use crate::grid::DenseGrid;
@@ -47,6 +49,8 @@ pub struct ExplosionLights {
     prune: f32,
     /// The hierarchy's variants (the paper's by default).
     variants: Variants,
+    /// Voxel lights or the paper's points ([`with_near_field`](Self::with_near_field)).
+    near_field: NearField,
 }
 
 /// The grid of the paper's explosions (Sec. 6.1): `h1 = 2h`, level-1 vertices on voxel
@@ -194,6 +198,7 @@ impl ExplosionLights {
             hierarchy,
             prune: 0.0,
             variants: Variants::default(),
+            near_field: NearField::default(),
         })
     }
 
@@ -353,12 +358,56 @@ impl ExplosionLights {
             return Err(RenderError::FrameOffGrid { frame: None });
         }
         let h3 = self.voxel_size.powi(3);
-        let intensities: Vec<Vec3> = self
-            .voxels
-            .iter()
-            .map(|&idx| frame.voxel_emission(medium, idx) * h3)
-            .collect();
+        let emission = |idx: usize| match self.near_field {
+            NearField::Voxel => frame.cell_emission(medium, idx),
+            NearField::Clamp => frame.voxel_emission(medium, idx),
+        };
+        let intensities: Vec<Vec3> = self.voxels.iter().map(|&idx| emission(idx) * h3).collect();
         self.set_intensities(&intensities)
+    }
+
+    /// The same lights as voxels or as the paper's points, their intensities taken anew from
+    /// `frame`: with [`NearField::Voxel`] (the default) each light is a uniform emitting voxel,
+    /// `I0 = ∫_cell j dx` ([`Volume::cell_emission`]) with the voxel's near field
+    /// ([`lgh_core::near_field`]); with [`NearField::Clamp`], the paper's point of intensity
+    /// `I0 = j(T_i) h³` ([`Volume::voxel_emission`]) with the fall-off clamped at `h`.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::NearField;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural::ball(16, 0.7, 3000.0);
+    /// let medium = Medium::new(0.5, 4.5, 1e-3, 1000.0)?;
+    /// let voxels = ExplosionLights::new(&[&volume], &medium)?;
+    /// assert_eq!(voxels.near_field(), NearField::Voxel);
+    /// let points = voxels.clone().with_near_field(NearField::Clamp, &volume, &medium)?;
+    /// let total = |l: &ExplosionLights| l.lights().iter().map(|p| p.intensity.x).sum::<f32>();
+    /// assert!(total(&points) > total(&voxels)); // centres overshoot their cells (j convex in T)
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    pub fn with_near_field(
+        mut self,
+        near_field: NearField,
+        frame: &Volume,
+        medium: &Medium,
+    ) -> Result<Self, RenderError> {
+        self.near_field = near_field;
+        self.set_frame(frame, medium)?;
+        Ok(self)
+    }
+
+    /// Whether the lights are voxels or points ([`with_near_field`](Self::with_near_field)).
+    #[must_use]
+    pub fn near_field(&self) -> NearField {
+        self.near_field
+    }
+
+    /// Sets whether the lights are voxels or points, their intensities following at the next
+    /// [`set_frame`](Self::set_frame) ([`with_near_field`](Self::with_near_field) does both):
+    /// for a sequence whose frames come one at a time. A scattering pass's lights take the
+    /// emission lights' model this way, their intensities coming from the pass.
+    pub fn set_near_field(&mut self, near_field: NearField) {
+        self.near_field = near_field;
     }
 
     /// The lights `S0` (every candidate voxel; cold ones have zero intensity this frame).
@@ -431,10 +480,17 @@ mod tests {
         let hot = v.temperature.data.iter().filter(|&&t| t > 1000.0).count();
         assert_eq!((s.lights.len(), s.lit()), (hot, hot));
         let h3 = v.temperature.voxel_size.powi(3);
-        for (l, &idx) in s.lights.iter().zip(&s.voxels).step_by(17) {
-            let want = medium.emission_at(v.temperature.data[idx]) * h3;
-            assert_eq!(l.intensity, want);
-            assert!(v.temperature.sample(l.position) > 1000.0 * 0.999);
+        let points = s
+            .clone()
+            .with_near_field(NearField::Clamp, &v, &medium)
+            .unwrap();
+        let lights = s.lights.iter().zip(&points.lights).zip(&s.voxels);
+        for ((voxel, point), &idx) in lights.step_by(17) {
+            // A voxel light emits what its cell does, a point light its centre's emission.
+            assert_eq!(voxel.intensity, v.cell_emission(&medium, idx) * h3);
+            assert_eq!(point.intensity, medium.emission_at(v.temperature.data[idx]) * h3);
+            assert_eq!(voxel.position, point.position);
+            assert!(v.temperature.sample(voxel.position) > 1000.0 * 0.999);
         }
     }
 }

@@ -182,8 +182,8 @@ pub(crate) enum Prepared {
 
 impl Prepared {
     /// The lights to shade with: `lights` (those this was prepared from) through the method,
-    /// with the fall-off clamped at the voxel size (`h0 = h`, paper Sec. 6.1); `None` for
-    /// emission alone.
+    /// with their light model: voxel lights of side `h`, or points with the fall-off clamped at
+    /// the voxel size (`h0 = h`, paper Sec. 6.1); `None` for emission alone.
     pub(crate) fn lights<'a>(
         &'a self,
         lights: &'a ExplosionLights,
@@ -196,7 +196,9 @@ impl Prepared {
             Prepared::Brute(b) => FrameBackend::Brute(b),
             Prepared::Lightcuts(tree, settings) => FrameBackend::Lightcuts(tree, *settings),
         };
-        Ok(Some(Lights::new(backend, lights.voxel_size())))
+        Ok(Some(
+            Lights::new(backend, lights.voxel_size()).with_near_field(lights.near_field()),
+        ))
     }
 }
 
