@@ -184,9 +184,7 @@ impl<B: ManyLights> Lights<B> {
         scratch.unshadowed.clear();
         let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
             scratch.lights.push(l);
-            scratch
-                .unshadowed
-                .push((l.intensity * response(l), g(l)));
+            scratch.unshadowed.push((l.intensity * response(l), g(l)));
             Vec3::ZERO
         })?;
         stats.shading_points += 1;

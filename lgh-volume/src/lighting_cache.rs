@@ -757,11 +757,9 @@ impl<'l> CachedLights<'l> {
         lights: &Lights<FrameBackend<'l>>,
     ) -> Option<Self> {
         match (cache, &lights.backend) {
-            (Some(cache), FrameBackend::Lgh(b)) => Some(CachedLights::new(
-                cache,
-                density,
-                &lights.with_backend(*b),
-            )),
+            (Some(cache), FrameBackend::Lgh(b)) => {
+                Some(CachedLights::new(cache, density, &lights.with_backend(*b)))
+            }
             _ => None,
         }
     }
@@ -863,15 +861,31 @@ mod tests {
         };
         // Half the corners black, at the centre: the linear blend is 0.5, the geometric blend
         // of (1 + ε, ε) with ε = 0.0005 is √(1.0005 · 0.0005) − ε ≈ 0.0219.
-        let got = interpolate(&cell(Vec3::splat(0.5), Vec3::ZERO, lit(1.0)), 0.0, Blend::Geometric);
+        let got = interpolate(
+            &cell(Vec3::splat(0.5), Vec3::ZERO, lit(1.0)),
+            0.0,
+            Blend::Geometric,
+        );
         let want = (1.0005f32 * 0.0005).sqrt() - 0.0005;
         assert!((got.x - want).abs() < 1e-5, "{got}");
         // Every corner black: black, not NaN.
-        let got = interpolate(&cell(Vec3::splat(0.3), Vec3::ZERO, lit(0.0)), 0.0, Blend::Geometric);
+        let got = interpolate(
+            &cell(Vec3::splat(0.3), Vec3::ZERO, lit(0.0)),
+            0.0,
+            Blend::Geometric,
+        );
         assert_eq!(got, Vec3::ZERO);
         // Scaling the light scales the result (the floor is relative).
-        let a = interpolate(&cell(Vec3::splat(0.7), Vec3::ZERO, lit(1.0)), 0.0, Blend::Geometric);
-        let b = interpolate(&cell(Vec3::splat(0.7), Vec3::ZERO, lit(8.0)), 0.0, Blend::Geometric);
+        let a = interpolate(
+            &cell(Vec3::splat(0.7), Vec3::ZERO, lit(1.0)),
+            0.0,
+            Blend::Geometric,
+        );
+        let b = interpolate(
+            &cell(Vec3::splat(0.7), Vec3::ZERO, lit(8.0)),
+            0.0,
+            Blend::Geometric,
+        );
         assert!((b - 8.0 * a).abs().max_element() < 1e-5 * b.x, "{a} {b}");
     }
 
@@ -889,8 +903,16 @@ mod tests {
         };
         for (y, z) in [(0.2f32, 0.7f32), (0.9, 0.1), (0.5, 0.5)] {
             let eps = 1e-4;
-            let left = interpolate(&cell(Vec3::new(1.0 - eps, y, z), Vec3::ZERO, vertex), 2.5, Blend::Geometric);
-            let right = interpolate(&cell(Vec3::new(1.0 + eps, y, z), Vec3::X, vertex), 2.5, Blend::Geometric);
+            let left = interpolate(
+                &cell(Vec3::new(1.0 - eps, y, z), Vec3::ZERO, vertex),
+                2.5,
+                Blend::Geometric,
+            );
+            let right = interpolate(
+                &cell(Vec3::new(1.0 + eps, y, z), Vec3::X, vertex),
+                2.5,
+                Blend::Geometric,
+            );
             let jump = (left - right).abs().max_element() / left.max_element();
             assert!(jump < 1e-3, "({y}, {z}): {left} | {right}");
         }

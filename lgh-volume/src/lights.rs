@@ -488,7 +488,10 @@ mod tests {
         for ((voxel, point), &idx) in lights.step_by(17) {
             // A voxel light emits what its cell does, a point light its centre's emission.
             assert_eq!(voxel.intensity, v.cell_emission(&medium, idx) * h3);
-            assert_eq!(point.intensity, medium.emission_at(v.temperature.data[idx]) * h3);
+            assert_eq!(
+                point.intensity,
+                medium.emission_at(v.temperature.data[idx]) * h3
+            );
             assert_eq!(voxel.position, point.position);
             assert!(v.temperature.sample(voxel.position) > 1000.0 * 0.999);
         }
