@@ -73,12 +73,12 @@ impl<B: ManyLights> Lights<B> {
     /// let one = BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::ONE)])?;
     /// let h = 0.5;
     /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
-    /// let mut at_centre = |lights: &Lights<&BruteForce>| {
+    /// let mut at_centre = |lights: &Lights<BruteForce>| {
     ///     let p = ShadingPoint::in_medium(Vec3::ZERO);
     ///     lights.incident(&p, &Visibility::None, |_| Vec3::ONE, &mut scratch, &mut stats)
     /// };
-    /// let point = at_centre(&Lights::new(&one, h))?;
-    /// let voxel = at_centre(&Lights::new(&one, h).with_near_field(NearField::Voxel))?;
+    /// let point = at_centre(&Lights::new(one.clone(), h))?;
+    /// let voxel = at_centre(&Lights::new(one, h).with_near_field(NearField::Voxel))?;
     /// assert_eq!(point.x * h * h, 1.0); // clamped: 1/h²
     /// assert!((voxel.x * h * h - 7.674).abs() < 1e-3); // the voxel's mean of 1/r²
     /// # Ok::<(), Box<dyn std::error::Error>>(())
