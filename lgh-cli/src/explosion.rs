@@ -335,7 +335,7 @@ impl Setup {
         if let Some(p) = &args.scene {
             crate::check_file(p).map_err(|e| format!("--scene {e}"))?;
         }
-        if args.backend == BackendArg::Pathtrace && args.scatter.scatter_depth > 0 {
+        if args.backend == BackendArg::Pathtrace && args.scatter.depth() > 0 {
             return Err(
                 "--scatter-depth is the ray marcher's: the path tracer scatters up to \
                         --max-scatter times"

@@ -264,7 +264,8 @@ impl MarchArgs {
         let shadow_step = self.shadow_step.unwrap_or(default_shadow_step);
         let settings = MarchSettings {
             shadows: self.shadows.into(),
-            scatter_depth: scatter.scatter_depth,
+            scatter_depth: scatter.depth(),
+            scatter_stop: scatter.stop(),
             step_voxels: self.step,
             shadow_step_voxels: shadow_step,
             cube_maps: CubeMapSettings {
@@ -288,14 +289,48 @@ impl MarchArgs {
     }
 }
 
+/// `--scatter-depth`: a number of depths, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthArg {
+    /// This many depths (fewer with --scatter-stop).
+    Fixed(usize),
+    /// Up to 16 depths, stopping by --scatter-stop (1% unless given).
+    Auto,
+}
+
+impl Default for DepthArg {
+    fn default() -> Self {
+        DepthArg::Fixed(0)
+    }
+}
+
+/// `auto` or a number of depths.
+fn parse_depth(s: &str) -> Result<DepthArg, String> {
+    if s == "auto" {
+        return Ok(DepthArg::Auto);
+    }
+    s.parse::<usize>()
+        .map(DepthArg::Fixed)
+        .map_err(|_| format!("expected auto or a number of depths, not '{s}'"))
+}
+
+/// The share of the light so far below which `--scatter-depth auto` stops adding depths.
+pub const AUTO_SCATTER_STOP: f32 = 0.01;
+
 /// Multiple scattering (paper Sec. 5), shared by the render commands.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct ScatterArgs {
     /// Depths of scattered light (paper Sec. 5): 0 is single scattering; n adds lights for
     /// light scattered 1..=n times, so paths of up to n + 1 scattering events (the paper's
-    /// Fig. 7 uses 4). At most 16.
-    #[arg(long, default_value_t = 0)]
-    pub scatter_depth: usize,
+    /// Fig. 7 uses 4). At most 16. `auto`: up to 16, stopping when the next depth would add
+    /// less than --scatter-stop of the light (1% unless given)
+    #[arg(long, default_value = "0", value_parser = parse_depth)]
+    pub scatter_depth: DepthArg,
+    /// Stop adding scattering depths when the next one, predicted from the last two (the light
+    /// falls by a nearly steady factor a depth), would add less than this share of the lights'
+    /// power so far (0: every depth asked for)
+    #[arg(long)]
+    pub scatter_stop: Option<f32>,
     /// Also report each depth's share of the image (renders the emission and each depth's
     /// lights alone: n + 2 more renders).
     #[arg(long)]
@@ -303,16 +338,34 @@ pub struct ScatterArgs {
 }
 
 impl ScatterArgs {
-    /// Checks the depth before any work.
+    /// The most depths the pass computes.
+    pub fn depth(&self) -> usize {
+        match self.scatter_depth {
+            DepthArg::Fixed(n) => n,
+            DepthArg::Auto => scattering::MAX_SCATTER_DEPTH,
+        }
+    }
+
+    /// The stopping share: --scatter-stop, or 1% with --scatter-depth auto, or none (0).
+    pub fn stop(&self) -> f32 {
+        let auto = self.scatter_depth == DepthArg::Auto;
+        self.scatter_stop
+            .unwrap_or(if auto { AUTO_SCATTER_STOP } else { 0.0 })
+    }
+
+    /// Checks the depth and the stopping share before any work.
     pub fn check(&self) -> Result<(), crate::Error> {
-        scattering::check_depth(self.scatter_depth).map_err(|_| {
+        let depth = self.depth();
+        scattering::check_depth(depth).map_err(|_| {
             format!(
-                "--scatter-depth {} must be 0 to {}",
-                self.scatter_depth,
+                "--scatter-depth {depth} must be 0 to {} or auto",
                 scattering::MAX_SCATTER_DEPTH
             )
         })?;
-        if self.scatter_shares && self.scatter_depth == 0 {
+        if !(0.0..1.0).contains(&self.stop()) {
+            return Err(format!("--scatter-stop {} must be a share in [0, 1)", self.stop()).into());
+        }
+        if self.scatter_shares && depth == 0 {
             return Err("--scatter-shares needs --scatter-depth 1 or more".into());
         }
         Ok(())
@@ -347,8 +400,17 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         return out;
     };
     let list = |v: &mut dyn Iterator<Item = String>| v.collect::<Vec<_>>().join(",");
+    let stop = frame.settings().scatter_stop;
+    if stop > 0.0 {
+        // The depth below is where the rule stopped (or the most asked for).
+        out.push(("scatter_stop", stop.to_string()));
+    }
     out.extend([
         ("scatter_depth", s.depths().len().to_string()),
+        (
+            "scatter_depth_powers",
+            list(&mut s.depths().iter().map(|d| format!("{:.6e}", d.power))),
+        ),
         (
             "scatter_seconds",
             format!("{:.3}", frame.seconds().scattering),

@@ -522,7 +522,31 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
     ] {
         assert_refused(work.path(), &bad, "--scatter-depth");
     }
+    let o = lgh(&["demo", "--scatter-depth", "deep"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("expected auto or a number of depths"),
+        "{err}"
+    );
+    for bad in [
+        vec!["demo", "--scatter-depth", "auto", "--scatter-stop", "1"],
+        vec!["demo", "--scatter-depth", "4", "--scatter-stop", "nan"],
+    ] {
+        assert_refused(work.path(), &bad, "--scatter-stop");
+    }
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
+
+    // As many depths as the stopping rule wants: the header says where it stopped, each
+    // depth's power, and the share.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("auto.exr");
+    let o = small_demo(&out, (16, 10), &["--scatter-depth", "auto"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let get = header(&out);
+    assert_eq!(get("lgh:scatter_stop"), "0.01");
+    let depth: usize = get("lgh:scatter_depth").parse().unwrap();
+    assert!((1..16).contains(&depth), "{depth}");
+    assert_eq!(get("lgh:scatter_depth_powers").split(',').count(), depth);
 
     // Two depths with their shares: the summary's lines and the header's entries.
     let dir = tempfile::tempdir().unwrap();

@@ -96,6 +96,40 @@ impl NearField {
         }
     }
 
+    /// [`falloff`](Self::falloff) at a point in smoke whose [`shielding`] is `shielding`: a
+    /// voxel light's fall-off is the point's `1/max(d, h0)²` plus the near field's excess over it
+    /// times `shielding` at the voxel's centre, rising linearly to 1 at [`SHIELDED_RADIUS`]
+    /// (1 in clear air: [`voxel_falloff`]).
+    ///
+    /// ```
+    /// use lgh_core::near_field::{shielding, voxel_falloff};
+    /// use lgh_core::{falloff, NearField};
+    ///
+    /// let h = 0.5;
+    /// let clear = NearField::Voxel.falloff_in(0, 0.1, h, shielding(0.0));
+    /// assert_eq!(clear, voxel_falloff(0.1, h));
+    /// // In dense smoke the voxel's own light reaches its centre only from close by.
+    /// let dense = NearField::Voxel.falloff_in(0, 0.0, h, shielding(3.0));
+    /// assert!(dense < 0.5 * voxel_falloff(0.0, h) && dense > falloff(0.0, h));
+    /// assert_eq!(NearField::Clamp.falloff_in(0, 0.1, h, 0.2), falloff(0.1, h));
+    /// ```
+    #[inline(always)]
+    #[must_use]
+    pub fn falloff_in(self, level: u8, d: f32, h0: f32, shielding: f32) -> f32 {
+        match self {
+            NearField::Voxel if level == 0 => {
+                let voxel = voxel_falloff(d, h0);
+                if shielding == 1.0 || d >= SHIELDED_RADIUS * h0 {
+                    return voxel;
+                }
+                let point = falloff(d, h0);
+                let s = shielding + (1.0 - shielding) * (d / (SHIELDED_RADIUS * h0));
+                point + (voxel - point) * s
+            }
+            _ => falloff(d, h0),
+        }
+    }
+
     /// The model's name on the command line and in file headers: `voxel` or `clamp`.
     ///
     /// ```
@@ -119,6 +153,94 @@ impl NearField {
     pub fn from_name(name: &str) -> Option<Self> {
         NearField::ALL.into_iter().find(|m| m.name() == name)
     }
+}
+
+/// Entries per unit of optical depth of [`CENTRE_FLUENCE`].
+const PER_DEPTH: f32 = 4.0;
+
+/// `h² K(τ)` at `τ = i / 4`, `i = 0..=128`: the fluence at a uniform voxel's centre from its own
+/// light through its own smoke, `(1/h³) ∫_voxel e^{−σ r} / r² dy` with `τ = σ h`, which in
+/// polar coordinates around the centre is `∫_{S²} (1 − e^{−τ ℓ(ω)}) / τ dω`, `ℓ(ω)` the distance
+/// to the face in units of `h` (7.674 at τ = 0, [`VOXEL_MEAN`]'s first entry; `4π/τ` beyond
+/// τ = 32, to `e^{−16}`).
+#[rustfmt::skip]
+const CENTRE_FLUENCE: [f32; 129] = [
+    7.6741242, 7.1091413, 6.5996943, 6.1395855,
+    5.7233663, 5.3462386, 5.0039716, 4.692834,
+    4.409528, 4.1511383, 3.9150846, 3.6990802,
+    3.5010962, 3.3193312, 3.1521828, 2.9982257,
+    2.8561897, 2.724941, 2.6034677, 2.490865,
+    2.3863225, 2.2891142, 2.1985888, 2.114161,
+    2.0353045, 1.9615457, 1.892457, 1.8276529,
+    1.7667849, 1.7095377, 1.6556259, 1.6047902,
+    1.5567956, 1.5114282, 1.4684936, 1.4278141,
+    1.3892281, 1.3525877, 1.3177578, 1.2846148,
+    1.253045, 1.2229444, 1.1942172, 1.1667757,
+    1.1405386, 1.1154314, 1.091385, 1.0683358,
+    1.0462247, 1.0249975, 1.0046033, 0.9849952,
+    0.96612966, 0.9479663, 0.9304672, 0.9135972,
+    0.8973237, 0.881616, 0.8664454, 0.85178536,
+    0.8376107, 0.823898, 0.81062526, 0.7977719,
+    0.78531843, 0.77324665, 0.7615394, 0.75018054,
+    0.7391548, 0.72844785, 0.7180461, 0.7079368,
+    0.69810784, 0.68854773, 0.6792456, 0.67019117,
+    0.66137475, 0.6527871, 0.64441943, 0.63626343,
+    0.6283112, 0.62055516, 0.6129882, 0.60560346,
+    0.59839445, 0.591355, 0.5844793, 0.5777615,
+    0.5711963, 0.5647786, 0.55850357, 0.5523664,
+    0.5463626, 0.5404879, 0.5347381, 0.5291094,
+    0.52359796, 0.5182001, 0.51291245, 0.50773156,
+    0.5026543, 0.4976776, 0.49279845, 0.488014,
+    0.4833216, 0.47871858, 0.4742024, 0.4697706,
+    0.4654209, 0.461151, 0.45695874, 0.452842,
+    0.44879878, 0.4448271, 0.44092512, 0.437091,
+    0.433323, 0.42961937, 0.42597854, 0.4223989,
+    0.4188789, 0.4154171, 0.41201204, 0.40866235,
+    0.4053667, 0.40212375, 0.3989323, 0.39579108,
+    0.39269897,
+];
+
+/// Within this distance of a voxel light's centre, in voxels, its near field is shielded by the
+/// smoke ([`NearField::falloff_in`]). The exact fluence of a uniform voxel through uniform
+/// smoke, divided by the transmittance `e^{−σ d}` that the shadow ray to its centre applies,
+/// falls below the unshielded [`voxel_falloff`] only near the centre: measured (Monte Carlo,
+/// 2·10⁶ rays a point) at `σ h` = 0.42, 1 and 2.3, the excess over the point's fall-off is
+/// 0.86, 0.71, 0.47 of the unshielded one at the centre ([`shielding`], exact there), 0.98,
+/// 0.95, 0.95 at `h/4`, and above 1 from about `0.3 h` on (1.09–1.85 at `h/2`, 1.5–6.6 at `h`:
+/// light from the voxel's near side, less attenuated than its centre's). Beyond this radius
+/// the near field is left unshielded, which under-counts a dense voxel's light there and never
+/// over-counts it.
+pub const SHIELDED_RADIUS: f32 = 0.3;
+
+/// How much of a voxel light's near field reaches a point in smoke of optical depth `tau =
+/// σ_t h` a voxel: 1 in clear air, falling to −1/6.67 in opaque smoke (where a voxel's own light
+/// is absorbed before it spreads). [`NearField::falloff_in`] scales the near field's excess
+/// over the point's clamped fall-off by it, so that at the voxel's centre the fall-off is the
+/// exact fluence of a uniform voxel through its own smoke, `K(τ)`, and a scattering pass never
+/// scatters more of a voxel's light in that voxel than its albedo: the share is
+/// `(σ_s h / 4π) K(τ) h² = albedo · (1/4π) ∫ (1 − e^{−τ ℓ(ω)}) dω < albedo`. (Without it, on the
+/// demo's explosion at 32³, where a voxel of soot is 4.7 optical depths across, each depth of
+/// scattered light was 1.9 times the one before.)
+///
+/// ```
+/// use lgh_core::near_field::shielding;
+///
+/// assert_eq!(shielding(0.0), 1.0);
+/// assert!(shielding(1.0) < 1.0 && shielding(1.0) > 0.0);
+/// assert!(shielding(1e6) < 0.0 && shielding(1e6) > -1.0 / 6.6);
+/// ```
+#[must_use]
+pub fn shielding(tau: f32) -> f32 {
+    let k = if tau < 32.0 {
+        let f = tau.max(0.0) * PER_DEPTH;
+        let i = (f as usize).min(CENTRE_FLUENCE.len() - 2);
+        let w = f - i as f32;
+        let (a, b) = (CENTRE_FLUENCE[i], CENTRE_FLUENCE[i + 1]);
+        a + (b - a) * w
+    } else {
+        4.0 * core::f32::consts::PI / tau
+    };
+    (k - 1.0) / (CENTRE_FLUENCE[0] - 1.0)
 }
 
 /// Entries per voxel size of [`VOXEL_MEAN`].
@@ -377,6 +499,60 @@ mod tests {
                 err < 0.01 * got,
                 "u = {u}: too few samples to test ({err} of {got})"
             );
+        }
+    }
+
+    /// `h² K(τ)` in `f64` by the same polar reduction as [`quadrature`]: 24 ∫ dφ ∫ f(s)/s² ds
+    /// over the face's eighth, `f(s) = (1 − e^{−τ s})/τ` the integral along a ray to the face.
+    fn centre_quadrature(tau: f64) -> f64 {
+        let f = |s: f64| {
+            if tau == 0.0 {
+                s
+            } else {
+                -(-tau * s).exp_m1() / tau
+            }
+        };
+        let n = 200;
+        let quarter = core::f64::consts::FRAC_PI_4;
+        let mut sum = 0.0;
+        for i in 0..n {
+            let phi = (f64::from(i) + 0.5) / f64::from(n) * quarter;
+            let s_max = 0.5 * (1.0 + 1.0 / phi.cos().powi(2)).sqrt();
+            let m = 400;
+            let step = (s_max - 0.5) / f64::from(m);
+            let mut inner = f(0.5) / 0.25 + f(s_max) / (s_max * s_max);
+            for j in 1..m {
+                let s = 0.5 + step * f64::from(j);
+                inner += f(s) / (s * s) * if j % 2 == 1 { 4.0 } else { 2.0 };
+            }
+            sum += inner * step / 3.0;
+        }
+        24.0 * sum * quarter / f64::from(n)
+    }
+
+    #[test]
+    fn the_centre_fluence_is_its_quadrature_and_conserves_energy() {
+        for (i, &entry) in CENTRE_FLUENCE.iter().enumerate() {
+            let tau = i as f64 / f64::from(PER_DEPTH);
+            let want = centre_quadrature(tau);
+            // Midpoint in φ on 200 points: 10⁻⁶ of the closed form at τ = 0 (VOXEL_MEAN[0]).
+            assert!(
+                (f64::from(entry) / want - 1.0).abs() < 2e-6,
+                "τ = {tau}: {entry} vs {want}"
+            );
+            // The share of a voxel's light absorbed or scattered in it: below 1, towards 1.
+            let share = f64::from(entry) * tau / (4.0 * core::f64::consts::PI);
+            assert!(share < 1.0, "τ = {tau}: {share}");
+        }
+        assert!((CENTRE_FLUENCE[0] - VOXEL_MEAN[0]).abs() < 1e-6);
+        // Continuous into 4π/τ at τ = 32, and decreasing.
+        let (below, above) = (shielding(32.0 - 1e-4), shielding(32.0 + 1e-4));
+        assert!((below - above).abs() < 1e-5, "{below} {above}");
+        let mut last = f32::INFINITY;
+        for i in 0..2000 {
+            let s = shielding(i as f32 * 0.05);
+            assert!(s <= last && s > -1.0 / 6.6, "{s}");
+            last = s;
         }
     }
 

@@ -8,6 +8,7 @@
 //! (ARCHITECTURE.md, "lgh-core"); this is where it is applied.
 
 use lgh_core::glam::Vec3;
+use lgh_core::near_field::shielding;
 use lgh_core::{
     falloff, LightSample, ManyLights, NearField, QueryError, ShadingPoint, ISOTROPIC_PHASE,
 };
@@ -100,15 +101,21 @@ impl<B: ManyLights> Lights<B> {
         }
     }
 
-    /// The fall-off the lights are shaded with at `point`: [`NearField::falloff`] in a medium,
-    /// a point's `1/max(d, h0)²` on a surface.
+    /// The fall-off the lights are shaded with at `point`, where the extinction is `sigma_t`:
+    /// [`NearField::falloff_in`] in a medium, its near field shielded by the smoke at the point
+    /// ([`shielding`]), a point's `1/max(d, h0)²` on a surface.
     #[inline(always)]
-    fn falloff_at(&self, point: &ShadingPoint) -> impl Fn(&LightSample) -> f32 {
+    fn falloff_at(&self, point: &ShadingPoint, sigma_t: f32) -> impl Fn(&LightSample) -> f32 {
         let (h0, near_field) = (self.h0, self.near_field);
         let medium = point.normal.is_none();
+        let shield = if medium && near_field == NearField::Voxel {
+            shielding(sigma_t * h0)
+        } else {
+            1.0
+        };
         move |l: &LightSample| {
             if medium {
-                near_field.falloff(l.level, l.distance, h0)
+                near_field.falloff_in(l.level, l.distance, h0, shield)
             } else {
                 falloff(l.distance, h0)
             }
@@ -128,11 +135,25 @@ impl<B: ManyLights> Lights<B> {
         &self,
         point: &ShadingPoint,
         visibility: &Visibility,
+        response: impl FnMut(&LightSample) -> Vec3,
+        scratch: &mut LightScratch,
+        stats: &mut crate::stats::RenderStats,
+    ) -> Result<Vec3, QueryError> {
+        self.incident_in(point, 0.0, visibility, response, scratch, stats)
+    }
+
+    /// [`incident`](Self::incident) at a point in a medium whose extinction is `sigma_t`, which
+    /// shields the voxel lights' near field ([`shielding`]; 0: clear air).
+    fn incident_in(
+        &self,
+        point: &ShadingPoint,
+        sigma_t: f32,
+        visibility: &Visibility,
         mut response: impl FnMut(&LightSample) -> Vec3,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
-        let g = self.falloff_at(point);
+        let g = self.falloff_at(point, sigma_t);
         let term = |l: &LightSample, f: Vec3, v: f32| (l.intensity * f) * (g(l) * v);
         if visibility.is_none() {
             let sum = self
@@ -160,7 +181,7 @@ impl<B: ManyLights> Lights<B> {
             stats.shadow_samples += samples;
             return Ok(sum.radiance);
         }
-        self.gather(point, visibility, response, scratch, stats)?;
+        self.gather(point, sigma_t, visibility, response, scratch, stats)?;
         // Summed in the backend's order, as the backend sums what a shader returns.
         let mut radiance = Vec3::ZERO;
         for (&(weighted, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
@@ -174,12 +195,13 @@ impl<B: ManyLights> Lights<B> {
     fn gather(
         &self,
         point: &ShadingPoint,
+        sigma_t: f32,
         visibility: &Visibility,
         mut response: impl FnMut(&LightSample) -> Vec3,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<(), QueryError> {
-        let g = self.falloff_at(point);
+        let g = self.falloff_at(point, sigma_t);
         scratch.lights.clear();
         scratch.unshadowed.clear();
         let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
@@ -199,20 +221,22 @@ impl<B: ManyLights> Lights<B> {
     /// direction from light `j` to `x`: what the lighting cache needs to follow a shadow's
     /// gradient (`∇_x τ_j ≈ σ_t(x) ω_j`, so `∇L ≈ −σ_t F`; `lighting_cache`). The flux is 0
     /// without shadows, where nothing shadows the gradient, and for backends whose selection
-    /// follows the shader (Lightcuts), which the cache does not serve.
+    /// follows the shader (Lightcuts), which the cache does not serve. `sigma_t` is the
+    /// extinction at `x` (it shields voxel lights' near field: [`shielding`]).
     pub fn incident_flux(
         &self,
         x: Vec3,
+        sigma_t: f32,
         visibility: &Visibility,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<(Vec3, Vec3), QueryError> {
         let point = ShadingPoint::in_medium(x);
         if visibility.is_none() || self.backend.selection_follows_shader() {
-            let l = self.incident(&point, visibility, |_| Vec3::ONE, scratch, stats)?;
+            let l = self.incident_in(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
             return Ok((l, Vec3::ZERO));
         }
-        self.gather(&point, visibility, |_| Vec3::ONE, scratch, stats)?;
+        self.gather(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
         let mut radiance = Vec3::ZERO;
         let mut flux = Vec3::ZERO;
         let terms = scratch.unshadowed.iter().zip(&scratch.visibility);
@@ -226,7 +250,8 @@ impl<B: ManyLights> Lights<B> {
 
     /// The light in-scattered at `x` in a medium, per unit solid angle: `scale` (`σ_s`, or
     /// `h³ σ_s` for a voxel's light) times the isotropic phase function `1/4π` times the
-    /// [`incident`](Self::incident) light. The phase is the shader's response, so every backend
+    /// [`incident`](Self::incident) light, at a point where the extinction is `sigma_t` (which
+    /// shields voxel lights' near field: [`shielding`]). The phase is the shader's response, so every backend
     /// shades what an isotropic point scatters, `I g V / 4π`: the values an error-bounded
     /// backend (Lightcuts) compares with its bounds, which are of that light
     /// (`lgh_core::reflected` at an isotropic point); shading `I g V` refined its cut as if ε
@@ -243,7 +268,7 @@ impl<B: ManyLights> Lights<B> {
     /// let lights = Lights::new(one, 0.1);
     /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
     /// let x = Vec3::new(2.0, 0.0, 0.0);
-    /// let l = lights.in_scattered(x, 3.0, &Visibility::None, &mut scratch, &mut stats)?;
+    /// let l = lights.in_scattered(x, 3.0, 4.0, &Visibility::None, &mut scratch, &mut stats)?;
     /// let want = 3.0 / (4.0 * std::f32::consts::PI); // σ_s · (I / d²) / 4π
     /// assert!((l - Vec3::splat(want)).abs().max_element() < 1e-6);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -252,13 +277,14 @@ impl<B: ManyLights> Lights<B> {
         &self,
         x: Vec3,
         scale: f32,
+        sigma_t: f32,
         visibility: &Visibility,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
         let point = ShadingPoint::in_medium(x);
         let phase = Vec3::splat(ISOTROPIC_PHASE);
-        Ok(self.incident(&point, visibility, |_| phase, scratch, stats)? * scale)
+        Ok(self.incident_in(&point, sigma_t, visibility, |_| phase, scratch, stats)? * scale)
     }
 }
 

@@ -604,13 +604,14 @@ impl LightingCache {
                         continue;
                     }
                     let x = tier.vertex(v);
+                    let sigma_t = self.kappa * density.sample(x);
                     let (light, flux) =
-                        lights.incident_flux(x, visibility, &mut scratch, &mut stats)?;
+                        lights.incident_flux(x, sigma_t, visibility, &mut scratch, &mut stats)?;
                     let lum = lgh_core::luminance(light);
                     values[(k * BRICK + j) * BRICK + i] = Vertex {
                         light,
                         direction: if lum > 0.0 { flux / lum } else { Vec3::ZERO },
-                        sigma_t: self.kappa * density.sample(x),
+                        sigma_t,
                     };
                     count += 1;
                 }
@@ -776,7 +777,7 @@ impl<'l> CachedLights<'l> {
         stats: &mut RenderStats,
     ) -> Result<Vec3, QueryError> {
         let fine = match &self.fine {
-            Some(fine) => fine.in_scattered(x, scale, visibility, scratch, stats)?,
+            Some(fine) => fine.in_scattered(x, scale, sigma_t, visibility, scratch, stats)?,
             None => Vec3::ZERO,
         };
         let coarse = self

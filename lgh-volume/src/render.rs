@@ -247,7 +247,14 @@ impl<'a> Marcher<'a> {
                         scratch,
                         stats,
                     )?,
-                    None => lights.in_scattered(x, sigma_s, &self.visibility, scratch, stats)?,
+                    None => lights.in_scattered(
+                        x,
+                        sigma_s,
+                        sigma_t,
+                        &self.visibility,
+                        scratch,
+                        stats,
+                    )?,
                 };
             }
             // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.

@@ -309,7 +309,7 @@ fn pass(
     if depth == 0 {
         return Ok(Scattered {
             merged: emission.clone(),
-            per_depth: vec![emission.lights().iter().map(|l| l.intensity).collect()],
+            per_depth: vec![emission_intensities(emission)],
             reports: Vec::new(),
             max_level,
             radiance: None,
@@ -367,6 +367,9 @@ fn pass(
     let grid_mode = settings.scattered_grid(method);
     let mut summed = grid_mode.then(|| vec![Vec3::ZERO; dense.len()]);
     let mut radiance_report = None;
+    // Each depth's power, the emission's first: what the stopping rule reads.
+    let mut powers = vec![power(&emission_intensities(emission))];
+    let mut last = depth;
     for k in 1..=depth + usize::from(grid_mode) {
         let t = Instant::now();
         let (source, pass) = if k == 1 {
@@ -388,14 +391,23 @@ fn pass(
             power: power(&next),
             stats,
         };
-        if k > depth {
+        if k > last {
             // Depth n + 1: its intensities only, never lights.
             radiance_report = Some(report(t.elapsed().as_secs_f64()));
             break;
         }
         scattered.set_intensities(&next)?;
         per_depth.push(on_slots(voxels.len(), next.iter().copied(), &dense_slots));
-        reports.push(report(t.elapsed().as_secs_f64()));
+        let report = report(t.elapsed().as_secs_f64());
+        powers.push(report.power);
+        reports.push(report);
+        if k < last && settings.scatter_stop > 0.0 && stop_after(&powers, settings.scatter_stop) {
+            // The last depth; with the grid, one more for its radiance.
+            last = k;
+            if !grid_mode {
+                break;
+            }
+        }
     }
     let radiance = summed.map(|s| ScatteredRadiance::new(grid, &dense, &s));
     drop(scattered);
@@ -459,6 +471,39 @@ fn on_slots(len: usize, values: impl Iterator<Item = Vec3>, slots: &[usize]) -> 
 }
 
 /// The luminance of the summed intensities, in f64 (a depth's power, [`DepthReport::power`]).
+/// Whether a scattering pass stops after the depths whose powers are `powers` (depth 0, the
+/// emission lights', first): when the next depth's power, predicted from the last two, is below
+/// `share` of all the light so far. Each depth scatters the one before through the same smoke,
+/// so the power falls by a nearly steady factor `r` a depth and the next is about
+/// `P_k · (P_k / P_{k−1})`; the depths left out then hold about `P_{k+1} / (1 − r)`.
+///
+/// ```
+/// use lgh_volume::scattering::stop_after;
+///
+/// let halving = [1.0, 0.5, 0.25]; // the next about 0.125, 7% of the 1.75 so far
+/// assert!(stop_after(&halving, 0.1));
+/// assert!(!stop_after(&halving, 0.05));
+/// assert!(!stop_after(&[1.0], 0.5)); // no depth yet: nothing to predict from
+/// assert!(stop_after(&[1.0, 0.0], 0.01)); // nothing scattered: nothing more will be
+/// ```
+#[must_use]
+pub fn stop_after(powers: &[f64], share: f32) -> bool {
+    let [.., before, last] = powers else {
+        return false;
+    };
+    let next = if *before > 0.0 {
+        last * (last / before)
+    } else {
+        0.0
+    };
+    next < f64::from(share) * powers.iter().sum::<f64>()
+}
+
+/// The emission lights' intensities, in their order.
+fn emission_intensities(emission: &ExplosionLights) -> Vec<Vec3> {
+    emission.lights().iter().map(|l| l.intensity).collect()
+}
+
 fn power(intensities: &[Vec3]) -> f64 {
     let total = intensities.iter().fold([0.0f64; 3], |a, i| {
         [0, 1, 2].map(|c| a[c] + f64::from(i[c]))
@@ -554,7 +599,9 @@ impl Fluence<'_> {
                             c.in_scattered(x, scale, sigma_t, visibility, &mut scratch, &mut stats)?
                         }
                         None => {
-                            lights.in_scattered(x, scale, visibility, &mut scratch, &mut stats)?
+                            let sigma_t = self.medium.extinction(rho);
+                            let s = (&mut scratch, &mut stats);
+                            lights.in_scattered(x, scale, sigma_t, visibility, s.0, s.1)?
                         }
                     };
                 }
@@ -760,6 +807,56 @@ mod tests {
     }
 
     #[test]
+    fn the_pass_stops_where_the_next_depth_would_add_too_little() {
+        // A pass of up to 8 depths that stops by the rule computes the same first depths as the
+        // full pass, bit for bit, and stops at the first depth after which the rule holds.
+        let volume = blob(12);
+        let medium = Medium::new(1.0, 4.0, 1e-4, 1000.0).unwrap();
+        let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        let lgh = Method::Lgh { alpha: 2.0 };
+        let full = pass(
+            &emission,
+            8,
+            lgh,
+            &volume,
+            &medium,
+            &MarchSettings::default(),
+        );
+        let share = 0.05;
+        let stopping = MarchSettings {
+            scatter_stop: share,
+            ..Default::default()
+        };
+        let stopped = pass(&emission, 8, lgh, &volume, &medium, &stopping);
+        let n = stopped.depths().len();
+        assert!((1..8).contains(&n), "{n} depths");
+        let mut powers = vec![power(&emission_intensities(&emission))];
+        powers.extend(full.depths().iter().map(|d| d.power));
+        for k in 1..=n {
+            assert_eq!(
+                bits(stopped.intensities(k).unwrap()),
+                bits(full.intensities(k).unwrap())
+            );
+            assert_eq!(
+                stop_after(&powers[..=k], share),
+                k == n,
+                "depth {k}: {powers:?}"
+            );
+        }
+        // What it left out is near what the rule predicted: the next depth within a factor 2.
+        let (predicted, actual) = (powers[n] * powers[n] / powers[n - 1], powers[n + 1]);
+        assert!(
+            actual < 2.0 * predicted && predicted < 2.0 * actual,
+            "{powers:?}"
+        );
+        let bad = MarchSettings {
+            scatter_stop: 1.0,
+            ..stopping
+        };
+        assert!(bad.check().is_err());
+    }
+
+    #[test]
     fn the_emission_lights_pruning_carries_over_to_the_merged_lights() {
         let volume = blob(16);
         let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0).unwrap();
@@ -899,6 +996,7 @@ mod tests {
         // the ray-marched transmittance V(x, p) of the same ShadowGrid (so that V is the same
         // bits): I^k(x) = h³ σ_s(x)/(4π) Σ_p I^{k−1}(p) V(x, p) G(|x − p|), with G the voxel
         // lights' fall-off (the voxel's mean of 1/r², `lgh_core::near_field`).
+        use lgh_core::near_field::shielding;
         use lgh_core::NearField;
         let volume = blob(12);
         let medium = Medium::new(1.0, 3.0, 1e-4, 1000.0).unwrap();
@@ -949,8 +1047,11 @@ mod tests {
                         continue;
                     }
                     let p = centre(w);
-                    // The voxel lights' fall-off (`lgh_core::near_field`), as the pass's lights.
-                    let g = f64::from(NearField::Voxel.falloff(0, x.distance(p), h as f32));
+                    // The voxel lights' fall-off (`lgh_core::near_field`), as the pass's lights,
+                    // shielded by the smoke at x.
+                    let shield = shielding(medium.extinction(rho) * h as f32);
+                    let g = NearField::Voxel.falloff_in(0, x.distance(p), h as f32, shield);
+                    let g = f64::from(g);
                     let vis = f64::from(grid.transmittance(x, p).0);
                     for c in 0..3 {
                         sum[c] += previous[q][c] * vis * g;

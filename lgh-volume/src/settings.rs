@@ -56,6 +56,10 @@ pub struct MarchSettings {
     /// times, so paths of up to `n + 1` scattering events (the paper's Fig. 7 uses 4). At most
     /// [`MAX_SCATTER_DEPTH`].
     pub scatter_depth: usize,
+    /// Stop the scattering pass before `scatter_depth` when the next depth would add less than
+    /// this share of the light so far ([`crate::scattering::stop_after`]); 0 computes every
+    /// depth asked for.
+    pub scatter_stop: f32,
     /// Whether the hierarchy's coarse levels are shaded through a lighting cache
     /// ([`crate::lighting_cache`]; the hierarchy only, none by default).
     pub lighting_cache: LightingCacheSettings,
@@ -94,6 +98,12 @@ impl MarchSettings {
             "must be in [0, 1)",
         )?;
         check_depth(self.scatter_depth)?;
+        check_setting(
+            (0.0..1.0).contains(&self.scatter_stop),
+            "march settings: scattering stop",
+            self.scatter_stop,
+            "must be a share in [0, 1)",
+        )?;
         self.lighting_cache.check()?;
         Ok(())
     }
@@ -153,6 +163,7 @@ impl Default for MarchSettings {
             shadows: Shadows::RayMarch,
             cube_maps: CubeMapSettings::default(),
             scatter_depth: 0,
+            scatter_stop: 0.0,
             lighting_cache: LightingCacheSettings::default(),
         }
     }
