@@ -93,14 +93,19 @@ pub enum SpacingArg {
     Voxels(f32),
 }
 
+/// `auto` (`None`) or a number of `unit`.
+fn parse_auto<T: std::str::FromStr>(s: &str, unit: &str) -> Result<Option<T>, String> {
+    if s == "auto" {
+        return Ok(None);
+    }
+    s.parse::<T>()
+        .map(Some)
+        .map_err(|_| format!("expected auto or a number of {unit}, not '{s}'"))
+}
+
 /// `auto` or a number of voxels.
 fn parse_spacing(s: &str) -> Result<SpacingArg, String> {
-    if s == "auto" {
-        return Ok(SpacingArg::Auto);
-    }
-    s.parse::<f32>()
-        .map(SpacingArg::Voxels)
-        .map_err(|_| format!("expected auto or a number of voxels, not '{s}'"))
+    Ok(parse_auto(s, "voxels")?.map_or(SpacingArg::Auto, SpacingArg::Voxels))
 }
 
 /// The lighting cache's options, shared by the render commands and `lgh bench flicker`.
@@ -306,12 +311,7 @@ impl Default for DepthArg {
 
 /// `auto` or a number of depths.
 fn parse_depth(s: &str) -> Result<DepthArg, String> {
-    if s == "auto" {
-        return Ok(DepthArg::Auto);
-    }
-    s.parse::<usize>()
-        .map(DepthArg::Fixed)
-        .map_err(|_| format!("expected auto or a number of depths, not '{s}'"))
+    Ok(parse_auto(s, "depths")?.map_or(DepthArg::Auto, DepthArg::Fixed))
 }
 
 /// The share of the light so far below which `--scatter-depth auto` stops adding depths.

@@ -232,15 +232,21 @@ pub const SHIELDED_RADIUS: f32 = 0.3;
 #[must_use]
 pub fn shielding(tau: f32) -> f32 {
     let k = if tau < 32.0 {
-        let f = tau.max(0.0) * PER_DEPTH;
-        let i = (f as usize).min(CENTRE_FLUENCE.len() - 2);
-        let w = f - i as f32;
-        let (a, b) = (CENTRE_FLUENCE[i], CENTRE_FLUENCE[i + 1]);
-        a + (b - a) * w
+        lerp_table(&CENTRE_FLUENCE, tau.max(0.0) * PER_DEPTH)
     } else {
         4.0 * core::f32::consts::PI / tau
     };
     (k - 1.0) / (CENTRE_FLUENCE[0] - 1.0)
+}
+
+/// `table` read at the fractional index `f ∈ [0, len − 1]` with linear interpolation (`f ≥ 0`,
+/// so truncation is the floor; the index is held below the last entry).
+#[inline(always)]
+fn lerp_table(table: &[f32; 129], f: f32) -> f32 {
+    let i = (f as usize).min(table.len() - 2);
+    let w = f - i as f32;
+    let (a, b) = (table[i], table[i + 1]);
+    a + (b - a) * w
 }
 
 /// Entries per voxel size of [`VOXEL_MEAN`].
@@ -319,12 +325,8 @@ pub fn voxel_falloff(d: f32, h: f32) -> f32 {
     let u = d / h;
     let h2 = h * h;
     if u < 2.0 {
-        // u ≥ 0, so truncation is the floor; u < 2 keeps i + 1 ≤ 128 (a NaN goes to the series).
-        let f = u * PER_VOXEL;
-        let i = (f as usize).min(VOXEL_MEAN.len() - 2);
-        let w = f - i as f32;
-        let (a, b) = (VOXEL_MEAN[i], VOXEL_MEAN[i + 1]);
-        (a + (b - a) * w) / h2
+        // A NaN goes to the series.
+        lerp_table(&VOXEL_MEAN, u * PER_VOXEL) / h2
     } else {
         let x = 1.0 / (u * u);
         let s = SERIES;

@@ -238,23 +238,10 @@ impl<'a> Marcher<'a> {
             }
             let sigma_s = medium.scattering * rho;
             if let (Some(lights), true) = (lights, sigma_s > 0.0) {
+                let v = &self.visibility;
                 source += match lit.cached {
-                    Some(cached) => cached.in_scattered(
-                        x,
-                        sigma_s,
-                        sigma_t,
-                        &self.visibility,
-                        scratch,
-                        stats,
-                    )?,
-                    None => lights.in_scattered(
-                        x,
-                        sigma_s,
-                        sigma_t,
-                        &self.visibility,
-                        scratch,
-                        stats,
-                    )?,
+                    Some(c) => c.in_scattered(x, sigma_s, sigma_t, v, scratch, stats)?,
+                    None => lights.in_scattered(x, sigma_s, sigma_t, v, scratch, stats)?,
                 };
             }
             // Exact integral over a step of constant medium: ∫ e^{−σ s} ds = (1 − e^{−σ dt}) / σ.
