@@ -54,6 +54,7 @@
 
 pub use lgh_core;
 
+pub mod blender_blackbody;
 pub mod cache;
 pub mod camera;
 pub mod error;

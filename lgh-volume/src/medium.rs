@@ -107,7 +107,8 @@ pub enum EmissionModel {
     #[default]
     Planck,
     /// Blender's Principled Volume: `j = k_e · 10⁻⁶ σ T⁴ / π · c(T)`, where `c(T)` is the
-    /// blackbody colour normalised to luminance 1 and `k_e` is Blender's blackbody intensity
+    /// colour of Cycles' Blackbody node (luminance about 1; measured:
+    /// [`crate::blender_blackbody`]) and `k_e` is Blender's blackbody intensity
     /// (times the flame grid, see [`Volume::flame`]). Blender mixes `1 → T⁴` by that intensity;
     /// the constant term (`10⁻⁶ σ / π ≈ 2·10⁻¹⁴`) is dropped.
     Blender,
@@ -127,18 +128,6 @@ fn saturate(v: Vec3) -> Vec3 {
     let max = Vec3::splat(MAX_EMISSION);
     Vec3::select(v.cmpgt(max), max, v)
 }
-
-/// The Blender model's colour is that of a blackbody at no less than this. Colder, the sRGB
-/// colour of a blackbody is the gamut's red (from about 700 K its chromaticity lies beyond the
-/// red primary) until the colour-matching fit's tails (Wyman et al. 2013, `lgh_core::spectrum`)
-/// turn it orange near 400 K and green below 250 K, and below about 150 K its luminance
-/// underflows an `f32`: a colour normalised by it was NaN. The default `T_min` (800 K) is above.
-const COLD_COLOUR_KELVIN: f32 = 600.0;
-
-/// The Blender model's colour is that of a blackbody at no more than this: hotter, a
-/// blackbody's colour has converged to the Rayleigh–Jeans limit (to well under 1%), and its
-/// radiance in an `f32` overflows near 10²⁸ K.
-const HOT_COLOUR_KELVIN: f32 = 1e6;
 
 /// The participating medium (ARCHITECTURE.md, "Medium"): `σ_a = κ_a ρ`, `σ_s = κ_s ρ`, isotropic phase
 /// function, and emission `j = k_e · blackbody(T)` (W / (m³ sr), linear sRGB) where `T > T_min`,
@@ -228,12 +217,9 @@ impl Medium {
                 saturate(saturate(self.table.radiance(kelvin)) * self.emission)
             }
             EmissionModel::Blender => {
-                // c(T), the colour normalised to luminance 1, from the colour temperature held
-                // in [COLD_COLOUR_KELVIN, HOT_COLOUR_KELVIN], where the luminance is a normal
-                // f32 and the colour means something (see the constants).
-                let tc = kelvin.clamp(COLD_COLOUR_KELVIN, HOT_COLOUR_KELVIN);
-                let b = self.table.radiance(tc);
-                let c = b / lgh_core::luminance(b);
+                // c(T), Blender's Blackbody node as measured (held below 800 K and above
+                // 40000 K, as the node is below 800 K).
+                let c = crate::blender_blackbody::colour(kelvin);
                 // k_e 10⁻⁶ σ T⁴ / π in f64: T⁴ overflows an f32 above 1.4·10⁹ K.
                 let t2 = f64::from(kelvin).powi(2);
                 let total = f64::from(self.emission) * 1e-6 * f64::from(STEFAN_BOLTZMANN)
@@ -285,8 +271,8 @@ mod tests {
             assert!(j.is_finite() && j.x > 0.0, "{kelvin} K: {j}");
             assert_eq!((j.y, j.z), (0.0, 0.0), "{kelvin} K: {j}");
         }
-        // Continuous across the held colour's edge, and T⁴ below it.
-        let (a, b) = (m.emission_at(599.999), m.emission_at(600.001));
+        // Continuous across the held colour's edge (800 K, as Blender's node), and T⁴ below it.
+        let (a, b) = (m.emission_at(799.999), m.emission_at(800.001));
         assert!(
             (a - b).abs().max_element() <= 1e-4 * b.max_element(),
             "{a} {b}"
