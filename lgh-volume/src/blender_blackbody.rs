@@ -274,7 +274,7 @@ const NODE: [[f32; 3]; 246] = [
 ];
 
 /// The colour of Blender's Blackbody node at `kelvin` (linear Rec. 709, luminance about 1): the
-/// measured [`NODE`] interpolated in mired, held at 800 K below it and at 40000 K above it (and
+/// measured table interpolated in mired, held at 800 K below it and at 40000 K above it (and
 /// at 800 K for a NaN or non-positive temperature).
 ///
 /// ```
