@@ -131,10 +131,10 @@ pub struct CacheArgs {
     #[arg(long, default_value_t = 1)]
     pub cache_level: u8,
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
-    /// fluence on a grid this many voxels apart, every level cached, and interpolate it to the
-    /// voxels (their light has scattered already and varies slowly); 1 computes it at every
-    /// voxel, as depth 1 does
-    #[arg(long, default_value_t = lgh_volume::lighting_cache::SCATTERED_SPACING)]
+    /// fluence on a grid this many voxels apart (1 to 8), every level cached, and interpolate it
+    /// to the voxels (their light has scattered already and varies slowly); 1 computes it at
+    /// every voxel, as depth 1 does; auto: 4, 2 or 1, at least 8 cells across the smoke
+    #[arg(long, default_value = "auto", value_parser = parse_scatter_spacing)]
     pub scatter_spacing: u8,
     /// With --scatter-depth, the lighting cache and ray-marched shadows: how the render takes
     /// in the scattered light
@@ -309,6 +309,11 @@ impl Default for DepthArg {
     }
 }
 
+/// `auto` (0) or a number of voxels.
+fn parse_scatter_spacing(s: &str) -> Result<u8, String> {
+    Ok(parse_auto(s, "voxels")?.unwrap_or(lgh_volume::lighting_cache::SCATTERED_SPACING))
+}
+
 /// `auto` or a number of depths.
 fn parse_depth(s: &str) -> Result<DepthArg, String> {
     Ok(parse_auto(s, "depths")?.map_or(DepthArg::Auto, DepthArg::Fixed))
@@ -432,12 +437,9 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
             .to_string(),
         ),
         (
+            // The spacing used (the automatic one resolved on the frame's smoke).
             "scatter_spacing",
-            frame
-                .settings()
-                .lighting_cache
-                .scattered_spacing
-                .to_string(),
+            s.spacing().to_string(),
         ),
     ]);
     if let Some((_, r)) = s.radiance() {

@@ -159,13 +159,18 @@ impl ScatteredLight {
     }
 }
 
-/// The default [`LightingCacheSettings::scattered_spacing`]: the fluence of depths ≥ 2 two
-/// voxels apart. With the voxel lights' near field (`lgh_core::near_field`) four voxels apart
-/// moved the 24³ ball of the path-tracer test (`tests/tests/scattering.rs`) by +6.5% at depth
-/// 4 against every voxel, two apart by +0.5%; with the paper's point lights, on the
-/// Fig. 8-class frame (`docs/shadows.md`), a depth took 7.9 s four voxels apart, 45 s two
-/// apart, 65–70 s at every voxel.
-pub const SCATTERED_SPACING: u8 = 2;
+/// The default [`LightingCacheSettings::scattered_spacing`]: 0, automatic
+/// ([`scattered_spacing_on`](LightingCacheSettings::scattered_spacing_on)).
+pub const SCATTERED_SPACING: u8 = 0;
+
+/// The fewest cells of the scattering depths' grid across the smoke's narrowest extent that an
+/// automatic spacing leaves. Measured with voxel lights (`lgh_core::near_field`), depth 4
+/// against every voxel: the 24³ ball of the path-tracer test (`tests/tests/scattering.rs`,
+/// smoke 19 voxels across) four voxels apart (4.7 cells) +6.5%, two apart (9.5 cells) +0.5%;
+/// the Fig. 8-class frame (`docs/shadows.md`, over 200 voxels across) four apart against two
+/// apart: depths 2–4's power +0.8%, +0.6%, +0.1%, the image 1.5%, at half the pass's time
+/// (depths 2–4 8–12 s each against 58–66 s).
+pub const MIN_SCATTERED_CELLS: f32 = 8.0;
 
 impl Default for LightingCacheSettings {
     /// No cache; when on, cells of optical depth 1 across the densest smoke, levels ≥ 1,
@@ -210,22 +215,55 @@ impl LightingCacheSettings {
     ///
     /// ```
     /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCacheSettings};
+    /// use lgh_volume::procedural;
     ///
-    /// let later = LightingCacheSettings::coarse().scattered_depths().unwrap();
-    /// assert_eq!((later.spacing, later.first_level), (CacheSpacing::Voxels(2.0), 0));
-    /// assert!(LightingCacheSettings::default().scattered_depths().is_none()); // no cache
+    /// let density = procedural::ball(64, 0.7, 3000.0).density; // smoke 51 voxels across
+    /// let later = LightingCacheSettings::coarse().scattered_depths(&density).unwrap();
+    /// assert_eq!((later.spacing, later.first_level), (CacheSpacing::Voxels(4.0), 0));
+    /// assert!(LightingCacheSettings::default().scattered_depths(&density).is_none()); // no cache
     /// let every = LightingCacheSettings { scattered_spacing: 1, ..LightingCacheSettings::coarse() };
-    /// assert!(every.scattered_depths().is_none());
+    /// assert!(every.scattered_depths(&density).is_none());
     /// ```
     #[must_use]
-    pub fn scattered_depths(&self) -> Option<Self> {
-        (self.mode == CacheMode::Coarse && self.scattered_spacing > 1).then_some(
-            LightingCacheSettings {
-                spacing: CacheSpacing::Voxels(f32::from(self.scattered_spacing)),
-                first_level: 0,
-                ..*self
-            },
-        )
+    pub fn scattered_depths(&self, density: &DenseGrid) -> Option<Self> {
+        let spacing = self.scattered_spacing_on(density);
+        (self.mode == CacheMode::Coarse && spacing > 1).then_some(LightingCacheSettings {
+            spacing: CacheSpacing::Voxels(f32::from(spacing)),
+            first_level: 0,
+            ..*self
+        })
+    }
+
+    /// The spacing, in voxels, of the scattering depths' grid over `density`:
+    /// [`scattered_spacing`](Self::scattered_spacing), or where it is 0 (automatic, the default)
+    /// the coarsest of 4, 2 and 1 voxels that leaves [`MIN_SCATTERED_CELLS`] cells across the
+    /// smoke's narrowest extent (its box of voxels with density).
+    ///
+    /// ```
+    /// use lgh_volume::lighting_cache::LightingCacheSettings;
+    /// use lgh_volume::procedural;
+    ///
+    /// let auto = LightingCacheSettings::coarse();
+    /// let small = procedural::ball(24, 0.7, 3000.0).density; // 19 voxels across
+    /// assert_eq!(auto.scattered_spacing_on(&small), 2);
+    /// let large = procedural::ball(64, 0.7, 3000.0).density;
+    /// assert_eq!(auto.scattered_spacing_on(&large), 4);
+    /// let fixed = LightingCacheSettings { scattered_spacing: 3, ..auto };
+    /// assert_eq!(fixed.scattered_spacing_on(&small), 3);
+    /// ```
+    #[must_use]
+    pub fn scattered_spacing_on(&self, density: &DenseGrid) -> u8 {
+        if self.scattered_spacing != 0 {
+            return self.scattered_spacing;
+        }
+        let Some((lo, hi)) = density.active_bounds() else {
+            return 1;
+        };
+        let across = ((hi - lo) / density.voxel_size).min_element();
+        [4u8, 2]
+            .into_iter()
+            .find(|&s| across / f32::from(s) >= MIN_SCATTERED_CELLS)
+            .unwrap_or(1)
     }
 
     /// Whether the scattered light enters the render as a grid ([`ScatteredLight::Grid`] with
@@ -247,7 +285,7 @@ impl LightingCacheSettings {
 
     /// Checks the layout before any work: a fixed spacing of 0.25 to 16 voxels, an optical
     /// depth a cell of 0.01 to 100, a first level of at most 21 (a level above the hierarchy's
-    /// top caches nothing), scattered depths 1 to 8 voxels apart.
+    /// top caches nothing), scattered depths 1 to 8 voxels apart (or 0: automatic).
     ///
     /// ```
     /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCacheSettings};
@@ -260,7 +298,7 @@ impl LightingCacheSettings {
     /// let far = LightingCacheSettings { scattered_spacing: 9, ..LightingCacheSettings::coarse() };
     /// assert_eq!(
     ///     far.check().unwrap_err().to_string(),
-    ///     "lighting cache: spacing of the scattered depths 9 must be 1 to 8 voxels"
+    ///     "lighting cache: spacing of the scattered depths 9 must be 1 to 8 voxels (0: automatic)"
     /// );
     /// ```
     pub fn check(&self) -> Result<(), RenderError> {
@@ -285,10 +323,10 @@ impl LightingCacheSettings {
             "must be 0 to 21",
         )?;
         check_setting(
-            (1..=8).contains(&self.scattered_spacing),
+            (0..=8).contains(&self.scattered_spacing),
             "lighting cache: spacing of the scattered depths",
             f32::from(self.scattered_spacing),
-            "must be 1 to 8 voxels",
+            "must be 1 to 8 voxels (0: automatic)",
         )?;
         Ok(())
     }

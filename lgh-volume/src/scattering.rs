@@ -24,9 +24,10 @@
 //! the voxels (dense smoke), the pass shades every voxel exactly: such a cache would only add
 //! work. Depths ≥ 2 light the smoke with light that has scattered already, spread over all of
 //! it: they go through a cache of every level, the finest included, on a grid
-//! [`scattered_spacing`](crate::lighting_cache::LightingCacheSettings::scattered_spacing) voxels apart (four by
-//! default; on the Fig. 8-class frame a depth takes 8 s instead of 65–70 s, its power within
-//! 2.2% of the pass at every voxel at depth 4).
+//! [`scattered_spacing`](crate::lighting_cache::LightingCacheSettings::scattered_spacing) voxels apart
+//! (automatic by default: 4, 2 or 1 voxels, at least 8 cells across the smoke,
+//! [`scattered_spacing_on`](crate::lighting_cache::LightingCacheSettings::scattered_spacing_on);
+//! on the Fig. 8-class frame four apart, a depth takes 8–12 s instead of 58–70 s).
 //!
 //! **The scattered light as a grid.** With the cache and shadows that every light set shares
 //! ([`MarchSettings::scattered_grid`]), the pass computes one depth more, `n + 1`, and keeps
@@ -242,6 +243,8 @@ pub struct DepthReport {
 #[derive(Clone, Debug)]
 pub struct Scattered {
     merged: ExplosionLights,
+    /// Voxels between the vertices depths ≥ 2 computed their fluence at (1: every voxel).
+    spacing: u8,
     /// Intensities of each depth `0..=n` on the merged voxels (depth 0: the emission).
     per_depth: Vec<Vec<Vec3>>,
     reports: Vec<DepthReport>,
@@ -314,6 +317,7 @@ fn pass(
             max_level,
             radiance: None,
             radiance_report: None,
+            spacing: 1,
         });
     }
     let grid = &frame.density;
@@ -343,14 +347,12 @@ fn pass(
         ..*settings
     };
     // Depths ≥ 2 through their own cache of every level, where the settings ask for one.
-    let later_settings =
-        single
-            .lighting_cache
-            .scattered_depths()
-            .map_or(single, |lighting_cache| MarchSettings {
-                lighting_cache,
-                ..single
-            });
+    let later_cache = single.lighting_cache.scattered_depths(grid);
+    let spacing = later_cache.map_or(1, |_| single.lighting_cache.scattered_spacing_on(grid));
+    let later_settings = later_cache.map_or(single, |lighting_cache| MarchSettings {
+        lighting_cache,
+        ..single
+    });
     let fluence = |settings| Fluence {
         method,
         frame,
@@ -427,6 +429,7 @@ fn pass(
         max_level,
         radiance,
         radiance_report,
+        spacing,
     })
 }
 
@@ -661,6 +664,14 @@ impl Shares {
 }
 
 impl Scattered {
+    /// Voxels between the vertices of the grid that depths ≥ 2 computed their fluence at
+    /// ([`LightingCacheSettings::scattered_spacing_on`](crate::lighting_cache::LightingCacheSettings::scattered_spacing_on));
+    /// 1 where every voxel's was computed.
+    #[must_use]
+    pub fn spacing(&self) -> u8 {
+        self.spacing
+    }
+
     /// The merged lights (one per voxel that emits or has smoke): what the final render shades
     /// with ([`FrameRender::lights`](crate::FrameRender::lights)). (Their
     /// [`set_frame`](ExplosionLights::set_frame) would replace the merged intensities with a
