@@ -42,6 +42,10 @@
 //! too: a surface's irradiance from a source outside it is nearly the point's (exactly so for a
 //! spherical source, by the shell theorem), and the renderers' surfaces lie outside the smoke.
 //!
+//! Lightcuts' cluster bounds (`lightcuts`) stay the point lights' `1/d_min²`: a voxel light's
+//! fall-off exceeds `1/d²` by at most 1.46× (at `d ≈ 0.59 h`), 10.5% at `h` and 2.2% at `2h`,
+//! so near a cluster the bound may be that much too low and the cut refined less than ε asks.
+//!
 //! # The table
 //!
 //! `h² G(d)` is tabulated at `d = 0, h/64, …, 2h` (129 values, read with linear interpolation:
