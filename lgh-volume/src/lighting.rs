@@ -125,8 +125,11 @@ impl<B: ManyLights> Lights<B> {
     /// `Σ_lights f(light) · I · g(d) · V(x, light)` at `point`: every light the backend selects
     /// (its intensity already weighted by `B_ℓ(d)`), times `response(light)` — the phase
     /// function or BRDF × cosine towards it, `Vec3::ONE` for the bare incident light — times the
-    /// fall-off `g` ([`with_near_field`](Self::with_near_field)), times the visibility `V`. Counted into `stats`; `scratch` holds
-    /// the lights while their visibility is evaluated together, and is reused from call to call.
+    /// fall-off `g` ([`with_near_field`](Self::with_near_field); at a point in a medium, voxel
+    /// lights' near field as in clear air: [`in_scattered`](Self::in_scattered) takes the
+    /// smoke's extinction, which shields it), times the visibility `V`. Counted into `stats`;
+    /// `scratch` holds the lights while their visibility is evaluated together, and is reused
+    /// from call to call.
     ///
     /// Each term is `(I · f) · (g · V)`, summed in the backend's order, whatever the visibility
     /// (`V = 1` without shadows, where `g · 1 = g` exactly): the same bits whether `V` is evaluated per light or for all
