@@ -547,7 +547,8 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
     let depth: usize = get("lgh:scatter_depth").parse().unwrap();
     assert!((1..16).contains(&depth), "{depth}");
     assert_eq!(get("lgh:scatter_depth_powers").split(',').count(), depth);
-    // The automatic spacing of depths ≥ 2, resolved on the 32³ demo's smoke.
+    // The automatic spacing of depths ≥ 2, resolved on the 32³ demo's smoke (not the setting's
+    // 0, which means automatic).
     assert!(["1", "2", "4"].contains(&get("lgh:scatter_spacing").as_str()));
 
     // Two depths with their shares: the summary's lines and the header's entries.

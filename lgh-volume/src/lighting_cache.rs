@@ -123,7 +123,9 @@ pub struct LightingCacheSettings {
     pub first_level: u8,
     /// Multiple scattering's depths ≥ 2 compute their fluence at the vertices of a grid this
     /// many voxels apart, every level cached, and interpolate it to the voxels
-    /// ([`scattered_depths`](Self::scattered_depths)); 1: at every voxel, as depth 1 does.
+    /// ([`scattered_depths`](Self::scattered_depths)); 1: at every voxel, as depth 1 does; 0
+    /// (the default): chosen from the smoke's extent
+    /// ([`scattered_spacing_on`](Self::scattered_spacing_on)).
     pub scattered_spacing: u8,
     /// How the render takes in multiple scattering's light: the paper's merged lights at every
     /// march sample, or a grid of its in-scattered radiance at the voxels
@@ -174,7 +176,8 @@ pub const MIN_SCATTERED_CELLS: f32 = 8.0;
 
 impl Default for LightingCacheSettings {
     /// No cache; when on, cells of optical depth 1 across the densest smoke, levels ≥ 1,
-    /// scattering depths ≥ 2 on a grid two voxels apart, the scattered light merged.
+    /// scattering depths ≥ 2 on a grid whose spacing follows the smoke's extent, the scattered
+    /// light merged.
     fn default() -> Self {
         LightingCacheSettings {
             mode: CacheMode::None,

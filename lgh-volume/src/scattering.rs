@@ -473,12 +473,13 @@ fn on_slots(len: usize, values: impl Iterator<Item = Vec3>, slots: &[usize]) -> 
     out
 }
 
-/// The luminance of the summed intensities, in f64 (a depth's power, [`DepthReport::power`]).
 /// Whether a scattering pass stops after the depths whose powers are `powers` (depth 0, the
 /// emission lights', first): when the next depth's power, predicted from the last two, is below
 /// `share` of all the light so far. Each depth scatters the one before through the same smoke,
 /// so the power falls by a nearly steady factor `r` a depth and the next is about
-/// `P_k · (P_k / P_{k−1})`; the depths left out then hold about `P_{k+1} / (1 − r)`.
+/// `P_k · (P_k / P_{k−1})`. The rule weighs that next depth alone: all the depths left out hold
+/// about `P_{k+1} / (1 − r)`, so with `r` = 0.66 (the demo's explosion) a share of 1% leaves out
+/// about 3% of the light, with `r` = 0.8 about 5%.
 ///
 /// ```
 /// use lgh_volume::scattering::stop_after;
@@ -507,6 +508,7 @@ fn emission_intensities(emission: &ExplosionLights) -> Vec<Vec3> {
     emission.lights().iter().map(|l| l.intensity).collect()
 }
 
+/// The luminance of the summed intensities, in f64 (a depth's power, [`DepthReport::power`]).
 fn power(intensities: &[Vec3]) -> f64 {
     let total = intensities.iter().fold([0.0f64; 3], |a, i| {
         [0, 1, 2].map(|c| a[c] + f64::from(i[c]))

@@ -11,7 +11,10 @@
 //! A voxel light ([`NearField::Voxel`](lgh_core::NearField)) is the uniform emitting voxel of
 //! `lgh_core::near_field`, and its intensity is what its cell emits: `I0 = ∫_cell j(T(x)) dx`,
 //! with `T` (and the flame factor) interpolated as [`Volume::emission`] does. The cells tile the
-//! grid, so the lights hold the emission field's total exactly, whatever the convexity.
+//! grid, so the lights hold the emission over their cells, whatever the convexity — up to the
+//! quadrature (0.2%; up to 3.4% in a cell that the cut-off at `T_min` crosses, 0.22% of the
+//! total on the test ball) and the cells that are no light (a voxel whose centre emits in no
+//! frame, whose cell a hotter neighbour may still warm a little).
 //!
 //! # Quadrature
 //!
