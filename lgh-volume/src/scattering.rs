@@ -348,7 +348,12 @@ fn pass(
     };
     // Depths ≥ 2 through their own cache of every level, where the settings ask for one.
     let later_cache = single.lighting_cache.scattered_depths(grid);
-    let spacing = later_cache.map_or(1, |_| single.lighting_cache.scattered_spacing_on(grid));
+    // The later depths' spacing, if there are any (1: every voxel).
+    let later_depths = depth + usize::from(settings.scattered_grid(method)) >= 2;
+    let spacing = match later_cache {
+        Some(_) if later_depths => single.lighting_cache.scattered_spacing_on(grid),
+        _ => 1,
+    };
     let later_settings = later_cache.map_or(single, |lighting_cache| MarchSettings {
         lighting_cache,
         ..single
@@ -867,6 +872,22 @@ mod tests {
             ..stopping
         };
         assert!(bad.check().is_err());
+
+        // With the scattered light as a grid, the pass stops at the same depth and computes one
+        // more for the grid alone.
+        use crate::lighting_cache::{LightingCacheSettings, ScatteredLight};
+        let grid = MarchSettings {
+            lighting_cache: LightingCacheSettings {
+                scattered_light: ScatteredLight::Grid,
+                ..LightingCacheSettings::coarse()
+            },
+            ..stopping
+        };
+        let gridded = pass(&emission, 8, lgh, &volume, &medium, &grid);
+        let (_, report) = gridded.radiance().expect("a grid");
+        let m = gridded.depths().len();
+        assert!((1..8).contains(&m), "{m} depths");
+        assert_eq!(report.depth, m + 1);
     }
 
     #[test]
