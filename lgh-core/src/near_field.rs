@@ -94,10 +94,7 @@ impl NearField {
     #[inline(always)]
     #[must_use]
     pub fn falloff(self, level: u8, d: f32, h0: f32) -> f32 {
-        match self {
-            NearField::Voxel if level == 0 => voxel_falloff(d, h0),
-            _ => falloff(d, h0),
-        }
+        self.falloff_in(level, d, h0, 1.0)
     }
 
     /// [`falloff`](Self::falloff) at a point in smoke whose [`shielding`] is `shielding`: a

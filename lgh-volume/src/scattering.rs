@@ -375,7 +375,7 @@ fn pass(
     let mut summed = grid_mode.then(|| vec![Vec3::ZERO; dense.len()]);
     let mut radiance_report = None;
     // Each depth's power, the emission's first: what the stopping rule reads.
-    let mut powers = vec![power(&emission_intensities(emission))];
+    let mut powers = vec![power(&per_depth[0])];
     let mut last = depth;
     for k in 1..=depth + usize::from(grid_mode) {
         let t = Instant::now();
