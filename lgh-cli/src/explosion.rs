@@ -16,7 +16,7 @@ use clap::ArgMatches;
 
 use crate::dark;
 use crate::manifest::{self, FrameFile, Manifest, SceneFile};
-use crate::output::{self, MarchArgs, Rendered, ScatterArgs};
+use crate::output::{self, DepthArg, MarchArgs, Rendered, ScatterArgs};
 use crate::progress::{self, Bars};
 use crate::room::Room;
 
@@ -123,9 +123,12 @@ pub struct ExplosionArgs {
     /// Blender's blackbody intensity (model blender) or k_e (model planck).
     #[arg(long, default_value_t = 1.0)]
     pub emission_scale: f32,
-    /// No emission at or below this temperature (kelvin): the lights are the hotter voxels.
-    #[arg(long, default_value_t = 800.0)]
-    pub min_temperature: f32,
+    /// No emission at or below this temperature (kelvin): the lights are the hotter voxels
+    /// [default: 0 with --emission-model blender, whose Principled Volume emits at every
+    /// temperature (a cut at 800 K left out 2% of a fireball's light); 800 with planck, whose
+    /// visible emission below it is negligible]
+    #[arg(long)]
+    pub min_temperature: Option<f32>,
     /// Extinction per unit density (Blender's Principled Volume density).
     #[arg(long, default_value_t = 1.0)]
     pub density_scale: f32,
@@ -328,14 +331,14 @@ impl Setup {
         output::check_out(args.out()?)?;
         let march = args
             .march
-            .settings(MarchSettings::default().shadow_step_voxels, &args.scatter)?;
+            .settings(MarchSettings::default().shadow_step_voxels, &args.scatter())?;
         if args.backend == BackendArg::Pathtrace && args.scene.is_some() {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }
         if let Some(p) = &args.scene {
             crate::check_file(p).map_err(|e| format!("--scene {e}"))?;
         }
-        if args.backend == BackendArg::Pathtrace && args.scatter.depth() > 0 {
+        if args.backend == BackendArg::Pathtrace && args.scatter().depth() > 0 {
             return Err(
                 "--scatter-depth is the ray marcher's: the path tracer scatters up to \
                         --max-scatter times"
@@ -367,7 +370,7 @@ impl Setup {
             (1.0 - args.albedo) * sigma_t,
             args.albedo * sigma_t,
             args.emission_scale,
-            args.min_temperature,
+            args.min_temperature(),
         )?
         .with_temperature_scale(args.temperature_scale)?
         .with_model(model);
@@ -392,6 +395,29 @@ impl Setup {
 }
 
 impl ExplosionArgs {
+    /// The scattering arguments with this command's default depth: `auto` for the ray marcher
+    /// (Blender's images scatter many times: single scattering alone held 0.80 of Cycles' mean
+    /// on the fireball of `tools/cycles`), 0 for the path tracer, which scatters up to
+    /// --max-scatter times instead.
+    pub fn scatter(&self) -> ScatterArgs {
+        self.scatter
+            .or_depth(if self.backend == BackendArg::Pathtrace {
+                DepthArg::Fixed(0)
+            } else {
+                DepthArg::Auto
+            })
+    }
+
+    /// --min-temperature, or the emission model's default: 0 K for Blender's (its Principled
+    /// Volume emits at every temperature), 800 K for Planck's (visible light below it is
+    /// negligible).
+    pub fn min_temperature(&self) -> f32 {
+        self.min_temperature.unwrap_or(match self.emission_model {
+            ModelArg::Blender => 0.0,
+            ModelArg::Planck => 800.0,
+        })
+    }
+
     /// Where the frames sit: Blender's domain unless `--no-domain-offset`.
     fn placement(&self) -> cache::Placement {
         if self.no_domain_offset {
@@ -789,7 +815,7 @@ impl Frames<'_> {
                 if let Some(room) = &self.room {
                     frame = frame.with_surfaces(room);
                 }
-                let shares = output::shares(&args.scatter, &frame, camera, &bars)?;
+                let shares = output::shares(&args.scatter(), &frame, camera, &bars)?;
                 extra.extend(output::frame_header(&frame, shares.as_ref()));
                 (Rendered::of(&frame, camera, &bars)?, Some((frame, shares)))
             }
@@ -864,7 +890,7 @@ impl Frames<'_> {
             ),
             ("temperature_scale", args.temperature_scale.to_string()),
             ("emission_scale", args.emission_scale.to_string()),
-            ("min_temperature", args.min_temperature.to_string()),
+            ("min_temperature", args.min_temperature().to_string()),
             ("density_scale", args.density_scale.to_string()),
             ("albedo", args.albedo.to_string()),
         ];

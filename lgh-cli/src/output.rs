@@ -230,6 +230,12 @@ pub struct MarchArgs {
     /// for lgh demo]
     #[arg(long)]
     pub shadow_step: Option<f32>,
+    /// Camera rays per side of a pixel, 1 to 8: N×N rays through the centres of N×N sub-pixels,
+    /// averaged — a one-pixel box filter (Cycles' "Box" filter, width 1), without noise; 1 is
+    /// the pixel's centre. The render costs about N² times as much; the passes before it do not
+    /// change.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub pixel_samples: usize,
     #[command(flatten)]
     pub cache: CacheArgs,
 }
@@ -266,6 +272,14 @@ impl MarchArgs {
             )
             .into());
         }
+        if !(1..=lgh_volume::render::MAX_PIXEL_SAMPLES).contains(&self.pixel_samples) {
+            return Err(format!(
+                "--pixel-samples {} must be 1 to {} (camera rays a pixel side)",
+                self.pixel_samples,
+                lgh_volume::render::MAX_PIXEL_SAMPLES
+            )
+            .into());
+        }
         let shadow_step = self.shadow_step.unwrap_or(default_shadow_step);
         let settings = MarchSettings {
             shadows: self.shadows.into(),
@@ -287,6 +301,7 @@ impl MarchArgs {
                 memory_budget: budget,
             },
             lighting_cache: self.cache.settings(),
+            pixel_samples: self.pixel_samples,
             ..Default::default()
         };
         settings.check()?;
@@ -328,9 +343,10 @@ pub struct ScatterArgs {
     /// Depths of scattered light (paper Sec. 5): 0 is single scattering; n adds lights for
     /// light scattered 1..=n times, so paths of up to n + 1 scattering events (the paper's
     /// Fig. 7 uses 4). At most 16. `auto`: up to 16, stopping when the next depth would add
-    /// less than --scatter-stop of the light (1% unless given)
-    #[arg(long, default_value = "0", value_parser = parse_depth)]
-    pub scatter_depth: DepthArg,
+    /// less than --scatter-stop of the light (1% unless given) [default: auto for lgh
+    /// explosion's marcher (0 with --backend pathtrace), 0 for lgh demo]
+    #[arg(long, value_parser = parse_depth)]
+    pub scatter_depth: Option<DepthArg>,
     /// Stop adding scattering depths when the next one, predicted from the last two (the light
     /// falls by a nearly steady factor a depth), would add less than this share of the lights'
     /// power so far (0: every depth asked for)
@@ -343,9 +359,24 @@ pub struct ScatterArgs {
 }
 
 impl ScatterArgs {
+    /// These arguments with `depth` where --scatter-depth was not given: a command's default.
+    #[must_use]
+    pub fn or_depth(&self, depth: DepthArg) -> ScatterArgs {
+        ScatterArgs {
+            scatter_depth: Some(self.scatter_depth.unwrap_or(depth)),
+            ..self.clone()
+        }
+    }
+
+    /// --scatter-depth, or 0 where it was not given ([`or_depth`](Self::or_depth) sets
+    /// another default).
+    fn depth_arg(&self) -> DepthArg {
+        self.scatter_depth.unwrap_or_default()
+    }
+
     /// The most depths the pass computes.
     pub fn depth(&self) -> usize {
-        match self.scatter_depth {
+        match self.depth_arg() {
             DepthArg::Fixed(n) => n,
             DepthArg::Auto => scattering::MAX_SCATTER_DEPTH,
         }
@@ -353,7 +384,7 @@ impl ScatterArgs {
 
     /// The stopping share: --scatter-stop, or 1% with --scatter-depth auto, or none (0).
     pub fn stop(&self) -> f32 {
-        let auto = self.scatter_depth == DepthArg::Auto;
+        let auto = self.depth_arg() == DepthArg::Auto;
         self.scatter_stop
             .unwrap_or(if auto { AUTO_SCATTER_STOP } else { 0.0 })
     }
@@ -385,6 +416,11 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         ("near_field", frame.lights().near_field().name().to_string()),
         ("shadows", frame.visibility().shadows().name().to_string()),
     ];
+    let n = frame.settings().pixel_samples;
+    if n > 1 {
+        // The box filter's rays a pixel's side (`--pixel-samples`); absent: pixel centres.
+        out.push(("pixel_samples", n.to_string()));
+    }
     if let Some(m) = frame.cube_maps() {
         out.push(("shadow_bytes", m.bytes().to_string()));
         out.push(("shadow_depths", m.depths_per_texel().to_string()));

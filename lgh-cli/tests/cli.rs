@@ -675,6 +675,53 @@ fn explosion_renders_a_sequence_of_the_real_cache() {
 }
 
 #[test]
+fn explosion_defaults_are_blenders_model_multiple_scattering_and_pixel_centres() {
+    let Some(f56) = fire_frame(56) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f.exr");
+    let render = |extra: &[&str]| {
+        let mut a = vec![
+            "explosion",
+            "--vdb",
+            f56.to_str().unwrap(),
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        let o = lgh(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        header(&out)
+    };
+    // Defaults: Blender's Principled Volume emits at every temperature, and its images scatter
+    // many times: the marcher scatters until a depth adds less than 1%.
+    let get = render(&[]);
+    assert_eq!(get("lgh:min_temperature"), "0");
+    assert!(get("lgh:scatter_depth").parse::<usize>().unwrap() >= 1);
+    assert_eq!(get("lgh:scatter_stop"), "0.01");
+    // Planck's model keeps its 800 K; a depth given is kept; the path tracer scatters by
+    // --max-scatter, not by depths.
+    let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
+    assert_eq!(get("lgh:min_temperature"), "800");
+    assert_eq!(get("lgh:scatter_depth"), "0");
+    let get = render(&["--backend", "pathtrace", "--spp", "1"]);
+    assert_eq!(get("lgh:backend"), "pathtrace");
+    // The box filter's rays are said in the header, and refused out of range before any work.
+    let get = render(&["--scatter-depth", "0", "--pixel-samples", "2"]);
+    assert_eq!(get("lgh:pixel_samples"), "2");
+    for bad in ["0", "9"] {
+        let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
+        let o = dir.path().join(format!("bad{bad}.exr"));
+        a.extend([o.to_str().unwrap(), "--pixel-samples", bad]);
+        assert_refused(dir.path(), &a, "--pixel-samples");
+    }
+}
+
+#[test]
 fn inspect_describes_a_real_cache_and_refuses_garbage() {
     let dir = tempfile::tempdir().unwrap();
     let junk = dir.path().join("junk.vdb");

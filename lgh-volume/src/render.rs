@@ -26,7 +26,7 @@ use crate::shadow::Visibility;
 use crate::surfaces::{SurfaceHit, Surfaces};
 
 pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
-pub use crate::settings::MarchSettings;
+pub use crate::settings::{MarchSettings, MAX_PIXEL_SAMPLES};
 pub use crate::stats::RenderStats;
 
 /// A frame ready to march: the volume, its medium, the checked settings and the visibility they
@@ -389,9 +389,22 @@ fn march_pixels<B: ManyLights + Sync>(
         LightScratch::default,
         |scratch, x, y| {
             let mut stats = RenderStats::default();
-            let (eye, d) = camera.ray(x, y);
-            let radiance = marcher.march_with(lights, eye, d, &mut stats, scratch)?;
-            Ok((radiance, stats))
+            let n = marcher.settings.pixel_samples;
+            if n <= 1 {
+                let (eye, d) = camera.ray(x, y);
+                let radiance = marcher.march_with(lights, eye, d, &mut stats, scratch)?;
+                return Ok((radiance, stats));
+            }
+            // A box filter over the pixel by the midpoint rule: the centres of n × n sub-pixels.
+            let mut sum = Vec3::ZERO;
+            for j in 0..n {
+                for i in 0..n {
+                    let (u, v) = (sub_pixel(x, i, n), sub_pixel(y, j, n));
+                    let d = camera.direction(u, v);
+                    sum += marcher.march_with(lights, camera.eye(), d, &mut stats, scratch)?;
+                }
+            }
+            Ok((sum / (n * n) as f32, stats))
         },
         progress,
     )?;
@@ -404,6 +417,13 @@ fn march_pixels<B: ManyLights + Sync>(
         })
         .collect();
     Ok((radiance, stats))
+}
+
+/// The image coordinate of the centre of sub-pixel `i` of `n` along pixel `p`'s side: the
+/// midpoint rule's nodes, `p + (i + 1/2)/n`.
+#[must_use]
+fn sub_pixel(p: usize, i: usize, n: usize) -> f32 {
+    p as f32 + (i as f32 + 0.5) / n as f32
 }
 
 /// An image of `camera`'s size from its pixels in order (what [`shade_pixels`] returns for the
@@ -459,6 +479,56 @@ mod tests {
                 (got - want).abs().max_element() <= tol,
                 "σ {sigma}: {got} vs {want}"
             );
+        }
+    }
+
+    #[test]
+    fn pixel_samples_are_the_sub_pixels_of_a_finer_image_averaged() {
+        // n × n rays a pixel (a box filter by the midpoint rule) are the pixel centres of the
+        // image n times finer with the same framing, averaged: the same rays, up to the
+        // rounding of their directions (a few ulps), hence a relative 1e-4.
+        let v = crate::procedural::ball(16, 0.5, 2500.0);
+        let m = Medium::new(4.0, 0.0, 1e-3, 500.0).unwrap();
+        let (lo, hi) = (Vec3::splat(-1.0), Vec3::splat(1.0));
+        let (w, h) = (6, 4);
+        let render = |camera: &Camera, n: usize| {
+            let s = MarchSettings {
+                pixel_samples: n,
+                ..Default::default()
+            };
+            let marcher = Marcher::new(&v, &m, &s).unwrap();
+            let lit = Lit::<BruteForce>::lights(None);
+            marcher.render_lit(lit, camera, &|_| {}).unwrap().0
+        };
+        let centres = render(&Camera::frame(lo, hi, w, h).unwrap(), 1);
+        for n in [2usize, 3] {
+            let boxed = render(&Camera::frame(lo, hi, w, h).unwrap(), n);
+            let fine = render(&Camera::frame(lo, hi, w * n, h * n).unwrap(), 1);
+            let mut moved = 0;
+            for y in 0..h {
+                for x in 0..w {
+                    let sub = |s: usize| fine.pixels[(n * y + s / n) * w * n + n * x + s % n];
+                    let mean = (0..n * n).map(sub).sum::<Vec3>() / (n * n) as f32;
+                    let got = boxed.pixels[y * w + x];
+                    let tol = 1e-4 * mean.max_element() + 1e-12;
+                    assert!(
+                        (got - mean).abs().max_element() <= tol,
+                        "n {n}, pixel ({x}, {y}): {got} vs {mean}"
+                    );
+                    let centre = centres.pixels[y * w + x];
+                    moved +=
+                        usize::from((got - centre).abs().max_element() > 0.01 * mean.max_element());
+                }
+            }
+            // The filter is not the centre ray: across the ball's edge it averages.
+            assert!(moved > 0, "n {n}: no pixel differs from its centre by 1%");
+        }
+        for bad in [0, crate::settings::MAX_PIXEL_SAMPLES + 1] {
+            let s = MarchSettings {
+                pixel_samples: bad,
+                ..Default::default()
+            };
+            assert!(s.check().is_err(), "{bad} rays a side accepted");
         }
     }
 

@@ -12,6 +12,10 @@ use crate::shadow::{CubeMapSettings, Shadows};
 /// it adds shrinks like `albedo^k`.
 pub const MAX_SCATTER_DEPTH: usize = 16;
 
+/// The most camera rays a pixel's side takes ([`MarchSettings::pixel_samples`]): 8 × 8 = 64 a
+/// pixel, where the box filter's own error is far below a hierarchy's.
+pub const MAX_PIXEL_SAMPLES: usize = 8;
+
 /// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`RenderError::InvalidCount`]: checked
 /// before any work.
 ///
@@ -63,6 +67,11 @@ pub struct MarchSettings {
     /// Whether the hierarchy's coarse levels are shaded through a lighting cache
     /// ([`crate::lighting_cache`]; the hierarchy only, none by default).
     pub lighting_cache: LightingCacheSettings,
+    /// Camera rays per side of a pixel: `n × n` rays through the centres of an `n × n` grid of
+    /// sub-pixels, averaged: the midpoint rule for the integral of the radiance over the pixel,
+    /// i.e. a one-pixel box filter (Cycles' "Box" filter of width 1), without noise. 1 (the
+    /// default) is the pixel's centre. At most [`MAX_PIXEL_SAMPLES`].
+    pub pixel_samples: usize,
 }
 
 impl MarchSettings {
@@ -104,6 +113,13 @@ impl MarchSettings {
             self.scatter_stop,
             "must be a share in [0, 1)",
         )?;
+        if !(1..=MAX_PIXEL_SAMPLES).contains(&self.pixel_samples) {
+            return Err(RenderError::InvalidCount {
+                name: "pixel samples",
+                value: self.pixel_samples,
+                rule: "must be 1 to 8 a side",
+            });
+        }
         self.lighting_cache.check()?;
         Ok(())
     }
@@ -165,6 +181,7 @@ impl Default for MarchSettings {
             scatter_depth: 0,
             scatter_stop: 0.0,
             lighting_cache: LightingCacheSettings::default(),
+            pixel_samples: 1,
         }
     }
 }

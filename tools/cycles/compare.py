@@ -1,0 +1,326 @@
+#!/usr/bin/env python3
+"""lgh against Blender Cycles at equal error: the comparison of tools/cycles/README.md.
+
+For each scene: write the volume as OpenVDB (both renderers read that file), render a converged
+Cycles reference (several seeds averaged), a ladder of Cycles renders at rising samples per
+pixel, and lgh with the settings under test; then the relative RMSE of luminance of each against
+the reference, and the Cycles samples and CPU-seconds at which Cycles' own error equals lgh's.
+
+    python3 tools/cycles/compare.py [--scenes fireball64,explosion128,fire56] [--work DIR] ...
+
+Needs: Blender (`blender`, 3.x or later, on PATH or --blender), Debian's python3-openvdb (for
+/usr/bin/python3), a Python with numpy and OpenEXR (this script), and a release build of lgh
+(`cargo build --release -p lgh-cli`, and `-p lgh-volume --example export_grids`). Not part of CI:
+a run takes about an hour on 2 cores. Every render is kept in --work and reused when it exists
+(delete a file to redo it); results go to WORK/results.json and a Markdown table on stdout.
+
+How the error is read. Each Cycles render's error against the reference includes the
+reference's own noise. With a per-pixel variance `a` per sample, a render of n samples against
+a reference of N samples errs by e(n)^2 = a (1/n + 1/N) (independent noise), so `a` is fitted
+over the ladder, Cycles' error against the true image is sqrt(a/n), and lgh's, measured as e,
+is sqrt(e^2 - a/N) (lgh has no noise). Cycles reaches lgh's error at n* = a / (e^2 - a/N)
+samples, whose CPU-seconds come from a straight-line fit of the ladder's CPU-seconds in n.
+
+At 1280x720 a converged Cycles image would take hours on 2 cores: Cycles is timed there at a
+few samples (CPU-seconds per sample and fixed cost from the fit), and its error per sample is
+taken from the 128x128 ladder (a pixel's noise does not depend on the image size; the pixels
+are smaller at 720p, each averaging less of the image, so this is an approximation); lgh's
+error is likewise its 128x128 error. Both are said in the output.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import time
+
+import numpy as np
+import OpenEXR
+import Imath
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+# The scenes: how to make the OpenVDB file, and the medium both renderers use.
+SCENES = {
+    # The README's fireball (lgh_volume::procedural::procedural) at 64^3, t = 0.5 s.
+    "fireball64": {"kind": "fireball", "res": 64, "time": 0.5},
+    # The demo's explosion (lgh_volume::procedural::explosion) at 128^3, t = 0.5 s.
+    "explosion128": {"kind": "explosion", "res": 128, "time": 0.5},
+    # The dev fire's frame 56 (Blender's own cache: density, temperature and flame).
+    "fire56": {"vdb": "volumes/blender_fire_pesichra/data/fluid_data_0056.vdb", "flame": True,
+               "temperature_scale": 1000.0, "camera": None},
+}
+# The medium of the comparison (the issue's): sigma_t = 4 density, albedo 0.7, blackbody
+# emission from a kelvin temperature grid, camera at (0, -4, 0) looking at the origin, 40 deg.
+MEDIUM = {"density_scale": 4.0, "albedo": 0.7}
+CAMERA = "0,-4,0,0,0,0,40"
+
+# lgh's settings under test: name -> extra arguments of `lgh explosion`.
+LGH_SETTINGS = {
+    "default": [],
+    "auto": ["--scatter-depth", "auto"],
+    "auto-box2": ["--scatter-depth", "auto", "--pixel-samples", "2"],
+    "paper-clamp-d8": ["--scatter-depth", "8", "--near-field", "clamp",
+                       "--scatter-spacing", "1"],
+}
+
+
+def log(*a):
+    print(*a, file=sys.stderr, flush=True)
+
+
+def read_exr(path):
+    f = OpenEXR.InputFile(path)
+    dw = f.header()["dataWindow"]
+    w, h = dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1
+    pt = Imath.PixelType(Imath.PixelType.FLOAT)
+    ch = [np.frombuffer(f.channel(c, pt), dtype=np.float32).reshape(h, w) for c in "RGB"]
+    return np.stack(ch, axis=-1).astype(np.float64)
+
+
+def write_exr(path, rgb):
+    h, w, _ = rgb.shape
+    header = OpenEXR.Header(w, h)
+    f32 = Imath.Channel(Imath.PixelType(Imath.PixelType.FLOAT))
+    header["channels"] = {c: f32 for c in "RGB"}
+    out = OpenEXR.OutputFile(path + ".tmp", header)
+    out.writePixels({c: rgb[..., i].astype(np.float32).tobytes() for i, c in enumerate("RGB")})
+    out.close()
+    os.replace(path + ".tmp", path)
+
+
+def luminance(rgb):
+    return rgb @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def rel_rmse(img, ref):
+    a, b = luminance(read_exr(img)), luminance(read_exr(ref))
+    return float(np.sqrt(np.mean((a - b) ** 2)) / np.mean(b)), float(np.mean(a) / np.mean(b))
+
+
+def run_cpu(cmd, **kw):
+    """Runs cmd; returns (stdout+stderr, wall seconds, CPU-seconds of the child)."""
+    c0, t0 = resource.getrusage(resource.RUSAGE_CHILDREN), time.time()
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, **kw)
+    c1, t1 = resource.getrusage(resource.RUSAGE_CHILDREN), time.time()
+    if p.returncode != 0:
+        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout[-3000:]}")
+    cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
+    return p.stdout, t1 - t0, cpu
+
+
+class Runner:
+    def __init__(self, a):
+        self.a = a
+        self.work = a.work
+        os.makedirs(self.work, exist_ok=True)
+        self.results_path = os.path.join(self.work, "results.json")
+        self.results = json.load(open(self.results_path)) if os.path.exists(
+            self.results_path) else {}
+
+    def save(self):
+        json.dump(self.results, open(self.results_path + ".tmp", "w"), indent=1)
+        os.replace(self.results_path + ".tmp", self.results_path)
+
+    def vdb(self, name, scene):
+        if "vdb" in scene:
+            path = os.path.join(self.a.shared_data, scene["vdb"])
+            if not os.path.exists(path):
+                log(f"{name}: {path} is absent (--shared-data): skipped")
+                return None
+            return path
+        prefix = os.path.join(self.work, name)
+        if not os.path.exists(prefix + ".vdb"):
+            run_cpu([self.a.export_grids, scene["kind"], str(scene["res"]), str(scene["time"]),
+                     prefix])
+            run_cpu(["/usr/bin/python3", os.path.join(HERE, "write_vdb.py"), prefix])
+        return prefix + ".vdb"
+
+    def scene_args(self, scene):
+        return {"camera": scene.get("camera", CAMERA) or CAMERA,
+                "temperature_scale": scene.get("temperature_scale", 1.0),
+                "flame": scene.get("flame", False)}
+
+    def cycles(self, name, vdb, scene, spp, seed, width, height):
+        key = f"cycles/{name}/{width}x{height}/{spp}spp/seed{seed}"
+        out = os.path.join(self.work, f"{name}_cycles_{width}x{height}_{spp}spp_s{seed}.exr")
+        if key in self.results and os.path.exists(out):
+            return self.results[key]
+        s = self.scene_args(scene)
+        cmd = [self.a.blender, "-b", "--factory-startup", "--python",
+               os.path.join(HERE, "render_cycles.py"), "--",
+               "--vdb", vdb, "--out", out, "--spp", str(spp), "--seed", str(seed),
+               "--width", str(width), "--height", str(height), "--threads",
+               str(self.a.threads), "--camera", s["camera"],
+               "--density-scale", str(MEDIUM["density_scale"]),
+               "--albedo", str(MEDIUM["albedo"]),
+               "--temperature-scale", str(s["temperature_scale"]),
+               "--bounces", str(self.a.bounces)]
+        if s["flame"]:
+            cmd.append("--flame")
+        if self.a.shift_half_voxel:
+            cmd.append("--shift-half-voxel")
+        log(f"cycles {name} {width}x{height} {spp} spp seed {seed}")
+        text, wall, cpu = run_cpu(cmd)
+        line = [l for l in text.splitlines() if l.startswith("CYCLES ")][-1]
+        r = json.loads(line[len("CYCLES "):])
+        r["process_cpu_s"] = cpu
+        r["out"] = out
+        self.results[key] = r
+        self.save()
+        return r
+
+    def reference(self, name, vdb, scene):
+        out = os.path.join(self.work, f"{name}_reference.exr")
+        runs = [self.cycles(name, vdb, scene, self.a.ref_spp, 1 + i, 128, 128)
+                for i in range(self.a.ref_seeds)]
+        if not os.path.exists(out):
+            write_exr(out, sum(read_exr(r["out"]) for r in runs) / len(runs))
+        # Each seed against the mean of the others: the noise of one seed's image (plus the
+        # others' mean), a check of the model e^2 = a (1/n + 1/N) on the reference itself.
+        spread = []
+        for i, r in enumerate(runs):
+            others = [read_exr(q["out"]) for j, q in enumerate(runs) if j != i]
+            tmp = os.path.join(self.work, f"{name}_others_{i}.exr")
+            write_exr(tmp, sum(others) / len(others))
+            spread.append(rel_rmse(r["out"], tmp)[0])
+            os.remove(tmp)
+        return out, self.a.ref_spp * self.a.ref_seeds, spread
+
+    def lgh(self, name, vdb, scene, setting, width, height):
+        key = f"lgh/{name}/{width}x{height}/{setting}"
+        out = os.path.join(self.work, f"{name}_lgh_{width}x{height}_{setting}.exr")
+        if key in self.results and os.path.exists(out):
+            return self.results[key]
+        s = self.scene_args(scene)
+        cmd = [self.a.lgh, "explosion", "--vdb", vdb, "--out", out, "--camera", s["camera"],
+               "--width", str(width), "--height", str(height), "--threads",
+               str(self.a.threads), "--density-scale", str(MEDIUM["density_scale"]),
+               "--albedo", str(MEDIUM["albedo"]), "--temperature-scale",
+               str(s["temperature_scale"]), "--no-domain-offset", "--quiet"]
+        cmd += LGH_SETTINGS[setting]
+        log(f"lgh {name} {width}x{height} {setting}")
+        text, wall, cpu = run_cpu(cmd)
+        r = {"setting": setting, "args": LGH_SETTINGS[setting], "wall_s": round(wall, 3),
+             "cpu_s": round(cpu, 3), "out": out, "summary": text.strip().splitlines()[-1:]}
+        self.results[key] = r
+        self.save()
+        return r
+
+
+def fit_noise(ladder, n_ref):
+    """Least squares of e^2 = a (1/n + 1/N) over the ladder: a."""
+    x = np.array([1.0 / r["spp"] + 1.0 / n_ref for r in ladder])
+    y = np.array([r["error"] ** 2 for r in ladder])
+    return float(x @ y / (x @ x))
+
+
+def fit_cpu(ladder):
+    """CPU-seconds = c0 + c1 n over the ladder (least squares)."""
+    n = np.array([r["spp"] for r in ladder], dtype=float)
+    c = np.array([r["cpu_s"] for r in ladder])
+    c1, c0 = np.polyfit(n, c, 1)
+    return float(c0), float(c1)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--scenes", default="fireball64,explosion128,fire56")
+    p.add_argument("--work", default="cycles-compare")
+    p.add_argument("--blender", default=shutil.which("blender") or "blender")
+    p.add_argument("--lgh", default=os.path.join(ROOT, "target/release/lgh"))
+    p.add_argument("--export-grids",
+                   default=os.path.join(ROOT, "target/release/examples/export_grids"))
+    p.add_argument("--shared-data", default=os.path.join(ROOT, "..", "shared", "data"))
+    p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--bounces", type=int, default=128,
+                   help="Cycles' volume (and total) bounces (Blender's default volume: 0)")
+    p.add_argument("--ref-spp", type=int, default=4096)
+    p.add_argument("--ref-seeds", type=int, default=4)
+    p.add_argument("--ladder", default="16,64,256,1024")
+    p.add_argument("--hd-spp", default="2,8", help="Cycles' samples timed at 1280x720")
+    p.add_argument("--settings", default=",".join(LGH_SETTINGS))
+    p.add_argument("--no-hd", action="store_true", help="skip the 1280x720 rows")
+    p.add_argument("--only-reference", action="store_true",
+                   help="render the references and stop (nothing timed: run it beside other work)")
+    p.add_argument("--shift-half-voxel", action="store_true",
+                   help="Blender 3.x: voxel i drawn over [i, i+1] (off by half a voxel)")
+    a = p.parse_args()
+    if a.shift_half_voxel is False:
+        v = subprocess.run([a.blender, "--version"], stdout=subprocess.PIPE, text=True).stdout
+        m = re.search(r"Blender (\d+)\.", v)
+        if m and int(m.group(1)) < 4:
+            log(f"Blender {m.group(1)}.x: shifting the volume by half a voxel (OpenVDB's placement)")
+            a.shift_half_voxel = True
+    r = Runner(a)
+    table = []
+    for name in a.scenes.split(","):
+        scene = SCENES[name]
+        vdb = r.vdb(name, scene)
+        if vdb is None:
+            continue
+        ref, n_ref, spread = r.reference(name, vdb, scene)
+        if a.only_reference:
+            continue
+        ladder = []
+        for spp in [int(s) for s in a.ladder.split(",")]:
+            c = r.cycles(name, vdb, scene, spp, 0, 128, 128)
+            e, mean = rel_rmse(c["out"], ref)
+            ladder.append({"spp": spp, "cpu_s": c["cpu_s"], "wall_s": c["wall_s"], "error": e,
+                           "mean_ratio": mean})
+        noise = fit_noise(ladder, n_ref)
+        c0, c1 = fit_cpu(ladder)
+        ref_noise = math.sqrt(noise / n_ref)
+        hd = None
+        if not a.no_hd:
+            runs = [r.cycles(name, vdb, scene, int(s), 0, 1280, 720) for s in a.hd_spp.split(",")]
+            hd = fit_cpu([{"spp": q["spp"], "cpu_s": q["cpu_s"]} for q in runs])
+        rows = []
+        for setting in a.settings.split(","):
+            q = r.lgh(name, vdb, scene, setting, 128, 128)
+            e, mean = rel_rmse(q["out"], ref)
+            true_e = math.sqrt(max(e * e - noise / n_ref, 0.0))
+            n_star = noise / true_e ** 2 if true_e > 0 else float("inf")
+            cyc_cpu = c0 + c1 * n_star
+            row = {"setting": setting, "cpu_s": q["cpu_s"], "wall_s": q["wall_s"],
+                   "error": e, "error_vs_truth": true_e, "mean_ratio": mean,
+                   "cycles_spp_at_equal_error": n_star, "cycles_cpu_s_at_equal_error": cyc_cpu,
+                   "speedup_128": cyc_cpu / q["cpu_s"]}
+            if hd is not None:
+                h = r.lgh(name, vdb, scene, setting, 1280, 720)
+                hd_cpu = hd[0] + hd[1] * n_star
+                row.update({"cpu_s_720p": h["cpu_s"], "cycles_cpu_s_720p_at_equal_error": hd_cpu,
+                            "speedup_720p": hd_cpu / h["cpu_s"]})
+            rows.append(row)
+        summary = {"scene": name, "reference_spp": n_ref, "reference_noise": ref_noise,
+                   "reference_seed_spread": spread, "cycles_noise_per_spp": noise,
+                   "cycles_cpu_fit_128": [c0, c1], "cycles_cpu_fit_720p": hd,
+                   "ladder": ladder, "lgh": rows}
+        r.results[f"summary/{name}"] = summary
+        r.save()
+        table.append(summary)
+    for s in table:
+        print(f"\n### {s['scene']} (reference: {s['reference_spp']} spp, noise "
+              f"{100 * s['reference_noise']:.2f}%)\n")
+        print("| renderer | CPU-s 128² | error vs reference | error vs truth | mean / reference |"
+              " Cycles spp at equal error | Cycles CPU-s | speed-up 128² | speed-up 720p |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for l in s["ladder"]:
+            true_e = math.sqrt(s["cycles_noise_per_spp"] / l["spp"])
+            print(f"| Cycles {l['spp']} spp | {l['cpu_s']:.1f} | {100 * l['error']:.2f}% | "
+                  f"{100 * true_e:.2f}% | {l['mean_ratio']:.3f} | | | | |")
+        for row in s["lgh"]:
+            hd = f"{row['speedup_720p']:.1f}×" if "speedup_720p" in row else "—"
+            print(f"| lgh {row['setting']} | {row['cpu_s']:.1f} | {100 * row['error']:.2f}% | "
+                  f"{100 * row['error_vs_truth']:.2f}% | {row['mean_ratio']:.3f} | "
+                  f"{row['cycles_spp_at_equal_error']:.0f} | "
+                  f"{row['cycles_cpu_s_at_equal_error']:.1f} | {row['speedup_128']:.2f}× | {hd} |")
+
+
+if __name__ == "__main__":
+    main()
