@@ -150,3 +150,66 @@ fn truncated_or_corrupted_files_are_errors_not_crashes() {
         let _ = vdb::parse(&b);
     }
 }
+
+/// `tools/cycles/write_vdb.py` (the Cycles comparison's writer, through the official library)
+/// turns the raw grids of `examples/export_grids.rs` into a Z-up OpenVDB file: read back by our
+/// reader, every voxel of the Y-up volume is at its turned place, `(x, y, z) -> (x, -z, y)`,
+/// with its value (OpenVDB's placement: voxel `i`'s value at the transform of `i`).
+#[test]
+fn the_cycles_comparison_writer_round_trips_through_openvdb() {
+    let in_ci = std::env::var("CI").is_ok_and(|v| v == "true");
+    let v = lgh_volume::procedural::explosion(32, 0.5).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("x");
+    let p = prefix.to_str().unwrap();
+    let d = &v.density;
+    let meta = serde_json::json!({
+        "dims": d.dims, "voxel_size": d.voxel_size, "up": "y",
+        "origin": [d.origin.x, d.origin.y, d.origin.z], "grids": ["density", "temperature"],
+    });
+    std::fs::write(format!("{p}.json"), meta.to_string()).unwrap();
+    for (name, g) in [("density", &v.density), ("temperature", &v.temperature)] {
+        let bytes: Vec<u8> = g.data.iter().flat_map(|x| x.to_le_bytes()).collect();
+        std::fs::write(format!("{p}.{name}.f32"), bytes).unwrap();
+    }
+    let out = Command::new("/usr/bin/python3")
+        .arg(workspace().join("tools/cycles/write_vdb.py"))
+        .arg(p)
+        .output();
+    match out {
+        Ok(o) if o.status.success() => {}
+        Ok(o) if in_ci => panic!("{}", String::from_utf8_lossy(&o.stderr)),
+        Err(e) if in_ci => panic!("{e}"),
+        Ok(o) => {
+            return skip(&format!(
+                "no pyopenvdb: {}",
+                String::from_utf8_lossy(&o.stderr)
+            ))
+        }
+        Err(e) => return skip(&format!("no /usr/bin/python3: {e}")),
+    }
+    let file = vdb::read(&prefix.with_extension("vdb")).unwrap();
+    for (name, ours) in [("density", &v.density), ("temperature", &v.temperature)] {
+        let g = file.grid(name).unwrap();
+        let (lo, hi) = g.active_bbox().unwrap();
+        let back = lgh_volume::DenseGrid::from_vdb(g, lo, hi).unwrap();
+        assert!((back.voxel_size - ours.voxel_size).abs() < 1e-7);
+        let mut checked = 0;
+        for k in 0..ours.dims[2] {
+            for j in 0..ours.dims[1] {
+                for i in 0..ours.dims[0] {
+                    let want = ours.get(i, j, k);
+                    let c = ours.centre(i, j, k);
+                    // At a voxel centre the trilinear lookup is the voxel's value.
+                    let got = back.sample(lgh_volume::lgh_core::glam::Vec3::new(c.x, -c.z, c.y));
+                    assert!(
+                        (got - want).abs() <= 1e-5 * want.abs().max(1.0),
+                        "{name} ({i}, {j}, {k}): {got} vs {want}"
+                    );
+                    checked += usize::from(want != 0.0);
+                }
+            }
+        }
+        assert!(checked > 500, "{name}: only {checked} voxels hold a value");
+    }
+}

@@ -53,7 +53,9 @@ SCENES = {
     "explosion128": {"kind": "explosion", "res": 128, "time": 0.5},
     # The dev fire's frame 56 (Blender's own cache: density, temperature and flame).
     "fire56": {"vdb": "volumes/blender_fire_pesichra/data/fluid_data_0056.vdb", "flame": True,
-               "temperature_scale": 1000.0, "camera": None},
+               "temperature_scale": 1000.0,
+               # From the front (-Y, Blender's Z up) at the centre of its smoke.
+               "camera": "0.53,-2.16,0.455,0.53,0.34,0.455,40"},
 }
 # The medium of the comparison (the issue's): sigma_t = 4 density, albedo 0.7, blackbody
 # emission from a kelvin temperature grid, camera at (0, -4, 0) looking at the origin, 40 deg.
@@ -62,11 +64,18 @@ CAMERA = "0,-4,0,0,0,0,40"
 
 # lgh's settings under test: name -> extra arguments of `lgh explosion`.
 LGH_SETTINGS = {
+    # lgh explosion's defaults (Blender's model without a temperature cut-off, multiple
+    # scattering until a depth adds less than 1%, voxel lights, the lighting cache).
     "default": [],
-    "auto": ["--scatter-depth", "auto"],
-    "auto-box2": ["--scatter-depth", "auto", "--pixel-samples", "2"],
-    "paper-clamp-d8": ["--scatter-depth", "8", "--near-field", "clamp",
-                       "--scatter-spacing", "1"],
+    # The same with a 2x2 box filter over each pixel, as Cycles' one-pixel box.
+    "box2": ["--pixel-samples", "2"],
+    # Slower and closer: depths down to 0.1%, every light at every sample, half-voxel steps.
+    "fine": ["--scatter-stop", "0.001", "--lighting-cache", "none", "--step", "0.5"],
+    # Single scattering, as lgh explosion rendered by default before.
+    "single": ["--scatter-depth", "0", "--min-temperature", "800"],
+    # The issue's best before: the paper's point lights, 8 depths at every voxel, 800 K cut.
+    "paper-d8": ["--scatter-depth", "8", "--near-field", "clamp", "--scatter-spacing", "1",
+                 "--min-temperature", "800"],
 }
 
 
