@@ -79,6 +79,7 @@
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
+use lgh_core::near_field::Receiver;
 use rayon::prelude::*;
 
 use lgh_image::Image;
@@ -585,6 +586,8 @@ impl Fluence<'_> {
         let Some(lights) = shading.prepared.lights(source)? else {
             return Err(nothing_to_scatter(1));
         };
+        // A voxel's light is the power its whole cell scatters: the cell's mean fluence.
+        let lights = lights.with_receiver(Receiver::Cell);
         let grid = &self.frame.density;
         // With a lighting cache, the coarse levels' fluence comes from it, as in the render —
         // where some grid is coarser than the voxels: the pass queries every voxel, so a cache
@@ -602,7 +605,8 @@ impl Fluence<'_> {
                 for (o, &v) in out.iter_mut().zip(voxels) {
                     let [i, j, k] = crate::grid::unflatten(v, grid.dims);
                     let (x, rho) = (grid.centre(i, j, k), grid.data[v]);
-                    let scale = h3 * self.medium.scattering * rho;
+                    // The light of what the whole cell scatters: its mean density.
+                    let scale = h3 * self.medium.scattering * self.frame.cell_density(v);
                     *o = match &cached {
                         Some(c) => {
                             let sigma_t = self.medium.extinction(rho);

@@ -129,6 +129,32 @@ impl Volume {
         }
         sum / 64.0
     }
+
+    /// The mean density over voxel `idx`'s cell, of the density interpolated trilinearly as the
+    /// march and the path tracer see it: the smoke that scatters a voxel's light (a scattering
+    /// pass's voxel light carries what its cell scatters). `(1/8, 3/4, 1/8)` of the voxel and
+    /// its neighbours along each axis; equal to the voxel's value where the density is linear
+    /// around it, below it on a peak (a thin sheet of soot: by 15% on the 128³ explosion of
+    /// `tools/cycles`, whose first scattered depth was as much too bright).
+    ///
+    /// ```
+    /// use lgh_volume::procedural;
+    ///
+    /// let volume = procedural::ball(16, 0.5, 2500.0);
+    /// let d = &volume.density;
+    /// let centre = d.index(8, 8, 8); // the density is 1 − r/0.8: a peak at the middle
+    /// assert!(volume.cell_density(centre) < d.data[centre]);
+    /// let side = d.index(12, 8, 8); // linear along x there, but a cone's cross-section is convex
+    /// assert!((volume.cell_density(side) - d.data[side]).abs() < 0.01 * d.data[side]);
+    /// ```
+    #[must_use]
+    pub fn cell_density(&self, idx: usize) -> f32 {
+        let d = &self.density;
+        at_nodes(d, crate::grid::unflatten(idx, d.dims))
+            .iter()
+            .sum::<f32>()
+            / 64.0
+    }
 }
 
 #[cfg(test)]

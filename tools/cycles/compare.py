@@ -185,9 +185,10 @@ class Runner:
         return r
 
     def reference(self, name, vdb, scene):
-        out = os.path.join(self.work, f"{name}_reference.exr")
         runs = [self.cycles(name, vdb, scene, self.a.ref_spp, 1 + i, 128, 128)
                 for i in range(self.a.ref_seeds)]
+        n_ref = self.a.ref_spp * self.a.ref_seeds
+        out = os.path.join(self.work, f"{name}_reference_{n_ref}spp.exr")
         if not os.path.exists(out):
             write_exr(out, sum(read_exr(r["out"]) for r in runs) / len(runs))
         # Each seed against the mean of the others: the noise of one seed's image (plus the
@@ -199,7 +200,7 @@ class Runner:
             write_exr(tmp, sum(others) / len(others))
             spread.append(rel_rmse(r["out"], tmp)[0])
             os.remove(tmp)
-        return out, self.a.ref_spp * self.a.ref_seeds, spread
+        return out, n_ref, spread
 
     def lgh(self, name, vdb, scene, setting, width, height):
         key = f"lgh/{name}/{width}x{height}/{setting}"
@@ -255,6 +256,8 @@ def main():
     p.add_argument("--hd-spp", default="2,8", help="Cycles' samples timed at 1280x720")
     p.add_argument("--settings", default=",".join(LGH_SETTINGS))
     p.add_argument("--no-hd", action="store_true", help="skip the 1280x720 rows")
+    p.add_argument("--hd-settings", default="default",
+                   help="the lgh settings also rendered at 1280x720")
     p.add_argument("--only-reference", action="store_true",
                    help="render the references and stop (nothing timed: run it beside other work)")
     p.add_argument("--shift-half-voxel", action="store_true",
@@ -300,7 +303,7 @@ def main():
                    "error": e, "error_vs_truth": true_e, "mean_ratio": mean,
                    "cycles_spp_at_equal_error": n_star, "cycles_cpu_s_at_equal_error": cyc_cpu,
                    "speedup_128": cyc_cpu / q["cpu_s"]}
-            if hd is not None:
+            if hd is not None and setting in a.hd_settings.split(","):
                 h = r.lgh(name, vdb, scene, setting, 1280, 720)
                 hd_cpu = hd[0] + hd[1] * n_star
                 row.update({"cpu_s_720p": h["cpu_s"], "cycles_cpu_s_720p_at_equal_error": hd_cpu,
