@@ -223,6 +223,27 @@ class Runner:
         return r
 
 
+def figure(path, images, labels):
+    """Side by side, one tone map for all (the first image's 99.5th percentile of luminance
+    to white, then sRGB), each labelled below: a PNG for the docs (needs Pillow)."""
+    from PIL import Image, ImageDraw
+    imgs = [read_exr(f) for f in images]
+    white = np.quantile(luminance(imgs[0]), 0.995)
+    tiles = []
+    for img in imgs:
+        x = np.clip(img / white, 0.0, 1.0)
+        srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+        tiles.append((srgb * 255 + 0.5).astype(np.uint8))
+    h, w, _ = tiles[0].shape
+    band = 18
+    out = Image.new("RGB", (w * len(tiles), h + band), (0, 0, 0))
+    draw = ImageDraw.Draw(out)
+    for i, (t, label) in enumerate(zip(tiles, labels)):
+        out.paste(Image.fromarray(t), (i * w, 0))
+        draw.text((i * w + 4, h + 3), label, fill=(255, 255, 255))
+    out.save(path)
+
+
 def fit_noise(ladder, n_ref):
     """Least squares of e^2 = a (1/n + 1/N) over the ladder: a."""
     x = np.array([1.0 / r["spp"] + 1.0 / n_ref for r in ladder])
@@ -313,6 +334,14 @@ def main():
                    "reference_seed_spread": spread, "cycles_noise_per_spp": noise,
                    "cycles_cpu_fit_128": [c0, c1], "cycles_cpu_fit_720p": hd,
                    "ladder": ladder, "lgh": rows}
+        try:
+            shown = [ref, r.lgh(name, vdb, scene, "box2", 128, 128)["out"],
+                     r.lgh(name, vdb, scene, "default", 128, 128)["out"],
+                     r.cycles(name, vdb, scene, 256, 0, 128, 128)["out"]]
+            figure(os.path.join(r.work, f"{name}.png"), shown,
+                   [f"Cycles {n_ref} spp", "lgh --pixel-samples 2", "lgh default", "Cycles 256 spp"])
+        except ImportError:
+            log("no Pillow: no side-by-side figure")
         r.results[f"summary/{name}"] = summary
         r.save()
         table.append(summary)
