@@ -1085,18 +1085,20 @@ mod tests {
                         continue;
                     }
                     let p = centre(w);
-                    // The voxel lights' fall-off (`lgh_core::near_field`), as the pass's lights,
-                    // shielded by the smoke at x.
+                    // The voxel lights' fall-off (`lgh_core::near_field`) in the mean over the
+                    // receiving voxel's cell, as the pass's lights, shielded by the smoke at x.
                     let shield = shielding(medium.extinction(rho) * h as f32);
-                    let g = NearField::Voxel.falloff_in(0, x.distance(p), h as f32, shield);
+                    let cell = Receiver::Cell;
+                    let g = NearField::Voxel.falloff_for(cell, 0, x.distance(p), h as f32, shield);
                     let g = f64::from(g);
                     let vis = f64::from(grid.transmittance(x, p).0);
                     for c in 0..3 {
                         sum[c] += previous[q][c] * vis * g;
                     }
                 }
-                let factor =
-                    h.powi(3) * f64::from(medium.scattering * rho) / (4.0 * std::f64::consts::PI);
+                // What the cell scatters: its mean density.
+                let mass = medium.scattering * volume.cell_density(v);
+                let factor = h.powi(3) * f64::from(mass) / (4.0 * std::f64::consts::PI);
                 for c in 0..3 {
                     next[s][c] = sum[c] * factor;
                     let err = (f64::from(got[s][c]) - next[s][c]).abs();
