@@ -138,14 +138,21 @@ impl Volume {
     /// `tools/cycles`, whose first scattered depth was as much too bright).
     ///
     /// ```
-    /// use lgh_volume::procedural;
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::{procedural, DenseGrid, Volume};
     ///
     /// let volume = procedural::ball(16, 0.5, 2500.0);
     /// let d = &volume.density;
     /// let centre = d.index(8, 8, 8); // the density is 1 − r/0.8: a peak at the middle
     /// assert!(volume.cell_density(centre) < d.data[centre]);
-    /// let side = d.index(12, 8, 8); // linear along x there, but a cone's cross-section is convex
-    /// assert!((volume.cell_density(side) - d.data[side]).abs() < 0.01 * d.data[side]);
+    /// // A density linear in x: every inner cell's mean is its centre's value.
+    /// let mut ramp = DenseGrid::zeros([5; 3], 0.1, Vec3::ZERO);
+    /// for (n, v) in ramp.data.iter_mut().enumerate() {
+    ///     *v = 1.0 + (n % 5) as f32;
+    /// }
+    /// let linear = Volume::new(ramp.clone(), ramp.clone());
+    /// let inner = ramp.index(2, 2, 2);
+    /// assert!((linear.cell_density(inner) - ramp.data[inner]).abs() < 1e-6);
     /// ```
     #[must_use]
     pub fn cell_density(&self, idx: usize) -> f32 {
