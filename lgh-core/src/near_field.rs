@@ -92,10 +92,9 @@ pub enum NearField {
 /// The two differ only near a voxel light: at its own voxel the cell's mean of the voxel's
 /// light is [`cell_falloff`]`(0, h)` = 5.634/h², the centre's [`voxel_falloff`]`(0, h)` =
 /// 7.674/h² (the light of a glowing voxel is strongest at its centre); a neighbour's light is
-/// stronger in the mean over the cell than at its centre (the cell reaches closer). Where the
-/// emission is uniform the two agree in the sum; at the edge of a fire the centre's value
-/// over-counts each voxel's light on itself, measured: on the 128³ explosion of
-/// `tools/cycles`, the scattered light 7% above the path tracer's with centres.
+/// stronger in the mean over the cell than at its centre (the cell reaches closer). The
+/// renderers' scattering pass evaluates at voxel centres: the cell means, measured both ways,
+/// took a path-traced ball 3% further from the path tracer (ARCHITECTURE.md, docs/shadows.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Receiver {
     /// A point: [`voxel_falloff`].

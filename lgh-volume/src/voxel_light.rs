@@ -131,11 +131,10 @@ impl Volume {
     }
 
     /// The mean density over voxel `idx`'s cell, of the density interpolated trilinearly as the
-    /// march and the path tracer see it: the smoke that scatters a voxel's light (a scattering
-    /// pass's voxel light carries what its cell scatters). `(1/8, 3/4, 1/8)` of the voxel and
+    /// march and the path tracer see it: the smoke that scatters in the cell. `(1/8, 3/4, 1/8)` of the voxel and
     /// its neighbours along each axis; equal to the voxel's value where the density is linear
-    /// around it, below it on a peak (a thin sheet of soot: by 15% on the 128³ explosion of
-    /// `tools/cycles`, whose first scattered depth was as much too bright).
+    /// around it, below it on a peak. (The scattering pass keeps the centre's value: the cell's
+    /// mean, measured, took a path-traced ball further from the path tracer; docs/shadows.md.)
     ///
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;
