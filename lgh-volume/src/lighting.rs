@@ -29,8 +29,8 @@ pub struct Lights<B> {
     /// Whether the level-0 lights are points ([`NearField::Clamp`], what [`new`](Self::new)
     /// makes) or voxels ([`NearField::Voxel`], what an explosion's lights are by default).
     pub near_field: NearField,
-    /// Whether a medium point's fluence is the point's ([`Receiver::Point`], the render's) or
-    /// its voxel's mean ([`Receiver::Cell`], a scattering pass's): see [`Receiver`].
+    /// Whether a medium point's fluence is the point's ([`Receiver::Point`], the default) or
+    /// its voxel's mean ([`Receiver::Cell`]): see [`Receiver`].
     pub receiver: Receiver,
 }
 
@@ -95,7 +95,7 @@ impl<B: ManyLights> Lights<B> {
     }
 
     /// The same lights with their fluence in a medium evaluated for `receiver`: a point, or
-    /// the mean over the voxel around it (a scattering pass's voxels).
+    /// the mean over the voxel around it.
     ///
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;
