@@ -85,25 +85,6 @@ pub enum NearField {
     Clamp,
 }
 
-/// What a fluence is evaluated for: a point (a march sample, where the render in-scatters), or
-/// the mean over a voxel's cell (a scattering pass's voxel, whose light is the power its whole
-/// cell scatters, paper Sec. 5).
-///
-/// The two differ only near a voxel light: at its own voxel the cell's mean of the voxel's
-/// light is [`cell_falloff`]`(0, h)` = 5.634/h², the centre's [`voxel_falloff`]`(0, h)` =
-/// 7.674/h² (the light of a glowing voxel is strongest at its centre); a neighbour's light is
-/// stronger in the mean over the cell than at its centre (the cell reaches closer). The
-/// renderers' scattering pass evaluates at voxel centres: the cell means, measured both ways,
-/// took a path-traced ball 3% further from the path tracer (ARCHITECTURE.md, docs/shadows.md).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Receiver {
-    /// A point: [`voxel_falloff`].
-    #[default]
-    Point,
-    /// The mean over a voxel's cell of side `h0`: [`cell_falloff`].
-    Cell,
-}
-
 impl NearField {
     /// Both models, the default first.
     pub const ALL: [NearField; 2] = [NearField::Voxel, NearField::Clamp];
@@ -136,41 +117,9 @@ impl NearField {
     #[inline(always)]
     #[must_use]
     pub fn falloff_in(self, level: u8, d: f32, h0: f32, shielding: f32) -> f32 {
-        self.falloff_for(Receiver::Point, level, d, h0, shielding)
-    }
-
-    /// [`falloff_in`](Self::falloff_in) for `receiver`: a voxel light's near field at a point
-    /// ([`voxel_falloff`]) or in the mean over a voxel's cell ([`cell_falloff`]), shielded the
-    /// same way (the centre's [`shielding`]: an approximation for the cell, exact in clear air).
-    ///
-    /// ```
-    /// use lgh_core::near_field::{cell_falloff, Receiver};
-    /// use lgh_core::{falloff, NearField};
-    ///
-    /// let h = 0.5;
-    /// let own = NearField::Voxel.falloff_for(Receiver::Cell, 0, 0.0, h, 1.0);
-    /// assert_eq!(own, cell_falloff(0.0, h));
-    /// assert!((own * h * h - 5.634).abs() < 1e-3);
-    /// // The paper's points and coarse lights are the same for both receivers.
-    /// assert_eq!(NearField::Clamp.falloff_for(Receiver::Cell, 0, 0.1, h, 1.0), falloff(0.1, h));
-    /// assert_eq!(NearField::Voxel.falloff_for(Receiver::Cell, 1, 0.1, h, 1.0), falloff(0.1, h));
-    /// ```
-    #[inline(always)]
-    #[must_use]
-    pub fn falloff_for(
-        self,
-        receiver: Receiver,
-        level: u8,
-        d: f32,
-        h0: f32,
-        shielding: f32,
-    ) -> f32 {
         match self {
             NearField::Voxel if level == 0 => {
-                let near = match receiver {
-                    Receiver::Point => voxel_falloff(d, h0),
-                    Receiver::Cell => cell_falloff(d, h0),
-                };
+                let near = voxel_falloff(d, h0);
                 if shielding == 1.0 || d >= SHIELDED_RADIUS * h0 {
                     return near;
                 }
@@ -452,9 +401,11 @@ const CELL_SERIES: [f32; 6] = [
 ];
 
 /// The mean of a uniform voxel light's `1/r²` over another voxel's cell (both of side `h`, their
-/// centres `d` apart, averaged over the directions between them): the fluence a scattering
-/// pass's voxel receives on the whole ([`Receiver::Cell`]), where [`voxel_falloff`] is that at
-/// its centre. `5.634/h²` at `d = 0` (a voxel's own light, in the mean over itself), continuous
+/// centres `d` apart, averaged over the directions between them): the fluence a voxel receives
+/// on the whole, where [`voxel_falloff`] is that at its centre. Not used by the renderers: a
+/// scattering pass that took it (with the cell's mean density) moved a path-traced
+/// ball 3% further from the path tracer (ARCHITECTURE.md); kept, tested, for a lattice-exact
+/// kernel of the nearest voxels. `5.634/h²` at `d = 0` (a voxel's own light, in the mean over itself), continuous
 /// and decreasing, `(1/d²)(1 + h²/(6 d²) + …)` far away (twice the one voxel's `h²/12`: two
 /// spreads).
 ///

@@ -8,7 +8,7 @@
 //! (ARCHITECTURE.md, "lgh-core"); this is where it is applied.
 
 use lgh_core::glam::Vec3;
-use lgh_core::near_field::{shielding, Receiver};
+use lgh_core::near_field::shielding;
 use lgh_core::{
     falloff, LightSample, ManyLights, NearField, QueryError, ShadingPoint, ISOTROPIC_PHASE,
 };
@@ -29,9 +29,6 @@ pub struct Lights<B> {
     /// Whether the level-0 lights are points ([`NearField::Clamp`], what [`new`](Self::new)
     /// makes) or voxels ([`NearField::Voxel`], what an explosion's lights are by default).
     pub near_field: NearField,
-    /// Whether a medium point's fluence is the point's ([`Receiver::Point`], the default) or
-    /// its voxel's mean ([`Receiver::Cell`]): see [`Receiver`].
-    pub receiver: Receiver,
 }
 
 impl<B: ManyLights> Lights<B> {
@@ -59,7 +56,6 @@ impl<B: ManyLights> Lights<B> {
             backend,
             h0,
             near_field: NearField::Clamp,
-            receiver: Receiver::Point,
         }
     }
 
@@ -94,36 +90,6 @@ impl<B: ManyLights> Lights<B> {
         self
     }
 
-    /// The same lights with their fluence in a medium evaluated for `receiver`: a point, or
-    /// the mean over the voxel around it.
-    ///
-    /// ```
-    /// use lgh_volume::lgh_core::glam::Vec3;
-    /// use lgh_volume::lgh_core::near_field::Receiver;
-    /// use lgh_volume::lgh_core::{BruteForce, NearField, PointLight, ShadingPoint};
-    /// use lgh_volume::lighting::{LightScratch, Lights};
-    /// use lgh_volume::render::RenderStats;
-    /// use lgh_volume::shadow::Visibility;
-    ///
-    /// let one = BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::ONE)])?;
-    /// let h = 0.5;
-    /// let lights = Lights::new(one, h).with_near_field(NearField::Voxel);
-    /// let cell = lights.clone().with_receiver(Receiver::Cell);
-    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
-    /// let p = ShadingPoint::in_medium(Vec3::ZERO);
-    /// let mut own = |l: &Lights<BruteForce>| {
-    ///     l.incident(&p, &Visibility::None, |_| Vec3::ONE, &mut scratch, &mut stats)
-    /// };
-    /// assert!((own(&lights)?.x * h * h - 7.674).abs() < 1e-3); // at the voxel's centre
-    /// assert!((own(&cell)?.x * h * h - 5.634).abs() < 1e-3); // over the voxel
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    #[must_use]
-    pub fn with_receiver(mut self, receiver: Receiver) -> Self {
-        self.receiver = receiver;
-        self
-    }
-
     /// `backend` with these lights' fall-off (`h0` and near field): the same light model over
     /// another selection of the lights (some levels of a hierarchy, say).
     #[must_use]
@@ -132,7 +98,6 @@ impl<B: ManyLights> Lights<B> {
             backend,
             h0: self.h0,
             near_field: self.near_field,
-            receiver: self.receiver,
         }
     }
 
@@ -141,7 +106,7 @@ impl<B: ManyLights> Lights<B> {
     /// ([`shielding`]), a point's `1/max(d, h0)²` on a surface.
     #[inline(always)]
     fn falloff_at(&self, point: &ShadingPoint, sigma_t: f32) -> impl Fn(&LightSample) -> f32 {
-        let (h0, near_field, receiver) = (self.h0, self.near_field, self.receiver);
+        let (h0, near_field) = (self.h0, self.near_field);
         let medium = point.normal.is_none();
         let shield = if medium && near_field == NearField::Voxel {
             shielding(sigma_t * h0)
@@ -150,7 +115,7 @@ impl<B: ManyLights> Lights<B> {
         };
         move |l: &LightSample| {
             if medium {
-                near_field.falloff_for(receiver, l.level, l.distance, h0, shield)
+                near_field.falloff_in(l.level, l.distance, h0, shield)
             } else {
                 falloff(l.distance, h0)
             }

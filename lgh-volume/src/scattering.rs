@@ -585,9 +585,9 @@ impl Fluence<'_> {
         let Some(lights) = shading.prepared.lights(source)? else {
             return Err(nothing_to_scatter(1));
         };
-        // The fluence at the voxel's centre (`Receiver::Point`): the cell means
-        // (`Receiver::Cell`, `Volume::cell_density`) took the path-tracer test's ball 3% further
-        // from the path tracer (docs/shadows.md, "Cell means in the pass").
+        // The fluence at the voxel's centre: the cell means (`near_field::cell_falloff`,
+        // `Volume::cell_density`) took the path-tracer test's ball 3% further from the path
+        // tracer (docs/shadows.md, "Cell means in the pass").
         let grid = &self.frame.density;
         // With a lighting cache, the coarse levels' fluence comes from it, as in the render —
         // where some grid is coarser than the voxels: the pass queries every voxel, so a cache
