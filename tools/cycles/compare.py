@@ -107,9 +107,19 @@ def luminance(rgb):
     return rgb @ np.array([0.2126, 0.7152, 0.0722])
 
 
+LGH = os.path.join(ROOT, "target/release/lgh")
+
+
 def rel_rmse(img, ref):
+    """(relative RMSE of luminance by `lgh compare`, the project's one metric; mean ratio)."""
+    diff = img + ".diff.png"
+    out = subprocess.run([LGH, "compare", "--json", "--diff", diff, img, ref],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if out.returncode != 0:
+        sys.exit(f"lgh compare {img} {ref}: {out.stderr.strip()}")
+    os.remove(diff)
     a, b = luminance(read_exr(img)), luminance(read_exr(ref))
-    return float(np.sqrt(np.mean((a - b) ** 2)) / np.mean(b)), float(np.mean(a) / np.mean(b))
+    return float(json.loads(out.stdout)["rel_rmse"]), float(np.mean(a) / np.mean(b))
 
 
 def run_cpu(cmd, **kw):
@@ -284,6 +294,8 @@ def main():
     p.add_argument("--shift-half-voxel", action="store_true",
                    help="Blender 3.x: voxel i drawn over [i, i+1] (off by half a voxel)")
     a = p.parse_args()
+    global LGH
+    LGH = a.lgh
     if a.shift_half_voxel is False:
         v = subprocess.run([a.blender, "--version"], stdout=subprocess.PIPE, text=True).stdout
         m = re.search(r"Blender (\d+)\.", v)
