@@ -343,7 +343,8 @@ pub struct ScatterArgs {
     /// Depths of scattered light (paper Sec. 5): 0 is single scattering; n adds lights for
     /// light scattered 1..=n times, so paths of up to n + 1 scattering events (the paper's
     /// Fig. 7 uses 4). At most 16. `auto`: up to 16, stopping when the next depth would add
-    /// less than --scatter-stop of the light (1% unless given) [default: auto for lgh
+    /// less than --scatter-stop of the light (1% unless given), and none at all when a sample of
+    /// the voxels predicts that the first would (smoke that scatters almost nothing) [default: auto for lgh
     /// explosion's marcher (0 with --backend pathtrace), 0 for lgh demo]
     #[arg(long, value_parser = parse_depth)]
     pub scatter_depth: Option<DepthArg>,
@@ -446,6 +447,11 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         // The depth below is where the rule stopped (or the most asked for).
         out.push(("scatter_stop", stop.to_string()));
     }
+    if let Some(k) = s.skipped() {
+        // The pilot's prediction of depth 1's power, as a share of the emitted light.
+        let share = k.predicted / k.emitted.max(f64::MIN_POSITIVE);
+        out.push(("scatter_skipped_share", format!("{share:.6e}")));
+    }
     out.extend([
         ("scatter_depth", s.depths().len().to_string()),
         (
@@ -536,6 +542,17 @@ pub fn say_scattering(frame: &FrameRender, shares: Option<&Shares>) -> Result<()
     let Some(s) = frame.scattered() else {
         return Ok(());
     };
+    if let Some(k) = s.skipped() {
+        say!(
+            "  scattering skipped: depth 1 would add about {:.3}% of the emitted light (from {} of {} smoky voxels; --scatter-stop {}%); {:.2} s",
+            100.0 * k.predicted / k.emitted.max(f64::MIN_POSITIVE),
+            k.sampled,
+            k.voxels,
+            100.0 * frame.settings().scatter_stop,
+            k.seconds
+        );
+        return Ok(());
+    }
     let d = s.depths();
     say!(
         "  scattering {} depths (up to {} scattering events): {} lights a depth, {} merged lights; {:.2} s",

@@ -701,11 +701,18 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_pixel_centres()
         header(&out)
     };
     // Defaults: Blender's Principled Volume emits at every temperature, and its images scatter
-    // many times: the marcher scatters until a depth adds less than 1%.
+    // many times: the marcher scatters until a depth adds less than 1% — here none, since the
+    // dev fire's thin smoke scatters about 0.3% of the light its flames emit, which the pass's
+    // pilot predicts from a sample of the voxels before any depth.
     let get = render(&[]);
     assert_eq!(get("lgh:min_temperature"), "0");
-    assert!(get("lgh:scatter_depth").parse::<usize>().unwrap() >= 1);
     assert_eq!(get("lgh:scatter_stop"), "0.01");
+    assert_eq!(get("lgh:scatter_depth"), "0");
+    let share: f64 = get("lgh:scatter_skipped_share").parse().unwrap();
+    assert!(share > 0.0 && share < 0.01, "{share}");
+    // Asked for a share below the fire's, it scatters.
+    let get = render(&["--scatter-stop", "0.0001"]);
+    assert!(get("lgh:scatter_depth").parse::<usize>().unwrap() >= 1);
     // Planck's model keeps its 800 K; a depth given is kept; the path tracer scatters by
     // --max-scatter, not by depths.
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);

@@ -255,6 +255,25 @@ pub struct Scattered {
     radiance: Option<ScatteredRadiance>,
     /// The fluence pass of depth `n + 1` that the grid needs.
     radiance_report: Option<DepthReport>,
+    /// Set when the first depth's pilot skipped the pass.
+    skipped: Option<Skipped>,
+}
+
+/// A pass whose first depth was skipped by its pilot: the smoke scatters too little of the
+/// emitted light to matter under the stopping share (`--scatter-depth auto`; see
+/// [`Scattered::skipped`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Skipped {
+    /// Depth 1's power predicted from the sample (luminance, as [`DepthReport::power`]).
+    pub predicted: f64,
+    /// The emission lights' power.
+    pub emitted: f64,
+    /// Voxels sampled.
+    pub sampled: usize,
+    /// Voxels with smoke, which the depth would have shaded.
+    pub voxels: usize,
+    /// Seconds the pilot took, its shadows and lighting cache included.
+    pub seconds: f64,
 }
 
 /// The multiple-scattering pass (paper Sec. 5; see the module docs): `settings.scatter_depth`
@@ -310,15 +329,7 @@ fn pass(
     let depth = settings.scatter_depth;
     let max_level = emission.hierarchy().max_level();
     if depth == 0 {
-        return Ok(Scattered {
-            merged: emission.clone(),
-            per_depth: vec![emission_intensities(emission)],
-            reports: Vec::new(),
-            max_level,
-            radiance: None,
-            radiance_report: None,
-            spacing: 1,
-        });
+        return Ok(single_scattering(emission, max_level));
     }
     let grid = &frame.density;
     let dense: Vec<usize> = (0..grid.data.len())
@@ -384,7 +395,27 @@ fn pass(
         } else {
             (&scattered, &later)
         };
-        let (stats, shadow_seconds) = pass.run(source, &mut next)?;
+        // The first depth under a stopping share has a pilot: skipped, if it cannot matter.
+        let pilot = (k == 1 && settings.scatter_stop > 0.0).then(|| Pilot {
+            share: settings.scatter_stop,
+            emitted: powers[0],
+        });
+        let (stats, shadow_seconds) = match pass.run(source, &mut next, pilot)? {
+            Ran::Done(stats, shadow_seconds) => (stats, shadow_seconds),
+            Ran::Skipped { predicted, sampled } => {
+                let skipped = Skipped {
+                    predicted,
+                    emitted: powers[0],
+                    sampled,
+                    voxels: dense.len(),
+                    seconds: t.elapsed().as_secs_f64(),
+                };
+                return Ok(Scattered {
+                    skipped: Some(skipped),
+                    ..single_scattering(emission, max_level)
+                });
+            }
+        };
         if let (Some(summed), true) = (summed.as_mut(), k >= 2) {
             for (s, n) in summed.iter_mut().zip(&next) {
                 *s += *n;
@@ -435,7 +466,22 @@ fn pass(
         radiance,
         radiance_report,
         spacing,
+        skipped: None,
     })
+}
+
+/// The pass of no depth: the emission lights as they are.
+fn single_scattering(emission: &ExplosionLights, max_level: u8) -> Scattered {
+    Scattered {
+        merged: emission.clone(),
+        per_depth: vec![emission_intensities(emission)],
+        reports: Vec::new(),
+        max_level,
+        radiance: None,
+        radiance_report: None,
+        spacing: 1,
+        skipped: None,
+    }
 }
 
 /// Every check of a pass, before any work: the settings, the method (emission alone has no
@@ -567,11 +613,18 @@ impl Fluence<'_> {
     /// `out[i] = h³ σ_s(x_i)/(4π) · Φ(x_i)` for each voxel `x_i`, with `Φ` the shadowed fluence
     /// of `source` (shadows built here, as the settings ask). Returns the queries' counts and
     /// the seconds spent on the shadows.
+    ///
+    /// With a `pilot`, the fluence is first computed at a systematic sample of the voxels
+    /// ([`Pilot`]); if the depth's power predicted from it is below the pilot's bar, nothing
+    /// more is done and the prediction is returned ([`Ran::Skipped`]). Each voxel's fluence
+    /// depends on the voxel alone (the lighting cache fills each of its bricks once, the same
+    /// whoever asks first), so a depth the pilot lets through is the same bit for bit.
     fn run(
         &self,
         source: &ExplosionLights,
         out: &mut [Vec3],
-    ) -> Result<(RenderStats, f64), RenderError> {
+        pilot: Option<Pilot>,
+    ) -> Result<Ran, RenderError> {
         let shading = Shading::new(
             source,
             self.method,
@@ -596,10 +649,8 @@ impl Fluence<'_> {
         let cache = shading.cache.as_ref().filter(sparse);
         let cached = CachedLights::of(cache, grid, &lights);
         let h3 = grid.voxel_size.powi(3);
-        let chunks: Vec<Result<RenderStats, RenderError>> = out
-            .par_chunks_mut(CHUNK_VOXELS)
-            .zip(self.voxels.par_chunks(CHUNK_VOXELS))
-            .map(|(out, voxels)| {
+        let shade = |voxels: &[usize], out: &mut [Vec3], progress: bool| {
+            shade_voxels(voxels, out, |out, voxels| {
                 let mut scratch = LightScratch::default();
                 let mut stats = RenderStats::default();
                 for (o, &v) in out.iter_mut().zip(voxels) {
@@ -618,14 +669,26 @@ impl Fluence<'_> {
                         }
                     };
                 }
-                (self.progress)(voxels.len());
+                if progress {
+                    (self.progress)(voxels.len());
+                }
                 Ok(stats)
             })
-            .collect();
+        };
         let mut stats = RenderStats::default();
-        for c in chunks {
-            stats.add(&c?);
+        if let Some(pilot) = pilot {
+            let sample = pilot.sample(self.voxels);
+            let mut fluence = vec![Vec3::ZERO; sample.len()];
+            stats.add(&shade(&sample, &mut fluence, false)?);
+            let predicted = power(&fluence) * self.voxels.len() as f64 / sample.len() as f64;
+            if predicted < pilot.bar() {
+                return Ok(Ran::Skipped {
+                    predicted,
+                    sampled: sample.len(),
+                });
+            }
         }
+        stats.add(&shade(self.voxels, out, true)?);
         // One shading point per voxel, whether it shaded lights or only read the cache; the
         // cache's vertices are this depth's work too: their lights and shadow samples count
         // with the voxels' (a depth through a cache of every level shades no light per voxel).
@@ -635,8 +698,67 @@ impl Fluence<'_> {
             stats.lights_evaluated += filled.lights_evaluated;
             stats.shadow_samples += filled.shadow_samples;
         }
-        Ok((stats, shadow_seconds))
+        Ok(Ran::Done(stats, shadow_seconds))
     }
+}
+
+/// `shade(out, voxels)` over `voxels` and `out` in fixed chunks of [`CHUNK_VOXELS`], in
+/// parallel; the chunks' counts summed in order.
+fn shade_voxels(
+    voxels: &[usize],
+    out: &mut [Vec3],
+    shade: impl Fn(&mut [Vec3], &[usize]) -> Result<RenderStats, RenderError> + Sync,
+) -> Result<RenderStats, RenderError> {
+    let chunks: Vec<Result<RenderStats, RenderError>> = out
+        .par_chunks_mut(CHUNK_VOXELS)
+        .zip(voxels.par_chunks(CHUNK_VOXELS))
+        .map(|(out, voxels)| shade(out, voxels))
+        .collect();
+    let mut stats = RenderStats::default();
+    for c in chunks {
+        stats.add(&c?);
+    }
+    Ok(stats)
+}
+
+/// Voxels the pilot of a pass's first depth samples, at most ([`Pilot`]).
+pub const PILOT_VOXELS: usize = 4096;
+
+/// The pilot of a pass's first depth under a stopping share (`--scatter-depth auto`): before
+/// the depth-1 fluence is computed at every smoky voxel, it is computed at every `m`-th of
+/// them (in index order, `m` the smallest that keeps the sample to [`PILOT_VOXELS`]), and the
+/// depth's power is predicted as the sample's times `n / sample`. Depth 1 — and so every depth —
+/// is skipped when that prediction is below `share` of the emission lights' power: the rule of
+/// [`stop_after`] for the first depth, which has no depth before it to predict from. Where the
+/// smoke scatters nothing (albedo 0) the prediction is exactly 0; where it scatters almost
+/// nothing (thin smoke around a flame) the pass, its lights and their cost in the render are
+/// saved, and the image is the single-scattering one, bit for bit.
+#[derive(Clone, Copy, Debug)]
+struct Pilot {
+    share: f32,
+    /// The emission lights' power (depth 0).
+    emitted: f64,
+}
+
+impl Pilot {
+    /// The sample: every `m`-th of `voxels`.
+    fn sample(self, voxels: &[usize]) -> Vec<usize> {
+        let m = voxels.len().div_ceil(PILOT_VOXELS).max(1);
+        voxels.iter().step_by(m).copied().collect()
+    }
+
+    /// The power below which the depth is skipped.
+    fn bar(self) -> f64 {
+        f64::from(self.share) * self.emitted
+    }
+}
+
+/// What [`Fluence::run`] did.
+enum Ran {
+    /// The depth, with its counts and the seconds of its shadows.
+    Done(RenderStats, f64),
+    /// Skipped by the pilot: its predicted power, from `sampled` voxels.
+    Skipped { predicted: f64, sampled: usize },
 }
 
 /// How the image splits by where its light comes from: the luminance summed over an image's
@@ -705,6 +827,40 @@ impl Scattered {
     #[must_use]
     pub fn lights(&self) -> &ExplosionLights {
         &self.merged
+    }
+
+    /// Whether the pass was skipped: under a stopping share (`--scatter-depth auto`), depth 1's
+    /// power is first predicted from a sample of the voxels, and the pass stops before any
+    /// depth if it is below the share of the emitted light. The lights are then the emission
+    /// lights as they are, and the image the single-scattering one, bit for bit.
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let emission = ExplosionLights::new(&[&volume], &Medium::new(2.0, 6.0, 1e-4, 1000.0)?)?;
+    /// let auto = MarchSettings {
+    ///     shadows: Shadows::None,
+    ///     scatter_depth: 16,
+    ///     scatter_stop: 0.01,
+    ///     ..Default::default()
+    /// };
+    /// // Smoke that only absorbs (albedo 0) scatters nothing: no depth is computed.
+    /// let black = Medium::new(2.0, 0.0, 1e-4, 1000.0)?;
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &black, &auto, &())?;
+    /// assert_eq!(s.skipped().unwrap().predicted, 0.0);
+    /// assert!(s.depths().is_empty());
+    /// // A scattering one goes on.
+    /// let grey = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &grey, &auto, &())?;
+    /// assert!(s.skipped().is_none() && !s.depths().is_empty());
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn skipped(&self) -> Option<&Skipped> {
+        self.skipped.as_ref()
     }
 
     /// One report per scattered depth `1..=n`.
@@ -825,6 +981,57 @@ mod tests {
             ..*settings
         };
         scatter(emission, method, volume, medium, &settings, &()).unwrap()
+    }
+
+    #[test]
+    fn the_pilot_skips_a_pass_that_cannot_matter_and_predicts_its_power() {
+        // The ball at 32³: 8,744 smoky voxels, so the pilot samples every 3rd (2,915).
+        let volume = blob(32);
+        let lgh = Method::Lgh { alpha: 2.0 };
+        let frame = |medium: &Medium, depth, stop| {
+            let emission = ExplosionLights::new(&[&volume], medium).unwrap();
+            let settings = MarchSettings {
+                scatter_depth: depth,
+                scatter_stop: stop,
+                ..Default::default()
+            };
+            let render = crate::FrameRender::new(&emission, lgh, &volume, medium, &settings, &());
+            let render = render.unwrap();
+            let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 24, 24).unwrap();
+            let image = render.render(&camera, &()).unwrap().0;
+            let skipped = render.scattered().and_then(Scattered::skipped).copied();
+            let power = render
+                .scattered()
+                .and_then(|s| s.depths().first().map(|d| d.power));
+            (bits(&image.pixels), skipped, power)
+        };
+        // Thin, nearly black smoke: depth 1 would add well under 1% of the emitted light.
+        let thin = Medium::new(1.0, 0.02, 1e-4, 1000.0).unwrap();
+        let (image, skipped, _) = frame(&thin, 16, 0.01);
+        let skipped = skipped.expect("the pilot skips the pass");
+        assert!(skipped.predicted > 0.0 && skipped.predicted < 0.01 * skipped.emitted);
+        assert_eq!((skipped.sampled, skipped.voxels), (2915, 8744));
+        // The image is the single-scattering one, bit for bit.
+        let (single, none, _) = frame(&thin, 0, 0.0);
+        assert!(none.is_none());
+        assert_eq!(image, single);
+        // The prediction against the depth computed at every voxel, from a systematic sample of
+        // a third of them. 2%: a uniformly random sample of 2,915 voxels whose powers spread
+        // with a coefficient of variation of 1 errs by 1/√2915 = 1.85% (one standard
+        // deviation); a systematic sample of a smooth field does better (measured: 0.26%).
+        let (_, _, exact) = frame(&thin, 1, 0.0);
+        let (_, by_pilot, _) = frame(&thin, 16, 0.999);
+        let (exact, predicted) = (exact.unwrap(), by_pilot.unwrap().predicted);
+        assert!(
+            (predicted / exact - 1.0).abs() < 0.02,
+            "{predicted} against {exact}"
+        );
+        // Smoke that scatters goes on, and its first depth is the full pass's, bit for bit.
+        let grey = Medium::new(1.0, 4.0, 1e-4, 1000.0).unwrap();
+        let (_, skipped, auto) = frame(&grey, 16, 0.01);
+        let (_, _, full) = frame(&grey, 1, 0.0);
+        assert!(skipped.is_none());
+        assert_eq!(auto.map(f64::to_bits), full.map(f64::to_bits));
     }
 
     #[test]
