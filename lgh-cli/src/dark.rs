@@ -27,7 +27,7 @@ fn no_light_cause(volume: &Volume, medium: &Medium, names: &GridNames) -> String
         return "--emission-scale is 0".into();
     }
     let t = &volume.temperature.data;
-    if !(0..n).any(|i| medium.emits(t[i])) {
+    if !(0..n).any(|i| volume.value_emits(medium, t[i])) {
         let peak = t
             .iter()
             .copied()

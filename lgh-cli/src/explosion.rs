@@ -104,7 +104,9 @@ pub struct ExplosionArgs {
     /// settings (`lgh:sequence`); render the others. Outputs are written whole or not at all.
     #[arg(long)]
     pub resume: bool,
-    /// The grid emission follows (Blender: temperature; or flame, heat).
+    /// The grid emission follows (Blender: temperature; or flame, heat). A vec3 grid (Houdini's
+    /// and Cycles' `emission`) is an RGB emission read as it is: `j = --emission-scale × rgb`
+    /// (Cycles' Emission Strength × Emission Color), no blackbody, no temperature cut, no flame.
     #[arg(long, default_value = "temperature")]
     pub emission_grid: String,
     /// Smoke density grid.
@@ -803,6 +805,10 @@ impl Frames<'_> {
             }
         }
         let mut extra = self.header(&file.path, lit);
+        if volume.colour.is_some() {
+            // Read as it is: no blackbody, no temperature cut.
+            extra.push(("emission_rgb", args.emission_grid.clone()));
+        }
         let label = file
             .frame
             .map_or("rendering".to_string(), |f| format!("frame {f}"));

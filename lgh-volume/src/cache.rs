@@ -227,6 +227,20 @@ impl RawFrame {
             },
             None => None,
         };
+        // The flame factor scales the blackbody; an RGB emission is its own colour and
+        // strength: Blender's `flame`, found by default, is not used, and one named is refused.
+        let rgb = file.grids[emission].value_type.components() == 3;
+        let flame = match flame {
+            Some(g) if rgb && names.flame_required => {
+                return Err(ReadError::FlameWithColour {
+                    path: path.to_path_buf(),
+                    flame: file.grids[g].name.clone(),
+                    emission: names.emission.clone(),
+                })
+            }
+            Some(_) if rgb => None,
+            flame => flame,
+        };
         let offset = match blender_config_path(path)
             .filter(|c| placement == Placement::BlenderDomain && c.is_file())
         {
@@ -458,7 +472,9 @@ impl Sequence {
                     reference_path: self.paths[0].clone(),
                 });
             }
-            if g.value_type.components() != 1 {
+            // The emission may be an RGB vec3 grid (Volume::colour); the others are scalar.
+            let rgb = std::ptr::eq(g, raw.emission()) && g.value_type.components() == 3;
+            if g.value_type.components() != 1 && !rgb {
                 return Err(ReadError::NotScalar {
                     path: path.to_path_buf(),
                     grid: g.name.clone(),
@@ -518,15 +534,21 @@ impl Sequence {
     /// offset.
     fn place(&self, raw: &RawFrame) -> Result<Volume, ReadError> {
         let origin = DenseGrid::world_position(&self.transform, self.lo);
-        let place = |g: &vdb::Grid| {
-            let a = [0, 1, 2].map(|k| self.lo[k] - raw.offset[k]);
-            let b = [0, 1, 2].map(|k| self.hi[k] - raw.offset[k]);
-            DenseGrid::from_vdb_at(g, a, b, origin)
-        };
+        let a = [0, 1, 2].map(|k| self.lo[k] - raw.offset[k]);
+        let b = [0, 1, 2].map(|k| self.hi[k] - raw.offset[k]);
+        let place = |g: &vdb::Grid| DenseGrid::from_vdb_at(g, a, b, origin);
+        let (density, emission) = (place(raw.density())?, raw.emission());
+        if emission.value_type.components() == 3 {
+            // An RGB emission: its three channels, placed as every grid is.
+            let channel = |c| DenseGrid::component_from_vdb_at(emission, c, a, b, origin);
+            let colour = [channel(0)?, channel(1)?, channel(2)?];
+            return Ok(Volume::coloured(density, colour));
+        }
         Ok(Volume {
-            density: place(raw.density())?,
-            temperature: place(raw.emission())?,
+            density,
+            temperature: place(emission)?,
             flame: raw.flame().map(place).transpose()?,
+            colour: None,
         })
     }
 }

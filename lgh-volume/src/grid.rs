@@ -143,6 +143,30 @@ impl DenseGrid {
         hi: [i32; 3],
         origin: Vec3,
     ) -> Result<Self, ReadError> {
+        DenseGrid::from_vdb_with(grid, lo, hi, origin, |v| vdb::Grid::scalar(v) as f32)
+    }
+
+    /// Component `c` of a vector VDB grid (`c` = 0, 1, 2 for x, y, z: a vec3 emission's red,
+    /// green and blue), placed as [`from_vdb_at`](Self::from_vdb_at) places it.
+    pub(crate) fn component_from_vdb_at(
+        grid: &vdb::Grid,
+        c: usize,
+        lo: [i32; 3],
+        hi: [i32; 3],
+        origin: Vec3,
+    ) -> Result<Self, ReadError> {
+        DenseGrid::from_vdb_with(grid, lo, hi, origin, |v| v[c.min(v.len() - 1)])
+    }
+
+    /// The grid of `value(voxel's components)` over the index box `lo..=hi`, voxel `lo`'s
+    /// centre at `origin`.
+    fn from_vdb_with(
+        grid: &vdb::Grid,
+        lo: [i32; 3],
+        hi: [i32; 3],
+        origin: Vec3,
+        value: impl Fn(&[f32]) -> f32,
+    ) -> Result<Self, ReadError> {
         let m = grid.index_to_world;
         let h = grid.voxel_size[0];
         let uniform = (grid.voxel_size[1] - h).abs() <= 1e-9 * h
@@ -172,7 +196,7 @@ impl DenseGrid {
         }
         let mut out = DenseGrid::zeros(dims, h as f32, origin);
         let c = grid.components();
-        let scalar = |v: &[f32]| vdb::Grid::scalar(v) as f32;
+        let scalar = value;
         let inside = |p: [i32; 3]| (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]);
         for leaf in &grid.leaves {
             for (i, p) in leaf.active_voxels().filter(|&(_, p)| inside(p)) {

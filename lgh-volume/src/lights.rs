@@ -75,8 +75,23 @@ fn layout_of(grid: &DenseGrid) -> DenseGrid {
 
 /// Whether two grids have one layout (dimensions, voxel size, origin): what keeps the lights'
 /// positions fixed over a sequence.
-fn same_layout(a: &DenseGrid, b: &DenseGrid) -> bool {
+pub(crate) fn same_layout(a: &DenseGrid, b: &DenseGrid) -> bool {
     a.dims == b.dims && a.voxel_size == b.voxel_size && a.origin == b.origin
+}
+
+/// Whether `frame`'s flame and RGB emission grids lie on its temperature's layout (`frame`:
+/// its index in a sequence, for the error).
+fn check_factors(frame: &Volume, index: Option<usize>) -> Result<(), RenderError> {
+    let t = &frame.temperature;
+    if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
+        return Err(RenderError::FlameOffGrid { frame: index });
+    }
+    if let Some(colour) = frame.colour.as_deref() {
+        if colour.iter().any(|c| !same_layout(c, t)) {
+            return Err(RenderError::ColourOffGrid { frame: index });
+        }
+    }
+    Ok(())
 }
 
 impl ExplosionLights {
@@ -104,12 +119,7 @@ impl ExplosionLights {
         for (i, f) in frames.into_iter().enumerate() {
             let f = f.map_err(Into::into)?;
             let f = f.borrow();
-            if f.flame
-                .as_ref()
-                .is_some_and(|fl| !same_layout(&f.temperature, fl))
-            {
-                return Err(RenderError::FlameOffGrid { frame: Some(i) });
-            }
+            check_factors(f, Some(i))?;
             let (grid, hot) = layout.get_or_insert_with(|| {
                 let t = &f.temperature;
                 (layout_of(t), vec![false; t.data.len()])
@@ -351,9 +361,7 @@ impl ExplosionLights {
     /// hierarchy's intensities, keeping every position.
     pub fn set_frame(&mut self, frame: &Volume, medium: &Medium) -> Result<(), RenderError> {
         let t = &frame.temperature;
-        if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
-            return Err(RenderError::FlameOffGrid { frame: None });
-        }
+        check_factors(frame, None)?;
         if !self.on_grid(t) {
             return Err(RenderError::FrameOffGrid { frame: None });
         }

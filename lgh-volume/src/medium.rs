@@ -18,6 +18,14 @@ pub struct Volume {
     /// A factor on the emission (Blender's `flame` grid, 0..1), on the temperature's grid; `None`
     /// is 1 everywhere.
     pub flame: Option<DenseGrid>,
+    /// An RGB emission read as it is, in place of the blackbody (a vec3 `emission` grid, as
+    /// Houdini writes and Cycles reads through Principled Volume's Emission Color), on the
+    /// temperature's grid: `j = k_e · (r, g, b)` ([`Medium::colour_emission`]), `k_e` Cycles'
+    /// Emission Strength. With it, [`temperature`](Self::temperature) holds each voxel's
+    /// largest channel (what frames the camera and bounds the path tracer), and the flame
+    /// factor, which scales the blackbody, is not applied. Made by
+    /// [`with_colour`](Self::with_colour).
+    pub colour: Option<Box<[DenseGrid; 3]>>,
 }
 
 impl Volume {
@@ -28,12 +36,59 @@ impl Volume {
             density,
             temperature,
             flame: None,
+            colour: None,
         }
     }
 
-    /// Emission `j(x)` at world position `x` (trilinear temperature and flame).
+    /// A frame whose emission is the RGB grids `colour` as they are ([`Volume::colour`]), all
+    /// three on one layout (else [`RenderError::ColourOffGrid`]); the temperature grid becomes
+    /// each voxel's largest channel.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::{DenseGrid, Medium, Volume};
+    ///
+    /// let mut red = DenseGrid::zeros([2, 2, 2], 0.5, Vec3::ZERO);
+    /// red.data[0] = 3.0;
+    /// let dark = DenseGrid::zeros([2, 2, 2], 0.5, Vec3::ZERO);
+    /// let volume = Volume::with_colour(dark.clone(), [red, dark.clone(), dark.clone()])?;
+    /// let medium = Medium::new(1.0, 1.0, 2.0, 1000.0)?; // k_e = 2; no temperature cut applies
+    /// assert_eq!(volume.voxel_emission(&medium, 0), Vec3::new(6.0, 0.0, 0.0));
+    /// assert_eq!(volume.temperature.data[0], 3.0);
+    /// assert!(!volume.voxel_emits(&medium, 1));
+    /// let coarse = DenseGrid::zeros([1, 1, 1], 1.0, Vec3::ZERO);
+    /// assert!(Volume::with_colour(dark.clone(), [coarse, dark.clone(), dark]).is_err());
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    pub fn with_colour(density: DenseGrid, colour: [DenseGrid; 3]) -> Result<Self, RenderError> {
+        let [r, g, b] = &colour;
+        if !(crate::lights::same_layout(r, g) && crate::lights::same_layout(r, b)) {
+            return Err(RenderError::ColourOffGrid { frame: None });
+        }
+        Ok(Volume::coloured(density, colour))
+    }
+
+    /// [`with_colour`](Self::with_colour) for channels known to share one layout.
+    pub(crate) fn coloured(density: DenseGrid, colour: [DenseGrid; 3]) -> Self {
+        let [r, g, b] = &colour;
+        let mut largest = r.clone();
+        for ((l, &g), &b) in largest.data.iter_mut().zip(&g.data).zip(&b.data) {
+            *l = l.max(g).max(b);
+        }
+        Volume {
+            density,
+            temperature: largest,
+            flame: None,
+            colour: Some(Box::new(colour)),
+        }
+    }
+
+    /// Emission `j(x)` at world position `x` (trilinear temperature and flame, or colour).
     #[must_use]
     pub fn emission(&self, medium: &Medium, x: Vec3) -> Vec3 {
+        if let Some([r, g, b]) = self.colour.as_deref() {
+            return medium.colour_emission(Vec3::new(r.sample(x), g.sample(x), b.sample(x)));
+        }
         let j = medium.emission_at(self.temperature.sample(x));
         match &self.flame {
             Some(f) if j != Vec3::ZERO => j * f.sample(x).max(0.0),
@@ -44,10 +99,24 @@ impl Volume {
     /// Emission of voxel `idx` of the temperature grid (at its centre).
     #[must_use]
     pub fn voxel_emission(&self, medium: &Medium, idx: usize) -> Vec3 {
+        if let Some([r, g, b]) = self.colour.as_deref() {
+            return medium.colour_emission(Vec3::new(r.data[idx], g.data[idx], b.data[idx]));
+        }
         let j = medium.emission_at(self.temperature.data[idx]);
         match &self.flame {
             Some(f) => j * f.data[idx].max(0.0),
             None => j,
+        }
+    }
+
+    /// Whether a value of the [`temperature`](Self::temperature) grid emits under `medium`:
+    /// hotter than `T_min` ([`Medium::emits`]), or with a [`colour`](Self::colour), a largest
+    /// channel above 0 and `k_e > 0`.
+    #[must_use]
+    pub fn value_emits(&self, medium: &Medium, value: f32) -> bool {
+        match self.colour {
+            Some(_) => value > 0.0 && medium.emission > 0.0,
+            None => medium.emission_at(value) != Vec3::ZERO,
         }
     }
 
@@ -229,6 +298,25 @@ impl Medium {
                 c * total.min(f64::from(MAX_EMISSION)) as f32
             }
         }
+    }
+
+    /// Emission `j = k_e · rgb` of an RGB emission ([`Volume::colour`]): negative and NaN
+    /// channels are 0, what does not fit an `f32` is held at [`MAX_EMISSION`]; no temperature
+    /// cut and no emission model apply.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::Medium;
+    ///
+    /// let medium = Medium::new(1.0, 1.0, 0.5, 800.0)?;
+    /// let j = medium.colour_emission(Vec3::new(2.0, -1.0, f32::NAN));
+    /// assert_eq!(j, Vec3::new(1.0, 0.0, 0.0));
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn colour_emission(&self, rgb: Vec3) -> Vec3 {
+        let positive = Vec3::from_array(rgb.to_array().map(|c| if c > 0.0 { c } else { 0.0 }));
+        saturate(saturate(positive) * self.emission)
     }
 
     /// Extinction `σ_t = (κ_a + κ_s) ρ`.

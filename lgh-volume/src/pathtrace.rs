@@ -246,7 +246,7 @@ impl Majorants {
                 let box_hi = lo + Vec3::from(v1) * h;
                 let mut sigma = medium.extinction(sample_bound(g, box_lo, box_hi));
                 let hottest = sample_bound(&volume.temperature, box_lo, box_hi);
-                let emissive = medium.emission_at(hottest) != Vec3::ZERO;
+                let emissive = volume.value_emits(medium, hottest);
                 if emissive {
                     sigma = sigma.max(emission_floor);
                 }

@@ -460,6 +460,32 @@ mod tests {
         Volume::new(density, temperature)
     }
 
+    /// The radiance marched down the z axis through the middle of `v`, lit by nothing.
+    fn through_the_middle(v: &Volume, m: &Medium) -> Vec3 {
+        Marcher::new(v, m, &MarchSettings::default())
+            .unwrap()
+            .march_with::<BruteForce>(
+                Lit::lights(None),
+                Vec3::new(0.0, 0.0, 5.0),
+                -Vec3::Z,
+                &mut RenderStats::default(),
+                &mut LightScratch::default(),
+            )
+            .unwrap()
+    }
+
+    /// `got` is the slab's closed form `want` (emission `j`, extinction `sigma`): each step is
+    /// integrated exactly, so what remains is f32 rounding over 64 steps (1e-4) and the early
+    /// stop at T < min_transmittance, which drops at most T_stop · j / σ of the tail.
+    fn assert_slab(got: Vec3, want: Vec3, j: Vec3, sigma: f32) {
+        let s = MarchSettings::default();
+        let tol = 1e-4 * want.max_element() + s.min_transmittance * j.max_element() / sigma;
+        assert!(
+            (got - want).abs().max_element() <= tol,
+            "σ {sigma}: {got} vs {want}"
+        );
+    }
+
     #[test]
     fn emitting_absorbing_slab_matches_the_closed_form() {
         // L = j / σ_a (1 − e^{−σ_a ℓ}) through a slab of length ℓ = 2.
@@ -467,26 +493,30 @@ mod tests {
         for sigma in [0.1f32, 1.0, 4.0] {
             let m = Medium::new(sigma, 0.0, 1e-3, 500.0).unwrap();
             let j = m.emission_at(2000.0);
-            let got = Marcher::new(&v, &m, &MarchSettings::default())
-                .unwrap()
-                .march_with::<BruteForce>(
-                    Lit::lights(None),
-                    Vec3::new(0.0, 0.0, 5.0),
-                    -Vec3::Z,
-                    &mut RenderStats::default(),
-                    &mut LightScratch::default(),
-                )
-                .unwrap();
+            let got = through_the_middle(&v, &m);
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
-            // Each step is integrated exactly, so what remains is f32 rounding over 64 steps
-            // (1e-4) and the early stop at T < min_transmittance, which drops at most
-            // T_stop · j / σ of the tail.
-            let s = MarchSettings::default();
-            let tol = 1e-4 * want.max_element() + s.min_transmittance * j.max_element() / sigma;
-            assert!(
-                (got - want).abs().max_element() <= tol,
-                "σ {sigma}: {got} vs {want}"
-            );
+            assert_slab(got, want, j, sigma);
+        }
+    }
+
+    #[test]
+    fn an_rgb_emission_slab_matches_the_closed_form() {
+        // A vec3 emission read as it is: L = k_e rgb / σ_a (1 − e^{−σ_a ℓ}) per channel, with no
+        // temperature cut (T_min = 10⁶ K would cut any blackbody) and no blackbody colour.
+        let slab = slab_volume(0.0);
+        let rgb = Vec3::new(3.0, 1.5, 0.25);
+        let channel = |c: f32| {
+            let mut g = slab.temperature.clone();
+            g.data.fill(c);
+            g
+        };
+        let v = Volume::with_colour(slab.density.clone(), rgb.to_array().map(channel)).unwrap();
+        for sigma in [0.1f32, 1.0, 4.0] {
+            let m = Medium::new(sigma, 0.0, 0.5, 1e6).unwrap();
+            let got = through_the_middle(&v, &m);
+            let j = 0.5 * rgb;
+            let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
+            assert_slab(got, want, j, sigma);
         }
     }
 

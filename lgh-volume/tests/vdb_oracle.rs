@@ -213,3 +213,93 @@ fn the_cycles_comparison_writer_round_trips_through_openvdb() {
         assert!(checked > 500, "{name}: only {checked} voxels hold a value");
     }
 }
+
+/// An RGB emission as Houdini writes it: a vec3s `emission` grid beside a float `density`,
+/// written by the official library. Read as it is: each channel at its voxel, the temperature
+/// grid each voxel's largest channel; a flame grid named with it is refused, saying why.
+#[test]
+fn a_vec3_emission_grid_is_read_as_rgb() {
+    let in_ci = std::env::var("CI").is_ok_and(|v| v == "true");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rgb_0001.vdb");
+    let script = r#"
+import sys
+import numpy as np
+import pyopenvdb as vdb
+n = 6
+density = np.zeros((n, n, n), dtype=np.float32)
+emission = np.zeros((n, n, n, 3), dtype=np.float32)
+for i in range(n):
+    for j in range(n):
+        for k in range(n):
+            density[i, j, k] = 0.1 + 0.01 * (i + n * j)
+            if 1 <= i <= 4 and 1 <= j <= 4 and 1 <= k <= 4:
+                emission[i, j, k] = (i + 0.5, 0.25 * j, 0.125 * k)
+d = vdb.FloatGrid(); d.copyFromArray(density, tolerance=0.0); d.name = "density"
+e = vdb.Vec3SGrid(); e.copyFromArray(emission, tolerance=(0.0, 0.0, 0.0)); e.name = "emission"
+f = vdb.FloatGrid(); f.copyFromArray(density, tolerance=0.0); f.name = "flame"
+for g in (d, e, f):
+    g.transform = vdb.createLinearTransform(voxelSize=0.25)
+vdb.write(sys.argv[1], grids=[d, e, f])
+"#;
+    let out = Command::new("/usr/bin/python3")
+        .args(["-c", script, path.to_str().unwrap()])
+        .output();
+    match out {
+        Ok(o) if o.status.success() => {}
+        Ok(o) if in_ci => panic!("{}", String::from_utf8_lossy(&o.stderr)),
+        Err(e) if in_ci => panic!("{e}"),
+        // A script that runs and fails is a failure; only a missing module skips.
+        Ok(o) if !String::from_utf8_lossy(&o.stderr).contains("No module named") => {
+            panic!("{}", String::from_utf8_lossy(&o.stderr))
+        }
+        Ok(o) => {
+            return skip(&format!(
+                "no pyopenvdb: {}",
+                String::from_utf8_lossy(&o.stderr)
+            ))
+        }
+        Err(e) => return skip(&format!("no /usr/bin/python3: {e}")),
+    }
+    let names = lgh_volume::cache::GridNames {
+        emission: "emission".into(),
+        ..Default::default()
+    };
+    let placement = lgh_volume::cache::Placement::AsWritten;
+    let frames = lgh_volume::cache::load(std::slice::from_ref(&path), &names, placement).unwrap();
+    let v = &frames[0];
+    let colour = v.colour.as_deref().expect("an RGB emission");
+    // Blender's `flame` is in the file and found by default, but it scales a blackbody: unused.
+    assert!(v.flame.is_none());
+    let d = &v.density;
+    let mut lit = 0;
+    for k in 0..d.dims[2] {
+        for j in 0..d.dims[1] {
+            for i in 0..d.dims[0] {
+                // The dense box starts at the first active voxel, index (0, 0, 0) here.
+                let p = d.centre(i, j, k) / 0.25;
+                let [a, b, c] = [p.x, p.y, p.z].map(|x| x.round() as usize);
+                let want = if (1..=4).contains(&a) && (1..=4).contains(&b) && (1..=4).contains(&c) {
+                    [a as f32 + 0.5, 0.25 * b as f32, 0.125 * c as f32]
+                } else {
+                    [0.0; 3]
+                };
+                let got = [0, 1, 2].map(|ch| colour[ch].get(i, j, k));
+                assert_eq!(got, want, "voxel ({a}, {b}, {c})");
+                assert_eq!(
+                    v.temperature.get(i, j, k),
+                    want[0].max(want[1]).max(want[2])
+                );
+                lit += usize::from(want[0] > 0.0);
+            }
+        }
+    }
+    assert_eq!(lit, 64);
+    let named = lgh_volume::cache::GridNames {
+        flame: Some("flame".into()),
+        flame_required: true,
+        ..names
+    };
+    let err = lgh_volume::cache::load(&[path], &named, placement).unwrap_err();
+    assert!(err.to_string().contains("RGB (vec3) emission"), "{err}");
+}

@@ -53,7 +53,17 @@ pub enum ReadError {
         /// The reference grid's file.
         reference_path: PathBuf,
     },
-    /// A grid is not scalar.
+    /// A flame grid was named (`--flame-grid`) with an RGB emission grid, which it cannot
+    /// scale: the flame factor scales the blackbody.
+    FlameWithColour {
+        /// The file.
+        path: PathBuf,
+        /// The flame grid named.
+        flame: String,
+        /// The vec3 emission grid.
+        emission: String,
+    },
+    /// A grid is not scalar (density, flame), or the emission neither scalar nor vec3.
     NotScalar {
         /// The file.
         path: PathBuf,
@@ -136,13 +146,24 @@ impl fmt::Display for ReadError {
                 path.display(),
                 reference_path.display()
             ),
+            E::FlameWithColour {
+                path,
+                flame,
+                emission,
+            } => write!(
+                f,
+                "{}: '{emission}' is an RGB (vec3) emission grid, read as it is; the flame grid \
+                 '{flame}' scales a blackbody emission and cannot scale it: leave --flame-grid \
+                 out (or give none)",
+                path.display()
+            ),
             E::NotScalar {
                 path,
                 grid,
                 value_type,
             } => write!(
                 f,
-                "{}: grid '{grid}' is a {value_type} grid; density, emission and flame must be scalar",
+                "{}: grid '{grid}' is a {value_type} grid; density and flame must be scalar, emission scalar or vec3 (RGB)",
                 path.display()
             ),
             E::NoActiveVoxels => write!(f, "the frames have no active voxels"),

@@ -45,6 +45,12 @@ pub enum RenderError {
         /// Index of the frame in the sequence.
         frame: Option<usize>,
     },
+    /// A frame's RGB emission grids ([`Volume::colour`](crate::Volume::colour)) are not all on
+    /// the temperature's layout.
+    ColourOffGrid {
+        /// Index of the frame in the sequence.
+        frame: Option<usize>,
+    },
     /// A frame's temperature grid has another layout (dimensions, voxel size, origin) than the
     /// sequence's first frame (`frame: Some`) or than the lights (`frame: None`).
     FrameOffGrid {
@@ -143,6 +149,14 @@ impl fmt::Display for RenderError {
             E::FlameOffGrid { frame: None } => {
                 write!(f, "the flame grid is on another grid than the temperature")
             }
+            E::ColourOffGrid { frame: Some(i) } => write!(
+                f,
+                "frame {i}: the RGB emission's channels are not on one grid with its temperature"
+            ),
+            E::ColourOffGrid { frame: None } => write!(
+                f,
+                "the RGB emission's channels are not on one grid with the temperature"
+            ),
             E::FrameOffGrid { frame: Some(i) } => write!(
                 f,
                 "frame {i}'s temperature is on another grid than frame 0's: a sequence's lights \
