@@ -80,7 +80,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
     args.scene.check()?;
     let march = args
         .march
-        .settings(crate::demo::DEMO_SHADOW_STEP, &ScatterArgs::default())?;
+        .settings(crate::demo::DEMO_DEFAULTS, &ScatterArgs::default())?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());

@@ -10,7 +10,7 @@ use lgh_volume::cache::{self, GridNames};
 use lgh_volume::medium::{grow_framing, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
-use lgh_volume::{ExplosionLights, FrameRender, Method};
+use lgh_volume::{ExplosionLights, FrameRender, Method, Shadows};
 
 use clap::ArgMatches;
 
@@ -241,6 +241,12 @@ fn frame_out(out: &Path, frame: Option<u32>) -> PathBuf {
 }
 
 /// The flags a farm task may give beside `--manifest`; every other setting is the manifest's.
+/// `lgh explosion`'s default shadows and shadow step: every light shadowed as what it stands
+/// for (`volumes`: a coarse light's shadow ray as a point lets through more than its lights'
+/// rays do, +3.4% on the explosion's first scattered depth at α = 2 against brute force; as
+/// volume lights +0.7%), in one-voxel steps.
+const EXPLOSION_DEFAULTS: (Shadows, f32) = (Shadows::Volumes, 1.0);
+
 const TASK_FLAGS: [&str; 4] = ["manifest", "frames", "resume", "quiet"];
 /// Flags that are not settings of the render, so not kept in a manifest's `settings`: where
 /// the frames are and which to render (the manifest's `files`), where the manifest is.
@@ -331,9 +337,7 @@ impl Setup {
         crate::check_alpha(args.alpha)?;
         lgh_volume::render::check_image_size(args.width, args.height)?;
         output::check_out(args.out()?)?;
-        let march = args
-            .march
-            .settings(MarchSettings::default().shadow_step_voxels, &args.scatter())?;
+        let march = args.march.settings(EXPLOSION_DEFAULTS, &args.scatter())?;
         if args.backend == BackendArg::Pathtrace && args.scene.is_some() {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }

@@ -707,6 +707,8 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_pixel_centres()
     let get = render(&[]);
     assert_eq!(get("lgh:min_temperature"), "0");
     assert_eq!(get("lgh:scatter_stop"), "0.01");
+    // Coarse lights shadowed as the volume lights they stand for (lgh demo keeps raymarch).
+    assert_eq!(get("lgh:shadows"), "volumes");
     assert_eq!(get("lgh:scatter_depth"), "0");
     let share: f64 = get("lgh:scatter_skipped_share").parse().unwrap();
     assert!(share > 0.0 && share < 0.01, "{share}");

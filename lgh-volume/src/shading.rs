@@ -11,7 +11,7 @@ use crate::medium::{Medium, Volume};
 use crate::method::{Method, Prepared};
 use crate::progress::{self, Phase, Progress};
 use crate::settings::MarchSettings;
-use crate::shadow::{Casters, CubeMaps, Shadows, Visibility, VolumeRays};
+use crate::shadow::{Casters, CubeMaps, ShadowGrid, Shadows, Visibility, VolumeRays};
 
 /// A light set's method, visibility and lighting cache for one frame (crate-internal: the light
 /// set itself is held by whoever holds this, a [`FrameRender`](crate::FrameRender) or a
@@ -65,6 +65,11 @@ impl Shading {
             (Prepared::Lgh { blending, .. }, Shadows::RayMarchVolumes) => Visibility::VolumeRays(
                 VolumeRays::new(casters(blending), frame, medium, step, cutoff),
             ),
+            (Prepared::Lgh { blending, .. }, Shadows::Volumes) => Visibility::Volumes {
+                points: ShadowGrid::new(frame, medium, step, cutoff),
+                rays: VolumeRays::new(casters(blending), frame, medium, step, cutoff)
+                    .with_cone_steps(),
+            },
             (_, shadows) => Visibility::new(shadows, frame, medium, step, cutoff),
         };
         let shadow_seconds = t.elapsed().as_secs_f64();

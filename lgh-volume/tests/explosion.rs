@@ -67,7 +67,7 @@ fn bound(shadows: Shadows) -> f64 {
         Shadows::CubeMap => 4.0 * 0.013 + 0.02,
         // Coarse lights as volume lights through the prefiltered density: a cluster's shadow
         // is still not its lights' shadows, allowed as for ray-marched points.
-        Shadows::RayMarchVolumes => 4.0 * 0.013,
+        Shadows::RayMarchVolumes | Shadows::Volumes => 4.0 * 0.013,
     }
 }
 
@@ -96,6 +96,14 @@ fn lgh_matches_brute_force_on_a_procedural_explosion() {
     let shadows = Shadows::RayMarchVolumes;
     let errors = errors_by_alpha(&v, &m, &cam, shadows);
     check(&errors, shadows, "procedural 40³, volume-light shadows");
+    // The same model in cone steps, `lgh explosion`'s default.
+    let shadows = Shadows::Volumes;
+    let errors = errors_by_alpha(&v, &m, &cam, shadows);
+    check(
+        &errors,
+        shadows,
+        "procedural 40³, volume-light shadows in cone steps",
+    );
 }
 
 #[test]

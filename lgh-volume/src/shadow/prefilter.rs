@@ -131,6 +131,18 @@ impl DensityPyramid {
         }
     }
 
+    /// [`sample`](Self::sample) from the one level whose width is nearer `width` (in linear
+    /// scale: level `m` below `1.5 · 2^m h`): one lookup instead of two, the filter's width
+    /// rounded to a power of two of the voxel's.
+    #[inline]
+    #[must_use]
+    pub fn sample_nearest(&self, p: Vec3, width: f32) -> f32 {
+        match self.mix(width) {
+            Mix::One(m) => self.at(m, p),
+            Mix::Two(m, t) => self.at(if t < 0.5 { m } else { m + 1 }, p),
+        }
+    }
+
     /// Which levels a lookup at `width` reads, and how much of the coarser one.
     #[inline]
     pub(super) fn mix(&self, width: f32) -> Mix {

@@ -39,7 +39,14 @@ pub struct VolumeRays {
     tau_cut: f32,
     /// Per level: `r_ℓ` and every light's size `s_ℓi`.
     levels: Vec<(f32, Vec<f32>)>,
+    /// Steps that widen with the filter ([`with_cone_steps`](Self::with_cone_steps)).
+    cone: bool,
 }
+
+/// The cone steps' step as a share of the filter's width: the density prefiltered at width
+/// `δ` has no detail finer than `δ`, so two midpoint samples per width integrate it closely
+/// (measured against uniform steps in the tests below).
+pub const CONE_STEP: f32 = 0.5;
 
 impl VolumeRays {
     /// The reference for the maps [`CubeMaps::build`](super::CubeMaps::build) would make of
@@ -97,7 +104,40 @@ impl VolumeRays {
             // e^{−τ} < cutoff ⇔ τ > −ln cutoff.
             tau_cut: -cutoff.max(f32::MIN_POSITIVE).ln(),
             levels,
+            cone: false,
         }
+    }
+
+    /// The same rays marched in steps that widen with the filter: `max(step, CONE_STEP · δ(d))`
+    /// ([`CONE_STEP`]), `δ(d)` eq. 6's width at the distance `d` from the light's centre. Near a
+    /// coarse light its prefiltered density is smooth over the light's size `s_ℓi`, and the
+    /// steps are as long; they shorten to the plain step towards the shading point. A level-ℓ
+    /// ray of length `r_ℓ` then takes about `2 r_ℓ ln(s/h_0)/(s − h_0)` samples instead of
+    /// `r_ℓ/step`: 8 instead of 16 at level 3 with α = 2 and one-voxel steps, 14 instead of 64
+    /// at level 5. Lights with no spread (level 0, points) march as before.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    /// use lgh_volume::shadow::{Casters, VolumeRays};
+    /// use lgh_volume::{procedural, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let light = PointLight::new(Vec3::new(0.0, 0.0, 0.9), Vec3::ONE);
+    /// let lgh = LightingGridHierarchy::build(&[light], &GridSettings::default())?;
+    /// let blending = lgh.blending(2.0)?;
+    /// let rays = VolumeRays::new(Casters::new(&lgh, &blending), &volume, &medium, 0.5, 1e-3);
+    /// let cone = rays.clone().with_cone_steps();
+    /// let x = Vec3::new(0.0, 0.0, -0.9);
+    /// // A level-0 light has no spread: the same march.
+    /// assert_eq!(cone.transmittance(x, 0, 0, light.position), rays.transmittance(x, 0, 0, light.position));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn with_cone_steps(mut self) -> Self {
+        self.cone = true;
+        self
     }
 
     /// Transmittance `e^{−τ}` from light `index` of `level`, centred at `centre`, to `x`: `τ`
@@ -142,6 +182,10 @@ impl VolumeRays {
             return (1.0, 0);
         }
         let dir = v / dist;
+        if self.cone && self.prefilter && s > self.h0 {
+            let (tau, samples) = self.march_cone(centre, dir, dist, s, *r);
+            return (transmittance(tau, self.tau_cut), samples);
+        }
         // At most ~10⁶ steps (a ray across a 512³ box in 0.01-voxel steps is 8.9·10⁴).
         let n = (dist / self.step).ceil().clamp(1.0, 1e6) as u32;
         let dt = dist / n as f32;
@@ -161,7 +205,77 @@ impl VolumeRays {
         }
         ((-tau).exp(), samples)
     }
+
+    /// [`march`](Self::march) from `centre` along `dir` for `dist`, for a light of size `s` and
+    /// radius `r`, in the cone steps of [`with_cone_steps`](Self::with_cone_steps): each step
+    /// `max(step, CONE_STEP · δ)` with `δ` the width at its start (the width shrinks along the
+    /// ray, so a step never spans more than it resolves), sampled at its midpoint.
+    /// Returns the optical depth (∞ once past the cut-off) and the samples taken.
+    fn march_cone(&self, centre: Vec3, dir: Vec3, dist: f32, s: f32, r: f32) -> (f32, u32) {
+        // As many steps as the uniform march at most (its 10⁶ cap included).
+        let least = self.step.max(dist / 1e6);
+        let (mut d, mut tau, mut samples) = (0.0f32, 0.0f32, 0u32);
+        while d < dist {
+            let wide = CONE_STEP * filter_width(true, d, s, r, self.h0);
+            let dt = wide.max(least).min(dist - d);
+            let mid = d + 0.5 * dt;
+            let y = centre + dir * mid;
+            d += dt;
+            if !super::in_box(y, self.lo, self.hi) {
+                continue;
+            }
+            let width = filter_width(true, mid, s, r, self.h0);
+            tau += self.kappa * self.pyramid.sample_nearest(y, width) * dt;
+            samples += 1;
+            if tau > self.tau_cut {
+                return (f32::INFINITY, samples);
+            }
+        }
+        (tau, samples)
+    }
+
+    /// The part of light `index` of `level`'s ray to `x` that reads the prefiltered density, in
+    /// cone steps: from the light's centre to `r_ℓ` along the ray (the whole ray if `x` is
+    /// nearer), where eq. 6's width falls to the plain density's. Returns its optical depth (∞
+    /// past the cut-off), the point where the rest of the ray — plain density from there to
+    /// `x` — starts (the centre itself for a light without spread), and the samples taken.
+    /// [`Shadows::Volumes`](super::Shadows::Volumes) marches the rest as a point light's ray,
+    /// eight abreast.
+    #[must_use]
+    pub fn spread_part(&self, x: Vec3, level: u8, index: u32, centre: Vec3) -> (f32, Vec3, u32) {
+        let spread = self
+            .levels
+            .get(level as usize)
+            .and_then(|(r, sizes)| Some((*r, *sizes.get(index as usize)?)));
+        let v = x - centre;
+        let dist = v.length();
+        // Beyond the distance where eq. 6's width falls to 1.5 h_0, the nearest level is the
+        // plain density: the rest of the ray is a point light's.
+        let plain_from = |r: f32, s: f32| r * (s - 1.5 * self.h0) / (s - self.h0);
+        match spread {
+            Some((r, s))
+                if self.prefilter && s > 1.5 * self.h0 && dist > 0.0 && dist.is_finite() =>
+            {
+                let dir = v / dist;
+                let end = dist.min(plain_from(r, s));
+                let (tau, samples) = self.march_cone(centre, dir, end, s, r);
+                (tau, centre + dir * end, samples)
+            }
+            _ => (0.0, centre, 0),
+        }
+    }
 }
+
+/// `e^{−τ}`, 0 past the cut-off `tau_cut`.
+fn transmittance(tau: f32, tau_cut: f32) -> f32 {
+    if tau > tau_cut {
+        0.0
+    } else {
+        (-tau).exp()
+    }
+}
+
+impl VolumeRays {}
 
 #[cfg(test)]
 mod tests {
