@@ -16,7 +16,7 @@ use lgh_volume::{
     explosion, ExplosionLights, FrameRender, Medium, Method, RenderError, Shadows, Volume,
 };
 
-use crate::output::{self, MarchArgs, Rendered, ScatterArgs};
+use crate::output::{self, MarchArgs, PixelSamplesArg, Rendered, ScatterArgs};
 use crate::progress::Bars;
 
 /// Arguments of `lgh demo`.
@@ -127,8 +127,16 @@ pub fn demo_medium() -> Medium {
 pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     args.scene.check()?;
     output::check_out(&args.out)?;
-    let march = args.march.settings(DEMO_DEFAULTS, &args.scatter)?;
+    let mut march = args.march.settings(DEMO_DEFAULTS, &args.scatter)?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
+    let (lo, hi) = framing_bounds(&[&scene.volume]).expect("one frame");
+    let voxel = scene.volume.density.voxel_size;
+    march.pixel_samples = args.march.pixel_samples_for(
+        PixelSamplesArg::Fixed(1),
+        &scene.camera,
+        0.5 * (lo + hi),
+        voxel,
+    );
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The ground under the explosion, where its smoke ends, so that its light falls on

@@ -16,7 +16,7 @@ use clap::ArgMatches;
 
 use crate::dark;
 use crate::manifest::{self, FrameFile, Manifest, SceneFile};
-use crate::output::{self, DepthArg, MarchArgs, Rendered, ScatterArgs};
+use crate::output::{self, DepthArg, MarchArgs, PixelSamplesArg, Rendered, ScatterArgs};
 use crate::progress::{self, Bars};
 use crate::room::Room;
 
@@ -700,6 +700,18 @@ impl Frames<'_> {
     /// Renders the frames `which` (indices into the manifest's files).
     fn render(mut self, which: std::ops::Range<usize>) -> Result<(), crate::Error> {
         let camera = self.camera()?;
+        // The rays a pixel side, from the image's and the voxels' sizes with `auto` (the
+        // default): one resolution for the whole sequence.
+        let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
+        let march = MarchSettings {
+            pixel_samples: self.args.march.pixel_samples_for(
+                PixelSamplesArg::Auto,
+                &camera,
+                0.5 * (lo + hi),
+                self.seq.voxel_size(),
+            ),
+            ..self.setup.march
+        };
         self.announce(which.len())?;
         let digest = self.manifest.digest();
         for n in which {
@@ -709,7 +721,7 @@ impl Frames<'_> {
                 continue;
             }
             let volume = self.volume(n)?;
-            self.render_frame(n, &volume, &camera, &out)?;
+            self.render_frame(n, &volume, (&camera, &march), &out)?;
         }
         Ok(())
     }
@@ -796,7 +808,7 @@ impl Frames<'_> {
         &mut self,
         n: usize,
         volume: &Volume,
-        camera: &Camera,
+        (camera, march): (&Camera, &MarchSettings),
         out: &Path,
     ) -> Result<(), crate::Error> {
         let (args, setup) = (self.args, self.setup);
@@ -820,7 +832,7 @@ impl Frames<'_> {
         let method = args.backend.method(args.alpha, file.frame);
         let (rendered, frame) = match (&self.lights, method) {
             (Some(lights), Some(method)) => {
-                let (medium, march) = (&setup.medium, &setup.march);
+                let medium = &setup.medium;
                 let mut frame = FrameRender::new(lights, method, volume, medium, march, &bars)?;
                 if let Some(room) = &self.room {
                     frame = frame.with_surfaces(room);
@@ -831,7 +843,7 @@ impl Frames<'_> {
             }
             _ => (self.path_trace(volume, camera, &bars)?, None),
         };
-        let png = rendered.write(out, &setup.march, args.backend.name(), extra)?;
+        let png = rendered.write(out, march, args.backend.name(), extra)?;
         let mut work = rendered.stats.map_or(String::new(), |st| {
             format!(", {:.1} lights per shading point", st.lights_per_point())
         });

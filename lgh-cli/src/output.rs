@@ -111,6 +111,20 @@ fn parse_auto<T: std::str::FromStr>(s: &str, unit: &str) -> Result<Option<T>, St
         .map_err(|_| format!("expected auto or a number of {unit}, not '{s}'"))
 }
 
+/// `--pixel-samples`: rays a pixel side, or `auto` (from the image's and the voxels' sizes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelSamplesArg {
+    /// This many rays a side.
+    Fixed(usize),
+    /// [`lgh_volume::render::auto_pixel_samples`].
+    Auto,
+}
+
+/// `auto` or a number of rays a pixel side.
+fn parse_pixel_samples(s: &str) -> Result<PixelSamplesArg, String> {
+    Ok(parse_auto(s, "rays a pixel side")?.map_or(PixelSamplesArg::Auto, PixelSamplesArg::Fixed))
+}
+
 /// `auto` or a number of voxels.
 fn parse_spacing(s: &str) -> Result<SpacingArg, String> {
     Ok(parse_auto(s, "voxels")?.map_or(SpacingArg::Auto, SpacingArg::Voxels))
@@ -243,14 +257,34 @@ pub struct MarchArgs {
     /// Camera rays per side of a pixel, 1 to 8: N×N rays through the centres of N×N sub-pixels,
     /// averaged — a one-pixel box filter (Cycles' "Box" filter, width 1), without noise; 1 is
     /// the pixel's centre. The render costs about N² times as much; the passes before it do not
-    /// change.
-    #[arg(long, default_value_t = 1, value_name = "N")]
-    pub pixel_samples: usize,
+    /// change. `auto`: the fewest (at most 4) for which a sub-pixel covers at most 3/4 of a
+    /// voxel at the volume's centre (1 where the image resolves the voxels) [default: auto for
+    /// lgh explosion, 1 for lgh demo]
+    #[arg(long, value_name = "N", value_parser = parse_pixel_samples)]
+    pub pixel_samples: Option<PixelSamplesArg>,
     #[command(flatten)]
     pub cache: CacheArgs,
 }
 
 impl MarchArgs {
+    /// The rays a pixel side for `camera` looking at a volume centred at `centre` with voxels
+    /// of `voxel_size`: `--pixel-samples`, or `default` where it was not given; `auto`
+    /// resolved by [`lgh_volume::render::auto_pixel_samples`].
+    pub fn pixel_samples_for(
+        &self,
+        default: PixelSamplesArg,
+        camera: &lgh_volume::render::Camera,
+        centre: lgh_volume::lgh_core::glam::Vec3,
+        voxel_size: f32,
+    ) -> usize {
+        match self.pixel_samples.unwrap_or(default) {
+            PixelSamplesArg::Fixed(n) => n,
+            PixelSamplesArg::Auto => {
+                lgh_volume::render::auto_pixel_samples(camera, centre, voxel_size)
+            }
+        }
+    }
+
     /// How coarse lights cast shadows (`--point-shadows`), a variant of the lights.
     pub fn coarse_shadows(&self) -> CoarseShadows {
         if self.point_shadows {
@@ -283,10 +317,14 @@ impl MarchArgs {
             )
             .into());
         }
-        if !(1..=lgh_volume::render::MAX_PIXEL_SAMPLES).contains(&self.pixel_samples) {
+        let pixel_samples = match self.pixel_samples {
+            Some(PixelSamplesArg::Fixed(n)) => n,
+            // Resolved with the camera (`pixel_samples_for`).
+            _ => 1,
+        };
+        if !(1..=lgh_volume::render::MAX_PIXEL_SAMPLES).contains(&pixel_samples) {
             return Err(format!(
-                "--pixel-samples {} must be 1 to {} (camera rays a pixel side)",
-                self.pixel_samples,
+                "--pixel-samples {pixel_samples} must be 1 to {} (camera rays a pixel side) or auto",
                 lgh_volume::render::MAX_PIXEL_SAMPLES
             )
             .into());
@@ -312,7 +350,7 @@ impl MarchArgs {
                 memory_budget: budget,
             },
             lighting_cache: self.cache.settings(),
-            pixel_samples: self.pixel_samples,
+            pixel_samples,
             ..Default::default()
         };
         settings.check()?;

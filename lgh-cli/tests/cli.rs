@@ -678,7 +678,7 @@ fn explosion_renders_a_sequence_of_the_real_cache() {
 }
 
 #[test]
-fn explosion_defaults_are_blenders_model_multiple_scattering_and_pixel_centres() {
+fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samples() {
     let Some(f56) = fire_frame(56) else { return };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("f.exr");
@@ -709,6 +709,9 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_pixel_centres()
     assert_eq!(get("lgh:scatter_stop"), "0.01");
     // Coarse lights shadowed as the volume lights they stand for (lgh demo keeps raymarch).
     assert_eq!(get("lgh:shadows"), "volumes");
+    // Rays a pixel from the image's and the voxels' sizes: 8 × 6 pixels over the fire's 81
+    // voxels are ~10 voxels a pixel, so the most `auto` takes, 4 a side.
+    assert_eq!(get("lgh:pixel_samples"), "4");
     assert_eq!(get("lgh:scatter_depth"), "0");
     let share: f64 = get("lgh:scatter_skipped_share").parse().unwrap();
     assert!(share > 0.0 && share < 0.01, "{share}");

@@ -26,7 +26,9 @@ use crate::shadow::Visibility;
 use crate::surfaces::{SurfaceHit, Surfaces};
 
 pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
-pub use crate::settings::{MarchSettings, MAX_PIXEL_SAMPLES};
+pub use crate::settings::{
+    auto_pixel_samples, MarchSettings, AUTO_SUBPIXEL_VOXELS, MAX_PIXEL_SAMPLES,
+};
 pub use crate::stats::RenderStats;
 
 /// A frame ready to march: the volume, its medium, the checked settings and the visibility they
