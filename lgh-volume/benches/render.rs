@@ -4,7 +4,8 @@
 //! per-frame light update of a sequence; and shadow rays alone, one by one and together, through
 //! the demo's 128³ volume; and the deep-shadow cube maps (paper Sec. 4) of the demo's explosion
 //! at 64³: traced, and looked up for the lights a render asks about, against ray-marched shadow
-//! rays to the same lights.
+//! rays to the same lights, as points, as volume lights in uniform steps (the maps' reference)
+//! and as volume lights in cone steps (`--shadows volumes`).
 //! `lgh bench explosion` measures the large scenes and the errors; these are the quick,
 //! statistically careful timings.
 
@@ -13,7 +14,9 @@ use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::lgh_core::random::SplitMix64;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
-use lgh_volume::shadow::{Casters, CubeMapSettings, CubeMaps, ShadowGrid};
+use lgh_volume::shadow::{
+    Casters, CubeMapSettings, CubeMaps, ShadowGrid, ShadowQuery, Visibility, VolumeRays,
+};
 use lgh_volume::{explosion, procedural, ExplosionLights, FrameRender, Medium, Method};
 
 fn renders(c: &mut Criterion) {
@@ -182,6 +185,41 @@ fn cube_maps(c: &mut Criterion) {
             let mut sum = 0.0f32;
             for (x, centres, _) in &queries {
                 grid.transmittances(*x, centres, &mut out);
+                sum += out.iter().sum::<f32>();
+            }
+            sum
+        })
+    });
+    // Coarse lights as volume lights (eq. 6), ray-marched in the maps' step: uniform steps
+    // (the maps' reference) and cone steps with the plain rest eight abreast (`volumes`).
+    let rays = VolumeRays::new(Casters::new(lgh, &blending), &volume, &medium, 2.0, 1e-3);
+    g.bench_function("volume_rays_200_points", |b| {
+        b.iter(|| {
+            let mut sum = 0.0f32;
+            for (x, centres, ids) in &queries {
+                rays.transmittances(*x, centres, ids, &mut out);
+                sum += out.iter().sum::<f32>();
+            }
+            sum
+        })
+    });
+    let volumes = Visibility::Volumes {
+        points: ShadowGrid::new(&volume, &medium, 2.0, 1e-3),
+        rays: rays.clone().with_cone_steps(),
+    };
+    let shadow_queries: Vec<(Vec3, ShadowQuery)> = queries
+        .iter()
+        .map(|(x, _, _)| {
+            let mut q = ShadowQuery::default();
+            lgh.query(*x, &blending, |l| q.push(l)).unwrap();
+            (*x, q)
+        })
+        .collect();
+    g.bench_function("volumes_200_points", |b| {
+        b.iter(|| {
+            let mut sum = 0.0f32;
+            for (x, q) in &shadow_queries {
+                volumes.transmittances(*x, q, &mut out);
                 sum += out.iter().sum::<f32>();
             }
             sum

@@ -65,10 +65,14 @@ CAMERA = "0,-4,0,0,0,0,40"
 # lgh's settings under test: name -> extra arguments of `lgh explosion`.
 LGH_SETTINGS = {
     # lgh explosion's defaults (Blender's model without a temperature cut-off, multiple
-    # scattering until a depth adds less than 1%, voxel lights, the lighting cache).
+    # scattering until a depth adds less than 1%, voxel lights, coarse lights' shadows as
+    # volume lights, the lighting cache, rays a pixel by --pixel-samples auto).
     "default": [],
     # The same with a 2x2 box filter over each pixel, as Cycles' one-pixel box.
     "box2": ["--pixel-samples", "2"],
+    # The defaults before coarse lights were shadowed as volume lights and pixels box-filtered
+    # by default: coarse lights' shadows as points, pixel centres.
+    "points": ["--shadows", "raymarch", "--pixel-samples", "1"],
     # Slower and closer: depths down to 0.1%, every light at every sample, half-voxel steps.
     "fine": ["--scatter-stop", "0.001", "--lighting-cache", "none", "--step", "0.5"],
     # Single scattering, as lgh explosion rendered by default before.
