@@ -52,6 +52,24 @@ impl DenseGrid {
         self.origin + Vec3::new(i as f32, j as f32, k as f32) * self.voxel_size
     }
 
+    /// Whether `other` has this grid's layout (dimensions, voxel size, origin): grids whose
+    /// voxels are the same places, as a sequence's frames and a frame's grids must be.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::DenseGrid;
+    ///
+    /// let a = DenseGrid::zeros([2, 3, 4], 0.5, Vec3::ZERO);
+    /// assert!(a.same_layout(&DenseGrid::zeros([2, 3, 4], 0.5, Vec3::ZERO)));
+    /// assert!(!a.same_layout(&DenseGrid::zeros([2, 3, 4], 0.5, Vec3::X)));
+    /// ```
+    #[must_use]
+    pub fn same_layout(&self, other: &DenseGrid) -> bool {
+        self.dims == other.dims
+            && self.voxel_size == other.voxel_size
+            && self.origin == other.origin
+    }
+
     /// World-space box covered by the voxels (their outer faces).
     #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {

@@ -73,21 +73,15 @@ fn layout_of(grid: &DenseGrid) -> DenseGrid {
     }
 }
 
-/// Whether two grids have one layout (dimensions, voxel size, origin): what keeps the lights'
-/// positions fixed over a sequence.
-pub(crate) fn same_layout(a: &DenseGrid, b: &DenseGrid) -> bool {
-    a.dims == b.dims && a.voxel_size == b.voxel_size && a.origin == b.origin
-}
-
 /// Whether `frame`'s flame and RGB emission grids lie on its temperature's layout (`frame`:
 /// its index in a sequence, for the error).
 fn check_factors(frame: &Volume, index: Option<usize>) -> Result<(), RenderError> {
     let t = &frame.temperature;
-    if frame.flame.as_ref().is_some_and(|f| !same_layout(f, t)) {
+    if frame.flame.as_ref().is_some_and(|f| !f.same_layout(t)) {
         return Err(RenderError::FlameOffGrid { frame: index });
     }
     if let Some(colour) = frame.colour.as_deref() {
-        if colour.iter().any(|c| !same_layout(c, t)) {
+        if colour.iter().any(|c| !c.same_layout(t)) {
             return Err(RenderError::ColourOffGrid { frame: index });
         }
     }
@@ -124,7 +118,7 @@ impl ExplosionLights {
                 let t = &f.temperature;
                 (layout_of(t), vec![false; t.data.len()])
             });
-            if !same_layout(grid, &f.temperature) {
+            if !grid.same_layout(&f.temperature) {
                 return Err(RenderError::FrameOffGrid { frame: Some(i) });
             }
             for (v, h) in hot.iter_mut().enumerate() {

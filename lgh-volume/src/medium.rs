@@ -62,7 +62,7 @@ impl Volume {
     /// ```
     pub fn with_colour(density: DenseGrid, colour: [DenseGrid; 3]) -> Result<Self, RenderError> {
         let [r, g, b] = &colour;
-        if !(crate::lights::same_layout(r, g) && crate::lights::same_layout(r, b)) {
+        if !(r.same_layout(g) && r.same_layout(b)) {
             return Err(RenderError::ColourOffGrid { frame: None });
         }
         Ok(Volume::coloured(density, colour))

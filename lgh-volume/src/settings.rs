@@ -43,7 +43,7 @@ pub const AUTO_SUBPIXEL_VOXELS: f32 = 0.75;
 /// ```
 #[must_use]
 pub fn auto_pixel_samples(
-    camera: &crate::render::Camera,
+    camera: &crate::camera::Camera,
     centre: lgh_core::glam::Vec3,
     voxel_size: f32,
 ) -> usize {

@@ -175,15 +175,19 @@ class Runner:
         if key in self.results and os.path.exists(out):
             return self.results[key]
         s = self.scene_args(scene)
-        cmd = [self.a.blender, "-b", "--factory-startup", "--python",
-               os.path.join(HERE, "render_cycles.py"), "--",
-               "--vdb", vdb, "--out", out, "--spp", str(spp), "--seed", str(seed),
-               "--width", str(width), "--height", str(height), "--threads",
-               str(self.a.threads), "--camera", s["camera"],
-               "--density-scale", str(MEDIUM["density_scale"]),
-               "--albedo", str(MEDIUM["albedo"]),
-               "--temperature-scale", str(s["temperature_scale"]),
-               "--bounces", str(self.a.bounces)]
+        script = os.path.join(HERE, "render_cycles.py")
+        if self.a.bpy:
+            # Blender as a Python module (PyPI's bpy): the script runs in that Python.
+            cmd = [self.a.bpy, script, "--"]
+        else:
+            cmd = [self.a.blender, "-b", "--factory-startup", "--python", script, "--"]
+        cmd += ["--vdb", vdb, "--out", out, "--spp", str(spp), "--seed", str(seed),
+                "--width", str(width), "--height", str(height), "--threads",
+                str(self.a.threads), "--camera", s["camera"],
+                "--density-scale", str(MEDIUM["density_scale"]),
+                "--albedo", str(MEDIUM["albedo"]),
+                "--temperature-scale", str(s["temperature_scale"]),
+                "--bounces", str(self.a.bounces)]
         if s["flame"]:
             cmd.append("--flame")
         if self.a.shift_half_voxel:
@@ -278,6 +282,9 @@ def main():
     p.add_argument("--scenes", default="fireball64,explosion128,fire56")
     p.add_argument("--work", default="cycles-compare")
     p.add_argument("--blender", default=shutil.which("blender") or "blender")
+    p.add_argument("--bpy", default=None,
+                   help="a Python with PyPI's bpy (Blender as a module, e.g. 5.2.3 under Python "
+                        "3.13): Cycles runs there instead of --blender")
     p.add_argument("--lgh", default=os.path.join(ROOT, "target/release/lgh"))
     p.add_argument("--export-grids",
                    default=os.path.join(ROOT, "target/release/examples/export_grids"))
@@ -301,7 +308,9 @@ def main():
     global LGH
     LGH = a.lgh
     if a.shift_half_voxel is False:
-        v = subprocess.run([a.blender, "--version"], stdout=subprocess.PIPE, text=True).stdout
+        ask = ([a.bpy, "-c", "import bpy; print('Blender', bpy.app.version_string)"] if a.bpy
+               else [a.blender, "--version"])
+        v = subprocess.run(ask, stdout=subprocess.PIPE, text=True).stdout
         m = re.search(r"Blender (\d+)\.", v)
         if m and int(m.group(1)) < 4:
             log(f"Blender {m.group(1)}.x: shifting the volume by half a voxel (OpenVDB's placement)")
