@@ -90,8 +90,17 @@ def main():
     vol.materials.append(mat)
 
     world = bpy.data.worlds.new("black")
-    world.use_nodes = False
     world.color = (0.0, 0.0, 0.0)
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = False
+    else:
+        # Blender 5.x always shades the world with its node tree (a grey Background by
+        # default, which lit the whole image): make its background black.
+        world.use_nodes = True
+        for node in world.node_tree.nodes:
+            if node.type == "BACKGROUND":
+                node.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+                node.inputs["Strength"].default_value = 0.0
     scene.world = world
 
     c = [float(v) for v in a.camera.split(",")]
