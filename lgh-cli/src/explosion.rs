@@ -7,7 +7,7 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_core::{LightcutsSettings, Representative};
 use lgh_volume::cache::{self, GridNames};
-use lgh_volume::medium::{grow_framing, EmissionModel, Medium, Volume};
+use lgh_volume::medium::{grow_framing, EmissionInterpolation, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::{ExplosionLights, FrameRender, Method, Shadows};
@@ -69,6 +69,15 @@ impl BackendArg {
     }
 }
 
+/// How the emission between voxels follows the grids (`--emission-interpolation`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum InterpolationArg {
+    /// The emission of the interpolated temperature (Cycles 3.x).
+    Temperature,
+    /// Each grid interpolated on its own (Cycles 4.x and later).
+    Attributes,
+}
+
 /// How emission follows the temperature grid (`--emission-model`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ModelArg {
@@ -119,6 +128,12 @@ pub struct ExplosionArgs {
     /// Emission model.
     #[arg(long, value_enum, default_value_t = ModelArg::Blender)]
     pub emission_model: ModelArg,
+    /// How the emission between voxel centres follows the grids: `temperature`, the emission of
+    /// the interpolated temperature (Cycles 3.x), or `attributes`, each grid interpolated on its
+    /// own — the voxels' emission interpolated, times the interpolated flame (Cycles 4.x and
+    /// later; 6% brighter on the dev fire's thin flames)
+    #[arg(long, value_enum, default_value_t = InterpolationArg::Temperature)]
+    pub emission_interpolation: InterpolationArg,
     /// Kelvin per unit of the emission grid (Blender's Principled Volume temperature: 1000).
     #[arg(long, default_value_t = 1000.0)]
     pub temperature_scale: f32,
@@ -379,7 +394,11 @@ impl Setup {
             args.min_temperature(),
         )?
         .with_temperature_scale(args.temperature_scale)?
-        .with_model(model);
+        .with_model(model)
+        .with_interpolation(match args.emission_interpolation {
+            InterpolationArg::Temperature => EmissionInterpolation::Temperature,
+            InterpolationArg::Attributes => EmissionInterpolation::Attributes,
+        });
         let names = GridNames {
             density: args.density_grid.clone(),
             emission: args.emission_grid.clone(),
@@ -909,6 +928,10 @@ impl Frames<'_> {
             (
                 "emission_model",
                 format!("{:?}", args.emission_model).to_lowercase(),
+            ),
+            (
+                "emission_interpolation",
+                format!("{:?}", args.emission_interpolation).to_lowercase(),
             ),
             ("temperature_scale", args.temperature_scale.to_string()),
             ("emission_scale", args.emission_scale.to_string()),

@@ -709,6 +709,8 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert_eq!(get("lgh:scatter_stop"), "0.01");
     // Coarse lights shadowed as the volume lights they stand for (lgh demo keeps raymarch).
     assert_eq!(get("lgh:shadows"), "volumes");
+    // The emission of the interpolated temperature (Cycles 3.x) unless asked otherwise.
+    assert_eq!(get("lgh:emission_interpolation"), "temperature");
     // Rays a pixel from the image's and the voxels' sizes: 8 × 6 pixels over the fire's 81
     // voxels are ~10 voxels a pixel, so the most `auto` takes, 4 a side.
     assert_eq!(get("lgh:pixel_samples"), "4");
@@ -720,6 +722,8 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert!(get("lgh:scatter_depth").parse::<usize>().unwrap() >= 1);
     // Planck's model keeps its 800 K; a depth given is kept; the path tracer scatters by
     // --max-scatter, not by depths.
+    let get = render(&["--scatter-depth", "0", "--emission-interpolation", "attributes"]);
+    assert_eq!(get("lgh:emission_interpolation"), "attributes");
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
     assert_eq!(get("lgh:min_temperature"), "800");
     assert_eq!(get("lgh:scatter_depth"), "0");

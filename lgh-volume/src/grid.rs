@@ -122,6 +122,48 @@ impl DenseGrid {
         self.sample_voxel(u)
     }
 
+    /// The eight voxels [`sample`](Self::sample) interpolates at `p` and their weights (summing
+    /// to 1), or `None` outside the grid (where it gives 0): for interpolating something of the
+    /// voxels' values rather than the values themselves.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::DenseGrid;
+    ///
+    /// let mut g = DenseGrid::zeros([2, 2, 2], 1.0, Vec3::ZERO);
+    /// g.data = (0..8).map(|v| v as f32).collect();
+    /// let p = Vec3::new(0.25, 0.5, 0.75);
+    /// let (idx, w) = g.corners(p).unwrap();
+    /// let by_corners: f32 = (0..8).map(|c| g.data[idx[c]] * w[c]).sum();
+    /// assert!((by_corners - g.sample(p)).abs() < 1e-6);
+    /// assert!(g.corners(Vec3::splat(5.0)).is_none());
+    /// ```
+    #[must_use]
+    pub fn corners(&self, p: Vec3) -> Option<([usize; 8], [f32; 8])> {
+        let u = (p - self.origin) / self.voxel_size;
+        let [nx, ny, nz] = self.dims;
+        let n = Vec3::new(nx as f32, ny as f32, nz as f32);
+        if !(u.cmpge(Vec3::splat(-0.5)).all() && u.cmplt(n - 0.5).all()) {
+            return None;
+        }
+        let t = u.clamp(Vec3::ZERO, n - 1.0);
+        let (i, j, k) = (t.x as usize, t.y as usize, t.z as usize);
+        let w = t - Vec3::new(i as f32, j as f32, k as f32);
+        let next = [
+            usize::from(i + 1 < nx),
+            usize::from(j + 1 < ny),
+            usize::from(k + 1 < nz),
+        ];
+        let (mut idx, mut weight) = ([0usize; 8], [0f32; 8]);
+        for c in 0..8 {
+            let (a, b, e) = (c & 1, (c >> 1) & 1, c >> 2);
+            idx[c] = self.index(i + a * next[0], j + b * next[1], k + e * next[2]);
+            let along = |bit: usize, f: f32| if bit == 1 { f } else { 1.0 - f };
+            weight[c] = along(a, w.x) * along(b, w.y) * along(e, w.z);
+        }
+        Some((idx, weight))
+    }
+
     /// Trilinear interpolation at `u`, in voxel units from the centre of voxel `(0, 0, 0)`,
     /// clamped to the outermost centres: [`sample`](Self::sample) without its bounds test, for
     /// callers that clipped their ray to the grid's bounds already.

@@ -70,6 +70,9 @@ LGH_SETTINGS = {
     "default": [],
     # The same with a 2x2 box filter over each pixel, as Cycles' one-pixel box.
     "box2": ["--pixel-samples", "2"],
+    # The defaults with the emission between voxels as Cycles 4.x and later interpolate it
+    # (each grid on its own): what Cycles 5.2 renders.
+    "attributes": ["--emission-interpolation", "attributes"],
     # The defaults before coarse lights were shadowed as volume lights and pixels box-filtered
     # by default: coarse lights' shadows as points, pixel centres.
     "points": ["--shadows", "raymarch", "--pixel-samples", "1"],
