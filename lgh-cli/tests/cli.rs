@@ -722,7 +722,12 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert!(get("lgh:scatter_depth").parse::<usize>().unwrap() >= 1);
     // Planck's model keeps its 800 K; a depth given is kept; the path tracer scatters by
     // --max-scatter, not by depths.
-    let get = render(&["--scatter-depth", "0", "--emission-interpolation", "attributes"]);
+    let get = render(&[
+        "--scatter-depth",
+        "0",
+        "--emission-interpolation",
+        "attributes",
+    ]);
     assert_eq!(get("lgh:emission_interpolation"), "attributes");
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
     assert_eq!(get("lgh:min_temperature"), "800");

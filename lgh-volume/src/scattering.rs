@@ -721,7 +721,7 @@ fn shade_voxels(
     Ok(stats)
 }
 
-/// Voxels the pilot of a pass's first depth samples, at most ([`Pilot`]).
+/// Voxels the pilot of a pass's first depth samples, at most ([`Scattered::skipped`]).
 pub const PILOT_VOXELS: usize = 4096;
 
 /// The pilot of a pass's first depth under a stopping share (`--scatter-depth auto`): before
