@@ -34,7 +34,7 @@ pub enum ShadowsArg {
     /// Ray-marched, each light as what it stands for: level-0 lights as points (as raymarch),
     /// coarse lights as the volume lights of eq. 6 in steps that widen with the prefilter —
     /// point shadows let more light through a coarse light's one ray than its lights' rays do
-    /// (+3.4% on the explosion's first scattered depth at α 2; these +0.4%). Backends without a
+    /// (+3.3% on the explosion's first scattered depth at α 2; these +0.8%). Backends without a
     /// hierarchy ray-march instead
     #[value(name = "volumes")]
     Volumes,
@@ -498,8 +498,7 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
     }
     if let Some(k) = s.skipped() {
         // The pilot's prediction of depth 1's power, as a share of the emitted light.
-        let share = k.predicted / k.emitted.max(f64::MIN_POSITIVE);
-        out.push(("scatter_skipped_share", format!("{share:.6e}")));
+        out.push(("scatter_skipped_share", format!("{:.6e}", k.share())));
     }
     out.extend([
         ("scatter_depth", s.depths().len().to_string()),
@@ -594,7 +593,7 @@ pub fn say_scattering(frame: &FrameRender, shares: Option<&Shares>) -> Result<()
     if let Some(k) = s.skipped() {
         say!(
             "  scattering skipped: depth 1 would add about {:.3}% of the emitted light (from {} of {} smoky voxels; --scatter-stop {}%); {:.2} s",
-            100.0 * k.predicted / k.emitted.max(f64::MIN_POSITIVE),
+            100.0 * k.share(),
             k.sampled,
             k.voxels,
             100.0 * frame.settings().scatter_stop,

@@ -205,7 +205,7 @@ fn cube_maps(c: &mut Criterion) {
     });
     let volumes = Visibility::Volumes {
         points: ShadowGrid::new(&volume, &medium, 2.0, 1e-3),
-        rays: rays.clone().with_cone_steps(),
+        rays: rays.clone(),
     };
     let shadow_queries: Vec<(Vec3, ShadowQuery)> = queries
         .iter()

@@ -110,16 +110,37 @@ impl DenseGrid {
     /// (each voxel fills its cell, so a uniform grid is uniform up to its faces); outside, zero.
     #[must_use]
     pub fn sample(&self, p: Vec3) -> f32 {
+        self.local(p).map_or(0.0, |u| self.sample_voxel(u))
+    }
+
+    /// `p` in voxel units from the centre of voxel `(0, 0, 0)`, if it is inside the grid's
+    /// [`bounds`](Self::bounds) (where [`sample`](Self::sample) interpolates).
+    #[inline]
+    fn local(&self, p: Vec3) -> Option<Vec3> {
         let u = (p - self.origin) / self.voxel_size;
         let n = Vec3::new(
             self.dims[0] as f32,
             self.dims[1] as f32,
             self.dims[2] as f32,
         );
-        if !(u.cmpge(Vec3::splat(-0.5)).all() && u.cmplt(n - 0.5).all()) {
-            return 0.0;
-        }
-        self.sample_voxel(u)
+        (u.cmpge(Vec3::splat(-0.5)).all() && u.cmplt(n - 0.5).all()).then_some(u)
+    }
+
+    /// The cell of the interpolation at `u` (voxel units, clamped to the outermost centres):
+    /// its first voxel's linear index, the steps to the next voxel along x, y and z (0 at the
+    /// last one, which holds its value to the face) and the weights along each axis.
+    #[inline]
+    fn cell(&self, u: Vec3) -> (usize, [usize; 3], Vec3) {
+        let [nx, ny, nz] = self.dims;
+        let max = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
+        let t = u.clamp(Vec3::ZERO, max);
+        // t ≥ 0, so truncation is the floor (and avoids a libm call per axis on baseline x86-64).
+        let (i, j, k) = (t.x as usize, t.y as usize, t.z as usize);
+        let w = t - Vec3::new(i as f32, j as f32, k as f32);
+        let di = usize::from(i + 1 < nx);
+        let dj = if j + 1 < ny { nx } else { 0 };
+        let dk = if k + 1 < nz { nx * ny } else { 0 };
+        ((k * ny + j) * nx + i, [di, dj, dk], w)
     }
 
     /// The eight voxels [`sample`](Self::sample) interpolates at `p` and their weights (summing
@@ -140,26 +161,13 @@ impl DenseGrid {
     /// ```
     #[must_use]
     pub fn corners(&self, p: Vec3) -> Option<([usize; 8], [f32; 8])> {
-        let u = (p - self.origin) / self.voxel_size;
-        let [nx, ny, nz] = self.dims;
-        let n = Vec3::new(nx as f32, ny as f32, nz as f32);
-        if !(u.cmpge(Vec3::splat(-0.5)).all() && u.cmplt(n - 0.5).all()) {
-            return None;
-        }
-        let t = u.clamp(Vec3::ZERO, n - 1.0);
-        let (i, j, k) = (t.x as usize, t.y as usize, t.z as usize);
-        let w = t - Vec3::new(i as f32, j as f32, k as f32);
-        let next = [
-            usize::from(i + 1 < nx),
-            usize::from(j + 1 < ny),
-            usize::from(k + 1 < nz),
-        ];
+        let (b, [di, dj, dk], w) = self.cell(self.local(p)?);
         let (mut idx, mut weight) = ([0usize; 8], [0f32; 8]);
+        let along = |bit: usize, f: f32| if bit == 1 { f } else { 1.0 - f };
         for c in 0..8 {
-            let (a, b, e) = (c & 1, (c >> 1) & 1, c >> 2);
-            idx[c] = self.index(i + a * next[0], j + b * next[1], k + e * next[2]);
-            let along = |bit: usize, f: f32| if bit == 1 { f } else { 1.0 - f };
-            weight[c] = along(a, w.x) * along(b, w.y) * along(e, w.z);
+            let (a, e, f) = (c & 1, (c >> 1) & 1, c >> 2);
+            idx[c] = b + a * di + e * dj + f * dk;
+            weight[c] = along(a, w.x) * along(e, w.y) * along(f, w.z);
         }
         Some((idx, weight))
     }
@@ -170,16 +178,7 @@ impl DenseGrid {
     #[inline]
     #[must_use]
     pub fn sample_voxel(&self, u: Vec3) -> f32 {
-        let [nx, ny, nz] = self.dims;
-        let max = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
-        let t = u.clamp(Vec3::ZERO, max);
-        // t ≥ 0, so truncation is the floor (and avoids a libm call per axis on baseline x86-64).
-        let (i, j, k) = (t.x as usize, t.y as usize, t.z as usize);
-        let w = t - Vec3::new(i as f32, j as f32, k as f32);
-        let di = usize::from(i + 1 < nx);
-        let dj = if j + 1 < ny { nx } else { 0 };
-        let dk = if k + 1 < nz { nx * ny } else { 0 };
-        let b = (k * ny + j) * nx + i;
+        let (b, [di, dj, dk], w) = self.cell(u);
         trilinear(&self.data[b..], di, dj, dk, w)
     }
 

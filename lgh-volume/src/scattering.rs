@@ -276,6 +276,21 @@ pub struct Skipped {
     pub seconds: f64,
 }
 
+impl Skipped {
+    /// Depth 1's predicted power as a share of the emitted light (0 where nothing is emitted).
+    ///
+    /// ```
+    /// use lgh_volume::scattering::Skipped;
+    ///
+    /// let s = Skipped { predicted: 0.3, emitted: 100.0, sampled: 10, voxels: 90, seconds: 0.1 };
+    /// assert!((s.share() - 0.003).abs() < 1e-12);
+    /// ```
+    #[must_use]
+    pub fn share(&self) -> f64 {
+        self.predicted / self.emitted.max(f64::MIN_POSITIVE)
+    }
+}
+
 /// The multiple-scattering pass (paper Sec. 5; see the module docs): `settings.scatter_depth`
 /// scattered depths of the `emission` lights in `frame` and `medium`, each depth's fluence
 /// through `method` (with its own parameters, the hierarchy's α) with the shadows of

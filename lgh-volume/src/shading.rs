@@ -67,8 +67,7 @@ impl Shading {
             ),
             (Prepared::Lgh { blending, .. }, Shadows::Volumes) => Visibility::Volumes {
                 points: ShadowGrid::new(frame, medium, step, cutoff),
-                rays: VolumeRays::new(casters(blending), frame, medium, step, cutoff)
-                    .with_cone_steps(),
+                rays: VolumeRays::new(casters(blending), frame, medium, step, cutoff),
             },
             (_, shadows) => Visibility::new(shadows, frame, medium, step, cutoff),
         };
