@@ -95,11 +95,13 @@ impl<'a> FrameRender<'a> {
         settings.check()?;
         method.check()?;
         let t = Instant::now();
-        let scattered = match settings.scatter_depth {
-            0 => None,
-            _ => Some(scattering::scatter(
-                lights, method, frame, medium, settings, progress,
-            )?),
+        let (scattered, pilot_shading) = match settings.scatter_depth {
+            0 => (None, None),
+            _ => {
+                let (s, shading) =
+                    scattering::scatter_keeping(lights, method, frame, medium, settings, progress)?;
+                (Some(s), shading)
+            }
         };
         let scattering = if scattered.is_some() {
             t.elapsed().as_secs_f64()
@@ -115,7 +117,11 @@ impl<'a> FrameRender<'a> {
         } else {
             (merged, None)
         };
-        let shading = Shading::new(rendered, method, frame, medium, settings, progress)?;
+        // A skipped pass renders its emission lights with the shading its pilot made for them.
+        let shading = match pilot_shading {
+            Some(shading) => shading,
+            None => Shading::new(rendered, method, frame, medium, settings, progress)?,
+        };
         let shadows = shading.shadow_seconds;
         let cache = shading.cache;
         Ok(FrameRender {

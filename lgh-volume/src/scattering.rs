@@ -324,6 +324,22 @@ pub fn scatter(
     settings: &MarchSettings,
     progress: &dyn Progress,
 ) -> Result<Scattered, RenderError> {
+    scatter_keeping(emission, method, frame, medium, settings, progress).map(|(s, _)| s)
+}
+
+/// [`scatter`], and when the pilot skipped the pass, the emission lights' shading it made
+/// (their shadows and the lighting cache it began to fill): what the render of the same lights
+/// with the same settings needs, which [`FrameRender`](crate::FrameRender) takes instead of
+/// building it again. (A cache brick's light depends on the brick alone, so the render's image
+/// is the same bit for bit.)
+pub(crate) fn scatter_keeping(
+    emission: &ExplosionLights,
+    method: Method,
+    frame: &Volume,
+    medium: &Medium,
+    settings: &MarchSettings,
+    progress: &dyn Progress,
+) -> Result<(Scattered, Option<Shading>), RenderError> {
     let plan = check_pass(emission, method, frame, settings)?;
     let passes = plan.depth + usize::from(settings.scattered_grid(method));
     let total = (passes * plan.lights_per_depth) as u64;
@@ -340,11 +356,11 @@ fn pass(
     medium: &Medium,
     settings: &MarchSettings,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Scattered, RenderError> {
+) -> Result<(Scattered, Option<Shading>), RenderError> {
     let depth = settings.scatter_depth;
     let max_level = emission.hierarchy().max_level();
     if depth == 0 {
-        return Ok(single_scattering(emission, max_level));
+        return Ok((single_scattering(emission, max_level), None));
     }
     let grid = &frame.density;
     let dense: Vec<usize> = (0..grid.data.len())
@@ -417,7 +433,11 @@ fn pass(
         });
         let (stats, shadow_seconds) = match pass.run(source, &mut next, pilot)? {
             Ran::Done(stats, shadow_seconds) => (stats, shadow_seconds),
-            Ran::Skipped { predicted, sampled } => {
+            Ran::Skipped {
+                predicted,
+                sampled,
+                shading,
+            } => {
                 let skipped = Skipped {
                     predicted,
                     emitted: powers[0],
@@ -425,10 +445,11 @@ fn pass(
                     voxels: dense.len(),
                     seconds: t.elapsed().as_secs_f64(),
                 };
-                return Ok(Scattered {
+                let scattered = Scattered {
                     skipped: Some(skipped),
                     ..single_scattering(emission, max_level)
-                });
+                };
+                return Ok((scattered, Some(*shading)));
             }
         };
         if let (Some(summed), true) = (summed.as_mut(), k >= 2) {
@@ -473,7 +494,7 @@ fn pass(
     merged.set_prune(emission.prune())?;
     merged.set_near_field(emission.near_field());
     merged.set_coarse_shadows(coarse);
-    Ok(Scattered {
+    let scattered = Scattered {
         merged,
         per_depth,
         reports,
@@ -482,7 +503,8 @@ fn pass(
         radiance_report,
         spacing,
         skipped: None,
-    })
+    };
+    Ok((scattered, None))
 }
 
 /// The pass of no depth: the emission lights as they are.
@@ -700,6 +722,7 @@ impl Fluence<'_> {
                 return Ok(Ran::Skipped {
                     predicted,
                     sampled: sample.len(),
+                    shading: Box::new(shading),
                 });
             }
         }
@@ -772,8 +795,13 @@ impl Pilot {
 enum Ran {
     /// The depth, with its counts and the seconds of its shadows.
     Done(RenderStats, f64),
-    /// Skipped by the pilot: its predicted power, from `sampled` voxels.
-    Skipped { predicted: f64, sampled: usize },
+    /// Skipped by the pilot: its predicted power, from `sampled` voxels, and the source's
+    /// shading it made.
+    Skipped {
+        predicted: f64,
+        sampled: usize,
+        shading: Box<Shading>,
+    },
 }
 
 /// How the image splits by where its light comes from: the luminance summed over an image's
