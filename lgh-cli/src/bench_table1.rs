@@ -14,7 +14,7 @@ use lgh_volume::{FrameRender, Method, Shadows};
 use serde_json::{json, Value};
 
 use crate::demo::{Scene, SceneArgs};
-use crate::output::{MarchArgs, ScatterArgs, ShadowsArg};
+use crate::output::{MarchArgs, PixelSamplesArg, ScatterArgs, ShadowsArg};
 
 /// Arguments of `lgh bench table1`.
 #[derive(Debug, clap::Args)]
@@ -82,6 +82,15 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         .march
         .settings(crate::demo::DEMO_DEFAULTS, &ScatterArgs::default())?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
+    // What depends on the camera, as `lgh demo` resolves it.
+    let (lo, hi) = lgh_volume::medium::framing_bounds(&[&scene.volume]).expect("one frame");
+    let march = args.march.for_camera(
+        march,
+        PixelSamplesArg::Fixed(1),
+        &scene.camera,
+        0.5 * (lo + hi),
+        scene.volume.density.voxel_size,
+    );
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The args' settings first, then each comparison without the cache (the exact image, the

@@ -127,11 +127,12 @@ pub fn demo_medium() -> Medium {
 pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     args.scene.check()?;
     output::check_out(&args.out)?;
-    let mut march = args.march.settings(DEMO_DEFAULTS, &args.scatter)?;
+    let march = args.march.settings(DEMO_DEFAULTS, &args.scatter)?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
     let (lo, hi) = framing_bounds(&[&scene.volume]).expect("one frame");
     let voxel = scene.volume.density.voxel_size;
-    march.pixel_samples = args.march.pixel_samples_for(
+    let march = args.march.for_camera(
+        march,
         PixelSamplesArg::Fixed(1),
         &scene.camera,
         0.5 * (lo + hi),

@@ -719,18 +719,16 @@ impl Frames<'_> {
     /// Renders the frames `which` (indices into the manifest's files).
     fn render(mut self, which: std::ops::Range<usize>) -> Result<(), crate::Error> {
         let camera = self.camera()?;
-        // The rays a pixel side, from the image's and the voxels' sizes with `auto` (the
-        // default): one resolution for the whole sequence.
+        // The rays a pixel side and the cache's first level, from the image's and the voxels'
+        // sizes with `auto` (the defaults): one resolution for the whole sequence.
         let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
-        let march = MarchSettings {
-            pixel_samples: self.args.march.pixel_samples_for(
-                PixelSamplesArg::Auto,
-                &camera,
-                0.5 * (lo + hi),
-                self.seq.voxel_size(),
-            ),
-            ..self.setup.march
-        };
+        let march = self.args.march.for_camera(
+            self.setup.march,
+            PixelSamplesArg::Auto,
+            &camera,
+            0.5 * (lo + hi),
+            self.seq.voxel_size(),
+        );
         self.announce(which.len())?;
         let digest = self.manifest.digest();
         for n in which {

@@ -125,6 +125,20 @@ fn parse_pixel_samples(s: &str) -> Result<PixelSamplesArg, String> {
     Ok(parse_auto(s, "rays a pixel side")?.map_or(PixelSamplesArg::Auto, PixelSamplesArg::Fixed))
 }
 
+/// `--cache-level`: the lighting cache's first level, or `auto` (from the camera rays' footprint).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CacheLevelArg {
+    /// This level.
+    Fixed(u8),
+    /// [`lgh_volume::lighting_cache::auto_first_level`].
+    Auto,
+}
+
+/// `auto` or a level.
+fn parse_cache_level(s: &str) -> Result<CacheLevelArg, String> {
+    Ok(parse_auto(s, "levels")?.map_or(CacheLevelArg::Auto, CacheLevelArg::Fixed))
+}
+
 /// `auto` or a number of voxels.
 fn parse_spacing(s: &str) -> Result<SpacingArg, String> {
     Ok(parse_auto(s, "voxels")?.map_or(SpacingArg::Auto, SpacingArg::Voxels))
@@ -149,9 +163,11 @@ pub struct CacheArgs {
     #[arg(long, default_value_t = 1.0)]
     pub cache_depth: f32,
     /// The first level of the hierarchy the lighting cache holds (finer levels are shaded at
-    /// every sample).
-    #[arg(long, default_value_t = 1)]
-    pub cache_level: u8,
+    /// every sample), or `auto`: 0 where a camera ray's footprint at the volume's centre is at
+    /// most 3/4 of a voxel (large images: the march's samples then outnumber level 0's
+    /// vertices), 1 otherwise
+    #[arg(long, default_value = "auto", value_parser = parse_cache_level)]
+    pub cache_level: CacheLevelArg,
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
     /// fluence on a grid this many voxels apart (1 to 8), every level cached, and interpolate it
     /// to the voxels (their light has scattered already and varies slowly); 1 computes it at
@@ -196,7 +212,11 @@ impl CacheArgs {
                 SpacingArg::Voxels(voxels) => CacheSpacing::Voxels(voxels),
                 SpacingArg::Auto => CacheSpacing::OpticalDepth(self.cache_depth),
             },
-            first_level: self.cache_level,
+            first_level: match self.cache_level {
+                CacheLevelArg::Fixed(level) => level,
+                // Resolved with the camera (`MarchArgs::for_camera`).
+                CacheLevelArg::Auto => LightingCacheSettings::default().first_level,
+            },
             scattered_spacing: self.scatter_spacing,
             scattered_light: self.scattered_light.into(),
         }
@@ -282,6 +302,33 @@ impl MarchArgs {
             PixelSamplesArg::Auto => {
                 lgh_volume::render::auto_pixel_samples(camera, centre, voxel_size)
             }
+        }
+    }
+
+    /// `settings` with what depends on the camera resolved for `camera` looking at a volume
+    /// centred at `centre` with voxels of `voxel_size`: the rays a pixel side
+    /// ([`pixel_samples_for`](Self::pixel_samples_for), `pixel_default` where `--pixel-samples`
+    /// was not given) and `--cache-level auto`
+    /// ([`lgh_volume::lighting_cache::auto_first_level`] of a sub-pixel's footprint).
+    pub fn for_camera(
+        &self,
+        settings: MarchSettings,
+        pixel_default: PixelSamplesArg,
+        camera: &lgh_volume::render::Camera,
+        centre: lgh_volume::lgh_core::glam::Vec3,
+        voxel_size: f32,
+    ) -> MarchSettings {
+        let pixel_samples = self.pixel_samples_for(pixel_default, camera, centre, voxel_size);
+        let mut lighting_cache = settings.lighting_cache;
+        if self.cache.cache_level == CacheLevelArg::Auto {
+            let footprint = lgh_volume::render::pixel_footprint(camera, centre, voxel_size)
+                / pixel_samples as f32;
+            lighting_cache.first_level = lgh_volume::lighting_cache::auto_first_level(footprint);
+        }
+        MarchSettings {
+            pixel_samples,
+            lighting_cache,
+            ..settings
         }
     }
 

@@ -37,6 +37,16 @@
 //! ball of smoke, depth 2 two voxels apart lost 22% of its power blended geometrically, 0.2%
 //! linearly (0.5% at depth 3).
 //!
+//! **Level 0 too, for large images.** Level 0's light varies from voxel to voxel, and within a
+//! voxel by its own light's near field, which no grid on the voxel centres follows. Yet its
+//! vertices can sit on those centres, one per voxel light: on the Fig. 8-class frame
+//! (`docs/shadows.md`) the image with level 0 cached a voxel apart differs from the one that
+//! shades level 0 at every sample by 0.17% (320×180 and 640×360), the exact image by 1.53%
+//! against 1.55%. It costs a vertex about twice what a sample's level 0 costs (a vertex at a
+//! voxel centre has every hot neighbour in reach), and the vertices do not grow with the image
+//! while the samples do: [`auto_first_level`] caches level 0 where a camera ray's footprint at
+//! the smoke is small enough that the samples outnumber the vertices.
+//!
 //! At a vertex the cache returns the vertex's exact value. On the demo's explosion (320×180,
 //! levels ≥ 1 cached, 2-voxel shadow steps) against the uncached render: trilinear 3.06%
 //! relative RMSE, geometric 2.51%, transport-corrected 2.03%, both 1.82% (`docs/shadows.md`).
@@ -158,6 +168,35 @@ impl ScatteredLight {
             ScatteredLight::Merged => "merged",
             ScatteredLight::Grid => "grid",
         }
+    }
+}
+
+/// The largest footprint of a camera ray at the volume's centre, in voxels (a pixel's, or a
+/// sub-pixel's with several rays a pixel), at which [`auto_first_level`] caches level 0. Measured
+/// on the Fig. 8-class frame (`docs/shadows.md`; same runs, 2 threads), the render's CPU-seconds
+/// with level 0 shaded at every sample against cached: 2.19 voxels a ray (320×180) 70.4 against
+/// 77.0, 1.09 (640×360) 99.2 against 102.4, 0.55 (1280×720) 240 against 160. Three quarters
+/// of a voxel sits between the break-even and the clear gain.
+pub const LEVEL0_CACHE_FOOTPRINT: f32 = 0.75;
+
+/// The first level a lighting cache should hold for a camera whose rays are `footprint` voxels
+/// apart at the volume (a sub-pixel's footprint: [`crate::render::pixel_footprint`] over the
+/// rays a pixel side): 0 at most [`LEVEL0_CACHE_FOOTPRINT`], where the march's samples outnumber
+/// level 0's vertices, 1 otherwise (module docs). A `--cache-level auto`.
+///
+/// ```
+/// use lgh_volume::lighting_cache::auto_first_level;
+///
+/// assert_eq!(auto_first_level(0.55), 0); // the Fig. 8-class frame at 1280×720
+/// assert_eq!(auto_first_level(1.09), 1); // at 640×360
+/// assert_eq!(auto_first_level(f32::NAN), 1);
+/// ```
+#[must_use]
+pub fn auto_first_level(footprint: f32) -> u8 {
+    if footprint <= LEVEL0_CACHE_FOOTPRINT {
+        0
+    } else {
+        1
     }
 }
 
@@ -455,12 +494,17 @@ impl LightingCache {
             }
         };
         // Each level's spacing: fixed, or by optical depth and at most half its h_ℓ (its B_ℓ
-        // and fall-off vary over h_ℓ = 2^ℓ h1 / 2).
+        // and fall-off vary over h_ℓ = 2^ℓ h1 / 2) but not below a voxel on that account: level
+        // 0's lights are the voxels themselves, and its vertices on their centres (module docs).
         let spacing = |level: u8| match (settings.spacing, by_depth) {
             (CacheSpacing::Voxels(v), _) => v,
             (_, depth) => {
                 let h_level = 0.5 * h1 * 2f32.powi(i32::from(level));
-                aligned(depth.unwrap_or(MAX_SPACING).min(0.5 * h_level / h))
+                aligned(
+                    depth
+                        .unwrap_or(MAX_SPACING)
+                        .min((0.5 * h_level / h).max(1.0)),
+                )
             }
         };
         let mut tiers: Vec<Lattice> = Vec::new();

@@ -20,6 +20,7 @@ use crate::error::RenderError;
 use crate::lighting::{LightScratch, Lights};
 use crate::lighting_cache::CachedLights;
 use crate::medium::{Medium, Volume};
+use crate::occupancy::Occupancy;
 use crate::scattered_light::ScatteredRadiance;
 pub use crate::shadow::Shadows;
 use crate::shadow::Visibility;
@@ -27,7 +28,7 @@ use crate::surfaces::{SurfaceHit, Surfaces};
 
 pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
 pub use crate::settings::{
-    auto_pixel_samples, MarchSettings, AUTO_SUBPIXEL_VOXELS, MAX_PIXEL_SAMPLES,
+    auto_pixel_samples, pixel_footprint, MarchSettings, AUTO_SUBPIXEL_VOXELS, MAX_PIXEL_SAMPLES,
 };
 pub use crate::stats::RenderStats;
 
@@ -41,6 +42,8 @@ pub struct Marcher<'a> {
     visibility: Visibility,
     /// Opaque surfaces the camera rays stop at ([`with_surfaces`](Self::with_surfaces)).
     surfaces: Option<&'a dyn Surfaces>,
+    /// The bricks of the box where a sample finds no smoke and no emission, skipped.
+    occupancy: Occupancy,
 }
 
 impl<'a> Marcher<'a> {
@@ -89,6 +92,7 @@ impl<'a> Marcher<'a> {
     ) -> Result<Self, RenderError> {
         settings.check()?;
         Ok(Marcher {
+            occupancy: occupancy(volume, medium, settings),
             volume,
             medium,
             settings: MarchSettings {
@@ -233,6 +237,10 @@ impl<'a> Marcher<'a> {
         let gauss = dir * (dt * GAUSS_OFFSET);
         for i in 0..n {
             let x = origin + dir * (t0 + (i as f32 + 0.5) * dt);
+            // Nothing to find here: the sample would add exactly 0 and leave `trans` as it is.
+            if self.occupancy.is_empty_at(x) && lit.scattered.is_none_or(|s| s.is_empty_at(x)) {
+                continue;
+            }
             let rho = volume.density.sample(x);
             let sigma_t = medium.extinction(rho);
             // The emission by the two-point Gauss rule over the step (exact for a cubic along
@@ -426,6 +434,34 @@ fn march_pixels<B: ManyLights + Sync>(
     Ok((radiance, stats))
 }
 
+/// The bricks of `volume`'s box where a march with `settings` reads zero density and no
+/// emission ([`crate::occupancy`]): its samples read the grids at the two-point Gauss nodes, up
+/// to `GAUSS_OFFSET` of a step from the sample.
+fn occupancy(volume: &Volume, medium: &Medium, settings: &MarchSettings) -> Occupancy {
+    let reach = GAUSS_OFFSET * settings.step_voxels * volume.density.voxel_size;
+    let mut occupancy = Occupancy::empty(&volume.density);
+    occupancy.mark(&volume.density, |rho| rho != 0.0, reach);
+    match volume.colour.as_deref() {
+        Some(channels) => {
+            for c in channels {
+                occupancy.mark(c, |v| v != 0.0, reach);
+            }
+        }
+        None => {
+            // `Medium::emits` is `T > T_min` (and `T > 0`): a value whose |T| is below T_min by
+            // more than rounding can only interpolate to a temperature that does not emit.
+            let t_min = medium.min_temperature.max(0.0) * (1.0 - 1e-5);
+            let scale = medium.temperature_scale;
+            occupancy.mark(
+                &volume.temperature,
+                |v| (v * scale).abs() > t_min || v.is_nan(),
+                reach,
+            );
+        }
+    }
+    occupancy
+}
+
 /// The two-point Gauss rule's nodes on a step of length 1 around its midpoint: `±1/(2√3)`.
 const GAUSS_OFFSET: f32 = 0.288_675_13;
 
@@ -586,6 +622,50 @@ mod tests {
             _: &mut S,
         ) -> Result<lgh_core::Illumination, lgh_core::QueryError> {
             Err(lgh_core::QueryError::NonFinitePoint)
+        }
+    }
+
+    /// Skipping the bricks where nothing is found (`crate::occupancy`) changes no bit of the
+    /// image: the explosion at 32³ (smoke in a ball, emission inside it) lit by its hottest
+    /// voxels with ray-marched shadows, at a 1.7-voxel step (whose Gauss nodes reach farther
+    /// than the default's), against the same marcher with every brick occupied. Also with the
+    /// temperature read through its corners (the emission interpolation Cycles 4.x uses).
+    #[test]
+    fn skipping_empty_space_changes_no_bit() {
+        let v = crate::procedural::explosion(32, 0.5).unwrap();
+        let hot: Vec<lgh_core::PointLight> = (0..v.temperature.data.len())
+            .filter(|&i| v.temperature.data[i] > 1800.0)
+            .take(200)
+            .map(|i| {
+                let [nx, ny, _] = v.temperature.dims;
+                let c = v.temperature.centre(i % nx, (i / nx) % ny, i / (nx * ny));
+                lgh_core::PointLight::new(c, Vec3::splat(1e-3))
+            })
+            .collect();
+        assert!(hot.len() > 10);
+        let lights = Lights::new(BruteForce::new(&hot).unwrap(), v.density.voxel_size);
+        let camera = Camera::frame(v.density.bounds().0, v.density.bounds().1, 24, 16).unwrap();
+        let s = MarchSettings {
+            shadows: Shadows::RayMarch,
+            step_voxels: 1.7,
+            ..Default::default()
+        };
+        for interpolation in [
+            crate::medium::EmissionInterpolation::Temperature,
+            crate::medium::EmissionInterpolation::Attributes,
+        ] {
+            let m = Medium::new(2.0, 6.0, 1e-4, 1000.0)
+                .unwrap()
+                .with_interpolation(interpolation);
+            let skipping = Marcher::new(&v, &m, &s).unwrap();
+            assert!(skipping.occupancy.occupied_share() < 0.9);
+            let mut every = Marcher::new(&v, &m, &s).unwrap();
+            every.occupancy.mark(&v.density, |_| true, 0.0);
+            assert_eq!(every.occupancy.occupied_share(), 1.0);
+            let a = skipping.render(&lights, &camera, &|_| {}).unwrap();
+            let b = every.render(&lights, &camera, &|_| {}).unwrap();
+            assert_eq!(a.0.pixels, b.0.pixels);
+            assert!(a.0.pixels.iter().any(|p| p.max_element() > 0.0));
         }
     }
 

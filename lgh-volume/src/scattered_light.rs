@@ -28,12 +28,15 @@
 use lgh_core::glam::Vec3;
 
 use crate::grid::DenseGrid;
+use crate::occupancy::Occupancy;
 
 /// In-scattered radiance of the scattered light at the voxel centres (module docs), per
 /// colour channel.
 #[derive(Clone, Debug)]
 pub struct ScatteredRadiance {
     channels: [DenseGrid; 3],
+    /// The bricks where it is not zero ([`is_empty_at`](Self::is_empty_at)).
+    occupancy: Occupancy,
 }
 
 impl ScatteredRadiance {
@@ -62,7 +65,32 @@ impl ScatteredRadiance {
                 c.data[v] = value;
             }
         }
-        ScatteredRadiance { channels }
+        let mut occupancy = Occupancy::empty(grid);
+        for c in &channels {
+            occupancy.mark(c, |v| v != 0.0, 0.0);
+        }
+        ScatteredRadiance {
+            channels,
+            occupancy,
+        }
+    }
+
+    /// Whether [`sample`](Self::sample) is zero at `x` for certain: `x` lies in a brick of
+    /// [`crate::occupancy`] that no voxel with light reaches (the march skips such samples).
+    ///
+    /// ```
+    /// use lgh_volume::grid::DenseGrid;
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::scattered_light::ScatteredRadiance;
+    ///
+    /// let grid = DenseGrid::zeros([32, 8, 8], 1.0, Vec3::ZERO);
+    /// let s = ScatteredRadiance::new(&grid, &[grid.index(2, 4, 4)], &[Vec3::ONE]);
+    /// assert!(!s.is_empty_at(Vec3::new(2.0, 4.0, 4.0)));
+    /// assert!(s.is_empty_at(Vec3::new(20.0, 4.0, 4.0)));
+    /// ```
+    #[must_use]
+    pub fn is_empty_at(&self, x: Vec3) -> bool {
+        self.occupancy.is_empty_at(x)
     }
 
     /// The radiance in-scattered at `x` per unit length of the march, interpolated between
@@ -96,6 +124,10 @@ impl ScatteredRadiance {
     /// Bytes it holds.
     #[must_use]
     pub fn bytes(&self) -> u64 {
-        self.channels.iter().map(|c| c.data.len() as u64 * 4).sum()
+        self.channels
+            .iter()
+            .map(|c| c.data.len() as u64 * 4)
+            .sum::<u64>()
+            + self.occupancy.bytes()
     }
 }

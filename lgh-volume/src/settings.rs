@@ -24,10 +24,33 @@ pub const MAX_PIXEL_SAMPLES: usize = 8;
 /// its reference image): most of the filter's gain is had at three quarters of a voxel.
 pub const AUTO_SUBPIXEL_VOXELS: f32 = 0.75;
 
+/// The width of a pixel of `camera`'s image at `centre`, in voxels of `voxel_size`: the angle
+/// between the rays through the image centre's neighbouring pixels times the distance from the
+/// eye.
+///
+/// ```
+/// use lgh_volume::lgh_core::glam::Vec3;
+/// use lgh_volume::render::{pixel_footprint, Camera, Framing};
+///
+/// // 40° over 720 rows, 4 units away: 0.0039 units, a quarter of a voxel of 1/64.
+/// let camera = Camera::look_at(Vec3::new(0.0, -4.0, 0.0), Vec3::ZERO, Vec3::Z, 40.0, 720, 720)?;
+/// assert!((pixel_footprint(&camera, Vec3::ZERO, 1.0 / 64.0) - 0.259).abs() < 1e-3);
+/// # Ok::<(), lgh_volume::RenderError>(())
+/// ```
+#[must_use]
+pub fn pixel_footprint(
+    camera: &crate::camera::Camera,
+    centre: lgh_core::glam::Vec3,
+    voxel_size: f32,
+) -> f32 {
+    let (x, y) = (0.5 * camera.width() as f32, 0.5 * camera.height() as f32);
+    let angle = (camera.direction(x + 0.5, y) - camera.direction(x - 0.5, y)).length();
+    angle * (centre - camera.eye()).length() / voxel_size
+}
+
 /// The fewest rays a pixel side, at most 4, for which a sub-pixel of `camera`'s image covers
 /// at most [`AUTO_SUBPIXEL_VOXELS`] of a voxel of `voxel_size` at `centre` (the volume's
-/// middle): `lgh explosion --pixel-samples auto`. A pixel's footprint is the angle between
-/// the rays through the image centre's neighbouring pixels times the distance from the eye.
+/// middle; [`pixel_footprint`]): `lgh explosion --pixel-samples auto`.
 ///
 /// ```
 /// use lgh_volume::lgh_core::glam::Vec3;
@@ -47,10 +70,7 @@ pub fn auto_pixel_samples(
     centre: lgh_core::glam::Vec3,
     voxel_size: f32,
 ) -> usize {
-    let (x, y) = (0.5 * camera.width() as f32, 0.5 * camera.height() as f32);
-    let angle = (camera.direction(x + 0.5, y) - camera.direction(x - 0.5, y)).length();
-    let footprint = angle * (centre - camera.eye()).length() / voxel_size;
-    let n = (footprint / AUTO_SUBPIXEL_VOXELS).ceil();
+    let n = (pixel_footprint(camera, centre, voxel_size) / AUTO_SUBPIXEL_VOXELS).ceil();
     if n.is_finite() && n >= 1.0 {
         (n as usize).min(4)
     } else {
