@@ -194,18 +194,20 @@ struct Entry {
     method: Kind,
     variants: Variants,
     shadows: Shadows,
-    /// Through the lighting cache (levels ≥ 1 at the voxel centres).
+    /// Through the lighting cache (from `--cache-level`, levels ≥ 1 at small images).
     cached: bool,
     /// What cube-map texels hold (with cube-map shadows).
     depths: Depths,
 }
 
 impl Entry {
-    /// The march settings of the entry (`cache`, the cache's settings, if it is cached).
-    fn march(&self, cache: &CacheArgs) -> MarchSettings {
+    /// The march settings of the entry (`cache`, the cache's settings, if it is cached, for
+    /// camera rays `footprint` voxels apart at the volume).
+    fn march(&self, cache: &CacheArgs, footprint: f32) -> MarchSettings {
         let cache = if self.cached {
             LightingCacheSettings {
                 mode: CacheMode::Coarse,
+                first_level: cache.first_level(footprint),
                 ..cache.settings()
             }
         } else {
@@ -262,7 +264,7 @@ fn entries() -> Vec<Entry> {
             cached: true,
             ..ray_marched(
                 "lgh_cached",
-                "LGH, ray-marched shadows through the lighting cache (levels >= 1 at the voxel centres)",
+                "LGH, ray-marched shadows through the lighting cache (levels from --cache-level: 1 at small images)",
                 Kind::Lgh,
             )
         },
@@ -409,6 +411,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         "reference_seconds_per_frame": rendered.reference_seconds / n,
         "lights_rebuilt_every_frame": seq.rebuild,
         "floor": seq.floor.is_some(),
+        "lighting_cache_first_level": args.cache.first_level(seq.footprint),
         "lights_per_frame": rendered.lit as f64 / n,
         "build_seconds_per_frame": rendered.build_seconds / n,
         "backends": backends,
@@ -491,6 +494,8 @@ struct Sequence {
     volumes: Vec<Volume>,
     medium: Medium,
     camera: Camera,
+    /// A camera ray's footprint at the frames' middle, in voxels (`--cache-level auto`).
+    footprint: f32,
     /// The bouncing balls' floor: an opaque ground at the bottom of their box, which their
     /// light falls on (surfaces through the same lights and shadows, "The explosion in a box").
     floor: Option<Ground>,
@@ -515,6 +520,11 @@ impl Sequence {
         let refs: Vec<&Volume> = volumes.iter().collect();
         let (lo, hi) = framing_bounds(&refs).ok_or("the frames have no smoke to frame")?;
         let camera = Camera::frame_up(lo, hi, args.width, args.height, up)?;
+        let footprint = lgh_volume::render::pixel_footprint(
+            &camera,
+            0.5 * (lo + hi),
+            volumes[0].density.voxel_size,
+        );
         let floor = match args.balls {
             Some(_) => Some(Ground::new(Up::Y, -1.0, lgh_core::glam::Vec3::splat(0.5))?),
             None => None,
@@ -524,6 +534,7 @@ impl Sequence {
             volumes,
             medium,
             camera,
+            footprint,
             floor,
             rebuild: args.balls.is_some(),
             lightcuts: LightcutsSettings {
@@ -620,7 +631,8 @@ impl Sequence {
                 let start = Instant::now();
                 lights[k].set_frame(frame, &self.medium)?;
                 let method = r.method(entries, t, self.lightcuts.max_cut);
-                let image = self.render(t, &lights[k], method, &e.march(&args.cache))?;
+                let image =
+                    self.render(t, &lights[k], method, &e.march(&args.cache, self.footprint))?;
                 out.seconds[k] += start.elapsed().as_secs_f64();
                 out.images[k].push(image);
                 bar.inc(1);

@@ -9,12 +9,11 @@ use std::time::Instant;
 
 use lgh_volume::lighting_cache::{CacheStats, LightingCacheSettings};
 use lgh_volume::render::MarchSettings;
-use lgh_volume::shadow::CubeMapSettings;
 use lgh_volume::{FrameRender, Method, Shadows};
 use serde_json::{json, Value};
 
 use crate::demo::{Scene, SceneArgs};
-use crate::output::{MarchArgs, PixelSamplesArg, ScatterArgs, ShadowsArg};
+use crate::output::{MarchArgs, ScatterArgs, ShadowsArg};
 
 /// Arguments of `lgh bench table1`.
 #[derive(Debug, clap::Args)]
@@ -82,15 +81,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         .march
         .settings(crate::demo::DEMO_DEFAULTS, &ScatterArgs::default())?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
-    // What depends on the camera, as `lgh demo` resolves it.
-    let (lo, hi) = lgh_volume::medium::framing_bounds(&[&scene.volume]).expect("one frame");
-    let march = args.march.for_camera(
-        march,
-        PixelSamplesArg::Fixed(1),
-        &scene.camera,
-        0.5 * (lo + hi),
-        scene.volume.density.voxel_size,
-    );
+    let march = scene.for_camera(&args.march, march);
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The args' settings first, then each comparison without the cache (the exact image, the
@@ -111,7 +102,7 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         .iter()
         .map(|settings| Run::of(&scene, args.scene.alpha, settings))
         .collect::<Result<Vec<_>, _>>()?;
-    let report = report(args, &scene, &runs, &march.cube_maps);
+    let report = report(args, &scene, &runs, &march);
     let text = serde_json::to_string_pretty(&report)?;
     say!("{text}");
     if let Some(out) = &args.out {
@@ -153,8 +144,9 @@ impl Run {
     }
 }
 
-/// The benchmark's JSON; `storage`, the cube maps' settings of every run.
-fn report(args: &Table1Args, scene: &Scene, runs: &[Run], storage: &CubeMapSettings) -> Value {
+/// The benchmark's JSON; `march`, the first run's settings (its cube maps' are every run's).
+fn report(args: &Table1Args, scene: &Scene, runs: &[Run], march: &MarchSettings) -> Value {
+    let storage = &march.cube_maps;
     let first = &runs[0];
     let mut shadows = serde_json::Map::new();
     for r in runs {
@@ -220,6 +212,7 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run], storage: &CubeMapSetti
         "rel_rmse_vs_exact": vs(exact),
         "core_seconds": first.total() * rayon::current_num_threads() as f64,
         "lighting_cache": first.cache.map(|c| json!({
+            "first_level": march.lighting_cache.first_level,
             "vertices": c.vertices,
             "seconds": c.cpu_seconds,
             "rel_rmse_vs_uncached": uncached(first.shadows).and_then(vs),

@@ -10,7 +10,7 @@ use std::time::Instant;
 use lgh_volume::lgh_core::glam::Vec3;
 use lgh_volume::lgh_core::NearField;
 use lgh_volume::medium::framing_bounds;
-use lgh_volume::render::{Camera, Framing, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
 use lgh_volume::surfaces::Ground;
 use lgh_volume::{
     explosion, ExplosionLights, FrameRender, Medium, Method, RenderError, Shadows, Volume,
@@ -72,6 +72,23 @@ pub struct Scene {
     pub lights_seconds: f64,
 }
 
+impl Scene {
+    /// `march` with what depends on the camera resolved as `lgh demo` does
+    /// ([`MarchArgs::for_camera`]: one ray a pixel unless `--pixel-samples`, the cache's first
+    /// level), for the volume's framed middle.
+    pub fn for_camera(&self, args: &MarchArgs, march: MarchSettings) -> MarchSettings {
+        let (lo, hi) = framing_bounds(&[&self.volume]).expect("one frame");
+        let voxel = self.volume.density.voxel_size;
+        args.for_camera(
+            march,
+            PixelSamplesArg::Fixed(1),
+            &self.camera,
+            0.5 * (lo + hi),
+            voxel,
+        )
+    }
+}
+
 impl SceneArgs {
     /// Checks α and the image size (before any work).
     pub fn check(&self) -> Result<(), crate::Error> {
@@ -129,15 +146,7 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_DEFAULTS, &args.scatter)?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
-    let (lo, hi) = framing_bounds(&[&scene.volume]).expect("one frame");
-    let voxel = scene.volume.density.voxel_size;
-    let march = args.march.for_camera(
-        march,
-        PixelSamplesArg::Fixed(1),
-        &scene.camera,
-        0.5 * (lo + hi),
-        voxel,
-    );
+    let march = scene.for_camera(&args.march, march);
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());
     // The ground under the explosion, where its smoke ends, so that its light falls on

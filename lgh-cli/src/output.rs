@@ -204,6 +204,15 @@ impl From<ScatteredLightArg> for ScatteredLight {
 }
 
 impl CacheArgs {
+    /// The cache's first level for camera rays `footprint` voxels apart at the volume:
+    /// `--cache-level`, `auto` resolved by [`lgh_volume::lighting_cache::auto_first_level`].
+    pub fn first_level(&self, footprint: f32) -> u8 {
+        match self.cache_level {
+            CacheLevelArg::Fixed(level) => level,
+            CacheLevelArg::Auto => lgh_volume::lighting_cache::auto_first_level(footprint),
+        }
+    }
+
     /// The cache's settings (checked with the march's).
     pub fn settings(&self) -> LightingCacheSettings {
         LightingCacheSettings {
@@ -212,11 +221,8 @@ impl CacheArgs {
                 SpacingArg::Voxels(voxels) => CacheSpacing::Voxels(voxels),
                 SpacingArg::Auto => CacheSpacing::OpticalDepth(self.cache_depth),
             },
-            first_level: match self.cache_level {
-                CacheLevelArg::Fixed(level) => level,
-                // Resolved with the camera (`MarchArgs::for_camera`).
-                CacheLevelArg::Auto => LightingCacheSettings::default().first_level,
-            },
+            // `auto` is resolved with the camera (`MarchArgs::for_camera`); without one, 1.
+            first_level: self.first_level(f32::INFINITY),
             scattered_spacing: self.scatter_spacing,
             scattered_light: self.scattered_light.into(),
         }
@@ -319,15 +325,14 @@ impl MarchArgs {
         voxel_size: f32,
     ) -> MarchSettings {
         let pixel_samples = self.pixel_samples_for(pixel_default, camera, centre, voxel_size);
-        let mut lighting_cache = settings.lighting_cache;
-        if self.cache.cache_level == CacheLevelArg::Auto {
-            let footprint = lgh_volume::render::pixel_footprint(camera, centre, voxel_size)
-                / pixel_samples as f32;
-            lighting_cache.first_level = lgh_volume::lighting_cache::auto_first_level(footprint);
-        }
+        let footprint =
+            lgh_volume::render::pixel_footprint(camera, centre, voxel_size) / pixel_samples as f32;
         MarchSettings {
             pixel_samples,
-            lighting_cache,
+            lighting_cache: LightingCacheSettings {
+                first_level: self.cache.first_level(footprint),
+                ..settings.lighting_cache
+            },
             ..settings
         }
     }

@@ -39,13 +39,17 @@
 //!
 //! **Level 0 too, for large images.** Level 0's light varies from voxel to voxel, and within a
 //! voxel by its own light's near field, which no grid on the voxel centres follows. Yet its
-//! vertices can sit on those centres, one per voxel light: on the Fig. 8-class frame
-//! (`docs/shadows.md`) the image with level 0 cached a voxel apart differs from the one that
-//! shades level 0 at every sample by 0.17% (320×180 and 640×360), the exact image by 1.53%
-//! against 1.55%. It costs a vertex about twice what a sample's level 0 costs (a vertex at a
-//! voxel centre has every hot neighbour in reach), and the vertices do not grow with the image
-//! while the samples do: [`auto_first_level`] caches level 0 where a camera ray's footprint at
-//! the smoke is small enough that the samples outnumber the vertices.
+//! vertices can sit on those centres, one per voxel light, on a grid of its own blended
+//! linearly (sharing level 1's grid would blend level 1 linearly too: the demo's image 1.99%
+//! from the exact one instead of 1.72%). Against the image that shades level 0 at every sample
+//! and the exact one (`docs/shadows.md`): the Fig. 8-class frame at 320×180 1.54% from the
+//! exact image against 1.55%, the demo at 640×360 1.72% against 1.70%. It costs a vertex about
+//! twice what a sample's level 0 costs (a vertex at a voxel centre has every hot neighbour in
+//! reach), and the vertices do not grow with the image while the samples do:
+//! [`auto_first_level`] caches level 0 where a camera ray's footprint at the smoke is small
+//! enough that the samples outnumber the vertices. It adds flicker (`lgh bench flicker
+//! --cache-level 0`: +39% on the dev fire, +12% on the procedural sequence, against −11% and
+//! −4% from level 1 up), which is why small images, where it would not pay, never get it.
 //!
 //! At a vertex the cache returns the vertex's exact value. On the demo's explosion (320×180,
 //! levels ≥ 1 cached, 2-voxel shadow steps) against the uncached render: trilinear 3.06%
@@ -105,7 +109,9 @@ pub enum CacheSpacing {
     /// The distance across which the densest smoke (the 99th percentile of the density over
     /// the voxels with smoke) has this optical depth, and for each level at most half its grid
     /// spacing `h_ℓ` (its blending ramp and fall-off vary over `h_ℓ`: a voxel for level 1, the
-    /// explosions' `h_1` being two, two for level 2, …), or the next shorter of `1/k` or `k`
+    /// explosions' `h_1` being two, two for level 2, …) but not below a voxel on that account
+    /// (level 0, whose lights are the voxels, sits on their centres; so would any level of a
+    /// hierarchy whose `h_1` is under two voxels), or the next shorter of `1/k` or `k`
     /// voxels (on the density's lattice), between [`MIN_SPACING`] and [`MAX_SPACING`] voxels.
     /// Levels that get the same spacing share a grid. Without the
     /// second bound the dev fire's thin smoke got 4-voxel cells and flickered 4.5× as much as
@@ -175,8 +181,8 @@ impl ScatteredLight {
 /// sub-pixel's with several rays a pixel), at which [`auto_first_level`] caches level 0. Measured
 /// on the Fig. 8-class frame (`docs/shadows.md`; same runs, 2 threads), the render's CPU-seconds
 /// with level 0 shaded at every sample against cached: 2.19 voxels a ray (320×180) 70.4 against
-/// 77.0, 1.09 (640×360) 99.2 against 102.4, 0.55 (1280×720) 240 against 160. Three quarters
-/// of a voxel sits between the break-even and the clear gain.
+/// 77.0, 1.09 (640×360) 99.2 against 102.4, 0.55 (1280×720) 267.4 against 147.1. Three
+/// quarters of a voxel sits between the break-even and the clear gain.
 pub const LEVEL0_CACHE_FOOTPRINT: f32 = 0.75;
 
 /// The first level a lighting cache should hold for a camera whose rays are `footprint` voxels
@@ -512,7 +518,9 @@ impl LightingCache {
         for level in settings.first_level..=top {
             let voxels = spacing(level);
             match tiers.last_mut() {
-                Some(t) if t.voxels == voxels => t.last = level,
+                // Level 0 keeps a grid of its own: blended linearly (its near field), while
+                // the coarse levels blend in the logarithm (module docs).
+                Some(t) if t.voxels == voxels && t.first > 0 => t.last = level,
                 _ => tiers.push(Lattice::new(density, voxels, level, level)),
             }
         }

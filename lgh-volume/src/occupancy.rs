@@ -15,8 +15,9 @@
 //! away along each axis, and the outermost ones up to half a voxel past the grid's last
 //! centres; `reach` how far from the sample the march reads, its two-point Gauss nodes).
 //! What a voxel's value "non-zero" means is the caller's: density `≠ 0`, a temperature that
-//! emits, any colour channel. NaN counts as non-zero, so nothing that could reach the image is
-//! skipped.
+//! emits, any colour channel; NaN counts as non-zero. (The march also keeps every sample once
+//! its transmittance is not finite, and skips none along a ray whose direction is not of unit
+//! length, whose Gauss nodes would reach farther.)
 
 use lgh_core::glam::Vec3;
 
@@ -219,7 +220,8 @@ mod tests {
         hot.data[at] = 5.0;
         let mut occupancy = Occupancy::empty(&density);
         occupancy.mark(&hot, |v| v > 0.0, 0.0);
-        // Reaches x in (22, 26): brick 2 (16..24) and brick 3 (24..32).
+        // Reaches x in (22, 26): brick 2 (15.5..23.5) and brick 3 (23.5..31.5), the bricks
+        // counted from the box's face at −0.5.
         assert!(!occupancy.is_empty_at(Vec3::new(23.0, 2.0, 2.0)));
         assert!(!occupancy.is_empty_at(Vec3::new(25.0, 2.0, 2.0)));
         assert!(occupancy.is_empty_at(Vec3::new(10.0, 2.0, 2.0)));

@@ -32,7 +32,7 @@ pub const AUTO_SUBPIXEL_VOXELS: f32 = 0.75;
 /// use lgh_volume::lgh_core::glam::Vec3;
 /// use lgh_volume::render::{pixel_footprint, Camera, Framing};
 ///
-/// // 40° over 720 rows, 4 units away: 0.0039 units, a quarter of a voxel of 1/64.
+/// // 40° over 720 rows, 4 units away: 0.0040 units, a quarter of a voxel of 1/64.
 /// let camera = Camera::look_at(Vec3::new(0.0, -4.0, 0.0), Vec3::ZERO, Vec3::Z, 40.0, 720, 720)?;
 /// assert!((pixel_footprint(&camera, Vec3::ZERO, 1.0 / 64.0) - 0.259).abs() < 1e-3);
 /// # Ok::<(), lgh_volume::RenderError>(())

@@ -44,11 +44,90 @@ pub(super) fn fits(grid: &PaddedGrid) -> bool {
     !grid.is_empty() && i32::try_from(grid.data.len()).is_ok()
 }
 
-/// Marches the rays eight at a time. Where the shading point and eight consecutive lights are all
-/// inside the box (the usual case) the rays are also set up eight abreast; other rays are set up
-/// one by one ([`ShadowGrid::ray`]) and gathered into eights; the last few go one by one.
+/// Marches the rays eight at a time, in order of length (the lanes of a batch march until its
+/// longest ray ends, so rays of like length together keep them busy; each lane's result does
+/// not depend on its batch). Where the shading point and eight lights are all inside the box
+/// (the usual case) the rays are also set up eight abreast; other rays are set up one by one
+/// ([`ShadowGrid::ray`]) and gathered into eights; the last few go one by one.
 #[target_feature(enable = "avx2")]
 fn batches(grid: &ShadowGrid, x: Vec3, lights: &[Vec3], out: &mut [f32]) -> u64 {
+    BY_LENGTH.with(|order| {
+        let mut order = order.borrow_mut();
+        let (positions, index) = order.sort(grid, x, lights);
+        ordered_batches(grid, x, positions, index, out)
+    })
+}
+
+std::thread_local! {
+    /// Each thread's reordering of its lights ([`ByLength`]).
+    static BY_LENGTH: core::cell::RefCell<ByLength> = core::cell::RefCell::default();
+}
+
+/// Lights put in order of their rays' step counts by a counting sort (a vertex of the lighting
+/// cache has hundreds of lights, whose rays run from a few steps to the box's width).
+#[derive(Default)]
+struct ByLength {
+    positions: Vec<Vec3>,
+    index: Vec<usize>,
+    counts: Vec<u32>,
+    keys: Vec<u8>,
+}
+
+impl ByLength {
+    /// Rays of up to this many steps get a bucket each; longer ones share the last.
+    const BUCKETS: usize = 64;
+
+    /// `lights` from shortest to longest ray from `x` (at most [`Self::BUCKETS`] steps apart),
+    /// and each one's index in `lights`. Fewer than two batches are left as they are.
+    fn sort(&mut self, grid: &ShadowGrid, x: Vec3, lights: &[Vec3]) -> (&[Vec3], &[usize]) {
+        self.positions.clear();
+        self.index.clear();
+        if lights.len() <= LANES {
+            self.positions.extend_from_slice(lights);
+            self.index.extend(0..lights.len());
+            return (&self.positions, &self.index);
+        }
+        let scale = grid.grid.inv_voxel_size * grid.inv_step_voxels;
+        self.keys.clear();
+        self.keys.extend(lights.iter().map(|&l| {
+            let steps = (l - x).length() * scale;
+            // NaN and beyond the last bucket: the last bucket.
+            if steps < (Self::BUCKETS - 1) as f32 {
+                steps as u8
+            } else {
+                (Self::BUCKETS - 1) as u8
+            }
+        }));
+        self.counts.clear();
+        self.counts.resize(Self::BUCKETS + 1, 0);
+        for &k in &self.keys {
+            self.counts[usize::from(k) + 1] += 1;
+        }
+        for b in 1..=Self::BUCKETS {
+            self.counts[b] += self.counts[b - 1];
+        }
+        self.positions.resize(lights.len(), Vec3::ZERO);
+        self.index.resize(lights.len(), 0);
+        for (i, (&k, &l)) in self.keys.iter().zip(lights).enumerate() {
+            let slot = &mut self.counts[usize::from(k)];
+            self.positions[*slot as usize] = l;
+            self.index[*slot as usize] = i;
+            *slot += 1;
+        }
+        (&self.positions, &self.index)
+    }
+}
+
+/// [`batches`] over `lights` in the order given, light `k`'s transmittance written to
+/// `out[index[k]]`.
+#[target_feature(enable = "avx2")]
+fn ordered_batches(
+    grid: &ShadowGrid,
+    x: Vec3,
+    lights: &[Vec3],
+    index: &[usize],
+    out: &mut [f32],
+) -> u64 {
     let mut samples = 0u64;
     let mut group = [(0usize, Ray::default()); LANES];
     let mut k = 0;
@@ -57,17 +136,17 @@ fn batches(grid: &ShadowGrid, x: Vec3, lights: &[Vec3], out: &mut [f32]) -> u64 
         let first = c * LANES;
         if let (true, Ok(chunk)) = (x_inside, <&[Vec3; LANES]>::try_from(chunk)) {
             if let Some(rays) = setup(grid, x, chunk) {
-                samples += march8(grid, &rays, core::array::from_fn(|l| first + l), out);
+                samples += march8(grid, &rays, core::array::from_fn(|l| index[first + l]), out);
                 continue;
             }
         }
         for (j, &l) in chunk.iter().enumerate() {
             let Some(ray) = grid.ray(x, l) else {
-                out[first + j] = 1.0;
+                out[index[first + j]] = 1.0;
                 continue;
             };
             {
-                group[k] = (first + j, ray);
+                group[k] = (index[first + j], ray);
                 k += 1;
                 if k == LANES {
                     let rays = Rays::gather(&group);
@@ -360,6 +439,45 @@ fn march8(grid: &ShadowGrid, rays: &Rays, index: [usize; LANES], out: &mut [f32]
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The reordering is a permutation from fewest to most whole steps, keeps lists of one
+    /// batch as they are, and puts a NaN position (no ray) last rather than panicking.
+    #[test]
+    fn lights_are_ordered_by_their_rays_steps() {
+        let v = crate::medium::Volume::new(
+            crate::grid::DenseGrid::zeros([40, 8, 8], 1.0, Vec3::ZERO),
+            crate::grid::DenseGrid::zeros([40, 8, 8], 1.0, Vec3::ZERO),
+        );
+        let m = crate::medium::Medium::new(1.0, 1.0, 0.0, 0.0).unwrap();
+        let grid = ShadowGrid::new(&v, &m, 2.0, 1e-3);
+        let x = Vec3::new(0.0, 4.0, 4.0);
+        let mut lights: Vec<Vec3> = [17.0f32, 3.0, 39.0, 9.0, 1.0, 25.0, 5.0, 33.0, 11.0, 0.5]
+            .iter()
+            .map(|&d| x + Vec3::X * d)
+            .collect();
+        lights.push(Vec3::NAN);
+        let mut order = ByLength::default();
+        let (positions, index) = order.sort(&grid, x, &lights);
+        // Whole steps (the buckets; within one the order is the input's).
+        let steps: Vec<f32> = positions
+            .iter()
+            .map(|p| ((p.x - x.x) / 2.0).floor())
+            .collect();
+        assert!(steps[..10].windows(2).all(|w| w[0] <= w[1]), "{steps:?}");
+        assert!(positions[10].is_nan());
+        let mut seen = index.to_vec();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..lights.len()).collect::<Vec<_>>());
+        for (p, &i) in positions.iter().zip(index) {
+            assert!(p == &lights[i] || (p.is_nan() && lights[i].is_nan()));
+        }
+        let few = &lights[..LANES];
+        let (positions, index) = order.sort(&grid, x, few);
+        assert_eq!(
+            (positions, index),
+            (few, &(0..LANES).collect::<Vec<_>>()[..])
+        );
+    }
 
     #[test]
     fn samples_anywhere_read_inside_the_grid() {
