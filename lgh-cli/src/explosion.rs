@@ -855,8 +855,10 @@ impl Frames<'_> {
                     frame = frame.with_surfaces(room);
                 }
                 let shares = output::shares(&args.scatter(), &frame, camera, &bars)?;
+                let rendered = Rendered::of(&frame, camera, &bars)?;
+                // After the render: the lighting cache's vertices are those it filled.
                 extra.extend(output::frame_header(&frame, shares.as_ref()));
-                (Rendered::of(&frame, camera, &bars)?, Some((frame, shares)))
+                (rendered, Some((frame, shares)))
             }
             _ => (self.path_trace(volume, camera, &bars)?, None),
         };

@@ -729,6 +729,14 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
         "attributes",
     ]);
     assert_eq!(get("lgh:emission_interpolation"), "attributes");
+    // The header is written after the render: the cache's vertices are those it filled (with a
+    // depth given there is no pilot to fill any before). At ~2.5 voxels a ray, level 1 up
+    // (`--cache-level auto`); level 0 when asked, on its own grid.
+    assert!(get("lgh:lighting_cache_vertices").parse::<u64>().unwrap() > 0);
+    assert_eq!(get("lgh:lighting_cache_level"), "1");
+    let get = render(&["--scatter-depth", "0", "--cache-level", "0"]);
+    assert_eq!(get("lgh:lighting_cache_level"), "0");
+    assert!(get("lgh:lighting_cache_tiers").starts_with("0:1,1:1"));
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
     assert_eq!(get("lgh:min_temperature"), "800");
     assert_eq!(get("lgh:scatter_depth"), "0");
