@@ -179,10 +179,11 @@ impl ScatteredLight {
 
 /// The largest footprint of a camera ray at the volume's centre, in voxels (a pixel's, or a
 /// sub-pixel's with several rays a pixel), at which [`auto_first_level`] caches level 0. Measured
-/// on the Fig. 8-class frame (`docs/shadows.md`; same runs, 2 threads), the render's CPU-seconds
-/// with level 0 shaded at every sample against cached: 2.19 voxels a ray (320×180) 70.4 against
-/// 77.0, 1.09 (640×360) 99.2 against 102.4, 0.55 (1280×720) 267.4 against 147.1. Three
-/// quarters of a voxel sits between the break-even and the clear gain.
+/// on the Fig. 8-class frame (`docs/shadows.md`; 2 threads, level 0 then sharing level 1's
+/// grid), the render's CPU-seconds with level 0 shaded at every sample against cached: 2.19
+/// voxels a ray (320×180, separate runs) 70.4 against 77.0, 1.09 (640×360, one after the other)
+/// 99.2 against 102.4, 0.55 (1280×720, one after the other) 267.4 against 147.1. Three quarters
+/// of a voxel sits between the break-even and the clear gain.
 pub const LEVEL0_CACHE_FOOTPRINT: f32 = 0.75;
 
 /// The first level a lighting cache should hold for a camera whose rays are `footprint` voxels

@@ -69,7 +69,6 @@ std::thread_local! {
 struct ByLength {
     positions: Vec<Vec3>,
     index: Vec<usize>,
-    counts: Vec<u32>,
     keys: Vec<u8>,
 }
 
@@ -98,20 +97,20 @@ impl ByLength {
                 (Self::BUCKETS - 1) as u8
             }
         }));
-        self.counts.clear();
-        self.counts.resize(Self::BUCKETS + 1, 0);
+        // Each bucket's next slot.
+        let mut next = [0usize; Self::BUCKETS + 1];
         for &k in &self.keys {
-            self.counts[usize::from(k) + 1] += 1;
+            next[usize::from(k) + 1] += 1;
         }
         for b in 1..=Self::BUCKETS {
-            self.counts[b] += self.counts[b - 1];
+            next[b] += next[b - 1];
         }
         self.positions.resize(lights.len(), Vec3::ZERO);
         self.index.resize(lights.len(), 0);
         for (i, (&k, &l)) in self.keys.iter().zip(lights).enumerate() {
-            let slot = &mut self.counts[usize::from(k)];
-            self.positions[*slot as usize] = l;
-            self.index[*slot as usize] = i;
+            let slot = &mut next[usize::from(k)];
+            self.positions[*slot] = l;
+            self.index[*slot] = i;
             *slot += 1;
         }
         (&self.positions, &self.index)
