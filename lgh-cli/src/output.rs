@@ -7,7 +7,7 @@ use std::time::Instant;
 use lgh_image::Image;
 use lgh_volume::lgh_core::NearField;
 use lgh_volume::lighting_cache::{
-    CacheMode, CacheSpacing, LightingCache, LightingCacheSettings, ScatteredLight,
+    CacheMode, CacheSpacing, Level0Form, LightingCache, LightingCacheSettings, ScatteredLight,
 };
 use lgh_volume::render::{Camera, MarchSettings, RenderStats};
 use lgh_volume::scattering::{self, Shares};
@@ -168,6 +168,11 @@ pub struct CacheArgs {
     /// vertices), 1 otherwise
     #[arg(long, default_value = "auto", value_parser = parse_cache_level)]
     pub cache_level: CacheLevelArg,
+    /// Where the lighting cache holds level 0: `ratio` caches only its shadows (the ratio of
+    /// shadowed to unshadowed light at the vertices, multiplying level 0's unshadowed light
+    /// summed exactly at every sample), `light` its light, interpolated linearly
+    #[arg(long, value_enum, default_value_t = Level0Arg::Ratio)]
+    pub cache_level0: Level0Arg,
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
     /// fluence on a grid this many voxels apart (1 to 8), every level cached, and interpolate it
     /// to the voxels (their light has scattered already and varies slowly); 1 computes it at
@@ -178,6 +183,24 @@ pub struct CacheArgs {
     /// in the scattered light
     #[arg(long, value_enum, default_value_t = ScatteredLightArg::Merged)]
     pub scattered_light: ScatteredLightArg,
+}
+
+/// How the lighting cache holds level 0 (`--cache-level0`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Level0Arg {
+    /// Its shadows: the near field stays exact, shadow rays are cast at the vertices only
+    Ratio,
+    /// Its light, interpolated linearly between the voxel centres
+    Light,
+}
+
+impl From<Level0Arg> for Level0Form {
+    fn from(a: Level0Arg) -> Self {
+        match a {
+            Level0Arg::Ratio => Self::Ratio,
+            Level0Arg::Light => Self::Light,
+        }
+    }
 }
 
 /// How a render with multiple scattering takes in the scattered light.
@@ -223,6 +246,7 @@ impl CacheArgs {
             },
             // `auto` is resolved with the camera (`MarchArgs::for_camera`); without one, 1.
             first_level: self.first_level(f32::INFINITY),
+            level0: self.cache_level0.into(),
             scattered_spacing: self.scatter_spacing,
             scattered_light: self.scattered_light.into(),
         }
@@ -535,6 +559,12 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache", c.settings().mode.name().to_string()));
         out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
+        if c.settings().first_level == 0 {
+            out.push((
+                "lighting_cache_level0",
+                c.settings().level0.name().to_string(),
+            ));
+        }
         out.push(("lighting_cache_vertices", stats.vertices.to_string()));
         out.push(("lighting_cache_tiers", tiers(c)));
     }
@@ -625,7 +655,10 @@ pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
     let tiers: Vec<String> = c
         .tiers()
         .iter()
-        .map(|(l, v)| format!("levels {l}.. at {v:.3} voxels"))
+        .map(|&(l, v)| match l {
+            0 if c.level0_ratio() => format!("level 0's shadows (a ratio) at {v:.3} voxels"),
+            _ => format!("levels {l}.. at {v:.3} voxels"),
+        })
         .collect();
     say!(
         "  cache      {}: {} vertices, {:.1} CPU-s, {:.1} lights each",

@@ -736,7 +736,17 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert_eq!(get("lgh:lighting_cache_level"), "1");
     let get = render(&["--scatter-depth", "0", "--cache-level", "0"]);
     assert_eq!(get("lgh:lighting_cache_level"), "0");
+    assert_eq!(get("lgh:lighting_cache_level0"), "ratio");
     assert!(get("lgh:lighting_cache_tiers").starts_with("0:1,1:1"));
+    let get = render(&[
+        "--scatter-depth",
+        "0",
+        "--cache-level",
+        "0",
+        "--cache-level0",
+        "light",
+    ]);
+    assert_eq!(get("lgh:lighting_cache_level0"), "light");
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
     assert_eq!(get("lgh:min_temperature"), "800");
     assert_eq!(get("lgh:scatter_depth"), "0");

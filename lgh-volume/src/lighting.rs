@@ -220,12 +220,29 @@ impl<B: ManyLights> Lights<B> {
     }
 
     /// The [`incident`](Self::incident) light at `x` from every direction (the bare light,
-    /// `f = 1`), and its flux vector `F = Σ_j lum(I_j g_j V_j) ω_j`, with `ω_j` the unit
-    /// direction from light `j` to `x`: what the lighting cache needs to follow a shadow's
-    /// gradient (`∇_x τ_j ≈ σ_t(x) ω_j`, so `∇L ≈ −σ_t F`; `lighting_cache`). The flux is 0
-    /// without shadows, where nothing shadows the gradient, and for backends whose selection
-    /// follows the shader (Lightcuts), which the cache does not serve. `sigma_t` is the
-    /// extinction at `x` (it shields voxel lights' near field: [`shielding`]).
+    /// `f = 1`), the same lights unshadowed (`V = 1`), and the flux vector
+    /// `F = Σ_j lum(I_j g_j V_j) ω_j`, with `ω_j` the unit direction from light `j` to `x`: what
+    /// the lighting cache needs to follow a shadow's gradient (`∇_x τ_j ≈ σ_t(x) ω_j`, so
+    /// `∇L ≈ −σ_t F`) and to keep level 0 as a ratio (`lighting_cache`). The flux is 0 without
+    /// shadows, where nothing shadows the gradient, and for backends whose selection follows
+    /// the shader (Lightcuts), which the cache does not serve. `sigma_t` is the extinction at
+    /// `x` (it shields voxel lights' near field: [`shielding`]).
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{BruteForce, PointLight};
+    /// use lgh_volume::lighting::{LightScratch, Lights};
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    ///
+    /// let one = BruteForce::new(&[PointLight::new(Vec3::ZERO, Vec3::splat(4.0))])?;
+    /// let lights = Lights::new(one, 0.1);
+    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    /// let x = Vec3::new(2.0, 0.0, 0.0);
+    /// let at = lights.incident_flux(x, 0.0, &Visibility::None, &mut scratch, &mut stats)?;
+    /// assert_eq!((at.light, at.unshadowed, at.flux), (Vec3::ONE, Vec3::ONE, Vec3::ZERO));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn incident_flux(
         &self,
         x: Vec3,
@@ -233,22 +250,33 @@ impl<B: ManyLights> Lights<B> {
         visibility: &Visibility,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
-    ) -> Result<(Vec3, Vec3), QueryError> {
+    ) -> Result<IncidentFlux, QueryError> {
         let point = ShadingPoint::in_medium(x);
         if visibility.is_none() || self.backend.selection_follows_shader() {
-            let l = self.incident_in(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
-            return Ok((l, Vec3::ZERO));
+            let light =
+                self.incident_in(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
+            let unshadowed = if visibility.is_none() {
+                light
+            } else {
+                let none = &Visibility::None;
+                self.incident_in(&point, sigma_t, none, |_| Vec3::ONE, scratch, stats)?
+            };
+            return Ok(IncidentFlux {
+                light,
+                unshadowed,
+                flux: Vec3::ZERO,
+            });
         }
         self.gather(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
-        let mut radiance = Vec3::ZERO;
-        let mut flux = Vec3::ZERO;
+        let mut split = IncidentFlux::default();
         let terms = scratch.unshadowed.iter().zip(&scratch.visibility);
         for ((&(weighted, g), &v), &p) in terms.zip(scratch.lights.positions()) {
             let term = weighted * (g * v);
-            radiance += term;
-            flux += (x - p).normalize_or_zero() * lgh_core::luminance(term);
+            split.light += term;
+            split.unshadowed += weighted * g;
+            split.flux += (x - p).normalize_or_zero() * lgh_core::luminance(term);
         }
-        Ok((radiance, flux))
+        Ok(split)
     }
 
     /// The light in-scattered at `x` in a medium, per unit solid angle: `scale` (`σ_s`, or
@@ -289,6 +317,18 @@ impl<B: ManyLights> Lights<B> {
         let phase = Vec3::splat(ISOTROPIC_PHASE);
         Ok(self.incident_in(&point, sigma_t, visibility, |_| phase, scratch, stats)? * scale)
     }
+}
+
+/// The light at a point in a medium as the lighting cache keeps it
+/// ([`Lights::incident_flux`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct IncidentFlux {
+    /// `Σ_j I_j g_j V_j`: the incident light.
+    pub light: Vec3,
+    /// `Σ_j I_j g_j`: the same lights unshadowed.
+    pub unshadowed: Vec3,
+    /// `Σ_j lum(I_j g_j V_j) ω_j`: the flux vector (0 without shadows).
+    pub flux: Vec3,
 }
 
 /// A shading point's lights, gathered so that their visibility can be evaluated together;

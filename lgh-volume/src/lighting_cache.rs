@@ -37,19 +37,33 @@
 //! ball of smoke, depth 2 two voxels apart lost 22% of its power blended geometrically, 0.2%
 //! linearly (0.5% at depth 3).
 //!
-//! **Level 0 too, for large images.** Level 0's light varies from voxel to voxel, and within a
-//! voxel by its own light's near field, which no grid on the voxel centres follows. Yet its
-//! vertices can sit on those centres, one per voxel light, on a grid of its own blended
-//! linearly (sharing level 1's grid would blend level 1 linearly too: the demo's image 1.99%
-//! from the exact one instead of 1.72%). Against the image that shades level 0 at every sample
-//! and the exact one (`docs/shadows.md`): the Fig. 8-class frame at 320×180 1.54% from the
-//! exact image against 1.55%, the demo at 640×360 1.72% against 1.70%. It costs a vertex about
-//! twice what a sample's level 0 costs (a vertex at a voxel centre has every hot neighbour in
-//! reach), and the vertices do not grow with the image while the samples do:
-//! [`auto_first_level`] caches level 0 where a camera ray's footprint at the smoke is small
-//! enough that the samples outnumber the vertices. It adds flicker (`lgh bench flicker
-//! --cache-level 0`: +39% on the dev fire, +12% on the procedural sequence, against −11% and
-//! −4% from level 1 up), which is why small images, where it would not pay, never get it.
+//! **Level 0 too, for large images, as a ratio.** Level 0's light varies from voxel to voxel,
+//! and within a voxel by its own light's near field, which no grid on the voxel centres
+//! follows: interpolated as light ([`Level0Form::Light`]), it adds flicker (`lgh bench flicker
+//! --cache-level 0 --cache-level0 light`: +39% on the dev fire, +12% on the procedural
+//! sequence, against −11% and −4% from level 1 up), the interpolation's error following the
+//! fire's intensities from frame to frame. What varies slowly across a voxel is its
+//! *shadows*. So a grid that holds level 0 ([`Level0Form::Ratio`], the default) keeps at each
+//! vertex — on the voxel centres, one per voxel light, on a grid of its own — level 0's
+//! shadowed light `S_v = Σ_j I_j g_j V_j` and unshadowed light `U_v = Σ_j I_j g_j`, and a sample
+//! multiplies level 0's unshadowed light `U(x)`, summed exactly there, by
+//! `Σ_v w_v Ŝ_v / Σ_v w_v U_v`: a mean of level 0's
+//! transmittances weighted by their light, `Ŝ_v` extrapolated along the shadow's gradient as
+//! below. The near field stays exact, and the shadow rays — most of level 0's cost at a
+//! sample — are cast at the vertices only. Without shadows the ratio is exactly 1 and the
+//! image that of level 0 shaded at every sample. Flicker from level 0 up: −11% on the dev fire
+//! and +0.6% on the procedural sequence against the uncached render (−11% and −4% from level
+//! 1). Against the exact image: the Fig. 8-class frame at 320×180 1.55% (levels ≥ 1: 1.55%,
+//! level 0 as light 1.54%); the demo at 640×360 1.69% (1.70%, 1.72%).
+//!
+//! A vertex costs about twice what a sample's level 0 costs (a vertex at a voxel centre has
+//! every hot neighbour in reach), and the vertices do not grow with the image while the
+//! samples do: [`auto_first_level`] caches level 0 where a camera ray's footprint at the smoke
+//! is small enough that the samples outnumber the vertices. The ratio form still sums level 0's
+//! unshadowed light at every sample: on the Fig. 8-class frame at 1280×720 (with the demo's
+//! ground) the render took 189.5 CPU-s against 131.6 with level 0 as light (one run after the
+//! other) and 267.4 from level 1 (an earlier run) — the price of a near field that does not
+//! flicker.
 //!
 //! At a vertex the cache returns the vertex's exact value. On the demo's explosion (320×180,
 //! levels ≥ 1 cached, 2-voxel shadow steps) against the uncached render: trilinear 3.06%
@@ -137,6 +151,9 @@ pub struct LightingCacheSettings {
     pub spacing: CacheSpacing,
     /// The first level cached: levels below it are shaded at every sample.
     pub first_level: u8,
+    /// How a grid that holds level 0 keeps it: its shadows as a ratio (the default) or its
+    /// light.
+    pub level0: Level0Form,
     /// Multiple scattering's depths ≥ 2 compute their fluence at the vertices of a grid this
     /// many voxels apart, every level cached, and interpolate it to the voxels
     /// ([`scattered_depths`](Self::scattered_depths)); 1: at every voxel, as depth 1 does; 0
@@ -147,6 +164,32 @@ pub struct LightingCacheSettings {
     /// march sample, or a grid of its in-scattered radiance at the voxels
     /// ([`crate::scattered_light`]).
     pub scattered_light: ScatteredLight,
+}
+
+/// How a cache that holds level 0 keeps it (`--cache-level0`; module docs, "Level 0 as a
+/// ratio").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Level0Form {
+    /// Its shadows only: the vertices keep level 0's shadowed light `S_v` and unshadowed light
+    /// `U_v`, and a sample multiplies level 0's unshadowed light `U(x)`, summed exactly, by
+    /// their interpolated ratio `Σ w_v S_v / Σ w_v U_v`. The near field stays exact; the
+    /// shadow rays, most of level 0's cost a sample, are cast at the vertices only.
+    #[default]
+    Ratio,
+    /// Its light, interpolated linearly: what the scattering depths' grid keeps, where every
+    /// voxel would otherwise sum level 0.
+    Light,
+}
+
+impl Level0Form {
+    /// The name on the command line (`ratio`, `light`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Level0Form::Ratio => "ratio",
+            Level0Form::Light => "light",
+        }
+    }
 }
 
 /// How a render with multiple scattering takes in the scattered light (`--scattered-light`).
@@ -229,6 +272,7 @@ impl Default for LightingCacheSettings {
             mode: CacheMode::None,
             spacing: CacheSpacing::OpticalDepth(1.0),
             first_level: 1,
+            level0: Level0Form::Ratio,
             scattered_spacing: SCATTERED_SPACING,
             scattered_light: ScatteredLight::Merged,
         }
@@ -279,6 +323,7 @@ impl LightingCacheSettings {
         (self.mode == CacheMode::Coarse && spacing > 1).then_some(LightingCacheSettings {
             spacing: CacheSpacing::Voxels(f32::from(spacing)),
             first_level: 0,
+            level0: Level0Form::Light,
             ..*self
         })
     }
@@ -416,6 +461,9 @@ struct Lattice {
     /// The levels, `first..=last`.
     first: u8,
     last: u8,
+    /// Whether it keeps level 0 as a ratio ([`Level0Form::Ratio`]): its vertices' shadowed
+    /// and unshadowed light, which [`LightingCache::lookup`] reads as a ratio.
+    ratio: bool,
     /// World position of vertex (0, 0, 0): the first voxel centre.
     origin: Vec3,
     /// The spacing in voxels, in world units, and its inverse.
@@ -432,7 +480,7 @@ struct Lattice {
 
 impl Lattice {
     /// An empty grid of levels `first..=last` over `density`'s box, `voxels` voxels apart.
-    fn new(density: &DenseGrid, voxels: f32, first: u8, last: u8) -> Self {
+    fn new(density: &DenseGrid, voxels: f32, first: u8, last: u8, ratio: bool) -> Self {
         let spacing = density.voxel_size * voxels;
         let dims = density.dims.map(|n| {
             let span = n.saturating_sub(1) as f32 / voxels;
@@ -443,6 +491,7 @@ impl Lattice {
         Lattice {
             first,
             last,
+            ratio,
             origin: density.centre(0, 0, 0),
             voxels,
             spacing,
@@ -522,7 +571,10 @@ impl LightingCache {
                 // Level 0 keeps a grid of its own: blended linearly (its near field), while
                 // the coarse levels blend in the logarithm (module docs).
                 Some(t) if t.voxels == voxels && t.first > 0 => t.last = level,
-                _ => tiers.push(Lattice::new(density, voxels, level, level)),
+                _ => {
+                    let ratio = level == 0 && settings.level0 == Level0Form::Ratio;
+                    tiers.push(Lattice::new(density, voxels, level, level, ratio));
+                }
             }
         }
         if let Some(t) = tiers.last_mut() {
@@ -575,40 +627,57 @@ impl LightingCache {
         }
     }
 
-    /// The cached levels' incident light at `x`, where the extinction is `sigma_t`: on each
-    /// grid, the eight vertices around it (the nearest face of the grid beyond its outermost
+    /// What the cache holds at `x`, where the extinction is `sigma_t`: the light of the grids
+    /// that keep light, and level 0's shadowing where a grid keeps it as a ratio. On each grid,
+    /// the eight vertices around `x` (the nearest face of the grid beyond its outermost
     /// vertices) interpolated as the module docs say, their bricks filled with `coarse`'s
     /// lights of the grid's levels and `visibility` first if they are not yet (`density` gives
     /// the vertices' extinction).
-    pub fn incident(
+    pub(crate) fn lookup(
         &self,
         x: Vec3,
         sigma_t: f32,
         coarse: &Lights<LghBackend<'_>>,
         visibility: &Visibility,
         density: &DenseGrid,
-    ) -> Result<Vec3, QueryError> {
+    ) -> Result<Cached, QueryError> {
         QueryError::check_point(x)?;
-        let mut sum = Vec3::ZERO;
+        let mut cached = Cached::default();
         for tier in &self.tiers {
-            let source = Source {
-                lights: coarse.with_backend(coarse.backend.with_levels(tier.first..=tier.last)),
-                visibility,
-                density,
+            let source = Source::of(tier, coarse, visibility, density);
+            let corners = self.corners(tier, x, &source)?;
+            if tier.ratio {
+                cached.shadowing = ratio(&corners, sigma_t);
+                continue;
+            }
+            // A grid that holds level 0 holds the voxel lights' near field: blended linearly.
+            let blend = if tier.first == 0 {
+                Blend::Linear
+            } else {
+                Blend::Geometric
             };
-            sum += self.tier_incident(tier, x, sigma_t, &source)?;
+            cached.light += interpolate(&corners, sigma_t, blend);
         }
-        Ok(sum)
+        Ok(cached)
     }
 
-    /// [`incident`](Self::incident) on one grid, filled from `source`.
-    fn tier_incident(
+    /// Whether level 0 is kept as a ratio ([`Level0Form::Ratio`]): then the light that
+    /// [`lookup`](Self::lookup) gives leaves it out, and its shadowing multiplies level 0's
+    /// unshadowed light.
+    #[must_use]
+    pub fn level0_ratio(&self) -> bool {
+        self.tiers.iter().any(|t| t.ratio)
+    }
+
+    /// The eight vertices of grid `tier` around `x` (the nearest face of the grid beyond its
+    /// outermost vertices), with their offsets to `x` and trilinear weights, their bricks
+    /// filled from `source` first where they are not yet.
+    fn corners(
         &self,
         tier: &Lattice,
         x: Vec3,
-        sigma_t: f32,
         source: &Source<'_, '_>,
-    ) -> Result<Vec3, QueryError> {
+    ) -> Result<[Corner; 8], QueryError> {
         let u = (x - tier.origin) * tier.inv_spacing;
         let mut base = [0usize; 3];
         let mut w = [0.0f32; 3];
@@ -634,13 +703,7 @@ impl LightingCache {
                 };
             }
         }
-        // A grid that holds level 0 holds the voxel lights' near field: blended linearly.
-        let blend = if tier.first == 0 {
-            Blend::Linear
-        } else {
-            Blend::Geometric
-        };
-        Ok(interpolate(&corners, sigma_t, blend))
+        Ok(corners)
     }
 
     /// Vertex `v` of grid `tier`, its brick filled from `source` first if need be.
@@ -699,12 +762,21 @@ impl LightingCache {
                     }
                     let x = tier.vertex(v);
                     let sigma_t = self.kappa * density.sample(x);
-                    let (light, flux) =
+                    let split =
                         lights.incident_flux(x, sigma_t, visibility, &mut scratch, &mut stats)?;
-                    let lum = lgh_core::luminance(light);
+                    let lum = lgh_core::luminance(split.light);
                     values[(k * BRICK + j) * BRICK + i] = Vertex {
-                        light,
-                        direction: if lum > 0.0 { flux / lum } else { Vec3::ZERO },
+                        light: split.light,
+                        unshadowed: if tier.ratio {
+                            split.unshadowed
+                        } else {
+                            Vec3::ZERO
+                        },
+                        direction: if lum > 0.0 {
+                            split.flux / lum
+                        } else {
+                            Vec3::ZERO
+                        },
                         sigma_t,
                     };
                     count += 1;
@@ -751,11 +823,43 @@ struct Source<'s, 'l> {
     density: &'s DenseGrid,
 }
 
+impl<'s, 'l> Source<'s, 'l> {
+    /// Grid `tier`'s levels of `lights`, with `visibility` and `density`.
+    fn of(
+        tier: &Lattice,
+        lights: &Lights<LghBackend<'l>>,
+        visibility: &'s Visibility,
+        density: &'s DenseGrid,
+    ) -> Self {
+        Source {
+            lights: lights.with_backend(lights.backend.with_levels(tier.first..=tier.last)),
+            visibility,
+            density,
+        }
+    }
+}
+
+/// What the cache gives at a point ([`LightingCache::lookup`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Cached {
+    /// The light of the grids that keep light.
+    pub(crate) light: Vec3,
+    /// Level 0's shadowing, per channel: the ratio `Σ_v w_v Ŝ_v / Σ_v w_v U_v` of its shadowed
+    /// light `S_v` (extrapolated along its shadow's gradient as the module docs say, `Ŝ_v`)
+    /// and its unshadowed light `U_v` at the eight vertices around the point with their
+    /// trilinear weights `w_v`, a channel none of them has light in taking the ratio of their
+    /// luminances ([`ratio`]). `None` without a ratio grid, or where no vertex around the point
+    /// has level-0 light: then the point needs level 0 exactly.
+    pub(crate) shadowing: Option<Vec3>,
+}
+
 /// What the cache holds at a vertex.
 #[derive(Clone, Copy, Debug, Default)]
 struct Vertex {
-    /// The coarse levels' incident light `L`.
+    /// The coarse levels' incident light `L` (on a ratio grid, level 0's shadowed light `S`).
     light: Vec3,
+    /// On a ratio grid, level 0's unshadowed light `U` (0 elsewhere).
+    unshadowed: Vec3,
     /// Its flux vector over its luminance, `F / lum(L)`: the mean direction the light travels,
     /// of length at most 1 (see [`Lights::incident_flux`]).
     direction: Vec3,
@@ -781,21 +885,28 @@ enum Blend {
     Linear,
 }
 
+/// Corner `c`'s light extrapolated to a sample of extinction `sigma_t` along its shadow's
+/// gradient, `L_v e^{−σ̄ (x − v)·d_v}` (module docs, step 1).
+#[must_use]
+fn extrapolated(c: &Corner, sigma_t: f32) -> Vec3 {
+    // ln of the largest factor the extrapolation may apply (e^±30): far beyond any physical
+    // σ̄ |δ| of a cell, it only keeps the exponential finite.
+    const MAX_EXPONENT: f32 = 30.0;
+    let sigma = 0.5 * (c.vertex.sigma_t + sigma_t);
+    let exponent = -sigma * c.offset.dot(c.vertex.direction);
+    c.vertex.light * exponent.clamp(-MAX_EXPONENT, MAX_EXPONENT).exp()
+}
+
 /// The light at a sample of extinction `sigma_t` from the `corners` around it: each corner's
 /// light extrapolated along its shadow's gradient, then blended as `blend` says (see the
 /// module docs).
 #[must_use]
 fn interpolate(corners: &[Corner; 8], sigma_t: f32, blend: Blend) -> Vec3 {
-    // ln of the largest factor a corner's extrapolation may apply (e^±30): far beyond any
-    // physical σ̄ |δ| of a cell, it only keeps the exponential finite.
-    const MAX_EXPONENT: f32 = 30.0;
     let mut estimates = [Vec3::ZERO; 8];
     let mut linear = Vec3::ZERO;
     for (e, c) in estimates.iter_mut().zip(corners) {
         if c.weight > 0.0 {
-            let sigma = 0.5 * (c.vertex.sigma_t + sigma_t);
-            let exponent = -sigma * c.offset.dot(c.vertex.direction);
-            *e = c.vertex.light * exponent.clamp(-MAX_EXPONENT, MAX_EXPONENT).exp();
+            *e = extrapolated(c, sigma_t);
             linear += *e * c.weight;
         }
     }
@@ -815,13 +926,35 @@ fn interpolate(corners: &[Corner; 8], sigma_t: f32, blend: Blend) -> Vec3 {
     Vec3::select(linear.cmpgt(Vec3::ZERO), out.max(Vec3::ZERO), Vec3::ZERO)
 }
 
+/// Level 0's shadowing at a sample of extinction `sigma_t` from the `corners` of a ratio grid
+/// around it, as [`Cached::shadowing`] says.
+#[must_use]
+fn ratio(corners: &[Corner; 8], sigma_t: f32) -> Option<Vec3> {
+    let (mut shadowed, mut unshadowed) = (Vec3::ZERO, Vec3::ZERO);
+    for c in corners.iter().filter(|c| c.weight > 0.0) {
+        shadowed += extrapolated(c, sigma_t) * c.weight;
+        unshadowed += c.vertex.unshadowed * c.weight;
+    }
+    let grey = lgh_core::luminance(unshadowed);
+    if grey <= 0.0 {
+        return None;
+    }
+    let grey = lgh_core::luminance(shadowed) / grey;
+    let r = Vec3::select(
+        unshadowed.cmpgt(Vec3::ZERO),
+        shadowed / unshadowed,
+        Vec3::splat(grey),
+    );
+    Some(r)
+}
+
 /// A frame's lights split for a cache: the finest levels shaded per point, the coarse ones
 /// through the cache.
 pub(crate) struct CachedLights<'l> {
     pub(crate) cache: &'l LightingCache,
     pub(crate) density: &'l DenseGrid,
     /// Levels below the cache's first, shaded at every sample (none when it caches every
-    /// level).
+    /// level); with level 0 kept as a ratio, level 0, unshadowed.
     pub(crate) fine: Option<Lights<LghBackend<'l>>>,
     /// The cached levels, what the cache is filled with.
     pub(crate) coarse: Lights<LghBackend<'l>>,
@@ -836,10 +969,15 @@ impl<'l> CachedLights<'l> {
     ) -> Self {
         let first = cache.settings.first_level;
         let split = |levels| lights.with_backend(lights.backend.with_levels(levels));
+        let fine = if cache.level0_ratio() {
+            Some(split(0..=0))
+        } else {
+            first.checked_sub(1).map(|last| split(0..=last))
+        };
         CachedLights {
             cache,
             density,
-            fine: first.checked_sub(1).map(|last| split(0..=last)),
+            fine,
             coarse: split(first..=u8::MAX),
         }
     }
@@ -870,13 +1008,19 @@ impl<'l> CachedLights<'l> {
         scratch: &mut LightScratch,
         stats: &mut RenderStats,
     ) -> Result<Vec3, QueryError> {
-        let fine = match &self.fine {
-            Some(fine) => fine.in_scattered(x, scale, sigma_t, visibility, scratch, stats)?,
-            None => Vec3::ZERO,
+        let (coarse, density) = (&self.coarse, self.density);
+        let cached = self.cache.lookup(x, sigma_t, coarse, visibility, density)?;
+        let fine = match (&self.fine, cached.shadowing) {
+            (Some(fine), Some(r)) => {
+                let none = &Visibility::None;
+                fine.in_scattered(x, scale, sigma_t, none, scratch, stats)? * r
+            }
+            (Some(fine), None) => {
+                fine.in_scattered(x, scale, sigma_t, visibility, scratch, stats)?
+            }
+            (None, _) => Vec3::ZERO,
         };
-        let coarse = self
-            .cache
-            .incident(x, sigma_t, &self.coarse, visibility, self.density)?;
+        let coarse = cached.light;
         Ok(fine + coarse * (ISOTROPIC_PHASE * scale))
     }
 }
@@ -910,7 +1054,54 @@ mod tests {
             light: l0 * (-sigma * p.dot(omega)).exp(),
             direction: omega,
             sigma_t: sigma,
+            ..Vertex::default()
         }
+    }
+
+    #[test]
+    fn level0s_ratio_is_the_shadowing_weighted_by_the_unshadowed_light() {
+        // Every vertex shadowed by the same factor per channel (its light from no one
+        // direction: no extrapolation): that factor, wherever the sample lies in the cell.
+        let r = Vec3::new(0.5, 0.25, 0.125);
+        let shadowed = |dark_blue: bool| {
+            move |p: Vec3| {
+                let mut u = Vec3::new(1.0, 2.0, 3.0) + p * 7.0;
+                if dark_blue {
+                    u.z = 0.0;
+                }
+                Vertex {
+                    light: u * r,
+                    unshadowed: u,
+                    direction: Vec3::ZERO,
+                    sigma_t: 2.0,
+                }
+            }
+        };
+        let mut rng = lgh_core::random::SplitMix64(5);
+        for _ in 0..50 {
+            let x = rng.next_in(Vec3::ZERO, Vec3::ONE);
+            let got = ratio(&cell(x, Vec3::ZERO, shadowed(false)), 2.0).unwrap();
+            assert!((got - r).abs().max_element() < 1e-6, "{x}: {got}");
+            // A channel with no light at any corner takes the luminance's ratio.
+            let corners = cell(x, Vec3::ZERO, shadowed(true));
+            let got = ratio(&corners, 2.0).unwrap();
+            let mean = |f: fn(&Vertex) -> Vec3| {
+                let sum = corners
+                    .iter()
+                    .map(|c| f(&c.vertex) * c.weight)
+                    .sum::<Vec3>();
+                lgh_core::luminance(sum)
+            };
+            let grey = mean(|v| v.light) / mean(|v| v.unshadowed);
+            assert!(
+                (got.z - grey).abs() < 1e-3 * grey,
+                "{x}: {got} against {grey}"
+            );
+            assert!((got.truncate() - r.truncate()).abs().max_element() < 1e-6);
+        }
+        // Where no corner has level-0 light: none, so the sample shades level 0 exactly.
+        let dark = |_: Vec3| Vertex::default();
+        assert_eq!(ratio(&cell(Vec3::splat(0.5), Vec3::ZERO, dark), 1.0), None);
     }
 
     #[test]
@@ -952,6 +1143,7 @@ mod tests {
                 light: Vec3::splat(if p.x > 0.5 { l } else { 0.0 }),
                 direction: Vec3::ZERO,
                 sigma_t: 0.0,
+                ..Vertex::default()
             }
         };
         // Half the corners black, at the centre: the linear blend is 0.5, the geometric blend
@@ -994,6 +1186,7 @@ mod tests {
                 light: Vec3::new(h, h * h, 0.1 + h),
                 direction: Vec3::new(p.y - 0.5, 0.3, -p.z).normalize() * 0.8,
                 sigma_t: 2.0 + p.x,
+                ..Vertex::default()
             }
         };
         for (y, z) in [(0.2f32, 0.7f32), (0.9, 0.1), (0.5, 0.5)] {
