@@ -412,7 +412,10 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         "lights_rebuilt_every_frame": seq.rebuild,
         "floor": seq.floor.is_some(),
         "lighting_cache_first_level": args.cache.first_level(seq.footprint),
-        "lighting_cache_level0": lgh_volume::lighting_cache::Level0Form::from(args.cache.cache_level0).name(),
+        // No multiple scattering here: `auto` is the emission lights' form.
+        "lighting_cache_level0": lgh_volume::lighting_cache::Level0Form::from(args.cache.cache_level0)
+            .for_lights(false)
+            .name(),
         "lights_per_frame": rendered.lit as f64 / n,
         "build_seconds_per_frame": rendered.build_seconds / n,
         "backends": backends,

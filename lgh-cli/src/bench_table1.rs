@@ -213,7 +213,8 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run], march: &MarchSettings)
         "core_seconds": first.total() * rayon::current_num_threads() as f64,
         "lighting_cache": first.cache.map(|c| json!({
             "first_level": march.lighting_cache.first_level,
-            "level0": march.lighting_cache.level0.name(),
+            // No multiple scattering here: `auto` is the emission lights' form.
+            "level0": march.lighting_cache.level0.for_lights(false).name(),
             "vertices": c.vertices,
             "seconds": c.cpu_seconds,
             "rel_rmse_vs_uncached": uncached(first.shadows).and_then(vs),

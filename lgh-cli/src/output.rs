@@ -170,8 +170,11 @@ pub struct CacheArgs {
     pub cache_level: CacheLevelArg,
     /// Where the lighting cache holds level 0: `ratio` caches only its shadows (the ratio of
     /// shadowed to unshadowed light at the vertices, multiplying level 0's unshadowed light
-    /// summed exactly at every sample), `light` its light, interpolated linearly
-    #[arg(long, value_enum, default_value_t = Level0Arg::Ratio)]
+    /// summed exactly at every sample: no added flicker), `light` its light, interpolated
+    /// linearly (cheaper a sample, but it flickers); `auto`: ratio for the emission's lights,
+    /// light for multiple scattering's merged lights (one a smoky voxel: too many to sum at
+    /// every sample)
+    #[arg(long, value_enum, default_value_t = Level0Arg::Auto)]
     pub cache_level0: Level0Arg,
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
     /// fluence on a grid this many voxels apart (1 to 8), every level cached, and interpolate it
@@ -188,6 +191,8 @@ pub struct CacheArgs {
 /// How the lighting cache holds level 0 (`--cache-level0`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Level0Arg {
+    /// Ratio for the emission's lights, light for multiple scattering's merged lights
+    Auto,
     /// Its shadows: the near field stays exact, shadow rays are cast at the vertices only
     Ratio,
     /// Its light, interpolated linearly between the voxel centres
@@ -197,6 +202,7 @@ pub enum Level0Arg {
 impl From<Level0Arg> for Level0Form {
     fn from(a: Level0Arg) -> Self {
         match a {
+            Level0Arg::Auto => Self::Auto,
             Level0Arg::Ratio => Self::Ratio,
             Level0Arg::Light => Self::Light,
         }
@@ -560,10 +566,8 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
         if c.settings().first_level == 0 {
-            out.push((
-                "lighting_cache_level0",
-                c.settings().level0.name().to_string(),
-            ));
+            let form = if c.level0_ratio() { "ratio" } else { "light" };
+            out.push(("lighting_cache_level0", form.to_string()));
         }
         out.push(("lighting_cache_vertices", stats.vertices.to_string()));
         out.push(("lighting_cache_tiers", tiers(c)));

@@ -84,7 +84,7 @@ pub mod ward;
 
 pub use blend::{check_alpha, falloff, Blending, MAX_LEVEL};
 pub use brute::BruteForce;
-pub use error::{BuildError, QueryError};
+pub use error::{BuildError, QueryError, MAX_LIGHTS};
 pub use glam;
 pub use grid::{bounds, Clustering, GridSettings, LevelSource, LightPosition};
 pub use hierarchy::{LghBackend, LightingGridHierarchy};

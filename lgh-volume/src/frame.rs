@@ -18,7 +18,7 @@ use lgh_image::Image;
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::lighting::Lights;
-use crate::lighting_cache::{CachedLights, LightingCache};
+use crate::lighting_cache::{CachedLights, LightingCache, LightingCacheSettings};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{FrameBackend, Method, Prepared};
@@ -118,9 +118,18 @@ impl<'a> FrameRender<'a> {
             (merged, None)
         };
         // A skipped pass renders its emission lights with the shading its pilot made for them.
+        // Merged lights keep level 0 in the cache as light where the form is automatic.
+        let merged_lights = scattered.is_some() && !grid;
+        let rendering = MarchSettings {
+            lighting_cache: LightingCacheSettings {
+                level0: settings.lighting_cache.level0.for_lights(merged_lights),
+                ..settings.lighting_cache
+            },
+            ..*settings
+        };
         let shading = match pilot_shading {
             Some(shading) => shading,
-            None => Shading::new(rendered, method, frame, medium, settings, progress)?,
+            None => Shading::new(rendered, method, frame, medium, &rendering, progress)?,
         };
         let shadows = shading.shadow_seconds;
         let cache = shading.cache;

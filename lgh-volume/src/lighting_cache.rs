@@ -63,7 +63,9 @@
 //! unshadowed light at every sample: on the Fig. 8-class frame at 1280×720 (with the demo's
 //! ground) the render took 189.5 CPU-s against 131.6 with level 0 as light (one run after the
 //! other) and 267.4 from level 1 (an earlier run) — the price of a near field that does not
-//! flicker.
+//! flicker. Multiple scattering's merged lights, one a smoky voxel, make that sum far dearer
+//! (236 lights a sample on the same frame at depth 4: the render 385 CPU-s as a ratio), so
+//! [`Level0Form::Auto`], the default, keeps their level 0 as light.
 //!
 //! At a vertex the cache returns the vertex's exact value. On the demo's explosion (320×180,
 //! levels ≥ 1 cached, 2-voxel shadow steps) against the uncached render: trilinear 3.06%
@@ -151,8 +153,8 @@ pub struct LightingCacheSettings {
     pub spacing: CacheSpacing,
     /// The first level cached: levels below it are shaded at every sample.
     pub first_level: u8,
-    /// How a grid that holds level 0 keeps it: its shadows as a ratio (the default) or its
-    /// light.
+    /// How a grid that holds level 0 keeps it: its shadows as a ratio or its light (by default
+    /// as a ratio for the emission's lights, as light for multiple scattering's merged lights).
     pub level0: Level0Form,
     /// Multiple scattering's depths ≥ 2 compute their fluence at the vertices of a grid this
     /// many voxels apart, every level cached, and interpolate it to the voxels
@@ -170,11 +172,17 @@ pub struct LightingCacheSettings {
 /// ratio").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Level0Form {
+    /// [`Ratio`](Self::Ratio) for the emission's voxel lights, [`Light`](Self::Light) for
+    /// multiple scattering's merged lights: one a smoky voxel, their level 0 summed at every
+    /// sample would cost more than the rest of the render (the Fig. 8-class frame at depth 4,
+    /// 1280×720: 236 lights a sample; the render 385 CPU-s as a ratio, 135 as light).
+    /// [`crate::FrameRender`] resolves it; a cache made directly takes it as a ratio.
+    #[default]
+    Auto,
     /// Its shadows only: the vertices keep level 0's shadowed light `S_v` and unshadowed light
     /// `U_v`, and a sample multiplies level 0's unshadowed light `U(x)`, summed exactly, by
     /// their interpolated ratio `Σ w_v S_v / Σ w_v U_v`. The near field stays exact; the
     /// shadow rays, most of level 0's cost a sample, are cast at the vertices only.
-    #[default]
     Ratio,
     /// Its light, interpolated linearly: what the scattering depths' grid keeps, where every
     /// voxel would otherwise sum level 0.
@@ -182,12 +190,32 @@ pub enum Level0Form {
 }
 
 impl Level0Form {
-    /// The name on the command line (`ratio`, `light`).
+    /// The name on the command line (`auto`, `ratio`, `light`).
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
+            Level0Form::Auto => "auto",
             Level0Form::Ratio => "ratio",
             Level0Form::Light => "light",
+        }
+    }
+
+    /// The form for a render of multiple scattering's merged lights (`merged`) or of the
+    /// emission's: [`Auto`](Self::Auto) resolved, the others as they are.
+    ///
+    /// ```
+    /// use lgh_volume::lighting_cache::Level0Form;
+    ///
+    /// assert_eq!(Level0Form::Auto.for_lights(false), Level0Form::Ratio);
+    /// assert_eq!(Level0Form::Auto.for_lights(true), Level0Form::Light);
+    /// assert_eq!(Level0Form::Ratio.for_lights(true), Level0Form::Ratio);
+    /// ```
+    #[must_use]
+    pub fn for_lights(self, merged: bool) -> Self {
+        match self {
+            Level0Form::Auto if merged => Level0Form::Light,
+            Level0Form::Auto => Level0Form::Ratio,
+            form => form,
         }
     }
 }
@@ -272,7 +300,7 @@ impl Default for LightingCacheSettings {
             mode: CacheMode::None,
             spacing: CacheSpacing::OpticalDepth(1.0),
             first_level: 1,
-            level0: Level0Form::Ratio,
+            level0: Level0Form::Auto,
             scattered_spacing: SCATTERED_SPACING,
             scattered_light: ScatteredLight::Merged,
         }
@@ -572,7 +600,8 @@ impl LightingCache {
                 // the coarse levels blend in the logarithm (module docs).
                 Some(t) if t.voxels == voxels && t.first > 0 => t.last = level,
                 _ => {
-                    let ratio = level == 0 && settings.level0 == Level0Form::Ratio;
+                    let ratio =
+                        level == 0 && settings.level0.for_lights(false) == Level0Form::Ratio;
                     tiers.push(Lattice::new(density, voxels, level, level, ratio));
                 }
             }

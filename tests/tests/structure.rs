@@ -14,13 +14,14 @@ fn root() -> PathBuf {
 }
 
 /// The library crates, whose structure is checked.
-const CRATES: [&str; 6] = [
+const CRATES: [&str; 7] = [
     "lgh-core",
     "lgh-image",
     "lgh-volume",
     "lgh-vpl",
     "lgh-ply",
     "lgh-cli",
+    "lgh-capi",
 ];
 
 /// Every `.rs` file below `dir`.
@@ -277,7 +278,14 @@ fn no_allowance_for_long_parameter_lists_and_no_citation_of_a_missing_document()
 
 #[test]
 fn library_crates_know_nothing_of_the_command_line_or_the_test_sets() {
-    for krate in ["lgh-core", "lgh-image", "lgh-volume", "lgh-vpl", "lgh-ply"] {
+    for krate in [
+        "lgh-core",
+        "lgh-image",
+        "lgh-volume",
+        "lgh-vpl",
+        "lgh-ply",
+        "lgh-capi",
+    ] {
         let manifest = std::fs::read_to_string(root().join(krate).join("Cargo.toml")).unwrap();
         let normal = manifest
             .split("[dev-dependencies]")
