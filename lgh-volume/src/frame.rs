@@ -95,11 +95,23 @@ impl<'a> FrameRender<'a> {
         settings.check()?;
         method.check()?;
         let t = Instant::now();
+        // Level 0's form in the cache, where it is automatic: light for the scattering pass,
+        // whose samples are the voxel centres — the vertices, where light is exact and a ratio
+        // would only add the unshadowed sum — and for merged lights (`Level0Form::Auto`).
+        let with_level0 = |level0| MarchSettings {
+            lighting_cache: LightingCacheSettings {
+                level0,
+                ..settings.lighting_cache
+            },
+            ..*settings
+        };
+        let form = settings.lighting_cache.level0;
         let (scattered, pilot_shading) = match settings.scatter_depth {
             0 => (None, None),
             _ => {
+                let pass = with_level0(form.for_lights(true));
                 let (s, shading) =
-                    scattering::scatter_keeping(lights, method, frame, medium, settings, progress)?;
+                    scattering::scatter_keeping(lights, method, frame, medium, &pass, progress)?;
                 (Some(s), shading)
             }
         };
@@ -117,18 +129,18 @@ impl<'a> FrameRender<'a> {
         } else {
             (merged, None)
         };
-        // A skipped pass renders its emission lights with the shading its pilot made for them.
-        // Merged lights keep level 0 in the cache as light where the form is automatic.
-        let merged_lights = scattered.is_some() && !grid;
-        let rendering = MarchSettings {
-            lighting_cache: LightingCacheSettings {
-                level0: settings.lighting_cache.level0.for_lights(merged_lights),
-                ..settings.lighting_cache
-            },
-            ..*settings
-        };
+        // A skipped pass renders its emission lights with the shading its pilot made for them,
+        // with a cache of the render's own form.
+        let rendering = with_level0(form.for_lights(scattered.is_some() && !grid));
         let shading = match pilot_shading {
-            Some(shading) => shading,
+            Some(mut shading) => {
+                if shading.cache.is_some() && form.for_lights(false) != form.for_lights(true) {
+                    let (density, hierarchy) = (&frame.density, rendered.hierarchy());
+                    let cache = &rendering.lighting_cache;
+                    shading.cache = Some(LightingCache::new(density, medium, hierarchy, cache)?);
+                }
+                shading
+            }
             None => Shading::new(rendered, method, frame, medium, &rendering, progress)?,
         };
         let shadows = shading.shadow_seconds;

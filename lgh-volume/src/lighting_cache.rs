@@ -172,11 +172,13 @@ pub struct LightingCacheSettings {
 /// ratio").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Level0Form {
-    /// [`Ratio`](Self::Ratio) for the emission's voxel lights, [`Light`](Self::Light) for
-    /// multiple scattering's merged lights: one a smoky voxel, their level 0 summed at every
-    /// sample would cost more than the rest of the render (the Fig. 8-class frame at depth 4,
-    /// 1280×720: 236 lights a sample; the render 385 CPU-s as a ratio, 135 as light).
-    /// [`crate::FrameRender`] resolves it; a cache made directly takes it as a ratio.
+    /// [`Ratio`](Self::Ratio) for the emission's voxel lights in the camera's march,
+    /// [`Light`](Self::Light) for multiple scattering's merged lights — one a smoky voxel,
+    /// their level 0 summed at every sample would cost more than the rest of the render (the
+    /// Fig. 8-class frame at depth 4, 1280×720: 236 lights a sample; the render 385 CPU-s as a
+    /// ratio) — and for the scattering pass, whose samples are the voxel centres: the
+    /// vertices, where light is exact. [`crate::FrameRender`] resolves it; a cache made
+    /// directly takes it as a ratio.
     #[default]
     Auto,
     /// Its shadows only: the vertices keep level 0's shadowed light `S_v` and unshadowed light
