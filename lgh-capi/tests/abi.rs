@@ -5,7 +5,7 @@
 use std::ffi::{c_void, CStr};
 use std::ptr::{null, null_mut};
 
-use lgh::*;
+use lgh_capi::*;
 use lgh_core::glam::Vec3;
 use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
 

@@ -88,8 +88,8 @@ fn library_dir() -> PathBuf {
     let above = deps.parent().unwrap().to_path_buf();
     [deps.clone(), above]
         .into_iter()
-        .find(|d| d.join("liblgh.a").exists())
-        .unwrap_or_else(|| panic!("no liblgh.a beside or above {}", deps.display()))
+        .find(|d| d.join("liblgh_capi.a").exists())
+        .unwrap_or_else(|| panic!("no liblgh_capi.a beside or above {}", deps.display()))
 }
 
 /// Frame `frame` of `count` lights at `size`² through the Rust API: the example's callback,

@@ -692,9 +692,9 @@ impl LightingCache {
         Ok(cached)
     }
 
-    /// Whether level 0 is kept as a ratio ([`Level0Form::Ratio`]): then the light that
-    /// [`lookup`](Self::lookup) gives leaves it out, and its shadowing multiplies level 0's
-    /// unshadowed light.
+    /// Whether level 0 is kept as a ratio ([`Level0Form::Ratio`]): then the cache's light
+    /// leaves it out, and its shadowing multiplies level 0's unshadowed light, summed at the
+    /// sample.
     #[must_use]
     pub fn level0_ratio(&self) -> bool {
         self.tiers.iter().any(|t| t.ratio)
