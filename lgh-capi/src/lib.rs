@@ -198,6 +198,26 @@ fn non_null<T>(p: *const T, what: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Boxes `object` and writes the handle into `*out`, the caller's to free with [`free`].
+///
+/// # Safety
+/// `out` must be non-NULL and writable for a pointer.
+unsafe fn hand_out<T>(out: *mut *mut T, object: T) {
+    // SAFETY: the caller's promise.
+    unsafe { out.write(Box::into_raw(Box::new(object))) };
+}
+
+/// Frees a handle made by [`hand_out`] (NULL: nothing).
+///
+/// # Safety
+/// `handle` must be NULL or from [`hand_out`], not yet freed and not used after.
+unsafe fn free<T>(handle: *mut T) {
+    if !handle.is_null() {
+        // SAFETY: made by Box::into_raw in hand_out, freed once (the caller's promise).
+        drop(unsafe { Box::from_raw(handle) });
+    }
+}
+
 /// `count` triples of floats at `p` as vectors (NULL allowed for none).
 ///
 /// # Safety
@@ -341,9 +361,8 @@ pub unsafe extern "C" fn lgh_hierarchy_create(
         // SAFETY: the caller's promise on the arrays.
         let lights = unsafe { point_lights(positions, intensities, count)? };
         let lgh = LightingGridHierarchy::build(&lights, &settings)?;
-        let handle = Box::into_raw(Box::new(LghHierarchy { lgh, settings }));
         // SAFETY: as above.
-        unsafe { out.write(handle) };
+        unsafe { hand_out(out, LghHierarchy { lgh, settings }) };
         Ok(())
     })
 }
@@ -356,10 +375,8 @@ pub unsafe extern "C" fn lgh_hierarchy_create(
 /// call using it meanwhile or after.
 #[no_mangle]
 pub unsafe extern "C" fn lgh_hierarchy_destroy(hierarchy: *mut LghHierarchy) {
-    if !hierarchy.is_null() {
-        // SAFETY: made by Box::into_raw in lgh_hierarchy_create, freed once (the caller's promise).
-        drop(unsafe { Box::from_raw(hierarchy) });
-    }
+    // SAFETY: the caller's promise.
+    unsafe { free(hierarchy) }
 }
 
 /// Gives the hierarchy's light count, top level, `h1` and `h0`.
@@ -455,9 +472,8 @@ pub unsafe extern "C" fn lgh_blending_create(
         non_null(hierarchy, "hierarchy")?;
         // SAFETY: not NULL and live (the caller's promise).
         let blending = unsafe { &(*hierarchy).lgh }.blending(alpha)?;
-        let handle = Box::into_raw(Box::new(LghBlending { blending }));
         // SAFETY: as above.
-        unsafe { out.write(handle) };
+        unsafe { hand_out(out, LghBlending { blending }) };
         Ok(())
     })
 }
@@ -469,10 +485,8 @@ pub unsafe extern "C" fn lgh_blending_create(
 /// call using it meanwhile or after.
 #[no_mangle]
 pub unsafe extern "C" fn lgh_blending_destroy(blending: *mut LghBlending) {
-    if !blending.is_null() {
-        // SAFETY: made by Box::into_raw in lgh_blending_create, freed once (the caller's promise).
-        drop(unsafe { Box::from_raw(blending) });
-    }
+    // SAFETY: the caller's promise.
+    unsafe { free(blending) }
 }
 
 /// The light of a [`LightSample`] as C sees it.
