@@ -416,6 +416,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         "lighting_cache_level0": lgh_volume::lighting_cache::Level0Form::from(args.cache.cache_level0)
             .for_lights(false)
             .name(),
+        "lighting_cache_level0_near": args.cache.cache_near.0,
         "lights_per_frame": rendered.lit as f64 / n,
         "build_seconds_per_frame": rendered.build_seconds / n,
         "backends": backends,

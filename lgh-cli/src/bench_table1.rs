@@ -215,6 +215,7 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run], march: &MarchSettings)
             "first_level": march.lighting_cache.first_level,
             // No multiple scattering here: `auto` is the emission lights' form.
             "level0": march.lighting_cache.level0.for_lights(false).name(),
+            "level0_near": march.lighting_cache.near_reach,
             "vertices": c.vertices,
             "seconds": c.cpu_seconds,
             "rel_rmse_vs_uncached": uncached(first.shadows).and_then(vs),

@@ -65,6 +65,7 @@ pub mod lighting_cache;
 pub mod lights;
 pub mod medium;
 pub mod method;
+pub mod near_part;
 pub mod occupancy;
 pub mod pathtrace;
 pub mod procedural;

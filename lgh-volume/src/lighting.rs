@@ -187,7 +187,7 @@ impl<B: ManyLights> Lights<B> {
         self.gather(point, sigma_t, visibility, response, scratch, stats)?;
         // Summed in the backend's order, as the backend sums what a shader returns.
         let mut radiance = Vec3::ZERO;
-        for (&(weighted, g), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
+        for (&(weighted, g, _), &v) in scratch.unshadowed.iter().zip(&scratch.visibility) {
             radiance += weighted * (g * v);
         }
         Ok(radiance)
@@ -209,7 +209,9 @@ impl<B: ManyLights> Lights<B> {
         scratch.unshadowed.clear();
         let sum = self.backend.illuminate(point, &mut |l: &LightSample| {
             scratch.lights.push(l);
-            scratch.unshadowed.push((l.intensity * response(l), g(l)));
+            scratch
+                .unshadowed
+                .push((l.intensity * response(l), g(l), l.distance));
             Vec3::ZERO
         })?;
         stats.shading_points += 1;
@@ -220,13 +222,14 @@ impl<B: ManyLights> Lights<B> {
     }
 
     /// The [`incident`](Self::incident) light at `x` from every direction (the bare light,
-    /// `f = 1`), the same lights unshadowed (`V = 1`), and the flux vector
+    /// `f = 1`), the same lights unshadowed (`V = 1`), their far part
+    /// `Σ_j far(d_j) I_j g_j` (`d_j` light `j`'s distance; 0 without `far`), and the flux vector
     /// `F = Σ_j lum(I_j g_j V_j) ω_j`, with `ω_j` the unit direction from light `j` to `x`: what
     /// the lighting cache needs to follow a shadow's gradient (`∇_x τ_j ≈ σ_t(x) ω_j`, so
-    /// `∇L ≈ −σ_t F`) and to keep level 0 as a ratio (`lighting_cache`). The flux is 0 without
-    /// shadows, where nothing shadows the gradient, and for backends whose selection follows
-    /// the shader (Lightcuts), which the cache does not serve. `sigma_t` is the extinction at
-    /// `x` (it shields voxel lights' near field: [`shielding`]).
+    /// `∇L ≈ −σ_t F`) and to keep level 0 as a ratio (`lighting_cache`, `near_part`). The flux
+    /// is 0 without shadows, where nothing shadows the gradient, and for backends whose
+    /// selection follows the shader (Lightcuts), which the cache does not serve. `sigma_t` is
+    /// the extinction at `x` (it shields voxel lights' near field: [`shielding`]).
     ///
     /// ```
     /// use lgh_volume::lgh_core::glam::Vec3;
@@ -239,8 +242,10 @@ impl<B: ManyLights> Lights<B> {
     /// let lights = Lights::new(one, 0.1);
     /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
     /// let x = Vec3::new(2.0, 0.0, 0.0);
-    /// let at = lights.incident_flux(x, 0.0, &Visibility::None, &mut scratch, &mut stats)?;
+    /// let far = Some(|d: f32| if d > 1.0 { 0.5 } else { 0.0 });
+    /// let at = lights.incident_flux(x, 0.0, &Visibility::None, far, &mut scratch, &mut stats)?;
     /// assert_eq!((at.light, at.unshadowed, at.flux), (Vec3::ONE, Vec3::ONE, Vec3::ZERO));
+    /// assert_eq!(at.far, Vec3::splat(0.5));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn incident_flux(
@@ -248,6 +253,7 @@ impl<B: ManyLights> Lights<B> {
         x: Vec3,
         sigma_t: f32,
         visibility: &Visibility,
+        far: Option<impl Fn(f32) -> f32>,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<IncidentFlux, QueryError> {
@@ -255,25 +261,37 @@ impl<B: ManyLights> Lights<B> {
         if visibility.is_none() || self.backend.selection_follows_shader() {
             let light =
                 self.incident_in(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
+            let none = &Visibility::None;
             let unshadowed = if visibility.is_none() {
                 light
             } else {
-                let none = &Visibility::None;
                 self.incident_in(&point, sigma_t, none, |_| Vec3::ONE, scratch, stats)?
+            };
+            let far = match far {
+                Some(far) => {
+                    let far = |l: &LightSample| Vec3::splat(far(l.distance));
+                    self.incident_in(&point, sigma_t, none, far, scratch, stats)?
+                }
+                None => Vec3::ZERO,
             };
             return Ok(IncidentFlux {
                 light,
                 unshadowed,
+                far,
                 flux: Vec3::ZERO,
             });
         }
         self.gather(&point, sigma_t, visibility, |_| Vec3::ONE, scratch, stats)?;
         let mut split = IncidentFlux::default();
         let terms = scratch.unshadowed.iter().zip(&scratch.visibility);
-        for ((&(weighted, g), &v), &p) in terms.zip(scratch.lights.positions()) {
+        for ((&(weighted, g, d), &v), &p) in terms.zip(scratch.lights.positions()) {
             let term = weighted * (g * v);
+            let unshadowed = weighted * g;
             split.light += term;
-            split.unshadowed += weighted * g;
+            split.unshadowed += unshadowed;
+            if let Some(far) = &far {
+                split.far += unshadowed * far(d);
+            }
             split.flux += (x - p).normalize_or_zero() * lgh_core::luminance(term);
         }
         Ok(split)
@@ -317,6 +335,43 @@ impl<B: ManyLights> Lights<B> {
         let phase = Vec3::splat(ISOTROPIC_PHASE);
         Ok(self.incident_in(&point, sigma_t, visibility, |_| phase, scratch, stats)? * scale)
     }
+
+    /// [`in_scattered`](Self::in_scattered) with each light's term weighted by
+    /// `weight(distance)`: a part of the light, such as a lighting cache's near part
+    /// (`near_part`), whose weights and the far part's sum to 1.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{BruteForce, PointLight};
+    /// use lgh_volume::lighting::{LightScratch, Lights};
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    ///
+    /// let two = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lights = Lights::new(BruteForce::new(&two)?, 0.1);
+    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    /// let (x, none) = (Vec3::new(3.0, 0.0, 0.0), &Visibility::None);
+    /// let all = lights.in_scattered(x, 1.0, 0.0, none, &mut scratch, &mut stats)?;
+    /// let near = |d: f32| if d < 2.5 { 1.0 } else { 0.0 }; // the light at 2 only
+    /// let part = lights.in_scattered_weighted(x, 1.0, 0.0, none, near, &mut scratch, &mut stats)?;
+    /// assert!((part / all - Vec3::splat(0.25 / (0.25 + 1.0 / 9.0))).abs().max_element() < 1e-6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn in_scattered_weighted(
+        &self,
+        x: Vec3,
+        scale: f32,
+        sigma_t: f32,
+        visibility: &Visibility,
+        weight: impl Fn(f32) -> f32,
+        scratch: &mut LightScratch,
+        stats: &mut crate::stats::RenderStats,
+    ) -> Result<Vec3, QueryError> {
+        let point = ShadingPoint::in_medium(x);
+        let phase = |l: &LightSample| Vec3::splat(ISOTROPIC_PHASE * weight(l.distance));
+        Ok(self.incident_in(&point, sigma_t, visibility, phase, scratch, stats)? * scale)
+    }
 }
 
 /// The light at a point in a medium as the lighting cache keeps it
@@ -327,6 +382,8 @@ pub struct IncidentFlux {
     pub light: Vec3,
     /// `Σ_j I_j g_j`: the same lights unshadowed.
     pub unshadowed: Vec3,
+    /// `Σ_j far(d_j) I_j g_j`: their far part, unshadowed (`near_part`).
+    pub far: Vec3,
     /// `Σ_j lum(I_j g_j V_j) ω_j`: the flux vector (0 without shadows).
     pub flux: Vec3,
 }
@@ -336,7 +393,7 @@ pub struct IncidentFlux {
 #[derive(Clone, Debug, Default)]
 pub struct LightScratch {
     lights: ShadowQuery,
-    /// `I · f(light)` and the fall-off `g(d)` of each light.
-    unshadowed: Vec<(Vec3, f32)>,
+    /// `I · f(light)`, the fall-off `g(d)` and the distance `d` of each light.
+    unshadowed: Vec<(Vec3, f32, f32)>,
     visibility: Vec<f32>,
 }

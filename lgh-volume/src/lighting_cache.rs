@@ -91,6 +91,7 @@ use crate::error::{check_setting, RenderError};
 use crate::grid::DenseGrid;
 use crate::lighting::{LightScratch, Lights};
 use crate::medium::Medium;
+use crate::near_part::{NearPart, NEAR_REACH};
 use crate::shadow::Visibility;
 use crate::stats::RenderStats;
 
@@ -156,6 +157,10 @@ pub struct LightingCacheSettings {
     /// How a grid that holds level 0 keeps it: its shadows as a ratio or its light (by default
     /// as a ratio for the emission's lights, as light for multiple scattering's merged lights).
     pub level0: Level0Form,
+    /// With level 0 kept as a ratio, the reach in voxels of its near part, summed at every
+    /// sample; the far part is interpolated from the vertices ([`crate::near_part`];
+    /// [`NEAR_REACH`] by default). `None`: every level-0 light at every sample.
+    pub near_reach: Option<f32>,
     /// Multiple scattering's depths ≥ 2 compute their fluence at the vertices of a grid this
     /// many voxels apart, every level cached, and interpolate it to the voxels
     /// ([`scattered_depths`](Self::scattered_depths)); 1: at every voxel, as depth 1 does; 0
@@ -303,6 +308,7 @@ impl Default for LightingCacheSettings {
             spacing: CacheSpacing::OpticalDepth(1.0),
             first_level: 1,
             level0: Level0Form::Auto,
+            near_reach: Some(NEAR_REACH),
             scattered_spacing: SCATTERED_SPACING,
             scattered_light: ScatteredLight::Merged,
         }
@@ -409,7 +415,8 @@ impl LightingCacheSettings {
 
     /// Checks the layout before any work: a fixed spacing of 0.25 to 16 voxels, an optical
     /// depth a cell of 0.01 to 100, a first level of at most 21 (a level above the hierarchy's
-    /// top caches nothing), scattered depths 1 to 8 voxels apart (or 0: automatic).
+    /// top caches nothing), scattered depths 1 to 8 voxels apart (or 0: automatic), a near
+    /// reach of at least [`MIN_NEAR_REACH`](crate::near_part::MIN_NEAR_REACH) voxels.
     ///
     /// ```
     /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCacheSettings};
@@ -452,6 +459,9 @@ impl LightingCacheSettings {
             f32::from(self.scattered_spacing),
             "must be 1 to 8 voxels (0: automatic)",
         )?;
+        if let Some(reach) = self.near_reach {
+            NearPart::new(reach, 1.0)?;
+        }
         Ok(())
     }
 }
@@ -479,6 +489,9 @@ pub struct LightingCache {
     tiers: Vec<Lattice>,
     /// `σ_t` per unit density.
     kappa: f32,
+    /// Level 0's near part, where a grid keeps level 0 as a ratio (`None`: all of it summed
+    /// at every sample).
+    near: Option<NearPart>,
     vertices: AtomicU64,
     nanos: AtomicU64,
     lights_evaluated: AtomicU64,
@@ -505,7 +518,15 @@ struct Lattice {
     /// Bricks per axis.
     bricks: [usize; 3],
     /// Each brick's [`BRICK`]³ values once filled, x fastest.
-    filled: Vec<OnceLock<Box<[Vertex]>>>,
+    filled: Vec<OnceLock<Brick>>,
+}
+
+/// A filled brick's vertices, x fastest.
+#[derive(Debug)]
+struct Brick {
+    vertices: Box<[Vertex]>,
+    /// On a ratio grid, level 0's unshadowed light at each vertex (empty elsewhere).
+    level0: Box<[Level0Vertex]>,
 }
 
 impl Lattice {
@@ -611,10 +632,15 @@ impl LightingCache {
         if let Some(t) = tiers.last_mut() {
             t.last = u8::MAX; // whatever lies above, as the backend's levels do
         }
+        let near = settings
+            .near_reach
+            .map(|r| NearPart::new(r, h))
+            .transpose()?;
         Ok(LightingCache {
             settings: *settings,
             tiers,
             kappa,
+            near,
             vertices: AtomicU64::new(0),
             nanos: AtomicU64::new(0),
             lights_evaluated: AtomicU64::new(0),
@@ -679,6 +705,10 @@ impl LightingCache {
             let corners = self.corners(tier, x, &source)?;
             if tier.ratio {
                 cached.shadowing = ratio(&corners, sigma_t);
+                cached.far = corners
+                    .iter()
+                    .map(|c| c.level0.far * c.weight)
+                    .sum::<Vec3>();
                 continue;
             }
             // A grid that holds level 0 holds the voxel lights' near field: blended linearly.
@@ -727,8 +757,10 @@ impl LightingCache {
                 .product();
             if weight > 0.0 {
                 let v = core::array::from_fn(|a| (base[a] + d[a]).min(tier.dims[a] - 1));
+                let (vertex, level0) = self.value(tier, v, source)?;
                 *corner = Corner {
-                    vertex: self.value(tier, v, source)?,
+                    vertex,
+                    level0,
                     offset: x - tier.vertex(v),
                     weight,
                 };
@@ -737,13 +769,14 @@ impl LightingCache {
         Ok(corners)
     }
 
-    /// Vertex `v` of grid `tier`, its brick filled from `source` first if need be.
+    /// Vertex `v` of grid `tier` and its level-0 values (zero but on a ratio grid), its brick
+    /// filled from `source` first if need be.
     fn value(
         &self,
         tier: &Lattice,
         v: [usize; 3],
         source: &Source<'_, '_>,
-    ) -> Result<Vertex, QueryError> {
+    ) -> Result<(Vertex, Level0Vertex), QueryError> {
         let b = v.map(|i| i / BRICK);
         let index = (b[2] * tier.bricks[1] + b[1]) * tier.bricks[0] + b[0];
         let cell = &tier.filled[index];
@@ -764,7 +797,9 @@ impl LightingCache {
             }
         };
         let [i, j, k] = v.map(|i| i % BRICK);
-        Ok(values[(k * BRICK + j) * BRICK + i])
+        let at = (k * BRICK + j) * BRICK + i;
+        let level0 = values.level0.get(at).copied().unwrap_or_default();
+        Ok((values.vertices[at], level0))
     }
 
     /// Computes brick `b` of grid `tier` from `source` (its vertices outside the grid stay
@@ -774,14 +809,19 @@ impl LightingCache {
         tier: &Lattice,
         b: [usize; 3],
         source: &Source<'_, '_>,
-    ) -> Result<(Box<[Vertex]>, u64, RenderStats), QueryError> {
+    ) -> Result<(Brick, u64, RenderStats), QueryError> {
         let Source {
             lights,
             visibility,
             density,
         } = source;
         let t = Instant::now();
-        let mut values = vec![Vertex::default(); BRICK * BRICK * BRICK].into_boxed_slice();
+        const N: usize = BRICK * BRICK * BRICK;
+        let mut values = vec![Vertex::default(); N].into_boxed_slice();
+        let mut level0 = vec![Level0Vertex::default(); if tier.ratio { N } else { 0 }];
+        // On a ratio grid, the far part of level 0's unshadowed light (`near_part`).
+        let near = self.near.filter(|_| tier.ratio);
+        let far = near.map(|part| move |d: f32| 1.0 - part.weight(d));
         let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
         let mut count = 0u64;
         for k in 0..BRICK {
@@ -793,16 +833,28 @@ impl LightingCache {
                     }
                     let x = tier.vertex(v);
                     let sigma_t = self.kappa * density.sample(x);
-                    let split =
-                        lights.incident_flux(x, sigma_t, visibility, &mut scratch, &mut stats)?;
+                    let split = lights.incident_flux(
+                        x,
+                        sigma_t,
+                        visibility,
+                        far,
+                        &mut scratch,
+                        &mut stats,
+                    )?;
                     let lum = lgh_core::luminance(split.light);
-                    values[(k * BRICK + j) * BRICK + i] = Vertex {
+                    let at = (k * BRICK + j) * BRICK + i;
+                    if let Some(v) = level0.get_mut(at) {
+                        *v = Level0Vertex {
+                            unshadowed: split.unshadowed,
+                            far: if near.is_some() {
+                                split.far
+                            } else {
+                                Vec3::ZERO
+                            },
+                        };
+                    }
+                    values[at] = Vertex {
                         light: split.light,
-                        unshadowed: if tier.ratio {
-                            split.unshadowed
-                        } else {
-                            Vec3::ZERO
-                        },
                         direction: if lum > 0.0 {
                             split.flux / lum
                         } else {
@@ -816,7 +868,11 @@ impl LightingCache {
         }
         self.nanos
             .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-        Ok((values, count, stats))
+        let brick = Brick {
+            vertices: values,
+            level0: level0.into_boxed_slice(),
+        };
+        Ok((brick, count, stats))
     }
 }
 
@@ -882,6 +938,9 @@ pub(crate) struct Cached {
     /// luminances ([`ratio`]). `None` without a ratio grid, or where no vertex around the point
     /// has level-0 light: then the point needs level 0 exactly.
     pub(crate) shadowing: Option<Vec3>,
+    /// On a ratio grid with a near part, the far part of level 0's unshadowed light,
+    /// `Σ_v w_v U_far,v` (`near_part`; 0 otherwise).
+    pub(crate) far: Vec3,
 }
 
 /// What the cache holds at a vertex.
@@ -889,8 +948,6 @@ pub(crate) struct Cached {
 struct Vertex {
     /// The coarse levels' incident light `L` (on a ratio grid, level 0's shadowed light `S`).
     light: Vec3,
-    /// On a ratio grid, level 0's unshadowed light `U` (0 elsewhere).
-    unshadowed: Vec3,
     /// Its flux vector over its luminance, `F / lum(L)`: the mean direction the light travels,
     /// of length at most 1 (see [`Lights::incident_flux`]).
     direction: Vec3,
@@ -898,11 +955,22 @@ struct Vertex {
     sigma_t: f32,
 }
 
+/// What a ratio grid also holds at a vertex: level 0's unshadowed light.
+#[derive(Clone, Copy, Debug, Default)]
+struct Level0Vertex {
+    /// All of it, `U_v`.
+    unshadowed: Vec3,
+    /// Its far part `U_far,v` (`near_part`; 0 without a near part).
+    far: Vec3,
+}
+
 /// One of the eight vertices around a sample: its values, the offset `x − v` from it to the
 /// sample, and its trilinear weight (0 for a corner that does not count).
 #[derive(Clone, Copy, Debug, Default)]
 struct Corner {
     vertex: Vertex,
+    /// Zero but on a ratio grid.
+    level0: Level0Vertex,
     offset: Vec3,
     weight: f32,
 }
@@ -964,7 +1032,7 @@ fn ratio(corners: &[Corner; 8], sigma_t: f32) -> Option<Vec3> {
     let (mut shadowed, mut unshadowed) = (Vec3::ZERO, Vec3::ZERO);
     for c in corners.iter().filter(|c| c.weight > 0.0) {
         shadowed += extrapolated(c, sigma_t) * c.weight;
-        unshadowed += c.vertex.unshadowed * c.weight;
+        unshadowed += c.level0.unshadowed * c.weight;
     }
     let grey = lgh_core::luminance(unshadowed);
     if grey <= 0.0 {
@@ -1044,7 +1112,18 @@ impl<'l> CachedLights<'l> {
         let fine = match (&self.fine, cached.shadowing) {
             (Some(fine), Some(r)) => {
                 let none = &Visibility::None;
-                fine.in_scattered(x, scale, sigma_t, none, scratch, stats)? * r
+                let unshadowed = match self.cache.near {
+                    // The near part summed, the far part interpolated (`near_part`).
+                    Some(part) => {
+                        let near = fine.with_backend(fine.backend.within(part.reach()));
+                        let w = |d| part.weight(d);
+                        let near =
+                            near.in_scattered_weighted(x, scale, sigma_t, none, w, scratch, stats)?;
+                        near + cached.far * (ISOTROPIC_PHASE * scale)
+                    }
+                    None => fine.in_scattered(x, scale, sigma_t, none, scratch, stats)?,
+                };
+                unshadowed * r
             }
             (Some(fine), None) => {
                 fine.in_scattered(x, scale, sigma_t, visibility, scratch, stats)?
@@ -1063,6 +1142,15 @@ mod tests {
     /// The eight corners of the unit cell at `origin` around `x`, each vertex's values from
     /// `vertex(corner position)`.
     fn cell(x: Vec3, origin: Vec3, vertex: impl Fn(Vec3) -> Vertex) -> [Corner; 8] {
+        cell_of_ratios(x, origin, |p| (vertex(p), Level0Vertex::default()))
+    }
+
+    /// [`cell`] of a ratio grid: each vertex's values and level-0 values from `vertex`.
+    fn cell_of_ratios(
+        x: Vec3,
+        origin: Vec3,
+        vertex: impl Fn(Vec3) -> (Vertex, Level0Vertex),
+    ) -> [Corner; 8] {
         let f = x - origin;
         core::array::from_fn(|n| {
             let d = Vec3::new((n & 1) as f32, ((n >> 1) & 1) as f32, (n >> 2) as f32);
@@ -1070,8 +1158,10 @@ mod tests {
                 .map(|a| if d[a] == 1.0 { f[a] } else { 1.0 - f[a] })
                 .product();
             let v = origin + d;
+            let (vertex, level0) = vertex(v);
             Corner {
-                vertex: vertex(v),
+                vertex,
+                level0,
                 offset: x - v,
                 weight,
             }
@@ -1085,7 +1175,6 @@ mod tests {
             light: l0 * (-sigma * p.dot(omega)).exp(),
             direction: omega,
             sigma_t: sigma,
-            ..Vertex::default()
         }
     }
 
@@ -1100,30 +1189,31 @@ mod tests {
                 if dark_blue {
                     u.z = 0.0;
                 }
-                Vertex {
+                let vertex = Vertex {
                     light: u * r,
-                    unshadowed: u,
                     direction: Vec3::ZERO,
                     sigma_t: 2.0,
-                }
+                };
+                let level0 = Level0Vertex {
+                    unshadowed: u,
+                    far: Vec3::ZERO,
+                };
+                (vertex, level0)
             }
         };
         let mut rng = lgh_core::random::SplitMix64(5);
         for _ in 0..50 {
             let x = rng.next_in(Vec3::ZERO, Vec3::ONE);
-            let got = ratio(&cell(x, Vec3::ZERO, shadowed(false)), 2.0).unwrap();
+            let got = ratio(&cell_of_ratios(x, Vec3::ZERO, shadowed(false)), 2.0).unwrap();
             assert!((got - r).abs().max_element() < 1e-6, "{x}: {got}");
             // A channel with no light at any corner takes the luminance's ratio.
-            let corners = cell(x, Vec3::ZERO, shadowed(true));
+            let corners = cell_of_ratios(x, Vec3::ZERO, shadowed(true));
             let got = ratio(&corners, 2.0).unwrap();
-            let mean = |f: fn(&Vertex) -> Vec3| {
-                let sum = corners
-                    .iter()
-                    .map(|c| f(&c.vertex) * c.weight)
-                    .sum::<Vec3>();
+            let mean = |f: fn(&Corner) -> Vec3| {
+                let sum = corners.iter().map(|c| f(c) * c.weight).sum::<Vec3>();
                 lgh_core::luminance(sum)
             };
-            let grey = mean(|v| v.light) / mean(|v| v.unshadowed);
+            let grey = mean(|c| c.vertex.light) / mean(|c| c.level0.unshadowed);
             assert!(
                 (got.z - grey).abs() < 1e-3 * grey,
                 "{x}: {got} against {grey}"
@@ -1174,7 +1264,6 @@ mod tests {
                 light: Vec3::splat(if p.x > 0.5 { l } else { 0.0 }),
                 direction: Vec3::ZERO,
                 sigma_t: 0.0,
-                ..Vertex::default()
             }
         };
         // Half the corners black, at the centre: the linear blend is 0.5, the geometric blend
@@ -1217,7 +1306,6 @@ mod tests {
                 light: Vec3::new(h, h * h, 0.1 + h),
                 direction: Vec3::new(p.y - 0.5, 0.3, -p.z).normalize() * 0.8,
                 sigma_t: 2.0 + p.x,
-                ..Vertex::default()
             }
         };
         for (y, z) in [(0.2f32, 0.7f32), (0.9, 0.1), (0.5, 0.5)] {

@@ -15,6 +15,9 @@ pub struct LghBackend<'a> {
     /// The levels shaded, `first..=last` (every level unless [`with_levels`](Self::with_levels)).
     first: u8,
     last: u8,
+    /// Only the lights within this distance of a point are shaded (∞ unless
+    /// [`within`](Self::within)).
+    reach: f32,
 }
 
 impl<'a> LghBackend<'a> {
@@ -49,6 +52,7 @@ impl<'a> LghBackend<'a> {
             blending: hierarchy.blending(alpha)?,
             first: 0,
             last: u8::MAX,
+            reach: f32::INFINITY,
         })
     }
 
@@ -79,6 +83,7 @@ impl<'a> LghBackend<'a> {
             blending,
             first: 0,
             last: u8::MAX,
+            reach: f32::INFINITY,
         })
     }
 
@@ -114,6 +119,32 @@ impl<'a> LghBackend<'a> {
         }
     }
 
+    /// The same backend shading only the lights within `reach` of a point, with their weights
+    /// (∞: every light, the default). A lighting cache sums a level's near lights per point
+    /// and interpolates the rest: the query then scans only the cells that meet the smaller ball.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, ManyLights, PointLight, ShadingPoint};
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = LghBackend::new(&lgh, 2.0)?.with_levels(0..=0);
+    /// let point = ShadingPoint::in_medium(Vec3::new(1.0, 1.0, 1.0));
+    /// let mut count = |_: &lgh_core::LightSample| Vec3::ONE;
+    /// assert_eq!(level0.within(1.0).illuminate(&point, &mut count)?.lights, 7); // itself and 6 neighbours
+    /// let all = level0.illuminate(&point, &mut count)?.lights;
+    /// assert_eq!(level0.within(f32::INFINITY).illuminate(&point, &mut count)?.lights, all);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn within(self, reach: f32) -> Self {
+        LghBackend { reach, ..self }
+    }
+
     /// The hierarchy.
     #[must_use]
     pub fn hierarchy(&self) -> &'a LightingGridHierarchy {
@@ -139,11 +170,11 @@ impl ManyLights for LghBackend<'_> {
     ) -> Result<Illumination, QueryError> {
         let mut radiance = Vec3::ZERO;
         let levels = self.first..=self.last;
-        let lights = self
-            .hierarchy
-            .query_levels(point.position, &self.blending, levels, |s| {
-                radiance += shader.shade(s)
-            })?;
+        let ((), lights) =
+            self.hierarchy
+                .gather(point.position, &self.blending, levels, self.reach, |s| {
+                    radiance += shader.shade(s)
+                })?;
         Ok(Illumination { radiance, lights })
     }
 }

@@ -146,7 +146,7 @@ impl LightingGridHierarchy {
         blending: &Blending,
         mut f: F,
     ) -> Result<u32, QueryError> {
-        self.gather(x, blending, ALL_LEVELS, |s| f(s))
+        self.gather(x, blending, ALL_LEVELS, f32::INFINITY, |s| f(s))
             .map(|((), n)| n)
     }
 
@@ -184,7 +184,7 @@ impl LightingGridHierarchy {
         blending: &Blending,
         f: F,
     ) -> Result<(Vec3, u32), QueryError> {
-        self.gather(x, blending, ALL_LEVELS, f)
+        self.gather(x, blending, ALL_LEVELS, f32::INFINITY, f)
     }
 
     /// [`query`](Self::query) restricted to the lights of the levels in `levels`: the same
@@ -218,7 +218,8 @@ impl LightingGridHierarchy {
         levels: RangeInclusive<u8>,
         mut f: F,
     ) -> Result<u32, QueryError> {
-        self.gather(x, blending, levels, |s| f(s)).map(|((), n)| n)
+        self.gather(x, blending, levels, f32::INFINITY, |s| f(s))
+            .map(|((), n)| n)
     }
 
     /// `Ok` if `blending` is for this hierarchy's levels (its `h1` and top level), else
@@ -231,12 +232,15 @@ impl LightingGridHierarchy {
         Ok(())
     }
 
+    /// The query of the levels in `levels`, of the lights within `reach` of `x` only (∞: every
+    /// light whose weight is non-zero): `f` is called for each, and what it returns summed.
     #[inline]
-    fn gather<R: Contribution, F: FnMut(&LightSample) -> R>(
+    pub(super) fn gather<R: Contribution, F: FnMut(&LightSample) -> R>(
         &self,
         x: Vec3,
         blending: &Blending,
         levels: RangeInclusive<u8>,
+        reach: f32,
         mut f: F,
     ) -> Result<(R, u32), QueryError> {
         QueryError::check_point(x)?;
@@ -268,14 +272,15 @@ impl LightingGridHierarchy {
 
         // Level 0: lights in the level-1 cells that meet the ball of radius r_1 = α h_1. The cells of
         // a brick are contiguous, and so are their lights.
+        let reach2 = reach * reach;
         if top == 0 {
             if wanted(0) {
-                scan(0, &self.level0, 0, self.level0.len(), -1.0, f32::INFINITY);
+                scan(0, &self.level0, 0, self.level0.len(), -1.0, reach2);
             }
             return Ok((sum, count));
         }
         if wanted(0) {
-            let (_, outer) = blending.support(0);
+            let outer = blending.support(0).1.min(reach);
             let outer2 = outer * outer;
             self.for_each_range(0, x, outer, |s, e| {
                 scan(0, &self.level0, s, e, -1.0, outer2)
@@ -286,6 +291,7 @@ impl LightingGridHierarchy {
         for l in (1..top).filter(|&l| wanted(l)) {
             let level = &self.levels[l as usize - 1];
             let (inner, outer) = blending.support(l);
+            let outer = outer.min(reach);
             let (inner2, outer2) = (inner * inner, outer * outer);
             self.for_each_range(l, x, outer, |s, e| {
                 scan(l, &level.lights, s, e, inner2, outer2)
@@ -304,7 +310,7 @@ impl LightingGridHierarchy {
             0,
             level.lights.len(),
             inner * inner,
-            f32::INFINITY,
+            reach2,
         );
         Ok((sum, count))
     }
