@@ -59,13 +59,16 @@
 //! A vertex costs about twice what a sample's level 0 costs (a vertex at a voxel centre has
 //! every hot neighbour in reach), and the vertices do not grow with the image while the
 //! samples do: [`auto_first_level`] caches level 0 where a camera ray's footprint at the smoke
-//! is small enough that the samples outnumber the vertices. The ratio form still sums level 0's
-//! unshadowed light at every sample: on the Fig. 8-class frame at 1280×720 (with the demo's
-//! ground) the render took 189.5 CPU-s against 131.6 with level 0 as light (one run after the
-//! other) and 267.4 from level 1 (an earlier run) — the price of a near field that does not
-//! flicker. Multiple scattering's merged lights, one a smoky voxel, make that sum far dearer
-//! (236 lights a sample on the same frame at depth 4: the render 385 CPU-s as a ratio), so
-//! [`Level0Form::Auto`], the default, keeps their level 0 as light.
+//! is small enough that the samples outnumber the vertices. Summed whole at every sample,
+//! level 0's unshadowed light was the ratio form's price: on the Fig. 8-class frame at
+//! 1280×720 (with the demo's ground) the render took 189.5 CPU-s against 131.6 with level 0 as
+//! light (one run after the other). So only its *near part* is summed at a sample — the lights
+//! within [`NEAR_REACH`] voxels, through a partition of unity in the distance — and its far
+//! part, which holds no light's near field, is kept at the ratio grid's vertices and
+//! interpolated with the ratio ([`crate::near_part`], `--cache-near`, where its reach is
+//! measured against flicker and speed). Multiple scattering's merged lights, one a smoky voxel, made the
+//! whole sum far dearer (236 lights a sample on the same frame at depth 4: the render 385
+//! CPU-s as a ratio), so [`Level0Form::Auto`], the default, keeps their level 0 as light.
 //!
 //! At a vertex the cache returns the vertex's exact value. On the demo's explosion (320×180,
 //! levels ≥ 1 cached, 2-voxel shadow steps) against the uncached render: trilinear 3.06%

@@ -27,10 +27,22 @@
 //!
 //! | `a`–`b` (voxels) | smooth | noisy | sparse | near lights (dense) |
 //! |---|---|---|---|---|
-//! | 0–1 | 9.6% | 10.5% | 15.1% | 4.1 |
 //! | 0.5–1.5 | 0.97% | 1.3% | 2.2% | 12.8 |
+//! | 0.67–2 | | | 1.6% | |
 //! | 1–3 | 0.46% | 0.55% | 0.89% | 95 |
 //! | level 0 interpolated whole (cached as light) | 2.6% | 4.3% | 8.8% | 0 |
+//!
+//! (A smoothstep ramp instead of the linear one, or an inner radius other than `b/3`, changed
+//! the sparse case's error by less than a tenth.) The error is the interpolation's, a linear
+//! function of the lights' intensities, so it follows the fire from frame to frame: flicker.
+//! `lgh bench flicker --cache-level 0` on the dev fire (frames 50–56, 32×20; its flames are
+//! the sparse case) against the uncached render's 0.0001025: level 0 as light +39%, the near
+//! part of 1.5 voxels +19%, 2.25 voxels +5.0%, 3 voxels −1.6%, level 0 summed whole −11%. The
+//! default is 3 voxels, comfortably within a tenth. On the Fig. 8-class frame at 1280×720
+//! (dense fire, 436,211 lights) the render's CPU-seconds were 114.0 at 3 voxels, 111.3 at 1.5
+//! (one after the other) and 124.3 summed whole (an earlier run; this machine's speed varied
+//! by a tenth between runs). The near part's query scans only the cells that meet its smaller
+//! ball ([`lgh_core::LghBackend::within`]).
 //!
 //! `a` stays above the radius where the smoke at the sample shields a voxel light's near
 //! field (`lgh_core::near_field::SHIELDED_RADIUS`, 0.3 voxels), so the far part does not
@@ -39,7 +51,7 @@
 use crate::error::{check_setting, RenderError};
 
 /// The default reach `b` of level 0's near part, in voxels (module docs).
-pub const NEAR_REACH: f32 = 1.5;
+pub const NEAR_REACH: f32 = 3.0;
 
 /// The shortest reach: its inner radius `b/3` must stay beyond the shielded radius (0.3
 /// voxels, module docs).
