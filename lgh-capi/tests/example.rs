@@ -10,75 +10,12 @@ use std::process::Command;
 use lgh_core::glam::Vec3;
 use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
 
-/// The example's scene (`examples/c/swarm.h`), transcribed: the same operations in the same
-/// order, so the same floats.
-mod swarm {
-    pub fn next(state: &mut u64) -> u64 {
-        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
+/// The example's scene (`examples/c/swarm.h`), transcribed in Rust by the web page's crate:
+/// the same operations in the same order, so the same floats.
+use lgh_web::swarm;
 
-    pub fn unit(state: &mut u64) -> f32 {
-        (next(state) >> 40) as f32 * (1.0 / 16_777_216.0)
-    }
-
-    pub fn wave(t: f32) -> f32 {
-        let f = t - t.floor();
-        if f < 0.5 {
-            2.0 * f
-        } else {
-            2.0 - 2.0 * f
-        }
-    }
-
-    /// Light `i` at `frame`: position and intensity.
-    pub fn light(i: usize, frame: i32) -> ([f32; 3], [f32; 3]) {
-        let mut state = 0x5EED_0000u64 + i as u64;
-        let (mut d, mut len2);
-        loop {
-            d = [0.0f32; 3];
-            for v in &mut d {
-                *v = 2.0 * unit(&mut state) - 1.0;
-            }
-            len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            if (1e-4..=1.0).contains(&len2) {
-                break;
-            }
-        }
-        let len = len2.sqrt();
-        let t = frame as f32 / 48.0;
-        let radius = (0.5 + 2.0 * t) * (0.85 + 0.3 * unit(&mut state));
-        let position = [
-            d[0] / len * radius,
-            1.5 + d[1] / len * radius,
-            d[2] / len * radius,
-        ];
-        let rate = 0.5 + 2.0 * unit(&mut state);
-        let phase = unit(&mut state);
-        let glow = (0.25 + 0.75 * wave(rate * t + phase)) * (1.0 - 0.7 * t);
-        let heat = unit(&mut state);
-        let intensity = [
-            glow * 0.004,
-            glow * 0.004 * (0.35 + 0.5 * heat),
-            glow * 0.004 * (0.05 + 0.3 * heat * heat),
-        ];
-        (position, intensity)
-    }
-
-    pub fn ground_point(px: i32, py: i32, size: i32) -> [f32; 3] {
-        [
-            -4.0 + 8.0 * (px as f32 + 0.5) / size as f32,
-            0.0,
-            -4.0 + 8.0 * (py as f32 + 0.5) / size as f32,
-        ]
-    }
-
-    /// `0.6f / 3.14159265358979f` in C: that literal rounds to the f32 nearest π.
-    pub const BRDF: f32 = 0.6 / std::f32::consts::PI;
-}
+/// `0.6f / 3.14159265358979f` in C: that literal rounds to the f32 nearest π.
+const BRDF: f32 = 0.6 / std::f32::consts::PI;
 
 /// The folder of the static library cargo built with this test: beside the test's binary
 /// (`target/<profile>/deps`, where a test build leaves it) or above it (`target/<profile>`).
@@ -117,7 +54,7 @@ fn rust_frame(count: usize, frame: i32, size: i32) -> Vec<f32> {
                     return Vec3::ZERO;
                 }
                 let dd = if d > h0 { d } else { h0 };
-                let k = swarm::BRDF * cosine * (1.0 / (dd * dd));
+                let k = BRDF * cosine * (1.0 / (dd * dd));
                 Vec3::new(s.intensity.x * k, s.intensity.y * k, s.intensity.z * k)
             };
             let (rgb, _) = lgh.query_sum(Vec3::from(x), &blending, shade).unwrap();

@@ -53,7 +53,8 @@
 //! sample — are cast at the vertices only. Without shadows the ratio is exactly 1 and the
 //! image that of level 0 shaded at every sample. Flicker from level 0 up: −11% on the dev fire
 //! and +0.6% on the procedural sequence against the uncached render (−11% and −4% from level
-//! 1). Against the exact image: the Fig. 8-class frame at 320×180 1.55% (levels ≥ 1: 1.55%,
+//! 1), with level 0's unshadowed light summed whole; with its near part (below) −1.6% and
+//! −1.4%. Against the exact image: the Fig. 8-class frame at 320×180 1.55% (levels ≥ 1: 1.55%,
 //! level 0 as light 1.54%); the demo at 640×360 1.69% (1.70%, 1.72%).
 //!
 //! A vertex costs about twice what a sample's level 0 costs (a vertex at a voxel centre has

@@ -1,0 +1,286 @@
+//! The page (`web/index.html`) in a real browser: the wasm module built for
+//! `wasm32-unknown-unknown`, the page served over HTTP, headless Chromium driven through
+//! chromedriver (WebDriver) to render frames 0–5 of the swarm, and its canvas compared with the
+//! same frames rendered natively by [`lgh_web::Renderer`]: pixel for pixel, and the linear
+//! floats bit for bit (the core's float path — libm's, not a platform's — is the same in both).
+//!
+//! Needs Chromium and its driver (`.ci/run` installs them: `apt-get install chromium
+//! chromium-driver`) and the wasm target (`rustup target add wasm32-unknown-unknown`).
+//! `LGH_SKIP_BROWSER=1` skips it where they cannot be had; `LGH_WEB_BENCH=1` also times 10K and
+//! 100K lights at 256² in Chromium (the README's figures).
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+
+/// The workspace's root.
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
+
+/// Builds `lgh_web.wasm` (release) into a target folder of its own and returns its path.
+fn build_wasm() -> PathBuf {
+    let target = root().join("target/wasm-test");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let status = Command::new(cargo)
+        .current_dir(root())
+        .args(["build", "-p", "lgh-web", "--release", "--target", "wasm32-unknown-unknown"])
+        .arg("--target-dir")
+        .arg(&target)
+        .status()
+        .expect("cargo");
+    assert!(
+        status.success(),
+        "building lgh_web.wasm failed (rustup target add wasm32-unknown-unknown)"
+    );
+    target.join("wasm32-unknown-unknown/release/lgh_web.wasm")
+}
+
+/// Serves `web/` (and `wasm` as `lgh_web.wasm`) on a free port until the test ends; returns
+/// the port.
+fn serve(wasm: PathBuf) -> u16 {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let web = root().join("web");
+    std::thread::spawn(move || {
+        for stream in listener.incoming().flatten() {
+            let (web, wasm) = (web.clone(), wasm.clone());
+            std::thread::spawn(move || answer(stream, &web, &wasm));
+        }
+    });
+    port
+}
+
+/// One HTTP request for a static file.
+fn answer(mut stream: TcpStream, web: &Path, wasm: &Path) {
+    let mut line = String::new();
+    let mut reader = BufReader::new(stream.try_clone().unwrap());
+    if reader.read_line(&mut line).is_err() {
+        return;
+    }
+    loop {
+        let mut header = String::new();
+        if reader.read_line(&mut header).unwrap_or(0) <= 2 {
+            break;
+        }
+    }
+    let path = line.split_whitespace().nth(1).unwrap_or("/");
+    let path = path.split('?').next().unwrap().trim_start_matches('/');
+    let (file, kind) = match path {
+        "" | "index.html" => (web.join("index.html"), "text/html"),
+        "main.js" => (web.join("main.js"), "text/javascript"),
+        "lgh_web.wasm" => (wasm.to_path_buf(), "application/wasm"),
+        _ => (PathBuf::new(), ""),
+    };
+    let reply = match std::fs::read(&file) {
+        Ok(body) => {
+            let head = format!(
+                "HTTP/1.1 200 OK\r\nContent-Type: {kind}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+                body.len()
+            );
+            [head.into_bytes(), body].concat()
+        }
+        Err(_) => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
+    };
+    let _ = stream.write_all(&reply);
+}
+
+/// A WebDriver command: `method` on `path` of the driver at `port`, with a JSON body; the
+/// reply's `value`.
+fn webdriver(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(120))).unwrap();
+    let body = body.map(Value::to_string).unwrap_or_default();
+    let request = format!(
+        "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    );
+    stream.write_all(request.as_bytes()).unwrap();
+    let mut reply = Vec::new();
+    stream.read_to_end(&mut reply).unwrap();
+    let split = reply.windows(4).position(|w| w == b"\r\n\r\n").expect("an HTTP reply");
+    let head = String::from_utf8_lossy(&reply[..split]).to_lowercase();
+    let mut body = reply[split + 4..].to_vec();
+    if head.contains("transfer-encoding: chunked") {
+        body = unchunk(&body);
+    }
+    let value: Value = serde_json::from_slice(&body)
+        .unwrap_or_else(|e| panic!("{method} {path}: {e}: {}", String::from_utf8_lossy(&body)));
+    value["value"].clone()
+}
+
+/// An HTTP body sent in chunks, joined.
+fn unchunk(mut body: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let line = body.windows(2).position(|w| w == b"\r\n").unwrap();
+        let size = usize::from_str_radix(String::from_utf8_lossy(&body[..line]).trim(), 16).unwrap();
+        if size == 0 {
+            return out;
+        }
+        out.extend_from_slice(&body[line + 2..line + 2 + size]);
+        body = &body[line + 2 + size + 2..];
+    }
+}
+
+/// Standard base64 decoded.
+fn base64(text: &str) -> Vec<u8> {
+    let digit = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let clean: Vec<u8> = text.bytes().filter(|&c| c != b'=').collect();
+    let mut out = Vec::with_capacity(clean.len() * 3 / 4);
+    for chunk in clean.chunks(4) {
+        let mut v = 0u32;
+        for (k, &c) in chunk.iter().enumerate() {
+            v |= u32::from(digit(c)) << (18 - 6 * k);
+        }
+        out.extend_from_slice(&v.to_be_bytes()[1..chunk.len()]);
+    }
+    out
+}
+
+/// chromedriver on a free port, killed when dropped.
+struct Driver {
+    child: Child,
+    port: u16,
+    session: String,
+}
+
+impl Driver {
+    /// chromedriver started and a headless Chromium session opened, or `None` (with a message)
+    /// where they are not installed and `LGH_SKIP_BROWSER=1`.
+    fn start() -> Option<Self> {
+        let driver = ["chromedriver", "/usr/bin/chromedriver", "/usr/lib/chromium/chromedriver"]
+            .into_iter()
+            .find(|d| Command::new(d).arg("--version").output().is_ok());
+        let chromium = ["/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"]
+            .into_iter()
+            .find(|b| Path::new(b).exists());
+        let (Some(driver), Some(chromium)) = (driver, chromium) else {
+            if std::env::var("LGH_SKIP_BROWSER").is_ok_and(|v| v == "1") {
+                eprintln!("SKIPPED: no chromium and chromedriver (LGH_SKIP_BROWSER=1)");
+                return None;
+            }
+            panic!("the browser test needs Chromium and its driver (apt-get install chromium chromium-driver), or LGH_SKIP_BROWSER=1");
+        };
+        let port = TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let child = Command::new(driver)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut driver = Driver {
+            child,
+            port,
+            session: String::new(),
+        };
+        let t = Instant::now();
+        while TcpStream::connect(("127.0.0.1", port)).is_err() {
+            assert!(t.elapsed() < Duration::from_secs(30), "chromedriver did not start");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        let capabilities = json!({ "capabilities": { "alwaysMatch": {
+            "browserName": "chrome",
+            "goog:chromeOptions": {
+                "binary": chromium,
+                "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"]
+            }
+        }}});
+        let session = webdriver(port, "POST", "/session", Some(&capabilities));
+        driver.session = session["sessionId"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no session: {session}"))
+            .to_string();
+        Some(driver)
+    }
+
+    /// Opens `url` and waits for the page's `window.lghResult`.
+    fn result(&self, url: &str) -> Value {
+        let s = &self.session;
+        webdriver(self.port, "POST", &format!("/session/{s}/url"), Some(&json!({ "url": url })));
+        let script = json!({ "script": "return window.lghResult || null;", "args": [] });
+        let t = Instant::now();
+        loop {
+            let got = webdriver(self.port, "POST", &format!("/session/{s}/execute/sync"), Some(&script));
+            if !got.is_null() {
+                assert!(got["error"].is_null(), "the page: {}", got["error"]);
+                return got;
+            }
+            assert!(t.elapsed() < Duration::from_secs(300), "the page gave no result");
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+}
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        if !self.session.is_empty() {
+            let path = format!("/session/{}", self.session);
+            let _ = std::panic::catch_unwind(|| webdriver(self.port, "DELETE", &path, None));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Frames 0..`frames` of `count` lights at `size`², natively: the last one's renderer.
+fn native(count: usize, frames: i32, size: usize) -> lgh_web::Renderer {
+    let mut r = lgh_web::Renderer::new();
+    for frame in 0..frames {
+        r.frame(count, frame, size, 2.0).unwrap();
+    }
+    r
+}
+
+#[test]
+fn chromium_renders_the_native_frame_pixel_for_pixel() {
+    let Some(driver) = Driver::start() else {
+        return;
+    };
+    let wasm = build_wasm();
+    let port = serve(wasm.clone());
+    // Frames 0–5: built, updated three times, rebuilt at 4, updated at 5.
+    let (count, frames, size) = (20_000usize, 6, 64);
+    let url = format!("http://127.0.0.1:{port}/index.html?test={frames}&lights={count}&size={size}&alpha=2");
+    let got = driver.result(&url);
+    eprintln!("{}: frames in {} ms", got["user_agent"], got["ms"]);
+    let want = native(count, frames, size);
+    assert_eq!(got["size"], size);
+    let canvas = base64(got["canvas"].as_str().unwrap());
+    assert_eq!(canvas.len(), want.rgba().len());
+    let differ = canvas.iter().zip(want.rgba()).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} of {} canvas bytes differ", canvas.len());
+    let floats: Vec<f32> = base64(got["rgb"].as_str().unwrap())
+        .chunks(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(floats.len(), want.rgb().len());
+    let differ = floats
+        .iter()
+        .zip(want.rgb())
+        .filter(|(a, b)| a.to_bits() != b.to_bits())
+        .count();
+    assert_eq!(differ, 0, "{differ} of {} floats differ", floats.len());
+    assert!(want.rgb().iter().any(|&v| v > 0.0), "a lit frame");
+    let bytes = std::fs::metadata(&wasm).unwrap().len();
+    eprintln!("lgh_web.wasm: {bytes} bytes");
+
+    if std::env::var("LGH_WEB_BENCH").is_ok_and(|v| v == "1") {
+        for count in [10_000usize, 100_000] {
+            let url = format!("http://127.0.0.1:{port}/index.html?test=8&lights={count}&size=256&alpha=2");
+            let got = driver.result(&url);
+            println!("chromium, {count} lights, 256²: frames 0-7 in {} ms", got["ms"]);
+        }
+    }
+}
