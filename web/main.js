@@ -1,4 +1,4 @@
-// The page: loads lgh_web.wasm (built by `cargo build -p lgh-web --release --target
+// The page: loads lgh_web.wasm (built by `cargo build -p lgh-web --profile wasm --target
 // wasm32-unknown-unknown`, copied beside this file) and renders its frames into the canvas.
 //
 // Query parameters: lights, alpha, size set the sliders' starting values; `test=N` renders

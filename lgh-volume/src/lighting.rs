@@ -336,8 +336,8 @@ impl<B: ManyLights> Lights<B> {
         Ok(self.incident_in(&point, sigma_t, visibility, |_| phase, scratch, stats)? * scale)
     }
 
-    /// [`in_scattered`](Self::in_scattered) with each light's term weighted by
-    /// `weight(distance)`: a part of the light, such as a lighting cache's near part
+    /// [`in_scattered`](Self::in_scattered) unshadowed (`V = 1`), each light's term weighted
+    /// by `weight(distance)`: a part of the light, such as a lighting cache's near part
     /// (`near_part`), whose weights and the far part's sum to 1.
     ///
     /// ```
@@ -353,24 +353,23 @@ impl<B: ManyLights> Lights<B> {
     /// let (x, none) = (Vec3::new(3.0, 0.0, 0.0), &Visibility::None);
     /// let all = lights.in_scattered(x, 1.0, 0.0, none, &mut scratch, &mut stats)?;
     /// let near = |d: f32| if d < 2.5 { 1.0 } else { 0.0 }; // the light at 2 only
-    /// let part = lights.in_scattered_weighted(x, 1.0, 0.0, none, near, &mut scratch, &mut stats)?;
+    /// let part = lights.unshadowed_part(x, 1.0, 0.0, near, &mut scratch, &mut stats)?;
     /// assert!((part / all - Vec3::splat(0.25 / (0.25 + 1.0 / 9.0))).abs().max_element() < 1e-6);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    #[allow(clippy::too_many_arguments)]
-    pub fn in_scattered_weighted(
+    pub fn unshadowed_part(
         &self,
         x: Vec3,
         scale: f32,
         sigma_t: f32,
-        visibility: &Visibility,
         weight: impl Fn(f32) -> f32,
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
         let point = ShadingPoint::in_medium(x);
         let phase = |l: &LightSample| Vec3::splat(ISOTROPIC_PHASE * weight(l.distance));
-        Ok(self.incident_in(&point, sigma_t, visibility, phase, scratch, stats)? * scale)
+        let none = &Visibility::None;
+        Ok(self.incident_in(&point, sigma_t, none, phase, scratch, stats)? * scale)
     }
 }
 

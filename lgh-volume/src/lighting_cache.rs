@@ -1121,8 +1121,7 @@ impl<'l> CachedLights<'l> {
                     Some(part) => {
                         let near = fine.with_backend(fine.backend.within(part.reach()));
                         let w = |d| part.weight(d);
-                        let near =
-                            near.in_scattered_weighted(x, scale, sigma_t, none, w, scratch, stats)?;
+                        let near = near.unshadowed_part(x, scale, sigma_t, w, scratch, stats)?;
                         near + cached.far * (ISOTROPIC_PHASE * scale)
                     }
                     None => fine.in_scattered(x, scale, sigma_t, none, scratch, stats)?,

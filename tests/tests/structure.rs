@@ -14,7 +14,7 @@ fn root() -> PathBuf {
 }
 
 /// The library crates, whose structure is checked.
-const CRATES: [&str; 7] = [
+const CRATES: [&str; 8] = [
     "lgh-core",
     "lgh-image",
     "lgh-volume",
@@ -22,6 +22,7 @@ const CRATES: [&str; 7] = [
     "lgh-ply",
     "lgh-cli",
     "lgh-capi",
+    "web",
 ];
 
 /// Every `.rs` file below `dir`.
@@ -285,6 +286,7 @@ fn library_crates_know_nothing_of_the_command_line_or_the_test_sets() {
         "lgh-vpl",
         "lgh-ply",
         "lgh-capi",
+        "web",
     ] {
         let manifest = std::fs::read_to_string(root().join(krate).join("Cargo.toml")).unwrap();
         let normal = manifest

@@ -27,5 +27,8 @@ fn main() {
             stats.lights_shaded as f64 / (size * size) as f64
         );
     }
-    println!("native, {count} lights, {size}²: frames 0-{} in {ms:.1?} ms", frames - 1);
+    println!(
+        "native, {count} lights, {size}²: frames 0-{} in {ms:.1?} ms",
+        frames - 1
+    );
 }

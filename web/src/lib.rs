@@ -5,8 +5,8 @@
 //! lights through [`lgh_core::LightingGridHierarchy::query_sum`] with a Lambertian response,
 //! unshadowed.
 //!
-//! The page calls a raw `extern "C"` interface (no bindings generator): [`lgh_web_frame`]
-//! renders a frame into buffers that [`lgh_web_rgba`] and [`lgh_web_rgb`] point at in the
+//! The page calls a raw `extern "C"` interface (no bindings generator): `lgh_web_frame`
+//! renders a frame into buffers that `lgh_web_rgba` and `lgh_web_rgb` point at in the
 //! module's memory. The same [`Renderer`] runs natively, and the browser test
 //! (`web/tests/browser.rs`) compares the canvas of headless Chromium with it, pixel for pixel.
 
@@ -15,7 +15,9 @@
 pub mod swarm;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{BuildError, GridSettings, LightSample, LightingGridHierarchy, PointLight, QueryError};
+use lgh_core::{
+    BuildError, GridSettings, LightSample, LightingGridHierarchy, PointLight, QueryError,
+};
 
 /// The most embers a frame may have.
 pub const MAX_LIGHTS: usize = 1_000_000;
@@ -131,7 +133,11 @@ impl Renderer {
                 Err(WebError::OutOfRange { what, value })
             }
         };
-        range("light count", (1..=MAX_LIGHTS).contains(&count), count as f64)?;
+        range(
+            "light count",
+            (1..=MAX_LIGHTS).contains(&count),
+            count as f64,
+        )?;
         range("image size", (1..=MAX_SIZE).contains(&size), size as f64)?;
         range("frame", frame >= 0, f64::from(frame))?;
         let frame = frame % 48;
@@ -199,7 +205,11 @@ impl Renderer {
         let lgh = LightingGridHierarchy::build(&self.lights, &GridSettings::default())?;
         self.hierarchy = Some(lgh);
         (self.count, self.moved) = (count, moved);
-        Ok(if fresh { Update::Built } else { Update::Rebuilt })
+        Ok(if fresh {
+            Update::Built
+        } else {
+            Update::Rebuilt
+        })
     }
 
     /// The last frame's linear RGB, row by row from the top (`−z`), 3 floats a pixel.
@@ -253,7 +263,10 @@ mod exports {
     /// ([`lgh_web_error`] says which).
     #[no_mangle]
     pub extern "C" fn lgh_web_frame(count: u32, frame: i32, size: u32, alpha: f32) -> u32 {
-        let done = RENDERER.with(|r| r.borrow_mut().frame(count as usize, frame, size as usize, alpha));
+        let done = RENDERER.with(|r| {
+            r.borrow_mut()
+                .frame(count as usize, frame, size as usize, alpha)
+        });
         match done {
             Ok(stats) => {
                 LIGHTS.with(|l| *l.borrow_mut() = stats.lights_shaded as f64);

@@ -19,16 +19,21 @@ use serde_json::{json, Value};
 
 /// The workspace's root.
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
 }
 
-/// Builds `lgh_web.wasm` (release) into a target folder of its own and returns its path.
+/// Builds `lgh_web.wasm` (the `wasm` profile: release, stripped) into a target folder of its
+/// own and returns its path.
 fn build_wasm() -> PathBuf {
     let target = root().join("target/wasm-test");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(cargo)
         .current_dir(root())
-        .args(["build", "-p", "lgh-web", "--release", "--target", "wasm32-unknown-unknown"])
+        .args(["build", "-p", "lgh-web", "--profile", "wasm"])
+        .args(["--target", "wasm32-unknown-unknown"])
         .arg("--target-dir")
         .arg(&target)
         .status()
@@ -37,7 +42,7 @@ fn build_wasm() -> PathBuf {
         status.success(),
         "building lgh_web.wasm failed (rustup target add wasm32-unknown-unknown)"
     );
-    target.join("wasm32-unknown-unknown/release/lgh_web.wasm")
+    target.join("wasm32-unknown-unknown/wasm/lgh_web.wasm")
 }
 
 /// Serves `web/` (and `wasm` as `lgh_web.wasm`) on a free port until the test ends; returns
@@ -84,7 +89,9 @@ fn answer(mut stream: TcpStream, web: &Path, wasm: &Path) {
             );
             [head.into_bytes(), body].concat()
         }
-        Err(_) => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
+        Err(_) => {
+            b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec()
+        }
     };
     let _ = stream.write_all(&reply);
 }
@@ -93,19 +100,49 @@ fn answer(mut stream: TcpStream, web: &Path, wasm: &Path) {
 /// reply's `value`.
 fn webdriver(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
     let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
-    stream.set_read_timeout(Some(Duration::from_secs(120))).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(120)))
+        .unwrap();
     let body = body.map(Value::to_string).unwrap_or_default();
     let request = format!(
         "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
     );
     stream.write_all(request.as_bytes()).unwrap();
+    // The head, then as many bytes as it says (the driver may keep the connection open).
     let mut reply = Vec::new();
-    stream.read_to_end(&mut reply).unwrap();
-    let split = reply.windows(4).position(|w| w == b"\r\n\r\n").expect("an HTTP reply");
+    let mut buffer = [0u8; 65536];
+    let split = loop {
+        if let Some(at) = reply.windows(4).position(|w| w == b"\r\n\r\n") {
+            break at;
+        }
+        let n = stream.read(&mut buffer).unwrap();
+        assert!(n > 0, "{method} {path}: the driver closed the connection");
+        reply.extend_from_slice(&buffer[..n]);
+    };
     let head = String::from_utf8_lossy(&reply[..split]).to_lowercase();
     let mut body = reply[split + 4..].to_vec();
-    if head.contains("transfer-encoding: chunked") {
+    let length = head
+        .lines()
+        .find_map(|l| l.strip_prefix("content-length:"))
+        .map(|v| v.trim().parse::<usize>().unwrap());
+    let chunked = head.contains("transfer-encoding: chunked");
+    loop {
+        let done = match length {
+            Some(n) => body.len() >= n,
+            None if chunked => body.windows(5).any(|w| w == b"0\r\n\r\n"),
+            None => false,
+        };
+        if done {
+            break;
+        }
+        let n = stream.read(&mut buffer).unwrap();
+        if n == 0 {
+            break;
+        }
+        body.extend_from_slice(&buffer[..n]);
+    }
+    if chunked {
         body = unchunk(&body);
     }
     let value: Value = serde_json::from_slice(&body)
@@ -118,7 +155,8 @@ fn unchunk(mut body: &[u8]) -> Vec<u8> {
     let mut out = Vec::new();
     loop {
         let line = body.windows(2).position(|w| w == b"\r\n").unwrap();
-        let size = usize::from_str_radix(String::from_utf8_lossy(&body[..line]).trim(), 16).unwrap();
+        let size =
+            usize::from_str_radix(String::from_utf8_lossy(&body[..line]).trim(), 16).unwrap();
         if size == 0 {
             return out;
         }
@@ -160,12 +198,20 @@ impl Driver {
     /// chromedriver started and a headless Chromium session opened, or `None` (with a message)
     /// where they are not installed and `LGH_SKIP_BROWSER=1`.
     fn start() -> Option<Self> {
-        let driver = ["chromedriver", "/usr/bin/chromedriver", "/usr/lib/chromium/chromedriver"]
-            .into_iter()
-            .find(|d| Command::new(d).arg("--version").output().is_ok());
-        let chromium = ["/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"]
-            .into_iter()
-            .find(|b| Path::new(b).exists());
+        let driver = [
+            "chromedriver",
+            "/usr/bin/chromedriver",
+            "/usr/lib/chromium/chromedriver",
+        ]
+        .into_iter()
+        .find(|d| Command::new(d).arg("--version").output().is_ok());
+        let chromium = [
+            "/usr/bin/chromium",
+            "/usr/bin/chromium-browser",
+            "/usr/bin/google-chrome",
+        ]
+        .into_iter()
+        .find(|b| Path::new(b).exists());
         let (Some(driver), Some(chromium)) = (driver, chromium) else {
             if std::env::var("LGH_SKIP_BROWSER").is_ok_and(|v| v == "1") {
                 eprintln!("SKIPPED: no chromium and chromedriver (LGH_SKIP_BROWSER=1)");
@@ -173,7 +219,11 @@ impl Driver {
             }
             panic!("the browser test needs Chromium and its driver (apt-get install chromium chromium-driver), or LGH_SKIP_BROWSER=1");
         };
-        let port = TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let port = TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
         let child = Command::new(driver)
             .arg(format!("--port={port}"))
             .stdout(Stdio::null())
@@ -187,7 +237,10 @@ impl Driver {
         };
         let t = Instant::now();
         while TcpStream::connect(("127.0.0.1", port)).is_err() {
-            assert!(t.elapsed() < Duration::from_secs(30), "chromedriver did not start");
+            assert!(
+                t.elapsed() < Duration::from_secs(30),
+                "chromedriver did not start"
+            );
             std::thread::sleep(Duration::from_millis(100));
         }
         let capabilities = json!({ "capabilities": { "alwaysMatch": {
@@ -208,16 +261,29 @@ impl Driver {
     /// Opens `url` and waits for the page's `window.lghResult`.
     fn result(&self, url: &str) -> Value {
         let s = &self.session;
-        webdriver(self.port, "POST", &format!("/session/{s}/url"), Some(&json!({ "url": url })));
+        webdriver(
+            self.port,
+            "POST",
+            &format!("/session/{s}/url"),
+            Some(&json!({ "url": url })),
+        );
         let script = json!({ "script": "return window.lghResult || null;", "args": [] });
         let t = Instant::now();
         loop {
-            let got = webdriver(self.port, "POST", &format!("/session/{s}/execute/sync"), Some(&script));
+            let got = webdriver(
+                self.port,
+                "POST",
+                &format!("/session/{s}/execute/sync"),
+                Some(&script),
+            );
             if !got.is_null() {
                 assert!(got["error"].is_null(), "the page: {}", got["error"]);
                 return got;
             }
-            assert!(t.elapsed() < Duration::from_secs(300), "the page gave no result");
+            assert!(
+                t.elapsed() < Duration::from_secs(300),
+                "the page gave no result"
+            );
             std::thread::sleep(Duration::from_millis(200));
         }
     }
@@ -252,15 +318,26 @@ fn chromium_renders_the_native_frame_pixel_for_pixel() {
     let port = serve(wasm.clone());
     // Frames 0–5: built, updated three times, rebuilt at 4, updated at 5.
     let (count, frames, size) = (20_000usize, 6, 64);
-    let url = format!("http://127.0.0.1:{port}/index.html?test={frames}&lights={count}&size={size}&alpha=2");
+    let url = format!(
+        "http://127.0.0.1:{port}/index.html?test={frames}&lights={count}&size={size}&alpha=2"
+    );
     let got = driver.result(&url);
     eprintln!("{}: frames in {} ms", got["user_agent"], got["ms"]);
     let want = native(count, frames, size);
     assert_eq!(got["size"], size);
     let canvas = base64(got["canvas"].as_str().unwrap());
     assert_eq!(canvas.len(), want.rgba().len());
-    let differ = canvas.iter().zip(want.rgba()).filter(|(a, b)| a != b).count();
-    assert_eq!(differ, 0, "{differ} of {} canvas bytes differ", canvas.len());
+    let differ = canvas
+        .iter()
+        .zip(want.rgba())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differ,
+        0,
+        "{differ} of {} canvas bytes differ",
+        canvas.len()
+    );
     let floats: Vec<f32> = base64(got["rgb"].as_str().unwrap())
         .chunks(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
@@ -278,9 +355,14 @@ fn chromium_renders_the_native_frame_pixel_for_pixel() {
 
     if std::env::var("LGH_WEB_BENCH").is_ok_and(|v| v == "1") {
         for count in [10_000usize, 100_000] {
-            let url = format!("http://127.0.0.1:{port}/index.html?test=8&lights={count}&size=256&alpha=2");
+            let url = format!(
+                "http://127.0.0.1:{port}/index.html?test=8&lights={count}&size=256&alpha=2"
+            );
             let got = driver.result(&url);
-            println!("chromium, {count} lights, 256²: frames 0-7 in {} ms", got["ms"]);
+            println!(
+                "chromium, {count} lights, 256²: frames 0-7 in {} ms",
+                got["ms"]
+            );
         }
     }
 }
