@@ -200,6 +200,9 @@ fn updating_intensities_equals_building_afresh_and_a_rebuild_needs_a_new_blendin
 
 /// Every function, given NULL where it needs a pointer and values out of range, returns an
 /// error code with a message naming the function, and leaves its outputs as the docs say.
+/// `.ci/run` also runs it under Miri (`cargo +nightly miri test -p lgh-capi --test abi --
+/// null_and_out_of_range`, about 100 s), where any undefined behaviour in reaching those
+/// errors — a read through a bad pointer, an invalid reference — fails it.
 #[test]
 fn null_and_out_of_range_arguments_get_an_error_never_a_crash() {
     let (p, i) = lights();
