@@ -672,9 +672,21 @@ impl Tracer<'_> {
                 maps += 1;
                 tiles.extend(tiles_of(map, m, self.n));
             }
-            samples += tiles
+            // Handed out in order as threads come free, so that the threads trace neighbouring
+            // tiles — rays of one face, through the same part of the density — at once.
+            let queue = std::sync::Mutex::new(tiles.into_iter());
+            samples += (0..rayon::current_num_threads())
                 .into_par_iter()
-                .map(|tile| self.trace_tile(tile, r, reach))
+                .map(|_| {
+                    let mut taken = 0u64;
+                    loop {
+                        // The lock is released before the tile is traced.
+                        let Some(tile) = queue.lock().unwrap().next() else {
+                            return taken;
+                        };
+                        taken += self.trace_tile(tile, r, reach);
+                    }
+                })
                 .sum::<u64>();
             progress(maps);
         }
