@@ -103,12 +103,21 @@ pub enum SpacingArg {
 
 /// `auto` (`None`) or a number of `unit`.
 fn parse_auto<T: std::str::FromStr>(s: &str, unit: &str) -> Result<Option<T>, String> {
-    if s == "auto" {
+    parse_or_word(s, "auto", unit)
+}
+
+/// `word` (`None`) or a number of `unit`.
+fn parse_or_word<T: std::str::FromStr>(
+    s: &str,
+    word: &str,
+    unit: &str,
+) -> Result<Option<T>, String> {
+    if s == word {
         return Ok(None);
     }
     s.parse::<T>()
         .map(Some)
-        .map_err(|_| format!("expected auto or a number of {unit}, not '{s}'"))
+        .map_err(|_| format!("expected {word} or a number of {unit}, not '{s}'"))
 }
 
 /// `--pixel-samples`: rays a pixel side, or `auto` (from the image's and the voxels' sizes).
@@ -145,12 +154,7 @@ pub struct NearReachArg(pub Option<f32>);
 
 /// `all` or a number of voxels (checked with the cache's settings).
 fn parse_near_reach(s: &str) -> Result<NearReachArg, String> {
-    if s == "all" {
-        return Ok(NearReachArg(None));
-    }
-    s.parse::<f32>()
-        .map(|v| NearReachArg(Some(v)))
-        .map_err(|_| format!("expected all or a number of voxels, not '{s}'"))
+    parse_or_word(s, "all", "voxels").map(NearReachArg)
 }
 
 /// `auto` or a number of voxels.
@@ -677,7 +681,7 @@ fn tiers(c: &LightingCache) -> String {
 }
 
 /// Level 0's near reach in voxels (`all` without a near part), as headers and JSON give it.
-pub fn near_reach(c: &lgh_volume::lighting_cache::LightingCache) -> String {
+fn near_reach(c: &lgh_volume::lighting_cache::LightingCache) -> String {
     c.settings()
         .near_reach
         .map_or_else(|| "all".to_string(), |r| r.to_string())
@@ -693,10 +697,13 @@ pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
         .tiers()
         .iter()
         .map(|&(l, v)| match l {
-            0 if c.level0_ratio() => format!(
-                "level 0's shadows (a ratio, near part {} voxels) at {v:.3} voxels",
-                near_reach(c)
-            ),
+            0 if c.level0_ratio() => {
+                let near = match c.settings().near_reach {
+                    Some(r) => format!("near part {r} voxels"),
+                    None => "summed whole".to_string(),
+                };
+                format!("level 0's shadows (a ratio, {near}) at {v:.3} voxels")
+            }
             _ => format!("levels {l}.. at {v:.3} voxels"),
         })
         .collect();

@@ -824,8 +824,9 @@ impl LightingCache {
         let mut values = vec![Vertex::default(); N].into_boxed_slice();
         let mut level0 = vec![Level0Vertex::default(); if tier.ratio { N } else { 0 }];
         // On a ratio grid, the far part of level 0's unshadowed light (`near_part`).
-        let near = self.near.filter(|_| tier.ratio);
-        let far = near.map(|part| move |d: f32| 1.0 - part.weight(d));
+        let far = (self.near)
+            .filter(|_| tier.ratio)
+            .map(|part| move |d: f32| 1.0 - part.weight(d));
         let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
         let mut count = 0u64;
         for k in 0..BRICK {
@@ -850,11 +851,7 @@ impl LightingCache {
                     if let Some(v) = level0.get_mut(at) {
                         *v = Level0Vertex {
                             unshadowed: split.unshadowed,
-                            far: if near.is_some() {
-                                split.far
-                            } else {
-                                Vec3::ZERO
-                            },
+                            far: split.far, // 0 without a near part
                         };
                     }
                     values[at] = Vertex {

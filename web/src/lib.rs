@@ -91,7 +91,6 @@ pub struct Renderer {
     moved: i32,
     lights: Vec<PointLight>,
     intensities: Vec<Vec3>,
-    size: usize,
     rgb: Vec<f32>,
     rgba: Vec<u8>,
 }
@@ -117,6 +116,11 @@ impl Renderer {
     /// assert_eq!(r.rgba().len(), 16 * 16 * 4);
     /// assert!(r.rgb().iter().any(|&v| v > 0.0));
     /// assert!(r.frame(0, 5, 16, 2.0).is_err());
+    /// // A bad α is refused before the embers move: frame 8 still rebuilds afterwards.
+    /// let before = r.rgba().to_vec();
+    /// assert!(r.frame(2000, 8, 16, f32::NAN).is_err());
+    /// assert_eq!(r.rgba(), &before[..]);
+    /// assert_eq!(r.frame(2000, 8, 16, 2.0)?.update, Update::Rebuilt);
     /// # Ok::<(), lgh_web::WebError>(())
     /// ```
     pub fn frame(
@@ -140,6 +144,8 @@ impl Renderer {
         )?;
         range("image size", (1..=MAX_SIZE).contains(&size), size as f64)?;
         range("frame", frame >= 0, f64::from(frame))?;
+        // α before the hierarchy changes, so that a bad one leaves everything as it was.
+        lgh_core::check_alpha(alpha)?;
         let frame = frame % 48;
         let moved = frame - frame % 4;
         let update = self.light(count, frame, moved)?;
@@ -178,7 +184,6 @@ impl Renderer {
             })
             .collect();
         self.rgb = rgb;
-        self.size = size;
         Ok(FrameStats {
             update,
             lights_shaded,
@@ -222,12 +227,6 @@ impl Renderer {
     #[must_use]
     pub fn rgba(&self) -> &[u8] {
         &self.rgba
-    }
-
-    /// The last frame's side in pixels.
-    #[must_use]
-    pub fn size(&self) -> usize {
-        self.size
     }
 }
 

@@ -165,26 +165,12 @@ fn unchunk(mut body: &[u8]) -> Vec<u8> {
     }
 }
 
-/// Standard base64 decoded.
+/// Standard base64 decoded (the `base64` crate, as lgh-cli's manifests use it).
 fn base64(text: &str) -> Vec<u8> {
-    let digit = |c: u8| match c {
-        b'A'..=b'Z' => c - b'A',
-        b'a'..=b'z' => c - b'a' + 26,
-        b'0'..=b'9' => c - b'0' + 52,
-        b'+' => 62,
-        b'/' => 63,
-        _ => panic!("not base64: {c}"),
-    };
-    let clean: Vec<u8> = text.bytes().filter(|&c| c != b'=').collect();
-    let mut out = Vec::with_capacity(clean.len() * 3 / 4);
-    for chunk in clean.chunks(4) {
-        let mut v = 0u32;
-        for (k, &c) in chunk.iter().enumerate() {
-            v |= u32::from(digit(c)) << (18 - 6 * k);
-        }
-        out.extend_from_slice(&v.to_be_bytes()[1..chunk.len()]);
-    }
-    out
+    use base64::Engine as _;
+    base64::engine::general_purpose::STANDARD
+        .decode(text)
+        .expect("the page's base64")
 }
 
 /// chromedriver on a free port, killed when dropped.
