@@ -252,10 +252,11 @@ impl Ramp {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     proptest! {
         /// Partition of unity, exactly (see the module docs for why no tolerance is needed).
-        #[test]
+        #[wasm_bindgen_test(unsupported = test)]
         fn weights_sum_to_one(alpha in 0.01f32..64.0, h1 in 0.001f32..100.0, top in 0u8..=MAX_LEVEL,
                               d in 0.0f32..1e6) {
             let b = Blending::new(alpha, h1, top).unwrap();
@@ -264,7 +265,7 @@ mod tests {
         }
 
         /// Hard switches: every weight 0 or 1, exactly one level at each distance.
-        #[test]
+        #[wasm_bindgen_test(unsupported = test)]
         fn hard_switches_pick_one_level(alpha in 0.01f32..64.0, h1 in 0.001f32..100.0,
                                         top in 0u8..=MAX_LEVEL, d in 0.0f32..1e6) {
             let b = Blending::new(alpha, h1, top).unwrap().with_hard_switches();
@@ -279,7 +280,7 @@ mod tests {
             }
         }
 
-        #[test]
+        #[wasm_bindgen_test(unsupported = test)]
         fn weights_vanish_outside_support(alpha in 0.1f32..16.0, top in 1u8..8, d in 0.0f32..1e3) {
             let b = Blending::new(alpha, 1.0, top).unwrap();
             for l in 0..=top {
@@ -291,7 +292,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn shape_matches_figure_3() {
         let b = Blending::new(2.0, 1.0, 3).unwrap(); // r = 1, 2, 4, 8
         assert_eq!(b.radius(0), 1.0);
@@ -304,14 +305,14 @@ mod tests {
         assert_eq!(b.weight(3, 4.0), 0.0);
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn bad_alpha_is_an_error() {
         for a in [0.0, -1.0, f32::NAN, f32::INFINITY, 1e38] {
             assert!(Blending::new(a, 1.0, 20).is_err(), "{a}");
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn falloff_is_clamped() {
         assert_eq!(falloff(0.0, 0.5), 4.0);
         assert_eq!(falloff(2.0, 0.5), 0.25);

@@ -6,6 +6,7 @@
 use alloc::vec::Vec;
 use glam::Vec3;
 use proptest::prelude::*;
+use wasm_bindgen_test::wasm_bindgen_test;
 
 use crate::brute::BruteForce;
 use crate::light::PointLight;
@@ -72,7 +73,7 @@ proptest! {
 
     /// The octree's guarantee (§4.2.2, §4.3.2): each term's error is at most T, so a point's
     /// error is at most T per term, per channel.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn octree_error_never_exceeds_the_threshold(
         n in 4usize..1500, seed in any::<u64>(), t_exp in -5.0f32..-1.0, max_leaf in 1usize..6,
     ) {
@@ -90,7 +91,7 @@ proptest! {
     }
 
     /// Ward's method with an absolute bound (Paquette's variant): error ≤ T per channel.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn ward_error_never_exceeds_the_threshold(
         n in 1usize..800, seed in any::<u64>(), t_exp in -5.0f32..-1.0,
     ) {
@@ -109,7 +110,7 @@ proptest! {
 
 /// The octree, Ward and Lightcuts converge to brute force as their thresholds shrink: the largest
 /// error over the points falls with the threshold and reaches rounding level.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn all_bounded_backends_converge_to_brute_force() {
     let n = 2000;
     let (lights, points) = scene(n, 7);
@@ -164,7 +165,7 @@ fn all_bounded_backends_converge_to_brute_force() {
 /// the bound of a cluster around the point is infinite, never `0 · ∞ = NaN`, so the cut still
 /// refines it and converges to brute force. (It once ranked such a cluster below every other,
 /// and a cut at ε = 10⁻⁶ over the full tree erred by 11% on a procedural explosion.)
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn lightcuts_refines_clusters_dark_in_a_channel_around_the_point() {
     let n = 2000;
     let (mut lights, points) = scene(n, 7);
@@ -215,7 +216,7 @@ fn lightcuts_refines_clusters_dark_in_a_channel_around_the_point() {
 
 /// Lightcuts' per-cluster bound: the exact value of a cluster and its estimate both lie in
 /// `[0, bound]`, so their difference does too. Checked on every cluster of a tree, at many points.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn lightcuts_cluster_bounds_hold() {
     for representative in [
         Representative::Brightest,
@@ -250,7 +251,7 @@ fn lightcuts_cluster_bounds_hold() {
 /// `E_C · I_child / I_C` and a fresh `shade(I_child)` differ by a few ulps each, and the cut sums
 /// at most 1000 non-negative terms, so 10⁻⁵ relative (≈ 170 ulps) bounds it. The reported count
 /// is the shader calls actually made.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn lightcuts_reuses_representatives_for_one_call_per_refinement() {
     for representative in [
         Representative::Brightest,
@@ -310,7 +311,7 @@ fn members(tree: &LightTree, k: usize) -> Vec<PointLight> {
 /// Degenerate scenes: no lights, a light exactly at the shading point, hundreds of coincident
 /// lights, lights in the surface's plane. Every backend answers (no panic, finite) and the
 /// octree and Ward keep their bound.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn degenerate_scenes_are_handled() {
     let point = ShadingPoint {
         position: Vec3::ZERO,
@@ -370,7 +371,7 @@ fn degenerate_scenes_are_handled() {
 
 /// Every backend validates a light set with the one shared check (`light::validate_lights`), so
 /// each reports the same error for the same bad light.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn every_backend_rejects_bad_lights_alike() {
     use crate::error::BuildError;
     use crate::grid::GridSettings;

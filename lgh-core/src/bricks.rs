@@ -316,6 +316,7 @@ impl Ball {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     fn build(coords: &[[u32; 3]]) -> (BrickIndex, Vec<u64>) {
         let mut codes: Vec<u64> = coords.iter().map(|&c| morton::encode(c)).collect();
@@ -324,7 +325,7 @@ mod tests {
         (BrickIndex::from_sorted_codes(&codes), codes)
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn rank_matches_sorted_position_dense_and_hashed() {
         let mut coords = Vec::new();
         for i in 0..500u32 {
@@ -342,7 +343,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn brick_ranges_cover_every_item_in_the_ball() {
         let mut coords: Vec<[u32; 3]> = (0..3000u32)
             .map(|i| [(i * 31) % 40, (i * 17) % 37, (i * 7) % 29])

@@ -196,6 +196,7 @@ mod tests {
     use crate::falloff;
     use crate::many_lights::ShadingPoint;
     use crate::testsets::{clumped_lights, query_points};
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     /// `Σ_j I_j / max(d_j, h0)²` with every operation in `f64`, from the same `f32` inputs.
     fn exact(lights: &[PointLight], x: Vec3, h0: f64) -> DVec3 {
@@ -218,7 +219,7 @@ mod tests {
     /// with an all-`f64` evaluation to 10⁻⁶. The bound: each `f32` term is off by at most a few
     /// ulps (~2·10⁻⁷ relative), all terms are positive, so the sum is off by at most that
     /// relatively; an `f32` accumulation of 10⁶ terms is not (the test fails with one).
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn both_sums_agree_with_an_f64_evaluation_on_a_million_lights() {
         let lights = clumped_lights(1_000_000, 11);
         let brute = BruteForce::new(&lights).unwrap();

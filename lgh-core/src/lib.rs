@@ -55,6 +55,11 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
+// `cargo test -p lgh-core --target wasm32-unknown-unknown` runs the tests in a browser (README,
+// "Embedding").
+#[cfg(test)]
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
+
 mod blend;
 #[cfg(test)]
 mod bounded_tests;

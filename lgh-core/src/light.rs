@@ -400,8 +400,9 @@ impl LevelLights {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn luminance_weights_sum_to_one() {
         assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6);
         assert_eq!(luminance(Vec3::ZERO), 0.0);
@@ -409,7 +410,7 @@ mod tests {
 
     /// The count check every backend's validation starts with (a slice of more than
     /// `MAX_LIGHTS` lights cannot be allocated in a test, so the check is tested on the length).
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn more_than_max_lights_are_rejected() {
         assert_eq!(check_count(0), Ok(()));
         assert_eq!(check_count(MAX_LIGHTS), Ok(()));
@@ -425,7 +426,7 @@ mod tests {
         );
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_first_bad_light_is_reported() {
         let good = PointLight::new(Vec3::ZERO, Vec3::ONE);
         let nan = PointLight::new(Vec3::new(0.0, f32::NAN, 0.0), Vec3::ONE);

@@ -64,8 +64,9 @@ pub fn floor64(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn floor_matches_libm() {
         for x in [
             0.0,

@@ -77,8 +77,9 @@ impl ErrorStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn known_values() {
         let r = [1.0, 3.0];
         let a = [2.0, 3.0];

@@ -446,6 +446,7 @@ mod tests {
     use super::*;
     use crate::random::SplitMix64;
     use glam::DVec3;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     /// `P(s)`, an antiderivative of `F(s)/s²` with `F(R) = ∫_0^R ρ² K(u, ρ) dρ` (module
     /// documentation): `((s + u)² ln(s + u) − (s − u)² ln|s − u|) / (4us)`, and `ln s` at `u = 0`.
@@ -487,7 +488,7 @@ mod tests {
         24.0 * (simpson(cuts[0], cuts[1]) + simpson(cuts[1], cuts[2]))
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_table_is_the_quadrature_of_its_formula() {
         for (i, &entry) in VOXEL_MEAN.iter().enumerate() {
             let u = i as f64 / f64::from(PER_VOXEL);
@@ -501,7 +502,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_series_continues_the_table() {
         for u in [2.0, 2.5, 3.0, 4.0, 8.0] {
             let x = 1.0 / (u * u);
@@ -521,7 +522,7 @@ mod tests {
         assert!((below / at - 1.0).abs() < 1e-6, "{below} vs {at}");
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn linear_interpolation_stays_within_its_stated_bound() {
         // Midway between entries, where linear interpolation errs most: ≤ 0.073% (module docs).
         let mut worst = 0.0f64;
@@ -570,7 +571,7 @@ mod tests {
         (w, core::f64::consts::TAU * (1.0 - cos_max))
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_definition_by_monte_carlo() {
         // Independent of the closed form: in polar coordinates around x, the voxel's mean of
         // 1/‖x − y‖² is ∫ (chord of the ray from x along ω' through the voxel) dω'. One sample:
@@ -610,7 +611,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_cell_mean_by_monte_carlo() {
         // As above, with x uniform over the receiving voxel around p = u ω (ω uniform on the
         // sphere): the light voxel's mean of 1/‖x − y‖² is the chord integral over directions
@@ -651,7 +652,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_cell_table_starts_at_its_quadrature_and_ends_at_its_series() {
         // d = 0: 8 ∫_octant ∫_0^R Π(1 − r ω_i) dr dω, R = 1/max ω_i (the radial integral of the
         // difference density times r² / r²), midpoint rule on 600² directions (10⁻⁶).
@@ -720,7 +721,7 @@ mod tests {
         24.0 * sum * quarter / f64::from(n)
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn the_centre_fluence_is_its_quadrature_and_conserves_energy() {
         for (i, &entry) in CENTRE_FLUENCE.iter().enumerate() {
             let tau = i as f64 / f64::from(PER_DEPTH);
@@ -746,7 +747,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn decreasing_and_scaled_by_the_voxel_size() {
         let mut last = f32::INFINITY;
         for i in 0..=1000 {

@@ -52,9 +52,10 @@ mod tests {
     use super::*;
     use alloc::vec;
     use proptest::prelude::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     proptest! {
-        #[test]
+        #[wasm_bindgen_test(unsupported = test)]
         fn matches_a_stable_comparison_sort(v in prop::collection::vec((any::<u64>(), any::<u16>()), 0..500),
                                             mask in any::<u64>()) {
             let mut a: Vec<(u64, u16, usize)> = v.iter().enumerate().map(|(i, &(k, p))| (k & mask, p, i)).collect();
@@ -65,7 +66,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn small_inputs() {
         let mut v: Vec<u64> = vec![];
         sort_by_key(&mut v, |&k| k);

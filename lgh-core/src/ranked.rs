@@ -76,10 +76,11 @@ impl<T> Ord for Ranked<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     /// The packed rank orders as `total_cmp` on the key, then the lower index first, and gives
     /// the key (bit for bit) and the index back.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn rank_orders_by_key_then_lower_index_and_round_trips() {
         let keys = [
             f32::NEG_INFINITY,

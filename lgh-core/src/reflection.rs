@@ -78,6 +78,7 @@ pub fn reflected(point: &ShadingPoint, light: Vec3, intensity: Vec3, lobe: Lobe)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     fn surface(material: Material) -> ShadingPoint {
         ShadingPoint {
@@ -88,7 +89,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn lambert_is_kd_cos_over_d2() {
         let p = surface(Material::Lambert {
             albedo: Vec3::splat(0.5),
@@ -105,7 +106,7 @@ mod tests {
         );
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn phong_lobes_add_up_and_peak_at_the_mirror_direction() {
         let p = surface(Material::Phong {
             kd: Vec3::splat(0.3),
@@ -127,7 +128,7 @@ mod tests {
         assert!((s.x - expected).abs() < 1e-7, "{} vs {expected}", s.x);
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn medium_uses_the_isotropic_phase_function() {
         let p = ShadingPoint::in_medium(Vec3::ZERO);
         let l = reflected(&p, Vec3::new(0.0, 2.0, 0.0), Vec3::ONE, Lobe::All);

@@ -116,8 +116,9 @@ impl BlackbodyTable {
 mod tests {
     use super::*;
     use crate::light::luminance;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn hotter_is_brighter_and_bluer() {
         let a = blackbody_rgb(1500.0);
         let b = blackbody_rgb(3000.0);
@@ -129,7 +130,7 @@ mod tests {
         assert!(n.min_element() > 0.85, "{n}");
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn table_matches_the_integral() {
         let table = BlackbodyTable::new(800.0, 4000.0, 1.0).unwrap();
         for k in [800.0f32, 1234.5, 2500.0, 3999.9, 500.0, 6000.0] {
@@ -146,7 +147,7 @@ mod tests {
         assert!(BlackbodyTable::new(1.0, 1e9, 1.0).is_none());
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn wien_displacement() {
         // Peak of B(λ, 5000 K) is at b / T = 579.6 nm.
         let peak = (300..1000)

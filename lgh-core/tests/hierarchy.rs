@@ -11,6 +11,10 @@ use lgh_core::{
     luminance, BuildError, GridSettings, LevelSource, LightingGridHierarchy, PointLight, QueryError,
 };
 use proptest::prelude::*;
+use wasm_bindgen_test::wasm_bindgen_test;
+
+// In a browser (wasm32), see the README's "Embedding".
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 fn settings(h1: f32, levels: u8) -> GridSettings {
     GridSettings {
@@ -104,7 +108,7 @@ proptest! {
     /// cells² (E[o²] and the square of the centre) and s by 12ηL/Σv cells (|o − p| ≤ 2√3, plus the
     /// centre's error) — all in units of h_ℓ, never of the distance to the origin — plus the final
     /// f32 rounding. Vertices fed by tiny weights (small Σv) are rightly the least precise.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn levels_match_the_equations(lights in lights_strategy(300, 4.0), h1 in 0.2f32..3.0) {
         let origin = Vec3::new(-5.0, -5.0, -5.0);
         let s = GridSettings { h1: Some(h1), origin: Some(origin), max_level: Some(4), ..Default::default() };
@@ -151,7 +155,7 @@ proptest! {
     /// Per-level energy: Σ_i I_ℓi = Σ_j I0_j. Trilinear weights sum to one per light (each weight
     /// has ≤ 4 roundings) and every sum has non-negative terms and at most N + 8 additions in a chain,
     /// so the relative error is bounded by (N + 12)·ε.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn energy_is_conserved_per_level(lights in lights_strategy(400, 10.0), h1 in 0.05f32..5.0) {
         let lgh = LightingGridHierarchy::build(&lights, &settings(h1, 6)).unwrap();
         let total: Vec<f64> = (0..3).map(|a| lights.iter().map(|l| l.intensity[a] as f64).sum()).collect();
@@ -166,7 +170,7 @@ proptest! {
     }
 
     /// Every illumination centre lies in the 2×2×2 block of cells around its vertex, σ² ≥ 0, s ≥ 0.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn centres_stay_in_their_block(lights in lights_strategy(300, 50.0), h1 in 0.5f32..20.0,
                                    source in prop_oneof![Just(LevelSource::InputLights), Just(LevelSource::PreviousLevel)]) {
         let s = GridSettings { h1: Some(h1), source, ..Default::default() };
@@ -189,7 +193,7 @@ proptest! {
 
     /// Linearity in the intensities: doubling every intensity doubles every level's intensities and
     /// the query result and moves no centre — exactly, since scaling by 2 is exact in floating point.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn linear_in_intensity(lights in lights_strategy(200, 3.0), alpha in 0.5f32..6.0, x in (-6.0f32..6.0, -6.0f32..6.0, -6.0f32..6.0)) {
         let x = Vec3::new(x.0, x.1, x.2);
         let doubled: Vec<PointLight> = lights.iter().map(|l| PointLight::new(l.position, l.intensity * 2.0)).collect();
@@ -209,7 +213,7 @@ proptest! {
 
     /// Additivity (the other half of linearity): levels of A ∪ B carry I(A) + I(B), within the
     /// f32 summation bound used above.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn additive_in_intensity(lights in lights_strategy(200, 3.0)) {
         let half: Vec<PointLight> = lights.iter().map(|l| PointLight::new(l.position, l.intensity * 0.25)).collect();
         let rest: Vec<PointLight> = lights.iter().map(|l| PointLight::new(l.position, l.intensity * 0.75)).collect();
@@ -228,7 +232,7 @@ proptest! {
     }
 
     /// The order of the input lights does not matter: bit-identical levels and query results.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn independent_of_input_order(lights in lights_strategy(300, 5.0), seed in any::<u64>(),
                                   x in (-6.0f32..6.0, -6.0f32..6.0, -6.0f32..6.0)) {
         let x = Vec3::new(x.0, x.1, x.2);
@@ -257,7 +261,7 @@ proptest! {
     /// The radius query finds exactly the lights with non-zero weight: the same count as a naive
     /// loop over every light of every level, and the same sum up to summation order (f32, ≤ N + L
     /// non-negative terms).
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn query_finds_every_contributing_light(lights in lights_strategy(500, 8.0), h1 in 0.1f32..4.0,
                                             alpha in 0.3f32..9.0, prune in prop_oneof![Just(0.0f32), 0.0f32..3.0],
                                             x in (-15.0f32..15.0, -15.0f32..15.0, -15.0f32..15.0)) {
@@ -274,7 +278,7 @@ proptest! {
     }
 
     /// `lights_within` reports exactly the active lights of a level within the radius.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn lights_within_matches_a_linear_search(lights in lights_strategy(400, 6.0), h1 in 0.1f32..3.0,
                                              radius in 0.0f32..8.0, level in 0u8..6,
                                              x in (-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0)) {
@@ -294,7 +298,7 @@ proptest! {
     }
 
     /// A rebuild with new intensities equals a fresh build, bit for bit.
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn rebuild_equals_fresh_build(lights in lights_strategy(300, 4.0), seed in any::<u64>(),
                                   source in prop_oneof![Just(LevelSource::InputLights), Just(LevelSource::PreviousLevel)]) {
         let mut lights = lights;
@@ -318,7 +322,7 @@ proptest! {
     }
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn converges_to_brute_force_as_alpha_grows() {
     let lights = lgh_core::testsets::uniform_cube(3000, 5);
     let lgh = LightingGridHierarchy::build(
@@ -354,7 +358,7 @@ fn converges_to_brute_force_as_alpha_grows() {
     assert!(previous < 1e-3, "{previous}");
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn continuous_along_a_line() {
     // L(x) along a line must have no jumps at level boundaries: between samples δ apart, the change
     // is bounded by the derivative of a smooth function (the light sum), never a step.
@@ -395,7 +399,7 @@ fn continuous_along_a_line() {
     }
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn bad_input_is_a_typed_error_or_a_correct_result() {
     let ok = PointLight::new(Vec3::ZERO, Vec3::ONE);
     let d = GridSettings::default();
@@ -535,7 +539,7 @@ fn bad_input_is_a_typed_error_or_a_correct_result() {
     );
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn weak_lights_leave_fine_levels_but_reach_the_top() {
     let mut lights = lgh_core::testsets::uniform_cube(500, 1);
     for l in lights.iter_mut().take(250) {
@@ -591,7 +595,7 @@ fn weak_lights_leave_fine_levels_but_reach_the_top() {
     assert_eq!(later.prune_below(), 0.0);
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn automatic_h1_follows_section_6_4() {
     // Refine until the non-empty level-1 vertices outnumber the lights.
     let lights = lgh_core::testsets::light_strings(4096);
@@ -615,7 +619,7 @@ fn automatic_h1_follows_section_6_4() {
 }
 
 /// Edge cases found in review: each once panicked, looped, lost lights or produced NaN.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn extreme_placements_are_errors_or_correct() {
     let d = GridSettings::default();
     let one = |x: f32| PointLight::new(Vec3::new(x, 0.0, 0.0), Vec3::ONE);
@@ -718,7 +722,7 @@ fn extreme_placements_are_errors_or_correct() {
 
 /// α values whose reciprocal radius rounds down put a tiny non-zero weight just past 2 r_ℓ; the
 /// query must still report exactly the lights with non-zero weight (α = 0.21 is one such value).
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn lights_at_the_outer_radius_are_reported_iff_their_weight_is_positive() {
     for alpha in [0.21f32, 0.3, 0.7, 1.1, 2.0] {
         let lights: Vec<PointLight> = (0..400)

@@ -4,6 +4,10 @@
 
 use lgh_core::glam::Vec3;
 use lgh_core::{Clustering, GridSettings, LightPosition, LightingGridHierarchy, PointLight};
+use wasm_bindgen_test::wasm_bindgen_test;
+
+// In a browser (wasm32), see the README's "Embedding".
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 /// One light at `(0.3, 0.7, 0.2)` of a unit level-1 cell whose corner is the origin.
 fn one_light(settings: GridSettings) -> LightingGridHierarchy {
@@ -20,7 +24,7 @@ fn one_light(settings: GridSettings) -> LightingGridHierarchy {
     LightingGridHierarchy::build(&lights, &settings).unwrap()
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn the_default_is_the_papers_trilinear_splat_at_illumination_centres() {
     let d = GridSettings::default();
     assert_eq!(d.clustering, Clustering::Trilinear);
@@ -39,7 +43,7 @@ fn the_default_is_the_papers_trilinear_splat_at_illumination_centres() {
     assert!((0..8).all(|i| w(i) > 0.0 && w(i) < 0.5));
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn nearest_vertex_clustering_gives_each_light_whole_to_one_vertex() {
     let h = one_light(GridSettings {
         clustering: Clustering::NearestVertex,
@@ -58,7 +62,7 @@ fn nearest_vertex_clustering_gives_each_light_whole_to_one_vertex() {
     assert!((level.position(lit[0]) - Vec3::new(0.3, 0.7, 0.2)).length() < 1e-6);
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn grid_vertex_positions_put_coarse_lights_on_their_vertices() {
     let h = one_light(GridSettings {
         position: LightPosition::GridVertex,
@@ -75,6 +79,7 @@ fn grid_vertex_positions_put_coarse_lights_on_their_vertices() {
                 "level {l} light {i} at {p} (cells) is off its vertex"
             );
         }
+
         // The intensities are the paper's (only the positions move).
         let paper = one_light(GridSettings::default());
         for i in 0..level.len() {

@@ -104,6 +104,7 @@ mod tests {
     use crate::reflection::reflected;
     use alloc::vec::Vec;
     use proptest::prelude::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     /// A cluster of 2…40 lights in a random box, and a surface point at a random distance
     /// beyond `Δd_max` with a random normal and view direction.
@@ -144,7 +145,7 @@ mod tests {
         /// larger of the two sides — f32 rounding of the bound's own terms (a few ulps each, ~10⁻⁶)
         /// with a wide margin, far below the bound's typical slack (it is rarely within 1 % of
         /// tight), so a wrong bound still fails.
-        #[test]
+        #[wasm_bindgen_test(unsupported = test)]
         fn octree_bounds_hold(seed in any::<u64>()) {
             let (lights, point) = case(seed);
             let tree = super::super::LightOctree::build(&lights, &Default::default()).unwrap();
@@ -180,7 +181,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn bound_is_zero_for_a_point_light_and_refuses_a_point_inside_the_spread() {
         let v = NodeView::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 0.0).unwrap();
         assert_eq!(diffuse_bound(&v, 0.5, v.angle), 0.0);

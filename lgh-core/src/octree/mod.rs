@@ -291,6 +291,7 @@ impl LightOctree {
 mod tests {
     use super::*;
     use alloc::vec;
+    use wasm_bindgen_test::wasm_bindgen_test;
 
     /// Checks every node against its definition (§3.2) and the tree's structure.
     fn check(tree: &LightOctree) {
@@ -340,7 +341,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn nodes_hold_their_virtual_lights_and_minimal_boxes() {
         for (n, max_leaf) in [(1usize, 3usize), (2, 1), (500, 3), (2000, 8)] {
             let lights = crate::testsets::clumped_lights(n, n as u64);
@@ -369,7 +370,7 @@ mod tests {
         }
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn coincident_lights_stop_at_the_depth_limit() {
         let mut lights = vec![PointLight::new(Vec3::splat(1.5), Vec3::ONE); 50];
         lights.push(PointLight::new(Vec3::splat(2.5), Vec3::ONE));
@@ -390,7 +391,7 @@ mod tests {
         assert_eq!(tree.nodes().len(), 7);
     }
 
-    #[test]
+    #[wasm_bindgen_test(unsupported = test)]
     fn no_lights_is_an_empty_tree_and_bad_input_an_error() {
         let s = OctreeSettings::default();
         let empty = LightOctree::build(&[], &s).unwrap();
