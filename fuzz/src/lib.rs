@@ -87,9 +87,11 @@ pub fn obj(data: &[u8]) {
     let Ok(obj) = std::str::from_utf8(obj) else {
         return;
     };
-    let mtl = String::from_utf8_lossy(mtl).into_owned();
-    let _ = lgh_vpl::Mesh::parse_obj(Path::new("fuzz.obj"), obj, |name| {
-        Ok((PathBuf::from(name), mtl.clone()))
+    // Every file the scene names reads as the MTL part: as an MTL file, and as a texture (so
+    // the image decoders see those bytes too).
+    let options = lgh_vpl::ObjOptions::default();
+    let _ = lgh_vpl::Mesh::parse_obj(Path::new("fuzz.obj"), obj, &options, |name| {
+        Ok((PathBuf::from(name), mtl.to_vec()))
     });
 }
 

@@ -88,12 +88,44 @@ impl From<CoarseShadows> for gi::CoarseShadows {
     }
 }
 
+/// `--missing-textures`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum MissingTextures {
+    /// A missing texture file is an error naming it.
+    Error,
+    /// A material whose texture file is missing is grey (albedo 0.5), with a warning.
+    Grey,
+}
+
+impl From<MissingTextures> for lgh_vpl::MissingTextures {
+    fn from(m: MissingTextures) -> Self {
+        match m {
+            MissingTextures::Error => lgh_vpl::MissingTextures::Error,
+            MissingTextures::Grey => lgh_vpl::MissingTextures::Grey,
+        }
+    }
+}
+
+/// Names on stderr, once each with the file and line of its first use, what `mesh`'s files
+/// ask for and `command` does not honour.
+pub fn print_unhonoured(command: &str, mesh: &Mesh) {
+    for u in mesh.unhonoured() {
+        eprintln!("{command}: not honoured: {u}");
+    }
+}
+
 /// What `lgh gi` and `lgh bench gi` share: the scene, its lights and VPLs, the shading.
 #[derive(Debug, clap::Args)]
 pub struct SceneArgs {
-    /// The scene (OBJ, with its MTL files beside it; emissive `Ke` faces are area lights).
+    /// The scene (OBJ, with its MTL files beside it; emissive `Ke` faces are area lights;
+    /// `map_Kd` textures multiply `Kd`). What the files ask for and is not rendered is named
+    /// on stderr (with `--quiet`, only in the EXR header's `unhonoured`).
     #[arg(long)]
     pub obj: PathBuf,
+    /// What a missing texture file does: `error` (naming it) or `grey` (its material's
+    /// colour is grey, 0.5, and a warning names it).
+    #[arg(long, value_enum, default_value_t = MissingTextures::Error)]
+    pub missing_textures: MissingTextures,
     /// A primary light, repeatable: `point:X,Y,Z,R,G,B`, `spot:X,Y,Z,DX,DY,DZ,ANGLE,R,G,B` or
     /// `sun:DX,DY,DZ,R,G,B` (intensities in W/sr, the sun's irradiance in W/m²).
     #[arg(long = "light")]
@@ -247,7 +279,13 @@ impl SceneArgs {
             Some(s) => Some(crate::explosion::parse_camera(s, Vec3::Y, width, height)?),
             None => None,
         };
-        let mesh = Mesh::load_obj(&self.obj)?;
+        let options = lgh_vpl::ObjOptions {
+            missing_textures: self.missing_textures.into(),
+        };
+        let mesh = Mesh::load_obj_with(&self.obj, &options, |_, _| {})?;
+        if !self.quiet {
+            print_unhonoured("lgh gi", &mesh);
+        }
         let camera = match camera {
             Some(c) => c,
             None => gi::front_view(mesh.bounds(), width, height)?,
@@ -288,7 +326,19 @@ impl SceneArgs {
             ("coarse_shadows", s.coarse_shadows.name().to_string()),
             ("shadows", s.shadows.to_string()),
             ("h0", scene.h0().to_string()),
+            ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
+    }
+}
+
+/// The statements `mesh`'s files ask for and the renderer does not honour, for a header: one
+/// per line, `none` if there are none.
+fn unhonoured(mesh: &Mesh) -> String {
+    let lines: Vec<String> = mesh.unhonoured().iter().map(|u| u.to_string()).collect();
+    if lines.is_empty() {
+        "none".into()
+    } else {
+        lines.join("\n")
     }
 }
 

@@ -59,7 +59,7 @@ pub struct FrameFile {
     pub config: Option<(PathBuf, String)>,
 }
 
-/// A file of `--scene` (the OBJ or one of its MTL files), as read: what a task checks the scene
+/// A file of `--scene` (the OBJ, one of its MTL files or a texture), as read: what a task checks the scene
 /// it reads against.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneFile {
@@ -67,18 +67,18 @@ pub struct SceneFile {
     pub path: PathBuf,
     /// Its size.
     pub bytes: u64,
-    /// SHA-256 of its text, lowercase hex.
+    /// SHA-256 of its bytes, lowercase hex.
     pub sha256: String,
 }
 
 impl SceneFile {
-    /// The record of `text`, read from `path`.
+    /// The record of `bytes`, read from `path`.
     #[must_use]
-    pub fn of(path: &Path, text: &str) -> Self {
+    pub fn of(path: &Path, bytes: &[u8]) -> Self {
         SceneFile {
             path: path.to_path_buf(),
-            bytes: text.len() as u64,
-            sha256: hex(&Sha256::digest(text.as_bytes())),
+            bytes: bytes.len() as u64,
+            sha256: hex(&Sha256::digest(bytes)),
         }
     }
 
@@ -614,8 +614,8 @@ mod tests {
                 ("scene".into(), vec!["/data/room.obj".into()]),
             ],
             scene: vec![
-                SceneFile::of(Path::new("/data/room.obj"), "mtllib room.mtl\n"),
-                SceneFile::of(Path::new("/data/room.mtl"), "newmtl grey\n"),
+                SceneFile::of(Path::new("/data/room.obj"), b"mtllib room.mtl\n"),
+                SceneFile::of(Path::new("/data/room.mtl"), b"newmtl grey\n"),
             ],
         };
         let back = Manifest::parse(m.to_json().as_bytes()).unwrap();
@@ -650,16 +650,16 @@ mod tests {
 
     #[test]
     fn a_changed_scene_is_caught() {
-        let obj = SceneFile::of(Path::new("/r/room.obj"), "mtllib room.mtl\n");
+        let obj = SceneFile::of(Path::new("/r/room.obj"), b"mtllib room.mtl\n");
         // SHA-256("mtllib room.mtl\n"), computed independently (coreutils' sha256sum).
         assert_eq!(
             obj.sha256,
             "312e1c2004a714c7805527f7a196a39bf2e6098e2c4a6f39a9deccc9552d47f9"
         );
-        let mtl = SceneFile::of(Path::new("/r/room.mtl"), "newmtl grey\nKd 0.5 0.5 0.5\n");
+        let mtl = SceneFile::of(Path::new("/r/room.mtl"), b"newmtl grey\nKd 0.5 0.5 0.5\n");
         let prepared = [obj.clone(), mtl.clone()];
         SceneFile::check(&prepared, &prepared).unwrap();
-        let edited = SceneFile::of(Path::new("/r/room.mtl"), "newmtl grey\nKd 0.9 0.5 0.5\n");
+        let edited = SceneFile::of(Path::new("/r/room.mtl"), b"newmtl grey\nKd 0.9 0.5 0.5\n");
         let e = SceneFile::check(&[obj.clone(), edited], &prepared).unwrap_err();
         assert!(e.to_string().contains("room.mtl: changed"), "{e}");
         let e = SceneFile::check(&[obj], &prepared).unwrap_err();

@@ -21,11 +21,16 @@ pub struct Room {
 
 impl Room {
     /// Loads `path` (OBJ, its MTL beside it; a triangle without a material is grey, 0.5),
-    /// hashing each file's text as it is parsed.
+    /// hashing each file's bytes as it is read, and names on stderr what the files ask for
+    /// and the renderer does not honour.
     pub fn load(path: &Path) -> Result<Self, crate::Error> {
         let path = crate::manifest::absolute(path)?;
         let mut files = Vec::new();
-        let mesh = Mesh::load_obj_seen(&path, |p, text| files.push(SceneFile::of(p, text)))?;
+        let options = lgh_vpl::ObjOptions::default();
+        let mesh = Mesh::load_obj_with(&path, &options, |p, bytes| {
+            files.push(SceneFile::of(p, bytes))
+        })?;
+        crate::gi::print_unhonoured("lgh explosion --scene", &mesh);
         if mesh.triangles().is_empty() {
             return Err(format!("--scene {}: no triangles", path.display()).into());
         }
@@ -35,7 +40,8 @@ impl Room {
         })
     }
 
-    /// The files the scene was read from (the OBJ, then its MTL files) and their SHA-256.
+    /// The files the scene was read from (the OBJ, then its MTL files and textures) and their
+    /// SHA-256.
     #[must_use]
     pub fn files(&self) -> &[SceneFile] {
         &self.files

@@ -1109,6 +1109,79 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     assert_eq!(images[0], images[1]);
 }
 
+/// `lgh gi` names once on stderr, with file and line, each statement of the scene it does not
+/// honour (with `--quiet`, only the EXR header's `unhonoured` has them), refuses a missing
+/// texture naming it, and renders it grey with `--missing-textures grey`.
+#[test]
+fn gi_names_what_the_scene_asks_for_and_does_not_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("scene.obj");
+    std::fs::write(
+        &obj,
+        "mtllib scene.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\ns 1\n\
+         usemtl glass\nf 1/1 2/2 3/3\nusemtl glass\nf 3/3 2/2 1/1\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("scene.mtl"),
+        "newmtl glass\nKa 1 1 1\nKd 0.5 0.5 0.5\nillum 7\nNi 1.5\nmap_Kd missing.png\n\
+         map_Bump bumps.png\n",
+    )
+    .unwrap();
+    let o = obj.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let out = dir.path().join("out.exr");
+        let mut args = vec![
+            "gi",
+            "--obj",
+            o,
+            "--light",
+            "point:0.2,0.2,1,1,1,1",
+            "--vpls",
+            "10",
+            "--width",
+            "4",
+            "--height",
+            "4",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        (lgh(&args), out)
+    };
+    let (refused, _) = run(&[]);
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(err.contains("missing.png"), "{err}");
+    let (o, out) = run(&["--missing-textures", "grey"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    let mtl = dir.path().join("scene.mtl");
+    for (file, line, statement) in [
+        (&mtl, 2, "Ka"),
+        (&mtl, 4, "illum 7"),
+        (&mtl, 5, "Ni"),
+        (&mtl, 7, "map_Bump"),
+    ] {
+        let at = format!("{}:{line}: `{statement}`", file.display());
+        assert_eq!(err.matches(&at).count(), 1, "{at} in {err}");
+    }
+    assert!(err.contains("`s` smoothing groups"), "{err}");
+    assert!(err.contains("missing.png") && err.contains("grey"), "{err}");
+    let get = header(&out);
+    let listed = get("lgh:unhonoured");
+    assert!(
+        listed.contains("`illum 7`") && listed.contains("`Ka`"),
+        "{listed}"
+    );
+    // Quiet: nothing on stderr, the same list in the header.
+    let (o, out) = run(&["--missing-textures", "grey", "--quiet"]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("not honoured"), "{err}");
+    assert_eq!(header(&out)("lgh:unhonoured"), listed);
+}
+
 /// `lgh bench gi` prints the issue's JSON keys for each α, measured against brute force on the
 /// same pixels, and writes the images and their difference images.
 #[test]

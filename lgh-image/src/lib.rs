@@ -46,4 +46,7 @@ pub use image::{check_image_size, first_non_finite, Image};
 pub use limits::MAX_IMAGE_SIDE;
 pub use metrics::{compare, difference_png, error_8bit, flicker, quantize_8bit, Error8Bit};
 pub use png_file::{write_png, write_png_with};
-pub use tone::{auto_exposure, filmic, tonemap, tonemap_with, ToneCurve, FILMIC_WHITE};
+pub use tone::{
+    auto_exposure, filmic, linear_to_srgb, srgb_to_linear, tonemap, tonemap_with, ToneCurve,
+    FILMIC_WHITE,
+};

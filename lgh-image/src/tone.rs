@@ -130,16 +130,44 @@ pub fn tonemap_with(v: Vec3, exposure: f32, curve: ToneCurve) -> [u8; 3] {
         }
         ToneCurve::Filmic => Vec3::new(filmic(v.x), filmic(v.y), filmic(v.z)),
     };
-    let encode = |c: f32| {
-        let c = c.clamp(0.0, 1.0);
-        let s = if c <= 0.003_130_8 {
-            12.92 * c
-        } else {
-            1.055 * c.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0 + 0.5) as u8
-    };
+    let encode = |c: f32| (linear_to_srgb(c.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8;
     [encode(v.x), encode(v.y), encode(v.z)]
+}
+
+/// The sRGB transfer function (IEC 61966-2-1): linear light in `[0, 1]` to its encoded value.
+///
+/// ```
+/// use lgh_image::{linear_to_srgb, srgb_to_linear};
+///
+/// assert_eq!(linear_to_srgb(0.0), 0.0);
+/// assert!((linear_to_srgb(0.214_041_14) - 0.5).abs() < 1e-6);
+/// assert!((srgb_to_linear(linear_to_srgb(0.3)) - 0.3).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The sRGB transfer function's inverse (IEC 61966-2-1): an encoded value in `[0, 1]` to
+/// linear light (how 8-bit texture colours become reflectances).
+///
+/// ```
+/// use lgh_image::srgb_to_linear;
+///
+/// assert_eq!(srgb_to_linear(1.0), 1.0);
+/// assert!((srgb_to_linear(0.5) - 0.214_041_14).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 #[cfg(test)]

@@ -567,6 +567,7 @@ mod tests {
             .map(|i| Triangle {
                 vertices: [3 * i, 3 * i + 1, 3 * i + 2],
                 normals: None,
+                texcoords: None,
                 material: 0,
             })
             .collect();

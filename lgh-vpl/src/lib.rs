@@ -1,7 +1,9 @@
 //! # lgh-vpl — surfaces lit by many lights
 //!
 //! What is here today is the surface half of the crate: triangle meshes with Lambert and Phong
-//! materials, built in code or read from OBJ + MTL ([`mesh`]); our own triangle BVH with
+//! materials, vertex normals and diffuse textures ([`texture`]), built in code or read from
+//! OBJ + MTL ([`mesh`], [`obj`]; what a file asks for and is not rendered is listed,
+//! [`statements`]); our own triangle BVH with
 //! closest-hit and any-hit queries ([`bvh`]); a pinhole [`Camera`] (lgh-image's
 //! [`Pinhole`](lgh_image::camera::Pinhole), shared with the volume renderer); and a renderer that
 //! shades the surface each pixel sees through any [`lgh_core::ManyLights`] backend — the lighting
@@ -66,13 +68,15 @@ pub mod direct;
 pub mod gi;
 pub mod indirect;
 pub mod mesh;
-mod obj;
+pub mod obj;
 pub mod paquette;
 pub mod primary;
 pub mod reference;
 pub mod render;
 pub mod representatives;
 pub mod scene;
+pub mod statements;
+pub mod texture;
 pub mod vpl;
 
 pub use bvh::{Bvh, Hit, Ray};
@@ -80,5 +84,8 @@ pub use gi::{GiError, GiMethod, GiScene, GiSettings};
 pub use lgh_core;
 pub use lgh_image::camera::{CameraError, Pinhole as Camera};
 pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL, MAX_LINE_BYTES};
+pub use obj::{MissingTextures, ObjOptions};
 pub use render::{render, render_with_shader, RenderError, Rendered};
 pub use scene::Scene;
+pub use statements::Unhonoured;
+pub use texture::Texture;

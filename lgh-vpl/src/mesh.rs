@@ -7,11 +7,19 @@
 //! skipped**, never rejected: they cannot be hit and have no normal, and real meshes carry a few
 //! (slivers from triangulated polygons, collapsed edges); [`Mesh::degenerate_skipped`] says how
 //! many were dropped.
+//!
+//! A material may carry a diffuse texture ([`Mesh::set_diffuse_texture`], MTL `map_Kd`): at a
+//! point of a triangle with texture coordinates, [`Mesh::material_at`] multiplies the
+//! material's `Kd` (Lambert albedo, Phong `k_d`) by the texture's colour there, as the MTL
+//! format defines `map_Kd`. Triangles without texture coordinates keep the plain `Kd`.
 use std::fmt;
 use std::path::PathBuf;
 
-use lgh_core::glam::Vec3;
+use lgh_core::glam::{Vec2, Vec3};
 use lgh_core::Material;
+
+use crate::statements::Unhonoured;
+use crate::texture::{Texture, TextureError};
 
 /// The material of faces that name none (an OBJ without `usemtl`, or naming a material its MTL
 /// files do not define) and of MTL materials without `Kd`: a grey Lambertian surface of albedo 0.5.
@@ -33,6 +41,9 @@ pub struct Triangle {
     pub vertices: [u32; 3],
     /// Indices of the corners' normals in [`Mesh::normals`]; `None` shades with the face normal.
     pub normals: Option<[u32; 3]>,
+    /// Indices of the corners' texture coordinates in [`Mesh::texcoords`]; `None` leaves the
+    /// material's diffuse texture unused on this triangle.
+    pub texcoords: Option<[u32; 3]>,
     /// Index of the triangle's material in [`Mesh::materials`].
     pub material: u32,
 }
@@ -75,6 +86,18 @@ pub enum MeshError {
         /// Index of the normal.
         index: usize,
     },
+    /// A texture coordinate is NaN or infinite.
+    NonFiniteTexcoord {
+        /// Index of the texture coordinate.
+        index: usize,
+    },
+    /// A texture file could not be decoded (not an image, damaged, too large).
+    Texture {
+        /// The texture file, or the material's name for textures given in code.
+        path: PathBuf,
+        /// What is wrong.
+        error: TextureError,
+    },
     /// A triangle refers to a position, normal or material that does not exist.
     IndexOutOfRange {
         /// Index of the triangle.
@@ -114,6 +137,10 @@ impl fmt::Display for MeshError {
             MeshError::NonFiniteNormal { index } => {
                 write!(f, "normal {index} has a NaN or infinite coordinate")
             }
+            MeshError::NonFiniteTexcoord { index } => {
+                write!(f, "texture coordinate {index} is NaN or infinite")
+            }
+            MeshError::Texture { path, error } => write!(f, "texture {}: {error}", path.display()),
             MeshError::IndexOutOfRange { triangle } => write!(
                 f,
                 "triangle {triangle} refers to a vertex, normal or material that does not exist"
@@ -130,6 +157,7 @@ impl std::error::Error for MeshError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             MeshError::Io { error, .. } => Some(error),
+            MeshError::Texture { error, .. } => Some(error),
             _ => None,
         }
     }
@@ -140,18 +168,47 @@ impl std::error::Error for MeshError {
 pub struct Mesh {
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
+    texcoords: Vec<Vec2>,
     triangles: Vec<Triangle>,
     materials: Vec<Material>,
     /// Emitted radiance `L_e` of each material (W / (sr m²), MTL `Ke`): zero for most.
     emission: Vec<Vec3>,
+    /// Each material's diffuse texture, an index into `textures`.
+    diffuse_maps: Vec<Option<u32>>,
+    textures: Vec<Texture>,
     degenerate_skipped: usize,
+    unhonoured: Vec<Unhonoured>,
 }
 
 impl Mesh {
-    /// Checks and assembles a mesh; zero-area triangles are dropped and counted.
+    /// Checks and assembles a mesh; zero-area triangles are dropped and counted. Triangles
+    /// must not name texture coordinates (see [`with_texcoords`](Self::with_texcoords)).
     pub fn new(
         positions: Vec<Vec3>,
         normals: Vec<Vec3>,
+        triangles: Vec<Triangle>,
+        materials: Vec<Material>,
+    ) -> Result<Mesh, MeshError> {
+        Mesh::with_texcoords(positions, normals, Vec::new(), triangles, materials)
+    }
+
+    /// [`new`](Self::new) with texture coordinates `texcoords` for the triangles to name.
+    ///
+    /// ```
+    /// use lgh_core::glam::{Vec2, Vec3};
+    /// use lgh_vpl::{Mesh, Triangle, DEFAULT_MATERIAL};
+    ///
+    /// let corners = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+    /// let uv = vec![Vec2::ZERO, Vec2::X, Vec2::Y];
+    /// let t = Triangle { vertices: [0, 1, 2], normals: None, texcoords: Some([0, 1, 2]), material: 0 };
+    /// let mesh = Mesh::with_texcoords(corners, vec![], uv, vec![t], vec![DEFAULT_MATERIAL])?;
+    /// assert_eq!(mesh.texcoord(0, 0.25, 0.5), Some(Vec2::new(0.25, 0.5)));
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    pub fn with_texcoords(
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        texcoords: Vec<Vec2>,
         triangles: Vec<Triangle>,
         materials: Vec<Material>,
     ) -> Result<Mesh, MeshError> {
@@ -159,6 +216,7 @@ impl Mesh {
         if [
             positions.len(),
             normals.len(),
+            texcoords.len(),
             triangles.len(),
             materials.len(),
         ]
@@ -173,6 +231,9 @@ impl Mesh {
         if let Some(index) = normals.iter().position(|n| !n.is_finite()) {
             return Err(MeshError::NonFiniteNormal { index });
         }
+        if let Some(index) = texcoords.iter().position(|t| !t.is_finite()) {
+            return Err(MeshError::NonFiniteTexcoord { index });
+        }
         for (i, m) in materials.iter().enumerate() {
             check_material(m).map_err(|reason| MeshError::InvalidMaterial {
                 name: format!("#{i}"),
@@ -183,6 +244,8 @@ impl Mesh {
             t.vertices.iter().all(|&v| (v as usize) < positions.len())
                 && t.normals
                     .is_none_or(|n| n.iter().all(|&v| (v as usize) < normals.len()))
+                && t.texcoords
+                    .is_none_or(|n| n.iter().all(|&v| (v as usize) < texcoords.len()))
                 && (t.material as usize) < materials.len()
         };
         if let Some(triangle) = triangles.iter().position(|t| !in_range(t)) {
@@ -200,13 +263,18 @@ impl Mesh {
             });
         }
         let emission = vec![Vec3::ZERO; materials.len()];
+        let diffuse_maps = vec![None; materials.len()];
         Ok(Mesh {
             positions,
             normals,
+            texcoords,
             triangles,
             materials,
             emission,
+            diffuse_maps,
+            textures: Vec::new(),
             degenerate_skipped,
+            unhonoured: Vec::new(),
         })
     }
 
@@ -249,28 +317,38 @@ impl Mesh {
         let counts = [
             self.positions.len() + other.positions.len(),
             self.normals.len() + other.normals.len(),
+            self.texcoords.len() + other.texcoords.len(),
             self.triangles.len() + other.triangles.len(),
             self.materials.len() + other.materials.len(),
+            self.textures.len() + other.textures.len(),
         ];
         if counts.iter().any(|&n| n > u32::MAX as usize) {
             return Err(MeshError::TooMany);
         }
-        let (p, n, m) = (
+        let (p, n, uv, m, tex) = (
             self.positions.len() as u32,
             self.normals.len() as u32,
+            self.texcoords.len() as u32,
             self.materials.len() as u32,
+            self.textures.len() as u32,
         );
         self.triangles
             .extend(other.triangles.iter().map(|t| Triangle {
                 vertices: t.vertices.map(|v| v + p),
                 normals: t.normals.map(|ns| ns.map(|v| v + n)),
+                texcoords: t.texcoords.map(|ts| ts.map(|v| v + uv)),
                 material: t.material + m,
             }));
         self.positions.extend(other.positions);
         self.normals.extend(other.normals);
+        self.texcoords.extend(other.texcoords);
         self.materials.extend(other.materials);
         self.emission.extend(other.emission);
+        self.diffuse_maps
+            .extend(other.diffuse_maps.iter().map(|d| d.map(|i| i + tex)));
+        self.textures.extend(other.textures);
         self.degenerate_skipped += other.degenerate_skipped;
+        self.unhonoured.extend(other.unhonoured);
         Ok(())
     }
 
@@ -310,6 +388,120 @@ impl Mesh {
             })?;
         *slot = radiance;
         Ok(())
+    }
+
+    /// Gives material `material` the diffuse texture `texture` (MTL `map_Kd`): its `Kd` is
+    /// multiplied by the texture's colour wherever a triangle has texture coordinates
+    /// ([`material_at`](Self::material_at)).
+    ///
+    /// Errors: [`MeshError::InvalidMaterial`] for a material the mesh does not have.
+    ///
+    /// ```
+    /// use lgh_core::glam::{Vec2, Vec3};
+    /// use lgh_core::Material;
+    /// use lgh_vpl::texture::Texture;
+    /// use lgh_vpl::{Mesh, Triangle};
+    ///
+    /// let white = Material::Lambert { albedo: Vec3::splat(0.8) };
+    /// let t = Triangle { vertices: [0, 1, 2], normals: None, texcoords: Some([0, 1, 2]), material: 0 };
+    /// let uv = vec![Vec2::ZERO, Vec2::X, Vec2::Y];
+    /// let mut mesh = Mesh::with_texcoords(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![], uv, vec![t], vec![white])?;
+    /// // A one-texel texture: red everywhere.
+    /// mesh.set_diffuse_texture(0, Texture::from_linear(1, 1, vec![Vec3::new(1.0, 0.0, 0.0)]).unwrap())?;
+    /// assert_eq!(mesh.material_at(0, 0.2, 0.2), Material::Lambert { albedo: Vec3::new(0.8, 0.0, 0.0) });
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    pub fn set_diffuse_texture(
+        &mut self,
+        material: u32,
+        texture: Texture,
+    ) -> Result<(), MeshError> {
+        if material as usize >= self.materials.len() {
+            return Err(MeshError::InvalidMaterial {
+                name: format!("#{material}"),
+                reason: "the mesh has no such material",
+            });
+        }
+        let index = self.add_texture(texture)?;
+        self.use_texture(material, index);
+        Ok(())
+    }
+
+    /// Adds `texture` for materials to share ([`use_texture`](Self::use_texture)): its index.
+    pub(crate) fn add_texture(&mut self, texture: Texture) -> Result<u32, MeshError> {
+        let index = u32::try_from(self.textures.len()).map_err(|_| MeshError::TooMany)?;
+        self.textures.push(texture);
+        Ok(index)
+    }
+
+    /// Makes texture `index` material `material`'s diffuse texture (both must exist).
+    pub(crate) fn use_texture(&mut self, material: u32, index: u32) {
+        self.diffuse_maps[material as usize] = Some(index);
+    }
+
+    /// Replaces material `material` by `with` (checked by the caller).
+    pub(crate) fn set_material(&mut self, material: u32, with: Material) {
+        self.materials[material as usize] = with;
+    }
+
+    /// The diffuse texture of material `material`, if it has one.
+    #[must_use]
+    pub fn diffuse_texture(&self, material: u32) -> Option<&Texture> {
+        let index = (*self.diffuse_maps.get(material as usize)?)?;
+        self.textures.get(index as usize)
+    }
+
+    /// The material at barycentric `(u, v)` of triangle `t`: its material, with `Kd` (Lambert
+    /// albedo, Phong `k_d`) multiplied by the diffuse texture's bilinear colour at the point's
+    /// texture coordinates where the material has a texture and the triangle texture
+    /// coordinates; otherwise [`material`](Self::material).
+    #[must_use]
+    pub fn material_at(&self, t: u32, u: f32, v: f32) -> Material {
+        let material = self.material(t);
+        let index = self.triangles[t as usize].material;
+        let (Some(texture), Some(uv)) = (self.diffuse_texture(index), self.texcoord(t, u, v))
+        else {
+            return material;
+        };
+        let colour = texture.sample(uv);
+        match material {
+            Material::Lambert { albedo } => Material::Lambert {
+                albedo: albedo * colour,
+            },
+            Material::Phong { kd, ks, exponent } => Material::Phong {
+                kd: kd * colour,
+                ks,
+                exponent,
+            },
+            Material::Isotropic => Material::Isotropic,
+        }
+    }
+
+    /// The texture coordinates at barycentric `(u, v)` of triangle `t`, if it has them: its
+    /// corners' interpolated.
+    #[must_use]
+    pub fn texcoord(&self, t: u32, u: f32, v: f32) -> Option<Vec2> {
+        let [a, b, c] = self.triangles[t as usize].texcoords?;
+        let at = |i: u32| self.texcoords[i as usize];
+        Some(at(a) * (1.0 - u - v) + at(b) * u + at(c) * v)
+    }
+
+    /// Texture coordinates.
+    #[must_use]
+    pub fn texcoords(&self) -> &[Vec2] {
+        &self.texcoords
+    }
+
+    /// What the files this mesh was read from ask for and the renderer does not honour, each
+    /// statement once at its first use ([`crate::statements`]); empty for meshes built in code.
+    #[must_use]
+    pub fn unhonoured(&self) -> &[Unhonoured] {
+        &self.unhonoured
+    }
+
+    /// Records what the mesh's files ask for and is not honoured.
+    pub(crate) fn set_unhonoured(&mut self, unhonoured: Vec<Unhonoured>) {
+        self.unhonoured = unhonoured;
     }
 
     /// Radiance emitted by triangle `t` (its material's `Ke`; zero for most).
@@ -440,6 +632,7 @@ fn flat(vertices: [u32; 3], material: u32) -> Triangle {
     Triangle {
         vertices,
         normals: None,
+        texcoords: None,
         material,
     }
 }
@@ -545,6 +738,7 @@ mod tests {
         let tri = |vertices, material| Triangle {
             vertices,
             normals: None,
+            texcoords: None,
             material,
         };
         let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(2.0, 0.0, 0.0)];
@@ -633,6 +827,7 @@ mod tests {
                 vec![Triangle {
                     vertices: [0, 1, 2],
                     normals: Some([0, 0, 0]),
+                    texcoords: None,
                     material: 0,
                 }],
                 vec![GREY],

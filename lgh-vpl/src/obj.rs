@@ -1,36 +1,64 @@
 //! Reading Wavefront OBJ + MTL files into a [`Mesh`] ([`Mesh::load_obj`], [`Mesh::parse_obj`],
 //! through `tobj`): files read up to [`lgh_image::MAX_INPUT_BYTES`] and lines up to
 //! [`MAX_LINE_BYTES`], face indices and colour statements checked before `tobj` sees them, and
-//! MTL materials mapped to ours.
+//! MTL materials mapped to ours, their diffuse textures read ([`crate::texture`]), and every
+//! statement the renderer does not honour named ([`crate::statements`]).
 
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use lgh_core::glam::Vec3;
+use lgh_core::glam::{Vec2, Vec3};
 use lgh_core::Material;
 
 use crate::mesh::{
     check_exponent, check_material, Mesh, MeshError, Triangle, DEFAULT_ALBEDO, DEFAULT_MATERIAL,
     MAX_LINE_BYTES,
 };
+use crate::statements::{scan_mtl, scan_obj, Report};
+use crate::texture::Texture;
+
+/// What to do where a material's texture file is missing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MissingTextures {
+    /// An error naming the file.
+    #[default]
+    Error,
+    /// The material's diffuse colour becomes [`DEFAULT_MATERIAL`]'s grey (0.5, `Kd` not
+    /// applied), and the missing file is named in [`Mesh::unhonoured`].
+    Grey,
+}
+
+/// How [`Mesh::load_obj_with`] reads a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ObjOptions {
+    /// What a missing texture file does.
+    pub missing_textures: MissingTextures,
+}
 
 impl Mesh {
     /// Reads a Wavefront OBJ file and the MTL files it names (`mtllib`, relative to the OBJ's
     /// folder). `tobj` reads the rest of an `mtllib` line as a single path (so names may contain
     /// spaces): `mtllib a.mtl b.mtl` names one file, `a.mtl b.mtl`; write one `mtllib` line per
-    /// file. Polygons are triangulated as fans; points, lines and texture coordinates are
-    /// ignored. Vertex normals are used if every corner of every face names one; otherwise
-    /// every face is shaded with its face normal. A face's position, texture and normal indices
+    /// file. Polygons are triangulated as fans; points and lines are not rendered. A face whose
+    /// every corner names a vertex normal is shaded with the interpolated normals, the others
+    /// with their face normals; a face whose every corner names texture coordinates reads its
+    /// material's diffuse texture there. A face's position, texture and normal indices
     /// must each be 1 to `n` or −`n` to −1 (counting back), where `n` is the number of
     /// positions, texture coordinates or normals before the face in the file.
     ///
     /// MTL mapping: `Kd` → diffuse reflectance, `Ks` → specular reflectance, `Ns` → Phong
     /// exponent; `Ks` absent or zero gives [`Material::Lambert`] with albedo `Kd`, otherwise
-    /// [`Material::Phong`]; `Ke` → emitted radiance ([`Mesh::emission`], area lights). Other MTL
-    /// statements (`Ka`, `Ni`, `illum`, textures) are ignored. A missing `Kd` is [`DEFAULT_MATERIAL`]'s albedo; a missing `Ns` is 1. Faces
-    /// without `usemtl`, or naming a material no MTL file defines, get [`DEFAULT_MATERIAL`].
+    /// [`Material::Phong`]; `Ke` → emitted radiance ([`Mesh::emission`], area lights); `map_Kd`
+    /// → a diffuse texture multiplying `Kd` ([`Mesh::set_diffuse_texture`]; PNG, JPEG or TGA,
+    /// named relative to its MTL file's folder; texture options such as `-s` are skipped). A
+    /// missing `Kd` is [`DEFAULT_MATERIAL`]'s albedo; a missing `Ns` is 1. Faces without
+    /// `usemtl`, or naming a material no MTL file defines, get [`DEFAULT_MATERIAL`]. Every
+    /// statement not honoured (`Ka`, `illum 7`, `map_Bump`, …) is listed in
+    /// [`Mesh::unhonoured`] with the file and line of its first use.
     ///
-    /// Errors: a missing or unreadable OBJ or MTL file, a file larger than
+    /// Errors: a missing or unreadable OBJ, MTL or texture file (see [`ObjOptions`] for
+    /// textures), a texture that is not an image or is too large, a file larger than
     /// [`lgh_image::MAX_INPUT_BYTES`], a parse error (text that is not UTF-8 included), a face
     /// index out of range, non-finite coordinates, negative or non-finite material values, no
     /// triangle of non-zero area.
@@ -59,14 +87,15 @@ impl Mesh {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
-        Mesh::load_obj_seen(path, |_, _| {})
+        Mesh::load_obj_with(path, &ObjOptions::default(), |_, _| {})
     }
 
-    /// [`load_obj`](Self::load_obj), showing `seen` the path and text of every file as it is
-    /// read, the OBJ first and then each MTL: what a caller hashes to know exactly which bytes
-    /// made the mesh (a render farm's manifest does).
+    /// [`load_obj`](Self::load_obj) with `options`, showing `seen` the path and bytes of every
+    /// file as it is read, the OBJ first and then each MTL and texture: what a caller hashes to
+    /// know exactly which bytes made the mesh (a render farm's manifest does).
     ///
     /// ```
+    /// use lgh_vpl::obj::ObjOptions;
     /// use lgh_vpl::Mesh;
     ///
     /// let dir = tempfile::tempdir()?;
@@ -74,72 +103,97 @@ impl Mesh {
     /// let obj = dir.path().join("t.obj");
     /// std::fs::write(&obj, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl grey\nf 1 2 3\n")?;
     /// let mut read = Vec::new();
-    /// Mesh::load_obj_seen(&obj, |path, text| read.push((path.to_owned(), text.len())))?;
+    /// let options = ObjOptions::default();
+    /// Mesh::load_obj_with(&obj, &options, |path, bytes| read.push((path.to_owned(), bytes.len())))?;
     /// assert_eq!(read, [(obj.clone(), 57), (dir.path().join("m.mtl"), 27)]);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn load_obj_seen(
+    pub fn load_obj_with(
         path: &Path,
-        mut seen: impl FnMut(&Path, &str),
+        options: &ObjOptions,
+        mut seen: impl FnMut(&Path, &[u8]),
     ) -> Result<Mesh, MeshError> {
         let text = read_text(path)?;
-        seen(path, &text);
+        seen(path, text.as_bytes());
         let seen = RefCell::new(seen);
         let folder = path.parent().unwrap_or(Path::new(""));
-        Mesh::parse_obj(path, &text, |name| {
-            let mtl = folder.join(name);
-            let text = read_text(&mtl)?;
-            (seen.borrow_mut())(&mtl, &text);
-            Ok((mtl, text))
+        Mesh::parse_obj(path, &text, options, |name| {
+            let file = folder.join(name);
+            let bytes = read_file(&file)?;
+            (seen.borrow_mut())(&file, &bytes);
+            Ok((file, bytes))
         })
     }
 
-    /// [`load_obj`](Self::load_obj) of OBJ `text` already in memory, named `path` in errors;
-    /// `mtl(name)` gives each `mtllib` file's path (for errors) and text. The same checks, the
+    /// [`load_obj_with`](Self::load_obj_with) of OBJ `text` already in memory, named `path` in
+    /// errors; `read(name)` gives the path (for errors) and bytes of each file the scene names,
+    /// relative to the OBJ's folder: its `mtllib` files and their textures. The same checks, the
     /// same errors: what the fuzz target `obj` drives.
     ///
     /// ```
     /// use lgh_core::Material;
+    /// use lgh_vpl::obj::ObjOptions;
     /// use lgh_vpl::{Mesh, MeshError};
     /// use std::path::{Path, PathBuf};
     ///
     /// let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl grey\nf 1 2 3\n";
-    /// let mtl = |name: &str| Ok((PathBuf::from(name), "newmtl grey\nKd 0.5 0.5 0.5\n".into()));
-    /// let mesh = Mesh::parse_obj(Path::new("memory.obj"), obj, mtl)?;
+    /// let options = ObjOptions::default();
+    /// let mtl = |name: &Path| Ok((name.to_owned(), b"newmtl grey\nKd 0.5 0.5 0.5\nKa 1 1 1\n".to_vec()));
+    /// let mesh = Mesh::parse_obj(Path::new("memory.obj"), obj, &options, mtl)?;
     /// assert_eq!(mesh.triangles().len(), 1);
+    /// assert_eq!(mesh.unhonoured()[0].to_string(), "m.mtl:3: `Ka` ambient colour has no meaning \
+    ///     in a physically based renderer: ignored");
     /// // tobj would panic on `Kd 0.5`; this is a parse error naming the line.
-    /// let bad = |name: &str| Ok((PathBuf::from(name), "newmtl grey\nKd 0.5\n".into()));
-    /// let e = Mesh::parse_obj(Path::new("memory.obj"), obj, bad).unwrap_err();
+    /// let bad = |name: &Path| Ok((name.to_owned(), b"newmtl grey\nKd 0.5\n".to_vec()));
+    /// let e = Mesh::parse_obj(Path::new("memory.obj"), obj, &options, bad).unwrap_err();
     /// assert!(e.to_string().contains("line 2: Kd needs three numbers"), "{e}");
     /// # Ok::<(), MeshError>(())
     /// ```
     pub fn parse_obj(
         path: &Path,
         text: &str,
-        mtl: impl Fn(&str) -> Result<(PathBuf, String), MeshError>,
+        options: &ObjOptions,
+        read: impl Fn(&Path) -> Result<(PathBuf, Vec<u8>), MeshError>,
     ) -> Result<Mesh, MeshError> {
         // Before tobj, which panics on some indices out of range.
-        let normals_everywhere = check_faces(path, text)?;
+        let faces = check_faces(path, text)?;
+        let mut report = Report::default();
+        scan_obj(path, text, faces.iter().any(|f| !f.normals), &mut report);
+        let report = RefCell::new(report);
+        // Each MTL file's folder (relative to the OBJ's) and how many materials it defines, in
+        // the order tobj appends them.
+        let libraries: RefCell<Vec<(PathBuf, usize)>> = RefCell::new(Vec::new());
         // The first MTL error, with its path: tobj only keeps a bare error code.
         let mtl_error: RefCell<Option<MeshError>> = RefCell::new(None);
-        let options = tobj::LoadOptions {
+        let load_options = tobj::LoadOptions {
             single_index: false,
             triangulate: true,
             ignore_points: true,
             ignore_lines: true,
         };
-        let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |name| {
+        let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &load_options, |name| {
             let keep = |e: MeshError| {
                 mtl_error.borrow_mut().get_or_insert(e);
             };
-            let name = name.to_string_lossy();
-            match mtl(&name).and_then(|(path, text)| check_mtl(&path, text).map(|t| (path, t))) {
-                Ok((path, text)) => tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
-                    keep(MeshError::Parse {
-                        path,
-                        message: e.to_string(),
-                    })
-                }),
+            let text = read(name).and_then(|(path, bytes)| {
+                let text = utf8(&path, bytes)?;
+                check_mtl(&path, text).map(|t| (path, t))
+            });
+            match text {
+                Ok((file, text)) => {
+                    let loaded = tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
+                        keep(MeshError::Parse {
+                            path: file.clone(),
+                            message: e.to_string(),
+                        })
+                    });
+                    if let Ok((materials, _)) = &loaded {
+                        scan_mtl(&file, &text, &mut report.borrow_mut());
+                        let folder = name.parent().unwrap_or(Path::new("")).to_owned();
+                        libraries.borrow_mut().push((folder, materials.len()));
+                    }
+                    loaded
+                }
                 Err(e) => {
                     keep(e);
                     Err(tobj::LoadError::GenericFailure)
@@ -155,13 +209,138 @@ impl Mesh {
         })?;
         // Every MTL file loaded (their errors returned above), so this is Ok or "none named".
         let materials = materials.unwrap_or_default();
-        from_tobj(&models, &materials, normals_everywhere)
+        let mut report = report.into_inner();
+        let mut mesh = from_tobj(&models, &materials, &faces, &mut report)?;
+        let folders = libraries
+            .into_inner()
+            .into_iter()
+            .flat_map(|(folder, n)| std::iter::repeat_n(folder, n));
+        let mut textures: HashMap<PathBuf, Option<u32>> = HashMap::new();
+        for ((i, m), folder) in materials.iter().enumerate().zip(folders) {
+            let Some(map) = &m.diffuse_texture else {
+                continue;
+            };
+            let name = folder.join(texture_file(map));
+            let index = match textures.get(&name) {
+                Some(&index) => index,
+                None => {
+                    let index = read_texture(&name, options, &read, &mut mesh, &mut report)?;
+                    textures.insert(name, index);
+                    index
+                }
+            };
+            match index {
+                Some(index) => mesh.use_texture(i as u32, index),
+                // Missing, and `MissingTextures::Grey`: the grey of the default material.
+                None => mesh.set_material(i as u32, grey(mesh.materials()[i])),
+            }
+        }
+        mesh.set_unhonoured(report.into_entries());
+        Ok(mesh)
+    }
+}
+
+/// The file name of a `map_Kd` statement's value: its options (`-s 2 2 1`, `-clamp on`, …)
+/// and their arguments skipped, the rest (which may contain spaces) the name.
+fn texture_file(value: &str) -> &str {
+    let mut rest = value.trim();
+    while let Some(option) = rest.strip_prefix('-') {
+        let (name, after) = option
+            .split_once(char::is_whitespace)
+            .unwrap_or((option, ""));
+        // Options of one word (`-clamp on`) and of up to three numbers (`-s u v w`).
+        let words = match name {
+            "o" | "s" | "t" => 3,
+            "mm" => 2,
+            _ => 1,
+        };
+        rest = after.trim_start();
+        for k in 0..words {
+            let (word, after) = rest.split_once(char::is_whitespace).unwrap_or((rest, ""));
+            if k > 0 && word.parse::<f32>().is_err() {
+                break;
+            }
+            rest = after.trim_start();
+        }
+    }
+    rest
+}
+
+/// The texture `name` (relative to the OBJ's folder) added to `mesh`: its index, or `None`
+/// where the file is missing and `options` say grey (noted in `report`).
+fn read_texture(
+    name: &Path,
+    options: &ObjOptions,
+    read: &impl Fn(&Path) -> Result<(PathBuf, Vec<u8>), MeshError>,
+    mesh: &mut Mesh,
+    report: &mut Report,
+) -> Result<Option<u32>, MeshError> {
+    let (path, bytes) = match read(name) {
+        Ok(file) => file,
+        Err(MeshError::Io { path, error })
+            if error.kind() == std::io::ErrorKind::NotFound
+                && options.missing_textures == MissingTextures::Grey =>
+        {
+            let why = format!(
+                "texture {} is missing: the material is grey",
+                path.display()
+            );
+            report.note(&format!("map_Kd {}", name.display()), &path, 0, &why);
+            return Ok(None);
+        }
+        Err(e) => return Err(e),
+    };
+    let texture = Texture::decode(&bytes).map_err(|error| MeshError::Texture { path, error })?;
+    mesh.add_texture(texture).map(Some)
+}
+
+/// `material` with its diffuse colour the default material's grey.
+fn grey(material: Material) -> Material {
+    match material {
+        Material::Phong { ks, exponent, .. } => Material::Phong {
+            kd: DEFAULT_ALBEDO,
+            ks,
+            exponent,
+        },
+        _ => DEFAULT_MATERIAL,
     }
 }
 
 /// The text of `path`, read up to [`lgh_image::MAX_INPUT_BYTES`]; bytes that are not UTF-8 are
 /// a parse error.
 fn read_text(path: &Path) -> Result<String, MeshError> {
+    utf8(path, read_limited(path, MAX_LINE_BYTES)?)
+}
+
+/// The bytes of a file the OBJ names (an MTL file, a texture), read up to
+/// [`lgh_image::MAX_INPUT_BYTES`]; no line limit, as a texture has no lines ([`check_mtl`]
+/// checks an MTL's).
+fn read_file(path: &Path) -> Result<Vec<u8>, MeshError> {
+    lgh_image::read_limited(path, lgh_image::MAX_INPUT_BYTES).map_err(|error| {
+        if error.kind() == std::io::ErrorKind::FileTooLarge {
+            MeshError::TooLarge {
+                path: path.to_owned(),
+            }
+        } else {
+            MeshError::Io {
+                path: path.to_owned(),
+                error,
+            }
+        }
+    })
+}
+
+/// `bytes` of `path` as text; bytes that are not UTF-8 are a parse error.
+fn utf8(path: &Path, bytes: Vec<u8>) -> Result<String, MeshError> {
+    String::from_utf8(bytes).map_err(|e| MeshError::Parse {
+        path: path.to_owned(),
+        message: format!("not UTF-8 text ({e})"),
+    })
+}
+
+/// The bytes of `path`, read up to [`lgh_image::MAX_INPUT_BYTES`], stopping as soon as a line
+/// is longer than `max_line` bytes.
+fn read_limited(path: &Path, max_line: usize) -> Result<Vec<u8>, MeshError> {
     let io = |error: std::io::Error| MeshError::Io {
         path: path.to_owned(),
         error,
@@ -174,7 +353,7 @@ fn read_text(path: &Path) -> Result<String, MeshError> {
     }
     // `take`: what reports no size (a FIFO) is still never read past the limit.
     let limited = std::io::Read::take(file, lgh_image::MAX_INPUT_BYTES + 1);
-    let bytes = read_lines_limited(limited, MAX_LINE_BYTES).map_err(|e| match e {
+    let bytes = read_lines_limited(limited, max_line).map_err(|e| match e {
         LineError::Io(error) => io(error),
         LineError::TooLong { line } => MeshError::Parse {
             path: path.to_owned(),
@@ -186,10 +365,7 @@ fn read_text(path: &Path) -> Result<String, MeshError> {
             path: path.to_owned(),
         });
     }
-    String::from_utf8(bytes).map_err(|e| MeshError::Parse {
-        path: path.to_owned(),
-        message: format!("not UTF-8 text ({e})"),
-    })
+    Ok(bytes)
 }
 /// Why [`read_lines_limited`] stopped.
 enum LineError {
@@ -228,10 +404,16 @@ fn read_lines_limited(mut r: impl std::io::Read, max_line: usize) -> Result<Vec<
     }
 }
 
-/// The MTL `text` of `path`, its colour statements checked for their three numbers: `tobj`
-/// 4.0.5 panics on `Kd 0.5`.
+/// The MTL `text` of `path`, its lines checked against [`MAX_LINE_BYTES`] and its colour
+/// statements for their three numbers: `tobj` 4.0.5 panics on `Kd 0.5`.
 fn check_mtl(path: &Path, text: String) -> Result<String, MeshError> {
     for (i, line) in text.lines().enumerate() {
+        if line.len() > MAX_LINE_BYTES {
+            return Err(MeshError::Parse {
+                path: path.to_owned(),
+                message: format!("line {} is longer than {MAX_LINE_BYTES} bytes", i + 1),
+            });
+        }
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
             if words.count() < 3 {
@@ -265,17 +447,28 @@ fn from_mtl(m: &tobj::Material) -> Result<Material, MeshError> {
     Ok(material)
 }
 
+/// What one face (`f`) of an OBJ file names at every corner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct FaceCorners {
+    /// The triangles of its fan: corners − 2 (none for fewer than three corners).
+    triangles: usize,
+    /// Every corner names a normal (`v//n`, `v/t/n`).
+    normals: bool,
+    /// Every corner names texture coordinates (`v/t`, `v/t/n`).
+    texcoords: bool,
+}
+
 /// Checks the indices of the faces (`f`) of the OBJ text `obj` read from `path`, and returns
-/// true if every corner of every face names a normal (`v//n`, `v/t/n`).
+/// what each face names, in the order of the file (which is the order of `tobj`'s triangles).
 ///
 /// Each position, texture and normal index must be 1 to `n` or −`n` to −1, where `n` is the
 /// number of positions (`v`), texture coordinates (`vt`) or normals (`vn`) before the face:
 /// `tobj` 4.0.5 overflows on others (a panic in debug builds) and takes 0 for "no index".
-fn check_faces(path: &Path, obj: &str) -> Result<bool, MeshError> {
+fn check_faces(path: &Path, obj: &str) -> Result<Vec<FaceCorners>, MeshError> {
     const WHAT: [&str; 3] = ["position", "texture coordinate", "normal"];
     // Positions, texture coordinates and normals so far.
     let mut counts = [0i64; 3];
-    let mut normals_everywhere = true;
+    let mut faces = Vec::new();
     for (line, text) in obj.lines().enumerate() {
         let mut words = text.split_whitespace();
         match words.next() {
@@ -283,8 +476,19 @@ fn check_faces(path: &Path, obj: &str) -> Result<bool, MeshError> {
             Some("vt") => counts[1] += 1,
             Some("vn") => counts[2] += 1,
             Some("f") => {
+                let mut face = FaceCorners {
+                    triangles: 0,
+                    normals: true,
+                    texcoords: true,
+                };
+                let named = |corner: &str, k: usize| {
+                    corner.split('/').nth(k).is_some_and(|n| !n.is_empty())
+                };
+                let mut corners = 0usize;
                 for corner in words {
-                    normals_everywhere &= corner.split('/').nth(2).is_some_and(|n| !n.is_empty());
+                    corners += 1;
+                    face.normals &= named(corner, 2);
+                    face.texcoords &= named(corner, 1);
                     for (k, index) in corner.split('/').take(3).enumerate() {
                         // An empty index is an absent one (`v//n`).
                         let problem = match index.parse::<i64>() {
@@ -308,57 +512,93 @@ fn check_faces(path: &Path, obj: &str) -> Result<bool, MeshError> {
                         });
                     }
                 }
+                face.triangles = corners.saturating_sub(2);
+                faces.push(face);
             }
             _ => {}
         }
     }
-    Ok(normals_everywhere)
+    Ok(faces)
 }
 
 /// The mesh of `tobj`'s models and materials; faces without a known material get
-/// [`DEFAULT_MATERIAL`], appended after the MTL materials. Vertex normals are used only if
-/// `normals_everywhere`: where some faces lack them, `tobj` makes up normals for those faces
-/// (copying another corner's), and which faces they are is lost.
+/// [`DEFAULT_MATERIAL`], appended after the MTL materials. A triangle takes its vertex normals
+/// and texture coordinates only where its face (`faces`, in file order, which is the order of
+/// `tobj`'s triangles) names them at every corner: `tobj` makes up indices for the corners that
+/// name none (copying another corner's). A material's texture on faces without texture
+/// coordinates is noted in `report`.
 fn from_tobj(
     models: &[tobj::Model],
     mtls: &[tobj::Material],
-    normals_everywhere: bool,
+    faces: &[FaceCorners],
+    report: &mut Report,
 ) -> Result<Mesh, MeshError> {
     let mut materials = mtls.iter().map(from_mtl).collect::<Result<Vec<_>, _>>()?;
     let default = u32::try_from(materials.len()).map_err(|_| MeshError::TooMany)?;
     materials.push(DEFAULT_MATERIAL);
-    let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+    // Each triangle's face, in order.
+    let mut per_triangle = faces
+        .iter()
+        .flat_map(|f| std::iter::repeat_n(f, f.triangles));
+    let (mut positions, mut normals, mut texcoords) = (Vec::new(), Vec::new(), Vec::new());
+    let mut triangles = Vec::new();
+    let mut untextured = 0usize;
     for model in models {
         let mesh = &model.mesh;
         let offset = |base: usize| u32::try_from(base).map_err(|_| MeshError::TooMany);
-        let (p0, n0) = (offset(positions.len())?, offset(normals.len())?);
+        let (p0, n0, t0) = (
+            offset(positions.len())?,
+            offset(normals.len())?,
+            offset(texcoords.len())?,
+        );
         positions.extend(mesh.positions.chunks_exact(3).map(Vec3::from_slice));
         normals.extend(mesh.normals.chunks_exact(3).map(Vec3::from_slice));
+        texcoords.extend(mesh.texcoords.chunks_exact(2).map(Vec2::from_slice));
         let material = mesh
             .material_id
             .filter(|&i| i < mtls.len())
             .map_or(default, |i| i as u32);
-        let with_normals = normals_everywhere && mesh.normal_indices.len() == mesh.indices.len();
+        let textured = mtls
+            .get(material as usize)
+            .is_some_and(|m| m.diffuse_texture.is_some());
+        let has_normals = mesh.normal_indices.len() == mesh.indices.len();
+        let has_texcoords = mesh.texcoord_indices.len() == mesh.indices.len();
         for (k, corners) in mesh.indices.chunks_exact(3).enumerate() {
             let triangle = triangles.len();
-            let shift = |base: u32, i: u32| {
-                base.checked_add(i)
-                    .ok_or(MeshError::IndexOutOfRange { triangle })
-            };
+            let face = per_triangle.next().ok_or(MeshError::Parse {
+                path: PathBuf::new(),
+                message: "tobj returned more triangles than the faces make".into(),
+            })?;
             let shift3 = |base: u32, c: &[u32]| -> Result<[u32; 3], MeshError> {
-                Ok([shift(base, c[0])?, shift(base, c[1])?, shift(base, c[2])?])
+                let shift = |i: u32| {
+                    base.checked_add(i)
+                        .ok_or(MeshError::IndexOutOfRange { triangle })
+                };
+                Ok([shift(c[0])?, shift(c[1])?, shift(c[2])?])
             };
+            let corners_of = |named: bool, present: bool, base: u32, indices: &[u32]| {
+                (named && present)
+                    .then(|| shift3(base, &indices[3 * k..3 * k + 3]))
+                    .transpose()
+            };
+            let texcoords = corners_of(face.texcoords, has_texcoords, t0, &mesh.texcoord_indices)?;
+            untextured += usize::from(textured && texcoords.is_none());
             triangles.push(Triangle {
                 vertices: shift3(p0, corners)?,
-                normals: match with_normals {
-                    true => Some(shift3(n0, &mesh.normal_indices[3 * k..3 * k + 3])?),
-                    false => None,
-                },
+                normals: corners_of(face.normals, has_normals, n0, &mesh.normal_indices)?,
+                texcoords,
                 material,
             });
         }
     }
-    let mut mesh = Mesh::new(positions, normals, triangles, materials)?;
+    if untextured > 0 {
+        let why = format!(
+            "{untextured} triangles of textured materials have no texture coordinates (vt): \
+             their Kd is not textured"
+        );
+        report.note("f without vt", Path::new(""), 0, &why);
+    }
+    let mut mesh = Mesh::with_texcoords(positions, normals, texcoords, triangles, materials)?;
     for (i, m) in mtls.iter().enumerate() {
         if let Some(ke) = m.emissive {
             mesh.set_emission(i as u32, Vec3::from(ke)).map_err(|_| {
@@ -443,8 +683,9 @@ newmtl unused
             materials,
             [DEFAULT_MATERIAL, matte, matte, shiny, DEFAULT_MATERIAL]
         );
-        // Some faces have no vertex normals: face normals everywhere.
-        assert!(m.triangles().iter().all(|t| t.normals.is_none()));
+        // Only the face that names a normal at every corner (`shiny`'s) has vertex normals.
+        let with_normals: Vec<bool> = m.triangles().iter().map(|t| t.normals.is_some()).collect();
+        assert_eq!(with_normals, [false, false, false, true, false]);
         assert_eq!(
             m.corners(2),
             [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]
@@ -632,5 +873,12 @@ newmtl unused
             albedo: Vec3::new(0.63, 0.065, 0.05),
         };
         assert!(m.materials().contains(&red));
+        // Ka is the one statement not honoured (Ni 1.5 with illum 2 changes nothing).
+        let named: Vec<(&str, usize, usize)> = m
+            .unhonoured()
+            .iter()
+            .map(|u| (u.statement.as_str(), u.line, u.uses))
+            .collect();
+        assert_eq!(named, [("Ka", 16, 8)]);
     }
 }

@@ -43,7 +43,8 @@ impl Scene {
     }
 
     /// The shading point of `hit` seen along `ray`: the point on the triangle at the hit's
-    /// barycentrics, the unit view direction `−dir`, the triangle's material, and the shading
+    /// barycentrics, the unit view direction `−dir`, the triangle's material there (its diffuse
+    /// texture applied, [`Mesh::material_at`]), and the shading
     /// normal turned to the viewer's side of the surface. Which side that is, the face normal
     /// decides (flipped when `n·dir > 0`); the shading normal is first turned into the face
     /// normal's hemisphere, so vertex normals that disagree with the winding cannot put it on
@@ -63,7 +64,7 @@ impl Scene {
             position: mesh.point(t, hit.u, hit.v),
             normal: Some(normal),
             view: Some(-ray.dir().normalize()),
-            material: mesh.material(t),
+            material: mesh.material_at(t, hit.u, hit.v),
         }
     }
 }
