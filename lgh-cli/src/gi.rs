@@ -184,6 +184,11 @@ pub struct SceneArgs {
     /// front face filling a 40° vertical field of view).
     #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
+    /// The most mirrors and glass surfaces (MTL `illum` 3–9) a camera or light path follows
+    /// by reflection and refraction, 0 to 32; a path's branch carrying under 1/1000 of its
+    /// pixel is not followed.
+    #[arg(long, default_value_t = lgh_vpl::specular::DEFAULT_SPECULAR_DEPTH)]
+    pub specular_depth: u32,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -251,6 +256,7 @@ impl SceneArgs {
             max_shadow_samples: self.max_shadow_samples,
             shadows: !self.no_shadows,
             direct,
+            specular_depth: self.specular_depth,
         };
         settings.check()?;
         let lightcuts = GiMethod::Lightcuts {
@@ -326,6 +332,7 @@ impl SceneArgs {
             ("coarse_shadows", s.coarse_shadows.name().to_string()),
             ("shadows", s.shadows.to_string()),
             ("h0", scene.h0().to_string()),
+            ("specular_depth", s.specular_depth.to_string()),
             ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
     }
@@ -485,6 +492,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "seconds": r.seconds,
             "brute_seconds": exact.seconds,
             "rel_rmse": if rel.is_finite() { Some(rel) } else { None },
+            "specular_depth": scene.settings().specular_depth,
         }))
     };
     let mut runs = Vec::new();

@@ -974,6 +974,7 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
             "--shadow-samples",
         ),
         (vec!["--max-shadow-samples", "65"], "--max-shadow-samples"),
+        (vec!["--specular-depth", "33"], "--specular-depth"),
         (
             vec![
                 "--aggregation",
@@ -1119,13 +1120,13 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
     std::fs::write(
         &obj,
         "mtllib scene.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\ns 1\n\
-         usemtl glass\nf 1/1 2/2 3/3\nusemtl glass\nf 3/3 2/2 1/1\n",
+         usemtl glass\nf 1/1 2/2 3/3\nv 0 0 -1\nv 1 0 -1\nv 0 1 -1\nusemtl matte\nf 4 5 6\n",
     )
     .unwrap();
     std::fs::write(
         dir.path().join("scene.mtl"),
         "newmtl glass\nKa 1 1 1\nKd 0.5 0.5 0.5\nillum 7\nNi 1.5\nmap_Kd missing.png\n\
-         map_Bump bumps.png\n",
+         map_Bump bumps.png\nnewmtl matte\nKd 0.5 0.5 0.5\n",
     )
     .unwrap();
     let o = obj.to_str().unwrap();
@@ -1157,12 +1158,8 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     let mtl = dir.path().join("scene.mtl");
-    for (file, line, statement) in [
-        (&mtl, 2, "Ka"),
-        (&mtl, 4, "illum 7"),
-        (&mtl, 5, "Ni"),
-        (&mtl, 7, "map_Bump"),
-    ] {
+    // Glass (illum 7, Ni) is rendered; its Kd is not, nor Ka and the bump map.
+    for (file, line, statement) in [(&mtl, 2, "Ka"), (&mtl, 3, "Kd"), (&mtl, 7, "map_Bump")] {
         let at = format!("{}:{line}: `{statement}`", file.display());
         assert_eq!(err.matches(&at).count(), 1, "{at} in {err}");
     }
@@ -1171,7 +1168,11 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
     let get = header(&out);
     let listed = get("lgh:unhonoured");
     assert!(
-        listed.contains("`illum 7`") && listed.contains("`Ka`"),
+        listed.contains("`Kd`") && listed.contains("`Ka`"),
+        "{listed}"
+    );
+    assert!(
+        !listed.contains("illum") && !listed.contains("`Ni`"),
         "{listed}"
     );
     // Quiet: nothing on stderr, the same list in the header.
@@ -1232,6 +1233,7 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         }
         let e = run["rel_rmse"].as_f64().unwrap();
         assert!(e.is_finite() && e >= 0.0, "{run}");
+        assert_eq!(run["specular_depth"], 6, "{run}");
         let diff = dir.path().join(format!("gi-alpha-{alpha}-diff.png"));
         assert!(diff.is_file(), "{}", diff.display());
     }

@@ -37,6 +37,7 @@ use crate::primary::{area_lights, PrimaryLight};
 use crate::render::{RenderError, Rendered};
 use crate::representatives::{Allocation, Representatives, MAX_PER_LIGHT};
 use crate::scene::Scene;
+use crate::specular::DEFAULT_SPECULAR_DEPTH;
 use crate::vpl::{trace, Vpl, VplError, VplSettings, Vpls};
 use lgh_image::camera::{CameraError, Pinhole as Camera};
 
@@ -158,7 +159,14 @@ pub struct GiSettings {
     pub shadows: bool,
     /// Whether renders add the direct light.
     pub direct: DirectLight,
+    /// The most mirrors and glass surfaces a camera or light path follows, 0 to
+    /// [`MAX_SPECULAR_DEPTH`] ([`crate::specular`]).
+    pub specular_depth: u32,
 }
+
+/// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least
+/// [`crate::specular::MIN_WEIGHT`] each are at most 1/`MIN_WEIGHT` = 1000, whatever the depth.)
+pub const MAX_SPECULAR_DEPTH: u32 = 32;
 
 impl Default for GiSettings {
     /// [`VplSettings::default`] (100,000 VPLs of up to 3 bounces, seed 1), the one hierarchy,
@@ -174,6 +182,7 @@ impl Default for GiSettings {
             max_shadow_samples: None,
             shadows: true,
             direct: DirectLight::default(),
+            specular_depth: DEFAULT_SPECULAR_DEPTH,
         }
     }
 }
@@ -220,7 +229,7 @@ impl GiSettings {
     /// hierarchy; 1 to 64 strata. (The VPL counts are checked by [`trace`].)
     ///
     /// Errors: [`GiError::ShadowSamples`], [`GiError::MaxShadowSamples`],
-    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`].
+    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`].
     pub fn check(&self) -> Result<(), GiError> {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
         let allocation = self.sample_allocation();
@@ -251,6 +260,11 @@ impl GiSettings {
             && self.aggregation == Aggregation::Buckets
         {
             return Err(GiError::AdaptiveBuckets);
+        }
+        if self.specular_depth > MAX_SPECULAR_DEPTH {
+            return Err(GiError::SpecularDepth {
+                depth: self.specular_depth,
+            });
         }
         match self.direct {
             DirectLight::Stratified { area_strata } if !(1..=64).contains(&area_strata) => {
@@ -350,6 +364,11 @@ pub enum GiError {
         /// The rejected value.
         area_strata: u32,
     },
+    /// A specular depth over [`MAX_SPECULAR_DEPTH`].
+    SpecularDepth {
+        /// The rejected value.
+        depth: u32,
+    },
     /// Lightcuts' relative error not finite and positive.
     RelativeError {
         /// The rejected value.
@@ -392,6 +411,12 @@ impl std::fmt::Display for GiError {
             ),
             GiError::AreaStrata { area_strata } => {
                 write!(f, "--area-strata {area_strata}: expected 1 to 64")
+            }
+            GiError::SpecularDepth { depth } => {
+                write!(
+                    f,
+                    "--specular-depth {depth}: expected 0 to {MAX_SPECULAR_DEPTH}"
+                )
             }
             GiError::RelativeError { relative_error } => write!(
                 f,
@@ -590,7 +615,8 @@ impl GiScene {
             return Err(VplError::NoLights.into());
         }
         let (lo, hi) = mesh.bounds();
-        let scene = Scene::new(mesh);
+        let mut scene = Scene::new(mesh);
+        scene.set_specular_depth(settings.specular_depth);
         let traced = trace(&scene, &primary, &settings.vpls)?;
         let points = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&points, &GridSettings::default())?;

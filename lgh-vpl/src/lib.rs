@@ -3,7 +3,7 @@
 //! What is here today is the surface half of the crate: triangle meshes with Lambert and Phong
 //! materials, vertex normals and diffuse textures ([`texture`]), built in code or read from
 //! OBJ + MTL ([`mesh`], [`obj`]; what a file asks for and is not rendered is listed,
-//! [`statements`]); our own triangle BVH with
+//! [`statements`]), with mirrors and glass that camera and light paths follow ([`specular`]); our own triangle BVH with
 //! closest-hit and any-hit queries ([`bvh`]); a pinhole [`Camera`] (lgh-image's
 //! [`Pinhole`](lgh_image::camera::Pinhole), shared with the volume renderer); and a renderer that
 //! shades the surface each pixel sees through any [`lgh_core::ManyLights`] backend — the lighting
@@ -75,6 +75,7 @@ pub mod reference;
 pub mod render;
 pub mod representatives;
 pub mod scene;
+pub mod specular;
 pub mod statements;
 pub mod texture;
 pub mod vpl;

@@ -18,6 +18,7 @@ use std::path::PathBuf;
 use lgh_core::glam::{Vec2, Vec3};
 use lgh_core::Material;
 
+use crate::specular::Specular;
 use crate::statements::Unhonoured;
 use crate::texture::{Texture, TextureError};
 
@@ -175,6 +176,8 @@ pub struct Mesh {
     emission: Vec<Vec3>,
     /// Each material's diffuse texture, an index into `textures`.
     diffuse_maps: Vec<Option<u32>>,
+    /// Each material's specular part (mirror, glass), followed by paths ([`crate::specular`]).
+    specular: Vec<Specular>,
     textures: Vec<Texture>,
     degenerate_skipped: usize,
     unhonoured: Vec<Unhonoured>,
@@ -264,6 +267,7 @@ impl Mesh {
         }
         let emission = vec![Vec3::ZERO; materials.len()];
         let diffuse_maps = vec![None; materials.len()];
+        let specular = vec![Specular::None; materials.len()];
         Ok(Mesh {
             positions,
             normals,
@@ -272,6 +276,7 @@ impl Mesh {
             materials,
             emission,
             diffuse_maps,
+            specular,
             textures: Vec::new(),
             degenerate_skipped,
             unhonoured: Vec::new(),
@@ -346,6 +351,7 @@ impl Mesh {
         self.emission.extend(other.emission);
         self.diffuse_maps
             .extend(other.diffuse_maps.iter().map(|d| d.map(|i| i + tex)));
+        self.specular.extend(other.specular);
         self.textures.extend(other.textures);
         self.degenerate_skipped += other.degenerate_skipped;
         self.unhonoured.extend(other.unhonoured);
@@ -502,6 +508,51 @@ impl Mesh {
     /// Records what the mesh's files ask for and is not honoured.
     pub(crate) fn set_unhonoured(&mut self, unhonoured: Vec<Unhonoured>) {
         self.unhonoured = unhonoured;
+    }
+
+    /// Gives material `material` the specular part `specular` (a mirror, glass), which camera
+    /// and light paths follow ([`crate::specular`]); a [`Specular::Dielectric`] is shaded by
+    /// its specular part alone.
+    ///
+    /// Errors: [`MeshError::InvalidMaterial`] for a material the mesh does not have, or a
+    /// specular part [`Specular::check`] refuses.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_vpl::specular::Specular;
+    /// use lgh_vpl::{Mesh, DEFAULT_MATERIAL};
+    ///
+    /// let mut glass = Mesh::cuboid(Vec3::ZERO, Vec3::ONE, DEFAULT_MATERIAL)?;
+    /// let clear = Specular::Dielectric { ior: 1.5, transmittance: Vec3::ONE };
+    /// glass.set_specular(0, clear)?;
+    /// assert_eq!(glass.specular(0), clear);
+    /// assert!(glass.set_specular(0, Specular::Dielectric { ior: 0.0, transmittance: Vec3::ONE }).is_err());
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    pub fn set_specular(&mut self, material: u32, specular: Specular) -> Result<(), MeshError> {
+        let invalid = |reason| MeshError::InvalidMaterial {
+            name: format!("#{material}"),
+            reason,
+        };
+        specular.check().map_err(invalid)?;
+        let slot = self
+            .specular
+            .get_mut(material as usize)
+            .ok_or(invalid("the mesh has no such material"))?;
+        *slot = specular;
+        Ok(())
+    }
+
+    /// The specular part of triangle `t`'s material ([`Specular::None`] for most).
+    #[must_use]
+    pub fn specular(&self, t: u32) -> Specular {
+        self.specular_of(self.triangles[t as usize].material)
+    }
+
+    /// The specular part of material `material` (panics if it is out of range).
+    #[must_use]
+    pub fn specular_of(&self, material: u32) -> Specular {
+        self.specular[material as usize]
     }
 
     /// Radiance emitted by triangle `t` (its material's `Ke`; zero for most).

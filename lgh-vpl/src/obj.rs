@@ -15,6 +15,7 @@ use crate::mesh::{
     check_exponent, check_material, Mesh, MeshError, Triangle, DEFAULT_ALBEDO, DEFAULT_MATERIAL,
     MAX_LINE_BYTES,
 };
+use crate::specular::Specular;
 use crate::statements::{scan_mtl, scan_obj, Report};
 use crate::texture::Texture;
 
@@ -427,24 +428,72 @@ fn check_mtl(path: &Path, text: String) -> Result<String, MeshError> {
     Ok(text)
 }
 
-/// Our material for an MTL material (the mapping of [`Mesh::load_obj`]).
-fn from_mtl(m: &tobj::Material) -> Result<Material, MeshError> {
+/// The index of refraction of a refracting MTL material without `Ni`: 1.5, glass's (the MTL
+/// format's own default, 1, would make it invisible).
+pub const DEFAULT_IOR: f32 = 1.5;
+
+/// Our material and specular part for an MTL material (the mapping of [`Mesh::load_obj`]).
+fn from_mtl(m: &tobj::Material) -> Result<(Material, Specular), MeshError> {
     let invalid = |reason| MeshError::InvalidMaterial {
         name: m.name.clone(),
         reason,
     };
-    let kd = m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from);
+    let illum = m.illumination_model.unwrap_or(2);
+    let mirror = matches!(illum, 3 | 5 | 8);
+    let refracting = matches!(illum, 4 | 6 | 7 | 9);
+    // A mirror or glass without Kd has no diffuse part (not the default grey).
+    let kd = m.diffuse.map_or(
+        if mirror || refracting {
+            Vec3::ZERO
+        } else {
+            DEFAULT_ALBEDO
+        },
+        Vec3::from,
+    );
     let ks = m.specular.map_or(Vec3::ZERO, Vec3::from);
     let exponent = m.shininess.unwrap_or(1.0);
     // Checked even where `Ks` is zero and the exponent unused.
     check_exponent(exponent).map_err(invalid)?;
-    let material = if ks == Vec3::ZERO {
-        Material::Lambert { albedo: kd }
+    let (material, specular) = if mirror {
+        let reflectance = ks;
+        (
+            Material::Lambert { albedo: kd },
+            Specular::Mirror { reflectance },
+        )
+    } else if refracting {
+        let ior = m.optical_density.unwrap_or(DEFAULT_IOR);
+        let transmittance = match m.unknown_param.get("Tf") {
+            None => Vec3::ONE,
+            Some(value) => {
+                transmission_filter(value).ok_or(invalid("Tf needs one or three numbers"))?
+            }
+        };
+        let glass = Specular::Dielectric { ior, transmittance };
+        (Material::Lambert { albedo: Vec3::ZERO }, glass)
+    } else if ks == Vec3::ZERO {
+        (Material::Lambert { albedo: kd }, Specular::None)
     } else {
-        Material::Phong { kd, ks, exponent }
+        (Material::Phong { kd, ks, exponent }, Specular::None)
     };
     check_material(&material).map_err(invalid)?;
-    Ok(material)
+    specular.check().map_err(invalid)?;
+    Ok((material, specular))
+}
+
+/// The colour of an MTL `Tf` value: `r g b`, or one number for all three.
+fn transmission_filter(value: &str) -> Option<Vec3> {
+    let numbers: Vec<f32> = value
+        .split('#')
+        .next()?
+        .split_whitespace()
+        .map(str::parse)
+        .collect::<Result<_, _>>()
+        .ok()?;
+    match numbers[..] {
+        [g] => Some(Vec3::splat(g)),
+        [r, g, b] => Some(Vec3::new(r, g, b)),
+        _ => None,
+    }
 }
 
 /// What one face (`f`) of an OBJ file names at every corner.
@@ -533,7 +582,8 @@ fn from_tobj(
     faces: &[FaceCorners],
     report: &mut Report,
 ) -> Result<Mesh, MeshError> {
-    let mut materials = mtls.iter().map(from_mtl).collect::<Result<Vec<_>, _>>()?;
+    let parsed = mtls.iter().map(from_mtl).collect::<Result<Vec<_>, _>>()?;
+    let mut materials: Vec<Material> = parsed.iter().map(|p| p.0).collect();
     let default = u32::try_from(materials.len()).map_err(|_| MeshError::TooMany)?;
     materials.push(DEFAULT_MATERIAL);
     // Each triangle's face, in order.
@@ -599,6 +649,10 @@ fn from_tobj(
         report.note("f without vt", Path::new(""), 0, &why);
     }
     let mut mesh = Mesh::with_texcoords(positions, normals, texcoords, triangles, materials)?;
+    for (i, &(_, specular)) in parsed.iter().enumerate() {
+        // Checked in `from_mtl`.
+        mesh.set_specular(i as u32, specular)?;
+    }
     for (i, m) in mtls.iter().enumerate() {
         if let Some(ke) = m.emissive {
             mesh.set_emission(i as u32, Vec3::from(ke)).map_err(|_| {

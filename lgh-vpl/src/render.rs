@@ -178,31 +178,31 @@ where
     let width = camera.width();
     let mut image = Image::new(width, camera.height());
     let mut lights_map = vec![0u32; image.pixels.len()];
-    let rows: Vec<Result<u64, RenderError>> =
-        image
-            .pixels
-            .par_chunks_mut(width)
-            .zip(lights_map.par_chunks_mut(width))
-            .enumerate()
-            .map(|(y, (row, costs))| {
-                let mut pixels = 0u64;
-                for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
-                    let (origin, dir) = camera.ray(x, y);
-                    let ray = Ray::new(origin, dir);
-                    let Some(hit) = scene.bvh().intersect(&ray) else {
-                        continue;
-                    };
-                    let point = scene.surface(&ray, &hit);
-                    let sum = illuminate(&point, hit.triangle)
+    let rows: Vec<Result<u64, RenderError>> = image
+        .pixels
+        .par_chunks_mut(width)
+        .zip(lights_map.par_chunks_mut(width))
+        .enumerate()
+        .map(|(y, (row, costs))| {
+            let mut pixels = 0u64;
+            for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
+                let (origin, dir) = camera.ray(x, y);
+                let ray = Ray::new(origin, dir);
+                let Some(hit) = scene.bvh().intersect(&ray) else {
+                    continue;
+                };
+                let point = scene.surface(&ray, &hit);
+                let sum =
+                    crate::specular::camera_path(scene, &ray, point, hit.triangle, &illuminate)
                         .map_err(|error| RenderError::Query { x, y, error })?;
-                    *px = sum.radiance;
-                    *cost = sum.lights;
-                    pixels += 1;
-                }
-                progress(1);
-                Ok(pixels)
-            })
-            .collect();
+                *px = sum.radiance;
+                *cost = sum.lights;
+                pixels += 1;
+            }
+            progress(1);
+            Ok(pixels)
+        })
+        .collect();
     let mut pixels_shaded = 0;
     for row in rows {
         pixels_shaded += row?;

@@ -5,20 +5,62 @@ use lgh_core::ShadingPoint;
 
 use crate::bvh::{Bvh, Hit, Ray};
 use crate::mesh::Mesh;
+use crate::specular::DEFAULT_SPECULAR_DEPTH;
 
 /// A mesh with its BVH, ready for rays.
 #[derive(Clone, Debug)]
 pub struct Scene {
     mesh: Mesh,
     bvh: Bvh,
+    specular_depth: u32,
+    offset: f32,
 }
 
 impl Scene {
-    /// Builds the BVH over `mesh`.
+    /// Builds the BVH over `mesh`; paths follow up to [`DEFAULT_SPECULAR_DEPTH`] specular
+    /// surfaces.
     #[must_use]
     pub fn new(mesh: Mesh) -> Scene {
         let bvh = Bvh::new(&mesh);
-        Scene { mesh, bvh }
+        let (lo, hi) = mesh.bounds();
+        let radius = (hi - lo).length() * 0.5;
+        Scene {
+            mesh,
+            bvh,
+            specular_depth: DEFAULT_SPECULAR_DEPTH,
+            offset: 1e-4 * radius.max(1e-6),
+        }
+    }
+
+    /// The most specular surfaces (mirrors, glass) a camera or light path follows
+    /// ([`crate::specular`]); 0 stops every path at its first surface.
+    #[must_use]
+    pub fn specular_depth(&self) -> u32 {
+        self.specular_depth
+    }
+
+    /// Sets [`specular_depth`](Self::specular_depth).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_vpl::{Mesh, Scene, DEFAULT_MATERIAL};
+    ///
+    /// let quad = Mesh::quad([Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y], DEFAULT_MATERIAL)?;
+    /// let mut scene = Scene::new(quad);
+    /// assert_eq!(scene.specular_depth(), lgh_vpl::specular::DEFAULT_SPECULAR_DEPTH);
+    /// scene.set_specular_depth(2);
+    /// assert_eq!(scene.specular_depth(), 2);
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    pub fn set_specular_depth(&mut self, depth: u32) {
+        self.specular_depth = depth;
+    }
+
+    /// How far a ray leaving a surface starts off it, along the face normal: 10⁻⁴ of the
+    /// scene's bounding radius (at least 10⁻¹⁰), so that it does not hit its own triangle.
+    #[must_use]
+    pub fn ray_offset(&self) -> f32 {
+        self.offset
     }
 
     /// The mesh.
@@ -40,6 +82,15 @@ impl Scene {
         let ray = Ray::new(origin, dir);
         let hit = self.bvh.intersect(&ray)?;
         Some(self.surface(&ray, &hit))
+    }
+
+    /// The surface point seen along the ray from `origin` in direction `dir` and its triangle,
+    /// if any.
+    #[must_use]
+    pub fn trace(&self, origin: Vec3, dir: Vec3) -> Option<(ShadingPoint, u32)> {
+        let ray = Ray::new(origin, dir);
+        let hit = self.bvh.intersect(&ray)?;
+        Some((self.surface(&ray, &hit), hit.triangle))
     }
 
     /// The shading point of `hit` seen along `ray`: the point on the triangle at the hit's

@@ -4,10 +4,12 @@
 //! (with `--quiet`, only the EXR header keeps them).
 //!
 //! Honoured: OBJ `v`, `vt`, `vn`, `f`, `usemtl`, `mtllib`, `o` and `g` (names, which change
-//! nothing in an image); MTL `newmtl`, `Kd`, `Ks`, `Ns`, `Ke` and `map_Kd` without options.
-//! Statements that cannot change what a material renders are honoured trivially: `illum` 0 to
-//! 2, `d 1` and `Tr 0` (opaque), and `Ni` and `Tf` on a material that neither refracts nor
-//! reflects by Fresnel (`illum` 0 to 4). Everything else is named.
+//! nothing in an image); MTL `newmtl`, `Kd`, `Ks`, `Ns`, `Ke`, `map_Kd` without options,
+//! `illum` 0 to 9 (3, 5 and 8 mirrors, 4, 6, 7 and 9 refracting glass: [`crate::specular`]),
+//! and `Ni` and `Tf` of refracting materials. Statements that cannot change what a material
+//! renders are honoured trivially: `d 1` and `Tr 0` (opaque), `Ni` and `Tf` of a material that
+//! does not refract. Everything else is named, and so are the parts of a mirror or glass the
+//! renderer does not use (its `Ns`; glass's `Kd` and `Ks`; illum 5's Fresnel).
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -148,14 +150,19 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
         .find(|s| s.key == "illum")
         .and_then(|s| s.args.first()?.parse::<u32>().ok())
         .unwrap_or(2);
-    // Fresnel reflection (5, 7) and refraction (6, 7) use Ni; transparency (4, 6, 7, 9) Tf.
-    let uses_ni = matches!(illum, 5..=7);
-    let transparent = matches!(illum, 4 | 6 | 7 | 9);
+    // The mapping of `Mesh::load_obj`: mirrors (3, 5, 8) and refracting glass (4, 6, 7, 9).
+    let mirror = matches!(illum, 3 | 5 | 8);
+    let refracting = matches!(illum, 4 | 6 | 7 | 9);
     let number = |s: &Statement| s.args.first().and_then(|a| a.parse::<f32>().ok());
+    let zero = |s: &Statement| s.args.iter().all(|a| a.parse::<f32>() == Ok(0.0));
     for s in statements {
         let mut statement = s.key.to_owned();
         let why: &str = match s.key {
-            "Kd" | "Ks" | "Ns" | "Ke" => continue,
+            "Ke" => continue,
+            "Kd" if refracting && !zero(s) => "a refracting material has no diffuse part: not shaded",
+            "Ks" if refracting && !zero(s) => "glass reflects by Fresnel (Ni): Ks is not used",
+            "Ns" if mirror || refracting => "mirrors and glass are perfectly smooth: Ns is not used",
+            "Kd" | "Ks" | "Ns" => continue,
             "map_Kd" => match s.args.iter().find(|a| a.starts_with('-')) {
                 None => continue,
                 Some(option) => {
@@ -164,26 +171,27 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
                 }
             },
             "illum" => match illum {
-                0..=2 => continue,
+                0..=4 | 6..=9 => continue,
+                5 => {
+                    statement = "illum 5".into();
+                    "Fresnel reflection is not applied: a mirror reflecting Ks"
+                }
                 _ => {
                     statement = format!("illum {illum}");
-                    "mirror reflection, refraction and transparency are not rendered: shaded as illum 2 (Kd, Ks, Ns)"
+                    "not a model this renderer has: shaded as illum 2 (Kd, Ks, Ns)"
                 }
             },
-            "Ni" if !uses_ni => continue,
-            "Ni" => "the index of refraction is not used: nothing refracts or reflects by Fresnel",
-            "Tf" if !transparent => continue,
-            "Tf" => "transmission is not rendered: the material is opaque",
+            "Ni" if refracting => continue,
+            "Ni" if illum == 5 => "illum 5's Fresnel reflection is not applied: Ni is not used",
+            "Ni" | "Tf" => continue,
             "d" if number(s) == Some(1.0) => continue,
             "Tr" if number(s) == Some(0.0) => continue,
-            "d" | "Tr" => "transparency is not rendered: the material is opaque",
-            "Ka" | "map_Ka" => {
-                "ambient colour has no meaning in a physically based renderer: ignored"
+            "d" | "Tr" => {
+                "transparency without refraction is not rendered: opaque (illum 4, 6, 7 or 9 refract)"
             }
+            "Ka" | "map_Ka" => "ambient colour has no meaning in a physically based renderer: ignored",
             "map_Ks" | "map_Ns" | "map_d" | "map_Bump" | "map_bump" | "bump" | "norm" | "disp"
-            | "decal" | "refl" | "map_Ke" | "map_Pr" | "map_Pm" => {
-                "this texture map is not applied"
-            }
+            | "decal" | "refl" | "map_Ke" | "map_Pr" | "map_Pm" => "this texture map is not applied",
             "Pr" | "Pm" | "Ps" | "Pc" | "Pcr" | "aniso" | "anisor" | "sharpness" => {
                 "not rendered (the material is Lambert or Phong from Kd, Ks, Ns)"
             }
@@ -217,27 +225,36 @@ Ka 0 0 0
 illum 7
 Ni 1.5
 Tf 0.9 0.9 0.9
+Kd 0 0 0
+Ks 1 1 1
 d 0.5
 map_Kd -s 2 2 1 wood.png
 map_Bump n.png
 Pr 0.3
+newmtl fresnel_mirror
+illum 5
+Ni 1.3
+newmtl other
+illum 10
 ");
         let named: Vec<(&str, usize, usize)> = got
             .iter()
             .map(|u| (u.statement.as_str(), u.line, u.uses))
             .collect();
-        // Ni, illum 2 and d 1 of `a` change nothing; Ka is named at its first use, used twice.
+        // Ni, illum 2 and d 1 of `a` change nothing; glass honours illum 7, Ni, Tf and a zero
+        // Kd; Ka is named at its first use, used twice.
         assert_eq!(
             named,
             [
                 ("Ka", 2, 2),
-                ("illum 7", 9, 1),
-                ("Ni", 10, 1),
-                ("Tf", 11, 1),
-                ("d", 12, 1),
-                ("map_Kd -s", 13, 1),
-                ("map_Bump", 14, 1),
-                ("Pr", 15, 1),
+                ("Ks", 13, 1),
+                ("d", 14, 1),
+                ("map_Kd -s", 15, 1),
+                ("map_Bump", 16, 1),
+                ("Pr", 17, 1),
+                ("illum 5", 19, 1),
+                ("Ni", 20, 1),
+                ("illum 10", 22, 1),
             ]
         );
         assert_eq!(

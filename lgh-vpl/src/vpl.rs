@@ -13,12 +13,14 @@
 //! depend on the thread count, and a frame traced again gives the same lights bit for bit.
 
 use lgh_core::glam::Vec3;
+use lgh_core::luminance;
 use lgh_core::random::SplitMix64;
 use rayon::prelude::*;
 
 use crate::brdf::diffuse_albedo;
 use crate::primary::PrimaryLight;
 use crate::scene::Scene;
+use crate::specular::{branches, Branch, Specular};
 
 /// One virtual point light.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -161,7 +163,7 @@ pub fn trace(
     let (lo, hi) = mesh.bounds();
     let (centre, radius) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
     let powers: Vec<Vec3> = lights.iter().map(|l| l.power(mesh, radius)).collect();
-    let weights: Vec<f32> = powers.iter().map(|&p| lgh_core::luminance(p)).collect();
+    let weights: Vec<f32> = powers.iter().map(|&p| luminance(p)).collect();
     let total: f32 = weights.iter().sum();
     if !(total > 0.0 && total.is_finite()) {
         return Err(VplError::NoLights);
@@ -173,7 +175,7 @@ pub fn trace(
             Some(*acc)
         })
         .collect();
-    let eps = 1e-4 * radius.max(1e-6);
+    let eps = scene.ray_offset();
     let emitter = Emitter {
         scene,
         lights,
@@ -249,25 +251,77 @@ impl Emitter<'_> {
         let mut carried = self.powers[j] * (self.total / self.weights[j]);
         let (mut origin, mut dir) = self.emit(&self.lights[j], &mut rng);
         let mut out = Vec::new();
-        for bounce in 1..=self.max_bounces {
-            let Some(point) = self.scene.first_hit(origin, dir) else {
+        let (mut bounce, mut specular) = (0u32, 0u32);
+        while bounce < self.max_bounces {
+            let Some((point, t)) = self.scene.trace(origin, dir) else {
                 break;
             };
-            let albedo = diffuse_albedo(&point.material);
+            let (branches, kind) = branches(self.scene, t, &point, dir);
+            let albedo = match kind.is_pure() {
+                true => Vec3::ZERO,
+                false => diffuse_albedo(&point.material),
+            };
             let normal = point.normal.unwrap_or(-dir);
-            if albedo == Vec3::ZERO {
-                break;
+            if albedo != Vec3::ZERO {
+                bounce += 1;
+                out.push(Vpl {
+                    position: point.position,
+                    normal,
+                    power: carried,
+                    albedo,
+                    bounce,
+                });
             }
-            out.push(Vpl {
-                position: point.position,
-                normal,
-                power: carried,
-                albedo,
-                bounce,
-            });
-            carried *= albedo;
-            origin = point.position + normal * self.eps;
-            dir = cosine(normal, &mut rng);
+            // The ways on: the specular branches while specular depth is left, and a diffuse
+            // bounce while VPLs are left to deposit; one is chosen in proportion to its share
+            // (a random choice only where there are several: diffuse paths draw as before).
+            let mut ways: Vec<(Branch, f32)> = Vec::with_capacity(3);
+            if specular < self.scene.specular_depth() {
+                let share = |b: &Branch| match kind {
+                    Specular::Mirror { .. } => luminance(b.weight),
+                    _ => b.share,
+                };
+                ways.extend(branches.into_iter().flatten().map(|b| (b, share(&b))));
+            }
+            if albedo != Vec3::ZERO && bounce < self.max_bounces {
+                let diffuse = Branch {
+                    dir: Vec3::ZERO,
+                    weight: albedo,
+                    radiance_scale: 1.0,
+                    side: normal,
+                    share: 1.0,
+                };
+                ways.push((diffuse, luminance(albedo)));
+            }
+            let total: f32 = ways.iter().map(|w| w.1).sum();
+            let chosen = match ways.len() {
+                0 => break,
+                1 => 0,
+                _ => {
+                    let u = rng.next_f32() * total;
+                    let mut acc = 0.0;
+                    ways.iter()
+                        .position(|w| {
+                            acc += w.1;
+                            u < acc
+                        })
+                        .unwrap_or(ways.len() - 1)
+                }
+            };
+            let (way, importance) = ways[chosen];
+            let probability = if ways.len() == 1 {
+                1.0
+            } else {
+                importance / total
+            };
+            carried *= way.weight / probability;
+            origin = point.position + way.side * self.eps;
+            if way.dir == Vec3::ZERO {
+                dir = cosine(normal, &mut rng);
+            } else {
+                specular += 1;
+                dir = way.dir;
+            }
         }
         out
     }
