@@ -106,6 +106,20 @@ impl From<MissingTextures> for lgh_vpl::MissingTextures {
     }
 }
 
+/// `--lobe-error`: a bound, or `off`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LobeError(pub Option<f32>);
+
+/// Parses `--lobe-error`: `off`, or a number (checked with the other settings).
+fn parse_lobe_error(s: &str) -> Result<LobeError, String> {
+    if s == "off" {
+        return Ok(LobeError(None));
+    }
+    s.parse::<f32>()
+        .map(|e| LobeError(Some(e)))
+        .map_err(|_| format!("expected a number (0.01 is 1%) or off, not {s:?}"))
+}
+
 /// Names on stderr, once each with the file and line of its first use, what `mesh`'s files
 /// ask for and `command` does not honour.
 pub fn print_unhonoured(command: &str, mesh: &Mesh) {
@@ -189,6 +203,12 @@ pub struct SceneArgs {
     /// pixel is not followed.
     #[arg(long, default_value_t = lgh_vpl::specular::DEFAULT_SPECULAR_DEPTH)]
     pub specular_depth: u32,
+    /// Backend lgh: at a Phong point whose lobe is too sharp for α, shade the glossy term from
+    /// the VPLs inside the lobe's cone one by one, the cone chosen so that the glossy light
+    /// left out is at most this fraction of the point's diffuse light (default 0.01); `off`:
+    /// the hierarchy alone everywhere.
+    #[arg(long, default_value = "0.01", value_parser = parse_lobe_error)]
+    pub lobe_error: LobeError,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -237,6 +257,10 @@ pub struct BenchGiArgs {
     /// `gi-alpha-A-diff.png`); none written without it.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// The per-pixel error bound the JSON's `points_over_bound` counts pixels against: each
+    /// pixel's luminance error relative to brute force's (at least 1% of the image mean).
+    #[arg(long, default_value_t = 0.1)]
+    pub point_error: f64,
 }
 
 impl SceneArgs {
@@ -257,6 +281,7 @@ impl SceneArgs {
             shadows: !self.no_shadows,
             direct,
             specular_depth: self.specular_depth,
+            lobe_error: self.lobe_error.0,
         };
         settings.check()?;
         let lightcuts = GiMethod::Lightcuts {
@@ -333,6 +358,10 @@ impl SceneArgs {
             ("shadows", s.shadows.to_string()),
             ("h0", scene.h0().to_string()),
             ("specular_depth", s.specular_depth.to_string()),
+            (
+                "lobe_error",
+                s.lobe_error.map_or("off".into(), |e| e.to_string()),
+            ),
             ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
     }
@@ -451,6 +480,30 @@ fn write_bench_image(
     Ok(())
 }
 
+/// The largest per-pixel error of `image` against `truth` and the fraction of the pixels
+/// `truth` lights whose error exceeds `bound`: each pixel's luminance difference over the
+/// reference's luminance, held at 1% of the reference's mean at least (so that a near-black
+/// pixel's error is not divided by nearly nothing).
+fn point_errors(image: &Image, truth: &Image, bound: f64) -> (f64, f64) {
+    let lum = |p: Vec3| f64::from(lgh_core::luminance(p));
+    let lit: Vec<(f64, f64)> = image
+        .pixels
+        .iter()
+        .zip(&truth.pixels)
+        .map(|(&a, &b)| (lum(a), lum(b)))
+        .filter(|&(_, b)| b > 0.0)
+        .collect();
+    if lit.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mean = lit.iter().map(|p| p.1).sum::<f64>() / lit.len() as f64;
+    let errors = lit.iter().map(|&(a, b)| (a - b).abs() / b.max(0.01 * mean));
+    let (max, over) = errors.fold((0.0f64, 0usize), |(m, o), e| {
+        (m.max(e), o + usize::from(e > bound))
+    });
+    (max, over as f64 / lit.len() as f64)
+}
+
 /// Runs `lgh bench gi`: brute force over every VPL and the hierarchy at each α on the same
 /// pixels, in the same run; JSON on stdout.
 pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
@@ -481,6 +534,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
         let r = scene.render(method, &camera, &bars)?;
         let (image, truth) = (&r.rendered.image, &exact.rendered.image);
         let rel = lgh_image::compare(image, truth).map_or(f64::NAN, |e| e.rel_rmse);
+        let (max_point_error, over) = point_errors(image, truth, args.point_error);
         if let Some(dir) = &args.out {
             let mut header = s.header(&scene);
             header.push(extra);
@@ -493,6 +547,9 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "brute_seconds": exact.seconds,
             "rel_rmse": if rel.is_finite() { Some(rel) } else { None },
             "specular_depth": scene.settings().specular_depth,
+            "bounded_points": r.bounded_points,
+            "max_point_error": max_point_error,
+            "points_over_bound": over,
         }))
     };
     let mut runs = Vec::new();
@@ -521,6 +578,8 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "max_shadow_samples": settings.max_shadow_samples(),
             "sample_allocation": settings.sample_allocation().name(),
             "component": "indirect",
+            "point_error": args.point_error,
+            "lobe_error": settings.lobe_error,
             "pixels": exact.rendered.pixels_shaded,
             "width": width,
             "height": height,

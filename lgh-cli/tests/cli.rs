@@ -975,6 +975,7 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
         ),
         (vec!["--max-shadow-samples", "65"], "--max-shadow-samples"),
         (vec!["--specular-depth", "33"], "--specular-depth"),
+        (vec!["--lobe-error", "0"], "--lobe-error"),
         (
             vec![
                 "--aggregation",
@@ -1234,6 +1235,12 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         let e = run["rel_rmse"].as_f64().unwrap();
         assert!(e.is_finite() && e >= 0.0, "{run}");
         assert_eq!(run["specular_depth"], 6, "{run}");
+        // The Cornell box is Lambertian: no point split, every per-point error measured.
+        assert_eq!(run["bounded_points"], 0, "{run}");
+        let worst = run["max_point_error"].as_f64().unwrap();
+        let over = run["points_over_bound"].as_f64().unwrap();
+        assert!(worst >= 0.0 && (0.0..=1.0).contains(&over), "{run}");
+        assert_eq!(over > 0.0, worst > 0.1, "{run}");
         let diff = dir.path().join(format!("gi-alpha-{alpha}-diff.png"));
         assert!(diff.is_file(), "{}", diff.display());
     }

@@ -28,6 +28,7 @@ use lgh_core::{
 };
 
 use crate::direct::{render_direct, Direct, DirectSettings};
+use crate::indirect::DEFAULT_LOBE_ERROR;
 use crate::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
     IndirectSettings, NormalBuckets,
@@ -162,6 +163,10 @@ pub struct GiSettings {
     /// The most mirrors and glass surfaces a camera or light path follows, 0 to
     /// [`MAX_SPECULAR_DEPTH`] ([`crate::specular`]).
     pub specular_depth: u32,
+    /// The bound ε (relative to a point's diffuse light) at which [`GiMethod::Lgh`] splits a
+    /// glossy lobe too sharp for it, its VPLs in the lobe's cone shaded one by one
+    /// ([`crate::indirect::Cone`]); `None`: the hierarchy alone everywhere. Finite and above 0.
+    pub lobe_error: Option<f32>,
 }
 
 /// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least
@@ -183,6 +188,7 @@ impl Default for GiSettings {
             shadows: true,
             direct: DirectLight::default(),
             specular_depth: DEFAULT_SPECULAR_DEPTH,
+            lobe_error: Some(DEFAULT_LOBE_ERROR),
         }
     }
 }
@@ -260,6 +266,11 @@ impl GiSettings {
             && self.aggregation == Aggregation::Buckets
         {
             return Err(GiError::AdaptiveBuckets);
+        }
+        if let Some(error) = self.lobe_error {
+            if !(error.is_finite() && error > 0.0) {
+                return Err(GiError::LobeError { error });
+            }
         }
         if self.specular_depth > MAX_SPECULAR_DEPTH {
             return Err(GiError::SpecularDepth {
@@ -364,6 +375,11 @@ pub enum GiError {
         /// The rejected value.
         area_strata: u32,
     },
+    /// A lobe bound that is not finite and above 0.
+    LobeError {
+        /// The rejected value.
+        error: f32,
+    },
     /// A specular depth over [`MAX_SPECULAR_DEPTH`].
     SpecularDepth {
         /// The rejected value.
@@ -412,6 +428,10 @@ impl std::fmt::Display for GiError {
             GiError::AreaStrata { area_strata } => {
                 write!(f, "--area-strata {area_strata}: expected 1 to 64")
             }
+            GiError::LobeError { error } => write!(
+                f,
+                "--lobe-error {error}: expected a positive number (0.01 is 1% of a point's diffuse light)"
+            ),
             GiError::SpecularDepth { depth } => {
                 write!(
                     f,
@@ -525,6 +545,9 @@ pub struct GiRender {
     pub seconds: f64,
     /// Shadow rays of the indirect light.
     pub shadow_rays: u64,
+    /// Shading points whose glossy lobe the hierarchy split, its VPLs in the lobe's cone shaded
+    /// one by one (`GiSettings::lobe_error`; 0 for other methods).
+    pub bounded_points: u64,
     /// The direct light's cost, if it was rendered.
     pub direct: Option<DirectStats>,
 }
@@ -625,6 +648,7 @@ impl GiScene {
             shadow_samples: settings.shadow_samples() as u32,
             epsilon: 1e-4 * (hi - lo).length(),
             shadows: settings.shadows,
+            lobe_error: settings.lobe_error,
         };
         Ok(GiScene {
             scene,
@@ -703,6 +727,7 @@ impl GiScene {
             rendered,
             seconds,
             shadow_rays: shader.shadow_rays(),
+            bounded_points: shader.bounded_points(),
             direct,
         })
     }

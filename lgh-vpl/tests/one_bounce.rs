@@ -104,6 +104,7 @@ fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
             shadow_samples: 0,
             epsilon,
             shadows: true,
+            lobe_error: None,
         };
         let shader = Indirect::new(&scene, vpls, settings);
         let brute = BruteForce::new(&point).unwrap();

@@ -6,9 +6,9 @@
 
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
-use lgh_core::{Illumination, LghBackend, LightSample, QueryError, ShadingPoint};
+use lgh_core::{Illumination, LghBackend, LightSample, Material, QueryError, ShadingPoint};
 
-use super::Indirect;
+use super::{Cone, Indirect};
 use crate::render::{render_points, render_with_shader, RenderError, Rendered};
 use crate::representatives::Representatives;
 use crate::scene::Scene;
@@ -54,7 +54,26 @@ pub fn render_lgh(
 ) -> Result<Rendered, RenderError> {
     let lgh = backend.hierarchy();
     if let Coarse::Adaptive { reps, mean } = coarse {
-        let illuminate = |p: &ShadingPoint| adaptive(p, backend, reps, mean, shader);
+        let cone = |p: &ShadingPoint| shader.settings.lobe_error.and_then(|e| Cone::of(p, e));
+        let illuminate = |p: &ShadingPoint| match (cone(p), p.material) {
+            // A glossy lobe too sharp for the hierarchy: its diffuse term through it, its
+            // glossy term from the VPLs in the lobe's cone (`super::lobe`).
+            (Some(cone), Material::Phong { kd, .. }) => {
+                let diffuse = ShadingPoint {
+                    material: Material::Lambert { albedo: kd },
+                    ..*p
+                };
+                let mut lit = adaptive(&diffuse, backend, reps, mean, shader)?;
+                let (glossy, lights) = shader.glossy_in_cone(p, &cone, lgh);
+                lit.radiance += glossy;
+                lit.lights += lights;
+                shader
+                    .bounded
+                    .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                Ok(lit)
+            }
+            _ => adaptive(p, backend, reps, mean, shader),
+        };
         return render_points(scene, camera, illuminate, progress);
     }
     let shade = |p: &ShadingPoint, s: &LightSample| {

@@ -33,11 +33,13 @@
 
 mod buckets;
 mod coarse;
+mod lobe;
 
 pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};
 pub(crate) use coarse::render_lgh;
 pub use coarse::Coarse;
+pub use lobe::{Cone, DEFAULT_LOBE_ERROR, MAX_CONE};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -78,6 +80,9 @@ pub struct IndirectSettings {
     /// Whether to trace shadow rays at all (false: every light is seen, as in Paquette et al.'s
     /// experiments; it separates the error of the volume lights' shadows from the rest).
     pub shadows: bool,
+    /// The bound ε at which the hierarchy's glossy points are split ([`lobe`]): `None` shades
+    /// every point through the hierarchy alone.
+    pub lobe_error: Option<f32>,
 }
 
 /// A shadow-ray counter on a cache line of its own.
@@ -93,6 +98,8 @@ pub struct Indirect<'a> {
     /// Shadow rays traced so far, one counter per rayon worker (and a last one for any other
     /// thread): an atomic shared by every thread cost 13% of a render in contention.
     rays: Vec<RayCount>,
+    /// Points whose glossy lobe was split ([`lobe`]).
+    bounded: AtomicU64,
 }
 
 impl<'a> Indirect<'a> {
@@ -106,7 +113,14 @@ impl<'a> Indirect<'a> {
             rays: (0..=rayon::current_num_threads())
                 .map(|_| RayCount::default())
                 .collect(),
+            bounded: AtomicU64::new(0),
         }
+    }
+
+    /// Shading points whose glossy lobe was split so far ([`lobe`]).
+    #[must_use]
+    pub fn bounded_points(&self) -> u64 {
+        self.bounded.load(Ordering::Relaxed)
     }
 
     /// Shadow rays this shader has traced.
@@ -466,6 +480,7 @@ pub(crate) mod tests {
                 shadow_samples: 9,
                 epsilon: 1e-4,
                 shadows: true,
+                lobe_error: None,
             };
             Indirect::new(&self.scene, &self.vpls, settings)
         }
@@ -553,6 +568,7 @@ pub(crate) mod tests {
             shadow_samples: 9,
             epsilon: 1e-4,
             shadows: true,
+            lobe_error: None,
         };
         let shader = Indirect::new(&scene, std::slice::from_ref(&vpl), settings);
         let at = |y: f32, n: Vec3| ShadingPoint {
