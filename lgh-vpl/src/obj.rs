@@ -803,6 +803,13 @@ newmtl unused
             "newmtl a\nKd 0.5 0.5 0.5\nKs inf 0 0\n",
             "newmtl a\nKs 0.5 0.5 0.5\nNs -3\n",
             "newmtl a\nNs nan\n",
+            // Glass: an index of refraction of 0 (or below, or not finite), a bad Tf.
+            "newmtl a\nillum 7\nNi 0\n",
+            "newmtl a\nillum 4\nNi -1.5\n",
+            "newmtl a\nillum 6\nNi inf\n",
+            "newmtl a\nillum 7\nTf 1 1\n",
+            "newmtl a\nillum 7\nTf -1 1 1\n",
+            "newmtl a\nillum 3\nKs 1 -1 1\n",
         ] {
             let e = with_mtl(mtl).unwrap_err();
             assert!(

@@ -7,7 +7,9 @@ the two boxes are replaced by two spheres of radius 0.3, as in McGuire's Cornell
 
 - cornell-specular.obj: a mirror sphere (illum 3, Ks 0.95) on the left and a glass sphere
   (illum 7, Ni 1.5, Tf 1 1 1) on the right;
-- cornell-phong-N.obj for N in 10, 100, 1000: both spheres glossy Phong (Kd 0.2, Ks 0.6, Ns N).
+- cornell-phong-N.obj for N in 10, 100, 1000: both spheres glossy Phong (Kd 0.2, Ks 0.6, Ns N);
+- cornell-phong-mirror.obj: both spheres the glossy mirror of Phong's model (Kd 0, Ks 0.95,
+  Ns 1000, illum 2), the material the hierarchy erred on by 10-19% before its lobes were split.
 
 Each sphere is 24 rings of 48 segments with the sphere's own vertex normals (vn), wound
 counter-clockwise seen from outside (a closed mesh, as glass must be). Deterministic: running it
@@ -111,6 +113,8 @@ def main():
     for ns in (10, 100, 1000):
         phong = ["Kd 0.2 0.2 0.2", "Ks 0.6 0.6 0.6", "Ns %d" % ns]
         scenes["cornell-phong-%d" % ns] = [phong, phong]
+    mirror = ["Kd 0 0 0", "Ks 0.95 0.95 0.95", "Ns 1000"]
+    scenes["cornell-phong-mirror"] = [mirror, mirror]
     for name, spheres in scenes.items():
         with open(os.path.join(out, name + ".obj"), "w") as f:
             f.write(obj(name + ".mtl"))

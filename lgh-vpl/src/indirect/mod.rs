@@ -33,7 +33,7 @@
 
 mod buckets;
 mod coarse;
-mod lobe;
+pub mod lobe;
 
 pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};
