@@ -176,6 +176,8 @@ pub struct Mesh {
     emission: Vec<Vec3>,
     /// Each material's diffuse texture, an index into `textures`.
     diffuse_maps: Vec<Option<u32>>,
+    /// Each material's specular texture (MTL `map_Ks`), an index into `textures`.
+    specular_maps: Vec<Option<u32>>,
     /// Each material's specular part (mirror, glass), followed by paths ([`crate::specular`]).
     specular: Vec<Specular>,
     textures: Vec<Texture>,
@@ -267,6 +269,7 @@ impl Mesh {
         }
         let emission = vec![Vec3::ZERO; materials.len()];
         let diffuse_maps = vec![None; materials.len()];
+        let specular_maps = vec![None; materials.len()];
         let specular = vec![Specular::None; materials.len()];
         Ok(Mesh {
             positions,
@@ -276,6 +279,7 @@ impl Mesh {
             materials,
             emission,
             diffuse_maps,
+            specular_maps,
             specular,
             textures: Vec::new(),
             degenerate_skipped,
@@ -351,6 +355,8 @@ impl Mesh {
         self.emission.extend(other.emission);
         self.diffuse_maps
             .extend(other.diffuse_maps.iter().map(|d| d.map(|i| i + tex)));
+        self.specular_maps
+            .extend(other.specular_maps.iter().map(|d| d.map(|i| i + tex)));
         self.specular.extend(other.specular);
         self.textures.extend(other.textures);
         self.degenerate_skipped += other.degenerate_skipped;
@@ -445,6 +451,19 @@ impl Mesh {
         self.diffuse_maps[material as usize] = Some(index);
     }
 
+    /// Makes texture `index` material `material`'s specular texture (both must exist).
+    pub(crate) fn use_specular_texture(&mut self, material: u32, index: u32) {
+        self.specular_maps[material as usize] = Some(index);
+    }
+
+    /// The specular texture of material `material` (MTL `map_Ks`), if it has one: it
+    /// multiplies a Phong material's `Ks` where a triangle has texture coordinates.
+    #[must_use]
+    pub fn specular_texture(&self, material: u32) -> Option<&Texture> {
+        let index = (*self.specular_maps.get(material as usize)?)?;
+        self.textures.get(index as usize)
+    }
+
     /// Replaces material `material` by `with` (checked by the caller).
     pub(crate) fn set_material(&mut self, material: u32, with: Material) {
         self.materials[material as usize] = with;
@@ -459,24 +478,28 @@ impl Mesh {
 
     /// The material at barycentric `(u, v)` of triangle `t`: its material, with `Kd` (Lambert
     /// albedo, Phong `k_d`) multiplied by the diffuse texture's bilinear colour at the point's
-    /// texture coordinates where the material has a texture and the triangle texture
-    /// coordinates; otherwise [`material`](Self::material).
+    /// texture coordinates, and a Phong `k_s` by the specular texture's, where the material has
+    /// them and the triangle has texture coordinates; otherwise [`material`](Self::material).
     #[must_use]
     pub fn material_at(&self, t: u32, u: f32, v: f32) -> Material {
         let material = self.material(t);
         let index = self.triangles[t as usize].material;
-        let (Some(texture), Some(uv)) = (self.diffuse_texture(index), self.texcoord(t, u, v))
-        else {
+        let diffuse = self.diffuse_texture(index);
+        let specular = self.specular_texture(index);
+        if diffuse.is_none() && specular.is_none() {
+            return material;
+        }
+        let Some(uv) = self.texcoord(t, u, v) else {
             return material;
         };
-        let colour = texture.sample(uv);
+        let at = |texture: Option<&Texture>| texture.map_or(Vec3::ONE, |t| t.sample(uv));
         match material {
             Material::Lambert { albedo } => Material::Lambert {
-                albedo: albedo * colour,
+                albedo: albedo * at(diffuse),
             },
             Material::Phong { kd, ks, exponent } => Material::Phong {
-                kd: kd * colour,
-                ks,
+                kd: kd * at(diffuse),
+                ks: ks * at(specular),
                 exponent,
             },
             Material::Isotropic => Material::Isotropic,

@@ -218,22 +218,32 @@ impl Mesh {
             .flat_map(|(folder, n)| std::iter::repeat_n(folder, n));
         let mut textures: HashMap<PathBuf, Option<u32>> = HashMap::new();
         for ((i, m), folder) in materials.iter().enumerate().zip(folders) {
-            let Some(map) = &m.diffuse_texture else {
-                continue;
-            };
-            let name = folder.join(texture_file(map));
-            let index = match textures.get(&name) {
-                Some(&index) => index,
-                None => {
-                    let index = read_texture(&name, options, &read, &mut mesh, &mut report)?;
-                    textures.insert(name, index);
-                    index
+            let maps = [(&m.diffuse_texture, true), (&m.specular_texture, false)];
+            for (map, diffuse) in maps {
+                let Some(map) = map else {
+                    continue;
+                };
+                // map_Ks of a mirror or glass: named by the scan, not read.
+                if !diffuse && mesh.specular_of(i as u32) != Specular::None {
+                    continue;
                 }
-            };
-            match index {
-                Some(index) => mesh.use_texture(i as u32, index),
-                // Missing, and `MissingTextures::Grey`: the grey of the default material.
-                None => mesh.set_material(i as u32, grey(mesh.materials()[i])),
+                let name = folder.join(texture_file(map));
+                let index = match textures.get(&name) {
+                    Some(&index) => index,
+                    None => {
+                        let index = read_texture(&name, options, &read, &mut mesh, &mut report)?;
+                        textures.insert(name, index);
+                        index
+                    }
+                };
+                match (index, diffuse) {
+                    (Some(index), true) => mesh.use_texture(i as u32, index),
+                    (Some(index), false) => mesh.use_specular_texture(i as u32, index),
+                    // Missing, and `MissingTextures::Grey`: the grey of the default material
+                    // (a missing map_Ks leaves Ks as it is).
+                    (None, true) => mesh.set_material(i as u32, grey(mesh.materials()[i])),
+                    (None, false) => {}
+                }
             }
         }
         mesh.set_unhonoured(report.into_entries());
@@ -283,10 +293,10 @@ fn read_texture(
                 && options.missing_textures == MissingTextures::Grey =>
         {
             let why = format!(
-                "texture {} is missing: the material is grey",
+                "texture {} is missing: the material is grey (map_Kd) or its Ks plain (map_Ks)",
                 path.display()
             );
-            report.note(&format!("map_Kd {}", name.display()), &path, 0, &why);
+            report.note(&format!("texture {}", name.display()), &path, 0, &why);
             return Ok(None);
         }
         Err(e) => return Err(e),

@@ -4,7 +4,8 @@
 //! (with `--quiet`, only the EXR header keeps them).
 //!
 //! Honoured: OBJ `v`, `vt`, `vn`, `f`, `usemtl`, `mtllib`, `o` and `g` (names, which change
-//! nothing in an image); MTL `newmtl`, `Kd`, `Ks`, `Ns`, `Ke`, `map_Kd` without options,
+//! nothing in an image); MTL `newmtl`, `Kd`, `Ks`, `Ns`, `Ke`, `map_Kd` and `map_Ks` (of a
+//! Phong material) without options,
 //! `illum` 0 to 9 (3, 5 and 8 mirrors, 4, 6, 7 and 9 refracting glass: [`crate::specular`]),
 //! and `Ni` and `Tf` of refracting materials. Statements that cannot change what a material
 //! renders are honoured trivially: `d 1` and `Tr 0` (opaque), `Ni` and `Tf` of a material that
@@ -163,10 +164,13 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
             "Ks" if refracting && !zero(s) => "glass reflects by Fresnel (Ni): Ks is not used",
             "Ns" if mirror || refracting => "mirrors and glass are perfectly smooth: Ns is not used",
             "Kd" | "Ks" | "Ns" => continue,
-            "map_Kd" => match s.args.iter().find(|a| a.starts_with('-')) {
+            "map_Ks" if mirror || refracting => {
+                "a mirror's or glass's reflectance is not textured: map_Ks is not applied"
+            }
+            "map_Kd" | "map_Ks" => match s.args.iter().find(|a| a.starts_with('-')) {
                 None => continue,
                 Some(option) => {
-                    statement = format!("map_Kd {option}");
+                    statement = format!("{} {option}", s.key);
                     "texture options are not applied: the image is mapped by vt as it is"
                 }
             },
@@ -190,7 +194,7 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
                 "transparency without refraction is not rendered: opaque (illum 4, 6, 7 or 9 refract)"
             }
             "Ka" | "map_Ka" => "ambient colour has no meaning in a physically based renderer: ignored",
-            "map_Ks" | "map_Ns" | "map_d" | "map_Bump" | "map_bump" | "bump" | "norm" | "disp"
+            "map_Ns" | "map_d" | "map_Bump" | "map_bump" | "bump" | "norm" | "disp"
             | "decal" | "refl" | "map_Ke" | "map_Pr" | "map_Pm" => "this texture map is not applied",
             "Pr" | "Pm" | "Ps" | "Pc" | "Pcr" | "aniso" | "anisor" | "sharpness" => {
                 "not rendered (the material is Lambert or Phong from Kd, Ks, Ns)"

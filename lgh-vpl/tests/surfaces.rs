@@ -309,3 +309,26 @@ fn a_tessellated_spheres_shading_normals_are_the_spheres() {
         );
     }
 }
+
+#[test]
+fn a_specular_map_multiplies_ks_and_leaves_kd() {
+    let (dir, obj) = textured_floor(true);
+    std::fs::write(
+        dir.path().join("floor.mtl"),
+        "newmtl floor\nKd 0.2 0.2 0.2\nKs 0.5 0.5 0.5\nNs 50\nmap_Ks floor.png\n",
+    )
+    .unwrap();
+    let mesh = Mesh::load_obj(&obj).unwrap();
+    assert!(mesh.unhonoured().is_empty(), "{:?}", mesh.unhonoured());
+    for (u, v) in [(0.1, 0.2), (0.45, 0.45), (0.7, 0.1)] {
+        for t in 0..2 {
+            let p = mesh.point(t, u, v);
+            let Material::Phong { kd, ks, exponent } = mesh.material_at(t, u, v) else {
+                panic!("not Phong");
+            };
+            let want = Vec3::splat(0.5) * texture_at(Vec2::new(p.x / 4.0, -p.z / 4.0));
+            assert_eq!((kd, exponent), (Vec3::splat(0.2), 50.0));
+            assert!((ks - want).abs().max_element() < 1e-5, "{ks} vs {want}");
+        }
+    }
+}
