@@ -1241,6 +1241,8 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         let over = run["points_over_bound"].as_f64().unwrap();
         assert!(worst >= 0.0 && (0.0..=1.0).contains(&over), "{run}");
         assert_eq!(over > 0.0, worst > 0.1, "{run}");
+        let p99 = run["point_error_p99"].as_f64().unwrap();
+        assert!(p99 <= worst && (over <= 0.01) == (p99 <= 0.1), "{run}");
         let diff = dir.path().join(format!("gi-alpha-{alpha}-diff.png"));
         assert!(diff.is_file(), "{}", diff.display());
     }
