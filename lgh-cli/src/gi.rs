@@ -120,14 +120,6 @@ fn parse_lobe_error(s: &str) -> Result<LobeError, String> {
         .map_err(|_| format!("expected a number (0.01 is 1%) or off, not {s:?}"))
 }
 
-/// Names on stderr, once each with the file and line of its first use, what `mesh`'s files
-/// ask for and `command` does not honour.
-pub fn print_unhonoured(command: &str, mesh: &Mesh) {
-    for u in mesh.unhonoured() {
-        eprintln!("{command}: not honoured: {u}");
-    }
-}
-
 /// What `lgh gi` and `lgh bench gi` share: the scene, its lights and VPLs, the shading.
 #[derive(Debug, clap::Args)]
 pub struct SceneArgs {
@@ -315,7 +307,7 @@ impl SceneArgs {
         };
         let mesh = Mesh::load_obj_with(&self.obj, &options, |_, _| {})?;
         if !self.quiet {
-            print_unhonoured("lgh gi", &mesh);
+            output::print_unhonoured("lgh gi", &mesh);
         }
         let camera = match camera {
             Some(c) => c,

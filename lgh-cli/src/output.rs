@@ -973,3 +973,11 @@ pub fn write_exr_png(
     lgh_image::write_exr(out, image, attrs)?;
     Ok(png)
 }
+
+/// Names on stderr, once each with the file and line of its first use, what `mesh`'s files
+/// ask for and `command` does not honour.
+pub fn print_unhonoured(command: &str, mesh: &lgh_vpl::Mesh) {
+    for u in mesh.unhonoured() {
+        eprintln!("{command}: not honoured: {u}");
+    }
+}

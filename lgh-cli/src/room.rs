@@ -30,7 +30,7 @@ impl Room {
         let mesh = Mesh::load_obj_with(&path, &options, |p, bytes| {
             files.push(SceneFile::of(p, bytes))
         })?;
-        crate::gi::print_unhonoured("lgh explosion --scene", &mesh);
+        crate::output::print_unhonoured("lgh explosion --scene", &mesh);
         if mesh.triangles().is_empty() {
             return Err(format!("--scene {}: no triangles", path.display()).into());
         }
