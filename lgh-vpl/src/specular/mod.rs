@@ -18,7 +18,7 @@
 //! (deterministic: no random choice, so no noise and no flicker), each weighted by what it
 //! carries; radiance refracted from medium `t` into medium `i` is scaled by `(η_i/η_t)²` (the
 //! invariance of `L/η²`), which cancels on a path that leaves the medium it entered. A branch
-//! ends after [`Scene::specular_depth`] specular surfaces, or when what it carries is below
+//! ends after [`Scene::specular_depth`](crate::Scene::specular_depth) specular surfaces, or when what it carries is below
 //! [`MIN_WEIGHT`] of the pixel's; what it would have brought is lost (a bias, the same for
 //! every many-lights method, so comparisons against brute force stay exact). A light path
 //! chooses one branch with the probability of its share (`F` or `Ks`'s luminance), keeping the
