@@ -31,6 +31,18 @@ impl Room {
             files.push(SceneFile::of(p, bytes))
         })?;
         crate::output::print_unhonoured("lgh explosion --scene", &mesh);
+        // The room is shaded where the camera first meets it: mirrors and glass, which `lgh gi`
+        // follows (lgh_vpl::specular), are not followed here.
+        let specular = (0..mesh.materials().len() as u32)
+            .filter(|&m| mesh.specular_of(m) != lgh_vpl::specular::Specular::None)
+            .count();
+        if specular > 0 {
+            eprintln!(
+                "lgh explosion --scene: not honoured: {specular} mirror or glass materials \
+                 (illum 3-9) are shaded by their diffuse part (Kd) alone: the explosion's \
+                 room follows no reflection or refraction"
+            );
+        }
         if mesh.triangles().is_empty() {
             return Err(format!("--scene {}: no triangles", path.display()).into());
         }

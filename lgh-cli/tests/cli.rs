@@ -1585,3 +1585,41 @@ fn bench_explosion_reports_each_shadow_choice() {
         "'nope'",
     );
 }
+
+/// `lgh explosion --scene` names what its room renderer does not follow: a glass material
+/// (which `lgh gi` refracts) and the MTL statements no renderer honours, on stderr, while the
+/// scene is read (`--prepare` reads it and renders nothing).
+#[test]
+fn explosion_scenes_name_the_mirrors_and_glass_they_do_not_follow() {
+    let Some(f56) = fire_frame(56) else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let room = dir.path().join("room.obj");
+    std::fs::write(
+        &room,
+        "mtllib room.mtl\nv -1e3 -1e3 -50\nv 1e3 -1e3 -50\nv 1e3 1e3 -50\nv -1e3 1e3 -50\n\
+         usemtl glass\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("room.mtl"),
+        "newmtl glass\nillum 7\nNi 1.5\nKa 1 1 1\n",
+    )
+    .unwrap();
+    let (out, manifest) = (dir.path().join("f.exr"), dir.path().join("m.json"));
+    let o = lgh(&[
+        "explosion",
+        "--vdb",
+        f56.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--scene",
+        room.to_str().unwrap(),
+        "--prepare",
+        manifest.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("1 mirror or glass materials"), "{err}");
+    assert!(err.contains("room.mtl:4: `Ka`"), "{err}");
+}
