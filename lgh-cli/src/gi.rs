@@ -195,7 +195,9 @@ pub struct SceneArgs {
     /// pixel is not followed.
     #[arg(long, default_value_t = lgh_vpl::specular::DEFAULT_SPECULAR_DEPTH)]
     pub specular_depth: u32,
-    /// Backend lgh: at a Phong point whose lobe is too sharp for α, shade the glossy term from
+    /// Backend lgh, with the default coarse shading (`--coarse-shadows representatives`,
+    /// `--sample-allocation adaptive`): at a Phong point whose lobe is too sharp for α, shade
+    /// the glossy term from
     /// the VPLs inside the lobe's cone one by one, the cone chosen so that the glossy light
     /// left out is at most this fraction of the point's diffuse light (default 0.01); `off`:
     /// the hierarchy alone everywhere.

@@ -163,9 +163,11 @@ pub struct GiSettings {
     /// The most mirrors and glass surfaces a camera or light path follows, 0 to
     /// [`MAX_SPECULAR_DEPTH`] ([`crate::specular`]).
     pub specular_depth: u32,
-    /// The bound ε (relative to a point's diffuse light) at which [`GiMethod::Lgh`] splits a
-    /// glossy lobe too sharp for it, its VPLs in the lobe's cone shaded one by one
-    /// ([`crate::indirect::Cone`]); `None`: the hierarchy alone everywhere. Finite and above 0.
+    /// The bound ε (relative to a point's reflected light, [`crate::indirect::lobe`]) at which
+    /// [`GiMethod::Lgh`] with its default coarse shading (representatives shared per point,
+    /// [`crate::indirect::Coarse::Adaptive`]) splits a glossy lobe too sharp for it, its VPLs
+    /// in the lobe's cone shaded one by one; the other coarse shadings and the normal buckets
+    /// do not split. `None`: the hierarchy alone everywhere. Finite and above 0.
     pub lobe_error: Option<f32>,
 }
 

@@ -49,7 +49,8 @@ impl Mesh {
     /// positions, texture coordinates or normals before the face in the file.
     ///
     /// MTL mapping: `Kd` → diffuse reflectance, `Ks` → specular reflectance, `Ns` → Phong
-    /// exponent; `Ks` absent or zero gives [`Material::Lambert`] with albedo `Kd`, otherwise
+    /// exponent; `Ks` absent or zero (or `illum` 0 or 1, which have no highlight) gives
+    /// [`Material::Lambert`] with albedo `Kd`, otherwise
     /// [`Material::Phong`]; `Ke` → emitted radiance ([`Mesh::emission`], area lights); `map_Kd`
     /// → a diffuse texture multiplying `Kd` ([`Mesh::set_diffuse_texture`]; PNG, JPEG or TGA,
     /// named relative to its MTL file's folder; texture options such as `-s` are skipped). A
@@ -172,7 +173,10 @@ impl Mesh {
             ignore_points: true,
             ignore_lines: true,
         };
-        let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &load_options, |name| {
+        // Lines (`l`) are not surfaces: tobj would read one of three or more corners as a
+        // polygon, and never checks its indices. They go to tobj as comments.
+        let surfaces = without_lines(text);
+        let loaded = tobj::load_obj_buf(&mut surfaces.as_bytes(), &load_options, |name| {
             let keep = |e: MeshError| {
                 mtl_error.borrow_mut().get_or_insert(e);
             };
@@ -251,6 +255,23 @@ impl Mesh {
     }
 }
 
+/// `obj` with its line statements (`l`) turned into comments, line numbers kept; borrowed
+/// where there are none.
+fn without_lines(obj: &str) -> std::borrow::Cow<'_, str> {
+    let is_line = |l: &str| l.split_whitespace().next() == Some("l");
+    if !obj.lines().any(is_line) {
+        return std::borrow::Cow::Borrowed(obj);
+    }
+    let mut out = String::with_capacity(obj.len());
+    for line in obj.split_inclusive('\n') {
+        if is_line(line) {
+            out.push('#');
+        }
+        out.push_str(line);
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 /// The file name of a `map_Kd` statement's value: its options (`-s 2 2 1`, `-clamp on`, …)
 /// and their arguments skipped, the rest (which may contain spaces) the name.
 fn texture_file(value: &str) -> &str {
@@ -305,9 +326,12 @@ fn read_texture(
     mesh.add_texture(texture).map(Some)
 }
 
-/// `material` with its diffuse colour the default material's grey.
+/// `material` with its diffuse colour the default material's grey; one without a diffuse
+/// part (a mirror's, glass's, `Kd 0`) is left as it is, as its texture would have left it.
 fn grey(material: Material) -> Material {
     match material {
+        Material::Lambert { albedo } if albedo == Vec3::ZERO => material,
+        Material::Phong { kd, .. } if kd == Vec3::ZERO => material,
         Material::Phong { ks, exponent, .. } => Material::Phong {
             kd: DEFAULT_ALBEDO,
             ks,
@@ -480,7 +504,8 @@ fn from_mtl(m: &tobj::Material) -> Result<(Material, Specular), MeshError> {
         };
         let glass = Specular::Dielectric { ior, transmittance };
         (Material::Lambert { albedo: Vec3::ZERO }, glass)
-    } else if ks == Vec3::ZERO {
+    } else if ks == Vec3::ZERO || illum <= 1 {
+        // illum 0 and 1 have no highlight: Ks is not part of their model.
         (Material::Lambert { albedo: kd }, Specular::None)
     } else {
         (Material::Phong { kd, ks, exponent }, Specular::None)
@@ -820,6 +845,8 @@ newmtl unused
             "newmtl a\nillum 7\nTf 1 1\n",
             "newmtl a\nillum 7\nTf -1 1 1\n",
             "newmtl a\nillum 3\nKs 1 -1 1\n",
+            "newmtl a\nillum 3\nKs 1.2 1 1\n",
+            "newmtl a\nillum 7\nTf 1.5 1 1\n",
         ] {
             let e = with_mtl(mtl).unwrap_err();
             assert!(
@@ -846,6 +873,24 @@ newmtl unused
                 "{obj:?}"
             );
         }
+    }
+
+    #[test]
+    fn lines_of_any_length_are_named_and_not_rendered() {
+        // tobj reads `l` of three or more corners as a polygon (and never checks its indices);
+        // lines are not surfaces: only the face is a triangle, and `l` is named.
+        let m = load(
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nl 1 2 3\nl 1 2 3 4 999\nf 1 2 3\nl 4 3\n",
+            None,
+        )
+        .unwrap();
+        assert_eq!(m.triangles().len(), 1);
+        let named: Vec<(&str, usize, usize)> = m
+            .unhonoured()
+            .iter()
+            .map(|u| (u.statement.as_str(), u.line, u.uses))
+            .collect();
+        assert_eq!(named, [("l", 5, 3)]);
     }
 
     #[test]

@@ -6,7 +6,8 @@
 //! Honoured: OBJ `v`, `vt`, `vn`, `f`, `usemtl`, `mtllib`, `o` and `g` (names, which change
 //! nothing in an image); MTL `newmtl`, `Kd`, `Ks`, `Ns`, `Ke`, `map_Kd` and `map_Ks` (of a
 //! Phong material) without options,
-//! `illum` 0 to 9 (3, 5 and 8 mirrors, 4, 6, 7 and 9 refracting glass: [`crate::specular`]),
+//! `illum` 1 to 9 (1 without `Ks`; 3, 5 and 8 mirrors, 4, 6, 7 and 9 refracting glass:
+//! [`crate::specular`]),
 //! and `Ni` and `Tf` of refracting materials. Statements that cannot change what a material
 //! renders are honoured trivially: `d 1` and `Tr 0` (opaque), `Ni` and `Tf` of a material that
 //! does not refract. Everything else is named, and so are the parts of a mirror or glass the
@@ -175,7 +176,11 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
                 }
             },
             "illum" => match illum {
-                0..=4 | 6..=9 => continue,
+                1..=4 | 6..=9 => continue,
+                0 => {
+                    statement = "illum 0".into();
+                    "a colour without lighting is not rendered: shaded as illum 1 (Kd, lit)"
+                }
                 5 => {
                     statement = "illum 5".into();
                     "Fresnel reflection is not applied: a mirror reflecting Ks"
@@ -190,6 +195,9 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
             "Ni" | "Tf" => continue,
             "d" if number(s) == Some(1.0) => continue,
             "Tr" if number(s) == Some(0.0) => continue,
+            "d" | "Tr" if refracting => {
+                "transparency without refraction is not applied: the glass refracts by Ni"
+            }
             "d" | "Tr" => {
                 "transparency without refraction is not rendered: opaque (illum 4, 6, 7 or 9 refract)"
             }

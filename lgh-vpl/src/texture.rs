@@ -15,6 +15,10 @@ use lgh_core::glam::{Vec2, Vec3};
 /// engines; a 16K² texture is 3 GiB of linear RGB floats).
 pub const MAX_TEXTURE_SIDE: u32 = 16_384;
 
+/// The most memory a texture's file may decode to before it becomes texels: 1 GiB (a 16K²
+/// 8-bit RGB or RGBA image fits; a 16-bit RGBA one of that size does not).
+pub const MAX_DECODED_BYTES: u64 = 1 << 30;
+
 /// A texture: `width × height` linear RGB texels, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
@@ -28,7 +32,8 @@ pub struct Texture {
 pub enum TextureError {
     /// The bytes are not a PNG, JPEG or TGA image, or are a damaged one.
     NotAnImage(String),
-    /// Wider or taller than [`MAX_TEXTURE_SIDE`].
+    /// Wider or taller than [`MAX_TEXTURE_SIDE`], or decoding to more than
+    /// [`MAX_DECODED_BYTES`].
     TooLarge {
         /// Its width.
         width: u32,
@@ -44,11 +49,15 @@ impl fmt::Display for TextureError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             TextureError::NotAnImage(why) => {
-                write!(f, "not a PNG, JPEG or TGA image this reader can decode ({why})")
+                write!(
+                    f,
+                    "not a PNG, JPEG or TGA image this reader can decode ({why})"
+                )
             }
             TextureError::TooLarge { width, height } => write!(
                 f,
-                "{width}×{height} texels: larger than the {MAX_TEXTURE_SIDE} a side a texture may have"
+                "{width}×{height} texels: larger than a texture may be ({MAX_TEXTURE_SIDE} a \
+                 side, {MAX_DECODED_BYTES} bytes decoded)"
             ),
             TextureError::Invalid(why) => f.write_str(why),
         }
@@ -112,7 +121,8 @@ impl Texture {
     ///
     /// Errors: [`TextureError::NotAnImage`] for anything else or a damaged file,
     /// [`TextureError::TooLarge`] for a side over [`MAX_TEXTURE_SIDE`] (refused from the
-    /// header, before the texels are decoded).
+    /// header, before the texels are decoded) or an image that decodes to more than
+    /// [`MAX_DECODED_BYTES`].
     ///
     /// ```
     /// use lgh_vpl::texture::{Texture, TextureError};
@@ -147,8 +157,15 @@ impl Texture {
         let mut limits = Limits::default();
         limits.max_image_width = Some(MAX_TEXTURE_SIDE);
         limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+        limits.max_alloc = Some(MAX_DECODED_BYTES);
         reader.limits(limits);
-        let image = reader.decode().map_err(|e| not_image(&e))?.to_rgb32f();
+        let image = reader
+            .decode()
+            .map_err(|e| match e {
+                image::ImageError::Limits(_) => TextureError::TooLarge { width, height },
+                e => not_image(&e),
+            })?
+            .to_rgb32f();
         let texels = image
             .pixels()
             .map(|p| Vec3::from(p.0).map(lgh_image::srgb_to_linear))

@@ -256,7 +256,7 @@ impl Emitter<'_> {
             let Some((point, t)) = self.scene.trace(origin, dir) else {
                 break;
             };
-            let (branches, kind) = branches(self.scene, t, &point, dir);
+            let (branches, kind) = branches(self.scene, t, &point, dir, false);
             let albedo = match kind.is_pure() {
                 true => Vec3::ZERO,
                 false => diffuse_albedo(&point.material),

@@ -16,8 +16,8 @@
 //! **The bound.** Outside the cone the glossy term is at most `τ = cos^n θ_c` times its peak, so
 //! what is left out is at most `τ · k_s (n+2)/2π · U`, where `U = Σ I_j 2 cos_j cos θ_j g(d_j)`
 //! sums every VPL's unshadowed light at the point. The cone is chosen per point so that
-//! `τ = ε · ((k_d + k_s)/π) / (k_s (n+2)/2π)` (luminances): the glossy light left out is at most
-//! `ε` times `(k_d + k_s)/π · U`, the light the point would reflect unshadowed if all it
+//! `τ = ε · ((k_d + k_s)/π) / (k_s (n+2)/2π)`, the smallest over the colour channels: the glossy
+//! light left out is, in every channel, at most `ε` times `(k_d + k_s)/π · U`, the light the point would reflect unshadowed if all it
 //! reflects were diffuse (under light from every direction alike, a Phong lobe reflects `k_s`
 //! as a Lambertian surface reflects `k_d`). `ε` ([`DEFAULT_LOBE_ERROR`], 1%) is a bound, not an
 //! estimate; it holds for a lobe without a diffuse part too (a glossy mirror, `k_d = 0`). Where
@@ -25,7 +25,7 @@
 //! hierarchy as before: the lobe is then wide enough for it.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{luminance, LightSample, Lobe, Material, ShadingPoint};
+use lgh_core::{LightSample, Lobe, Material, ShadingPoint};
 
 use super::Indirect;
 use lgh_core::LightingGridHierarchy;
@@ -74,12 +74,20 @@ impl Cone {
             return None;
         };
         let (normal, view) = (point.normal?, point.view?);
-        let peak = luminance(ks) * (exponent + 2.0) / (2.0 * std::f32::consts::PI);
-        let reflected = luminance(kd + ks) / std::f32::consts::PI;
-        if !(peak > 0.0 && exponent > 0.0) {
+        if !(exponent > 0.0 && ks.max_element() > 0.0) {
             return None;
         }
-        let tau = (error * reflected / peak).min(1.0);
+        // Per channel, the glossy peak `k_s (n+2)/2π` against `(k_d + k_s)/π`: τ is the
+        // smallest ratio, so that the bound holds in every channel (and so in luminance).
+        let ratio = |c: usize| (kd[c] + ks[c]) / (ks[c] * 0.5 * (exponent + 2.0));
+        let tau = (0..3)
+            .filter(|&c| ks[c] > 0.0)
+            .map(|c| error * ratio(c))
+            .fold(f32::INFINITY, f32::min);
+        // τ ≥ 1: the whole glossy term is within the bound; the hierarchy shades it as it is.
+        if tau.is_nan() || tau >= 1.0 {
+            return None;
+        }
         // cos^n θ_c = τ.
         let cos = tau.powf(1.0 / exponent);
         // NaN (a NaN τ) is not inside either.
@@ -101,7 +109,7 @@ impl Cone {
 /// Calls `f(index)` once for every level-0 light of `lgh` inside `cone` at `x` (up to `reach`
 /// away), through [`LightingGridHierarchy::lights_within`] on a chain of balls along the axis:
 /// the first around `x` covers the cone up to `h1`; each next one, centred at `t` on the axis
-/// with radius `ρt`, `ρ = min(2 tan θ_c, (1 + sin θ_c)/2)` (between `sin θ_c`, below which it
+/// with radius `ρt`, `ρ = min(max(2 tan θ_c, 0.1), (1 + sin θ_c)/2)` (between `sin θ_c`, below which it
 /// covers no stretch, and 1, at which it reaches back to the apex), covers its axial stretch
 /// `[t x_lo, t x_hi]` (the roots of `(u − t)² + u² tan² θ_c = ρ² t²`), the stretches tiling
 /// the axis, so each light is reported by the ball whose stretch holds its axial distance.
@@ -133,10 +141,16 @@ pub(crate) fn for_each_in_cone(
     );
     let a = 1.0 + tan * tan;
     let sin = (1.0 - cone.cos * cone.cos).max(0.0).sqrt();
-    let rho = (2.0 * tan).min(0.5 * (1.0 + sin));
+    // At least 0.1, so that a very narrow cone still takes few balls (ρ/(1 − ρ) growth).
+    let rho = (2.0 * tan).max(0.1).min(0.5 * (1.0 + sin));
     let root = (1.0 - a * (1.0 - rho * rho)).max(0.0).sqrt();
     let (x_lo, x_hi) = ((1.0 - root) / a, (1.0 + root) / a);
     let mut start = first;
+    // x_hi > x_lo > 0 for every cone narrower than a hemisphere; a degenerate one stops here
+    // rather than spinning.
+    if !(x_lo > 0.0 && x_hi > x_lo) {
+        return;
+    }
     while start < reach {
         let t = start / x_lo;
         let end = t * x_hi;
@@ -191,7 +205,7 @@ mod tests {
     use super::*;
     use crate::indirect::tests::Fixture;
     use lgh_core::random::SplitMix64;
-    use lgh_core::{GridSettings, PointLight};
+    use lgh_core::{luminance, GridSettings, PointLight};
 
     /// The bound of the module docs, against brute force over every VPL of the room at points
     /// on its floor made glossy (`Ns` 300 and 2000, with `k_d` 0.3 and 0, views from several
@@ -266,6 +280,36 @@ mod tests {
         }
         // Most lobes see some VPLs (the floor's views look up at the lit room).
         assert!(checked >= 18, "{checked} of 36 cones held light");
+    }
+
+    #[test]
+    fn a_lobe_within_the_bound_is_not_split_and_narrow_cones_end() {
+        // Kd 0.8, Ks 0.005, Ns 1: the whole glossy term is within 1% (τ ≥ 1): not split
+        // (it once made a cone of cos 1 whose chain of balls never advanced).
+        let weak = ShadingPoint {
+            position: Vec3::ZERO,
+            normal: Some(Vec3::Y),
+            view: Some(Vec3::Y),
+            material: Material::Phong {
+                kd: Vec3::splat(0.8),
+                ks: Vec3::splat(0.005),
+                exponent: 1.0,
+            },
+        };
+        assert_eq!(Cone::of(&weak, DEFAULT_LOBE_ERROR), None);
+        // A cone of 1e-6 rad and one of cos 1 end, each light found by a full scan included.
+        let lights: Vec<PointLight> = (0..100)
+            .map(|i| PointLight::new(Vec3::new(0.05 * i as f32, 0.0, 0.0), Vec3::ONE))
+            .collect();
+        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
+        for cos in [1e-6f32.cos(), 1.0] {
+            let cone = Cone { axis: Vec3::X, cos };
+            let mut found = 0;
+            for_each_in_cone(&lgh, Vec3::new(-0.01, 0.0, 0.0), &cone, 10.0, |_| {
+                found += 1
+            });
+            assert!(found <= 100, "{found}");
+        }
     }
 
     #[test]

@@ -7,7 +7,8 @@
 //!   along the mirrored direction; its `Kd`, if any, is shaded as a Lambertian surface beside it.
 //! - A **dielectric** ([`Specular::Dielectric`], MTL `illum` 4, 6, 7 and 9) of index of
 //!   refraction `η` (`Ni`) reflects the Fresnel fraction `F` of the light and refracts the rest
-//!   by Snell's law, filtered by `Tf` on the way in; where Snell's law has no solution the
+//!   by Snell's law, filtered by `Tf` where the light enters it (so once for light that passes
+//!   in and out); where Snell's law has no solution the
 //!   reflection is total. `F` is the exact unpolarised Fresnel reflectance of a dielectric
 //!   interface, `((r_s² + r_p²)/2` with `r_s = (η_i cos θ_i − η_t cos θ_t)/(η_i cos θ_i + η_t
 //!   cos θ_t)` and `r_p = (η_t cos θ_i − η_i cos θ_t)/(η_t cos θ_i + η_i cos θ_t)`). Which side
@@ -60,8 +61,8 @@ pub enum Specular {
 
 impl Specular {
     /// Why `self` cannot be a material's specular part, if it cannot: a reflectance or a
-    /// transmittance that is negative or not finite, an index of refraction that is not finite
-    /// or not above zero.
+    /// transmittance outside 0 to 1, an index of refraction that is not finite or not above
+    /// zero.
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
@@ -71,16 +72,18 @@ impl Specular {
     /// assert!(Specular::Dielectric { ior: 0.0, transmittance: Vec3::ONE }.check().is_err());
     /// ```
     pub fn check(&self) -> Result<(), &'static str> {
-        let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0;
+        // Fractions: 0 to 1 (more would create light, and a camera path's branches would no
+        // longer carry at most what reaches them).
+        let fraction = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
         match *self {
             Specular::None => Ok(()),
-            Specular::Mirror { reflectance } if colour(reflectance) => Ok(()),
-            Specular::Mirror { .. } => Err("a mirror's Ks must be finite and not negative"),
+            Specular::Mirror { reflectance } if fraction(reflectance) => Ok(()),
+            Specular::Mirror { .. } => Err("a mirror's Ks must be from 0 to 1"),
             Specular::Dielectric { ior, .. } if !(ior.is_finite() && ior > 0.0) => {
                 Err("the index of refraction Ni must be finite and above 0")
             }
-            Specular::Dielectric { transmittance, .. } if !colour(transmittance) => {
-                Err("the transmission filter Tf must be finite and not negative")
+            Specular::Dielectric { transmittance, .. } if !fraction(transmittance) => {
+                Err("the transmission filter Tf must be from 0 to 1")
             }
             Specular::Dielectric { .. } => Ok(()),
         }

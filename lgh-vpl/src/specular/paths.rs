@@ -25,12 +25,15 @@ pub(crate) struct Branch {
 
 /// The branches leaving triangle `t`'s specular part at `point`, for a path arriving along
 /// the unit `dir`: none, the mirror's, or a dielectric's reflection and refraction (one of
-/// them where the reflection is total).
+/// them where the reflection is total). `camera`: whether the path runs against the light (a
+/// camera's) or with it (a light path's); `Tf` filters where the *light* enters the material,
+/// which for a camera path is where it leaves.
 pub(crate) fn branches(
     scene: &Scene,
     t: u32,
     point: &ShadingPoint,
     dir: Vec3,
+    camera: bool,
 ) -> ([Option<Branch>; 2], Specular) {
     let mesh = scene.mesh();
     let specular = mesh.specular(t);
@@ -55,7 +58,11 @@ pub(crate) fn branches(
             let f = fresnel(-dir.dot(n), eta_i, eta_t);
             let reflected = Some(mirror(Vec3::splat(f), f));
             let refracted = refract(dir, n, eta_i, eta_t).filter(|_| f < 1.0).map(|d| {
-                let filter = if entering { transmittance } else { Vec3::ONE };
+                let filter = if entering != camera {
+                    transmittance
+                } else {
+                    Vec3::ONE
+                };
                 Branch {
                     dir: d,
                     weight: filter * (1.0 - f),
@@ -124,11 +131,12 @@ fn follow<F>(
 where
     F: Fn(&ShadingPoint, u32) -> Result<Illumination, QueryError>,
 {
-    let (out, specular) = branches(scene, t, &point, dir);
-    // A mirror without a diffuse part or emission: nothing to shade beside its reflection.
-    let black = point.material == Material::Lambert { albedo: Vec3::ZERO }
-        && scene.mesh().emission(t) == Vec3::ZERO;
-    if !specular.is_pure() && !black {
+    let (out, specular) = branches(scene, t, &point, dir, true);
+    // A mirror without a diffuse part, or glass: nothing to shade beside the branches, unless
+    // it emits (its emission is the shader's to add).
+    let emits = scene.mesh().emission(t) != Vec3::ZERO;
+    let black = point.material == Material::Lambert { albedo: Vec3::ZERO };
+    if emits || !(specular.is_pure() || black) {
         let lit = shade(&point, t)?;
         sum.radiance += carried.weight * carried.radiance_scale * lit.radiance;
         sum.lights += lit.lights;
