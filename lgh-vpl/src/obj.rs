@@ -344,7 +344,7 @@ fn grey(material: Material) -> Material {
 /// The text of `path`, read up to [`lgh_image::MAX_INPUT_BYTES`]; bytes that are not UTF-8 are
 /// a parse error.
 fn read_text(path: &Path) -> Result<String, MeshError> {
-    utf8(path, read_limited(path, MAX_LINE_BYTES)?)
+    utf8(path, read_line_limited(path, MAX_LINE_BYTES)?)
 }
 
 /// The bytes of a file the OBJ names (an MTL file, a texture), read up to
@@ -375,7 +375,7 @@ fn utf8(path: &Path, bytes: Vec<u8>) -> Result<String, MeshError> {
 
 /// The bytes of `path`, read up to [`lgh_image::MAX_INPUT_BYTES`], stopping as soon as a line
 /// is longer than `max_line` bytes.
-fn read_limited(path: &Path, max_line: usize) -> Result<Vec<u8>, MeshError> {
+fn read_line_limited(path: &Path, max_line: usize) -> Result<Vec<u8>, MeshError> {
     let io = |error: std::io::Error| MeshError::Io {
         path: path.to_owned(),
         error,

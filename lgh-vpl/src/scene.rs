@@ -13,7 +13,8 @@ pub struct Scene {
     mesh: Mesh,
     bvh: Bvh,
     specular_depth: u32,
-    offset: f32,
+    /// Half the diagonal of the mesh's bounding box.
+    radius: f32,
 }
 
 impl Scene {
@@ -23,12 +24,11 @@ impl Scene {
     pub fn new(mesh: Mesh) -> Scene {
         let bvh = Bvh::new(&mesh);
         let (lo, hi) = mesh.bounds();
-        let radius = (hi - lo).length() * 0.5;
         Scene {
             mesh,
             bvh,
             specular_depth: DEFAULT_SPECULAR_DEPTH,
-            offset: 1e-4 * radius.max(1e-6),
+            radius: (hi - lo).length() * 0.5,
         }
     }
 
@@ -60,7 +60,13 @@ impl Scene {
     /// scene's bounding radius (at least 10⁻¹⁰), so that it does not hit its own triangle.
     #[must_use]
     pub fn ray_offset(&self) -> f32 {
-        self.offset
+        1e-4 * self.radius.max(1e-6)
+    }
+
+    /// The diagonal of the mesh's bounding box: no two points of the mesh are farther apart.
+    #[must_use]
+    pub fn diameter(&self) -> f32 {
+        2.0 * self.radius
     }
 
     /// The mesh.
@@ -79,9 +85,7 @@ impl Scene {
     /// [`surface`](Self::surface).
     #[must_use]
     pub fn first_hit(&self, origin: Vec3, dir: Vec3) -> Option<ShadingPoint> {
-        let ray = Ray::new(origin, dir);
-        let hit = self.bvh.intersect(&ray)?;
-        Some(self.surface(&ray, &hit))
+        self.trace(origin, dir).map(|(point, _)| point)
     }
 
     /// The surface point seen along the ray from `origin` in direction `dir` and its triangle,

@@ -275,13 +275,18 @@ impl Emitter<'_> {
             // The ways on: the specular branches while specular depth is left, and a diffuse
             // bounce while VPLs are left to deposit; one is chosen in proportion to its share
             // (a random choice only where there are several: diffuse paths draw as before).
-            let mut ways: Vec<(Branch, f32)> = Vec::with_capacity(3);
+            // At most three (two specular branches and the diffuse bounce): on the stack.
+            let mut all = [(Branch::default(), 0.0f32); 3];
+            let mut n = 0;
             if specular < self.scene.specular_depth() {
                 let share = |b: &Branch| match kind {
                     Specular::Mirror { .. } => luminance(b.weight),
                     _ => b.share,
                 };
-                ways.extend(branches.into_iter().flatten().map(|b| (b, share(&b))));
+                for b in branches.into_iter().flatten() {
+                    all[n] = (b, share(&b));
+                    n += 1;
+                }
             }
             if albedo != Vec3::ZERO && bounce < self.max_bounces {
                 let diffuse = Branch {
@@ -291,8 +296,10 @@ impl Emitter<'_> {
                     side: normal,
                     share: 1.0,
                 };
-                ways.push((diffuse, luminance(albedo)));
+                all[n] = (diffuse, luminance(albedo));
+                n += 1;
             }
+            let ways = &all[..n];
             let total: f32 = ways.iter().map(|w| w.1).sum();
             let chosen = match ways.len() {
                 0 => break,

@@ -186,8 +186,8 @@ impl Indirect<'_> {
             ..*point
         };
         let lights = lgh.level(0);
-        let (lo, hi) = self.scene.mesh().bounds();
-        let reach = (hi - lo).length() * 1.01 + 1e-3;
+        // Every VPL lies on the mesh, so within its diameter of the point.
+        let reach = self.scene.diameter() * 1.01 + 1e-3;
         let (mut sum, mut count) = (Vec3::ZERO, 0u32);
         for_each_in_cone(lgh, point.position, cone, reach, |i| {
             let position = lights.position(i as usize);

@@ -10,7 +10,7 @@ use crate::scene::Scene;
 
 /// One way a path leaves a specular surface: its direction, what it carries (per channel),
 /// and the face normal of the side it leaves on (for the next ray's offset).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Branch {
     pub(crate) dir: Vec3,
     /// The fraction of flux it carries.
@@ -37,6 +37,10 @@ pub(crate) fn branches(
 ) -> ([Option<Branch>; 2], Specular) {
     let mesh = scene.mesh();
     let specular = mesh.specular(t);
+    if specular == Specular::None {
+        // The common case, in every light path's every bounce: nothing to compute.
+        return ([None, None], specular);
+    }
     let face = mesh.face_normal(t);
     let entering = face.dot(dir) < 0.0;
     // Towards the side the path arrived from.
