@@ -106,17 +106,17 @@ impl From<MissingTextures> for lgh_vpl::MissingTextures {
     }
 }
 
-/// `--lobe-error`: a bound, or `off`.
+/// `--lobe-error`, `--point-error`: a bound, or `off`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LobeError(pub Option<f32>);
+pub struct Bound(pub Option<f32>);
 
-/// Parses `--lobe-error`: `off`, or a number (checked with the other settings).
-fn parse_lobe_error(s: &str) -> Result<LobeError, String> {
+/// Parses a [`Bound`]: `off`, or a number (checked with the other settings).
+fn parse_bound(s: &str) -> Result<Bound, String> {
     if s == "off" {
-        return Ok(LobeError(None));
+        return Ok(Bound(None));
     }
     s.parse::<f32>()
-        .map(|e| LobeError(Some(e)))
+        .map(|e| Bound(Some(e)))
         .map_err(|_| format!("expected a number (0.01 is 1%) or off, not {s:?}"))
 }
 
@@ -201,8 +201,15 @@ pub struct SceneArgs {
     /// the VPLs inside the lobe's cone one by one, the cone chosen so that the glossy light
     /// left out is at most this fraction of the point's diffuse light (default 0.01); `off`:
     /// the hierarchy alone everywhere.
-    #[arg(long, default_value = "0.01", value_parser = parse_lobe_error)]
-    pub lobe_error: LobeError,
+    #[arg(long, default_value = "0.01", value_parser = parse_bound)]
+    pub lobe_error: Bound,
+    /// Backend lgh, with the default coarse shading: the bound on each shading point's error
+    /// (0.1 is 10% of its light). Where a point's error, estimated from its own samples
+    /// (1.645 standard errors), may exceed it, its coarse lights are shaded again with four
+    /// times the representatives, up to three times; `off`: the mean number everywhere.
+    /// `lgh bench gi` counts the pixels over it (`points_over_bound`).
+    #[arg(long, default_value = "0.1", value_parser = parse_bound)]
+    pub point_error: Bound,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -251,10 +258,6 @@ pub struct BenchGiArgs {
     /// `gi-alpha-A-diff.png`); none written without it.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// The per-pixel error bound the JSON's `points_over_bound` counts pixels against: each
-    /// pixel's luminance error relative to brute force's (at least 1% of the image mean).
-    #[arg(long, default_value_t = 0.1)]
-    pub point_error: f64,
 }
 
 impl SceneArgs {
@@ -276,6 +279,7 @@ impl SceneArgs {
             direct,
             specular_depth: self.specular_depth,
             lobe_error: self.lobe_error.0,
+            point_error: self.point_error.0,
         };
         settings.check()?;
         let lightcuts = GiMethod::Lightcuts {
@@ -355,6 +359,10 @@ impl SceneArgs {
             (
                 "lobe_error",
                 s.lobe_error.map_or("off".into(), |e| e.to_string()),
+            ),
+            (
+                "point_error",
+                s.point_error.map_or("off".into(), |e| e.to_string()),
             ),
             ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
@@ -474,52 +482,6 @@ fn write_bench_image(
     Ok(())
 }
 
-/// Per-pixel errors of `image` against `truth`, over the pixels `truth` lights: each pixel's
-/// luminance difference over the reference's luminance, held at 1% of the reference's mean at
-/// least (so that a near-black pixel's error is not divided by nearly nothing).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct PointErrors {
-    /// The largest.
-    max: f64,
-    /// The 99th percentile: the smallest bound that at most 1% of the pixels exceed.
-    p99: f64,
-    /// The fraction of the pixels over the bound asked for.
-    over: f64,
-}
-
-/// The [`PointErrors`] of `image` against `truth`, `over` counted against `bound`.
-fn point_errors(image: &Image, truth: &Image, bound: f64) -> PointErrors {
-    let lum = |p: Vec3| f64::from(lgh_core::luminance(p));
-    let lit: Vec<(f64, f64)> = image
-        .pixels
-        .iter()
-        .zip(&truth.pixels)
-        .map(|(&a, &b)| (lum(a), lum(b)))
-        .filter(|&(_, b)| b > 0.0)
-        .collect();
-    if lit.is_empty() {
-        return PointErrors {
-            max: 0.0,
-            p99: 0.0,
-            over: 0.0,
-        };
-    }
-    let mean = lit.iter().map(|p| p.1).sum::<f64>() / lit.len() as f64;
-    let mut errors: Vec<f64> = lit
-        .iter()
-        .map(|&(a, b)| (a - b).abs() / b.max(0.01 * mean))
-        .collect();
-    errors.sort_by(f64::total_cmp);
-    let n = errors.len();
-    // The smallest error with at most 1% of the pixels above it.
-    let p99 = errors[n - 1 - n / 100];
-    PointErrors {
-        max: errors[n - 1],
-        p99,
-        over: errors.iter().filter(|&&e| e > bound).count() as f64 / n as f64,
-    }
-}
-
 /// Runs `lgh bench gi`: brute force over every VPL and the hierarchy at each α on the same
 /// pixels, in the same run; JSON on stdout.
 pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
@@ -541,6 +503,12 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
     }
     let (scene, camera) = s.prepare(&settings, (width, height), &methods)?;
     let bars = Bars::new(s.quiet);
+    // The pixels over the renderer's per-point bound, or over the default one without it.
+    let counted_against = f64::from(
+        settings
+            .point_error
+            .unwrap_or(lgh_vpl::indirect::DEFAULT_POINT_ERROR),
+    );
     let exact = scene.render(GiMethod::Brute, &camera, &bars)?;
     if let Some(dir) = &args.out {
         write_bench_image(dir, "brute", &s.header(&scene), &exact.rendered.image, None)?;
@@ -550,7 +518,13 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
         let r = scene.render(method, &camera, &bars)?;
         let (image, truth) = (&r.rendered.image, &exact.rendered.image);
         let rel = lgh_image::compare(image, truth).map_or(f64::NAN, |e| e.rel_rmse);
-        let points = point_errors(image, truth, args.point_error);
+        let points = lgh_image::point_errors(image, truth, counted_against).unwrap_or(
+            lgh_image::PointErrors {
+                max: f64::NAN,
+                p99: f64::NAN,
+                over: f64::NAN,
+            },
+        );
         if let Some(dir) = &args.out {
             let mut header = s.header(&scene);
             header.push(extra);
@@ -564,6 +538,8 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "rel_rmse": if rel.is_finite() { Some(rel) } else { None },
             "specular_depth": scene.settings().specular_depth,
             "bounded_points": r.bounded_points,
+            "lobe_split_points": r.lobe_split_points,
+            "refined_points": r.refined_points,
             "max_point_error": points.max,
             "point_error_p99": points.p99,
             "points_over_bound": points.over,
@@ -595,7 +571,8 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "max_shadow_samples": settings.max_shadow_samples(),
             "sample_allocation": settings.sample_allocation().name(),
             "component": "indirect",
-            "point_error": args.point_error,
+            "point_error": settings.point_error,
+            "points_counted_against": counted_against,
             "lobe_error": settings.lobe_error,
             "pixels": exact.rendered.pixels_shaded,
             "width": width,

@@ -1235,8 +1235,11 @@ fn bench_gi_prints_the_runs_against_brute_force() {
         let e = run["rel_rmse"].as_f64().unwrap();
         assert!(e.is_finite() && e >= 0.0, "{run}");
         assert_eq!(run["specular_depth"], 6, "{run}");
-        // The Cornell box is Lambertian: no point split, every per-point error measured.
-        assert_eq!(run["bounded_points"], 0, "{run}");
+        // The Cornell box is Lambertian: no point split, every per-point error measured; the
+        // points a bound took deeper are those refined.
+        assert_eq!(run["lobe_split_points"], 0, "{run}");
+        assert_eq!(run["bounded_points"], run["refined_points"], "{run}");
+        assert!(run["refined_points"].as_u64().unwrap() <= 64, "{run}");
         let worst = run["max_point_error"].as_f64().unwrap();
         let over = run["points_over_bound"].as_f64().unwrap();
         assert!(worst >= 0.0 && (0.0..=1.0).contains(&over), "{run}");
@@ -1252,6 +1255,8 @@ fn bench_gi_prints_the_runs_against_brute_force() {
     assert_eq!(v["sample_allocation"], "adaptive");
     assert_eq!(v["shadow_samples"].as_f64(), Some(1.25));
     assert_eq!(v["max_shadow_samples"], 32);
+    assert_eq!(v["point_error"].as_f64(), Some(0.1f32 as f64));
+    assert_eq!(v["points_counted_against"].as_f64(), Some(0.1f32 as f64));
     let cuts = &v["lightcuts"];
     assert_eq!(cuts["relative_error"].as_f64().unwrap(), 0.02f32 as f64);
     assert!(cuts["rel_rmse"].as_f64().unwrap() >= 0.0, "{cuts}");

@@ -44,7 +44,10 @@ pub use exr_file::{decode_exr, read_exr, read_exr_attributes, write_exr};
 pub use files::{hold_writes, read_limited, write_atomic, WritesHeld, MAX_INPUT_BYTES};
 pub use image::{check_image_size, first_non_finite, Image};
 pub use limits::MAX_IMAGE_SIDE;
-pub use metrics::{compare, difference_png, error_8bit, flicker, quantize_8bit, Error8Bit};
+pub use metrics::{
+    compare, difference_png, error_8bit, flicker, point_errors, quantize_8bit, Error8Bit,
+    PointErrors,
+};
 pub use png_file::{write_png, write_png_with};
 pub use tone::{
     auto_exposure, filmic, linear_to_srgb, srgb_to_linear, tonemap, tonemap_with, ToneCurve,

@@ -28,11 +28,11 @@ use lgh_core::{
 };
 
 use crate::direct::{render_direct, Direct, DirectSettings};
-use crate::indirect::DEFAULT_LOBE_ERROR;
 use crate::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
     IndirectSettings, NormalBuckets,
 };
+use crate::indirect::{DEFAULT_LOBE_ERROR, DEFAULT_POINT_ERROR};
 use crate::mesh::Mesh;
 use crate::primary::{area_lights, PrimaryLight};
 use crate::render::{RenderError, Rendered};
@@ -169,6 +169,11 @@ pub struct GiSettings {
     /// in the lobe's cone shaded one by one; the other coarse shadings and the normal buckets
     /// do not split. `None`: the hierarchy alone everywhere. Finite and above 0.
     pub lobe_error: Option<f32>,
+    /// The bound ε on each shading point's error at which [`GiMethod::Lgh`] with its default
+    /// coarse shading shades a point's coarse lights again with more representatives, while
+    /// the point's estimated error (1.645 standard errors, [`crate::indirect::refine`]) exceeds
+    /// ε of its light. `None`: the mean number everywhere. Finite and above 0.
+    pub point_error: Option<f32>,
 }
 
 /// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least
@@ -191,6 +196,7 @@ impl Default for GiSettings {
             direct: DirectLight::default(),
             specular_depth: DEFAULT_SPECULAR_DEPTH,
             lobe_error: Some(DEFAULT_LOBE_ERROR),
+            point_error: Some(DEFAULT_POINT_ERROR),
         }
     }
 }
@@ -236,7 +242,7 @@ impl GiSettings {
     /// representatives 1 to [`MAX_PER_LIGHT`]; `Adaptive` representatives only with the one
     /// hierarchy; 1 to 64 strata. (The VPL counts are checked by [`trace`].)
     ///
-    /// Errors: [`GiError::ShadowSamples`], [`GiError::MaxShadowSamples`],
+    /// Errors: [`GiError::ShadowSamples`], [`GiError::MaxShadowSamples`], [`GiError::PointError`],
     /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`].
     pub fn check(&self) -> Result<(), GiError> {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
@@ -272,6 +278,11 @@ impl GiSettings {
         if let Some(error) = self.lobe_error {
             if !(error.is_finite() && error > 0.0) {
                 return Err(GiError::LobeError { error });
+            }
+        }
+        if let Some(error) = self.point_error {
+            if !(error.is_finite() && error > 0.0) {
+                return Err(GiError::PointError { error });
             }
         }
         if self.specular_depth > MAX_SPECULAR_DEPTH {
@@ -382,6 +393,11 @@ pub enum GiError {
         /// The rejected value.
         error: f32,
     },
+    /// A per-point bound that is not finite and above 0.
+    PointError {
+        /// The rejected value.
+        error: f32,
+    },
     /// A specular depth over [`MAX_SPECULAR_DEPTH`].
     SpecularDepth {
         /// The rejected value.
@@ -433,6 +449,10 @@ impl std::fmt::Display for GiError {
             GiError::LobeError { error } => write!(
                 f,
                 "--lobe-error {error}: expected a positive number (0.01 is 1% of a point's diffuse light)"
+            ),
+            GiError::PointError { error } => write!(
+                f,
+                "--point-error {error}: expected a positive number (0.1 is 10% of a point's light) or off"
             ),
             GiError::SpecularDepth { depth } => {
                 write!(
@@ -547,9 +567,16 @@ pub struct GiRender {
     pub seconds: f64,
     /// Shadow rays of the indirect light.
     pub shadow_rays: u64,
-    /// Shading points whose glossy lobe the hierarchy split, its VPLs in the lobe's cone shaded
-    /// one by one (`GiSettings::lobe_error`; 0 for other methods).
+    /// Shading points where a bound took [`GiMethod::Lgh`]'s default shading deeper:
+    /// `lobe_split_points` and `refined_points`, a point in both counted once (0 for other
+    /// methods).
     pub bounded_points: u64,
+    /// Shading points whose glossy lobe the hierarchy split, its VPLs in the lobe's cone shaded
+    /// one by one (`GiSettings::lobe_error`).
+    pub lobe_split_points: u64,
+    /// Shading points whose coarse lights were shaded again with more representatives, their
+    /// estimated error over the bound (`GiSettings::point_error`).
+    pub refined_points: u64,
     /// The direct light's cost, if it was rendered.
     pub direct: Option<DirectStats>,
 }
@@ -651,6 +678,7 @@ impl GiScene {
             epsilon: 1e-4 * (hi - lo).length(),
             shadows: settings.shadows,
             lobe_error: settings.lobe_error,
+            point_error: settings.point_error,
         };
         Ok(GiScene {
             scene,
@@ -730,6 +758,8 @@ impl GiScene {
             seconds,
             shadow_rays: shader.shadow_rays(),
             bounded_points: shader.bounded_points(),
+            lobe_split_points: shader.lobe_split_points(),
+            refined_points: shader.refined_points(),
             direct,
         })
     }

@@ -105,6 +105,7 @@ fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
             epsilon,
             shadows: true,
             lobe_error: None,
+            point_error: None,
         };
         let shader = Indirect::new(&scene, vpls, settings);
         let brute = BruteForce::new(&point).unwrap();

@@ -294,7 +294,11 @@ fn specular_and_split_renders_are_the_same_on_any_thread_count() {
                 .render(GiMethod::Lgh { alpha: 4.0 }, &camera, &())
                 .unwrap();
             let brute = scene.render(GiMethod::Brute, &camera, &()).unwrap();
-            (lgh.rendered.image, brute.rendered.image, lgh.bounded_points)
+            (
+                lgh.rendered.image,
+                brute.rendered.image,
+                lgh.lobe_split_points,
+            )
         };
         let pool = |n| {
             rayon::ThreadPoolBuilder::new()

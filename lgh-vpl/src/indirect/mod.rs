@@ -34,12 +34,14 @@
 mod buckets;
 mod coarse;
 pub mod lobe;
+pub mod refine;
 
 pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};
 pub(crate) use coarse::render_lgh;
 pub use coarse::Coarse;
 pub use lobe::{Cone, DEFAULT_LOBE_ERROR, MAX_CONE};
+pub use refine::{Tally, DEFAULT_POINT_ERROR};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -83,6 +85,9 @@ pub struct IndirectSettings {
     /// The bound ε at which the hierarchy's glossy points are split ([`lobe`]): `None` shades
     /// every point through the hierarchy alone.
     pub lobe_error: Option<f32>,
+    /// The bound ε on each point's error at which the hierarchy's adaptive shading takes more
+    /// samples of the coarse lights ([`refine`]): `None` takes the mean everywhere.
+    pub point_error: Option<f32>,
 }
 
 /// A shadow-ray counter on a cache line of its own.
@@ -98,8 +103,13 @@ pub struct Indirect<'a> {
     /// Shadow rays traced so far, one counter per rayon worker (and a last one for any other
     /// thread): an atomic shared by every thread cost 13% of a render in contention.
     rays: Vec<RayCount>,
-    /// Points whose glossy lobe was split ([`lobe`]).
+    /// Points where a bound took the shading deeper: their glossy lobe split ([`lobe`]) or
+    /// their coarse lights shaded again ([`refine`]), each counted once.
     bounded: AtomicU64,
+    /// Points whose glossy lobe was split ([`lobe`]).
+    split: AtomicU64,
+    /// Points whose coarse lights were shaded again with more samples ([`refine`]).
+    refined: AtomicU64,
 }
 
 impl<'a> Indirect<'a> {
@@ -114,13 +124,41 @@ impl<'a> Indirect<'a> {
                 .map(|_| RayCount::default())
                 .collect(),
             bounded: AtomicU64::new(0),
+            split: AtomicU64::new(0),
+            refined: AtomicU64::new(0),
         }
+    }
+
+    /// Shading points where a bound took the shading deeper so far: their glossy lobe split
+    /// ([`lobe`]) or their coarse lights shaded again with more samples ([`refine`]).
+    #[must_use]
+    pub fn bounded_points(&self) -> u64 {
+        self.bounded.load(Ordering::Relaxed)
     }
 
     /// Shading points whose glossy lobe was split so far ([`lobe`]).
     #[must_use]
-    pub fn bounded_points(&self) -> u64 {
-        self.bounded.load(Ordering::Relaxed)
+    pub fn lobe_split_points(&self) -> u64 {
+        self.split.load(Ordering::Relaxed)
+    }
+
+    /// Counts a shading point whose lobe was `split` and whose coarse lights were `refined`.
+    fn count_bounded(&self, split: bool, refined: bool) {
+        for (counter, yes) in [(&self.split, split), (&self.refined, refined)] {
+            if yes {
+                counter.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        if split || refined {
+            self.bounded.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Shading points whose coarse lights were shaded again with more samples so far
+    /// ([`refine`]).
+    #[must_use]
+    pub fn refined_points(&self) -> u64 {
+        self.refined.load(Ordering::Relaxed)
     }
 
     /// Shadow rays this shader has traced.
@@ -226,6 +264,19 @@ impl<'a> Indirect<'a> {
         light: &LightSample,
         reps: impl ExactSizeIterator<Item = usize>,
     ) -> Vec3 {
+        self.shade_representatives_tallied(point, light, reps, &mut Tally::default())
+    }
+
+    /// [`shade_representatives`](Self::shade_representatives), each representative's share
+    /// also added to `tally` (unshadowed and shadowed), from which the estimate's variance is
+    /// estimated ([`refine`]).
+    pub(crate) fn shade_representatives_tallied(
+        &self,
+        point: &ShadingPoint,
+        light: &LightSample,
+        reps: impl ExactSizeIterator<Item = usize>,
+        tally: &mut Tally,
+    ) -> Vec3 {
         let (Some(normal), k) = (point.normal, reps.len()) else {
             return Vec3::ZERO;
         };
@@ -235,15 +286,19 @@ impl<'a> Indirect<'a> {
         // Pick j carries its own colour: I_j · ‖B I_ℓ‖ / (k ‖I_j‖), the estimator of the drawn
         // weights w_j ‖I_j‖ (unbiased per channel, not only in luminance).
         let scale = lgh_core::luminance(light.intensity) / k as f32;
-        let shade = |i: usize, times: usize| {
+        let mut shade = |i: usize, times: usize| {
             let Some(v) = self.vpls.get(i) else {
                 return Vec3::ZERO;
             };
             let own = isotropic_intensity(v);
             let lum = lgh_core::luminance(own);
             if lum > 0.0 {
-                self.shade_vpl(point, normal, v, own * (scale * times as f32 / lum))
+                let (unshadowed, lit) =
+                    self.shade_vpl_parts(point, normal, v, own * (scale * times as f32 / lum));
+                tally.add(times as u32, unshadowed, lit);
+                lit
             } else {
+                tally.add(times as u32, Vec3::ZERO, Vec3::ZERO);
                 Vec3::ZERO
             }
         };
@@ -273,16 +328,27 @@ impl<'a> Indirect<'a> {
     /// VPL `v` with the isotropic intensity `intensity` shaded at `point` (unit `normal`): its
     /// cosine lobe restored (`2 max(0, n_v·ω)`, the flux unchanged) and one shadow ray.
     fn shade_vpl(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, intensity: Vec3) -> Vec3 {
+        self.shade_vpl_parts(point, normal, v, intensity).1
+    }
+
+    /// [`shade_vpl`](Self::shade_vpl)'s light unshadowed and shadowed.
+    fn shade_vpl_parts(
+        &self,
+        point: &ShadingPoint,
+        normal: Vec3,
+        v: &Vpl,
+        intensity: Vec3,
+    ) -> (Vec3, Vec3) {
         let lit = self.unshadowed(point, normal, v.position, v.normal, intensity);
         if lit == Vec3::ZERO {
-            return Vec3::ZERO;
+            return (lit, lit);
         }
         let from = point.position + normal * self.settings.epsilon;
         let source = v.position + v.normal * self.settings.epsilon;
         if self.occluded(from, source) {
-            return Vec3::ZERO;
+            return (lit, Vec3::ZERO);
         }
-        lit
+        (lit, lit)
     }
 
     /// What a cosine emitter at `q` with unit normal `n` and isotropic-equivalent intensity
@@ -481,6 +547,7 @@ pub(crate) mod tests {
                 epsilon: 1e-4,
                 shadows: true,
                 lobe_error: None,
+                point_error: None,
             };
             Indirect::new(&self.scene, &self.vpls, settings)
         }
@@ -569,6 +636,7 @@ pub(crate) mod tests {
             epsilon: 1e-4,
             shadows: true,
             lobe_error: None,
+            point_error: None,
         };
         let shader = Indirect::new(&scene, std::slice::from_ref(&vpl), settings);
         let at = |y: f32, n: Vec3| ShadingPoint {
