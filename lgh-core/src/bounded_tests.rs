@@ -316,6 +316,7 @@ fn degenerate_scenes_are_handled() {
     let point = ShadingPoint {
         position: Vec3::ZERO,
         normal: Some(Vec3::Y),
+        geometric: None,
         view: Some(Vec3::new(0.6, 0.8, 0.0)),
         material: crate::many_lights::Material::Phong {
             kd: Vec3::splat(0.5),

@@ -273,6 +273,7 @@ impl Default for LightcutsSettings {
 /// let point = ShadingPoint {
 ///     position: Vec3::new(1.5, -20.0, 1.5),
 ///     normal: Some(Vec3::Y),
+///     geometric: None,
 ///     view: Some(Vec3::Y),
 ///     material: Material::Lambert { albedo: Vec3::splat(0.8) },
 /// };

@@ -111,8 +111,15 @@ pub const ISOTROPIC_PHASE: f32 = 0.25 * core::f32::consts::FRAC_1_PI;
 pub struct ShadingPoint {
     /// World position `x`.
     pub position: Vec3,
-    /// Unit surface normal; `None` in a medium.
+    /// Unit surface normal (the shading normal, interpolated from a mesh's vertex normals
+    /// where it has them); `None` in a medium.
     pub normal: Option<Vec3>,
+    /// The surface's own unit normal, on the same side as `normal`, where it differs from it
+    /// (smooth shading over flat triangles): shadow rays leave the surface along it, and light
+    /// behind it is hidden by the surface itself whatever `normal` says. `None`: `normal`.
+    /// Renderers that trace shadow rays (`lgh-vpl`) read it; the core's unshadowed shading
+    /// uses `normal` alone.
+    pub geometric: Option<Vec3>,
     /// Unit direction towards the viewer; `None` if not needed.
     pub view: Option<Vec3>,
     /// Material.
@@ -120,12 +127,31 @@ pub struct ShadingPoint {
 }
 
 impl ShadingPoint {
+    /// The normal shadow rays leave along and the surface hides light behind
+    /// ([`geometric`](Self::geometric), or [`normal`](Self::normal) where it is `None`).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{Material, ShadingPoint};
+    ///
+    /// let flat = ShadingPoint { position: Vec3::ZERO, normal: Some(Vec3::Y), geometric: None, view: None, material: Material::Isotropic };
+    /// assert_eq!(flat.geometric_normal(), Some(Vec3::Y));
+    /// let smooth = ShadingPoint { geometric: Some(Vec3::Z), ..flat };
+    /// assert_eq!(smooth.geometric_normal(), Some(Vec3::Z));
+    /// assert_eq!(ShadingPoint::in_medium(Vec3::ZERO).geometric_normal(), None);
+    /// ```
+    #[must_use]
+    pub fn geometric_normal(&self) -> Option<Vec3> {
+        self.geometric.or(self.normal)
+    }
+
     /// A point in a medium (no normal, isotropic phase function).
     #[must_use]
     pub fn in_medium(position: Vec3) -> Self {
         ShadingPoint {
             position,
             normal: None,
+            geometric: None,
             view: None,
             material: Material::Isotropic,
         }

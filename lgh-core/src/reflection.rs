@@ -26,6 +26,7 @@ use crate::many_lights::{Material, ShadingPoint};
 /// let point = ShadingPoint {
 ///     position: Vec3::ZERO,
 ///     normal: Some(Vec3::Z),
+///     geometric: None,
 ///     view: Some(Vec3::Z),
 ///     material: Material::Lambert { albedo: Vec3::splat(0.5) },
 /// };
@@ -84,6 +85,7 @@ mod tests {
         ShadingPoint {
             position: Vec3::ZERO,
             normal: Some(Vec3::Z),
+            geometric: None,
             view: Some(Vec3::new(0.6, 0.0, 0.8)),
             material,
         }

@@ -55,6 +55,7 @@ pub fn shading_points(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<ShadingPoi
             ShadingPoint {
                 position,
                 normal: Some(rng.next_unit()),
+                geometric: None,
                 view: Some(rng.next_unit()),
                 material,
             }

@@ -46,6 +46,7 @@ use crate::reflection::reflected;
 /// let point = ShadingPoint {
 ///     position: Vec3::new(1.5, -20.0, 1.5),
 ///     normal: Some(Vec3::Y),
+///     geometric: None,
 ///     view: Some(Vec3::Y),
 ///     material: Material::Lambert { albedo: Vec3::splat(0.8) },
 /// };

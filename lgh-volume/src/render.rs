@@ -319,6 +319,7 @@ impl<'a> Marcher<'a> {
         // are in the same units. The other backends do not read it.
         let point = ShadingPoint {
             normal: Some(hit.normal),
+            geometric: None,
             material: lgh_core::Material::Lambert { albedo: brdf },
             ..ShadingPoint::in_medium(x)
         };

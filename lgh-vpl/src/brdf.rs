@@ -17,7 +17,7 @@ use lgh_core::{Material, ShadingPoint};
 /// use lgh_vpl::brdf::brdf;
 ///
 /// let grey = Material::Lambert { albedo: Vec3::splat(0.5) };
-/// let p = ShadingPoint { position: Vec3::ZERO, normal: Some(Vec3::Y), view: Some(Vec3::Y), material: grey };
+/// let p = ShadingPoint { position: Vec3::ZERO, normal: Some(Vec3::Y), geometric: None, view: Some(Vec3::Y), material: grey };
 /// assert_eq!(brdf(&p, Vec3::Y, Vec3::X), Vec3::splat(0.5 / std::f32::consts::PI));
 /// ```
 #[must_use]

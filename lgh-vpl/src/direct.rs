@@ -22,7 +22,7 @@ use lgh_core::{Illumination, ShadingPoint};
 use crate::brdf::brdf;
 use crate::primary::PrimaryLight;
 use crate::render::{render_surfaces, RenderError, Rendered};
-use crate::scene::Scene;
+use crate::scene::{in_front, shadow_origin, Scene};
 use lgh_image::camera::Pinhole as Camera;
 
 /// How direct light is sampled.
@@ -59,7 +59,7 @@ impl<'a> Direct<'a> {
     /// let scene = Scene::new(Mesh::quad(c, white)?);
     /// let lamp = [PrimaryLight::Point { position: Vec3::new(0.0, 2.0, 0.0), intensity: Vec3::ONE }];
     /// let direct = Direct::new(&scene, &lamp, DirectSettings { area_strata: 4, epsilon: 1e-4 });
-    /// let p = ShadingPoint { position: Vec3::ZERO, normal: Some(Vec3::Y), view: Some(Vec3::Y), material: white };
+    /// let p = ShadingPoint { position: Vec3::ZERO, normal: Some(Vec3::Y), geometric: None, view: Some(Vec3::Y), material: white };
     /// let l = direct.shade(&p);
     /// assert!((l.x - 0.25 / std::f32::consts::PI).abs() < 1e-6);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -97,7 +97,7 @@ impl<'a> Direct<'a> {
         let Some(normal) = point.normal else {
             return Vec3::ZERO;
         };
-        let from = point.position + normal * self.settings.epsilon;
+        let from = shadow_origin(point, normal, self.settings.epsilon);
         let bvh = self.scene.bvh();
         // Radiance from irradiance `e` (on a plane facing the light) arriving along unit `l`.
         let reflect = |l: Vec3, e: Vec3| {
@@ -121,7 +121,7 @@ impl<'a> Direct<'a> {
                     return Vec3::ZERO;
                 }
             }
-            if normal.dot(l) <= 0.0 || bvh.occluded(from, q) {
+            if !in_front(point, normal, l) || bvh.occluded(from, q) {
                 return Vec3::ZERO;
             }
             reflect(l, i / d2)
@@ -188,7 +188,7 @@ impl<'a> Direct<'a> {
                 }
                 let l = to / d2.sqrt();
                 let cos_e = -emitter.dot(l);
-                if cos_e <= 0.0 || normal.dot(l) <= 0.0 {
+                if cos_e <= 0.0 || !in_front(point, normal, l) {
                     continue;
                 }
                 let target = q + emitter * self.settings.epsilon;
@@ -259,6 +259,7 @@ mod tests {
         ShadingPoint {
             position: p,
             normal: Some(Vec3::Y),
+            geometric: None,
             view: Some(Vec3::Y),
             material: WHITE,
         }

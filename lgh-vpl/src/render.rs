@@ -282,6 +282,7 @@ mod tests {
                     let point = ShadingPoint {
                         position: p,
                         normal: Some(Vec3::Y),
+                        geometric: None,
                         view: Some(-d),
                         material: FLOOR,
                     };

@@ -99,27 +99,46 @@ impl Scene {
 
     /// The shading point of `hit` seen along `ray`: the point on the triangle at the hit's
     /// barycentrics, the unit view direction `−dir`, the triangle's material there (its diffuse
-    /// texture applied, [`Mesh::material_at`]), and the shading
-    /// normal turned to the viewer's side of the surface. Which side that is, the face normal
+    /// texture applied, [`Mesh::material_at`]), the face normal as the geometric normal
+    /// (`ShadingPoint::geometric`: shadow rays and VPLs' hemispheres) and the shading
+    /// normal, both turned to the viewer's side of the surface. Which side that is, the face normal
     /// decides (flipped when `n·dir > 0`); the shading normal is first turned into the face
     /// normal's hemisphere, so vertex normals that disagree with the winding cannot put it on
     /// the other side.
     #[must_use]
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> ShadingPoint {
         let (mesh, t) = (&self.mesh, hit.triangle);
-        let face = mesh.face_normal(t);
+        let mut face = mesh.face_normal(t);
         let mut normal = mesh.shading_normal(t, hit.u, hit.v);
         if normal.dot(face) < 0.0 {
             normal = -normal;
         }
         if face.dot(ray.dir()) > 0.0 {
             normal = -normal;
+            face = -face;
         }
         ShadingPoint {
             position: mesh.point(t, hit.u, hit.v),
             normal: Some(normal),
+            geometric: Some(face),
             view: Some(-ray.dir().normalize()),
             material: mesh.material_at(t, hit.u, hit.v),
         }
     }
+}
+
+/// Where a shadow ray leaving `point` (unit shading `normal`) starts: `epsilon` off the surface
+/// along its geometric normal (`ShadingPoint::geometric`), so that it does not hit its own
+/// triangle even where the shading normal leans far from the face.
+#[must_use]
+pub(crate) fn shadow_origin(point: &ShadingPoint, normal: Vec3, epsilon: f32) -> Vec3 {
+    point.position + point.geometric_normal().unwrap_or(normal) * epsilon
+}
+
+/// Whether the offset `to` from `point` (unit shading `normal`) lies in front of the surface:
+/// in front of its shading plane, where the BRDF's cosine is positive, and of its geometric
+/// plane, behind which the surface itself hides it.
+#[must_use]
+pub(crate) fn in_front(point: &ShadingPoint, normal: Vec3, to: Vec3) -> bool {
+    normal.dot(to) > 0.0 && point.geometric.is_none_or(|g| g.dot(to) > 0.0)
 }

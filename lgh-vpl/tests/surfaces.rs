@@ -102,6 +102,7 @@ fn a_textured_quad_has_kd_times_the_bilinear_texture_where_seen_and_where_lit() 
             let point = ShadingPoint {
                 position: p,
                 normal: Some(Vec3::Y),
+                geometric: None,
                 view: Some(-d),
                 material: Material::Lambert {
                     albedo: albedo_at(p),
@@ -331,4 +332,112 @@ fn a_specular_map_multiplies_ks_and_leaves_kd() {
             assert!((ks - want).abs().max_element() < 1e-5, "{ks} vs {want}");
         }
     }
+}
+
+/// A floor quad (`|x|, |z| ≤ 1`, y = 0, face normal +y) whose vertex normals all lean 45°
+/// towards +z: smooth shading says "tilted", the face says "up".
+fn leaning_floor() -> (tempfile::TempDir, Scene) {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("leaning.obj");
+    std::fs::write(
+        &obj,
+        "v -1 0 1\nv 1 0 1\nv 1 0 -1\nv -1 0 -1\nvn 0 1 1\nf 1//1 2//1 3//1 4//1\n",
+    )
+    .unwrap();
+    let scene = Scene::new(Mesh::load_obj(&obj).unwrap());
+    (dir, scene)
+}
+
+/// The geometric normal: where smooth shading leans away from the face, what the camera sees
+/// is shaded with the leaning normal, but the face decides where light can come from and
+/// leave to. On a floor whose vertex normals lean 45°:
+/// - the surface point carries both (`ShadingPoint::geometric` is the face's, +y);
+/// - every VPL deposited on it has the face normal exactly (its hemisphere and its bounce
+///   leave the face), not the leaning one;
+/// - a lamp below the floor's plane but in front of the leaning shading plane, seen from the
+///   floor's edge (where no shadow ray would cross the quad), gives no direct light and a VPL
+///   there no indirect light; with the geometric normal left out they would light it, which
+///   shows the test can fail.
+#[test]
+fn light_leaves_and_reaches_the_face_not_the_shading_normal() {
+    use lgh_vpl::direct::{Direct, DirectSettings};
+    use lgh_vpl::indirect::{Indirect, IndirectSettings};
+    let (_dir, scene) = leaning_floor();
+    let leaning = Vec3::new(0.0, 1.0, 1.0).normalize();
+    // Seen from above: both normals, on the viewer's side.
+    let ray = lgh_vpl::Ray::new(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y);
+    let hit = scene.bvh().intersect(&ray).unwrap();
+    let seen = scene.surface(&ray, &hit);
+    assert!((seen.normal.unwrap() - leaning).length() < 1e-6, "{seen:?}");
+    assert_eq!(seen.geometric, Some(Vec3::Y));
+
+    let lamp = PrimaryLight::Point {
+        position: Vec3::new(0.2, 1.5, -0.3),
+        intensity: Vec3::splat(3.0),
+    };
+    let settings = VplSettings {
+        count: 500,
+        max_bounces: 1,
+        seed: 7,
+    };
+    let vpls = trace(&scene, &[lamp], &settings).unwrap().vpls;
+    assert!(vpls.len() >= 100, "{}", vpls.len());
+    assert!(vpls.iter().all(|v| v.normal == Vec3::Y), "a VPL leans");
+
+    // At the floor's front edge (z = 1), a source at (0, −0.1, 2): below the face's plane, in
+    // front of the leaning plane (0.9/√2 > 0).
+    let edge = |geometric| ShadingPoint {
+        position: Vec3::new(0.0, 0.0, 1.0),
+        normal: Some(leaning),
+        geometric,
+        view: Some(Vec3::Y),
+        material: Material::Lambert {
+            albedo: Vec3::splat(0.8),
+        },
+    };
+    let below = Vec3::new(0.0, -0.1, 2.0);
+    let source = [PrimaryLight::Point {
+        position: below,
+        intensity: Vec3::ONE,
+    }];
+    let d = DirectSettings {
+        area_strata: 1,
+        epsilon: 1e-4,
+    };
+    let direct = Direct::new(&scene, &source, d);
+    assert_eq!(direct.shade(&edge(Some(Vec3::Y))), Vec3::ZERO);
+    assert!(direct.shade(&edge(None)).x > 0.0, "the test cannot fail");
+
+    let vpl = lgh_vpl::vpl::Vpl {
+        position: below,
+        normal: (Vec3::new(0.0, 0.1, 1.0) * -1.0).normalize(),
+        power: Vec3::ONE,
+        albedo: Vec3::ONE,
+        bounce: 1,
+    };
+    let shading = IndirectSettings {
+        h0: 1e-3,
+        shadow_samples: 0,
+        epsilon: 1e-4,
+        shadows: true,
+        lobe_error: None,
+        point_error: None,
+    };
+    let indirect = Indirect::new(&scene, std::slice::from_ref(&vpl), shading);
+    let lights = lgh_vpl::indirect::point_lights(&[vpl]);
+    let sample = |p: &ShadingPoint| {
+        lgh_core::LightSample::point(
+            0,
+            lights[0].position,
+            lights[0].intensity,
+            p.position,
+            Lobe::All,
+        )
+    };
+    let (flat, smooth) = (edge(Some(Vec3::Y)), edge(None));
+    assert_eq!(indirect.shade(&flat, &sample(&flat), Some(0)), Vec3::ZERO);
+    assert!(
+        indirect.shade(&smooth, &sample(&smooth), Some(0)).x > 0.0,
+        "the test cannot fail"
+    );
 }

@@ -127,6 +127,7 @@ mod tests {
         let point = ShadingPoint {
             position,
             normal: Some(rng.next_unit()),
+            geometric: None,
             view: Some(rng.next_unit()),
             material: Material::Phong {
                 kd: Vec3::ONE,

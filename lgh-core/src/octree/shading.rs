@@ -59,6 +59,7 @@ pub const EXACT_SUM_LIGHTS: usize = 3;
 /// let point = ShadingPoint {
 ///     position: Vec3::new(1.5, -20.0, 1.5),
 ///     normal: Some(Vec3::Y),
+///     geometric: None,
 ///     view: Some(Vec3::Y),
 ///     material: Material::Lambert { albedo: Vec3::splat(0.8) },
 /// };

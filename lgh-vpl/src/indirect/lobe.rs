@@ -59,6 +59,7 @@ impl Cone {
     /// let phong = |exponent| ShadingPoint {
     ///     position: Vec3::ZERO,
     ///     normal: Some(Vec3::Y),
+    ///     geometric: None,
     ///     view: Some(Vec3::new(0.0, 1.0, 1.0).normalize()),
     ///     material: Material::Phong { kd: Vec3::splat(0.2), ks: Vec3::splat(0.6), exponent },
     /// };
@@ -235,6 +236,7 @@ mod tests {
                 let point = ShadingPoint {
                     position,
                     normal: Some(Vec3::Y),
+                    geometric: None,
                     view: Some(view),
                     material: Material::Phong {
                         kd: Vec3::splat(kd),
@@ -289,6 +291,7 @@ mod tests {
         let weak = ShadingPoint {
             position: Vec3::ZERO,
             normal: Some(Vec3::Y),
+            geometric: None,
             view: Some(Vec3::Y),
             material: Material::Phong {
                 kd: Vec3::splat(0.8),

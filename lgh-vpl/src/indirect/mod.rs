@@ -51,7 +51,7 @@ use lgh_core::{LightSample, ManyLights, PointLight, ShadingPoint};
 
 use crate::brdf::brdf;
 use crate::render::{render_with_shader, RenderError, Rendered};
-use crate::scene::Scene;
+use crate::scene::{in_front, shadow_origin, Scene};
 use crate::vpl::Vpl;
 use lgh_image::camera::Pinhole as Camera;
 
@@ -204,7 +204,7 @@ impl<'a> Indirect<'a> {
         let Some(normal) = point.normal else {
             return Vec3::ZERO;
         };
-        let from = point.position + normal * self.settings.epsilon;
+        let from = shadow_origin(point, normal, self.settings.epsilon);
         let facing = |q: Vec3| facing(point, normal, q);
         let occluded = |to: Vec3| self.occluded(from, to);
         if light.level == 0 {
@@ -343,7 +343,7 @@ impl<'a> Indirect<'a> {
         if lit == Vec3::ZERO {
             return (lit, lit);
         }
-        let from = point.position + normal * self.settings.epsilon;
+        let from = shadow_origin(point, normal, self.settings.epsilon);
         let source = v.position + v.normal * self.settings.epsilon;
         if self.occluded(from, source) {
             return (lit, Vec3::ZERO);
@@ -401,11 +401,12 @@ impl<'a> Indirect<'a> {
     }
 }
 
-/// Whether `q` is in front of the surface at `point` (unit `normal`): a light behind its plane
-/// gives nothing (`reflect` says so too), and is tested first to spare its shadow ray.
+/// Whether `q` is in front of the surface at `point` (unit shading `normal`): a light behind
+/// its shading plane gives nothing (`reflect` says so too), one behind its geometric plane is
+/// hidden by the surface itself ([`in_front`]); tested first to spare its shadow ray.
 #[inline]
 fn facing(point: &ShadingPoint, normal: Vec3, q: Vec3) -> bool {
-    normal.dot(q - point.position) > 0.0
+    in_front(point, normal, q - point.position)
 }
 
 /// The indirect light `shader` gives each pixel through a backend over [`point_lights`] of
@@ -642,6 +643,7 @@ pub(crate) mod tests {
         let at = |y: f32, n: Vec3| ShadingPoint {
             position: Vec3::new(0.2, y, 0.0),
             normal: Some(n),
+            geometric: None,
             view: Some(n),
             material: grey,
         };
