@@ -260,6 +260,14 @@ mod tests {
     use crate::indirect::tests::{rel_rmse, Fixture};
     use crate::representatives::Allocation;
 
+    /// A pool of `n` threads.
+    fn pool(n: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    }
+
     /// Representative VPLs (beyond the paper) against the paper's Gaussian shadow samples, both
     /// through the one isotropic hierarchy with k = 9, against brute force over every VPL with
     /// the same shadow rays. Measured (32×24): Gaussian 54.6% and 41.8% at α = 4 and 16 (the
@@ -331,12 +339,6 @@ mod tests {
         // pixels that is 0.16% if they were independent, and neighbours share lights, so an
         // order of magnitude more: 2%.
         assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
-        let pool = |n| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .unwrap()
-        };
         assert_eq!(
             pool(1).install(|| render(4.0)),
             pool(3).install(|| render(4.0))
@@ -397,12 +399,6 @@ mod tests {
         );
         assert!(after.max < before.max, "{after:?} against {before:?}");
         assert!(e1 < e0, "{e1} against {e0}");
-        let pool = |n| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .unwrap()
-        };
         assert_eq!(
             pool(1).install(|| render(Some(0.03)).0),
             pool(3).install(|| render(Some(0.03)).0)
