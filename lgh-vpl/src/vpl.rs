@@ -3,7 +3,8 @@
 //!
 //! Light paths leave the primary lights ([`crate::primary`]), each light chosen in proportion to
 //! its power; every diffuse surface a path meets deposits a VPL there — its position, the
-//! surface (shading) normal on the path's side, the flux `Φ` arriving with the path and the surface's
+//! surface normal on the path's side (the shading normal, and the face's, below which it emits
+//! nothing), the flux `Φ` arriving with the path and the surface's
 //! diffuse albedo `ρ` — and the path goes on in a cosine-distributed direction carrying
 //! `Φ ρ`, up to a bounce limit. A VPL reflects what it received: it emits the radiant intensity
 //! `I(ω) = Φ ρ / π · max(0, n·ω)` (a Lambertian reflector of flux `Φ ρ`), a cosine lobe about
@@ -27,9 +28,12 @@ use crate::specular::{branches, Branch, Specular};
 pub struct Vpl {
     /// Where the path met the surface.
     pub position: Vec3,
-    /// Unit surface normal on the side the path arrived from (the shading normal, a smooth
-    /// mesh's interpolated one).
+    /// Unit surface normal on the side the path arrived from: the shading normal (a smooth
+    /// mesh's interpolated normal), about which the VPL's cosine lobe lies.
     pub normal: Vec3,
+    /// Unit geometric (face) normal, on the same side: the VPL emits nothing below the face,
+    /// whatever its shading normal leans to (`ShadingPoint::geometric`).
+    pub geometric: Vec3,
     /// Flux `Φ` arriving with the path (W).
     pub power: Vec3,
     /// Diffuse albedo `ρ` of the surface.
@@ -40,20 +44,34 @@ pub struct Vpl {
 
 impl Vpl {
     /// Radiant intensity towards the unit direction `w` (away from the VPL):
-    /// `Φ ρ / π · max(0, n·w)`, W/sr.
+    /// `Φ ρ / π · max(0, n·w)` in front of the face (`g·w > 0`), 0 behind it, W/sr.
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
     /// use lgh_vpl::vpl::Vpl;
     ///
-    /// let v = Vpl { position: Vec3::ZERO, normal: Vec3::Y, power: Vec3::splat(std::f32::consts::PI),
-    ///               albedo: Vec3::splat(0.5), bounce: 1 };
+    /// let v = Vpl { position: Vec3::ZERO, normal: Vec3::Y, geometric: Vec3::Y,
+    ///               power: Vec3::splat(std::f32::consts::PI), albedo: Vec3::splat(0.5), bounce: 1 };
     /// assert_eq!(v.intensity(Vec3::Y), Vec3::splat(0.5));
     /// assert_eq!(v.intensity(-Vec3::Y), Vec3::ZERO); // nothing behind the surface
+    /// // A shading normal leaning 45° from the face: nothing below the face all the same.
+    /// let leaning = Vpl { normal: Vec3::new(0.0, 1.0, 1.0).normalize(), ..v };
+    /// assert_eq!(leaning.intensity(Vec3::new(0.0, -0.1, 1.0).normalize()), Vec3::ZERO);
     /// ```
     #[must_use]
     pub fn intensity(&self, w: Vec3) -> Vec3 {
-        self.power * self.albedo * (self.normal.dot(w).max(0.0) / std::f32::consts::PI)
+        self.power * self.albedo * (self.lobe(w) * 0.5 / std::f32::consts::PI)
+    }
+
+    /// The VPL's lobe relative to an isotropic emitter of the same flux towards unit `w`:
+    /// `2 max(0, n·w)` in front of the face, 0 behind it.
+    #[must_use]
+    pub fn lobe(&self, w: Vec3) -> f32 {
+        if self.geometric.dot(w) <= 0.0 {
+            0.0
+        } else {
+            2.0 * self.normal.dot(w).max(0.0)
+        }
     }
 }
 
@@ -262,16 +280,16 @@ impl Emitter<'_> {
                 true => Vec3::ZERO,
                 false => diffuse_albedo(&point.material),
             };
-            // The shading normal: the VPL's lobe and its hemisphere. (The face's for the
-            // hemisphere, as shading points use it, made Sponza err by 3.2% instead of 2.6%:
-            // a tenth of its vertex normals lean over 68° from their faces, and the clipped
-            // lobes are harder for the hierarchy; docs/gi.md.)
+            // The shading normal for the VPL's lobe and the bounce's cosine, the face's for
+            // the hemisphere they leave into (`ShadingPoint::geometric`).
             let normal = point.normal.unwrap_or(-dir);
+            let face = point.geometric_normal().unwrap_or(normal);
             if albedo != Vec3::ZERO {
                 bounce += 1;
                 out.push(Vpl {
                     position: point.position,
                     normal,
+                    geometric: face,
                     power: carried,
                     albedo,
                     bounce,
@@ -298,7 +316,7 @@ impl Emitter<'_> {
                     dir: Vec3::ZERO,
                     weight: albedo,
                     radiance_scale: 1.0,
-                    side: normal,
+                    side: face,
                     share: 1.0,
                 };
                 all[n] = (diffuse, luminance(albedo));
@@ -330,6 +348,11 @@ impl Emitter<'_> {
             origin = point.position + way.side * self.eps;
             if way.dir == Vec3::ZERO {
                 dir = cosine(normal, &mut rng);
+                if dir.dot(face) <= 0.0 {
+                    // Into the surface: a leaning shading normal's cosine reaches below the
+                    // face, where no light goes; the path ends there.
+                    break;
+                }
             } else {
                 specular += 1;
                 dir = way.dir;

@@ -352,7 +352,8 @@ fn leaning_floor() -> (tempfile::TempDir, Scene) {
 /// is shaded with the leaning normal, but the face decides where light can come from and
 /// leave to. On a floor whose vertex normals lean 45°:
 /// - the surface point carries both (`ShadingPoint::geometric` is the face's, +y);
-/// - VPLs deposited on it keep the leaning normal (their hemisphere is not the face's yet);
+/// - every VPL deposited on it keeps both: its lobe about the leaning normal, the face's for
+///   the hemisphere it emits into (`Vpl::lobe`, whose doctest shows nothing goes below);
 /// - a lamp below the floor's plane but in front of the leaning shading plane, seen from the
 ///   floor's edge (where no shadow ray would cross the quad), gives no direct light and a VPL
 ///   there no indirect light; with the geometric normal left out they would light it, which
@@ -381,9 +382,10 @@ fn light_leaves_and_reaches_the_face_not_the_shading_normal() {
     };
     let vpls = trace(&scene, &[lamp], &settings).unwrap().vpls;
     assert!(vpls.len() >= 100, "{}", vpls.len());
-    // VPLs keep the shading normal (a gap of issue 25: the face's hemisphere made Sponza
-    // worse, `docs/gi.md`).
-    assert!(vpls.iter().all(|v| (v.normal - leaning).length() < 1e-6));
+    for v in &vpls {
+        assert!((v.normal - leaning).length() < 1e-6, "{v:?}");
+        assert_eq!(v.geometric, Vec3::Y, "{v:?}");
+    }
 
     // At the floor's front edge (z = 1), a source at (0, −0.1, 2): below the face's plane, in
     // front of the leaning plane (0.9/√2 > 0).
@@ -409,9 +411,11 @@ fn light_leaves_and_reaches_the_face_not_the_shading_normal() {
     assert_eq!(direct.shade(&edge(Some(Vec3::Y))), Vec3::ZERO);
     assert!(direct.shade(&edge(None)).x > 0.0, "the test cannot fail");
 
+    let towards = (Vec3::new(0.0, 0.1, 1.0) * -1.0).normalize();
     let vpl = lgh_vpl::vpl::Vpl {
         position: below,
-        normal: (Vec3::new(0.0, 0.1, 1.0) * -1.0).normalize(),
+        normal: towards,
+        geometric: towards,
         power: Vec3::ONE,
         albedo: Vec3::ONE,
         bounce: 1,

@@ -339,39 +339,32 @@ impl<'a> Indirect<'a> {
         v: &Vpl,
         intensity: Vec3,
     ) -> (Vec3, Vec3) {
-        let lit = self.unshadowed(point, normal, v.position, v.normal, intensity);
+        let lit = self.unshadowed(point, normal, v, intensity);
         if lit == Vec3::ZERO {
             return (lit, lit);
         }
         let from = shadow_origin(point, normal, self.settings.epsilon);
-        let source = v.position + v.normal * self.settings.epsilon;
+        let source = v.position + v.geometric * self.settings.epsilon;
         if self.occluded(from, source) {
             return (lit, Vec3::ZERO);
         }
         (lit, lit)
     }
 
-    /// What a cosine emitter at `q` with unit normal `n` and isotropic-equivalent intensity
-    /// `intensity` (`2 intensity max(0, n·ω)` towards `ω`) gives `point` (unit `normal`),
+    /// What VPL `v` with isotropic-equivalent intensity `intensity` (its lobe `2 max(0, n·ω)`
+    /// in front of its face towards `ω`, [`Vpl::lobe`]) gives `point` (unit `normal`),
     /// unshadowed.
-    fn unshadowed(
-        &self,
-        point: &ShadingPoint,
-        normal: Vec3,
-        q: Vec3,
-        n: Vec3,
-        intensity: Vec3,
-    ) -> Vec3 {
-        let to_point = point.position - q;
+    fn unshadowed(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, intensity: Vec3) -> Vec3 {
+        let to_point = point.position - v.position;
         let d = to_point.length();
         if d == 0.0 {
             return Vec3::ZERO;
         }
-        let lobe = 2.0 * n.dot(to_point / d).max(0.0);
-        if lobe == 0.0 || !facing(point, normal, q) {
+        let lobe = v.lobe(to_point / d);
+        if lobe == 0.0 || !facing(point, normal, v.position) {
             return Vec3::ZERO;
         }
-        self.reflect(point, normal, q, intensity * lobe)
+        self.reflect(point, normal, v.position, intensity * lobe)
     }
 
     /// Whether the mesh hides `to` from `from` (never, without shadows): one counted ray.
@@ -626,6 +619,7 @@ pub(crate) mod tests {
         let vpl = Vpl {
             position: Vec3::new(0.0, 1.0, 0.0),
             normal: Vec3::NEG_Y,
+            geometric: Vec3::NEG_Y,
             power: Vec3::ONE,
             albedo: Vec3::ONE,
             bounce: 1,

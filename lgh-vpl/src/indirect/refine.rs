@@ -16,10 +16,12 @@
 //! - a light shaded through `k ≥ 2` representatives: the sample variance of its `k` draws,
 //!   over `k` — `(k Σy² − (Σy)²) / (k − 1)` for the shares `y` (each draw's estimate of the
 //!   light is `k y`);
-//! - a light shaded through one: one draw says nothing of its own spread, and what varies most
-//!   between draws is whether the shadow ray gets through; that is taken as a Bernoulli draw
-//!   with the fraction `v̄` of the point's coarse light that its shadow rays let through:
-//!   `v̄ (1 − v̄) u²` for the draw's unshadowed share `u`;
+//! - a light shaded through one: one draw says nothing of its own spread, which has two parts.
+//!   Whether the shadow ray gets through is taken as a Bernoulli draw with the fraction `v̄` of
+//!   the point's coarse light that its shadow rays let through: `v̄ (1 − v̄) u²` for the draw's
+//!   unshadowed share `u`. Which VPL was drawn — its lobe, its distance — is measured by `u`'s
+//!   deviation from the light's own unshadowed light as the isotropic point the hierarchy
+//!   holds, `(u − u_ℓ)²`: one draw's squared deviation from (an estimate of) its mean;
 //! - a light kept by Russian roulette with probability `p` and weight `1/p`: to the above,
 //!   scaled by `1/p²`, is added `X² (1 − p)` for its weighted value `X` (an unbiased estimate
 //!   of the roulette's own variance, `E[Y²](1 − p)/p`).
