@@ -82,6 +82,6 @@ impl Surfaces for Room {
     }
 
     fn occluded(&self, a: Vec3, b: Vec3) -> bool {
-        self.scene.bvh().occluded(a, b)
+        self.scene.occluded(a, b)
     }
 }

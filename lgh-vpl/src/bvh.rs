@@ -316,9 +316,19 @@ impl Bvh {
     /// ```
     #[must_use]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_where(ray, |_, _, _| true)
+    }
+
+    /// [`intersect`](Self::intersect) among the hits `keep(triangle, u, v)` accepts: the
+    /// others are passed through (cut-outs, [`crate::Mesh::covers`]).
+    #[must_use]
+    pub fn intersect_where(&self, ray: &Ray, keep: impl Fn(u32, f32, f32) -> bool) -> Option<Hit> {
         let mut best = None;
         self.traverse(ray, |t_max, i| {
             let (t, u, v) = ray.hit_triangle(&self.corners[i], t_max)?;
+            if !keep(self.ids[i], u, v) {
+                return None;
+            }
             best = Some(Hit {
                 t,
                 triangle: self.ids[i],
@@ -336,10 +346,24 @@ impl Bvh {
     /// not finite.
     #[must_use]
     pub fn occluded(&self, origin: Vec3, target: Vec3) -> bool {
+        self.occluded_where(origin, target, |_, _, _| true)
+    }
+
+    /// [`occluded`](Self::occluded) by the hits `keep(triangle, u, v)` accepts.
+    #[must_use]
+    pub fn occluded_where(
+        &self,
+        origin: Vec3,
+        target: Vec3,
+        keep: impl Fn(u32, f32, f32) -> bool,
+    ) -> bool {
         let ray = Ray::segment(origin, target);
         let mut hit = false;
         self.traverse(&ray, |t_max, i| {
-            ray.hit_triangle(&self.corners[i], t_max)?;
+            let (_, u, v) = ray.hit_triangle(&self.corners[i], t_max)?;
+            if !keep(self.ids[i], u, v) {
+                return None;
+            }
             hit = true;
             // A zero t_max ends the traversal at once.
             Some(0.0)

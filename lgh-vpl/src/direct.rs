@@ -98,7 +98,7 @@ impl<'a> Direct<'a> {
             return Vec3::ZERO;
         };
         let from = shadow_origin(point, normal, self.settings.epsilon);
-        let bvh = self.scene.bvh();
+        let scene = self.scene;
         // Radiance from irradiance `e` (on a plane facing the light) arriving along unit `l`.
         let reflect = |l: Vec3, e: Vec3| {
             let cos = normal.dot(l);
@@ -121,7 +121,7 @@ impl<'a> Direct<'a> {
                     return Vec3::ZERO;
                 }
             }
-            if !in_front(point, normal, l) || bvh.occluded(from, q) {
+            if !in_front(point, normal, l) || scene.occluded(from, q) {
                 return Vec3::ZERO;
             }
             reflect(l, i / d2)
@@ -144,7 +144,9 @@ impl<'a> Direct<'a> {
                     irradiance,
                 } => {
                     let l = -direction;
-                    if normal.dot(l) <= 0.0 || bvh.occluded(from, from + l * self.sun_reach) {
+                    if !in_front(point, normal, l)
+                        || scene.occluded(from, from + l * self.sun_reach)
+                    {
                         Vec3::ZERO
                     } else {
                         reflect(l, irradiance)
@@ -192,7 +194,7 @@ impl<'a> Direct<'a> {
                     continue;
                 }
                 let target = q + emitter * self.settings.epsilon;
-                if self.scene.bvh().occluded(from, target) {
+                if self.scene.occluded(from, target) {
                     continue;
                 }
                 sum += reflect(l, radiance * (cos_e * weight / d2));

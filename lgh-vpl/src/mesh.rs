@@ -174,16 +174,41 @@ pub struct Mesh {
     materials: Vec<Material>,
     /// Emitted radiance `L_e` of each material (W / (sr m²), MTL `Ke`): zero for most.
     emission: Vec<Vec3>,
-    /// Each material's diffuse texture, an index into `textures`.
-    diffuse_maps: Vec<Option<u32>>,
-    /// Each material's specular texture (MTL `map_Ks`), an index into `textures`.
-    specular_maps: Vec<Option<u32>>,
+    /// Each material's texture maps, indices into `textures`.
+    maps: Vec<Maps>,
     /// Each material's specular part (mirror, glass), followed by paths ([`crate::specular`]).
     specular: Vec<Specular>,
     textures: Vec<Texture>,
     degenerate_skipped: usize,
     unhonoured: Vec<Unhonoured>,
 }
+
+/// A material's texture maps: indices into a mesh's textures.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Maps {
+    /// MTL `map_Kd`, multiplying `Kd`.
+    diffuse: Option<u32>,
+    /// MTL `map_Ks`, multiplying a Phong material's `Ks`.
+    specular: Option<u32>,
+    /// MTL `map_d`, the coverage that cuts holes ([`Mesh::covers`]).
+    coverage: Option<u32>,
+}
+
+impl Maps {
+    /// The same maps in a mesh whose textures start `by` further on.
+    fn offset(self, by: u32) -> Maps {
+        let shift = |i: Option<u32>| i.map(|i| i + by);
+        Maps {
+            diffuse: shift(self.diffuse),
+            specular: shift(self.specular),
+            coverage: shift(self.coverage),
+        }
+    }
+}
+
+/// The coverage (MTL `map_d`) under which a surface is a hole: ½, the alpha test of real-time
+/// renderers' cut-outs (leaves, fences, grilles); coverage is not blended.
+pub const COVERAGE_CUTOFF: f32 = 0.5;
 
 impl Mesh {
     /// Checks and assembles a mesh; zero-area triangles are dropped and counted. Triangles
@@ -268,8 +293,7 @@ impl Mesh {
             });
         }
         let emission = vec![Vec3::ZERO; materials.len()];
-        let diffuse_maps = vec![None; materials.len()];
-        let specular_maps = vec![None; materials.len()];
+        let maps = vec![Maps::default(); materials.len()];
         let specular = vec![Specular::None; materials.len()];
         Ok(Mesh {
             positions,
@@ -278,8 +302,7 @@ impl Mesh {
             triangles,
             materials,
             emission,
-            diffuse_maps,
-            specular_maps,
+            maps,
             specular,
             textures: Vec::new(),
             degenerate_skipped,
@@ -353,10 +376,7 @@ impl Mesh {
         self.texcoords.extend(other.texcoords);
         self.materials.extend(other.materials);
         self.emission.extend(other.emission);
-        self.diffuse_maps
-            .extend(other.diffuse_maps.iter().map(|d| d.map(|i| i + tex)));
-        self.specular_maps
-            .extend(other.specular_maps.iter().map(|d| d.map(|i| i + tex)));
+        self.maps.extend(other.maps.iter().map(|m| m.offset(tex)));
         self.specular.extend(other.specular);
         self.textures.extend(other.textures);
         self.degenerate_skipped += other.degenerate_skipped;
@@ -448,20 +468,87 @@ impl Mesh {
 
     /// Makes texture `index` material `material`'s diffuse texture (both must exist).
     pub(crate) fn use_texture(&mut self, material: u32, index: u32) {
-        self.diffuse_maps[material as usize] = Some(index);
+        self.maps[material as usize].diffuse = Some(index);
     }
 
     /// Makes texture `index` material `material`'s specular texture (both must exist).
     pub(crate) fn use_specular_texture(&mut self, material: u32, index: u32) {
-        self.specular_maps[material as usize] = Some(index);
+        self.maps[material as usize].specular = Some(index);
     }
 
     /// The specular texture of material `material` (MTL `map_Ks`), if it has one: it
     /// multiplies a Phong material's `Ks` where a triangle has texture coordinates.
     #[must_use]
     pub fn specular_texture(&self, material: u32) -> Option<&Texture> {
-        let index = (*self.specular_maps.get(material as usize)?)?;
+        let index = self.maps.get(material as usize)?.specular?;
         self.textures.get(index as usize)
+    }
+
+    /// Makes texture `index` material `material`'s coverage map (MTL `map_d`; both must
+    /// exist).
+    pub(crate) fn use_coverage_texture(&mut self, material: u32, index: u32) {
+        self.maps[material as usize].coverage = Some(index);
+    }
+
+    /// Gives material `material` a coverage map (MTL `map_d`, decoded with
+    /// [`Texture::decode_coverage`]): where a triangle of it has texture coordinates and the
+    /// map's coverage there is under [`COVERAGE_CUTOFF`], the triangle is not there — rays pass
+    /// through it ([`covers`](Self::covers)).
+    ///
+    /// Errors: [`MeshError::InvalidMaterial`] for a material the mesh does not have.
+    ///
+    /// ```
+    /// use lgh_core::glam::{Vec2, Vec3};
+    /// use lgh_vpl::texture::Texture;
+    /// use lgh_vpl::{Mesh, Triangle, DEFAULT_MATERIAL};
+    ///
+    /// let t = Triangle { vertices: [0, 1, 2], normals: None, texcoords: Some([0, 1, 2]), material: 0 };
+    /// let uv = vec![Vec2::ZERO, Vec2::X, Vec2::Y];
+    /// let mut mesh = Mesh::with_texcoords(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![], uv, vec![t], vec![DEFAULT_MATERIAL])?;
+    /// assert!(mesh.covers(0, 0.2, 0.2) && !mesh.has_coverage());
+    /// // Two texels: a hole on the left (u < 1/2), solid on the right.
+    /// mesh.set_coverage_texture(0, Texture::from_linear(2, 1, vec![Vec3::ZERO, Vec3::ONE]).unwrap())?;
+    /// assert!(mesh.has_coverage());
+    /// assert!(!mesh.covers(0, 0.1, 0.1)); // u = 0.1: the hole
+    /// assert!(mesh.covers(0, 0.8, 0.1)); // u = 0.8: solid
+    /// # Ok::<(), lgh_vpl::MeshError>(())
+    /// ```
+    pub fn set_coverage_texture(
+        &mut self,
+        material: u32,
+        texture: Texture,
+    ) -> Result<(), MeshError> {
+        if material as usize >= self.materials.len() {
+            return Err(MeshError::InvalidMaterial {
+                name: format!("#{material}"),
+                reason: "the mesh has no such material",
+            });
+        }
+        let index = self.add_texture(texture)?;
+        self.use_coverage_texture(material, index);
+        Ok(())
+    }
+
+    /// Whether any material has a coverage map ([`set_coverage_texture`](Self::set_coverage_texture)).
+    #[must_use]
+    pub fn has_coverage(&self) -> bool {
+        self.maps.iter().any(|m| m.coverage.is_some())
+    }
+
+    /// Whether triangle `t` is there at barycentric `(u, v)`: false only where its material's
+    /// coverage map (MTL `map_d`), read at the triangle's texture coordinates, is under
+    /// [`COVERAGE_CUTOFF`]; true without a map or without texture coordinates.
+    #[must_use]
+    pub fn covers(&self, t: u32, u: f32, v: f32) -> bool {
+        let material = self.triangles[t as usize].material as usize;
+        let Some(index) = self.maps.get(material).and_then(|m| m.coverage) else {
+            return true;
+        };
+        let (Some(map), Some(uv)) = (self.textures.get(index as usize), self.texcoord(t, u, v))
+        else {
+            return true;
+        };
+        map.sample(uv).x >= COVERAGE_CUTOFF
     }
 
     /// Replaces material `material` by `with` (checked by the caller).
@@ -472,7 +559,7 @@ impl Mesh {
     /// The diffuse texture of material `material`, if it has one.
     #[must_use]
     pub fn diffuse_texture(&self, material: u32) -> Option<&Texture> {
-        let index = (*self.diffuse_maps.get(material as usize)?)?;
+        let index = self.maps.get(material as usize)?.diffuse?;
         self.textures.get(index as usize)
     }
 

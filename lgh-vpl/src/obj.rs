@@ -53,7 +53,10 @@ impl Mesh {
     /// [`Material::Lambert`] with albedo `Kd`, otherwise
     /// [`Material::Phong`]; `Ke` → emitted radiance ([`Mesh::emission`], area lights); `map_Kd`
     /// → a diffuse texture multiplying `Kd` ([`Mesh::set_diffuse_texture`]; PNG, JPEG or TGA,
-    /// named relative to its MTL file's folder; texture options such as `-s` are skipped). A
+    /// named relative to its MTL file's folder; texture options such as `-s` are skipped);
+    /// `map_Ks` → a texture multiplying a Phong material's `Ks`; `map_d` → a coverage map
+    /// cutting holes where it is under ½ ([`Mesh::set_coverage_texture`]: alpha, or the first
+    /// channel of an image without one; `d` itself is not a cut-out, and is named). A
     /// missing `Kd` is [`DEFAULT_MATERIAL`]'s albedo; a missing `Ns` is 1. Faces without
     /// `usemtl`, or naming a material no MTL file defines, get [`DEFAULT_MATERIAL`]. Every
     /// statement not honoured (`Ka`, `illum 7`, `map_Bump`, …) is listed in
@@ -220,33 +223,45 @@ impl Mesh {
             .into_inner()
             .into_iter()
             .flat_map(|(folder, n)| std::iter::repeat_n(folder, n));
-        let mut textures: HashMap<PathBuf, Option<u32>> = HashMap::new();
+        let mut textures: HashMap<(PathBuf, bool), Option<u32>> = HashMap::new();
         for ((i, m), folder) in materials.iter().enumerate().zip(folders) {
-            let maps = [(&m.diffuse_texture, true), (&m.specular_texture, false)];
-            for (map, diffuse) in maps {
+            let maps = [
+                (&m.diffuse_texture, Map::Diffuse),
+                (&m.specular_texture, Map::Specular),
+                (&m.dissolve_texture, Map::Coverage),
+            ];
+            for (map, kind) in maps {
                 let Some(map) = map else {
                     continue;
                 };
-                // map_Ks of a mirror or glass: named by the scan, not read.
-                if !diffuse && mesh.specular_of(i as u32) != Specular::None {
+                // map_Ks of a mirror or glass, map_d of glass: named by the scan, not read.
+                let specular = mesh.specular_of(i as u32);
+                let glass = matches!(specular, Specular::Dielectric { .. });
+                if (kind == Map::Specular && specular != Specular::None)
+                    || (kind == Map::Coverage && glass)
+                {
                     continue;
                 }
                 let name = folder.join(texture_file(map));
-                let index = match textures.get(&name) {
+                // A file read as a coverage decodes differently from one read as a colour.
+                let key = (name, kind == Map::Coverage);
+                let index = match textures.get(&key) {
                     Some(&index) => index,
                     None => {
-                        let index = read_texture(&name, options, &read, &mut mesh, &mut report)?;
-                        textures.insert(name, index);
+                        let index =
+                            read_texture(&key.0, kind, options, &read, &mut mesh, &mut report)?;
+                        textures.insert(key, index);
                         index
                     }
                 };
-                match (index, diffuse) {
-                    (Some(index), true) => mesh.use_texture(i as u32, index),
-                    (Some(index), false) => mesh.use_specular_texture(i as u32, index),
+                match (index, kind) {
+                    (Some(index), Map::Diffuse) => mesh.use_texture(i as u32, index),
+                    (Some(index), Map::Specular) => mesh.use_specular_texture(i as u32, index),
+                    (Some(index), Map::Coverage) => mesh.use_coverage_texture(i as u32, index),
                     // Missing, and `MissingTextures::Grey`: the grey of the default material
-                    // (a missing map_Ks leaves Ks as it is).
-                    (None, true) => mesh.set_material(i as u32, grey(mesh.materials()[i])),
-                    (None, false) => {}
+                    // (a missing map_Ks leaves Ks as it is, a missing map_d cuts no holes).
+                    (None, Map::Diffuse) => mesh.set_material(i as u32, grey(mesh.materials()[i])),
+                    (None, _) => {}
                 }
             }
         }
@@ -302,6 +317,7 @@ fn texture_file(value: &str) -> &str {
 /// where the file is missing and `options` say grey (noted in `report`).
 fn read_texture(
     name: &Path,
+    kind: Map,
     options: &ObjOptions,
     read: &impl Fn(&Path) -> Result<(PathBuf, Vec<u8>), MeshError>,
     mesh: &mut Mesh,
@@ -314,7 +330,8 @@ fn read_texture(
                 && options.missing_textures == MissingTextures::Grey =>
         {
             let why = format!(
-                "texture {} is missing: the material is grey (map_Kd) or its Ks plain (map_Ks)",
+                "texture {} is missing: the material is grey (map_Kd), its Ks plain (map_Ks) \
+                 or solid (map_d)",
                 path.display()
             );
             report.note(&format!("texture {}", name.display()), &path, 0, &why);
@@ -322,8 +339,23 @@ fn read_texture(
         }
         Err(e) => return Err(e),
     };
-    let texture = Texture::decode(&bytes).map_err(|error| MeshError::Texture { path, error })?;
+    let texture = match kind {
+        Map::Coverage => Texture::decode_coverage(&bytes),
+        Map::Diffuse | Map::Specular => Texture::decode(&bytes),
+    }
+    .map_err(|error| MeshError::Texture { path, error })?;
     mesh.add_texture(texture).map(Some)
+}
+
+/// Which of a material's texture maps a file is read for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Map {
+    /// `map_Kd`: sRGB colours.
+    Diffuse,
+    /// `map_Ks`: sRGB colours.
+    Specular,
+    /// `map_d`: coverage ([`Texture::decode_coverage`]).
+    Coverage,
 }
 
 /// `material` with its diffuse colour the default material's grey; one without a diffuse

@@ -188,7 +188,7 @@ where
             for (x, (px, cost)) in row.iter_mut().zip(costs.iter_mut()).enumerate() {
                 let (origin, dir) = camera.ray(x, y);
                 let ray = Ray::new(origin, dir);
-                let Some(hit) = scene.bvh().intersect(&ray) else {
+                let Some(hit) = scene.intersect(&ray) else {
                     continue;
                 };
                 let point = scene.surface(&ray, &hit);

@@ -15,6 +15,8 @@ pub struct Scene {
     specular_depth: u32,
     /// Half the diagonal of the mesh's bounding box.
     radius: f32,
+    /// Whether the mesh has cut-outs (MTL `map_d`), which rays must test.
+    coverage: bool,
 }
 
 impl Scene {
@@ -25,10 +27,11 @@ impl Scene {
         let bvh = Bvh::new(&mesh);
         let (lo, hi) = mesh.bounds();
         Scene {
-            mesh,
             bvh,
             specular_depth: DEFAULT_SPECULAR_DEPTH,
             radius: (hi - lo).length() * 0.5,
+            coverage: mesh.has_coverage(),
+            mesh,
         }
     }
 
@@ -81,6 +84,30 @@ impl Scene {
         &self.bvh
     }
 
+    /// The closest hit along `ray`, through the holes of cut-outs (MTL `map_d`,
+    /// [`Mesh::covers`]).
+    #[must_use]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if self.coverage {
+            self.bvh
+                .intersect_where(ray, |t, u, v| self.mesh.covers(t, u, v))
+        } else {
+            self.bvh.intersect(ray)
+        }
+    }
+
+    /// Whether the surfaces hide `to` from `from` ([`Bvh::occluded`]), light passing through
+    /// the holes of cut-outs (MTL `map_d`, [`Mesh::covers`]).
+    #[must_use]
+    pub fn occluded(&self, from: Vec3, to: Vec3) -> bool {
+        if self.coverage {
+            self.bvh
+                .occluded_where(from, to, |t, u, v| self.mesh.covers(t, u, v))
+        } else {
+            self.bvh.occluded(from, to)
+        }
+    }
+
     /// The surface point seen along the ray from `origin` in direction `dir`, if any: see
     /// [`surface`](Self::surface).
     #[must_use]
@@ -93,7 +120,7 @@ impl Scene {
     #[must_use]
     pub fn trace(&self, origin: Vec3, dir: Vec3) -> Option<(ShadingPoint, u32)> {
         let ray = Ray::new(origin, dir);
-        let hit = self.bvh.intersect(&ray)?;
+        let hit = self.intersect(&ray)?;
         Some((self.surface(&ray, &hit), hit.triangle))
     }
 

@@ -168,7 +168,8 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
             "map_Ks" if mirror || refracting => {
                 "a mirror's or glass's reflectance is not textured: map_Ks is not applied"
             }
-            "map_Kd" | "map_Ks" => match s.args.iter().find(|a| a.starts_with('-')) {
+            "map_d" if refracting => "glass refracts by Ni: its map_d is not applied",
+            "map_Kd" | "map_Ks" | "map_d" => match s.args.iter().find(|a| a.starts_with('-')) {
                 None => continue,
                 Some(option) => {
                     statement = format!("{} {option}", s.key);
@@ -202,7 +203,7 @@ fn scan_material(path: &Path, statements: &[Statement], report: &mut Report) {
                 "transparency without refraction is not rendered: opaque (illum 4, 6, 7 or 9 refract)"
             }
             "Ka" | "map_Ka" => "ambient colour has no meaning in a physically based renderer: ignored",
-            "map_Ns" | "map_d" | "map_Bump" | "map_bump" | "bump" | "norm" | "disp"
+            "map_Ns" | "map_Bump" | "map_bump" | "bump" | "norm" | "disp"
             | "decal" | "refl" | "map_Ke" | "map_Pr" | "map_Pm" => "this texture map is not applied",
             "Pr" | "Pm" | "Ps" | "Pc" | "Pcr" | "aniso" | "anisor" | "sharpness" => {
                 "not rendered (the material is Lambert or Phong from Kd, Ks, Ns)"

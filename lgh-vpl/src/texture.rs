@@ -131,44 +131,40 @@ impl Texture {
     /// assert!(matches!(e, TextureError::NotAnImage(_)));
     /// ```
     pub fn decode(bytes: &[u8]) -> Result<Texture, TextureError> {
-        use image::{ImageFormat, ImageReader, Limits};
-        let not_image = |e: &dyn fmt::Display| TextureError::NotAnImage(e.to_string());
-        let reader = || -> Result<ImageReader<_>, TextureError> {
-            let mut reader = ImageReader::new(std::io::Cursor::new(bytes))
-                .with_guessed_format()
-                .map_err(|e| not_image(&e))?;
-            match reader.format() {
-                Some(ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Tga) => Ok(reader),
-                // TGA has no signature to guess it by; try it last.
-                None => {
-                    reader.set_format(ImageFormat::Tga);
-                    Ok(reader)
-                }
-                Some(other) => Err(TextureError::NotAnImage(format!(
-                    "{other:?} is not one of PNG, JPEG and TGA"
-                ))),
-            }
-        };
-        let (width, height) = reader()?.into_dimensions().map_err(|e| not_image(&e))?;
-        if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
-            return Err(TextureError::TooLarge { width, height });
-        }
-        let mut reader = reader()?;
-        let mut limits = Limits::default();
-        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
-        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
-        limits.max_alloc = Some(MAX_DECODED_BYTES);
-        reader.limits(limits);
-        let image = reader
-            .decode()
-            .map_err(|e| match e {
-                image::ImageError::Limits(_) => TextureError::TooLarge { width, height },
-                e => not_image(&e),
-            })?
-            .to_rgb32f();
+        let image = decode_image(bytes)?.to_rgb32f();
         let texels = image
             .pixels()
             .map(|p| Vec3::from(p.0).map(lgh_image::srgb_to_linear))
+            .collect();
+        Texture::from_linear(image.width() as usize, image.height() as usize, texels)
+    }
+
+    /// Decodes a coverage map's `bytes` (MTL `map_d`, [`Mesh::covers`](crate::Mesh::covers)):
+    /// each texel's alpha where the image has an alpha channel, its first channel otherwise,
+    /// as stored (a coverage is a fraction, not an sRGB colour), in every component.
+    ///
+    /// Errors: as [`decode`](Self::decode).
+    ///
+    /// ```
+    /// use lgh_core::glam::{Vec2, Vec3};
+    /// use lgh_vpl::texture::Texture;
+    ///
+    /// // A 2×1 grey PNG: 0 on the left, 255 on the right.
+    /// let mut png = Vec::new();
+    /// image::GrayImage::from_raw(2, 1, vec![0, 255]).unwrap()
+    ///     .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
+    /// let t = Texture::decode_coverage(&png)?;
+    /// assert_eq!(t.sample(Vec2::new(0.25, 0.5)), Vec3::ZERO);
+    /// assert_eq!(t.sample(Vec2::new(0.75, 0.5)), Vec3::ONE);
+    /// # Ok::<(), lgh_vpl::texture::TextureError>(())
+    /// ```
+    pub fn decode_coverage(bytes: &[u8]) -> Result<Texture, TextureError> {
+        let image = decode_image(bytes)?;
+        let alpha = image.color().has_alpha();
+        let image = image.to_rgba32f();
+        let texels = image
+            .pixels()
+            .map(|p| Vec3::splat(if alpha { p.0[3] } else { p.0[0] }))
             .collect();
         Texture::from_linear(image.width() as usize, image.height() as usize, texels)
     }
@@ -228,6 +224,43 @@ fn finite_or_zero(t: f32) -> f32 {
     } else {
         0.0
     }
+}
+
+/// A PNG, JPEG or TGA file's `bytes` decoded (the format found from the bytes), within
+/// [`MAX_TEXTURE_SIDE`] and [`MAX_DECODED_BYTES`] ([`Texture::decode`]'s errors).
+fn decode_image(bytes: &[u8]) -> Result<image::DynamicImage, TextureError> {
+    use image::{ImageFormat, ImageReader, Limits};
+    let not_image = |e: &dyn fmt::Display| TextureError::NotAnImage(e.to_string());
+    let reader = || -> Result<ImageReader<_>, TextureError> {
+        let mut reader = ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| not_image(&e))?;
+        match reader.format() {
+            Some(ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Tga) => Ok(reader),
+            // TGA has no signature to guess it by; try it last.
+            None => {
+                reader.set_format(ImageFormat::Tga);
+                Ok(reader)
+            }
+            Some(other) => Err(TextureError::NotAnImage(format!(
+                "{other:?} is not one of PNG, JPEG and TGA"
+            ))),
+        }
+    };
+    let (width, height) = reader()?.into_dimensions().map_err(|e| not_image(&e))?;
+    if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
+        return Err(TextureError::TooLarge { width, height });
+    }
+    let mut reader = reader()?;
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+    limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+    limits.max_alloc = Some(MAX_DECODED_BYTES);
+    reader.limits(limits);
+    reader.decode().map_err(|e| match e {
+        image::ImageError::Limits(_) => TextureError::TooLarge { width, height },
+        e => not_image(&e),
+    })
 }
 
 #[cfg(test)]

@@ -373,7 +373,7 @@ impl<'a> Indirect<'a> {
             return false;
         }
         self.count_ray();
-        self.scene.bvh().occluded(from, to)
+        self.scene.occluded(from, to)
     }
 
     /// Radiance reflected towards the viewer at `point` (unit `normal`) from a point light of

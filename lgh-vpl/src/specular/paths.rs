@@ -161,7 +161,7 @@ where
             point.position + branch.side * scene.ray_offset(),
             branch.dir,
         );
-        let Some(hit) = scene.bvh().intersect(&ray) else {
+        let Some(hit) = scene.intersect(&ray) else {
             continue;
         };
         let surface = scene.surface(&ray, &hit);
