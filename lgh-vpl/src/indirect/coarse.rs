@@ -115,6 +115,7 @@ fn adaptive(
 ) -> Result<(Illumination, bool), QueryError> {
     thread_local! {
         static COARSE: std::cell::RefCell<Vec<(LightSample, f32)>> = const { std::cell::RefCell::new(Vec::new()) };
+        static SHADED: std::cell::RefCell<Vec<Shaded>> = const { std::cell::RefCell::new(Vec::new()) };
     }
     let lgh = backend.hierarchy();
     let Some(normal) = point.normal else {
@@ -148,25 +149,28 @@ fn adaptive(
             }
         })?;
         let mut rng = SplitMix64(crate::direct::point_seed(point.position, ROULETTE_SALT));
-        let mut mean = mean;
-        let mut pass = shade_coarse(point, coarse, mean, reps, shader, &mut rng);
-        let mut rounds = 0;
-        if let Some(bound) = shader.settings.point_error {
-            while rounds < refine::MAX_ROUNDS
-                && !pass.complete
-                && refine::needs_refining(
-                    f64::from(lgh_core::luminance(radiance + pass.radiance)),
-                    pass.variance,
-                    bound,
-                )
-            {
-                mean *= refine::GROWTH;
-                pass = shade_coarse(point, coarse, mean, reps, shader, &mut rng);
-                rounds += 1;
+        SHADED.with_borrow_mut(|shaded| {
+            shaded.clear();
+            let mut mean = mean;
+            let mut pass = shade_coarse(point, coarse, mean, reps, shader, &mut rng, shaded);
+            let mut rounds = 0;
+            if let Some(bound) = shader.settings.point_error {
+                while rounds < refine::MAX_ROUNDS
+                    && !pass.complete
+                    && refine::needs_refining(
+                        f64::from(lgh_core::luminance(radiance + pass.radiance)),
+                        pass.variance,
+                        bound,
+                    )
+                {
+                    mean *= refine::GROWTH;
+                    pass = shade_coarse(point, coarse, mean, reps, shader, &mut rng, shaded);
+                    rounds += 1;
+                }
             }
-        }
-        radiance += pass.radiance;
-        Ok((Illumination { radiance, lights }, rounds > 0))
+            radiance += pass.radiance;
+            Ok((Illumination { radiance, lights }, rounds > 0))
+        })
     })
 }
 
@@ -181,9 +185,22 @@ struct Pass {
     complete: bool,
 }
 
+/// A coarse light's estimate through the first `m` of its representatives, unweighted (kept
+/// from one pass to the next at a point: the next pass's longer prefix starts with them).
+#[derive(Clone, Copy, Default)]
+struct Shaded {
+    /// How many (0: none kept — skipped, or weighted by the roulette).
+    m: usize,
+    radiance: Vec3,
+    tally: Tally,
+}
+
 /// The coarse lights `coarse` (each with its unshadowed estimate) at `point`, `mean` samples
 /// per light shared in proportion to the estimates ([`Coarse::Adaptive`]), the roulette's
-/// numbers from `rng`.
+/// numbers from `rng`. `shaded` holds the previous pass's unweighted estimates (empty before
+/// the first) and is left holding this pass's: a light that takes a longer prefix than before
+/// shades only the representatives it had not (the prefixes are nested, so this is the same
+/// estimate as shading them all, with fewer shadow rays).
 fn shade_coarse(
     point: &ShadingPoint,
     coarse: &[(LightSample, f32)],
@@ -191,7 +208,9 @@ fn shade_coarse(
     reps: &Representatives,
     shader: &Indirect<'_>,
     rng: &mut SplitMix64,
+    shaded: &mut Vec<Shaded>,
 ) -> Pass {
+    shaded.resize(coarse.len(), Shaded::default());
     let total: f32 = coarse.iter().map(|c| c.1).sum();
     let budget = mean.max(0.0) * coarse.len() as f32;
     let nested = reps.is_nested();
@@ -201,7 +220,8 @@ fn shade_coarse(
     let (mut own, mut single_sq) = (0.0f64, 0.0f64);
     let (mut lit, mut unshadowed) = (0.0f64, 0.0f64);
     let mut complete = true;
-    for (s, c) in coarse {
+    for ((s, c), kept) in coarse.iter().zip(shaded.iter_mut()) {
+        let before = std::mem::take(kept);
         let all = reps.of(s.level, s.index);
         let want = if total > 0.0 { budget * c / total } else { 1.0 };
         // In f64: a 24-bit draw would make the probability of a tiny `want` differ from it.
@@ -224,10 +244,37 @@ fn shade_coarse(
             continue;
         };
         complete &= m >= all.len() && p == 1.0;
-        let prefix = all.get(..m).unwrap_or(&[]);
-        let mut tally = Tally::default();
-        let ids = prefix.iter().map(|&i| i as usize);
-        let shaded = shader.shade_representatives_tallied(point, s, ids, &mut tally);
+        let (shaded, tally) = if p == 1.0 && before.m == m {
+            // The same prefix as before: the same estimate.
+            (before.radiance, before.tally)
+        } else if p == 1.0 && before.m > 0 && before.m < m {
+            // The first `before.m` as before; the rest shaded now; both at their share of m.
+            let mut rest = Tally::default();
+            let ids = all
+                .get(before.m..m)
+                .unwrap_or(&[])
+                .iter()
+                .map(|&i| i as usize);
+            let more = shader.shade_representatives_tallied(point, s, ids, &mut rest);
+            let (a, b) = (before.m as f32 / m as f32, (m - before.m) as f32 / m as f32);
+            let tally = before
+                .tally
+                .scaled(f64::from(a))
+                .merged(&rest.scaled(f64::from(b)));
+            (before.radiance * a + more * b, tally)
+        } else {
+            let mut tally = Tally::default();
+            let ids = all.get(..m).unwrap_or(&[]).iter().map(|&i| i as usize);
+            let shaded = shader.shade_representatives_tallied(point, s, ids, &mut tally);
+            (shaded, tally)
+        };
+        if p == 1.0 {
+            *kept = Shaded {
+                m,
+                radiance: shaded,
+                tally,
+            };
+        }
         radiance += shaded * (1.0 / p) as f32;
         lit += tally.lit();
         unshadowed += tally.unshadowed();

@@ -89,6 +89,31 @@ impl Tally {
         self.unshadowed_sq += u * u / t;
     }
 
+    /// The tally of the same draws with every share multiplied by `f` (an estimate of `k`
+    /// draws seen as part of one of `k/f`).
+    #[must_use]
+    pub fn scaled(&self, f: f64) -> Tally {
+        Tally {
+            draws: self.draws,
+            lit: self.lit * f,
+            lit_sq: self.lit_sq * f * f,
+            unshadowed: self.unshadowed * f,
+            unshadowed_sq: self.unshadowed_sq * f * f,
+        }
+    }
+
+    /// Both tallies' draws together.
+    #[must_use]
+    pub fn merged(&self, other: &Tally) -> Tally {
+        Tally {
+            draws: self.draws + other.draws,
+            lit: self.lit + other.lit,
+            lit_sq: self.lit_sq + other.lit_sq,
+            unshadowed: self.unshadowed + other.unshadowed,
+            unshadowed_sq: self.unshadowed_sq + other.unshadowed_sq,
+        }
+    }
+
     /// The draws tallied.
     #[must_use]
     pub fn draws(&self) -> u32 {
