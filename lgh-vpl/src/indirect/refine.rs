@@ -48,8 +48,10 @@ pub const DEFAULT_POINT_ERROR: f32 = 0.1;
 /// bound: 1.645, two-sided 90%. A point whose estimate just meets the rule errs by more than ε
 /// one time in ten, and most points are far inside it, so the fraction of points over ε is
 /// far below 10%; the target is 1% of the pixels. Measured on Sponza at α = 4 (1,566 pixels,
-/// `docs/gi.md`): 2.576 refined 35% of the points and left 0.13% of the pixels over 10%, 1.645
-/// refined 10% and left 0.32%, 1.0 refined 0.3% and left 1.1% (without refinement 1.2%).
+/// `docs/gi.md`): 1.645 refines 27% of the points and leaves 0.38% of the pixels over 10%
+/// (2.62% without refinement), 1.28 leaves 1.02%. (Before the which-VPL term, with VPLs
+/// emitting about their shading normal: 2.576 refined 35% and left 0.13%, 1.645 10% and
+/// 0.32%, 1.0 0.3% and 1.1%, against 1.2% without.)
 pub const CONFIDENCE_Z: f64 = 1.645;
 
 /// How much a refinement round multiplies the mean samples per coarse light.
