@@ -244,7 +244,7 @@ fn shade_coarse(
             continue;
         };
         complete &= m >= all.len() && p == 1.0;
-        let (shaded, tally) = if p == 1.0 && before.m == m {
+        let (estimate, tally) = if p == 1.0 && before.m == m {
             // The same prefix as before: the same estimate.
             (before.radiance, before.tally)
         } else if p == 1.0 && before.m > 0 && before.m < m {
@@ -265,17 +265,17 @@ fn shade_coarse(
         } else {
             let mut tally = Tally::default();
             let ids = all.get(..m).unwrap_or(&[]).iter().map(|&i| i as usize);
-            let shaded = shader.shade_representatives_tallied(point, s, ids, &mut tally);
-            (shaded, tally)
+            let estimate = shader.shade_representatives_tallied(point, s, ids, &mut tally);
+            (estimate, tally)
         };
         if p == 1.0 {
             *kept = Shaded {
                 m,
-                radiance: shaded,
+                radiance: estimate,
                 tally,
             };
         }
-        radiance += shaded * (1.0 / p) as f32;
+        radiance += estimate * (1.0 / p) as f32;
         lit += tally.lit();
         unshadowed += tally.unshadowed();
         let scale = 1.0 / (p * p);
