@@ -205,8 +205,8 @@ pub struct SceneArgs {
     pub lobe_error: Bound,
     /// Backend lgh, with the default coarse shading: the bound on each shading point's error
     /// (0.1 is 10% of its light). Where a point's error, estimated from its own samples
-    /// (1.645 standard errors), may exceed it, its coarse lights are shaded again with four
-    /// times the representatives, up to three times; `off`: the mean number everywhere.
+    /// (1.645 standard errors), may exceed it, its coarse lights are shaded again with twice
+    /// the representatives, up to six times; `off`: the mean number everywhere.
     /// `lgh bench gi` counts the pixels over it (`points_over_bound`).
     #[arg(long, default_value = "0.1", value_parser = parse_bound)]
     pub point_error: Bound,
