@@ -31,7 +31,7 @@
 //! samples, up to all the representatives there are ([`MAX_ROUNDS`] times at most, or until
 //! every light is shaded through all of them). The estimate is still unbiased for a fixed
 //! number of rounds; stopping on the estimate itself adds a bias far below the noise it
-//! removes (the adaptive renders' means are tested against the full representatives').
+//! removes (the refined render's mean is tested against that of every representative).
 //! Systematic sampling spreads the draws more evenly than independent ones, so the sample
 //! variance over-states it: the rule errs on the side of refining.
 //!
@@ -48,8 +48,9 @@ pub const DEFAULT_POINT_ERROR: f32 = 0.1;
 /// bound: 1.645, two-sided 90%. A point whose estimate just meets the rule errs by more than ε
 /// one time in ten, and most points are far inside it, so the fraction of points over ε is
 /// far below 10%; the target is 1% of the pixels. Measured on Sponza at α = 4 (1,566 pixels,
-/// `docs/gi.md`): 1.645 refines 27% of the points and leaves 0.38% of the pixels over 10%
-/// (2.62% without refinement), 1.28 leaves 1.02%. (Before the which-VPL term, with VPLs
+/// `docs/gi.md`): 1.645 refines 27% of the points and leaves 0.70% of the pixels over 10%
+/// (2.62% without refinement), 2.0 leaves 0.13% for 12% more shadow rays; with four times the
+/// samples a round, 1.645 left 0.38% and 1.28 1.02%. (Before the which-VPL term, with VPLs
 /// emitting about their shading normal: 2.576 refined 35% and left 0.13%, 1.645 10% and
 /// 0.32%, 1.0 0.3% and 1.1%, against 1.2% without.)
 pub const CONFIDENCE_Z: f64 = 1.645;
