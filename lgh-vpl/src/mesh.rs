@@ -448,15 +448,20 @@ impl Mesh {
         material: u32,
         texture: Texture,
     ) -> Result<(), MeshError> {
+        let index = self.add_texture_for(material, texture)?;
+        self.use_texture(material, index);
+        Ok(())
+    }
+
+    /// Adds `texture` for material `material`, which must exist: its index.
+    fn add_texture_for(&mut self, material: u32, texture: Texture) -> Result<u32, MeshError> {
         if material as usize >= self.materials.len() {
             return Err(MeshError::InvalidMaterial {
                 name: format!("#{material}"),
                 reason: "the mesh has no such material",
             });
         }
-        let index = self.add_texture(texture)?;
-        self.use_texture(material, index);
-        Ok(())
+        self.add_texture(texture)
     }
 
     /// Adds `texture` for materials to share ([`use_texture`](Self::use_texture)): its index.
@@ -518,13 +523,7 @@ impl Mesh {
         material: u32,
         texture: Texture,
     ) -> Result<(), MeshError> {
-        if material as usize >= self.materials.len() {
-            return Err(MeshError::InvalidMaterial {
-                name: format!("#{material}"),
-                reason: "the mesh has no such material",
-            });
-        }
-        let index = self.add_texture(texture)?;
+        let index = self.add_texture_for(material, texture)?;
         self.use_coverage_texture(material, index);
         Ok(())
     }
