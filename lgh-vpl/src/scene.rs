@@ -15,7 +15,8 @@ pub struct Scene {
     specular_depth: u32,
     /// Half the diagonal of the mesh's bounding box.
     radius: f32,
-    /// Whether the mesh has cut-outs (MTL `map_d`), which rays must test.
+    /// Whether the mesh has cut-outs (MTL `map_d`), which rays must test (kept: every ray
+    /// asks, and the mesh does not change).
     coverage: bool,
 }
 

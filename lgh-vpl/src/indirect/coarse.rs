@@ -152,9 +152,10 @@ fn adaptive(
         SHADED.with_borrow_mut(|shaded| {
             shaded.clear();
             let mut mean = mean;
+            let bound = shader.settings.point_error;
             let mut pass = shade_coarse(point, coarse, mean, reps, shader, &mut rng, shaded);
             let mut rounds = 0;
-            if let Some(bound) = shader.settings.point_error {
+            if let Some(bound) = bound {
                 while rounds < refine::MAX_ROUNDS
                     && !pass.complete
                     && refine::needs_refining(
@@ -178,7 +179,8 @@ fn adaptive(
 struct Pass {
     /// What they give.
     radiance: Vec3,
-    /// Its estimated variance in luminance ([`refine`](super::refine)).
+    /// Its estimated variance in luminance ([`refine`](super::refine)); 0 where the shader has
+    /// no point bound, which is the only reader.
     variance: f64,
     /// Whether every light was shaded through all its representatives, unweighted: more
     /// samples cannot change the estimate.
@@ -210,6 +212,13 @@ fn shade_coarse(
     rng: &mut SplitMix64,
     shaded: &mut Vec<Shaded>,
 ) -> Pass {
+    let Some(normal) = point.normal else {
+        return Pass {
+            radiance: Vec3::ZERO,
+            variance: 0.0,
+            complete: true,
+        };
+    };
     shaded.resize(coarse.len(), Shaded::default());
     let total: f32 = coarse.iter().map(|c| c.1).sum();
     let budget = mean.max(0.0) * coarse.len() as f32;
@@ -220,6 +229,8 @@ fn shade_coarse(
     let (mut own, mut single_sq) = (0.0f64, 0.0f64);
     let (mut lit, mut unshadowed) = (0.0f64, 0.0f64);
     let mut complete = true;
+    // Without a point bound nothing reads the variance: its parts are not computed.
+    let estimate_variance = shader.settings.point_error.is_some();
     for ((s, c), kept) in coarse.iter().zip(shaded.iter_mut()) {
         let before = std::mem::take(kept);
         let all = reps.of(s.level, s.index);
@@ -276,6 +287,9 @@ fn shade_coarse(
             };
         }
         radiance += estimate * (1.0 / p) as f32;
+        if !estimate_variance {
+            continue;
+        }
         lit += tally.lit();
         unshadowed += tally.unshadowed();
         let scale = 1.0 / (p * p);
@@ -286,12 +300,11 @@ fn shade_coarse(
             // Which VPL was drawn: its unshadowed share against the light's own, unshadowed,
             // as the isotropic point it is in the hierarchy (one draw's deviation from the mean
             // it estimates, the mean taken from the aggregate).
-            let point_like = match point.normal {
-                Some(n) if super::facing(point, n, s.position) => {
-                    let lit = shader.reflect(point, n, s.position, s.intensity);
-                    f64::from(lgh_core::luminance(lit))
-                }
-                _ => 0.0,
+            let point_like = if super::facing(point, normal, s.position) {
+                let lit = shader.reflect(point, normal, s.position, s.intensity);
+                f64::from(lgh_core::luminance(lit))
+            } else {
+                0.0
             };
             let off = tally.unshadowed() - point_like;
             own += off * off * scale;
@@ -318,6 +331,16 @@ mod tests {
     use super::*;
     use crate::indirect::tests::{rel_rmse, Fixture};
     use crate::representatives::Allocation;
+
+    /// The sum of every pixel's channels: the image's light, whose ratio compares two
+    /// renders' means.
+    fn light_sum(r: &Rendered) -> f64 {
+        r.image
+            .pixels
+            .iter()
+            .map(|p| f64::from(p.element_sum()))
+            .sum()
+    }
 
     /// A pool of `n` threads.
     fn pool(n: usize) -> rayon::ThreadPool {
@@ -382,17 +405,10 @@ mod tests {
         // Unbiased: the image's mean matches that of every coarse light shaded through all 16
         // of its representatives (the roulette's weights and the prefixes change the noise, not
         // the mean).
-        let mean = |r: &Rendered| {
-            r.image
-                .pixels
-                .iter()
-                .map(|p| p.element_sum() as f64)
-                .sum::<f64>()
-        };
         let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
         let all = Coarse::Representatives(&reps);
         let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
-        let ratio = mean(&render(4.0)) / mean(&full);
+        let ratio = light_sum(&render(4.0)) / light_sum(&full);
         println!("adaptive mean over all-16 mean: {ratio:.4}");
         // Measured 1.0030. Bound: the per-pixel noise is about the 4.4% RMSE above; over 768
         // pixels that is 0.16% if they were independent, and neighbours share lights, so an
@@ -466,14 +482,7 @@ mod tests {
         let shader = f.shader();
         let all = Coarse::Representatives(&reps);
         let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
-        let sum = |r: &Rendered| {
-            r.image
-                .pixels
-                .iter()
-                .map(|p| f64::from(p.element_sum()))
-                .sum::<f64>()
-        };
-        let ratio = sum(&refined) / sum(&full);
+        let ratio = light_sum(&refined) / light_sum(&full);
         println!("refined mean over all-32 mean: {ratio:.4}");
         assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
         assert_eq!(
