@@ -106,6 +106,24 @@ impl From<MissingTextures> for lgh_vpl::MissingTextures {
     }
 }
 
+/// `--normals`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Normals {
+    /// The OBJ's vertex normals (`vn`), interpolated; the face normal where a face names none.
+    Vertex,
+    /// Every face its own normal, the file's `vn` ignored (and named).
+    Face,
+}
+
+impl From<Normals> for lgh_vpl::Normals {
+    fn from(n: Normals) -> Self {
+        match n {
+            Normals::Vertex => lgh_vpl::Normals::Vertex,
+            Normals::Face => lgh_vpl::Normals::Face,
+        }
+    }
+}
+
 /// `--lobe-error`, `--point-error`: a bound, or `off`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bound(pub Option<f32>);
@@ -132,6 +150,12 @@ pub struct SceneArgs {
     /// colour is grey, 0.5, and a warning names it).
     #[arg(long, value_enum, default_value_t = MissingTextures::Error)]
     pub missing_textures: MissingTextures,
+    /// Which normals shade a face: `vertex`, the OBJ's `vn` interpolated (the face's normal
+    /// where a face names none), or `face`, every face its own normal, for meshes whose
+    /// vertex normals are poor (Sponza's: a tenth of its corners lean over 68° from their
+    /// face). Shadow rays and the VPLs' hemisphere always use the face's.
+    #[arg(long, value_enum, default_value_t = Normals::Vertex)]
+    pub normals: Normals,
     /// A primary light, repeatable: `point:X,Y,Z,R,G,B`, `spot:X,Y,Z,DX,DY,DZ,ANGLE,R,G,B` or
     /// `sun:DX,DY,DZ,R,G,B` (intensities in W/sr, the sun's irradiance in W/m²).
     #[arg(long = "light")]
@@ -310,6 +334,7 @@ impl SceneArgs {
         };
         let options = lgh_vpl::ObjOptions {
             missing_textures: self.missing_textures.into(),
+            normals: self.normals.into(),
         };
         let mesh = Mesh::load_obj_with(&self.obj, &options, |_, _| {})?;
         if !self.quiet {

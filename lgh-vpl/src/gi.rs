@@ -669,7 +669,8 @@ impl GiScene {
         let (lo, hi) = mesh.bounds();
         let mut scene = Scene::new(mesh);
         scene.set_specular_depth(settings.specular_depth);
-        let traced = trace(&scene, &primary, &settings.vpls)?;
+        let mut traced = trace(&scene, &primary, &settings.vpls)?;
+        traced.sort_spatially();
         let points = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&points, &GridSettings::default())?;
         let shading = IndirectSettings {
@@ -820,9 +821,10 @@ impl GiScene {
                         b
                     })
                 }
-                Aggregation::Isotropic => LghExtras::Isotropic(
-                    representatives.then(|| Representatives::build_with(&self.lgh, allocation)),
-                ),
+                Aggregation::Isotropic => LghExtras::Isotropic(representatives.then(|| {
+                    let strata: Vec<u8> = self.traced.vpls.iter().map(Vpl::orientation).collect();
+                    Representatives::build_stratified(&self.lgh, allocation, &strata)
+                })),
             })
         })
     }
@@ -862,7 +864,7 @@ impl GiScene {
         self.emissive
     }
 
-    /// The VPLs, in path order.
+    /// The VPLs, in space's Morton order ([`Vpls::sort_spatially`]).
     #[must_use]
     pub fn vpls(&self) -> &[Vpl] {
         &self.traced.vpls

@@ -85,7 +85,7 @@ pub use gi::{GiError, GiMethod, GiScene, GiSettings};
 pub use lgh_core;
 pub use lgh_image::camera::{CameraError, Pinhole as Camera};
 pub use mesh::{Mesh, MeshError, Triangle, DEFAULT_MATERIAL, MAX_LINE_BYTES};
-pub use obj::{MissingTextures, ObjOptions};
+pub use obj::{MissingTextures, Normals, ObjOptions};
 pub use render::{render, render_with_shader, RenderError, Rendered};
 pub use scene::Scene;
 pub use statements::Unhonoured;

@@ -30,11 +30,26 @@ pub enum MissingTextures {
     Grey,
 }
 
+/// Which normals shade a face.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Normals {
+    /// The OBJ's vertex normals (`vn`), interpolated, where a face names one at every corner;
+    /// its face normal elsewhere.
+    #[default]
+    Vertex,
+    /// Every face its own face normal, whatever `vn` the file gives (named in
+    /// [`Mesh::unhonoured`] at its first use): for meshes whose vertex normals are poor,
+    /// such as Sponza's, a tenth of whose corners lean more than 68° from their face.
+    Face,
+}
+
 /// How [`Mesh::load_obj_with`] reads a scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ObjOptions {
     /// What a missing texture file does.
     pub missing_textures: MissingTextures,
+    /// Which normals shade a face.
+    pub normals: Normals,
 }
 
 impl Mesh {
@@ -163,7 +178,9 @@ impl Mesh {
         // Before tobj, which panics on some indices out of range.
         let faces = check_faces(path, text)?;
         let mut report = Report::default();
-        scan_obj(path, text, faces.iter().any(|f| !f.normals), &mut report);
+        let vertex_normals = options.normals == Normals::Vertex;
+        let flat = !vertex_normals || faces.iter().any(|f| !f.normals);
+        scan_obj(path, text, flat, vertex_normals, &mut report);
         let report = RefCell::new(report);
         // Each MTL file's folder (relative to the OBJ's) and how many materials it defines, in
         // the order tobj appends them.
@@ -218,7 +235,7 @@ impl Mesh {
         // Every MTL file loaded (their errors returned above), so this is Ok or "none named".
         let materials = materials.unwrap_or_default();
         let mut report = report.into_inner();
-        let mut mesh = from_tobj(&models, &materials, &faces, &mut report)?;
+        let mut mesh = from_tobj(&models, &materials, &faces, vertex_normals, &mut report)?;
         let folders = libraries
             .into_inner()
             .into_iter()
@@ -642,11 +659,13 @@ fn check_faces(path: &Path, obj: &str) -> Result<Vec<FaceCorners>, MeshError> {
 /// and texture coordinates only where its face (`faces`, in file order, which is the order of
 /// `tobj`'s triangles) names them at every corner: `tobj` makes up indices for the corners that
 /// name none (copying another corner's). A material's texture on faces without texture
-/// coordinates is noted in `report`.
+/// coordinates is noted in `report`. Without `vertex_normals`, no triangle takes any
+/// ([`Normals::Face`]).
 fn from_tobj(
     models: &[tobj::Model],
     mtls: &[tobj::Material],
     faces: &[FaceCorners],
+    vertex_normals: bool,
     report: &mut Report,
 ) -> Result<Mesh, MeshError> {
     let parsed = mtls.iter().map(from_mtl).collect::<Result<Vec<_>, _>>()?;
@@ -678,7 +697,7 @@ fn from_tobj(
         let textured = mtls
             .get(material as usize)
             .is_some_and(|m| m.diffuse_texture.is_some());
-        let has_normals = mesh.normal_indices.len() == mesh.indices.len();
+        let has_normals = vertex_normals && mesh.normal_indices.len() == mesh.indices.len();
         let has_texcoords = mesh.texcoord_indices.len() == mesh.indices.len();
         for (k, corners) in mesh.indices.chunks_exact(3).enumerate() {
             let triangle = triangles.len();
@@ -824,6 +843,28 @@ newmtl unused
             (n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6,
             "{n}"
         );
+    }
+
+    #[test]
+    fn face_normals_leave_the_files_vn_unused_and_say_so() {
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 1\nvn 0 1 1\nvn 1 1 1\nf 1//1 2//2 3//3\n";
+        let dir = tempfile::tempdir().unwrap();
+        let path = write(dir.path(), "scene.obj", obj);
+        let options = ObjOptions {
+            normals: Normals::Face,
+            ..ObjOptions::default()
+        };
+        let m = Mesh::load_obj_with(&path, &options, |_, _| {}).unwrap();
+        assert_eq!(m.triangles()[0].normals, None);
+        // Shaded by the face's own normal everywhere.
+        assert_eq!(m.shading_normal(0, 0.2, 0.3), Vec3::Z);
+        let vn = m.unhonoured().iter().find(|u| u.statement == "vn").unwrap();
+        assert_eq!((vn.line, vn.uses), (4, 3));
+        assert!(vn.why.contains("normals: face"), "{}", vn.why);
+        // The default uses them, and names nothing.
+        let m = Mesh::load_obj(&path).unwrap();
+        assert_eq!(m.triangles()[0].normals, Some([0, 1, 2]));
+        assert!(m.unhonoured().iter().all(|u| u.statement != "vn"));
     }
 
     #[test]

@@ -144,6 +144,53 @@ impl Representatives {
     /// ```
     #[must_use]
     pub fn build_with(lgh: &LightingGridHierarchy, allocation: Allocation) -> Self {
+        Self::build_stratified(lgh, allocation, &[])
+    }
+
+    /// Draws representatives for every light of levels ≥ 1 of `lgh`, as many as `allocation`
+    /// says, stratified: the systematic sample runs over a light's input lights ordered by
+    /// `strata[j]` (input light `j`'s stratum; 0 past the slice's end) first, so `k` draws
+    /// give each stratum `k` times its share of the weight to within one — and with
+    /// [`Allocation::Nested`], so does every power-of-two prefix. Each draw still picks input
+    /// light `j` with probability `w_j ‖I_j‖ / Σ w ‖I‖`, so the estimate stays unbiased; what
+    /// strata of like VPLs (the axis their lobe points along, [`Vpl::orientation`]) remove is
+    /// the chance that a few draws all land on, say, the floor of a cell that also holds a
+    /// wall, whose lobes face elsewhere.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    /// use lgh_vpl::representatives::{Allocation, Representatives};
+    ///
+    /// // A floor (stratum 0) and a wall (stratum 1) meeting along x = 0.
+    /// let lights: Vec<PointLight> = (0..400u32)
+    ///     .map(|i| match i % 2 {
+    ///         0 => Vec3::new((i / 2 % 10) as f32 * 0.1, 0.0, (i / 20) as f32 * 0.1),
+    ///         _ => Vec3::new(0.0, (i / 2 % 10) as f32 * 0.1, (i / 20) as f32 * 0.1),
+    ///     })
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let strata: Vec<u8> = (0..400).map(|i| (i % 2) as u8).collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let reps = Representatives::build_stratified(&lgh, Allocation::Nested(8), &strata);
+    /// // Every lit coarse light has its 8, in nested order; `stratified_prefixes_…` in this
+    /// // module's tests checks each prefix's share of every stratum.
+    /// for level in 1..=lgh.max_level() {
+    ///     for (i, light) in lgh.level(level).iter().enumerate() {
+    ///         let n = reps.of(level, i as u32).len();
+    ///         assert_eq!(n, if light.luminance > 0.0 { 8 } else { 0 });
+    ///     }
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// [`Vpl::orientation`]: crate::vpl::Vpl::orientation
+    #[must_use]
+    pub fn build_stratified(
+        lgh: &LightingGridHierarchy,
+        allocation: Allocation,
+        strata: &[u8],
+    ) -> Self {
         let levels = (1..=lgh.max_level())
             .map(|level| {
                 let lights = lgh.level(level);
@@ -158,7 +205,7 @@ impl Representatives {
                     .into_par_iter()
                     .map(|i| {
                         let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
-                        let drawn = draw(lgh, level, i, k);
+                        let drawn = draw(lgh, level, i, k, strata);
                         match allocation {
                             Allocation::Nested(_) => nest(drawn, level, i),
                             _ => drawn,
@@ -246,14 +293,18 @@ pub(crate) fn contributors(
 }
 
 /// `k` input lights of light `i` of `level` by systematic sampling of their weights
-/// `w_j ‖I_j‖`.
-fn draw(lgh: &LightingGridHierarchy, level: u8, i: u32, k: usize) -> Vec<u32> {
+/// `w_j ‖I_j‖`, taken in the order of their `strata` (then in [`contributors`]' order).
+fn draw(lgh: &LightingGridHierarchy, level: u8, i: u32, k: usize, strata: &[u8]) -> Vec<u32> {
     let mut cands: Vec<(u32, f64)> = Vec::new();
     contributors(lgh, level, i, |input, w, light| {
         if light.luminance > 0.0 {
             cands.push((input as u32, w * f64::from(light.luminance)));
         }
     });
+    if !strata.is_empty() {
+        // Stable: within a stratum, the contributors' fixed order.
+        cands.sort_by_key(|c| strata.get(c.0 as usize).copied().unwrap_or(0));
+    }
     let total: f64 = cands.iter().map(|c| c.1).sum();
     if total <= 0.0 || !total.is_finite() {
         return Vec::new();
@@ -310,6 +361,49 @@ mod tests {
                 PointLight::new(p, Vec3::new(1.0, 0.5, 0.2) * (0.1 + 4.0 * rng.next_f32()))
             })
             .collect()
+    }
+
+    #[test]
+    fn stratified_prefixes_give_each_stratum_its_share() {
+        let lights = lights();
+        let strata: Vec<u8> = (0..lights.len() as u64)
+            .map(|j| (SplitMix64::mix(j) % 3) as u8)
+            .collect();
+        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
+        // The (light, power-of-two prefix, stratum) whose count of picks is not within one of
+        // the prefix's length × the stratum's share of the light's weight.
+        let misses = |reps: &Representatives| {
+            let mut misses = 0;
+            for level in 1..=lgh.max_level() {
+                for i in 0..lgh.level(level).len() as u32 {
+                    let r = reps.of(level, i);
+                    let mut share = [0f64; 3];
+                    contributors(&lgh, level, i, |input, w, light| {
+                        share[strata[input] as usize] += w * f64::from(light.luminance);
+                    });
+                    let total: f64 = share.iter().sum();
+                    let mut m = 1;
+                    while m <= r.len() {
+                        for (s, part) in share.iter().enumerate() {
+                            let got = r[..m].iter().filter(|&&j| strata[j as usize] == s as u8);
+                            let want = m as f64 * part / total;
+                            misses += usize::from((got.count() as f64 - want).abs() > 1.0 + 1e-9);
+                        }
+                        m *= 2;
+                    }
+                }
+            }
+            misses
+        };
+        let stratified = Representatives::build_stratified(&lgh, Allocation::Nested(16), &strata);
+        assert_eq!(misses(&stratified), 0);
+        // Drawn over the contributors' own order, the strata interleave and prefixes miss.
+        assert!(misses(&Representatives::build_with(&lgh, Allocation::Nested(16))) > 0);
+        // Each pick still follows the weights (the stratification reorders, it does not bias).
+        for i in (0..lgh.level(1).len() as u32).step_by(37) {
+            let picks = stratified.of(1, i);
+            assert!(picks.is_empty() || follows_weights(&lgh, &lights, 1, i, picks));
+        }
     }
 
     /// Checks that `picks` draws each of `lights` `m p_j` times to within one, `p_j = w_j ‖I_j‖

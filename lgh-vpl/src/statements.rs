@@ -85,11 +85,20 @@ fn words(line: &str) -> std::str::SplitWhitespace<'_> {
 
 /// Notes what the OBJ `text` of `path` asks for and is not rendered. `faces_without_normals`:
 /// whether some face names no vertex normal (then smoothing groups would have mattered).
-pub(crate) fn scan_obj(path: &Path, text: &str, faces_without_normals: bool, report: &mut Report) {
+pub(crate) fn scan_obj(
+    path: &Path,
+    text: &str,
+    faces_without_normals: bool,
+    vertex_normals: bool,
+    report: &mut Report,
+) {
     for (i, line) in text.lines().enumerate() {
         let mut w = words(line);
         let Some(key) = w.next() else { continue };
         let why = match key {
+            "vn" if !vertex_normals => {
+                "vertex normals are not used (normals: face): every face is shaded with its own"
+            }
             "v" | "vt" | "vn" | "f" | "usemtl" | "mtllib" | "o" | "g" => {
                 if key == "v" && w.count() > 4 {
                     "vertex colours are not rendered: the material's colour is"
@@ -279,7 +288,7 @@ illum 10
         assert!(mtl("newmtl a\nTf 1 1 1\nTr 0\nillum 1\n").is_empty());
         let mut r = Report::default();
         let obj = "v 0 0 0 1 0 0\nv 1 0 0\nvt 0 0\ns 1\ng x\nl 1 2\nfoo\ns off\n";
-        scan_obj(Path::new("s.obj"), obj, true, &mut r);
+        scan_obj(Path::new("s.obj"), obj, true, true, &mut r);
         let named: Vec<String> = r.into_entries().iter().map(|u| u.to_string()).collect();
         assert_eq!(
             named,
@@ -293,7 +302,7 @@ illum 10
         );
         // Smoothing groups are moot where every face has its normals.
         let mut r = Report::default();
-        scan_obj(Path::new("s.obj"), "s 1\n", false, &mut r);
+        scan_obj(Path::new("s.obj"), "s 1\n", false, true, &mut r);
         assert!(r.into_entries().is_empty());
     }
 }

@@ -63,6 +63,33 @@ impl Vpl {
         self.power * self.albedo * (self.lobe(w) * 0.5 / std::f32::consts::PI)
     }
 
+    /// The axis its lobe (its shading normal) points along most, with the sign: 0 to 5 for
+    /// +x, −x, +y, −y, +z, −z. The buckets of the orientation-aware aggregation and the strata
+    /// of the coarse lights' representatives
+    /// ([`Representatives::build_stratified`](crate::representatives::Representatives::build_stratified)).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_vpl::vpl::Vpl;
+    ///
+    /// let v = |n: Vec3| Vpl { position: Vec3::ZERO, normal: n.normalize(), geometric: Vec3::Y,
+    ///                         power: Vec3::ONE, albedo: Vec3::ONE, bounce: 1 };
+    /// assert_eq!(v(Vec3::new(0.2, 0.9, 0.1)).orientation(), 2); // +y: a floor
+    /// assert_eq!(v(Vec3::new(-0.9, 0.3, 0.1)).orientation(), 1); // −x: a wall
+    /// ```
+    #[must_use]
+    pub fn orientation(&self) -> u8 {
+        let (n, a) = (self.normal, self.normal.abs());
+        let axis = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        2 * axis as u8 + u8::from(n[axis] < 0.0)
+    }
+
     /// The VPL's lobe relative to an isotropic emitter of the same flux towards unit `w`:
     /// `2 max(0, n·w)` in front of the face, 0 behind it.
     #[must_use]
@@ -145,6 +172,41 @@ pub struct Vpls {
     pub paths: u64,
     /// Total power the primary lights emit (W).
     pub emitted: Vec3,
+}
+
+impl Vpls {
+    /// Puts the VPLs in Morton order of their positions (21 bits an axis over their bounding
+    /// box; equal codes keep their path order), so that VPLs near each other in space are
+    /// near each other in memory: the representatives of a coarse light
+    /// ([`crate::representatives`]) and a point's level-0 lights then share cache lines
+    /// instead of each missing it. The set of lights is unchanged, so is every image up to
+    /// the order of its sums; the order depends on nothing but the VPLs.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_vpl::vpl::{Vpl, Vpls};
+    ///
+    /// let at = |x: f32| Vpl { position: Vec3::new(x, 0.0, 0.0), normal: Vec3::Y,
+    ///     geometric: Vec3::Y, power: Vec3::ONE, albedo: Vec3::ONE, bounce: 1 };
+    /// let mut traced = Vpls { vpls: vec![at(3.0), at(0.0), at(2.0), at(1.0)], paths: 2,
+    ///     emitted: Vec3::ONE };
+    /// traced.sort_spatially();
+    /// let xs: Vec<f32> = traced.vpls.iter().map(|v| v.position.x).collect();
+    /// assert_eq!(xs, [0.0, 1.0, 2.0, 3.0]);
+    /// ```
+    pub fn sort_spatially(&mut self) {
+        let (lo, hi) = self.vpls.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), v| (lo.min(v.position), hi.max(v.position)),
+        );
+        let max = lgh_core::morton::MAX_COORD as f32;
+        let scale = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE)).recip() * max;
+        let code = |v: &Vpl| {
+            let c = ((v.position - lo) * scale).clamp(Vec3::ZERO, Vec3::splat(max));
+            lgh_core::morton::encode([c.x as u32, c.y as u32, c.z as u32])
+        };
+        self.vpls.sort_by_cached_key(code);
+    }
 }
 
 /// Traces light paths from `lights` through `scene` until at least `settings.count` VPLs are

@@ -159,6 +159,7 @@ fn texture_inputs_that_are_wrong_are_clear_errors_or_a_documented_grey() {
     assert!(e.to_string().contains("floor.png"), "{e}");
     let grey = ObjOptions {
         missing_textures: MissingTextures::Grey,
+        ..ObjOptions::default()
     };
     let mesh = Mesh::load_obj_with(&obj, &grey, |_, _| {}).unwrap();
     assert_eq!(mesh.material_at(0, 0.2, 0.2), lgh_vpl::DEFAULT_MATERIAL);

@@ -16,19 +16,6 @@ use crate::scene::Scene;
 use crate::vpl::Vpl;
 use lgh_image::camera::Pinhole as Camera;
 
-/// The dominant-axis part (0..6: +x, −x, +y, −y, +z, −z) of a unit normal.
-fn orientation(n: Vec3) -> usize {
-    let a = n.abs();
-    let axis = if a.x >= a.y && a.x >= a.z {
-        0
-    } else if a.y >= a.z {
-        1
-    } else {
-        2
-    };
-    2 * axis + usize::from(n[axis] < 0.0)
-}
-
 /// An orientation-aware aggregation, beyond the paper: the VPLs split by the axis their normal
 /// points along most (±x, ±y, ±z), one hierarchy per bucket, whose coarse lights emit the cosine
 /// lobe about their bucket's mean normal. In rooms of axis-aligned walls each bucket's normals
@@ -56,7 +43,7 @@ impl NormalBuckets {
         let lights = point_lights(vpls);
         let mut members: [Vec<u32>; 6] = Default::default();
         for (i, v) in vpls.iter().enumerate() {
-            members[orientation(v.normal)].push(i as u32);
+            members[usize::from(v.orientation())].push(i as u32);
         }
         let mut buckets = Vec::new();
         for vpl in members.into_iter().filter(|m| !m.is_empty()) {
