@@ -187,14 +187,17 @@ struct Pass {
     complete: bool,
 }
 
-/// A coarse light's estimate through the first `m` of its representatives, unweighted (kept
-/// from one pass to the next at a point: the next pass's longer prefix starts with them).
+/// A coarse light's estimate through the first `m` of its representatives, unweighted (by
+/// the roulette too), kept from one pass to the next at a point: the next pass's longer
+/// prefix starts with them.
 #[derive(Clone, Copy, Default)]
 struct Shaded {
-    /// How many (0: none kept — skipped, or weighted by the roulette).
+    /// How many (0: none — skipped by the roulette, or not yet seen).
     m: usize,
     radiance: Vec3,
     tally: Tally,
+    /// The light's roulette number at this point, drawn at its first pass.
+    u: Option<f64>,
 }
 
 /// The coarse lights `coarse` (each with its unshadowed estimate) at `point`, `mean` samples
@@ -236,7 +239,11 @@ fn shade_coarse(
         let all = reps.of(s.level, s.index);
         let want = if total > 0.0 { budget * c / total } else { 1.0 };
         // In f64: a 24-bit draw would make the probability of a tiny `want` differ from it.
-        let u = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+        // Drawn once per light and point: a later pass, whose `want` is larger, keeps every
+        // light this one shaded (the roulettes are coupled), and their shadow rays.
+        let u = before
+            .u
+            .unwrap_or_else(|| (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64));
         let (m, p) = if !nested {
             (all.len(), 1.0)
         } else if want >= 1.0 {
@@ -252,13 +259,17 @@ fn shade_coarse(
             (1, f64::from(want))
         } else {
             complete = false;
+            *kept = Shaded {
+                u: Some(u),
+                ..Shaded::default()
+            };
             continue;
         };
         complete &= m >= all.len() && p == 1.0;
-        let (estimate, tally) = if p == 1.0 && before.m == m {
+        let (estimate, tally) = if before.m == m {
             // The same prefix as before: the same estimate.
             (before.radiance, before.tally)
-        } else if p == 1.0 && before.m > 0 && before.m < m {
+        } else if before.m > 0 && before.m < m {
             // The first `before.m` as before; the rest shaded now; both at their share of m.
             let mut rest = Tally::default();
             let ids = all
@@ -279,13 +290,12 @@ fn shade_coarse(
             let estimate = shader.shade_representatives_tallied(point, s, ids, &mut tally);
             (estimate, tally)
         };
-        if p == 1.0 {
-            *kept = Shaded {
-                m,
-                radiance: estimate,
-                tally,
-            };
-        }
+        *kept = Shaded {
+            m,
+            radiance: estimate,
+            tally,
+            u: Some(u),
+        };
         radiance += estimate * (1.0 / p) as f32;
         if !estimate_variance {
             continue;
