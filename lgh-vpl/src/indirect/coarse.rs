@@ -98,6 +98,23 @@ pub fn render_lgh(
     render_with_shader(scene, camera, backend, shade, progress)
 }
 
+/// Whether every VPL that coarse light `s` of a level of spacing `h` stands for lies behind
+/// the surface at `point` (unit shading `normal`): behind its shading plane or its geometric
+/// one, where [`super::facing`] says none of them gives anything. Its VPLs lie within one
+/// cell of its grid vertex per axis (eqs. 1, 2), and so does its centre `s.position` (their
+/// weighted mean, eq. 3): each is within `2h` of the centre per axis, so a plane that has the
+/// centre's whole box of half-width `2h` behind it has them all. Such a light is left out of
+/// the sharing — exactly, its share of the estimate is zero — and its representatives are
+/// never read.
+#[must_use]
+fn behind(point: &ShadingPoint, normal: Vec3, s: &LightSample, h: f32) -> bool {
+    let to = s.position - point.position;
+    // A hair wider than 2h: the centre and the planes are rounded to f32.
+    let reach = 2.0 * h * (1.0 + 1e-5);
+    let behind_plane = |n: Vec3| n.dot(to) + reach * n.abs().element_sum() < 0.0;
+    behind_plane(normal) || point.geometric.is_some_and(behind_plane)
+}
+
 /// The salt of the roulette's sequence at a shading point (the area lights' patterns use the
 /// triangle's index, which stays below 2³²).
 const ROULETTE_SALT: u64 = 0xada << 40;
@@ -145,7 +162,9 @@ fn adaptive(
                     1.0
                 };
                 let c = lgh_core::luminance(s.intensity) * cos * lgh_core::falloff(d, h0);
-                coarse.push((*s, c));
+                if !behind(point, normal, s, lgh.h(s.level)) {
+                    coarse.push((*s, c));
+                }
             }
         })?;
         let mut rng = SplitMix64(crate::direct::point_seed(point.position, ROULETTE_SALT));
@@ -381,6 +400,43 @@ mod tests {
             assert!(drawn < gaussian, "α = {alpha}: {drawn} against {gaussian}");
             assert!(drawn <= target, "α = {alpha}: {drawn}");
         }
+    }
+
+    /// A coarse light [`behind`] a point gives it nothing: every VPL it stands for (every
+    /// input light with a trilinear weight, eqs. 1, 2) is hidden by the surface there
+    /// ([`super::facing`]), at every point the camera sees in the room and every coarse light its
+    /// query at α = 4 returns. And the test bites: some lights are left out.
+    #[test]
+    fn lights_behind_a_point_give_it_nothing() {
+        let f = Fixture::new();
+        let camera = Fixture::camera(16, 12);
+        let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
+        let (mut left_out, mut kept) = (0, 0);
+        for (px, py) in (0..12).flat_map(|y| (0..16).map(move |x| (x, y))) {
+            let (origin, dir) = camera.ray(px, py);
+            let Some((point, _)) = f.scene.trace(origin, dir) else {
+                continue;
+            };
+            let normal = point.normal.unwrap();
+            f.lgh
+                .query(point.position, backend.blending(), |s| {
+                    if s.level == 0 {
+                        return;
+                    }
+                    if !behind(&point, normal, s, f.lgh.h(s.level)) {
+                        kept += 1;
+                        return;
+                    }
+                    left_out += 1;
+                    crate::representatives::contributors(&f.lgh, s.level, s.index, |j, _, _| {
+                        let q = f.vpls[j].position;
+                        assert!(!super::super::facing(&point, normal, q), "{s:?}: VPL {j}");
+                    });
+                })
+                .unwrap();
+        }
+        println!("{left_out} coarse lights left out, {kept} kept");
+        assert!(left_out > 0 && kept > 0, "{left_out} {kept}");
     }
 
     /// The adaptive allocation (`lgh gi`'s default; here 16 nested representatives, 2 per coarse
