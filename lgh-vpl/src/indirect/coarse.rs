@@ -255,7 +255,6 @@ fn shade_coarse(
     let estimate_variance = shader.settings.point_error.is_some();
     for ((s, c), kept) in coarse.iter().zip(shaded.iter_mut()) {
         let before = std::mem::take(kept);
-        let all = reps.of(s.level, s.index);
         let want = if total > 0.0 { budget * c / total } else { 1.0 };
         // In f64: a 24-bit draw would make the probability of a tiny `want` differ from it.
         // Drawn once per light and point: a later pass, whose `want` is larger, keeps every
@@ -263,6 +262,17 @@ fn shade_coarse(
         let u = before
             .u
             .unwrap_or_else(|| (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64));
+        if nested && want < 1.0 && u >= f64::from(want) {
+            // Left out by the roulette (before its representatives are looked up: most lights
+            // at most points are, and the lookup is a trip to memory).
+            complete = false;
+            *kept = Shaded {
+                u: Some(u),
+                ..Shaded::default()
+            };
+            continue;
+        }
+        let all = reps.of(s.level, s.index);
         let (m, p) = if !nested {
             (all.len(), 1.0)
         } else if want >= 1.0 {
@@ -274,15 +284,8 @@ fn shade_coarse(
                 m.next_power_of_two() / 2
             };
             (m, 1.0)
-        } else if u < f64::from(want) {
-            (1, f64::from(want))
         } else {
-            complete = false;
-            *kept = Shaded {
-                u: Some(u),
-                ..Shaded::default()
-            };
-            continue;
+            (1, f64::from(want))
         };
         complete &= m >= all.len() && p == 1.0;
         let (estimate, tally) = if before.m == m {
