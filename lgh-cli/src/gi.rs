@@ -115,6 +115,16 @@ pub enum Normals {
     Face,
 }
 
+impl Normals {
+    /// The flag's value, for the EXR header and the JSON.
+    fn name(self) -> &'static str {
+        match self {
+            Normals::Vertex => "vertex",
+            Normals::Face => "face",
+        }
+    }
+}
+
 impl From<Normals> for lgh_vpl::Normals {
     fn from(n: Normals) -> Self {
         match n {
@@ -389,6 +399,7 @@ impl SceneArgs {
                 "point_error",
                 s.point_error.map_or("off".into(), |e| e.to_string()),
             ),
+            ("normals", self.normals.name().to_string()),
             ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
     }
@@ -590,6 +601,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
         json!({
             "scene": s.obj.display().to_string(),
             "vpls": scene.vpls().len(),
+            "normals": s.normals.name(),
             "aggregation": settings.aggregation.name(),
             "coarse_shadows": settings.coarse_shadows.name(),
             "shadow_samples": settings.shadow_samples(),

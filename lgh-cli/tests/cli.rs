@@ -1017,22 +1017,7 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     }
     // A mesh without materials renders, and says they were defaulted.
     let out = dir.path().join("small.exr");
-    let o = lgh(&[
-        "gi",
-        "--obj",
-        s,
-        "--light",
-        "point:0.2,0.2,1,1,1,1",
-        "--vpls",
-        "10",
-        "--width",
-        "4",
-        "--height",
-        "4",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = tiny_gi(Path::new(s), &out, &["--quiet"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("1 of 1 triangles have no material"), "{err}");
@@ -1111,6 +1096,28 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     assert_eq!(images[0], images[1]);
 }
 
+/// `lgh gi` on `obj` lit by one point light, 10 VPLs, 4 × 4 pixels, to `out`, with `extra`.
+fn tiny_gi(obj: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let (obj, out) = (obj.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec![
+        "gi",
+        "--obj",
+        obj,
+        "--light",
+        "point:0.2,0.2,1,1,1,1",
+        "--vpls",
+        "10",
+        "--width",
+        "4",
+        "--height",
+        "4",
+        "--out",
+        out,
+    ];
+    args.extend(extra);
+    lgh(&args)
+}
+
 /// `lgh gi` names once on stderr, with file and line, each statement of the scene it does not
 /// honour (with `--quiet`, only the EXR header's `unhonoured` has them), refuses a missing
 /// texture naming it, and renders it grey with `--missing-textures grey`.
@@ -1130,26 +1137,9 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
          map_Bump bumps.png\nnewmtl matte\nKd 0.5 0.5 0.5\n",
     )
     .unwrap();
-    let o = obj.to_str().unwrap();
     let run = |extra: &[&str]| {
         let out = dir.path().join("out.exr");
-        let mut args = vec![
-            "gi",
-            "--obj",
-            o,
-            "--light",
-            "point:0.2,0.2,1,1,1,1",
-            "--vpls",
-            "10",
-            "--width",
-            "4",
-            "--height",
-            "4",
-            "--out",
-            out.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        (lgh(&args), out)
+        (tiny_gi(&obj, &out, extra), out)
     };
     let (refused, _) = run(&[]);
     assert!(!refused.status.success());
@@ -1182,6 +1172,37 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.contains("not honoured"), "{err}");
     assert_eq!(header(&out)("lgh:unhonoured"), listed);
+}
+
+/// `--normals face` shades every face with its own normal: the file's `vn` is named as not
+/// used (on stderr and in the header) and the header says which normals shaded the image.
+#[test]
+fn gi_normals_face_names_the_unused_vertex_normals() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tilted.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 1\nvn 0 1 1\nvn 1 1 1\nf 1//1 2//2 3//3\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out.exr");
+    let run = |extra: &[&str]| {
+        let o = tiny_gi(&obj, &out, extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+            header(&out),
+        )
+    };
+    let (err, get) = run(&["--normals", "face"]);
+    assert!(err.contains(":4: `vn`"), "{err}");
+    assert_eq!(get("lgh:normals"), "face");
+    assert!(get("lgh:unhonoured").contains("`vn`"));
+    let (err, get) = run(&[]);
+    assert!(!err.contains("`vn`"), "{err}");
+    assert_eq!(get("lgh:normals"), "vertex");
+    let o = lgh(&["gi", "--obj", obj.to_str().unwrap(), "--normals", "smooth"]);
+    assert!(!o.status.success());
 }
 
 /// `lgh bench gi` prints the issue's JSON keys for each α, measured against brute force on the
