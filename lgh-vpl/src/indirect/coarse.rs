@@ -29,7 +29,9 @@ pub enum Coarse<'a> {
     /// there (its blended luminance × the cosine at the point, held above 1/4, × the clamped
     /// `1/d²`), rounded down to a power of two and to what there is; a light owed less than
     /// one is shaded with that probability and weighted by its inverse (Russian roulette from
-    /// the point's own seeded sequence). With representatives that are not nested, every
+    /// the point's own seeded sequence, one number per light and point, kept by the per-point
+    /// bound's later rounds). A light wholly behind the point (`behind`) gives nothing and
+    /// takes no share. With representatives that are not nested, every
     /// light uses all of its own (a prefix of a plain systematic draw would be biased).
     Adaptive {
         /// The representatives, nested.
@@ -263,8 +265,7 @@ fn shade_coarse(
             .u
             .unwrap_or_else(|| (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64));
         if nested && want < 1.0 && u >= f64::from(want) {
-            // Left out by the roulette (before its representatives are looked up: most lights
-            // at most points are, and the lookup is a trip to memory).
+            // Left out by the roulette, before its representatives are looked up.
             complete = false;
             *kept = Shaded {
                 u: Some(u),
