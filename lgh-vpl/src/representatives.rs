@@ -363,6 +363,12 @@ mod tests {
             .collect()
     }
 
+    /// Stratified draws (three strata at random over the clumped lights): every power-of-two
+    /// prefix of every light's nested draws holds each stratum's share of its weights to within
+    /// one pick — systematic sampling over the weights laid end to end by stratum puts `m`
+    /// evenly spaced points on them, and a stratum of share `s` is an interval holding `m s`
+    /// of them up to one. The same draws in the contributors' own order do not (the strata
+    /// interleave), and each pick still follows the weights.
     #[test]
     fn stratified_prefixes_give_each_stratum_its_share() {
         let lights = lights();
