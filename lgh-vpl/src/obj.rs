@@ -179,8 +179,8 @@ impl Mesh {
         let faces = check_faces(path, text)?;
         let mut report = Report::default();
         let vertex_normals = options.normals == Normals::Vertex;
-        let flat = !vertex_normals || faces.iter().any(|f| !f.normals);
-        scan_obj(path, text, flat, vertex_normals, &mut report);
+        let some_flat = faces.iter().any(|f| !f.normals);
+        scan_obj(path, text, some_flat, vertex_normals, &mut report);
         let report = RefCell::new(report);
         // Each MTL file's folder (relative to the OBJ's) and how many materials it defines, in
         // the order tobj appends them.

@@ -84,7 +84,9 @@ fn words(line: &str) -> std::str::SplitWhitespace<'_> {
 }
 
 /// Notes what the OBJ `text` of `path` asks for and is not rendered. `faces_without_normals`:
-/// whether some face names no vertex normal (then smoothing groups would have mattered).
+/// whether some face names no vertex normal (then smoothing groups would have mattered);
+/// `vertex_normals`: whether the file's `vn` are used at all ([`crate::Normals::Face`] says
+/// no: every face is flat, and `vn` is named).
 pub(crate) fn scan_obj(
     path: &Path,
     text: &str,
@@ -108,7 +110,8 @@ pub(crate) fn scan_obj(
             }
             "s" => match w.next() {
                 Some("off" | "0") => continue,
-                _ if !faces_without_normals => continue,
+                // Every face smooth: groups change nothing.
+                _ if !faces_without_normals && vertex_normals => continue,
                 _ => "smoothing groups are not computed: faces without vertex normals (vn) are shaded flat",
             },
             "l" | "p" => "lines and points are not surfaces: not rendered",

@@ -100,17 +100,16 @@ pub fn render_lgh(
     render_with_shader(scene, camera, backend, shade, progress)
 }
 
-/// Whether every VPL that coarse light `s` of a level of spacing `h` stands for lies behind
-/// the surface at `point` (unit shading `normal`): behind its shading plane or its geometric
-/// one, where [`super::facing`] says none of them gives anything. Its VPLs lie within one
-/// cell of its grid vertex per axis (eqs. 1, 2), and so does its centre `s.position` (their
-/// weighted mean, eq. 3): each is within `2h` of the centre per axis, so a plane that has the
+/// Whether every VPL that a coarse light, its centre at offset `to` from `point`, of a level
+/// of spacing `h`, stands for lies behind the surface at `point` (unit shading `normal`):
+/// behind its shading plane or its geometric one, where [`super::facing`] says none of them
+/// gives anything. Its VPLs lie within one cell of its grid vertex per axis (eqs. 1, 2), and
+/// so does its centre (their weighted mean, eq. 3): each is within `2h` of the centre per axis, so a plane that has the
 /// centre's whole box of half-width `2h` behind it has them all. Such a light is left out of
 /// the sharing — exactly, its share of the estimate is zero — and its representatives are
 /// never read.
 #[must_use]
-fn behind(point: &ShadingPoint, normal: Vec3, s: &LightSample, h: f32) -> bool {
-    let to = s.position - point.position;
+fn behind(point: &ShadingPoint, normal: Vec3, to: Vec3, h: f32) -> bool {
     // A hair wider than 2h: the centre and the planes are rounded to f32.
     let reach = 2.0 * h * (1.0 + 1e-5);
     let behind_plane = |n: Vec3| n.dot(to) + reach * n.abs().element_sum() < 0.0;
@@ -164,7 +163,7 @@ fn adaptive(
                     1.0
                 };
                 let c = lgh_core::luminance(s.intensity) * cos * lgh_core::falloff(d, h0);
-                if !behind(point, normal, s, lgh.h(s.level)) {
+                if !behind(point, normal, to, lgh.h(s.level)) {
                     coarse.push((*s, c));
                 }
             }
@@ -427,7 +426,8 @@ mod tests {
                     if s.level == 0 {
                         return;
                     }
-                    if !behind(&point, normal, s, f.lgh.h(s.level)) {
+                    let to = s.position - point.position;
+                    if !behind(&point, normal, to, f.lgh.h(s.level)) {
                         kept += 1;
                         return;
                     }
