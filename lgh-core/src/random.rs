@@ -42,6 +42,23 @@ impl SplitMix64 {
         (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
+    /// Uniform in `[0, 1)`, with 53 random bits: for probabilities too small for
+    /// [`next_f32`](Self::next_f32)'s 24.
+    ///
+    /// ```
+    /// use lgh_core::random::SplitMix64;
+    ///
+    /// let mut rng = SplitMix64(7);
+    /// let u: Vec<f64> = (0..1000).map(|_| rng.next_f64()).collect();
+    /// assert!(u.iter().all(|u| (0.0..1.0).contains(u)));
+    /// // Finer than 2⁻²⁴: some draw has bits below f32's.
+    /// assert!(u.iter().any(|&u| u != f64::from(u as f32)));
+    /// ```
+    #[must_use]
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
     /// Uniform in `[lo, hi)` per axis.
     pub fn next_in(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
         let t = Vec3::new(self.next_f32(), self.next_f32(), self.next_f32());

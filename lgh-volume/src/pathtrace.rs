@@ -390,7 +390,7 @@ impl Majorants {
 /// A unit-mean exponential variate, from 53 random bits (finite; the tail beyond 36.7 that it
 /// cannot reach has probability 10⁻¹⁶).
 fn exponential(rng: &mut SplitMix64) -> f64 {
-    let u = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+    let u = rng.next_f64();
     -(1.0 - u).ln()
 }
 

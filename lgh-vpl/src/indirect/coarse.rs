@@ -8,6 +8,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
 use lgh_core::{Illumination, LghBackend, LightSample, Material, QueryError, ShadingPoint};
 
+use super::roulette::Systematic;
 use super::{refine, Cone, Indirect, Tally};
 use crate::render::{render_points, render_with_shader, RenderError, Rendered};
 use crate::representatives::Representatives;
@@ -28,9 +29,10 @@ pub enum Coarse<'a> {
     /// the point's coarse lights in proportion to an unshadowed estimate of what each brings
     /// there (its blended luminance × the cosine at the point, held above 1/4, × the clamped
     /// `1/d²`), rounded down to a power of two and to what there is; a light owed less than
-    /// one is shaded with that probability and weighted by its inverse (Russian roulette from
-    /// the point's own seeded sequence, one number per light and point, kept by the per-point
-    /// bound's later rounds). A light wholly behind the point (`behind`) gives nothing and
+    /// one is shaded with that probability and weighted by its inverse (systematic Russian
+    /// roulette over the point's lights (the `indirect::roulette` module), its offset from the point's own
+    /// seeded sequence; one number per light and point, kept by the per-point bound's later
+    /// rounds). A light wholly behind the point (`behind`) gives nothing and
     /// takes no share. With representatives that are not nested, every
     /// light uses all of its own (a prefix of a plain systematic draw would be biased).
     Adaptive {
@@ -254,15 +256,15 @@ fn shade_coarse(
     let mut complete = true;
     // Without a point bound nothing reads the variance: its parts are not computed.
     let estimate_variance = shader.settings.point_error.is_some();
+    // Only the first pass draws: every later one finds each light's number kept.
+    let mut roulette = Systematic::new(rng.next_f64());
     for ((s, c), kept) in coarse.iter().zip(shaded.iter_mut()) {
         let before = std::mem::take(kept);
         let want = if total > 0.0 { budget * c / total } else { 1.0 };
-        // In f64: a 24-bit draw would make the probability of a tiny `want` differ from it.
-        // Drawn once per light and point: a later pass, whose `want` is larger, keeps every
-        // light this one shaded (the roulettes are coupled), and their shadow rays.
-        let u = before
-            .u
-            .unwrap_or_else(|| (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64));
+        // Systematic over the point's lights, drawn once per light and point: a later pass,
+        // whose `want` is larger, keeps every light this one shaded (the roulettes are
+        // coupled), and their shadow rays.
+        let u = before.u.unwrap_or_else(|| roulette.next(f64::from(want)));
         if nested && want < 1.0 && u >= f64::from(want) {
             // Left out by the roulette, before its representatives are looked up.
             complete = false;
@@ -444,9 +446,9 @@ mod tests {
     }
 
     /// The adaptive allocation (`lgh gi`'s default; here 16 nested representatives, 2 per coarse
-    /// light on average, shared per point by an unshadowed estimate, Russian roulette below one)
-    /// against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's Gaussian
-    /// samples 54.6%) and 0.31% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
+    /// light on average, shared per point by an unshadowed estimate, systematic Russian roulette
+    /// below one) against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's
+    /// Gaussian samples 54.6%) and 0.26% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
     /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where the
     /// default measures 2.3% on the Cornell box and 2.7–3.0% on Sponza, `docs/gi.md`; the room's 4,000 VPLs make
     /// coarse lights of a few VPLs each, where the roulette's noise weighs more.) And it is the
@@ -480,7 +482,7 @@ mod tests {
         let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
         let ratio = light_sum(&render(4.0)) / light_sum(&full);
         println!("adaptive mean over all-16 mean: {ratio:.4}");
-        // Measured 1.0030. Bound: the per-pixel noise is about the 4.4% RMSE above; over 768
+        // Measured 1.0027. Bound: the per-pixel noise is about the 4.4% RMSE above; over 768
         // pixels that is 0.16% if they were independent, and neighbours share lights, so an
         // order of magnitude more: 2%.
         assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
@@ -496,11 +498,11 @@ mod tests {
     /// again, so fewer pixels err by more than it, the largest error falls and so does the
     /// image's; the refined points are counted; the image is the same on 1 and 3 threads.
     /// The bound is 3% here: at `lgh gi`'s 10% the room (48×36) has one pixel over to begin
-    /// with, where Sponza had 1.2%. Measured: 31.0% of the pixels over 3% without refinement,
-    /// 6.2% with it (what is left is mostly the hierarchy's own smoothing, which the rule does
-    /// not bound), the largest error 11.5% → 5.5%, the image's 3.90% → 2.73%, 912 of 955
+    /// with, where Sponza had 1.2%. Measured: 26.4% of the pixels over 3% without refinement,
+    /// 6.7% with it (what is left is mostly the hierarchy's own smoothing, which the rule does
+    /// not bound), the largest error 11.1% → 5.5%, the image's 3.68% → 2.71%, 935 of 955
     /// points refined (at 3%, nearly every point's few samples may be off by that much); the
-    /// mean 1.0026 times that of every representative. Asserted: the fraction over at least
+    /// mean 1.0027 times that of every representative. Asserted: the fraction over at least
     /// halves, the largest error and the image's fall, some points but not all are refined,
     /// the mean is within 2%.
     #[test]

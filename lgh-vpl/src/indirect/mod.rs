@@ -35,6 +35,7 @@ mod buckets;
 mod coarse;
 pub mod lobe;
 pub mod refine;
+mod roulette;
 
 pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};

@@ -24,7 +24,9 @@
 //!   holds, `(u − u_ℓ)²`: one draw's squared deviation from (an estimate of) its mean;
 //! - a light kept by Russian roulette with probability `p` and weight `1/p`: to the above,
 //!   scaled by `1/p²`, is added `X² (1 − p)` for its weighted value `X` (an unbiased estimate
-//!   of the roulette's own variance, `E[Y²](1 − p)/p`).
+//!   of the roulette's own variance, `E[Y²](1 − p)/p`). That is the variance of independent
+//!   roulettes; the systematic one (the `indirect::roulette` module) spreads the kept lights
+//!   evenly and usually has less, so the rule over-states it and errs on the side of refining.
 //!
 //! If `z σ̂ > ε L` for the point's estimated luminance `L` (level 0's exact part included),
 //! with `z` = [`CONFIDENCE_Z`], the coarse part is shaded again with [`GROWTH`] times the
