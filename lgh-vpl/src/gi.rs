@@ -32,7 +32,7 @@ use crate::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
     IndirectSettings, NormalBuckets,
 };
-use crate::indirect::{DEFAULT_LOBE_ERROR, DEFAULT_POINT_ERROR};
+use crate::indirect::{BlendAt, DEFAULT_LOBE_ERROR, DEFAULT_POINT_ERROR};
 use crate::mesh::Mesh;
 use crate::primary::{area_lights, PrimaryLight};
 use crate::render::{RenderError, Rendered};
@@ -174,7 +174,16 @@ pub struct GiSettings {
     /// the point's estimated error (1.645 standard errors, [`crate::indirect::refine`]) exceeds
     /// ε of its light. `None`: the mean number everywhere. Finite and above 0.
     pub point_error: Option<f32>,
+    /// Where [`GiMethod::Lgh`] with its default coarse shading takes a coarse light's blending
+    /// weight `B_ℓ`: at each representative's own distance (the default: unbiased against
+    /// brute force) or at the light's centre, as in eq. (3) ([`BlendAt`]).
+    pub blend: BlendAt,
 }
+
+/// The least mean [`GiSettings::shadow_samples`] per coarse light that `Adaptive` takes: 1/4
+/// (shared per point, so below one most lights take their sample by roulette; below a quarter
+/// the point bound would do nearly all the work).
+pub const MIN_ADAPTIVE_SAMPLES: f32 = 0.25;
 
 /// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least
 /// [`crate::specular::MIN_WEIGHT`] each are at most 1/`MIN_WEIGHT` = 1000, whatever the depth.)
@@ -197,6 +206,7 @@ impl Default for GiSettings {
             specular_depth: DEFAULT_SPECULAR_DEPTH,
             lobe_error: Some(DEFAULT_LOBE_ERROR),
             point_error: Some(DEFAULT_POINT_ERROR),
+            blend: BlendAt::default(),
         }
     }
 }
@@ -238,7 +248,8 @@ impl GiSettings {
 
     /// Checks the settings before any work ([`GiScene::prepare`] does too): `k` a whole number
     /// from 0 (Gaussian samples, at most 1024) or 1 (representatives, at most
-    /// [`MAX_PER_LIGHT`]) unless it is a mean (`Intensity`, `Adaptive`); the most
+    /// [`MAX_PER_LIGHT`]) unless it is a mean (`Intensity`; `Adaptive`, from
+    /// [`MIN_ADAPTIVE_SAMPLES`]); the most
     /// representatives 1 to [`MAX_PER_LIGHT`]; `Adaptive` representatives only with the one
     /// hierarchy; 1 to 64 strata. (The VPL counts are checked by [`trace`].)
     ///
@@ -249,7 +260,10 @@ impl GiSettings {
         let allocation = self.sample_allocation();
         let samples = self.shadow_samples();
         let whole = !representatives || allocation == SampleAllocation::Uniform;
-        let (min, max) = if representatives {
+        let (min, max) = if representatives && allocation == SampleAllocation::Adaptive {
+            // A mean shared per point: below one, most lights take their sample by roulette.
+            (MIN_ADAPTIVE_SAMPLES, MAX_PER_LIGHT as f32)
+        } else if representatives {
             (1.0, MAX_PER_LIGHT as f32)
         } else {
             (0.0, 1024.0)
@@ -786,6 +800,7 @@ impl GiScene {
                         (Some(reps), Allocation::Nested(_)) => Coarse::Adaptive {
                             reps,
                             mean: self.settings.shadow_samples(),
+                            blend: self.settings.blend,
                         },
                         (Some(reps), _) => Coarse::Representatives(reps),
                     };

@@ -83,6 +83,10 @@ pub struct Representatives {
 struct LevelReps {
     starts: Vec<u32>,
     reps: Vec<u32>,
+    /// Light `i`'s [`extent`](Representatives::extent).
+    extents: Vec<f32>,
+    /// The largest of them.
+    max_extent: f32,
 }
 
 impl Representatives {
@@ -201,25 +205,34 @@ impl Representatives {
                         (s + f64::from(l.luminance), n + 1)
                     });
                 let mean_lum = sum / lit.max(1) as f64;
-                let per_light: Vec<Vec<u32>> = (0..lights.len() as u32)
+                let per_light: Vec<(Vec<u32>, f32)> = (0..lights.len() as u32)
                     .into_par_iter()
                     .map(|i| {
                         let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
-                        let drawn = draw(lgh, level, i, k, strata);
-                        match allocation {
+                        let (drawn, extent) = draw(lgh, level, i, k, strata);
+                        let drawn = match allocation {
                             Allocation::Nested(_) => nest(drawn, level, i),
                             _ => drawn,
-                        }
+                        };
+                        (drawn, extent)
                     })
                     .collect();
                 let mut starts = Vec::with_capacity(per_light.len() + 1);
                 starts.push(0u32);
                 let mut reps = Vec::new();
-                for r in per_light {
+                let mut extents = Vec::with_capacity(per_light.len());
+                for (r, extent) in per_light {
                     reps.extend(r);
                     starts.push(reps.len() as u32);
+                    extents.push(extent);
                 }
-                LevelReps { starts, reps }
+                let max_extent = extents.iter().copied().fold(0.0, f32::max);
+                LevelReps {
+                    starts,
+                    reps,
+                    extents,
+                    max_extent,
+                }
             })
             .collect();
         Representatives { allocation, levels }
@@ -229,10 +242,7 @@ impl Representatives {
     /// hierarchy was built from (empty for level 0, out of range, or a light without weight).
     #[must_use]
     pub fn of(&self, level: u8, index: u32) -> &[u32] {
-        let Some(l) = (level as usize)
-            .checked_sub(1)
-            .and_then(|l| self.levels.get(l))
-        else {
+        let Some(l) = self.level(level) else {
             return &[];
         };
         let i = index as usize;
@@ -240,6 +250,74 @@ impl Representatives {
             (Some(&s), Some(&e)) => &l.reps[s as usize..e as usize],
             _ => &[],
         }
+    }
+
+    /// How far from light `index` of `level ≥ 1`'s centre the farthest of the input lights it
+    /// stands for lies (those with a weight and some light; a hair over, for rounding): the
+    /// distance at which it may still give light through one of them. 0 for a light without
+    /// any, for level 0 and out of range.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    /// use lgh_vpl::representatives::Representatives;
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let reps = Representatives::build(&lgh, 4);
+    /// for level in 1..=lgh.max_level() {
+    ///     let level_lights = lgh.level(level);
+    ///     for i in 0..level_lights.len() as u32 {
+    ///         let (centre, extent) = (level_lights.position(i as usize), reps.extent(level, i));
+    ///         // Every representative lies within it, and it is within the cube's 2√3 h_ℓ.
+    ///         for &j in reps.of(level, i) {
+    ///             assert!((lights[j as usize].position - centre).length() <= extent);
+    ///         }
+    ///         assert!(extent <= 2.0 * 3f32.sqrt() * lgh.h(level) * 1.001);
+    ///         assert!(extent <= reps.max_extent(level));
+    ///     }
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    #[inline]
+    pub fn extent(&self, level: u8, index: u32) -> f32 {
+        self.level(level)
+            .and_then(|l| l.extents.get(index as usize))
+            .copied()
+            .unwrap_or(0.0)
+    }
+
+    /// The largest [`extent`](Self::extent) of `level`'s lights (0 for level 0 and above the
+    /// top): what [`LightingGridHierarchy::query_reaching`] must reach beyond the level's
+    /// support to find every light that can give light.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    /// use lgh_vpl::representatives::Representatives;
+    ///
+    /// let lights: Vec<PointLight> = (0..40)
+    ///     .map(|i| PointLight::new(Vec3::new(i as f32 * 0.3, 0.0, 0.0), Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let reps = Representatives::build(&lgh, 2);
+    /// assert_eq!(reps.max_extent(0), 0.0);
+    /// // On a line, a light's input lights are within h_ℓ of its vertex along it.
+    /// assert!(reps.max_extent(1) > 0.0 && reps.max_extent(1) <= 2.0 * lgh.h(1) * 1.001);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn max_extent(&self, level: u8) -> f32 {
+        self.level(level).map_or(0.0, |l| l.max_extent)
+    }
+
+    /// Level `ℓ ≥ 1`'s.
+    fn level(&self, level: u8) -> Option<&LevelReps> {
+        self.levels.get((level as usize).checked_sub(1)?)
     }
 
     /// True if drawn with [`Allocation::Nested`]: every power-of-two prefix of a light's is a
@@ -293,21 +371,33 @@ pub(crate) fn contributors(
 }
 
 /// `k` input lights of light `i` of `level` by systematic sampling of their weights
-/// `w_j ‖I_j‖`, taken in the order of their `strata` (then in [`contributors`]' order).
-fn draw(lgh: &LightingGridHierarchy, level: u8, i: u32, k: usize, strata: &[u8]) -> Vec<u32> {
+/// `w_j ‖I_j‖`, taken in the order of their `strata` (then in [`contributors`]' order); and
+/// the light's [`extent`](Representatives::extent).
+fn draw(
+    lgh: &LightingGridHierarchy,
+    level: u8,
+    i: u32,
+    k: usize,
+    strata: &[u8],
+) -> (Vec<u32>, f32) {
     let mut cands: Vec<(u32, f64)> = Vec::new();
+    let centre = lgh.level(level).position(i as usize);
+    let mut extent = 0.0f32;
     contributors(lgh, level, i, |input, w, light| {
         if light.luminance > 0.0 {
             cands.push((input as u32, w * f64::from(light.luminance)));
+            extent = extent.max((light.position - centre).length());
         }
     });
+    // A hair over: distances from a point are rounded too.
+    let extent = extent * (1.0 + 1e-5);
     if !strata.is_empty() {
         // Stable: within a stratum, the contributors' fixed order.
         cands.sort_by_key(|c| strata.get(c.0 as usize).copied().unwrap_or(0));
     }
     let total: f64 = cands.iter().map(|c| c.1).sum();
     if total <= 0.0 || !total.is_finite() {
-        return Vec::new();
+        return (Vec::new(), 0.0);
     }
     let mut rng = SplitMix64(SplitMix64::mix((u64::from(level) << 32) | u64::from(i)));
     let offset = f64::from(rng.next_f32());
@@ -321,7 +411,7 @@ fn draw(lgh: &LightingGridHierarchy, level: u8, i: u32, k: usize, strata: &[u8])
         }
         out.push(cands[c].0);
     }
-    out
+    (out, extent)
 }
 
 /// `drawn` (a systematic sample, `2^n` strata in order) reordered so that every power-of-two

@@ -316,6 +316,93 @@ impl LightingGridHierarchy {
     }
 }
 
+impl LightingGridHierarchy {
+    /// The coarse lights (levels ≥ 1) that can give `x` light when each input light `j` a
+    /// coarse light stands for is blended at its *own* distance, `B_ℓ(‖x − p_j‖)`, instead of
+    /// at the light's centre as in eq. (3): every light whose centre lies within `reach(ℓ)` of
+    /// its level's support `(r_{ℓ−1}, 2 r_ℓ)`. Beyond the paper. With `reach(ℓ)` at least the
+    /// distance from any light's centre to the farthest input light it stands for (`2√3 h_ℓ`
+    /// bounds it: the centre and the input lights lie in the cube of half-width `h_ℓ` about the
+    /// light's vertex, eqs. 1, 2), no light any of whose input lights has a non-zero weight is
+    /// left out; since the weights of all levels sum to one at every distance, level 0 from
+    /// [`query_levels`](Self::query_levels) and these lights together then account for every
+    /// input light exactly once (see lgh-vpl's per-representative blending).
+    ///
+    /// `f` gets each light with its intensity `I_ℓi` unweighted, `weight` the blending at its
+    /// centre, `B_ℓ(d)` (0 outside the support), and `distance` the centre's. Returns the
+    /// number of calls; the order is fixed, as in [`query`](Self::query).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> = (0..512u32)
+    ///     .map(|i| Vec3::new((i % 8) as f32, (i / 8 % 8) as f32, (i / 64) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let (blending, x) = (lgh.blending(2.0)?, Vec3::new(3.2, 9.0, 4.1));
+    /// let mut centred = Vec::new();
+    /// lgh.query_levels(x, &blending, 1..=u8::MAX, |s| centred.push((s.level, s.index)))?;
+    /// let mut reaching = Vec::new();
+    /// let reach = |level| 2.0 * 3f32.sqrt() * lgh.h(level);
+    /// lgh.query_reaching(x, &blending, reach, |s| {
+    ///     assert_eq!(s.intensity, lgh.level(s.level).intensity(s.index as usize));
+    ///     assert_eq!(s.weight, blending.weight(s.level, s.distance));
+    ///     reaching.push((s.level, s.index));
+    /// })?;
+    /// // Every light eq. (3) gathers, and more near the supports' edges.
+    /// assert!(centred.iter().all(|l| reaching.contains(l)));
+    /// assert!(reaching.len() > centred.len());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn query_reaching<F: FnMut(&LightSample)>(
+        &self,
+        x: Vec3,
+        blending: &Blending,
+        reach: impl Fn(u8) -> f32,
+        mut f: F,
+    ) -> Result<u32, QueryError> {
+        QueryError::check_point(x)?;
+        self.check_blending(blending)?;
+        let top = self.max_level();
+        let mut count = 0u32;
+        for l in 1..=top {
+            let lights = &self.levels[l as usize - 1].lights;
+            let (inner, outer) = blending.support(l);
+            let reach = reach(l).max(0.0);
+            let inner = inner - reach;
+            let outer = outer + reach;
+            let inner2 = if inner > 0.0 { inner * inner } else { -1.0 };
+            let ramp = blending.ramp(l);
+            let mut hit = |index: usize, d: f32| -> Option<()> {
+                count += 1;
+                f(&LightSample {
+                    level: l,
+                    index: index as u32,
+                    position: lights.position(index),
+                    intensity: lights.intensity(index),
+                    variance: lights.variance(index),
+                    size: lights.size(index),
+                    distance: d,
+                    weight: ramp.weight(d),
+                    lobe: Lobe::All,
+                });
+                Some(())
+            };
+            if l == top || !outer.is_finite() {
+                lights.scan(0, lights.len(), x, inner2, f32::INFINITY, &mut hit);
+            } else {
+                let outer2 = outer * outer;
+                self.for_each_range(l, x, outer, |s, e| {
+                    lights.scan(s, e, x, inner2, outer2, &mut hit);
+                });
+            }
+        }
+        Ok(count)
+    }
+}
+
 /// Hands one level's contributing lights to the caller's closure.
 struct LevelHits<'a, F> {
     f: &'a mut F,

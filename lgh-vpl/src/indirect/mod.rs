@@ -31,6 +31,7 @@
 //! The shader is here; the normal buckets are in `buckets` and the strategies for coarse lights
 //! in `coarse`, both re-exported here.
 
+mod adaptive;
 mod buckets;
 mod coarse;
 pub mod lobe;
@@ -40,6 +41,7 @@ mod roulette;
 pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};
 pub(crate) use coarse::render_lgh;
+pub use adaptive::{BlendAt, MIN_SHARE_WEIGHT};
 pub use coarse::Coarse;
 pub use lobe::{Cone, DEFAULT_LOBE_ERROR, MAX_CONE};
 pub use refine::{Tally, DEFAULT_POINT_ERROR};
@@ -89,6 +91,17 @@ pub struct IndirectSettings {
     /// The bound ε on each point's error at which the hierarchy's adaptive shading takes more
     /// samples of the coarse lights ([`refine`]): `None` takes the mean everywhere.
     pub point_error: Option<f32>,
+}
+
+/// A coarse light as [`Indirect::shade_drawn`] shades its representatives.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Drawn<'a> {
+    /// The luminance its representatives share: `‖B_ℓ(d) I_ℓi‖` blended at its centre, or
+    /// `‖I_ℓi‖` with `blend`.
+    pub(crate) luminance: f32,
+    /// With each representative blended at its own distance: the blending and the light's
+    /// level.
+    pub(crate) blend: Option<(&'a lgh_core::Blending, u8)>,
 }
 
 /// A shadow-ray counter on a cache line of its own.
@@ -284,18 +297,45 @@ impl<'a> Indirect<'a> {
         if k == 0 || light.level == 0 {
             return self.shade(point, light, None);
         }
+        let light = Drawn {
+            luminance: lgh_core::luminance(light.intensity),
+            blend: None,
+        };
+        self.shade_drawn(point, normal, light, reps, tally)
+    }
+
+    /// The representatives `reps` (`k ≥ 1` of them, repeats allowed) of a coarse light
+    /// described by `light` shaded at `point` (unit shading `normal`): see
+    /// [`shade_representatives`](Self::shade_representatives); each share also added to
+    /// `tally`.
+    pub(crate) fn shade_drawn(
+        &self,
+        point: &ShadingPoint,
+        normal: Vec3,
+        light: Drawn<'_>,
+        reps: impl ExactSizeIterator<Item = usize>,
+        tally: &mut Tally,
+    ) -> Vec3 {
+        let k = reps.len();
         // Pick j carries its own colour: I_j · ‖B I_ℓ‖ / (k ‖I_j‖), the estimator of the drawn
-        // weights w_j ‖I_j‖ (unbiased per channel, not only in luminance).
-        let scale = lgh_core::luminance(light.intensity) / k as f32;
+        // weights w_j ‖I_j‖ (unbiased per channel, not only in luminance); blended at its own
+        // distance, I_j · B_ℓ(‖x − p_j‖) ‖I_ℓ‖ / (k ‖I_j‖).
+        let scale = light.luminance / k.max(1) as f32;
         let mut shade = |i: usize, times: usize| {
             let Some(v) = self.vpls.get(i) else {
                 return Vec3::ZERO;
             };
             let own = isotropic_intensity(v);
             let lum = lgh_core::luminance(own);
-            if lum > 0.0 {
-                let (unshadowed, lit) =
-                    self.shade_vpl_parts(point, normal, v, own * (scale * times as f32 / lum));
+            let share = match light.blend {
+                None => own * (scale * times as f32 / lum),
+                Some((blending, level)) => {
+                    let b = blending.weight(level, (point.position - v.position).length());
+                    own * (b * scale * times as f32 / lum)
+                }
+            };
+            if lum > 0.0 && share != Vec3::ZERO {
+                let (unshadowed, lit) = self.shade_vpl_parts(point, normal, v, share);
                 tally.add(times as u32, unshadowed, lit);
                 lit
             } else {

@@ -1,0 +1,649 @@
+//! The hierarchy's default shading of its coarse lights, beyond the paper
+//! ([`Coarse::Adaptive`](super::Coarse::Adaptive)): each shading point shares a budget of
+//! representatives among the coarse lights its query gathers, in proportion to what each
+//! brings there unshadowed, and shades again with more where its error may exceed the point
+//! bound ([`refine`](super::refine)).
+//!
+//! ## Where a light's blending weight is taken ([`BlendAt`])
+//!
+//! Eq. (3) weights a coarse light by `B_ℓ(d)` at its centre's distance `d`. Shaded through its
+//! representatives, light `i` then gives `B_ℓ(d_i) Σ_j w_ij I_j f_j(x)` (each input light `j`
+//! with its trilinear weight `w_ij`, eqs. 1, 2), while brute force gives each input light its
+//! whole `I_j f_j(x)`. The weights of all levels sum to one at every distance, and the
+//! trilinear weights of the lights of one level standing for an input light sum to one too, so
+//! `Σ_ℓ Σ_i w_ij B_ℓ(‖x − p_j‖) = 1` for every input light `j` — at the input light's own
+//! distance. At the centres' distances the sum is only close to one: where `B_ℓ` bends (at
+//! `r_{ℓ−1}`, `r_ℓ` and `2 r_ℓ`), lights a cell or more apart weigh one input light with
+//! different `B`. That is the hierarchy's smoothing, and at α = 4 on Sponza it is most of the
+//! error that no number of samples removes (1.8% of the image, unshadowed).
+//!
+//! [`BlendAt::Representative`] weights each representative by `B_ℓ` at its own distance
+//! instead, and gathers every coarse light that may have an input light inside its level's
+//! support ([`LightingGridHierarchy::query_reaching`], as far beyond it as the level's
+//! farthest input light from its centre, [`Representatives::max_extent`]; then each light by
+//! its own [`extent`](Representatives::extent)). Each input light is then counted exactly
+//! once: the estimate is unbiased against brute force over the same VPLs, and its error is
+//! the samples' noise alone.
+//!
+//! ## Sharing the samples
+//!
+//! The estimate that shares them is unshadowed, isotropic and Lambertian: the light's
+//! luminance × the cosine at the point (held above 1/4: a light whose centre is behind the
+//! surface may still have representatives in front of it) × the clamped `1/d²` × the blending
+//! — at the centre, or, blended per representative, its mean over a cell about the centre
+//! (`(B(d − h) + 2 B(d) + B(d + h)) / 4`, held above [`MIN_SHARE_WEIGHT`] so that no light
+//! that may give light is never shaded). The budget is `mean` per light whose centre is within
+//! its support, so the two ways of blending spend alike. A light wholly behind the point
+//! ([`behind`]) gives nothing and takes no share. Shares of one or more are rounded down to a
+//! power of two and to what there is; a light owed less than one is shaded with that
+//! probability and weighted by its inverse, by systematic roulette over the point's lights
+//! ([`roulette`](super::roulette)).
+
+use lgh_core::glam::Vec3;
+use lgh_core::random::SplitMix64;
+use lgh_core::{
+    Blending, Illumination, LghBackend, LightSample, LightingGridHierarchy, QueryError,
+    ShadingPoint,
+};
+
+use super::roulette::Systematic;
+use super::{refine, Drawn, Indirect, Tally};
+use crate::representatives::Representatives;
+
+/// Where a coarse light's blending weight `B_ℓ` is taken when it is shaded through its
+/// representatives (module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BlendAt {
+    /// At the light's centre, as in eq. (3): the hierarchy's smoothing stays in the image
+    /// (about 1.8% of Sponza's light at α = 4).
+    Centre,
+    /// At each representative's own distance, every light that may reach the point gathered:
+    /// unbiased against brute force over the same VPLs (beyond the paper).
+    #[default]
+    Representative,
+}
+
+impl BlendAt {
+    /// Its name on the command line and in outputs: `centre` or `representative`.
+    ///
+    /// ```
+    /// use lgh_vpl::indirect::BlendAt;
+    /// assert_eq!(BlendAt::default().name(), "representative");
+    /// assert_eq!(BlendAt::Centre.name(), "centre");
+    /// ```
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            BlendAt::Centre => "centre",
+            BlendAt::Representative => "representative",
+        }
+    }
+}
+
+/// The least blending weight the sharing estimate gives a light blended per representative:
+/// its estimate's mean blending can be 0 while one of its input lights, farther out, still has
+/// some, and a light never shaded would bias the image. 0.02: lower shares the samples better
+/// where it errs, and a light this far out gets a sample rarely either way.
+pub const MIN_SHARE_WEIGHT: f32 = 0.02;
+
+/// Whether every VPL that a coarse light, its centre at offset `to` from `point`, of a level
+/// of spacing `h`, stands for lies behind the surface at `point` (unit shading `normal`):
+/// behind its shading plane or its geometric one, where [`super::facing`] says none of them
+/// gives anything. Its VPLs lie within one cell of its grid vertex per axis (eqs. 1, 2), and
+/// so does its centre (their weighted mean, eq. 3): each is within `2h` of the centre per
+/// axis, so a plane that has the centre's whole box of half-width `2h` behind it has them all.
+/// Such a light is left out of the sharing — exactly, its share of the estimate is zero — and
+/// its representatives are never read.
+#[must_use]
+fn behind(point: &ShadingPoint, normal: Vec3, to: Vec3, h: f32) -> bool {
+    // A hair wider than 2h: the centre and the planes are rounded to f32.
+    let reach = 2.0 * h * (1.0 + 1e-5);
+    let behind_plane = |n: Vec3| n.dot(to) + reach * n.abs().element_sum() < 0.0;
+    behind_plane(normal) || point.geometric.is_some_and(behind_plane)
+}
+
+/// The salt of the roulette's sequence at a shading point (the area lights' patterns use the
+/// triangle's index, which stays below 2³²).
+const ROULETTE_SALT: u64 = 0xada << 40;
+
+/// A coarse light gathered at a point, as the passes over them read it: compact, for the
+/// thousands a point gathers.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    /// Its roulette number at this point, drawn at the first pass.
+    u: f64,
+    /// Its index in its level.
+    index: u32,
+    /// Its level (≥ 1).
+    level: u8,
+    /// Representatives shaded so far (0: none — skipped by the roulette, or not yet seen);
+    /// their estimate is `done[slot]`.
+    m: u8,
+    /// Where its estimate is kept, once it has one.
+    slot: u32,
+    /// The luminance its representatives share ([`Drawn::luminance`]).
+    luminance: f32,
+    /// The blending its isotropic point is taken at for the variance's which-VPL term: `B_ℓ`
+    /// at the centre, or the sharing estimate's mean.
+    weight: f32,
+    /// The unshadowed estimate that shares the samples.
+    share: f32,
+}
+
+/// A coarse light's estimate through the first `m` of its representatives, unweighted (by
+/// the roulette too), kept from one pass to the next at a point: the next pass's longer
+/// prefix starts with them.
+#[derive(Clone, Copy, Debug, Default)]
+struct Estimate {
+    radiance: Vec3,
+    tally: Tally,
+}
+
+/// A point's gathered lights and their estimates, reused from point to point on a thread.
+#[derive(Default)]
+struct Scratch {
+    lights: Vec<Candidate>,
+    done: Vec<Estimate>,
+}
+
+/// What `point` receives through `backend` with [`Coarse::Adaptive`](super::Coarse): level 0
+/// exactly, the coarse lights through a share of `mean` samples each, blended as `blend`
+/// says, shaded again with more while the estimate's error may exceed the shader's point
+/// bound ([`refine`](super::refine)); and whether they were.
+pub(super) fn adaptive(
+    point: &ShadingPoint,
+    backend: &LghBackend<'_>,
+    reps: &Representatives,
+    mean: f32,
+    blend: BlendAt,
+    shader: &Indirect<'_>,
+) -> Result<(Illumination, bool), QueryError> {
+    thread_local! {
+        static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+    }
+    let Some(normal) = point.normal else {
+        let dark = Illumination {
+            radiance: Vec3::ZERO,
+            lights: 0,
+        };
+        return Ok((dark, false));
+    };
+    SCRATCH.with_borrow_mut(|scratch| {
+        scratch.lights.clear();
+        scratch.done.clear();
+        let (mut radiance, lights, nominal) =
+            gather(point, normal, backend, reps, blend, shader, &mut scratch.lights)?;
+        let blending = (blend == BlendAt::Representative).then(|| backend.blending());
+        let mut rng = SplitMix64(crate::direct::point_seed(point.position, ROULETTE_SALT));
+        let lgh = backend.hierarchy();
+        let pass = Pass::new(lgh, point, normal, reps, blending, shader, nominal);
+        let mut mean = mean;
+        let mut result = pass.run(scratch, mean, Some(rng.next_f64()));
+        let mut rounds = 0;
+        if let Some(bound) = shader.settings.point_error {
+            while rounds < refine::MAX_ROUNDS
+                && !result.complete
+                && refine::needs_refining(
+                    f64::from(lgh_core::luminance(radiance + result.radiance)),
+                    result.variance,
+                    bound,
+                )
+            {
+                mean *= refine::GROWTH;
+                result = pass.run(scratch, mean, None);
+                rounds += 1;
+            }
+        }
+        radiance += result.radiance;
+        Ok((Illumination { radiance, lights }, rounds > 0))
+    })
+}
+
+/// The query at `point` (unit shading `normal`): level 0 shaded exactly, its radiance
+/// returned, and the coarse lights that may give light and are not [`behind`] the point
+/// pushed on `out` with their sharing estimates; with the number of lights gathered and of
+/// those pushed whose centre is within its level's support (the budget's count).
+fn gather(
+    point: &ShadingPoint,
+    normal: Vec3,
+    backend: &LghBackend<'_>,
+    reps: &Representatives,
+    blend: BlendAt,
+    shader: &Indirect<'_>,
+    out: &mut Vec<Candidate>,
+) -> Result<(Vec3, u32, usize), QueryError> {
+    let lgh = backend.hierarchy();
+    let h0 = shader.settings.h0;
+    let x = point.position;
+    let blending = backend.blending();
+    let mut radiance = Vec3::ZERO;
+    let mut level0 = |s: &LightSample| {
+        let vpl = lgh.input_index(s.index);
+        radiance += shader.shade(point, s, vpl);
+    };
+    // The cosine at the point, held above 1/4 (module docs), towards offset `to` at `d`.
+    let cosine = |to: Vec3, d: f32| {
+        if d > 0.0 {
+            normal.dot(to / d).max(0.25)
+        } else {
+            1.0
+        }
+    };
+    let candidate = |s: &LightSample, luminance: f32, weight: f32, share: f32| Candidate {
+        u: 0.0,
+        index: s.index,
+        level: s.level,
+        m: 0,
+        slot: 0,
+        luminance,
+        weight,
+        share,
+    };
+    match blend {
+        BlendAt::Centre => {
+            let lights = lgh.query(x, blending, |s| {
+                if s.level == 0 {
+                    return level0(s);
+                }
+                let to = s.position - x;
+                let d = to.length();
+                let luminance = lgh_core::luminance(s.intensity);
+                let share = luminance * cosine(to, d) * lgh_core::falloff(d, h0);
+                if !behind(point, normal, to, lgh.h(s.level)) {
+                    out.push(candidate(s, luminance, s.weight, share));
+                }
+            })?;
+            Ok((radiance, lights, out.len()))
+        }
+        BlendAt::Representative => {
+            let mut lights = lgh.query_levels(x, blending, 0..=0, &mut level0)?;
+            let mut nominal = 0;
+            lgh.query_reaching(x, blending, |l| reps.max_extent(l), |s| {
+                let d = s.distance;
+                let (inner, outer) = blending.support(s.level);
+                let extent = reps.extent(s.level, s.index);
+                if d + extent <= inner || d - extent >= outer {
+                    // None of its input lights is where its level has weight.
+                    return;
+                }
+                lights += 1;
+                let to = s.position - x;
+                if behind(point, normal, to, lgh.h(s.level)) {
+                    return;
+                }
+                let h = lgh.h(s.level);
+                let b = |d: f32| blending.weight(s.level, d.max(0.0));
+                let weight = ((b(d - h) + 2.0 * s.weight + b(d + h)) * 0.25).max(MIN_SHARE_WEIGHT);
+                let luminance = lgh_core::luminance(s.intensity);
+                let share = luminance * weight * cosine(to, d) * lgh_core::falloff(d, h0);
+                nominal += usize::from(s.weight > 0.0);
+                out.push(candidate(s, luminance, weight, share));
+            })?;
+            Ok((radiance, lights, nominal))
+        }
+    }
+}
+
+/// One pass's result ([`Pass::run`]).
+struct PassResult {
+    /// What the coarse lights give.
+    radiance: Vec3,
+    /// Its estimated variance in luminance ([`refine`](super::refine)); 0 where the shader has
+    /// no point bound, which is the only reader.
+    variance: f64,
+    /// Whether every light was shaded through all its representatives, unweighted: more
+    /// samples cannot change the estimate.
+    complete: bool,
+}
+
+/// The passes over one point's coarse lights.
+struct Pass<'a> {
+    lgh: &'a LightingGridHierarchy,
+    point: &'a ShadingPoint,
+    normal: Vec3,
+    reps: &'a Representatives,
+    /// With each representative blended at its own distance: the blending.
+    blending: Option<&'a Blending>,
+    shader: &'a Indirect<'a>,
+    /// The lights the budget counts.
+    nominal: usize,
+}
+
+impl<'a> Pass<'a> {
+    fn new(
+        lgh: &'a LightingGridHierarchy,
+        point: &'a ShadingPoint,
+        normal: Vec3,
+        reps: &'a Representatives,
+        blending: Option<&'a Blending>,
+        shader: &'a Indirect<'a>,
+        nominal: usize,
+    ) -> Self {
+        Pass {
+            lgh,
+            point,
+            normal,
+            reps,
+            blending,
+            shader,
+            nominal,
+        }
+    }
+
+    /// One pass over the point's lights in `scratch`: `mean` samples per counted light shared
+    /// in proportion to the estimates, the roulette's numbers drawn from `offset` at the first
+    /// pass (`Some`) and kept after. A light that takes a longer prefix than before shades
+    /// only the representatives it had not (the prefixes are nested, so this is the same
+    /// estimate as shading them all, with fewer shadow rays).
+    fn run(&self, scratch: &mut Scratch, mean: f32, offset: Option<f64>) -> PassResult {
+        let Scratch { lights, done } = scratch;
+        let (point, normal, shader) = (self.point, self.normal, self.shader);
+        let total: f32 = lights.iter().map(|c| c.share).sum();
+        let budget = mean.max(0.0) * self.nominal as f32;
+        let nested = self.reps.is_nested();
+        let mut roulette = offset.map(Systematic::new);
+        let mut radiance = Vec3::ZERO;
+        // The variance's parts: the lights' own (k ≥ 2) and the roulette's, and the unshadowed
+        // squares of the single draws, whose visibility is taken at the point's fraction.
+        let (mut own, mut single_sq) = (0.0f64, 0.0f64);
+        let (mut lit, mut unshadowed) = (0.0f64, 0.0f64);
+        let mut complete = true;
+        // Without a point bound nothing reads the variance: its parts are not computed.
+        let estimate_variance = shader.settings.point_error.is_some();
+        for light in lights.iter_mut() {
+            let want = if total > 0.0 {
+                budget * light.share / total
+            } else {
+                1.0
+            };
+            // Systematic over the point's lights, drawn once per light and point: a later
+            // pass, whose `want` is larger, keeps every light this one shaded (the roulettes
+            // are coupled), and their shadow rays.
+            if let Some(r) = roulette.as_mut() {
+                light.u = r.next(f64::from(want));
+            }
+            if nested && want < 1.0 && light.u >= f64::from(want) {
+                // Left out by the roulette, before its representatives are looked up.
+                complete = false;
+                continue;
+            }
+            let all = self.reps.of(light.level, light.index);
+            let (m, p) = if !nested {
+                (all.len(), 1.0)
+            } else if want >= 1.0 {
+                // The largest power of two not above `want`, and not above what there is.
+                let m = (want as usize).clamp(1, all.len().max(1));
+                let m = if m.is_power_of_two() {
+                    m
+                } else {
+                    m.next_power_of_two() / 2
+                };
+                (m, 1.0)
+            } else {
+                (1, f64::from(want))
+            };
+            complete &= m >= all.len() && p == 1.0;
+            let drawn = Drawn {
+                luminance: light.luminance,
+                blend: self.blending.map(|b| (b, light.level)),
+            };
+            let before = usize::from(light.m);
+            let ids = |r: std::ops::Range<usize>| {
+                all.get(r).unwrap_or(&[]).iter().map(|&i| i as usize)
+            };
+            let estimate = if before == m {
+                // The same prefix as before: the same estimate.
+                done[light.slot as usize]
+            } else if before > 0 && before < m {
+                // The first `before` as before; the rest shaded now; both at their share of m.
+                let mut rest = Tally::default();
+                let more = shader.shade_drawn(point, normal, drawn, ids(before..m), &mut rest);
+                let (a, b) = (before as f32 / m as f32, (m - before) as f32 / m as f32);
+                let kept = done[light.slot as usize];
+                let tally = kept
+                    .tally
+                    .scaled(f64::from(a))
+                    .merged(&rest.scaled(f64::from(b)));
+                Estimate {
+                    radiance: kept.radiance * a + more * b,
+                    tally,
+                }
+            } else {
+                let mut tally = Tally::default();
+                let radiance = shader.shade_drawn(point, normal, drawn, ids(0..m), &mut tally);
+                light.slot = done.len() as u32;
+                done.push(Estimate::default());
+                Estimate { radiance, tally }
+            };
+            // At most 64 representatives a light (`MAX_PER_LIGHT`).
+            light.m = m.min(usize::from(u8::MAX)) as u8;
+            done[light.slot as usize] = estimate;
+            let tally = estimate.tally;
+            radiance += estimate.radiance * (1.0 / p) as f32;
+            if !estimate_variance {
+                continue;
+            }
+            lit += tally.lit();
+            unshadowed += tally.unshadowed();
+            let scale = 1.0 / (p * p);
+            if tally.draws() >= 2 {
+                own += tally.variance(0.0) * scale;
+            } else {
+                single_sq += tally.unshadowed_squares() * scale;
+                // Which VPL was drawn: its unshadowed share against the light's own,
+                // unshadowed, as the isotropic point it is in the hierarchy (one draw's
+                // deviation from the mean it estimates, the mean taken from the aggregate).
+                let level = self.lgh.level(light.level);
+                let (position, intensity) = (
+                    level.position(light.index as usize),
+                    level.intensity(light.index as usize) * light.weight,
+                );
+                let point_like = if super::facing(point, normal, position) {
+                    let lit = shader.reflect(point, normal, position, intensity);
+                    f64::from(lgh_core::luminance(lit))
+                } else {
+                    0.0
+                };
+                let off = tally.unshadowed() - point_like;
+                own += off * off * scale;
+            }
+            if p < 1.0 {
+                let x = tally.lit() / p;
+                own += x * x * (1.0 - p);
+            }
+        }
+        let visible = if unshadowed > 0.0 {
+            lit / unshadowed
+        } else {
+            1.0
+        };
+        PassResult {
+            radiance,
+            variance: own + visible * (1.0 - visible) * single_sq,
+            complete,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::indirect::tests::{rel_rmse, Fixture};
+    use crate::indirect::{render_lgh, Coarse};
+    use crate::render::Rendered;
+    use crate::representatives::Allocation;
+
+    /// The sum of every pixel's channels: the image's light, whose ratio compares two
+    /// renders' means.
+    fn light_sum(r: &Rendered) -> f64 {
+        r.image
+            .pixels
+            .iter()
+            .map(|p| f64::from(p.element_sum()))
+            .sum()
+    }
+
+    /// A pool of `n` threads.
+    fn pool(n: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    }
+
+    /// A coarse light [`behind`] a point gives it nothing: every VPL it stands for (every
+    /// input light with a trilinear weight, eqs. 1, 2) is hidden by the surface there
+    /// ([`super::facing`]), at every point the camera sees in the room and every coarse light its
+    /// query at α = 4 returns. And the test bites: some lights are left out.
+    #[test]
+    fn lights_behind_a_point_give_it_nothing() {
+        let f = Fixture::new();
+        let camera = Fixture::camera(16, 12);
+        let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
+        let (mut left_out, mut kept) = (0, 0);
+        for (px, py) in (0..12).flat_map(|y| (0..16).map(move |x| (x, y))) {
+            let (origin, dir) = camera.ray(px, py);
+            let Some((point, _)) = f.scene.trace(origin, dir) else {
+                continue;
+            };
+            let normal = point.normal.unwrap();
+            f.lgh
+                .query(point.position, backend.blending(), |s| {
+                    if s.level == 0 {
+                        return;
+                    }
+                    let to = s.position - point.position;
+                    if !behind(&point, normal, to, f.lgh.h(s.level)) {
+                        kept += 1;
+                        return;
+                    }
+                    left_out += 1;
+                    crate::representatives::contributors(&f.lgh, s.level, s.index, |j, _, _| {
+                        let q = f.vpls[j].position;
+                        assert!(!super::super::facing(&point, normal, q), "{s:?}: VPL {j}");
+                    });
+                })
+                .unwrap();
+        }
+        println!("{left_out} coarse lights left out, {kept} kept");
+        assert!(left_out > 0 && kept > 0, "{left_out} {kept}");
+    }
+
+    /// The adaptive allocation (`lgh gi`'s default; here 16 nested representatives, 2 per coarse
+    /// light on average, shared per point by an unshadowed estimate, systematic Russian roulette
+    /// below one) against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's
+    /// Gaussian samples 54.6%) and 0.26% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
+    /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where the
+    /// default measures 2.3% on the Cornell box and 2.7–3.0% on Sponza, `docs/gi.md`; the room's 4,000 VPLs make
+    /// coarse lights of a few VPLs each, where the roulette's noise weighs more.) And it is the
+    /// same at any thread count: the roulette's numbers come from the shading point's own
+    /// sequence.
+    #[test]
+    fn adaptive_representatives_meet_the_targets_at_any_thread_count() {
+        let f = Fixture::new();
+        let reps = Representatives::build_with(&f.lgh, Allocation::Nested(16));
+        let (shader, camera) = (f.shader(), Fixture::camera(32, 24));
+        let exact = f.exact(&shader, &camera);
+        let render = |alpha: f32| {
+            let backend = LghBackend::new(&f.lgh, alpha).unwrap();
+            let coarse = Coarse::Adaptive {
+                reps: &reps,
+                mean: 2.0,
+            };
+            render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
+        };
+        let at4 = rel_rmse(&render(4.0), &exact);
+        let gaussian = rel_rmse(&f.isotropic(&shader, &camera, 4.0), &exact);
+        let at16 = rel_rmse(&render(16.0), &exact);
+        println!("adaptive: alpha 4 {at4:.4} (gaussian {gaussian:.4}), alpha 16 {at16:.4}");
+        assert!(at4 < gaussian, "{at4} against {gaussian}");
+        assert!(at16 <= 0.01, "{at16}");
+        // Unbiased: the image's mean matches that of every coarse light shaded through all 16
+        // of its representatives (the roulette's weights and the prefixes change the noise, not
+        // the mean).
+        let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
+        let all = Coarse::Representatives(&reps);
+        let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
+        let ratio = light_sum(&render(4.0)) / light_sum(&full);
+        println!("adaptive mean over all-16 mean: {ratio:.4}");
+        // Measured 1.0027. Bound: the per-pixel noise is about the 4.4% RMSE above; over 768
+        // pixels that is 0.16% if they were independent, and neighbours share lights, so an
+        // order of magnitude more: 2%.
+        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+        assert_eq!(
+            pool(1).install(|| render(4.0)),
+            pool(3).install(|| render(4.0))
+        );
+    }
+
+    /// The per-point refinement ([`refine`](super::super::refine)) against brute force in the
+    /// room at α = 4 with `lgh gi`'s defaults (1.25 representatives per coarse light on
+    /// average, at most 32): the points whose estimated error may exceed the bound are shaded
+    /// again, so fewer pixels err by more than it, the largest error falls and so does the
+    /// image's; the refined points are counted; the image is the same on 1 and 3 threads.
+    /// The bound is 3% here: at `lgh gi`'s 10% the room (48×36) has one pixel over to begin
+    /// with, where Sponza had 1.2%. Measured: 26.4% of the pixels over 3% without refinement,
+    /// 6.7% with it (what is left is mostly the hierarchy's own smoothing, which the rule does
+    /// not bound), the largest error 11.1% → 5.5%, the image's 3.68% → 2.71%, 935 of 955
+    /// points refined (at 3%, nearly every point's few samples may be off by that much); the
+    /// mean 1.0027 times that of every representative. Asserted: the fraction over at least
+    /// halves, the largest error and the image's fall, some points but not all are refined,
+    /// the mean is within 2%.
+    #[test]
+    fn refined_points_err_less() {
+        let f = Fixture::new();
+        let reps = Representatives::build_with(&f.lgh, Allocation::Nested(32));
+        let camera = Fixture::camera(48, 36);
+        let exact = f.exact(&f.shader(), &camera);
+        let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
+        let render = |point_error: Option<f32>| {
+            let shader = Indirect::new(
+                &f.scene,
+                &f.vpls,
+                super::super::IndirectSettings {
+                    point_error,
+                    ..f.shader().settings
+                },
+            );
+            let coarse = Coarse::Adaptive {
+                reps: &reps,
+                mean: 1.25,
+            };
+            let r = render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap();
+            (r, shader.refined_points(), shader.bounded_points())
+        };
+        let (plain, none, _) = render(None);
+        let (refined, count, bounded) = render(Some(0.03));
+        let over = |r: &Rendered| lgh_image::point_errors(&r.image, &exact.image, 0.03).unwrap();
+        let (before, after) = (over(&plain), over(&refined));
+        let (e0, e1) = (rel_rmse(&plain, &exact), rel_rmse(&refined, &exact));
+        let points = refined.pixels_shaded;
+        println!(
+            "over 3%: {:.4} -> {:.4}; largest {:.4} -> {:.4}; rel. RMSE {e0:.4} -> {e1:.4}; \
+             refined {count} of {points}",
+            before.over, after.over, before.max, after.max
+        );
+        assert_eq!(none, 0);
+        assert_eq!(bounded, count);
+        assert!(count > 0 && count < points, "{count} of {points}");
+        assert!(
+            after.over <= 0.5 * before.over,
+            "{after:?} against {before:?}"
+        );
+        assert!(after.max < before.max, "{after:?} against {before:?}");
+        assert!(e1 < e0, "{e1} against {e0}");
+        // Stopping on the estimate itself barely biases it: the mean matches that of every
+        // coarse light shaded through all its representatives (the bound of
+        // `adaptive_representatives_meet_the_targets_at_any_thread_count`, 2%).
+        let shader = f.shader();
+        let all = Coarse::Representatives(&reps);
+        let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
+        let ratio = light_sum(&refined) / light_sum(&full);
+        println!("refined mean over all-32 mean: {ratio:.4}");
+        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+        assert_eq!(
+            pool(1).install(|| render(Some(0.03)).0),
+            pool(3).install(|| render(Some(0.03)).0)
+        );
+    }
+}
