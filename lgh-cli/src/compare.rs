@@ -12,9 +12,16 @@ pub struct CompareArgs {
     /// The reference (linear OpenEXR of the same size).
     pub reference: PathBuf,
     /// Print JSON: {"rel_rmse", "max_abs", "mean_abs"} (luminance; rel_rmse is null when the
-    /// reference is black).
+    /// reference is black), and each pixel's relative error against `--point-bound`:
+    /// "max_point_error", "point_error_p99", "points_over_bound" (as `lgh bench gi` reports
+    /// them; null when the reference is black).
     #[arg(long)]
     pub json: bool,
+    /// The bound each pixel's relative error is held to (0.1 is 10% of its light; a pixel
+    /// darker than 1% of the reference's mean is held to 1% of the mean): the fraction of
+    /// the lit pixels over it is reported.
+    #[arg(long, default_value_t = 0.1)]
+    pub point_bound: f64,
     /// Where to write the false-colour difference PNG (default: IMAGE with `-diff.png`).
     #[arg(long)]
     pub diff: Option<PathBuf>,
@@ -56,11 +63,23 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     lgh_image::difference_png(&diff, &a, &r, stats.max_abs as f32)?;
     // Relative to a black reference, an error means nothing: JSON null, and said in words.
     let black = stats.mean_reference <= 0.0;
+    if !(args.point_bound.is_finite() && args.point_bound > 0.0) {
+        return Err(format!("--point-bound {}: expected a number above 0", args.point_bound).into());
+    }
+    let points = lgh_image::point_errors(&a, &r, args.point_bound).filter(|_| !black);
     if args.json {
         let rel = if black { None } else { Some(stats.rel_rmse) };
         say!(
             "{}",
-            json!({"rel_rmse": rel, "max_abs": stats.max_abs, "mean_abs": stats.mean_abs})
+            json!({
+                "rel_rmse": rel,
+                "max_abs": stats.max_abs,
+                "mean_abs": stats.mean_abs,
+                "max_point_error": points.map(|p| p.max),
+                "point_error_p99": points.map(|p| p.p99),
+                "points_over_bound": points.map(|p| p.over),
+                "point_bound": args.point_bound,
+            })
         );
     } else if black {
         say!(
@@ -71,8 +90,16 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
             diff.display()
         );
     } else {
+        let points = points.map_or(String::new(), |p| {
+            format!(
+                "; pixels over {}%: {:.2}% (largest {:.2}%)",
+                100.0 * args.point_bound,
+                100.0 * p.over,
+                100.0 * p.max
+            )
+        });
         say!(
-            "relative RMSE {:.4}%, max abs {:.4e}, mean abs {:.4e} (luminance; mean of the reference {:.4e}); difference: {}",
+            "relative RMSE {:.4}%, max abs {:.4e}, mean abs {:.4e} (luminance; mean of the reference {:.4e}){points}; difference: {}",
             100.0 * stats.rel_rmse,
             stats.max_abs,
             stats.mean_abs,

@@ -814,6 +814,20 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
     assert!((v["max_abs"].as_f64().unwrap() - 2.0).abs() < 1e-6);
     assert!((v["mean_abs"].as_f64().unwrap() - 2.0 / 32.0).abs() < 1e-6);
     assert!((v["rel_rmse"].as_f64().unwrap() - (4.0f64 / 32.0).sqrt() / 16.5).abs() < 1e-6);
+    // That pixel (luminance 4) errs by 2/4 = 50%, over the default 10%: 1 of 32.
+    assert!((v["max_point_error"].as_f64().unwrap() - 0.5).abs() < 1e-6);
+    assert!((v["points_over_bound"].as_f64().unwrap() - 1.0 / 32.0).abs() < 1e-12);
+    let v = lgh_json(&[
+        "compare",
+        pa.to_str().unwrap(),
+        pr.to_str().unwrap(),
+        "--json",
+        "--point-bound",
+        "0.6",
+    ]);
+    assert_eq!(v["points_over_bound"].as_f64(), Some(0.0));
+    let o = lgh(&["compare", pa.to_str().unwrap(), pr.to_str().unwrap(), "--point-bound", "0"]);
+    assert!(!o.status.success());
     assert!(dir.path().join("a-diff.png").exists());
     // Different sizes: one error line.
     let small = dir.path().join("s.exr");

@@ -59,7 +59,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-#![forbid(unsafe_code)]
+// No unsafe code but the one cache hint of `prefetch`, which allows itself.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod brdf;
@@ -68,6 +69,7 @@ pub mod direct;
 pub mod gi;
 pub mod indirect;
 pub mod mesh;
+mod prefetch;
 pub mod obj;
 pub mod paquette;
 pub mod primary;

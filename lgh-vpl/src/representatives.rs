@@ -315,6 +315,13 @@ impl Representatives {
         self.level(level).map_or(0.0, |l| l.max_extent)
     }
 
+    /// Every light of `level`'s [`extent`](Self::extent), by index (empty for level 0 and
+    /// above the top): what [`LightingGridHierarchy::query_reaching`] takes.
+    #[must_use]
+    pub fn extents(&self, level: u8) -> &[f32] {
+        self.level(level).map_or(&[], |l| &l.extents)
+    }
+
     /// Level `ℓ ≥ 1`'s.
     fn level(&self, level: u8) -> Option<&LevelReps> {
         self.levels.get((level as usize).checked_sub(1)?)

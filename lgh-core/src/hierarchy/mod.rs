@@ -17,6 +17,7 @@ mod build;
 mod query;
 
 pub use backend::LghBackend;
+pub use query::Reaching;
 
 /// The input lights in the hierarchy's order: by Morton code of their level-1 cell, ties broken by
 /// position and intensity bits — a total order on the lights' values, so the build does not depend

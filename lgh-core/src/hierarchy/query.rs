@@ -316,21 +316,39 @@ impl LightingGridHierarchy {
     }
 }
 
+/// A coarse light [`LightingGridHierarchy::query_reaching`] finds: its level and index, its
+/// centre's distance from the point and `B_ℓ` there (0 outside the level's support). Its
+/// position, intensity and luminance are [`LightingGridHierarchy::level`]'s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reaching {
+    /// Its level ℓ ≥ 1.
+    pub level: u8,
+    /// Its index within the level.
+    pub index: u32,
+    /// `d = ‖x − p_ℓi‖`.
+    pub distance: f32,
+    /// `B_ℓ(d)`.
+    pub weight: f32,
+}
+
 impl LightingGridHierarchy {
     /// The coarse lights (levels ≥ 1) that can give `x` light when each input light `j` a
     /// coarse light stands for is blended at its *own* distance, `B_ℓ(‖x − p_j‖)`, instead of
-    /// at the light's centre as in eq. (3): every light whose centre lies within `reach(ℓ)` of
-    /// its level's support `(r_{ℓ−1}, 2 r_ℓ)`. Beyond the paper. With `reach(ℓ)` at least the
-    /// distance from any light's centre to the farthest input light it stands for (`2√3 h_ℓ`
-    /// bounds it: the centre and the input lights lie in the cube of half-width `h_ℓ` about the
-    /// light's vertex, eqs. 1, 2), no light any of whose input lights has a non-zero weight is
-    /// left out; since the weights of all levels sum to one at every distance, level 0 from
-    /// [`query_levels`](Self::query_levels) and these lights together then account for every
-    /// input light exactly once (see lgh-vpl's per-representative blending).
+    /// at the light's centre as in eq. (3). Beyond the paper.
     ///
-    /// `f` gets each light with its intensity `I_ℓi` unweighted, `weight` the blending at its
-    /// centre, `B_ℓ(d)` (0 outside the support), and `distance` the centre's. Returns the
-    /// number of calls; the order is fixed, as in [`query`](Self::query).
+    /// `extents(ℓ)` gives level ℓ's lights' extents — light `i`'s, `e_i`, at least the
+    /// distance from its centre to the farthest input light it stands for — and the largest
+    /// of them (a light past the slice's end counts as the largest). A light is reported when
+    /// some point within `e_i` of its centre lies inside its level's support
+    /// `(r_{ℓ−1}, 2 r_ℓ)`: `d + e_i > r_{ℓ−1}` and `d − e_i < 2 r_ℓ`. So no light any of whose
+    /// input lights has a non-zero weight at its own distance is left out; since the weights
+    /// of all levels sum to one at every distance, level 0 from
+    /// [`query_levels`](Self::query_levels) and these lights together account for every
+    /// input light exactly once (lgh-vpl's per-representative blending). (`2√3 h_ℓ` bounds
+    /// any light's extent: its centre and its input lights lie in the cube of half-width
+    /// `h_ℓ` about its vertex, eqs. 1, 2.)
+    ///
+    /// Returns the number of calls; the order is fixed, as in [`query`](Self::query).
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
@@ -344,23 +362,30 @@ impl LightingGridHierarchy {
     /// let (blending, x) = (lgh.blending(2.0)?, Vec3::new(3.2, 9.0, 4.1));
     /// let mut centred = Vec::new();
     /// lgh.query_levels(x, &blending, 1..=u8::MAX, |s| centred.push((s.level, s.index)))?;
+    /// // Every light as wide as any can be.
+    /// let widest = |level| (2.0 * 3f32.sqrt() * lgh.h(level), &[][..]);
     /// let mut reaching = Vec::new();
-    /// let reach = |level| 2.0 * 3f32.sqrt() * lgh.h(level);
-    /// lgh.query_reaching(x, &blending, reach, |s| {
-    ///     assert_eq!(s.intensity, lgh.level(s.level).intensity(s.index as usize));
-    ///     assert_eq!(s.weight, blending.weight(s.level, s.distance));
-    ///     reaching.push((s.level, s.index));
+    /// lgh.query_reaching(x, &blending, widest, |r| {
+    ///     let d = (lgh.level(r.level).position(r.index as usize) - x).length();
+    ///     assert!((r.distance - d).abs() <= 1e-5 * d);
+    ///     assert_eq!(r.weight, blending.weight(r.level, r.distance));
+    ///     reaching.push((r.level, r.index));
     /// })?;
     /// // Every light eq. (3) gathers, and more near the supports' edges.
     /// assert!(centred.iter().all(|l| reaching.contains(l)));
     /// assert!(reaching.len() > centred.len());
+    /// // Lights of no extent (each a single point at its centre): eq. (3)'s own.
+    /// let points = |_| (0.0, &[][..]);
+    /// let mut exact = Vec::new();
+    /// lgh.query_reaching(x, &blending, points, |r| exact.push((r.level, r.index)))?;
+    /// assert_eq!(exact, centred);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn query_reaching<F: FnMut(&LightSample)>(
+    pub fn query_reaching<'e, F: FnMut(Reaching)>(
         &self,
         x: Vec3,
         blending: &Blending,
-        reach: impl Fn(u8) -> f32,
+        extents: impl Fn(u8) -> (f32, &'e [f32]),
         mut f: F,
     ) -> Result<u32, QueryError> {
         QueryError::check_point(x)?;
@@ -370,31 +395,34 @@ impl LightingGridHierarchy {
         for l in 1..=top {
             let lights = &self.levels[l as usize - 1].lights;
             let (inner, outer) = blending.support(l);
-            let reach = reach(l).max(0.0);
-            let inner = inner - reach;
-            let outer = outer + reach;
-            let inner2 = if inner > 0.0 { inner * inner } else { -1.0 };
+            let (widest, each) = extents(l);
+            let widest = widest.max(0.0);
+            let (scan_inner, scan_outer) = (inner - widest, outer + widest);
+            let inner2 = if scan_inner > 0.0 {
+                scan_inner * scan_inner
+            } else {
+                -1.0
+            };
             let ramp = blending.ramp(l);
             let mut hit = |index: usize, d: f32| -> Option<()> {
+                let e = each.get(index).copied().unwrap_or(widest);
+                if d + e <= inner || d - e >= outer {
+                    return None;
+                }
                 count += 1;
-                f(&LightSample {
+                f(Reaching {
                     level: l,
                     index: index as u32,
-                    position: lights.position(index),
-                    intensity: lights.intensity(index),
-                    variance: lights.variance(index),
-                    size: lights.size(index),
                     distance: d,
                     weight: ramp.weight(d),
-                    lobe: Lobe::All,
                 });
                 Some(())
             };
-            if l == top || !outer.is_finite() {
+            if l == top || !scan_outer.is_finite() {
                 lights.scan(0, lights.len(), x, inner2, f32::INFINITY, &mut hit);
             } else {
-                let outer2 = outer * outer;
-                self.for_each_range(l, x, outer, |s, e| {
+                let outer2 = scan_outer * scan_outer;
+                self.for_each_range(l, x, scan_outer, |s, e| {
                     lights.scan(s, e, x, inner2, outer2, &mut hit);
                 });
             }

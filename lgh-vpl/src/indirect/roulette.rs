@@ -45,8 +45,11 @@ impl Systematic {
         }
         let x = self.offset - self.sum;
         self.sum += p.max(0.0);
-        // frac, for either sign of x (`rem_euclid` would call fmod).
-        let u = x - x.floor();
+        // frac, for either sign of x: floor by truncation, one lower for a negative
+        // fraction (`floor` is a library call on the x86-64 baseline, `rem_euclid` an fmod).
+        // Exact for |x| < 2⁵³, far beyond any sum of a point's probabilities.
+        let t = x as i64 as f64;
+        let u = x - if t > x { t - 1.0 } else { t };
         // x − floor(x) can round up to 1 for a tiny negative x.
         if u < 1.0 {
             u
