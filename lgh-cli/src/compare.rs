@@ -64,7 +64,11 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     // Relative to a black reference, an error means nothing: JSON null, and said in words.
     let black = stats.mean_reference <= 0.0;
     if !(args.point_bound.is_finite() && args.point_bound > 0.0) {
-        return Err(format!("--point-bound {}: expected a number above 0", args.point_bound).into());
+        return Err(format!(
+            "--point-bound {}: expected a number above 0",
+            args.point_bound
+        )
+        .into());
     }
     let points = lgh_image::point_errors(&a, &r, args.point_bound).filter(|_| !black);
     if args.json {

@@ -826,7 +826,13 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
         "0.6",
     ]);
     assert_eq!(v["points_over_bound"].as_f64(), Some(0.0));
-    let o = lgh(&["compare", pa.to_str().unwrap(), pr.to_str().unwrap(), "--point-bound", "0"]);
+    let o = lgh(&[
+        "compare",
+        pa.to_str().unwrap(),
+        pr.to_str().unwrap(),
+        "--point-bound",
+        "0",
+    ]);
     assert!(!o.status.success());
     assert!(dir.path().join("a-diff.png").exists());
     // Different sizes: one error line.

@@ -38,13 +38,13 @@ pub mod lobe;
 pub mod refine;
 mod roulette;
 
+pub use adaptive::{BlendAt, MIN_SHARE_WEIGHT};
 pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};
 pub(crate) use coarse::render_lgh;
-pub use adaptive::{BlendAt, MIN_SHARE_WEIGHT};
 pub use coarse::Coarse;
 pub use lobe::{Cone, DEFAULT_LOBE_ERROR, MAX_CONE};
-pub use refine::{Tally, DEFAULT_POINT_ERROR};
+pub use refine::{Tally, WhichVpl, DEFAULT_POINT_ERROR};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
