@@ -1225,6 +1225,60 @@ fn gi_normals_face_names_the_unused_vertex_normals() {
     assert!(!o.status.success());
 }
 
+/// `lgh gi --blend-at`: the default blends each representative at its own distance, `centre`
+/// at the light's centre (eq. 3); the EXR header says which, the two images differ, and an
+/// unknown value or a mean below a quarter is refused.
+#[test]
+fn gi_blend_at_is_in_the_header_and_changes_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("room.obj");
+    // A floor and a back wall lit from above: light bounces from the floor to the wall.
+    std::fs::write(
+        &obj,
+        "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nv -2 0 -2\nv 2 0 -2\nv 2 3 -2\nv -2 3 -2\n\
+         f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n",
+    )
+    .unwrap();
+    let gi = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "gi",
+            "--obj",
+            obj.to_str().unwrap(),
+            "--light",
+            "point:0,2.5,0,20,20,20",
+            "--vpls",
+            "3000",
+            "--camera",
+            "0,1.5,4,0,1,0,60",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--no-direct",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        lgh(&args)
+    };
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = gi(&out, extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (lgh_image::read_exr(&out).unwrap(), header(&out))
+    };
+    let (each, get) = render("each.exr", &[]);
+    assert_eq!(get("lgh:blend_at"), "representative");
+    let (centre, get) = render("centre.exr", &["--blend-at", "centre"]);
+    assert_eq!(get("lgh:blend_at"), "centre");
+    assert_ne!(each.pixels, centre.pixels);
+    for bad in [&["--blend-at", "vertex"][..], &["--shadow-samples", "0.2"]] {
+        let o = gi(&dir.path().join("bad.exr"), bad);
+        assert!(!o.status.success(), "{bad:?}");
+    }
+}
+
 /// `lgh bench gi` prints the issue's JSON keys for each α, measured against brute force on the
 /// same pixels, and writes the images and their difference images.
 #[test]
@@ -1298,6 +1352,7 @@ fn bench_gi_prints_the_runs_against_brute_force() {
     assert_eq!(v["max_shadow_samples"], 32);
     assert_eq!(v["point_error"].as_f64(), Some(0.1f32 as f64));
     assert_eq!(v["points_counted_against"].as_f64(), Some(0.1f32 as f64));
+    assert_eq!(v["blend_at"], "representative");
     let cuts = &v["lightcuts"];
     assert_eq!(cuts["relative_error"].as_f64().unwrap(), 0.02f32 as f64);
     assert!(cuts["rel_rmse"].as_f64().unwrap() >= 0.0, "{cuts}");
