@@ -191,7 +191,15 @@ pub(super) fn adaptive(
         let blending = (blend == BlendAt::Representative).then(|| backend.blending());
         let mut rng = SplitMix64(crate::direct::point_seed(point.position, ROULETTE_SALT));
         let lgh = backend.hierarchy();
-        let pass = Pass::new(lgh, point, normal, reps, blending, shader, nominal);
+        let pass = Pass {
+            lgh,
+            point,
+            normal,
+            reps,
+            blending,
+            shader,
+            nominal,
+        };
         let mut mean = mean;
         let mut result = pass.run(scratch, mean, Some(rng.next_f64()));
         let mut rounds = 0;
@@ -328,27 +336,7 @@ struct Pass<'a> {
     nominal: usize,
 }
 
-impl<'a> Pass<'a> {
-    fn new(
-        lgh: &'a LightingGridHierarchy,
-        point: &'a ShadingPoint,
-        normal: Vec3,
-        reps: &'a Representatives,
-        blending: Option<&'a Blending>,
-        shader: &'a Indirect<'a>,
-        nominal: usize,
-    ) -> Self {
-        Pass {
-            lgh,
-            point,
-            normal,
-            reps,
-            blending,
-            shader,
-            nominal,
-        }
-    }
-
+impl Pass<'_> {
     /// One pass over the point's lights in `scratch`: `mean` samples per counted light shared
     /// in proportion to the estimates, the roulette's numbers drawn from `offset` at the first
     /// pass (`Some`) and kept after. A light that takes a longer prefix than before shades
