@@ -1035,6 +1035,17 @@ mod tests {
             ..GiSettings::default()
         })
         .contains("whole number"));
+        // The adaptive sharing's mean may go below one, down to a quarter; the others' may not.
+        let mean = |k: f32, allocation| GiSettings {
+            shadow_samples: Some(k),
+            sample_allocation: Some(allocation),
+            ..GiSettings::default()
+        };
+        assert!(mean(MIN_ADAPTIVE_SAMPLES, SampleAllocation::Adaptive)
+            .check()
+            .is_ok());
+        assert!(bad(mean(0.2, SampleAllocation::Adaptive)).contains("from 0.25 to 64"));
+        assert!(bad(mean(0.5, SampleAllocation::Intensity)).contains("from 1 to 64"));
         assert!(bad(GiSettings {
             max_shadow_samples: Some(65),
             ..GiSettings::default()
