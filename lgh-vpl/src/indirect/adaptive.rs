@@ -350,7 +350,11 @@ impl Pass<'_> {
         } = scratch;
         let (point, normal, shader) = (self.point, self.normal, self.shader);
         let total: f32 = lights.iter().map(|c| c.share).sum();
-        let budget = mean.max(0.0) * self.nominal as f32;
+        // At least one light's worth: a point whose every light is gathered by its extent
+        // alone (its centre outside the support) would otherwise get no samples and lose the
+        // light those lights' VPLs give it. Each light's share is above zero, so with any
+        // budget every light may be shaded.
+        let budget = mean.max(0.0) * self.nominal.max(1) as f32;
         let nested = self.reps.is_nested();
         let mut complete = true;
         // The lights shaded this pass, with their shares: chosen first, so that their
