@@ -29,6 +29,14 @@ pub struct CompareArgs {
 
 /// Runs `lgh compare`.
 pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
+    // Checked before anything is read or written.
+    if !(args.point_bound.is_finite() && args.point_bound > 0.0) {
+        return Err(format!(
+            "--point-bound {}: expected a number above 0",
+            args.point_bound
+        )
+        .into());
+    }
     let a = lgh_image::read_exr(&args.image)?;
     let r = lgh_image::read_exr(&args.reference)?;
     // A NaN or an infinity would make every figure below NaN: name the pixel instead.
@@ -63,13 +71,6 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     lgh_image::difference_png(&diff, &a, &r, stats.max_abs as f32)?;
     // Relative to a black reference, an error means nothing: JSON null, and said in words.
     let black = stats.mean_reference <= 0.0;
-    if !(args.point_bound.is_finite() && args.point_bound > 0.0) {
-        return Err(format!(
-            "--point-bound {}: expected a number above 0",
-            args.point_bound
-        )
-        .into());
-    }
     let points = lgh_image::point_errors(&a, &r, args.point_bound).filter(|_| !black);
     if args.json {
         let rel = if black { None } else { Some(stats.rel_rmse) };

@@ -826,14 +826,19 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
         "0.6",
     ]);
     assert_eq!(v["points_over_bound"].as_f64(), Some(0.0));
+    // A bad bound is refused before anything is written.
+    let refused = dir.path().join("refused-diff.png");
     let o = lgh(&[
         "compare",
         pa.to_str().unwrap(),
         pr.to_str().unwrap(),
         "--point-bound",
         "0",
+        "--diff",
+        refused.to_str().unwrap(),
     ]);
     assert!(!o.status.success());
+    assert!(!refused.exists());
     assert!(dir.path().join("a-diff.png").exists());
     // Different sizes: one error line.
     let small = dir.path().join("s.exr");

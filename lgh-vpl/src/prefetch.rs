@@ -11,10 +11,6 @@
 #![allow(unsafe_code)]
 
 /// Hints that `value` will be read soon (x86-64: `prefetcht0`; elsewhere nothing).
-///
-/// ```ignore
-/// prefetch(&vpls[next]);
-/// ```
 #[inline(always)]
 pub(crate) fn prefetch<T>(value: &T) {
     #[cfg(target_arch = "x86_64")]

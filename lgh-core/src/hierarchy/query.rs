@@ -49,18 +49,31 @@ impl LightingGridHierarchy {
         }
         let lights = self.level(level);
         let r2 = radius * radius;
-        let mut report = |s: usize, e: usize| {
+        let report = |s: usize, e: usize| {
             lights.scan(s, e, x, -1.0, r2, &mut |i: usize, d: f32| -> Option<()> {
                 f(i as u32, d);
                 Some(())
             });
         };
-        if level == self.max_level() || !radius.is_finite() {
-            report(0, lights.len());
-        } else {
-            self.for_each_range(level, x, radius, report);
-        }
+        self.for_each_range_within(level, x, radius, report);
         Ok(())
+    }
+
+    /// Like [`for_each_range`](Self::for_each_range), but the whole level at once at the top
+    /// level or for an unbounded `radius`.
+    #[inline]
+    fn for_each_range_within(
+        &self,
+        level: u8,
+        x: Vec3,
+        radius: f32,
+        mut f: impl FnMut(usize, usize),
+    ) {
+        if level == self.max_level() || !radius.is_finite() {
+            f(0, self.level(level).len());
+        } else {
+            self.for_each_range(level, x, radius, f);
+        }
     }
 
     /// Calls `f(start, end)` with ranges of light indices of `level` (< ℓ_max) that together hold
@@ -418,14 +431,10 @@ impl LightingGridHierarchy {
                 });
                 Some(())
             };
-            if l == top || !scan_outer.is_finite() {
-                lights.scan(0, lights.len(), x, inner2, f32::INFINITY, &mut hit);
-            } else {
-                let outer2 = scan_outer * scan_outer;
-                self.for_each_range(l, x, scan_outer, |s, e| {
-                    lights.scan(s, e, x, inner2, outer2, &mut hit);
-                });
-            }
+            let outer2 = scan_outer * scan_outer;
+            self.for_each_range_within(l, x, scan_outer, |s, e| {
+                lights.scan(s, e, x, inner2, outer2, &mut hit);
+            });
         }
         Ok(count)
     }

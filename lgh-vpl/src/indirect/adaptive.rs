@@ -84,8 +84,8 @@ impl BlendAt {
 
 /// The least blending weight the sharing estimate gives a light blended per representative:
 /// its estimate's mean blending can be 0 while one of its input lights, farther out, still has
-/// some, and a light never shaded would bias the image. 0.02: lower shares the samples better
-/// where it errs, and a light this far out gets a sample rarely either way.
+/// some, and a light never shaded would bias the image. 0.02 erred least of 0.005, 0.02 and
+/// 0.05 on Sponza (2.39%, 2.37%, 2.41% at 0.8 samples a light, `docs/gi.md`'s 53 × 30 runs).
 pub const MIN_SHARE_WEIGHT: f32 = 0.02;
 
 /// Whether every VPL that a coarse light, its centre at offset `to` from `point`, of a level
@@ -190,15 +190,15 @@ pub(super) fn adaptive(
         )?;
         let blending = (blend == BlendAt::Representative).then(|| backend.blending());
         let mut rng = SplitMix64(crate::direct::point_seed(point.position, ROULETTE_SALT));
-        let lgh = backend.hierarchy();
         let pass = Pass {
-            lgh,
+            lgh: backend.hierarchy(),
             point,
             normal,
             reps,
             blending,
             shader,
             nominal,
+            total: scratch.lights.iter().map(|c| c.share).sum(),
         };
         let mut mean = mean;
         let mut result = pass.run(scratch, mean, Some(rng.next_f64()));
@@ -252,10 +252,10 @@ fn gather(
             1.0
         }
     };
-    let candidate = |s: &LightSample, luminance: f32, weight: f32, share: f32| Candidate {
+    let candidate = |level: u8, index: u32, luminance: f32, weight: f32, share: f32| Candidate {
         u: 0.0,
-        index: s.index,
-        level: s.level,
+        index,
+        level,
         m: 0,
         slot: 0,
         luminance,
@@ -273,7 +273,7 @@ fn gather(
                 let luminance = lgh_core::luminance(s.intensity);
                 let share = luminance * cosine(to, d) * lgh_core::falloff(d, h0);
                 if !behind(point, normal, to, lgh.h(s.level)) {
-                    out.push(candidate(s, luminance, s.weight, share));
+                    out.push(candidate(s.level, s.index, luminance, s.weight, share));
                 }
             })?;
             Ok((radiance, lights, out.len()))
@@ -295,16 +295,7 @@ fn gather(
                 let luminance = level.luminance(i);
                 let share = luminance * weight * cosine(to, d) * lgh_core::falloff(d, h0);
                 nominal += usize::from(r.weight > 0.0);
-                out.push(Candidate {
-                    u: 0.0,
-                    index: r.index,
-                    level: r.level,
-                    m: 0,
-                    slot: 0,
-                    luminance,
-                    weight,
-                    share,
-                });
+                out.push(candidate(r.level, r.index, luminance, weight, share));
             })?;
             Ok((radiance, lights, nominal))
         }
@@ -334,6 +325,8 @@ struct Pass<'a> {
     shader: &'a Indirect<'a>,
     /// The lights the budget counts.
     nominal: usize,
+    /// The sum of the lights' shares (the same every pass).
+    total: f32,
 }
 
 impl Pass<'_> {
@@ -348,8 +341,7 @@ impl Pass<'_> {
             done,
             chosen,
         } = scratch;
-        let (point, normal, shader) = (self.point, self.normal, self.shader);
-        let total: f32 = lights.iter().map(|c| c.share).sum();
+        let (point, normal, shader, total) = (self.point, self.normal, self.shader, self.total);
         // At least one light's worth: a point whose every light is gathered by its extent
         // alone (its centre outside the support) would otherwise get no samples and lose the
         // light those lights' VPLs give it. Each light's share is above zero, so with any
@@ -435,13 +427,16 @@ impl Pass<'_> {
             } else {
                 let mut tally = Tally::default();
                 let radiance = shader.shade_drawn(point, normal, drawn, ids(0..m), &mut tally);
-                light.slot = done.len() as u32;
-                done.push(Estimate::default());
                 Estimate { radiance, tally }
             };
+            if before == 0 {
+                light.slot = done.len() as u32;
+                done.push(estimate);
+            } else {
+                done[light.slot as usize] = estimate;
+            }
             // At most 64 representatives a light (`MAX_PER_LIGHT`).
             light.m = m.min(usize::from(u8::MAX)) as u8;
-            done[light.slot as usize] = estimate;
             let tally = estimate.tally;
             radiance += estimate.radiance * (1.0 / p) as f32;
             if !estimate_variance {

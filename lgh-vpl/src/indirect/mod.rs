@@ -328,13 +328,14 @@ impl<'a> Indirect<'a> {
             let own = isotropic_intensity(v);
             let lum = lgh_core::luminance(own);
             let share = match light.blend {
+                _ if lum <= 0.0 => Vec3::ZERO,
                 None => own * (scale * times as f32 / lum),
                 Some((blending, level)) => {
                     let b = blending.weight(level, (point.position - v.position).length());
                     own * (b * scale * times as f32 / lum)
                 }
             };
-            if lum > 0.0 && share != Vec3::ZERO {
+            if share != Vec3::ZERO {
                 let (unshadowed, lit) = self.shade_vpl_parts(point, normal, v, share);
                 tally.add(times as u32, unshadowed, lit);
                 lit

@@ -25,8 +25,8 @@
 //!   ([`WhichVpl`]): `(u − r̂ u_ℓ)²`, one draw's squared deviation from (an estimate of) its
 //!   mean. The isotropic point misjudges the lights of one point alike — it has no lobe, so on
 //!   a floor it gives the floor's own coarse lights light their VPLs do not — and what all
-//!   lights share is not noise: measured against `(u − u_ℓ)²` on Sponza, the fit refines
-//!   fewer points for the same pixels over the bound (`docs/gi.md`);
+//!   lights share is not noise: measured against `(u − u_ℓ)²` on Sponza, the fit spends 7%
+//!   fewer shadow rays with no pixel over the bound either way (`docs/gi.md`);
 //! - a light kept by Russian roulette with probability `p` and weight `1/p`: to the above,
 //!   scaled by `1/p²`, is added `X² (1 − p)` for its weighted value `X` (an unbiased estimate
 //!   of the roulette's own variance, `E[Y²](1 − p)/p`). That is the variance of independent
