@@ -804,12 +804,13 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
     let (pa, pr) = (dir.path().join("a.exr"), dir.path().join("r.exr"));
     lgh_image::write_exr(&pa, &a, &[]).unwrap();
     lgh_image::write_exr(&pr, &r, &[]).unwrap();
-    let v = lgh_json(&[
-        "compare",
-        pa.to_str().unwrap(),
-        pr.to_str().unwrap(),
-        "--json",
-    ]);
+    // `lgh compare A R` with `extra`.
+    let args = |extra: &[&'static str]| {
+        let mut args = vec!["compare", pa.to_str().unwrap(), pr.to_str().unwrap()];
+        args.extend(extra);
+        args
+    };
+    let v = lgh_json(&args(&["--json"]));
     // One pixel of 32 off by 2 in luminance: max 2, mean 2/32, RMSE sqrt(4/32) over mean 16.5.
     assert!((v["max_abs"].as_f64().unwrap() - 2.0).abs() < 1e-6);
     assert!((v["mean_abs"].as_f64().unwrap() - 2.0 / 32.0).abs() < 1e-6);
@@ -817,26 +818,13 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
     // That pixel (luminance 4) errs by 2/4 = 50%, over the default 10%: 1 of 32.
     assert!((v["max_point_error"].as_f64().unwrap() - 0.5).abs() < 1e-6);
     assert!((v["points_over_bound"].as_f64().unwrap() - 1.0 / 32.0).abs() < 1e-12);
-    let v = lgh_json(&[
-        "compare",
-        pa.to_str().unwrap(),
-        pr.to_str().unwrap(),
-        "--json",
-        "--point-bound",
-        "0.6",
-    ]);
+    let v = lgh_json(&args(&["--json", "--point-bound", "0.6"]));
     assert_eq!(v["points_over_bound"].as_f64(), Some(0.0));
     // A bad bound is refused before anything is written.
     let refused = dir.path().join("refused-diff.png");
-    let o = lgh(&[
-        "compare",
-        pa.to_str().unwrap(),
-        pr.to_str().unwrap(),
-        "--point-bound",
-        "0",
-        "--diff",
-        refused.to_str().unwrap(),
-    ]);
+    let mut bad = args(&["--point-bound", "0", "--diff"]);
+    bad.push(refused.to_str().unwrap());
+    let o = lgh(&bad);
     assert!(!o.status.success());
     assert!(!refused.exists());
     assert!(dir.path().join("a-diff.png").exists());
