@@ -960,8 +960,11 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     let dir = tempfile::tempdir().unwrap();
     let cornell = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/data/meshes/cornellbox_original/CornellBox-Original.obj");
-    let small = dir.path().join("small.obj");
-    std::fs::write(&small, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let small = file(
+        dir.path(),
+        "small.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
     let s = small.to_str().unwrap();
     assert_refused(
         dir.path(),
@@ -1110,6 +1113,13 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
 }
 
 /// `lgh gi` on `obj` lit by one point light, 10 VPLs, 4 × 4 pixels, to `out`, with `extra`.
+/// Writes `text` to `name` in `dir` and returns its path: a scene file for one test.
+fn file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 fn tiny_gi(obj: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
     let (obj, out) = (obj.to_str().unwrap(), out.to_str().unwrap());
     let mut args = vec![
@@ -1137,19 +1147,18 @@ fn tiny_gi(obj: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
 #[test]
 fn gi_names_what_the_scene_asks_for_and_does_not_render() {
     let dir = tempfile::tempdir().unwrap();
-    let obj = dir.path().join("scene.obj");
-    std::fs::write(
-        &obj,
+    let obj = file(
+        dir.path(),
+        "scene.obj",
         "mtllib scene.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\ns 1\n\
          usemtl glass\nf 1/1 2/2 3/3\nv 0 0 -1\nv 1 0 -1\nv 0 1 -1\nusemtl matte\nf 4 5 6\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("scene.mtl"),
+    );
+    file(
+        dir.path(),
+        "scene.mtl",
         "newmtl glass\nKa 1 1 1\nKd 0.5 0.5 0.5\nillum 7\nNi 1.5\nmap_Kd missing.png\n\
          map_Bump bumps.png\nnewmtl matte\nKd 0.5 0.5 0.5\n",
-    )
-    .unwrap();
+    );
     let run = |extra: &[&str]| {
         let out = dir.path().join("out.exr");
         (tiny_gi(&obj, &out, extra), out)
@@ -1192,12 +1201,11 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
 #[test]
 fn gi_normals_face_names_the_unused_vertex_normals() {
     let dir = tempfile::tempdir().unwrap();
-    let obj = dir.path().join("tilted.obj");
-    std::fs::write(
-        &obj,
+    let obj = file(
+        dir.path(),
+        "tilted.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 1\nvn 0 1 1\nvn 1 1 1\nf 1//1 2//2 3//3\n",
-    )
-    .unwrap();
+    );
     let out = dir.path().join("out.exr");
     let run = |extra: &[&str]| {
         let o = tiny_gi(&obj, &out, extra);
@@ -1224,14 +1232,13 @@ fn gi_normals_face_names_the_unused_vertex_normals() {
 #[test]
 fn gi_blend_at_is_in_the_header_and_changes_the_image() {
     let dir = tempfile::tempdir().unwrap();
-    let obj = dir.path().join("room.obj");
     // A floor and a back wall lit from above: light bounces from the floor to the wall.
-    std::fs::write(
-        &obj,
+    let obj = file(
+        dir.path(),
+        "room.obj",
         "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nv -2 0 -2\nv 2 0 -2\nv 2 3 -2\nv -2 3 -2\n\
          f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n",
-    )
-    .unwrap();
+    );
     let gi = |out: &Path, extra: &[&str]| {
         let mut args = vec![
             "gi",
@@ -1536,12 +1543,11 @@ fn explosion_lights_a_room_around_the_fire() {
     let dir = tempfile::tempdir().unwrap();
     // A floor where the dev fire's smoke starts (Blender units, Z up), wide enough to fill the
     // lower part of the default view.
-    let obj = dir.path().join("floor.obj");
-    std::fs::write(
-        &obj,
+    let obj = file(
+        dir.path(),
+        "floor.obj",
         "v -2 -2 0.17\nv 3 -2 0.17\nv 3 3 0.17\nv -2 3 0.17\nf 1 2 3\nf 1 3 4\n",
-    )
-    .unwrap();
+    );
     let run = |scene: bool, out: &Path| {
         let mut a = vec![
             "explosion",
@@ -1687,18 +1693,17 @@ fn bench_explosion_reports_each_shadow_choice() {
 fn explosion_scenes_name_the_mirrors_and_glass_they_do_not_follow() {
     let Some(f56) = fire_frame(56) else { return };
     let dir = tempfile::tempdir().unwrap();
-    let room = dir.path().join("room.obj");
-    std::fs::write(
-        &room,
+    let room = file(
+        dir.path(),
+        "room.obj",
         "mtllib room.mtl\nv -1e3 -1e3 -50\nv 1e3 -1e3 -50\nv 1e3 1e3 -50\nv -1e3 1e3 -50\n\
          usemtl glass\nf 1 2 3 4\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("room.mtl"),
+    );
+    file(
+        dir.path(),
+        "room.mtl",
         "newmtl glass\nillum 7\nNi 1.5\nKa 1 1 1\n",
-    )
-    .unwrap();
+    );
     let (out, manifest) = (dir.path().join("f.exr"), dir.path().join("m.json"));
     let o = lgh(&[
         "explosion",
