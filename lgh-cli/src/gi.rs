@@ -201,7 +201,8 @@ pub struct SceneArgs {
     /// Shadow samples k of a coarse light (on average with `--sample-allocation adaptive` or
     /// `intensity`). Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0
     /// shades a coarse light as a point, Fig. 11c; at most 1024); with `representatives` (1 to
-    /// 64; 0.25 to 64 for `adaptive`), 1.25 for `adaptive`, 2 for `intensity` and `uniform`.
+    /// 64; 0.25 to 64 for `adaptive`), 0.5 for `adaptive` (each draw resampled among
+    /// `--candidates`), 2 for `intensity` and `uniform`.
     #[arg(long)]
     pub shadow_samples: Option<f32>,
     /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it
@@ -270,6 +271,13 @@ pub struct SceneArgs {
     /// eq. (3), whose smoothing stays in the image (about 1.8% of Sponza's light at α = 4).
     #[arg(long, value_enum, default_value_t = BlendAt::Representative)]
     pub blend_at: BlendAt,
+    /// Backend lgh, with the default coarse shading: the representatives each shadow ray of a
+    /// coarse light chooses among, 1 to 16. Each is weighed by what it gives the point
+    /// unshadowed, and the ray goes to one picked in proportion (resampled importance
+    /// sampling): unbiased, with less of the noise of which VPL was drawn. 1 draws each
+    /// representative on its own.
+    #[arg(long, default_value_t = lgh_vpl::indirect::DEFAULT_CANDIDATES)]
+    pub candidates: u32,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -341,6 +349,7 @@ impl SceneArgs {
             lobe_error: self.lobe_error.0,
             point_error: self.point_error.0,
             blend: self.blend_at.into(),
+            candidates: self.candidates,
         };
         settings.check()?;
         let lightcuts = GiMethod::Lightcuts {
@@ -427,6 +436,7 @@ impl SceneArgs {
                 s.point_error.map_or("off".into(), |e| e.to_string()),
             ),
             ("blend_at", s.blend.name().to_string()),
+            ("candidates", s.candidates.to_string()),
             ("normals", self.normals.name().to_string()),
             ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
@@ -638,6 +648,7 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "component": "indirect",
             "point_error": settings.point_error,
             "blend_at": settings.blend.name(),
+            "candidates": settings.candidates,
             "points_counted_against": counted_against,
             "lobe_error": settings.lobe_error,
             "pixels": exact.rendered.pixels_shaded,

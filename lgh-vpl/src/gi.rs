@@ -32,7 +32,9 @@ use crate::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
     IndirectSettings, NormalBuckets,
 };
-use crate::indirect::{BlendAt, DEFAULT_LOBE_ERROR, DEFAULT_POINT_ERROR};
+use crate::indirect::{
+    BlendAt, DEFAULT_CANDIDATES, DEFAULT_LOBE_ERROR, DEFAULT_POINT_ERROR, MAX_CANDIDATES,
+};
 use crate::mesh::Mesh;
 use crate::primary::{area_lights, PrimaryLight};
 use crate::render::{RenderError, Rendered};
@@ -178,6 +180,11 @@ pub struct GiSettings {
     /// weight `B_ℓ`: at each representative's own distance (the default: unbiased against
     /// brute force) or at the light's centre, as in eq. (3) ([`BlendAt`]).
     pub blend: BlendAt,
+    /// The candidates each of a coarse light's draws looks at with [`GiMethod::Lgh`]'s default
+    /// coarse shading, one picked for its shadow ray by what each gives unshadowed
+    /// ([`crate::indirect::resample`]): 1 to [`MAX_CANDIDATES`], 1 drawing each representative
+    /// on its own.
+    pub candidates: u32,
 }
 
 /// The least mean [`GiSettings::shadow_samples`] per coarse light that `Adaptive` takes: 1/4
@@ -207,6 +214,7 @@ impl Default for GiSettings {
             lobe_error: Some(DEFAULT_LOBE_ERROR),
             point_error: Some(DEFAULT_POINT_ERROR),
             blend: BlendAt::default(),
+            candidates: DEFAULT_CANDIDATES,
         }
     }
 }
@@ -233,15 +241,16 @@ impl GiSettings {
             })
     }
 
-    /// `k`, or its default: 9 Gaussian samples (the paper's Fig. 11d); representatives, 1.25
-    /// for `Adaptive`, 2 for `Intensity` and `Uniform`.
+    /// `k`, or its default: 9 Gaussian samples (the paper's Fig. 11d); representatives, 0.5
+    /// for `Adaptive` (each draw resampled among [`DEFAULT_CANDIDATES`]), 2 for `Intensity`
+    /// and `Uniform`.
     #[must_use]
     pub fn shadow_samples(&self) -> f32 {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
         self.shadow_samples
             .unwrap_or(match self.sample_allocation() {
                 _ if !representatives => 9.0,
-                SampleAllocation::Adaptive => 1.25,
+                SampleAllocation::Adaptive => 0.5,
                 SampleAllocation::Intensity | SampleAllocation::Uniform => 2.0,
             })
     }
@@ -254,7 +263,7 @@ impl GiSettings {
     /// hierarchy; 1 to 64 strata. (The VPL counts are checked by [`trace`].)
     ///
     /// Errors: [`GiError::ShadowSamples`], [`GiError::MaxShadowSamples`], [`GiError::PointError`],
-    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`].
+    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`], [`GiError::Candidates`].
     pub fn check(&self) -> Result<(), GiError> {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
         let allocation = self.sample_allocation();
@@ -298,6 +307,11 @@ impl GiSettings {
             if !(error.is_finite() && error > 0.0) {
                 return Err(GiError::PointError { error });
             }
+        }
+        if !(1..=MAX_CANDIDATES).contains(&self.candidates) {
+            return Err(GiError::Candidates {
+                candidates: self.candidates,
+            });
         }
         if self.specular_depth > MAX_SPECULAR_DEPTH {
             return Err(GiError::SpecularDepth {
@@ -412,6 +426,11 @@ pub enum GiError {
         /// The rejected value.
         error: f32,
     },
+    /// Candidates of a resampled draw outside 1 to [`MAX_CANDIDATES`].
+    Candidates {
+        /// The rejected value.
+        candidates: u32,
+    },
     /// A specular depth over [`MAX_SPECULAR_DEPTH`].
     SpecularDepth {
         /// The rejected value.
@@ -467,6 +486,11 @@ impl std::fmt::Display for GiError {
             GiError::PointError { error } => write!(
                 f,
                 "--point-error {error}: expected a positive number (0.1 is 10% of a point's light) or off"
+            ),
+            GiError::Candidates { candidates } => write!(
+                f,
+                "--candidates {candidates}: expected 1 to {MAX_CANDIDATES} (1 draws each \
+                 representative on its own)"
             ),
             GiError::SpecularDepth { depth } => {
                 write!(
@@ -801,6 +825,7 @@ impl GiScene {
                             reps,
                             mean: self.settings.shadow_samples(),
                             blend: self.settings.blend,
+                            candidates: self.settings.candidates,
                         },
                         (Some(reps), _) => Coarse::Representatives(reps),
                     };

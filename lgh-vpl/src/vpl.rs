@@ -25,6 +25,7 @@ use crate::specular::{branches, Branch, Specular};
 
 /// One virtual point light.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(align(64))]
 pub struct Vpl {
     /// Where the path met the surface.
     pub position: Vec3,

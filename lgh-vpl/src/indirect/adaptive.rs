@@ -47,6 +47,8 @@ use lgh_core::{
     ShadingPoint,
 };
 
+use super::resample::MAX_CANDIDATES;
+use super::resample::{pick_number, Draw, PICK_SALT};
 use super::roulette::Systematic;
 use super::{refine, Drawn, Indirect, Tally, WhichVpl};
 use crate::prefetch::prefetch;
@@ -106,7 +108,7 @@ fn behind(point: &ShadingPoint, normal: Vec3, to: Vec3, h: f32) -> bool {
 
 /// How many shaded lights ahead [`Pass::hint`] hints a light's representatives (and half as
 /// many, its next VPL): 16 and 8 measured 6–12% faster on Sponza than no hints.
-const HINT_AHEAD: usize = 16;
+const HINT_AHEAD: usize = 4;
 
 /// The salt of the roulette's sequence at a shading point (the area lights' patterns use the
 /// triangle's index, which stays below 2³²).
@@ -122,9 +124,11 @@ struct Candidate {
     index: u32,
     /// Its level (≥ 1).
     level: u8,
-    /// Representatives shaded so far (0: none — skipped by the roulette, or not yet seen);
-    /// their estimate is `done[slot]`.
+    /// Draws shaded so far (0: none — skipped by the roulette, or not yet seen): resampled
+    /// ones, or representatives one by one (`resampled`); their estimate is `done[slot]`.
     m: u8,
+    /// Whether its `m` draws are resampled ([`resample`](super::resample)).
+    resampled: bool,
     /// Where its estimate is kept, once it has one.
     slot: u32,
     /// The luminance its representatives share ([`Drawn::luminance`]).
@@ -143,6 +147,8 @@ struct Candidate {
 struct Estimate {
     radiance: Vec3,
     tally: Tally,
+    /// A single resampled draw's which-VPL variance ([`Draw::spread`]); else 0.
+    spread: f64,
 }
 
 /// A point's gathered lights and their estimates, reused from point to point on a thread.
@@ -164,6 +170,7 @@ pub(super) fn adaptive(
     reps: &Representatives,
     mean: f32,
     blend: BlendAt,
+    candidates: u32,
     shader: &Indirect<'_>,
 ) -> Result<(Illumination, bool), QueryError> {
     thread_local! {
@@ -199,6 +206,8 @@ pub(super) fn adaptive(
             shader,
             nominal,
             total: scratch.lights.iter().map(|c| c.share).sum(),
+            candidates: candidates.clamp(1, MAX_CANDIDATES) as usize,
+            seed: crate::direct::point_seed(point.position, PICK_SALT),
         };
         let mut mean = mean;
         let mut result = pass.run(scratch, mean, Some(rng.next_f64()));
@@ -257,6 +266,7 @@ fn gather(
         index,
         level,
         m: 0,
+        resampled: false,
         slot: 0,
         luminance,
         weight,
@@ -327,6 +337,10 @@ struct Pass<'a> {
     nominal: usize,
     /// The sum of the lights' shares (the same every pass).
     total: f32,
+    /// The candidates of a resampled draw (1: each draw is a representative of its own).
+    candidates: usize,
+    /// The point's seed for the resampled draws' picks.
+    seed: u64,
 }
 
 impl Pass<'_> {
@@ -385,35 +399,54 @@ impl Pass<'_> {
             self.hint(lights, chosen, k);
             let light = &mut lights[i as usize];
             let all = self.reps.of(light.level, light.index);
-            let (m, p) = if !nested {
-                (all.len(), 1.0)
-            } else if want >= 1.0 {
-                // The largest power of two not above `want`, and not above what there is.
-                let m = (want as usize).clamp(1, all.len().max(1));
-                let m = if m.is_power_of_two() {
-                    m
-                } else {
-                    m.next_power_of_two() / 2
-                };
-                (m, 1.0)
+            let (m, p) = prefix(nested, want, all.len());
+            // Resampled draws of `g` candidates each while the light has as many
+            // representatives as its draws look at; beyond that, every representative with a
+            // ray of its own (the estimate complete).
+            let g = self.candidates.min(all.len()).max(1);
+            let resampled = nested && g >= 2 && m * g <= all.len();
+            let m = if nested && g >= 2 && !resampled {
+                all.len()
             } else {
-                (1, f64::from(want))
+                m
             };
-            complete &= m >= all.len() && p == 1.0;
+            complete &= !resampled && m >= all.len() && p == 1.0;
             let drawn = Drawn {
                 luminance: light.luminance,
                 blend: self.blending.map(|b| (b, light.level)),
             };
-            let before = usize::from(light.m);
-            let ids =
-                |r: std::ops::Range<usize>| all.get(r).unwrap_or(&[]).iter().map(|&i| i as usize);
+            // The draws shaded before, if they are this pass's first ones.
+            let before = if light.resampled == resampled {
+                usize::from(light.m)
+            } else {
+                0
+            };
+            // Draws `range` of the light, shaded now with the light's luminance over `k`.
+            let shade = |range: std::ops::Range<usize>, tally: &mut Tally| {
+                if resampled {
+                    let scale = drawn.luminance / range.len() as f32;
+                    let (mut radiance, mut spread) = (Vec3::ZERO, 0.0);
+                    for s in range {
+                        let u = pick_number(self.seed, light.level, light.index, s);
+                        let them = &all[s * g..(s + 1) * g];
+                        let draw: Draw =
+                            shader.shade_resampled(point, normal, drawn, them, u, scale, tally);
+                        radiance += draw.lit;
+                        spread = draw.spread;
+                    }
+                    (radiance, spread)
+                } else {
+                    let ids = all.get(range).unwrap_or(&[]).iter().map(|&i| i as usize);
+                    (shader.shade_drawn(point, normal, drawn, ids, tally), 0.0)
+                }
+            };
             let estimate = if before == m {
-                // The same prefix as before: the same estimate.
+                // The same draws as before: the same estimate.
                 done[light.slot as usize]
             } else if before > 0 && before < m {
                 // The first `before` as before; the rest shaded now; both at their share of m.
                 let mut rest = Tally::default();
-                let more = shader.shade_drawn(point, normal, drawn, ids(before..m), &mut rest);
+                let (more, _) = shade(before..m, &mut rest);
                 let (a, b) = (before as f32 / m as f32, (m - before) as f32 / m as f32);
                 let kept = done[light.slot as usize];
                 let tally = kept
@@ -423,18 +456,24 @@ impl Pass<'_> {
                 Estimate {
                     radiance: kept.radiance * a + more * b,
                     tally,
+                    spread: 0.0,
                 }
             } else {
                 let mut tally = Tally::default();
-                let radiance = shader.shade_drawn(point, normal, drawn, ids(0..m), &mut tally);
-                Estimate { radiance, tally }
+                let (radiance, spread) = shade(0..m, &mut tally);
+                Estimate {
+                    radiance,
+                    tally,
+                    spread,
+                }
             };
-            if before == 0 {
+            if light.m == 0 {
                 light.slot = done.len() as u32;
                 done.push(estimate);
             } else {
                 done[light.slot as usize] = estimate;
             }
+            light.resampled = resampled;
             // At most 64 representatives a light (`MAX_PER_LIGHT`).
             light.m = m.min(usize::from(u8::MAX)) as u8;
             let tally = estimate.tally;
@@ -449,22 +488,27 @@ impl Pass<'_> {
                 own += tally.variance(0.0) * scale;
             } else {
                 single_sq += tally.unshadowed_squares() * scale;
-                // Which VPL was drawn: its unshadowed share against the light's own,
-                // unshadowed, as the isotropic point it is in the hierarchy, scaled by the
-                // factor that fits the point's single draws best (one draw's deviation from
-                // the mean it estimates, `refine::WhichVpl`).
-                let level = self.lgh.level(light.level);
-                let (position, intensity) = (
-                    level.position(light.index as usize),
-                    level.intensity(light.index as usize) * light.weight,
-                );
-                let point_like = if super::facing(point, normal, position) {
-                    let lit = shader.reflect(point, normal, position, intensity);
-                    f64::from(lgh_core::luminance(lit))
+                if resampled {
+                    // Which VPL was drawn, from the spread of the draw's own candidates.
+                    own += estimate.spread * scale;
                 } else {
-                    0.0
-                };
-                which.add(tally.unshadowed(), point_like, scale);
+                    // Which VPL was drawn: its unshadowed share against the light's own,
+                    // unshadowed, as the isotropic point it is in the hierarchy, scaled by
+                    // the factor that fits the point's single draws best (one draw's
+                    // deviation from the mean it estimates, `refine::WhichVpl`).
+                    let level = self.lgh.level(light.level);
+                    let (position, intensity) = (
+                        level.position(light.index as usize),
+                        level.intensity(light.index as usize) * light.weight,
+                    );
+                    let point_like = if super::facing(point, normal, position) {
+                        let lit = shader.reflect(point, normal, position, intensity);
+                        f64::from(lgh_core::luminance(lit))
+                    } else {
+                        0.0
+                    };
+                    which.add(tally.unshadowed(), point_like, scale);
+                }
             }
             if p < 1.0 {
                 let x = tally.lit() / p;
@@ -485,8 +529,8 @@ impl Pass<'_> {
     }
 
     /// Hints to the cache what the `k`-th chosen light's successors will read: the
-    /// representatives of the one [`HINT_AHEAD`] lights ahead, and the next VPL to shade of the
-    /// one half as far (whose representatives were hinted before).
+    /// representatives of the one [`HINT_AHEAD`] lights ahead, and the next VPLs to shade of
+    /// the one half as far (whose representatives were hinted before).
     #[inline(always)]
     fn hint(&self, lights: &[Candidate], chosen: &[(u32, f32)], k: usize) {
         let light = |k: usize| chosen.get(k).and_then(|&(i, _)| lights.get(i as usize));
@@ -496,11 +540,39 @@ impl Pass<'_> {
             }
         }
         if let Some(l) = light(k + HINT_AHEAD / 2) {
-            let next = self.reps.of(l.level, l.index).get(usize::from(l.m));
-            if let Some(v) = next.and_then(|&j| self.shader.vpls.get(j as usize)) {
-                prefetch(v);
+            // Its next draw's VPLs: the next representative, or the next resampled draw's
+            // candidates.
+            let all = self.reps.of(l.level, l.index);
+            let g = self.candidates.min(all.len()).max(1);
+            let next = usize::from(l.m) * if l.resampled { g } else { 1 };
+            for &j in all.iter().skip(next).take(g) {
+                if let Some(v) = self.shader.vpls.get(j as usize) {
+                    prefetch(v);
+                }
             }
         }
+    }
+}
+
+/// A light's prefix of `len` representatives owed `want` samples, and the probability it is
+/// shaded with: with nested representatives, the largest power of two not above `want` nor
+/// above what there is, or one kept by the roulette with probability `want` below one; else
+/// all of them.
+#[inline]
+#[must_use]
+fn prefix(nested: bool, want: f32, len: usize) -> (usize, f64) {
+    if !nested {
+        (len, 1.0)
+    } else if want >= 1.0 {
+        let m = (want as usize).clamp(1, len.max(1));
+        let m = if m.is_power_of_two() {
+            m
+        } else {
+            m.next_power_of_two() / 2
+        };
+        (m, 1.0)
+    } else {
+        (1, f64::from(want))
     }
 }
 
@@ -602,7 +674,8 @@ mod tests {
     /// (centre: 1.0083). Asserted: under half the centre's error, the mean within 0.5% (the
     /// representatives are a fixed systematic sample of each light's VPLs: their noise over
     /// 768 pixels that share lights, a few tenths of a percent). And with `lgh gi`'s defaults
-    /// (1.25 a light, the 10% point bound, shadows) the image is the same on 1 and 3 threads.
+    /// (0.5 draws a light resampled among 4, the 10% point bound, shadows) the image is the
+    /// same on 1 and 3 threads.
     #[test]
     fn blending_at_each_representative_leaves_only_the_draws_noise() {
         let f = Fixture::new();
@@ -623,6 +696,7 @@ mod tests {
                 reps: &reps,
                 mean: 64.0,
                 blend,
+                candidates: 1,
             };
             render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
         };
@@ -646,8 +720,9 @@ mod tests {
         let render = || {
             let coarse = Coarse::Adaptive {
                 reps: &reps,
-                mean: 1.25,
+                mean: 0.5,
                 blend: BlendAt::Representative,
+                candidates: super::super::DEFAULT_CANDIDATES,
             };
             render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
         };
@@ -692,8 +767,8 @@ mod tests {
         assert!(left_out > 0 && kept > 0, "{left_out} {kept}");
     }
 
-    /// The adaptive allocation (`lgh gi`'s default; here 16 nested representatives, 2 per coarse
-    /// light on average, shared per point by an unshadowed estimate, systematic Russian roulette
+    /// The adaptive allocation (here 16 nested representatives, each drawn on its own, 2 per
+    /// coarse light on average, shared per point by an unshadowed estimate, systematic Russian roulette
     /// below one) against brute force in the room: measured (32×24) 4.4% at α = 4 (the paper's
     /// Gaussian samples 54.6%) and 0.26% at α = 16. Asserted: it beats the Gaussian samples at α = 4 and
     /// is within issue 14's 1% at α = 16. (The issue's 3% at α = 4 is for 365K VPLs, where the
@@ -713,6 +788,7 @@ mod tests {
                 reps: &reps,
                 mean: 2.0,
                 blend: BlendAt::Centre,
+                candidates: 1,
             };
             render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
         };
@@ -741,8 +817,8 @@ mod tests {
     }
 
     /// The per-point refinement ([`refine`](super::super::refine)) against brute force in the
-    /// room at α = 4 with `lgh gi`'s defaults (1.25 representatives per coarse light on
-    /// average, at most 32): the points whose estimated error may exceed the bound are shaded
+    /// room at α = 4 (1.25 representatives per coarse light on average, each drawn on its own,
+    /// at most 32): the points whose estimated error may exceed the bound are shaded
     /// again, so fewer pixels err by more than it, the largest error falls and so does the
     /// image's; the refined points are counted; the image is the same on 1 and 3 threads.
     /// The bound is 3% here: at `lgh gi`'s 10% the room (48×36) has one pixel over to begin
@@ -773,6 +849,7 @@ mod tests {
                 reps: &reps,
                 mean: 1.25,
                 blend: BlendAt::Centre,
+                candidates: 1,
             };
             let r = render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap();
             (r, shader.refined_points(), shader.bounded_points())

@@ -36,6 +36,10 @@ pub enum Coarse<'a> {
         mean: f32,
         /// Where each light's blending weight is taken.
         blend: BlendAt,
+        /// The candidates of each resampled draw, 1 to
+        /// [`MAX_CANDIDATES`](super::MAX_CANDIDATES) (1: each draw one representative,
+        /// [`resample`](super::resample)).
+        candidates: u32,
     },
 }
 
@@ -53,8 +57,15 @@ pub fn render_lgh(
     progress: impl Fn(usize) + Sync,
 ) -> Result<Rendered, RenderError> {
     let lgh = backend.hierarchy();
-    if let Coarse::Adaptive { reps, mean, blend } = coarse {
-        let adaptive = |p: &ShadingPoint| adaptive(p, backend, reps, mean, blend, shader);
+    if let Coarse::Adaptive {
+        reps,
+        mean,
+        blend,
+        candidates,
+    } = coarse
+    {
+        let adaptive =
+            |p: &ShadingPoint| adaptive(p, backend, reps, mean, blend, candidates, shader);
         let cone = |p: &ShadingPoint| shader.settings.lobe_error.and_then(|e| Cone::of(p, e));
         let illuminate = |p: &ShadingPoint| {
             let (lit, split, refined) = match (cone(p), p.material) {

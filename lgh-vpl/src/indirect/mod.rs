@@ -36,6 +36,7 @@ mod buckets;
 mod coarse;
 pub mod lobe;
 pub mod refine;
+pub mod resample;
 mod roulette;
 
 pub use adaptive::{BlendAt, MIN_SHARE_WEIGHT};
@@ -45,6 +46,7 @@ pub(crate) use coarse::render_lgh;
 pub use coarse::Coarse;
 pub use lobe::{Cone, DEFAULT_LOBE_ERROR, MAX_CONE};
 pub use refine::{Tally, WhichVpl, DEFAULT_POINT_ERROR};
+pub use resample::{DEFAULT_CANDIDATES, MAX_CANDIDATES};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -102,6 +104,28 @@ pub(crate) struct Drawn<'a> {
     /// With each representative blended at its own distance: the blending and the light's
     /// level.
     pub(crate) blend: Option<(&'a lgh_core::Blending, u8)>,
+}
+
+impl Drawn<'_> {
+    /// The isotropic intensity representative `v`, drawn `times` times, is shaded with at
+    /// `point`, `scale` being the light's luminance over its draws: `I_j · scale · times /
+    /// ‖I_j‖`, times `B_ℓ(‖x − p_j‖)`
+    /// blended at its own distance (the estimator of the drawn weights `w_j ‖I_j‖`: see
+    /// [`Indirect::shade_drawn`]); zero for a dark VPL.
+    #[inline]
+    #[must_use]
+    pub(crate) fn share(&self, point: &ShadingPoint, v: &Vpl, scale: f32, times: f32) -> Vec3 {
+        let own = isotropic_intensity(v);
+        let lum = lgh_core::luminance(own);
+        match self.blend {
+            _ if lum <= 0.0 => Vec3::ZERO,
+            None => own * (scale * times / lum),
+            Some((blending, level)) => {
+                let b = blending.weight(level, (point.position - v.position).length());
+                own * (b * scale * times / lum)
+            }
+        }
+    }
 }
 
 /// A shadow-ray counter on a cache line of its own.
@@ -325,16 +349,7 @@ impl<'a> Indirect<'a> {
             let Some(v) = self.vpls.get(i) else {
                 return Vec3::ZERO;
             };
-            let own = isotropic_intensity(v);
-            let lum = lgh_core::luminance(own);
-            let share = match light.blend {
-                _ if lum <= 0.0 => Vec3::ZERO,
-                None => own * (scale * times as f32 / lum),
-                Some((blending, level)) => {
-                    let b = blending.weight(level, (point.position - v.position).length());
-                    own * (b * scale * times as f32 / lum)
-                }
-            };
+            let share = light.share(point, v, scale, times as f32);
             if share != Vec3::ZERO {
                 let (unshadowed, lit) = self.shade_vpl_parts(point, normal, v, share);
                 tally.add(times as u32, unshadowed, lit);
@@ -385,12 +400,19 @@ impl<'a> Indirect<'a> {
         if lit == Vec3::ZERO {
             return (lit, lit);
         }
+        if self.visible(point, normal, v) {
+            (lit, lit)
+        } else {
+            (lit, Vec3::ZERO)
+        }
+    }
+
+    /// Whether VPL `v` is seen from `point` (unit shading `normal`): one shadow ray between
+    /// the two surfaces, each end offset from its own by ε (always, without shadows).
+    fn visible(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl) -> bool {
         let from = shadow_origin(point, normal, self.settings.epsilon);
         let source = v.position + v.geometric * self.settings.epsilon;
-        if self.occluded(from, source) {
-            return (lit, Vec3::ZERO);
-        }
-        (lit, lit)
+        !self.occluded(from, source)
     }
 
     /// What VPL `v` with isotropic-equivalent intensity `intensity` (its lobe `2 max(0, n·ω)`

@@ -2,8 +2,8 @@
 //! point's error, not only on the image's.
 //!
 //! The hierarchy's default shading ([`Coarse::Adaptive`](super::Coarse::Adaptive)) estimates
-//! each coarse light's VPLs at a point from a few of its representatives — 1.25 per light on
-//! average, shared in proportion to an unshadowed guess of what each light brings. Most points
+//! each coarse light's VPLs at a point from a few of its representatives — 0.5 draws per
+//! light on average, each resampled among four ([`resample`](super::resample)), shared in proportion to an unshadowed guess of what each light brings. Most points
 //! are well served, but where a few coarse lights carry a point and their representatives
 //! disagree (a penumbra, a corner, a light half behind a pillar), that point's estimate can be
 //! off by tens of percent while the image's RMSE stays at 2–3%. On Sponza at α = 4, 1.2% of the
@@ -72,8 +72,8 @@ pub const CONFIDENCE_Z: f64 = 1.645;
 /// (`docs/gi.md`).
 pub const GROWTH: f32 = 2.0;
 
-/// The most refinement rounds at a point: 1.25 samples per light grow to 80, more than any
-/// light's representatives ([`MAX_PER_LIGHT`](crate::representatives::MAX_PER_LIGHT) = 64).
+/// The most refinement rounds at a point: the default 0.5 samples per light grow to 32, as
+/// many as a light's representatives by default (`GiSettings::max_shadow_samples`).
 pub const MAX_ROUNDS: u32 = 6;
 
 /// Luminance sums over the draws of one estimate (a coarse light's representatives at a
