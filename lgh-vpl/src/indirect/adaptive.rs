@@ -424,13 +424,17 @@ impl Pass<'_> {
             // Draws `range` of the light, shaded now with the light's luminance over `k`.
             let shade = |range: std::ops::Range<usize>, tally: &mut Tally| {
                 if resampled {
-                    let scale = drawn.luminance / range.len() as f32;
+                    // Each draw with the light's luminance over the draws shaded now.
+                    let each = Drawn {
+                        luminance: drawn.luminance / range.len() as f32,
+                        ..drawn
+                    };
                     let (mut radiance, mut spread) = (Vec3::ZERO, 0.0);
                     for s in range {
                         let u = pick_number(self.seed, light.level, light.index, s);
                         let them = &all[s * g..(s + 1) * g];
                         let draw: Draw =
-                            shader.shade_resampled(point, normal, drawn, them, u, scale, tally);
+                            shader.shade_resampled(point, normal, each, them, u, tally);
                         radiance += draw.lit;
                         spread = draw.spread;
                     }

@@ -75,8 +75,8 @@ pub(crate) struct Draw {
 impl Indirect<'_> {
     /// One resampled draw of coarse light `light` at `point` (unit shading `normal`) among the
     /// representative VPLs `candidates` (at most [`MAX_CANDIDATES`]; the rest are ignored),
-    /// picked by `u` in `[0, 1)`, `scale` being the light's luminance over its draws at this
-    /// call (module docs). At most one shadow ray. The draw is added to `tally`.
+    /// picked by `u` in `[0, 1)` (module docs); `light`'s luminance is its own over the draws
+    /// shaded at this call. At most one shadow ray. The draw is added to `tally`.
     pub(crate) fn shade_resampled(
         &self,
         point: &ShadingPoint,
@@ -84,7 +84,6 @@ impl Indirect<'_> {
         light: Drawn<'_>,
         candidates: &[u32],
         u: f64,
-        scale: f32,
         tally: &mut Tally,
     ) -> Draw {
         let mut each = [(0usize, Vec3::ZERO, 0.0f32); MAX_CANDIDATES as usize];
@@ -101,7 +100,7 @@ impl Indirect<'_> {
             let Some(v) = self.vpls.get(i) else {
                 continue;
             };
-            let share = light.share(point, v, scale, 1.0);
+            let share = light.share(point, v, light.luminance, 1.0);
             let unshadowed = if share == Vec3::ZERO {
                 Vec3::ZERO
             } else {
@@ -115,7 +114,7 @@ impl Indirect<'_> {
             lit: Vec3::ZERO,
             spread: 0.0,
         };
-        if n == 0 || !(sum > 0.0) {
+        if n == 0 || sum <= 0.0 {
             tally.add(1, Vec3::ZERO, Vec3::ZERO);
             return none;
         }
@@ -205,9 +204,8 @@ mod tests {
                     for k in 0..n {
                         let u = (k as f64 + 0.5) / n as f64;
                         let mut tally = Tally::default();
-                        let scale = drawn.luminance;
-                        let draw = shader
-                            .shade_resampled(&point, normal, drawn, them, u, scale, &mut tally);
+                        let draw =
+                            shader.shade_resampled(&point, normal, drawn, them, u, &mut tally);
                         mean += draw.lit.as_dvec3() / n as f64;
                         if tally.unshadowed() > 0.0 {
                             seen[usize::from(tally.lit() > 0.0)] = true;
