@@ -12,7 +12,7 @@
 //! light's `s`-th sample looks at `G` *candidates*, its representatives `sG .. (s + 1)G`:
 //!
 //! - each candidate `k` is evaluated unshadowed, `ũ_k` (its lobe, the BRDF, the fall-off and
-//!   the blending: what the plain estimator of [`Indirect::shade_drawn`] gives for that
+//!   the blending: what the plain estimator, `Indirect::shade_drawn`, gives for that
 //!   representative before its ray), with weight `r_k = ‖ũ_k‖` (luminance);
 //! - one candidate is picked with probability `r_k / Σ r`, and one shadow ray traced to it;
 //! - the sample is `V_k ũ_k · r̄ / r_k`, with `r̄ = Σ r / G` and `V_k` the ray's visibility.
@@ -26,7 +26,7 @@
 //! values; the visibility's noise is that of one ray, now sent where the light is.
 //!
 //! The pick's number is drawn per point, light and sample from a hash
-//! ([`pick_number`]), independent of the roulette that chose the light: the same on any
+//! (`pick_number`), independent of the roulette that chose the light: the same on any
 //! thread count.
 //!
 //! The point bound ([`refine`](super::refine)) needs one draw's variance. Its which-VPL part
