@@ -1273,7 +1273,16 @@ fn gi_blend_at_is_in_the_header_and_changes_the_image() {
     let (centre, get) = render("centre.exr", &["--blend-at", "centre"]);
     assert_eq!(get("lgh:blend_at"), "centre");
     assert_ne!(each.pixels, centre.pixels);
-    for bad in [&["--blend-at", "vertex"][..], &["--shadow-samples", "0.2"]] {
+    // Each draw resampled among 4 representatives by default, or drawn on its own.
+    assert_eq!(get("lgh:candidates"), "4");
+    let (one, get) = render("one.exr", &["--candidates", "1"]);
+    assert_eq!(get("lgh:candidates"), "1");
+    assert_ne!(each.pixels, one.pixels);
+    for bad in [
+        &["--blend-at", "vertex"][..],
+        &["--shadow-samples", "0.2"],
+        &["--candidates", "3"],
+    ] {
         let o = gi(&dir.path().join("bad.exr"), bad);
         assert!(!o.status.success(), "{bad:?}");
     }

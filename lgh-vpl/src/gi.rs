@@ -182,8 +182,9 @@ pub struct GiSettings {
     pub blend: BlendAt,
     /// The candidates each of a coarse light's draws looks at with [`GiMethod::Lgh`]'s default
     /// coarse shading, one picked for its shadow ray by what each gives unshadowed
-    /// ([`crate::indirect::resample`]): 1 to [`MAX_CANDIDATES`], 1 drawing each representative
-    /// on its own.
+    /// ([`crate::indirect::resample`]): a power of two from 1 to [`MAX_CANDIDATES`] (so that
+    /// a light's draws look at a power-of-two prefix of its nested representatives), 1
+    /// drawing each representative on its own.
     pub candidates: u32,
 }
 
@@ -198,7 +199,8 @@ pub const MAX_SPECULAR_DEPTH: u32 = 32;
 
 impl Default for GiSettings {
     /// [`VplSettings::default`] (100,000 VPLs of up to 3 bounces, seed 1), the one hierarchy,
-    /// representatives shared per point (1.25 per coarse light on average, at most 32),
+    /// representatives shared per point (0.5 draws per coarse light on average, each resampled
+    /// among 4, at most 32 representatives),
     /// shadow rays, and the direct light through 4 × 4 strata.
     fn default() -> Self {
         GiSettings {
@@ -308,7 +310,7 @@ impl GiSettings {
                 return Err(GiError::PointError { error });
             }
         }
-        if !(1..=MAX_CANDIDATES).contains(&self.candidates) {
+        if !(1..=MAX_CANDIDATES).contains(&self.candidates) || !self.candidates.is_power_of_two() {
             return Err(GiError::Candidates {
                 candidates: self.candidates,
             });
@@ -426,7 +428,7 @@ pub enum GiError {
         /// The rejected value.
         error: f32,
     },
-    /// Candidates of a resampled draw outside 1 to [`MAX_CANDIDATES`].
+    /// Candidates of a resampled draw not a power of two from 1 to [`MAX_CANDIDATES`].
     Candidates {
         /// The rejected value.
         candidates: u32,
@@ -489,8 +491,8 @@ impl std::fmt::Display for GiError {
             ),
             GiError::Candidates { candidates } => write!(
                 f,
-                "--candidates {candidates}: expected 1 to {MAX_CANDIDATES} (1 draws each \
-                 representative on its own)"
+                "--candidates {candidates}: expected 1, 2, 4, 8 or {MAX_CANDIDATES} (1 draws \
+                 each representative on its own)"
             ),
             GiError::SpecularDepth { depth } => {
                 write!(
@@ -1085,6 +1087,21 @@ mod tests {
             .check(),
             Err(GiError::AdaptiveBuckets)
         );
+        // Candidates: a power of two up to 16.
+        let candidates = |candidates| GiSettings {
+            candidates,
+            ..GiSettings::default()
+        };
+        for ok in [1, 2, 4, 8, 16] {
+            assert!(candidates(ok).check().is_ok(), "{ok}");
+        }
+        for no in [0, 3, 6, 32] {
+            assert_eq!(
+                candidates(no).check(),
+                Err(GiError::Candidates { candidates: no })
+            );
+        }
+        assert!(bad(candidates(3)).contains("--candidates 3: expected 1, 2, 4, 8 or 16"));
         assert!(GiMethod::Lightcuts {
             relative_error: 0.0
         }

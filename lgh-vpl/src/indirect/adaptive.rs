@@ -47,8 +47,7 @@ use lgh_core::{
     ShadingPoint,
 };
 
-use super::resample::MAX_CANDIDATES;
-use super::resample::{pick_number, Draw, PICK_SALT};
+use super::resample::{pick_number, MAX_CANDIDATES, PICK_SALT};
 use super::roulette::Systematic;
 use super::{refine, Drawn, Indirect, Tally, WhichVpl};
 use crate::prefetch::prefetch;
@@ -107,7 +106,9 @@ fn behind(point: &ShadingPoint, normal: Vec3, to: Vec3, h: f32) -> bool {
 }
 
 /// How many shaded lights ahead [`Pass::hint`] hints a light's representatives (and half as
-/// many, its next VPL): 16 and 8 measured 6–12% faster on Sponza than no hints.
+/// many, its next draw's VPLs). With one VPL a draw, 16 measured 6–12% faster on Sponza than
+/// no hints; with four candidates a draw, 4 measured 7% faster than 16 (three alternating
+/// pairs), 2 no faster, 8 no different (seven pairs).
 const HINT_AHEAD: usize = 4;
 
 /// The salt of the roulette's sequence at a shading point (the area lights' patterns use the
@@ -124,11 +125,12 @@ struct Candidate {
     index: u32,
     /// Its level (≥ 1).
     level: u8,
-    /// Draws shaded so far (0: none — skipped by the roulette, or not yet seen): resampled
-    /// ones, or representatives one by one (`resampled`); their estimate is `done[slot]`.
+    /// Draws shaded so far (0: none — skipped by the roulette, or not yet seen); their
+    /// estimate is `done[slot]`.
     m: u8,
-    /// Whether its `m` draws are resampled ([`resample`](super::resample)).
-    resampled: bool,
+    /// The candidates of each of its `m` draws (1: each a representative of its own;
+    /// [`resample`](super::resample)).
+    g: u8,
     /// Where its estimate is kept, once it has one.
     slot: u32,
     /// The luminance its representatives share ([`Drawn::luminance`]).
@@ -266,7 +268,7 @@ fn gather(
         index,
         level,
         m: 0,
-        resampled: false,
+        g: 0,
         slot: 0,
         luminance,
         weight,
@@ -348,7 +350,8 @@ impl Pass<'_> {
     /// in proportion to the estimates, the roulette's numbers drawn from `offset` at the first
     /// pass (`Some`) and kept after. A light that takes a longer prefix than before shades
     /// only the representatives it had not (the prefixes are nested, so this is the same
-    /// estimate as shading them all, with fewer shadow rays).
+    /// estimate as shading them all, with fewer shadow rays); one whose draws look at fewer
+    /// candidates each than before is shaded afresh ([`group`]).
     fn run(&self, scratch: &mut Scratch, mean: f32, offset: Option<f64>) -> PassResult {
         let Scratch {
             lights,
@@ -400,28 +403,29 @@ impl Pass<'_> {
             let light = &mut lights[i as usize];
             let all = self.reps.of(light.level, light.index);
             let (m, p) = prefix(nested, want, all.len());
-            // Resampled draws of `g` candidates each while the light has as many
-            // representatives as its draws look at; beyond that, every representative with a
-            // ray of its own (the estimate complete).
-            let g = self.candidates.min(all.len()).max(1);
-            let resampled = nested && g >= 2 && m * g <= all.len();
-            let m = if nested && g >= 2 && !resampled {
-                all.len()
+            // Resampled draws of `g` candidates each, as many as the light's representatives
+            // allow: fewer candidates a draw as the draws grow, down to every representative
+            // with a ray of its own (the estimate complete).
+            let g = if nested {
+                group(self.candidates, all.len(), m)
             } else {
-                m
+                1
             };
+            let resampled = g >= 2;
             complete &= !resampled && m >= all.len() && p == 1.0;
             let drawn = Drawn {
                 luminance: light.luminance,
                 blend: self.blending.map(|b| (b, light.level)),
             };
-            // The draws shaded before, if they are this pass's first ones.
-            let before = if light.resampled == resampled {
+            // The draws shaded before, if they are of the same kind (a draw of another number
+            // of candidates estimates the light through other representatives).
+            let before = if usize::from(light.g) == g {
                 usize::from(light.m)
             } else {
                 0
             };
-            // Draws `range` of the light, shaded now with the light's luminance over `k`.
+            // Draws `range` of the light, shaded now, with the light's luminance over
+            // `range.len()`.
             let shade = |range: std::ops::Range<usize>, tally: &mut Tally| {
                 if resampled {
                     // Each draw with the light's luminance over the draws shaded now.
@@ -429,14 +433,16 @@ impl Pass<'_> {
                         luminance: drawn.luminance / range.len() as f32,
                         ..drawn
                     };
+                    let single = range.len() == 1;
                     let (mut radiance, mut spread) = (Vec3::ZERO, 0.0);
                     for s in range {
                         let u = pick_number(self.seed, light.level, light.index, s);
                         let them = &all[s * g..(s + 1) * g];
-                        let draw: Draw =
-                            shader.shade_resampled(point, normal, each, them, u, tally);
+                        let draw = shader.shade_resampled(point, normal, each, them, u, tally);
                         radiance += draw.lit;
-                        spread = draw.spread;
+                        if single {
+                            spread = draw.spread;
+                        }
                     }
                     (radiance, spread)
                 } else {
@@ -477,7 +483,7 @@ impl Pass<'_> {
             } else {
                 done[light.slot as usize] = estimate;
             }
-            light.resampled = resampled;
+            light.g = g as u8;
             // At most 64 representatives a light (`MAX_PER_LIGHT`).
             light.m = m.min(usize::from(u8::MAX)) as u8;
             let tally = estimate.tally;
@@ -492,8 +498,10 @@ impl Pass<'_> {
                 own += tally.variance(0.0) * scale;
             } else {
                 single_sq += tally.unshadowed_squares() * scale;
-                if resampled {
-                    // Which VPL was drawn, from the spread of the draw's own candidates.
+                if resampled && tally.unshadowed() > 0.0 {
+                    // Which VPL was drawn, from the spread of the draw's own candidates. (A
+                    // draw whose every candidate is dark says nothing of the light's other
+                    // representatives: the fit below.)
                     own += estimate.spread * scale;
                 } else {
                     // Which VPL was drawn: its unshadowed share against the light's own,
@@ -547,15 +555,24 @@ impl Pass<'_> {
             // Its next draw's VPLs: the next representative, or the next resampled draw's
             // candidates.
             let all = self.reps.of(l.level, l.index);
-            let g = self.candidates.min(all.len()).max(1);
-            let next = usize::from(l.m) * if l.resampled { g } else { 1 };
-            for &j in all.iter().skip(next).take(g) {
+            let next = usize::from(l.m) * usize::from(l.g.max(1));
+            for &j in all.iter().skip(next).take(self.candidates) {
                 if let Some(v) = self.shader.vpls.get(j as usize) {
                     prefetch(v);
                 }
             }
         }
     }
+}
+
+/// The candidates of each of `m` resampled draws of a light of `len` nested representatives,
+/// at most `candidates`: the largest power of two that lets the draws look at a power-of-two
+/// prefix, `m G ≤ len` (1: each draw a representative of its own).
+#[inline]
+#[must_use]
+fn group(candidates: usize, len: usize, m: usize) -> usize {
+    let most = candidates.min(len / m.max(1)).max(1);
+    1 << most.ilog2()
 }
 
 /// A light's prefix of `len` representatives owed `want` samples, and the probability it is
@@ -731,6 +748,22 @@ mod tests {
             render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
         };
         assert_eq!(pool(1).install(render), pool(3).install(render));
+    }
+
+    /// A light's resampled draws look at a power-of-two prefix of its representatives,
+    /// fewer candidates each as the draws grow, down to one.
+    #[test]
+    fn draws_look_at_fewer_candidates_as_they_grow() {
+        let g = |m| group(4, 32, m);
+        assert_eq!([1, 2, 4, 8, 16, 32].map(g), [4, 4, 4, 4, 2, 1]);
+        for m in [1, 2, 4, 8, 16, 32] {
+            assert!(m * g(m) <= 32 && (m * g(m)).is_power_of_two());
+        }
+        // Short lights, none, and one candidate.
+        assert_eq!(group(4, 2, 1), 2);
+        assert_eq!(group(4, 0, 1), 1);
+        assert_eq!(group(1, 32, 1), 1);
+        assert_eq!(group(16, 32, 1), 16);
     }
 
     /// A coarse light [`behind`] a point gives it nothing: every VPL it stands for (every

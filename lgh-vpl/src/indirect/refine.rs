@@ -26,7 +26,9 @@
 //!   mean. The isotropic point misjudges the lights of one point alike — it has no lobe, so on
 //!   a floor it gives the floor's own coarse lights light their VPLs do not — and what all
 //!   lights share is not noise: measured against `(u − u_ℓ)²` on Sponza, the fit spends 7%
-//!   fewer shadow rays with no pixel over the bound either way (`docs/gi.md`);
+//!   fewer shadow rays with no pixel over the bound either way (`docs/gi.md`). A resampled
+//!   draw ([`resample`](super::resample)) measures it from its own candidates instead,
+//!   `s²_r / G`, unless every candidate was dark (then the fit);
 //! - a light kept by Russian roulette with probability `p` and weight `1/p`: to the above,
 //!   scaled by `1/p²`, is added `X² (1 − p)` for its weighted value `X` (an unbiased estimate
 //!   of the roulette's own variance, `E[Y²](1 − p)/p`). That is the variance of independent
@@ -37,7 +39,7 @@
 //! with `z` = [`CONFIDENCE_Z`], the coarse part is shaded again with [`GROWTH`] times the
 //! samples, up to all the representatives there are ([`MAX_ROUNDS`] times at most, or until
 //! every light is shaded through all of them). A round shades only what its longer prefixes
-//! add, and a light's roulette number is drawn once per point, so a light the roulette kept
+//! add (a light whose draws look at fewer candidates each than before is shaded afresh), and a light's roulette number is drawn once per point, so a light the roulette kept
 //! keeps its draw in the next round, at its new weight (coupled roulettes: the last round's
 //! estimate is distributed as if drawn afresh). The estimate is still unbiased for a fixed
 //! number of rounds; stopping on the estimate itself adds a bias far below the noise it
