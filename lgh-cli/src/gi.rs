@@ -272,7 +272,7 @@ pub struct SceneArgs {
     #[arg(long, value_enum, default_value_t = BlendAt::Representative)]
     pub blend_at: BlendAt,
     /// Backend lgh, with the default coarse shading: the representatives each shadow ray of a
-    /// coarse light chooses among, 1 to 16. Each is weighed by what it gives the point
+    /// coarse light chooses among: 1, 2, 4, 8 or 16. Each is weighed by what it gives the point
     /// unshadowed, and the ray goes to one picked in proportion (resampled importance
     /// sampling): unbiased, with less of the noise of which VPL was drawn. 1 draws each
     /// representative on its own.

@@ -265,7 +265,8 @@ impl GiSettings {
     /// hierarchy; 1 to 64 strata. (The VPL counts are checked by [`trace`].)
     ///
     /// Errors: [`GiError::ShadowSamples`], [`GiError::MaxShadowSamples`], [`GiError::PointError`],
-    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`], [`GiError::Candidates`].
+    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`],
+    /// [`GiError::Candidates`].
     pub fn check(&self) -> Result<(), GiError> {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
         let allocation = self.sample_allocation();

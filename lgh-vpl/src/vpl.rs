@@ -23,7 +23,8 @@ use crate::primary::PrimaryLight;
 use crate::scene::Scene;
 use crate::specular::{branches, Branch, Specular};
 
-/// One virtual point light.
+/// One virtual point light. Aligned to a cache line (its 64 bytes): a VPL the shading reads
+/// at random, or hints to the cache, is one line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(align(64))]
 pub struct Vpl {

@@ -109,9 +109,8 @@ pub(crate) struct Drawn<'a> {
 impl Drawn<'_> {
     /// The isotropic intensity representative `v`, drawn `times` times, is shaded with at
     /// `point`, `scale` being the light's luminance over its draws: `I_j · scale · times /
-    /// ‖I_j‖`, times `B_ℓ(‖x − p_j‖)`
-    /// blended at its own distance (the estimator of the drawn weights `w_j ‖I_j‖`: see
-    /// [`Indirect::shade_drawn`]); zero for a dark VPL.
+    /// ‖I_j‖`, times `B_ℓ(‖x − p_j‖)` blended at its own distance (the estimator of the drawn
+    /// weights `w_j ‖I_j‖`: see [`Indirect::shade_drawn`]); zero for a dark VPL.
     #[inline]
     #[must_use]
     pub(crate) fn share(&self, point: &ShadingPoint, v: &Vpl, scale: f32, times: f32) -> Vec3 {
@@ -349,15 +348,15 @@ impl<'a> Indirect<'a> {
             let Some(v) = self.vpls.get(i) else {
                 return Vec3::ZERO;
             };
-            let share = light.share(point, v, scale, times as f32);
-            if share != Vec3::ZERO {
-                let (unshadowed, lit) = self.shade_vpl_parts(point, normal, v, share);
-                tally.add(times as u32, unshadowed, lit);
-                lit
-            } else {
-                tally.add(times as u32, Vec3::ZERO, Vec3::ZERO);
+            let unshadowed = self.unshadowed_drawn(point, normal, light, v, scale, times as f32);
+            // A shadow ray only where there is light to hide.
+            let lit = if unshadowed != Vec3::ZERO && !self.visible(point, normal, v) {
                 Vec3::ZERO
-            }
+            } else {
+                unshadowed
+            };
+            tally.add(times as u32, unshadowed, lit);
+            lit
         };
         let mut reps = reps;
         if k == 1 {
@@ -405,6 +404,25 @@ impl<'a> Indirect<'a> {
         } else {
             (lit, Vec3::ZERO)
         }
+    }
+
+    /// What representative `v` of `light`, drawn `times` times, gives `point` (unit
+    /// `normal`) unshadowed, `scale` being the light's luminance over its draws: its
+    /// [`Drawn::share`] shaded by [`unshadowed`](Self::unshadowed).
+    pub(crate) fn unshadowed_drawn(
+        &self,
+        point: &ShadingPoint,
+        normal: Vec3,
+        light: Drawn<'_>,
+        v: &Vpl,
+        scale: f32,
+        times: f32,
+    ) -> Vec3 {
+        let share = light.share(point, v, scale, times);
+        if share == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        self.unshadowed(point, normal, v, share)
     }
 
     /// Whether VPL `v` is seen from `point` (unit shading `normal`): one shadow ray between

@@ -3,7 +3,8 @@
 //!
 //! The hierarchy's default shading ([`Coarse::Adaptive`](super::Coarse::Adaptive)) estimates
 //! each coarse light's VPLs at a point from a few of its representatives — 0.5 draws per
-//! light on average, each resampled among four ([`resample`](super::resample)), shared in proportion to an unshadowed guess of what each light brings. Most points
+//! light on average, each resampled among four ([`resample`](super::resample)), shared in
+//! proportion to an unshadowed guess of what each light brings. Most points
 //! are well served, but where a few coarse lights carry a point and their representatives
 //! disagree (a penumbra, a corner, a light half behind a pillar), that point's estimate can be
 //! off by tens of percent while the image's RMSE stays at 2–3%. On Sponza at α = 4, 1.2% of the
@@ -39,7 +40,8 @@
 //! with `z` = [`CONFIDENCE_Z`], the coarse part is shaded again with [`GROWTH`] times the
 //! samples, up to all the representatives there are ([`MAX_ROUNDS`] times at most, or until
 //! every light is shaded through all of them). A round shades only what its longer prefixes
-//! add (a light whose draws look at fewer candidates each than before is shaded afresh), and a light's roulette number is drawn once per point, so a light the roulette kept
+//! add (a light whose draws look at fewer candidates each than before is shaded afresh),
+//! and a light's roulette number is drawn once per point, so a light the roulette kept
 //! keeps its draw in the next round, at its new weight (coupled roulettes: the last round's
 //! estimate is distributed as if drawn afresh). The estimate is still unbiased for a fixed
 //! number of rounds; stopping on the estimate itself adds a bias far below the noise it
