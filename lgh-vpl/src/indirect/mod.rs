@@ -107,20 +107,20 @@ pub(crate) struct Drawn<'a> {
 }
 
 impl Drawn<'_> {
-    /// The isotropic intensity representative `v`, drawn `times` times, is shaded with at
-    /// `point`, `scale` being the light's luminance over its draws: `I_j · scale · times /
-    /// ‖I_j‖`, times `B_ℓ(‖x − p_j‖)` blended at its own distance (the estimator of the drawn
+    /// The isotropic intensity representative `v`, drawn `times` times, is shaded with at a
+    /// point `d` from it, `scale` being the light's luminance over its draws: `I_j · scale ·
+    /// times / ‖I_j‖`, times `B_ℓ(d)` blended at its own distance (the estimator of the drawn
     /// weights `w_j ‖I_j‖`: see [`Indirect::shade_drawn`]); zero for a dark VPL.
     #[inline]
     #[must_use]
-    pub(crate) fn share(&self, point: &ShadingPoint, v: &Vpl, scale: f32, times: f32) -> Vec3 {
+    pub(crate) fn share(&self, v: &Vpl, d: f32, scale: f32, times: f32) -> Vec3 {
         let own = isotropic_intensity(v);
         let lum = lgh_core::luminance(own);
         match self.blend {
             _ if lum <= 0.0 => Vec3::ZERO,
             None => own * (scale * times / lum),
             Some((blending, level)) => {
-                let b = blending.weight(level, (point.position - v.position).length());
+                let b = blending.weight(level, d);
                 own * (b * scale * times / lum)
             }
         }
@@ -408,7 +408,7 @@ impl<'a> Indirect<'a> {
 
     /// What representative `v` of `light`, drawn `times` times, gives `point` (unit
     /// `normal`) unshadowed, `scale` being the light's luminance over its draws: its
-    /// [`Drawn::share`] shaded by [`unshadowed`](Self::unshadowed).
+    /// [`Drawn::share`] shaded by its lobe, the BRDF and the fall-off, tested for facing first.
     pub(crate) fn unshadowed_drawn(
         &self,
         point: &ShadingPoint,
@@ -418,11 +418,16 @@ impl<'a> Indirect<'a> {
         scale: f32,
         times: f32,
     ) -> Vec3 {
-        let share = light.share(point, v, scale, times);
+        // Facing first: most representatives a point looks at face away from it, and their
+        // share is never needed.
+        let Some((lobe, d)) = self.lobe_towards(point, normal, v) else {
+            return Vec3::ZERO;
+        };
+        let share = light.share(v, d, scale, times);
         if share == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        self.unshadowed(point, normal, v, share)
+        self.reflect(point, normal, v.position, share * lobe)
     }
 
     /// Whether VPL `v` is seen from `point` (unit shading `normal`): one shadow ray between
@@ -437,16 +442,24 @@ impl<'a> Indirect<'a> {
     /// in front of its face towards `ω`, [`Vpl::lobe`]) gives `point` (unit `normal`),
     /// unshadowed.
     fn unshadowed(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, intensity: Vec3) -> Vec3 {
+        match self.lobe_towards(point, normal, v) {
+            Some((lobe, _)) => self.reflect(point, normal, v.position, intensity * lobe),
+            None => Vec3::ZERO,
+        }
+    }
+
+    /// VPL `v`'s lobe towards `point` (unit `normal`) and its distance from it; `None` where
+    /// it gives the point nothing: at the point itself, the point behind its face, or it
+    /// behind the point's ([`facing`]).
+    #[inline]
+    fn lobe_towards(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl) -> Option<(f32, f32)> {
         let to_point = point.position - v.position;
         let d = to_point.length();
         if d == 0.0 {
-            return Vec3::ZERO;
+            return None;
         }
         let lobe = v.lobe(to_point / d);
-        if lobe == 0.0 || !facing(point, normal, v.position) {
-            return Vec3::ZERO;
-        }
-        self.reflect(point, normal, v.position, intensity * lobe)
+        (lobe != 0.0 && facing(point, normal, v.position)).then_some((lobe, d))
     }
 
     /// Whether the mesh hides `to` from `from` (never, without shadows): one counted ray.
