@@ -252,6 +252,15 @@ impl Representatives {
         }
     }
 
+    /// Hints to the cache that [`of`](Self::of) will soon read light `index` of `level`'s
+    /// entry ([`crate::prefetch`]).
+    #[inline(always)]
+    pub(crate) fn hint(&self, level: u8, index: u32) {
+        if let Some(start) = self.level(level).and_then(|l| l.starts.get(index as usize)) {
+            crate::prefetch::prefetch(start);
+        }
+    }
+
     /// How far from light `index` of `level ≥ 1`'s centre the farthest of the input lights it
     /// stands for lies (those with a weight and some light; a hair over, for rounding): the
     /// distance at which it may still give light through one of them. 0 for a light without
