@@ -348,10 +348,10 @@ struct Pass<'a> {
 impl Pass<'_> {
     /// One pass over the point's lights in `scratch`: `mean` samples per counted light shared
     /// in proportion to the estimates, the roulette's numbers drawn from `offset` at the first
-    /// pass (`Some`) and kept after. A light that takes a longer prefix than before shades
-    /// only the representatives it had not (the prefixes are nested, so this is the same
-    /// estimate as shading them all, with fewer shadow rays); one whose draws look at fewer
-    /// candidates each than before is shaded afresh ([`group`]).
+    /// pass (`Some`) and kept after. A light that takes more draws than before shades only
+    /// the draws it had not (the prefixes are nested, so this is the same estimate as shading
+    /// them all, with fewer shadow rays); its draws keep the candidates they had, and past its
+    /// representatives they wrap around ([`draw_candidates`]).
     fn run(&self, scratch: &mut Scratch, mean: f32, offset: Option<f64>) -> PassResult {
         let Scratch {
             lights,
@@ -406,13 +406,18 @@ impl Pass<'_> {
             let light = &mut lights[i as usize];
             let all = self.reps.of(light.level, light.index);
             let (m, p) = prefix(nested, want, all.len());
-            // Resampled draws of `g` candidates each, as many as the light's representatives
-            // allow: fewer candidates a draw as the draws grow, down to every representative
-            // with a ray of its own (the estimate complete).
-            let g = if nested {
-                group(self.candidates, all.len(), m)
-            } else {
+            // Resampled draws of `g` candidates each. A fresh light's draws look at fewer
+            // candidates the more of them it takes, down to every representative with a ray
+            // of its own (the estimate complete); a light shaded before keeps its draws'
+            // candidates, so that the new draws add to the old (shading it afresh with fewer
+            // threw 15% of the draws away on Sponza; keeping them took 0.97x the time at the
+            // same error over ten alternating pairs).
+            let g = if !nested {
                 1
+            } else if light.m > 0 {
+                usize::from(light.g)
+            } else {
+                group(self.candidates, all.len(), m)
             };
             let resampled = g >= 2;
             complete &= !resampled && m >= all.len() && p == 1.0;
@@ -420,13 +425,8 @@ impl Pass<'_> {
                 luminance: light.luminance,
                 blend: self.blending.map(|b| (b, light.level)),
             };
-            // The draws shaded before, if they are of the same kind (a draw of another number
-            // of candidates estimates the light through other representatives).
-            let before = if usize::from(light.g) == g {
-                usize::from(light.m)
-            } else {
-                0
-            };
+            // The draws shaded before (of `g` candidates too).
+            let before = usize::from(light.m);
             // Draws `range` of the light, shaded now, with the light's luminance over
             // `range.len()`.
             let shade = |range: std::ops::Range<usize>, tally: &mut Tally| {
@@ -440,7 +440,7 @@ impl Pass<'_> {
                     let (mut radiance, mut spread) = (Vec3::ZERO, 0.0);
                     for s in range {
                         let u = pick_number(self.seed, light.level, light.index, s);
-                        let them = &all[s * g..(s + 1) * g];
+                        let them = draw_candidates(all, g, s);
                         let draw = shader.shade_resampled(point, normal, each, them, u, tally);
                         radiance += draw.lit;
                         if single {
@@ -558,7 +558,7 @@ impl Pass<'_> {
             // Its next draw's VPLs: the next representative, or the next resampled draw's
             // candidates.
             let all = self.reps.of(l.level, l.index);
-            let next = usize::from(l.m) * usize::from(l.g.max(1));
+            let next = (usize::from(l.m) * usize::from(l.g.max(1))) % all.len().max(1);
             for &j in all.iter().skip(next).take(self.candidates) {
                 if let Some(v) = self.shader.vpls.get(j as usize) {
                     prefetch(v);
@@ -566,6 +566,20 @@ impl Pass<'_> {
             }
         }
     }
+}
+
+/// The candidates of a light's resampled draw `s` among its nested representatives `all`,
+/// `g` of them (a power of two, at most `all.len()`): the `s`-th run of `g`, wrapping around
+/// past the end. `m` draws, `m` a power of two, look at a power-of-two prefix of the
+/// representatives; past `all.len() / g` draws, at every run alike, `m g / all.len()` draws
+/// each (each draw's pick its own). Either way their mean is unbiased
+/// ([`resample`](super::resample)).
+#[inline]
+#[must_use]
+fn draw_candidates(all: &[u32], g: usize, s: usize) -> &[u32] {
+    let runs = (all.len() / g.max(1)).max(1);
+    let k = s % runs;
+    all.get(k * g..(k + 1) * g).unwrap_or(&[])
 }
 
 /// The candidates of each of `m` resampled draws of a light of `len` nested representatives,
@@ -767,6 +781,36 @@ mod tests {
         assert_eq!(group(4, 0, 1), 1);
         assert_eq!(group(1, 32, 1), 1);
         assert_eq!(group(16, 32, 1), 16);
+    }
+
+    /// A light's draws past its representatives wrap around: `m` draws of `g` candidates
+    /// look at a power-of-two prefix while `m g ≤ len`, and past it at every run of `g` alike,
+    /// `m g / len` times each — so their mean weighs every representative alike, and stays
+    /// unbiased.
+    #[test]
+    fn draws_past_the_representatives_wrap_around() {
+        let all: Vec<u32> = (100..132).collect();
+        for g in [1, 2, 4, 8, 16] {
+            for m in [1, 2, 4, 8, 16, 32, 64] {
+                let mut seen = vec![0usize; all.len()];
+                for s in 0..m {
+                    let them = draw_candidates(&all, g, s);
+                    assert_eq!(them.len(), g);
+                    for &j in them {
+                        seen[(j - 100) as usize] += 1;
+                    }
+                }
+                let looked: Vec<usize> = seen.iter().copied().filter(|&c| c > 0).collect();
+                if m * g <= all.len() {
+                    // The prefix, each once.
+                    assert!(seen[..m * g].iter().all(|&c| c == 1), "g {g} m {m}");
+                    assert_eq!(looked.len(), m * g);
+                } else {
+                    assert!(seen.iter().all(|&c| c == m * g / all.len()), "g {g} m {m}");
+                }
+            }
+        }
+        assert!(draw_candidates(&[], 4, 3).is_empty());
     }
 
     /// A coarse light [`behind`] a point gives it nothing: every VPL it stands for (every

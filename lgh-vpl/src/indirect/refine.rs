@@ -39,9 +39,8 @@
 //! If `z σ̂ > ε L` for the point's estimated luminance `L` (level 0's exact part included),
 //! with `z` = [`CONFIDENCE_Z`], the coarse part is shaded again with [`GROWTH`] times the
 //! samples, up to all the representatives there are ([`MAX_ROUNDS`] times at most, or until
-//! every light is shaded through all of them). A round shades only what its longer prefixes
-//! add (a light whose draws look at fewer candidates each than before is shaded afresh),
-//! and a light's roulette number is drawn once per point, so a light the roulette kept
+//! every light is shaded through all of them). A round shades only the draws it adds (a
+//! light's draws keep their candidates from round to round), and a light's roulette number is drawn once per point, so a light the roulette kept
 //! keeps its draw in the next round, at its new weight (coupled roulettes: the last round's
 //! estimate is distributed as if drawn afresh). The estimate is still unbiased for a fixed
 //! number of rounds; stopping on the estimate itself adds a bias far below the noise it

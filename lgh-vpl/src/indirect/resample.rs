@@ -20,11 +20,15 @@
 //! Given the candidates, the pick's expectation is `Σ_k (r_k / Σ r) V_k ũ_k r̄ / r_k =
 //! (1/G) Σ_k V_k ũ_k`: the plain estimator over the same `G` representatives, each with its own
 //! ray (a candidate with `r_k = 0` has `ũ_k = 0` and gives nothing either way). The `m`
-//! samples of a light together look at its first `mG` representatives, a power-of-two prefix of
-//! its nested draw (`m` and `G` are powers of two, and `G` shrinks as `m` grows so that `mG`
-//! stays within the light's representatives), whose plain estimate is unbiased
-//! ([`crate::representatives`]); so is this one. What is left of the which-VPL noise is the spread of `r̄`, the mean of `G` unshadowed
-//! values; the visibility's noise is that of one ray, now sent where the light is.
+//! samples of a light together look at its first `mG` representatives, a power-of-two prefix
+//! of its nested draw (`m` and `G` are powers of two; a light drawn afresh takes a smaller `G`
+//! the larger its `m`, so that `mG` stays within its representatives), whose plain estimate is
+//! unbiased ([`crate::representatives`]); so is this one. A light the point bound
+//! ([`refine`](super::refine)) draws again keeps its `G`, and draws past its representatives
+//! wrap around: `m` draws then look at each run of `G` alike, `mG/len` times, each with a pick
+//! of its own, and their mean is again unbiased. What is left of the which-VPL noise is the
+//! spread of `r̄`, the mean of `G` unshadowed values; the visibility's noise is that of one
+//! ray, now sent where the light is.
 //!
 //! The pick's number is drawn per point, light and sample from a hash
 //! (`pick_number`), independent of the roulette that chose the light: the same on any
