@@ -47,7 +47,7 @@ use lgh_core::{
     ShadingPoint,
 };
 
-use super::resample::{pick_number, MAX_CANDIDATES, PICK_SALT};
+use super::resample::{pick_number, How, RayRoulette, MAX_CANDIDATES, PICK_SALT};
 use super::roulette::Systematic;
 use super::{refine, Drawn, Indirect, Tally, WhichVpl};
 use crate::prefetch::prefetch;
@@ -210,6 +210,7 @@ pub(super) fn adaptive(
             total: scratch.lights.iter().map(|c| c.share).sum(),
             candidates: candidates.clamp(1, MAX_CANDIDATES) as usize,
             seed: crate::direct::point_seed(point.position, PICK_SALT),
+            rays: std::cell::Cell::default(),
         };
         let mut mean = mean;
         let mut result = pass.run(scratch, mean, Some(rng.next_f64()));
@@ -343,6 +344,8 @@ struct Pass<'a> {
     candidates: usize,
     /// The point's seed for the resampled draws' picks.
     seed: u64,
+    /// The roulette on the resampled draws' shadow rays, over every pass at the point.
+    rays: std::cell::Cell<RayRoulette>,
 }
 
 impl Pass<'_> {
@@ -429,7 +432,7 @@ impl Pass<'_> {
             let before = usize::from(light.m);
             // Draws `range` of the light, shaded now, with the light's luminance over
             // `range.len()`.
-            let shade = |range: std::ops::Range<usize>, tally: &mut Tally| {
+            let shade = |range: std::ops::Range<usize>, tally: &mut Tally, at_point: f32| {
                 if resampled {
                     // Each draw with the light's luminance over the draws shaded now.
                     let each = Drawn {
@@ -438,15 +441,21 @@ impl Pass<'_> {
                     };
                     let single = range.len() == 1;
                     let (mut radiance, mut spread) = (Vec3::ZERO, 0.0);
+                    let mut rays = self.rays.get();
                     for s in range {
-                        let u = pick_number(self.seed, light.level, light.index, s);
+                        let how = How {
+                            numbers: pick_number(self.seed, light.level, light.index, s),
+                            at_point,
+                            rays: &mut rays,
+                        };
                         let them = draw_candidates(all, g, s);
-                        let draw = shader.shade_resampled(point, normal, each, them, u, tally);
+                        let draw = shader.shade_resampled(point, normal, each, them, how, tally);
                         radiance += draw.lit;
                         if single {
                             spread = draw.spread;
                         }
                     }
+                    self.rays.set(rays);
                     (radiance, spread)
                 } else {
                     let ids = all.get(range).unwrap_or(&[]).iter().map(|&i| i as usize);
@@ -459,8 +468,8 @@ impl Pass<'_> {
             } else if before > 0 && before < m {
                 // The first `before` as before; the rest shaded now; both at their share of m.
                 let mut rest = Tally::default();
-                let (more, _) = shade(before..m, &mut rest);
                 let (a, b) = (before as f32 / m as f32, (m - before) as f32 / m as f32);
+                let (more, _) = shade(before..m, &mut rest, b / p as f32);
                 let kept = done[light.slot as usize];
                 let tally = kept
                     .tally
@@ -473,7 +482,7 @@ impl Pass<'_> {
                 }
             } else {
                 let mut tally = Tally::default();
-                let (radiance, spread) = shade(0..m, &mut tally);
+                let (radiance, spread) = shade(0..m, &mut tally, 1.0 / p as f32);
                 Estimate {
                     radiance,
                     tally,
