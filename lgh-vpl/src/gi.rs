@@ -864,10 +864,11 @@ impl GiScene {
                         b
                     })
                 }
-                Aggregation::Isotropic => LghExtras::Isotropic(representatives.then(|| {
-                    let strata: Vec<u8> = self.traced.vpls.iter().map(Vpl::orientation).collect();
-                    Representatives::build_stratified(&self.lgh, allocation, &strata)
-                })),
+                Aggregation::Isotropic => {
+                    LghExtras::Isotropic(representatives.then(|| {
+                        Representatives::build_for(&self.lgh, allocation, &self.traced.vpls)
+                    }))
+                }
             })
         })
     }

@@ -66,6 +66,7 @@
 pub mod brdf;
 pub mod bvh;
 pub mod direct;
+pub mod facing;
 pub mod gi;
 pub mod indirect;
 pub mod mesh;

@@ -27,6 +27,9 @@ use lgh_core::random::SplitMix64;
 use lgh_core::{GridLight, LightingGridHierarchy};
 use rayon::prelude::*;
 
+use crate::facing::Facing;
+use crate::vpl::Vpl;
+
 /// How many representatives each coarse light gets.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Allocation {
@@ -87,6 +90,15 @@ struct LevelReps {
     extents: Vec<f32>,
     /// The largest of them.
     max_extent: f32,
+    /// Light `i`'s [`Facing`] (empty if built without the VPLs).
+    facings: Vec<Facing>,
+}
+
+/// One light's draw ([`draw`]).
+struct Drawn {
+    reps: Vec<u32>,
+    extent: f32,
+    facing: Facing,
 }
 
 impl Representatives {
@@ -195,6 +207,60 @@ impl Representatives {
         allocation: Allocation,
         strata: &[u8],
     ) -> Self {
+        Self::build_inner(lgh, allocation, strata, &[])
+    }
+
+    /// Draws representatives for every light of levels ≥ 1 of `lgh`, built over `vpls` (in
+    /// order, as [`point_lights`](crate::indirect::point_lights) gives them), as many as
+    /// `allocation` says: stratified by the VPLs' [`orientation`](Vpl::orientation)
+    /// ([`build_stratified`](Self::build_stratified)), and with each light's [`Facing`],
+    /// by which the adaptive shading leaves out the lights that face away from a point.
+    /// (Those drawn otherwise rule nothing out: [`Facing::ANY`].)
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy};
+    /// use lgh_vpl::facing::Facing;
+    /// use lgh_vpl::indirect::point_lights;
+    /// use lgh_vpl::representatives::{Allocation, Representatives};
+    /// use lgh_vpl::vpl::Vpl;
+    ///
+    /// // A flat floor of VPLs facing up: every light's faces point up, none leans.
+    /// let vpls: Vec<Vpl> = (0..400)
+    ///     .map(|i| Vpl { position: Vec3::new((i % 20) as f32, 0.0, (i / 20) as f32) * 0.1,
+    ///                    normal: Vec3::Y, geometric: Vec3::Y, power: Vec3::ONE,
+    ///                    albedo: Vec3::ONE, bounce: 1 })
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&point_lights(&vpls), &GridSettings::default())?;
+    /// let reps = Representatives::build_for(&lgh, Allocation::Nested(8), &vpls);
+    /// let lit = |l: u8, i: u32| !reps.of(l, i).is_empty();
+    /// for level in 1..=lgh.max_level() {
+    ///     for i in (0..lgh.level(level).len() as u32).filter(|&i| lit(level, i)) {
+    ///         let f = reps.facing(level, i);
+    ///         assert_eq!((f.axis, f.spread, f.tilt), (Vec3::Y, 0.0, 0.0));
+    ///         // Beneath the floor, every light faces away.
+    ///         let centre = lgh.level(level).position(i as usize);
+    ///         let below = centre - Vec3::Y;
+    ///         assert!(f.faces_away(below, 1.0, reps.extent(level, i)));
+    ///     }
+    /// }
+    /// assert_eq!(Representatives::build_with(&lgh, Allocation::Nested(8)).facing(1, 0), Facing::ANY);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn build_for(lgh: &LightingGridHierarchy, allocation: Allocation, vpls: &[Vpl]) -> Self {
+        let strata: Vec<u8> = vpls.iter().map(Vpl::orientation).collect();
+        Self::build_inner(lgh, allocation, &strata, vpls)
+    }
+
+    /// [`build_stratified`](Self::build_stratified), with each light's [`Facing`] over `vpls`
+    /// if there are any.
+    fn build_inner(
+        lgh: &LightingGridHierarchy,
+        allocation: Allocation,
+        strata: &[u8],
+        vpls: &[Vpl],
+    ) -> Self {
         let levels = (1..=lgh.max_level())
             .map(|level| {
                 let lights = lgh.level(level);
@@ -205,26 +271,33 @@ impl Representatives {
                         (s + f64::from(l.luminance), n + 1)
                     });
                 let mean_lum = sum / lit.max(1) as f64;
-                let per_light: Vec<(Vec<u32>, f32)> = (0..lights.len() as u32)
+                let per_light: Vec<Drawn> = (0..lights.len() as u32)
                     .into_par_iter()
                     .map(|i| {
                         let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
-                        let (drawn, extent) = draw(lgh, level, i, k, strata);
-                        let drawn = match allocation {
-                            Allocation::Nested(_) => nest(drawn, level, i),
+                        let drawn = draw(lgh, level, i, k, strata, vpls);
+                        match allocation {
+                            Allocation::Nested(_) => Drawn {
+                                reps: nest(drawn.reps, level, i),
+                                ..drawn
+                            },
                             _ => drawn,
-                        };
-                        (drawn, extent)
+                        }
                     })
                     .collect();
                 let mut starts = Vec::with_capacity(per_light.len() + 1);
                 starts.push(0u32);
                 let mut reps = Vec::new();
                 let mut extents = Vec::with_capacity(per_light.len());
-                for (r, extent) in per_light {
-                    reps.extend(r);
+                let mut facings =
+                    Vec::with_capacity(if vpls.is_empty() { 0 } else { per_light.len() });
+                for d in per_light {
+                    reps.extend(d.reps);
                     starts.push(reps.len() as u32);
-                    extents.push(extent);
+                    extents.push(d.extent);
+                    if !vpls.is_empty() {
+                        facings.push(d.facing);
+                    }
                 }
                 let max_extent = extents.iter().copied().fold(0.0, f32::max);
                 LevelReps {
@@ -232,6 +305,7 @@ impl Representatives {
                     reps,
                     extents,
                     max_extent,
+                    facings,
                 }
             })
             .collect();
@@ -298,6 +372,18 @@ impl Representatives {
             .and_then(|l| l.extents.get(index as usize))
             .copied()
             .unwrap_or(0.0)
+    }
+
+    /// Where light `index` of `level ≥ 1`'s VPLs face ([`Facing`]): [`Facing::ANY`] where
+    /// the representatives were drawn without the VPLs
+    /// ([`build_for`](Self::build_for) draws them with), for level 0 and out of range.
+    #[must_use]
+    #[inline]
+    pub fn facing(&self, level: u8, index: u32) -> Facing {
+        self.level(level)
+            .and_then(|l| l.facings.get(index as usize))
+            .copied()
+            .unwrap_or(Facing::ANY)
     }
 
     /// The largest [`extent`](Self::extent) of `level`'s lights (0 for level 0 and above the
@@ -387,15 +473,17 @@ pub(crate) fn contributors(
 }
 
 /// `k` input lights of light `i` of `level` by systematic sampling of their weights
-/// `w_j ‖I_j‖`, taken in the order of their `strata` (then in [`contributors`]' order); and
-/// the light's [`extent`](Representatives::extent).
+/// `w_j ‖I_j‖`, taken in the order of their `strata` (then in [`contributors`]' order); with
+/// the light's [`extent`](Representatives::extent) and, over `vpls` (the input lights' VPLs,
+/// if given), its [`Facing`].
 fn draw(
     lgh: &LightingGridHierarchy,
     level: u8,
     i: u32,
     k: usize,
     strata: &[u8],
-) -> (Vec<u32>, f32) {
+    vpls: &[Vpl],
+) -> Drawn {
     let mut cands: Vec<(u32, f64)> = Vec::new();
     let centre = lgh.level(level).position(i as usize);
     let mut extent = 0.0f32;
@@ -413,8 +501,20 @@ fn draw(
     }
     let total: f64 = cands.iter().map(|c| c.1).sum();
     if total <= 0.0 || !total.is_finite() {
-        return (Vec::new(), 0.0);
+        return Drawn {
+            reps: Vec::new(),
+            extent: 0.0,
+            facing: Facing::ANY,
+        };
     }
+    let facing = if vpls.is_empty() {
+        Facing::ANY
+    } else {
+        let lit = cands
+            .iter()
+            .filter_map(|&(j, w)| Some((vpls.get(j as usize)?, w)));
+        Facing::of(lit)
+    };
     let mut rng = SplitMix64(SplitMix64::mix((u64::from(level) << 32) | u64::from(i)));
     let offset = f64::from(rng.next_f32());
     let mut out = Vec::with_capacity(k);
@@ -427,7 +527,11 @@ fn draw(
         }
         out.push(cands[c].0);
     }
-    (out, extent)
+    Drawn {
+        reps: out,
+        extent,
+        facing,
+    }
 }
 
 /// `drawn` (a systematic sample, `2^n` strata in order) reordered so that every power-of-two
