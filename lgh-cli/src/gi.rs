@@ -201,8 +201,9 @@ pub struct SceneArgs {
     /// Shadow samples k of a coarse light (on average with `--sample-allocation adaptive` or
     /// `intensity`). Default: 9 with `--coarse-shadows gaussian` (the paper's Fig. 11d; 0
     /// shades a coarse light as a point, Fig. 11c; at most 1024); with `representatives` (1 to
-    /// 64; 0.25 to 64 for `adaptive`), 0.5 for `adaptive` (each draw resampled among
-    /// `--candidates`), 2 for `intensity` and `uniform`.
+    /// 64; 0.25 to 64 for `adaptive`), 0.35 for `adaptive` (each draw resampled among
+    /// `--candidates`; lights that face away from a point left out), 2 for `intensity` and
+    /// `uniform`.
     #[arg(long)]
     pub shadow_samples: Option<f32>,
     /// How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it

@@ -1357,7 +1357,7 @@ fn bench_gi_prints_the_runs_against_brute_force() {
     assert_eq!(v["coarse_shadows"], "representatives");
     // The defaults the table of `docs/gi.md` measures.
     assert_eq!(v["sample_allocation"], "adaptive");
-    assert_eq!(v["shadow_samples"].as_f64(), Some(0.5));
+    assert_eq!(v["shadow_samples"].as_f64(), Some(f64::from(0.35f32)));
     assert_eq!(v["max_shadow_samples"], 32);
     assert_eq!(v["point_error"].as_f64(), Some(0.1f32 as f64));
     assert_eq!(v["points_counted_against"].as_f64(), Some(0.1f32 as f64));

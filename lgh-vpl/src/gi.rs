@@ -193,14 +193,23 @@ pub struct GiSettings {
 /// the point bound would do nearly all the work).
 pub const MIN_ADAPTIVE_SAMPLES: f32 = 0.25;
 
+/// The mean draws per coarse light of the adaptive shading by default (`--shadow-samples`
+/// with `--sample-allocation adaptive`): 0.35. With the lights that face away left out
+/// ([`crate::facing`]) and the ray roulette ([`crate::indirect::resample`]), `lgh bench gi`
+/// at α = 4 and 365K VPLs measured, for 0.5, 0.4 and 0.35 (two runs of three renders each):
+/// Sponza 2.07%, 2.30% and 2.50% at 52–53×, 52× and 55–58× brute force's speed, the Cornell
+/// box 1.57%, 1.73% and 1.99% at 100×, 116× and 114×; 0.35 keeps both under the figures the
+/// earlier model was measured at (2.68% and 2.29%), at those figures' speed.
+pub const DEFAULT_ADAPTIVE_SAMPLES: f32 = 0.35;
+
 /// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least
 /// [`crate::specular::MIN_WEIGHT`] each are at most 1/`MIN_WEIGHT` = 1000, whatever the depth.)
 pub const MAX_SPECULAR_DEPTH: u32 = 32;
 
 impl Default for GiSettings {
     /// [`VplSettings::default`] (100,000 VPLs of up to 3 bounces, seed 1), the one hierarchy,
-    /// representatives shared per point (0.5 draws per coarse light on average, each resampled
-    /// among 4, at most 32 representatives),
+    /// representatives shared per point ([`DEFAULT_ADAPTIVE_SAMPLES`] draws per coarse light
+    /// on average, each resampled among 4, at most 32 representatives),
     /// shadow rays, and the direct light through 4 × 4 strata.
     fn default() -> Self {
         GiSettings {
@@ -243,16 +252,16 @@ impl GiSettings {
             })
     }
 
-    /// `k`, or its default: 9 Gaussian samples (the paper's Fig. 11d); representatives, 0.5
-    /// for `Adaptive` (each draw resampled among [`DEFAULT_CANDIDATES`]), 2 for `Intensity`
-    /// and `Uniform`.
+    /// `k`, or its default: 9 Gaussian samples (the paper's Fig. 11d); representatives,
+    /// [`DEFAULT_ADAPTIVE_SAMPLES`] for `Adaptive` (each draw resampled among
+    /// [`DEFAULT_CANDIDATES`]), 2 for `Intensity` and `Uniform`.
     #[must_use]
     pub fn shadow_samples(&self) -> f32 {
         let representatives = self.coarse_shadows == CoarseShadows::Representatives;
         self.shadow_samples
             .unwrap_or(match self.sample_allocation() {
                 _ if !representatives => 9.0,
-                SampleAllocation::Adaptive => 0.5,
+                SampleAllocation::Adaptive => DEFAULT_ADAPTIVE_SAMPLES,
                 SampleAllocation::Intensity | SampleAllocation::Uniform => 2.0,
             })
     }

@@ -435,7 +435,7 @@ mod tests {
     }
 
     /// Resampled draws in the room at α = 4 with shadow rays, 0.5 draws a light on average
-    /// (`lgh gi`'s default): unbiased, their image's mean that of every coarse light shaded
+    /// (`lgh gi`'s default when this was measured; 0.35 now): unbiased, their image's mean that of every coarse light shaded
     /// through all 32 of its representatives; and less noisy than as many draws of one
     /// representative each. Measured (32 × 24, blended per representative): 4 candidates
     /// 3.4% from brute force against 5.4% with 1, the mean 0.9965 times the complete
