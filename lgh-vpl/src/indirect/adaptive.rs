@@ -744,14 +744,7 @@ mod tests {
         let f = Fixture::new();
         let reps = Representatives::build_with(&f.lgh, Allocation::Nested(32));
         let camera = Fixture::camera(32, 24);
-        let shader = Indirect::new(
-            &f.scene,
-            &f.vpls,
-            super::super::IndirectSettings {
-                shadows: false,
-                ..f.shader().settings
-            },
-        );
+        let shader = f.unshadowed_shader();
         let exact = f.exact(&shader, &camera);
         let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
         let render = |blend| {
@@ -812,14 +805,7 @@ mod tests {
         let strata: Vec<u8> = f.vpls.iter().map(crate::vpl::Vpl::orientation).collect();
         let plain = Representatives::build_stratified(&f.lgh, Allocation::Nested(32), &strata);
         let camera = Fixture::camera(24, 18);
-        let shader = Indirect::new(
-            &f.scene,
-            &f.vpls,
-            super::super::IndirectSettings {
-                shadows: false,
-                ..f.shader().settings
-            },
-        );
+        let shader = f.unshadowed_shader();
         let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
         let blending = backend.blending();
         // The share of the gathered lights that face away, over the points the camera sees.

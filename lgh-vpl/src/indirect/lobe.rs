@@ -218,14 +218,7 @@ mod tests {
     fn the_cone_leaves_out_at_most_epsilon_of_the_reflected_light() {
         let f = Fixture::new();
         let shader = f.shader();
-        let unshadowed = Indirect::new(
-            &f.scene,
-            &f.vpls,
-            super::super::IndirectSettings {
-                shadows: false,
-                ..shader.settings
-            },
-        );
+        let unshadowed = f.unshadowed_shader();
         let level = f.lgh.level(0);
         let mut checked = 0;
         for (exponent, kd) in [(300.0f32, 0.3f32), (2000.0, 0.3), (2000.0, 0.0)] {

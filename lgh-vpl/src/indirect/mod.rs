@@ -641,6 +641,15 @@ pub(crate) mod tests {
             Indirect::new(&self.scene, &self.vpls, settings)
         }
 
+        /// [`shader`](Self::shader) without shadow rays.
+        pub(super) fn unshadowed_shader(&self) -> Indirect<'_> {
+            let settings = IndirectSettings {
+                shadows: false,
+                ..self.shader().settings
+            };
+            Indirect::new(&self.scene, &self.vpls, settings)
+        }
+
         /// The room from the front, `w × h`.
         pub(crate) fn camera(w: usize, h: usize) -> Camera {
             let (eye, target) = (Vec3::new(0.4, 1.2, 3.0), Vec3::new(0.0, 0.6, 0.0));

@@ -32,7 +32,7 @@
 //!
 //! A draw worth little at the point next to the others there — its light's share
 //! overestimated, its candidates mostly turned away — plays for its shadow ray
-//! ([`RayRoulette`]): traced with a probability in proportion to its value and weighted by
+//! (`RayRoulette`): traced with a probability in proportion to its value and weighted by
 //! the inverse, it stays unbiased and spares the rays that carry least.
 //!
 //! The pick's number is drawn per point, light and sample from a hash
@@ -90,7 +90,7 @@ pub(crate) struct RayRoulette {
     count: u32,
 }
 
-/// The fraction of the mean draw below which a draw's ray is played for ([`RayRoulette`]):
+/// The fraction of the mean draw below which a draw's ray is played for (`RayRoulette`):
 /// 0.35. Against brute force at α = 4 (`lgh gi`'s defaults otherwise), with none, 0.25,
 /// 0.35, 0.5, 0.7 and 1.0:
 ///
