@@ -510,10 +510,12 @@ fn draw(
     let facing = if vpls.is_empty() {
         Facing::ANY
     } else {
-        let lit = cands
+        // Every VPL or none: a summary of some of them could rule out light.
+        let lit: Option<Vec<(&Vpl, f64)>> = cands
             .iter()
-            .filter_map(|&(j, w)| Some((vpls.get(j as usize)?, w)));
-        Facing::of(lit)
+            .map(|&(j, w)| Some((vpls.get(j as usize)?, w)))
+            .collect();
+        lit.map_or(Facing::ANY, |lit| Facing::of(lit.into_iter()))
     };
     let mut rng = SplitMix64(SplitMix64::mix((u64::from(level) << 32) | u64::from(i)));
     let offset = f64::from(rng.next_f32());

@@ -29,7 +29,8 @@
 //!   lights share is not noise: measured against `(u − u_ℓ)²` on Sponza, the fit spends 7%
 //!   fewer shadow rays with no pixel over the bound either way (`docs/gi.md`). A resampled
 //!   draw ([`resample`](super::resample)) measures it from its own candidates instead,
-//!   `s²_r / G`, unless every candidate was dark (then the fit);
+//!   `s²_r / G`, unless every candidate was dark (then the fit); and a resampled draw whose
+//!   ray was played for with probability `q` adds `y² (1 − q)` for what it gave, `y`;
 //! - a light kept by Russian roulette with probability `p` and weight `1/p`: to the above,
 //!   scaled by `1/p²`, is added `X² (1 − p)` for its weighted value `X` (an unbiased estimate
 //!   of the roulette's own variance, `E[Y²](1 − p)/p`). That is the variance of independent
@@ -39,10 +40,13 @@
 //! If `z σ̂ > ε L` for the point's estimated luminance `L` (level 0's exact part included),
 //! with `z` = [`CONFIDENCE_Z`], the coarse part is shaded again with [`GROWTH`] times the
 //! samples, up to all the representatives there are ([`MAX_ROUNDS`] times at most, or until
-//! every light is shaded through all of them). A round shades only the draws it adds (a
-//! light's draws keep their candidates from round to round), and a light's roulette number is drawn once per point, so a light the roulette kept
-//! keeps its draw in the next round, at its new weight (coupled roulettes: the last round's
-//! estimate is distributed as if drawn afresh). The estimate is still unbiased for a fixed
+//! every light has taken as many draws as it has representatives). A round shades only the
+//! draws it adds (a light's draws keep their candidates from round to round, and past its
+//! representatives they wrap around), and a light's roulette number is drawn once per point,
+//! so a light the roulette kept keeps its draw in the next round, at its new weight (coupled
+//! roulettes: the last round's light roulette is distributed as if drawn afresh; a light's
+//! number of candidates a draw is the one its first round chose). The estimate is still
+//! unbiased for a fixed
 //! number of rounds; stopping on the estimate itself adds a bias far below the noise it
 //! removes (the refined render's mean is tested against that of every representative).
 //! Systematic sampling spreads the draws more evenly than independent ones, so the sample

@@ -145,6 +145,11 @@ pub(crate) struct Draw {
     pub(crate) lit: Vec3,
     /// `s²_r / G`.
     pub(crate) spread: f64,
+    /// What the ray roulette adds to the draw's variance, estimated from the draw itself:
+    /// `y² (1 − q)` in luminance for a draw `y` whose ray was played for with probability `q`
+    /// (0 for a ray always traced). Its expectation is the roulette's variance,
+    /// `u² V (1/q − 1)`, as the light roulette's `X² (1 − p)` is (`refine`).
+    pub(crate) played: f64,
 }
 
 impl Indirect<'_> {
@@ -193,6 +198,7 @@ impl Indirect<'_> {
             return Draw {
                 lit: Vec3::ZERO,
                 spread: 0.0,
+                played: 0.0,
             };
         }
         // The first candidate whose running weight passes u Σr (the last lit one, should
@@ -211,7 +217,12 @@ impl Indirect<'_> {
         let (i, unshadowed, r) = each[pick];
         let mean = sum / n as f32;
         let value = unshadowed * (mean / r);
-        let q = rays.probability(f64::from(mean * at_point));
+        // Without shadow rays there is no ray to spare.
+        let q = if self.settings.shadows {
+            rays.probability(f64::from(mean * at_point))
+        } else {
+            1.0
+        };
         let lit = if (q >= 1.0 || v < q) && self.visible(point, normal, &self.vpls[i]) {
             if q >= 1.0 {
                 value
@@ -232,7 +243,17 @@ impl Indirect<'_> {
         } else {
             0.0
         };
-        Draw { lit, spread }
+        let played = if q < 1.0 {
+            let y = f64::from(lgh_core::luminance(lit));
+            y * y * (1.0 - q)
+        } else {
+            0.0
+        };
+        Draw {
+            lit,
+            spread,
+            played,
+        }
     }
 }
 
