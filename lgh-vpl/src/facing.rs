@@ -6,7 +6,7 @@
 //! geometric normal). A coarse light standing for a patch of floor gives nothing to the floor
 //! around it, nor to anything beneath it, though its isotropic point says otherwise; on
 //! Sponza at α = 4, six in ten of the representatives the adaptive shading looked at faced
-//! away from the point, most of them on the point's own floor or wall.
+//! away from the point (their lobe was zero there).
 //!
 //! [`Facing`] summarises a light's VPLs (every input light it aggregates with a weight and
 //! some light, eqs. 1, 2) once:

@@ -511,11 +511,11 @@ fn draw(
         Facing::ANY
     } else {
         // Every VPL or none: a summary of some of them could rule out light.
-        let lit: Option<Vec<(&Vpl, f64)>> = cands
-            .iter()
-            .map(|&(j, w)| Some((vpls.get(j as usize)?, w)))
-            .collect();
-        lit.map_or(Facing::ANY, |lit| Facing::of(lit.into_iter()))
+        if cands.iter().all(|&(j, _)| (j as usize) < vpls.len()) {
+            Facing::of(cands.iter().map(|&(j, w)| (&vpls[j as usize], w)))
+        } else {
+            Facing::ANY
+        }
     };
     let mut rng = SplitMix64(SplitMix64::mix((u64::from(level) << 32) | u64::from(i)));
     let offset = f64::from(rng.next_f32());

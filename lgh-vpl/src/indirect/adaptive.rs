@@ -692,16 +692,11 @@ mod tests {
     fn blending_at_each_representative_counts_every_vpl_once() {
         let f = Fixture::new();
         let reps = Representatives::build_with(&f.lgh, Allocation::Nested(4));
-        let camera = Fixture::camera(12, 9);
         let blending = f.lgh.blending(4.0).unwrap();
         let lit: Vec<bool> = f.vpls.iter().map(|v| v.power.max_element() > 0.0).collect();
         let (mut worst_centre, mut worst_nominal) = (0.0f64, 0.0f64);
         let mut points = 0;
-        for (px, py) in (0..9).flat_map(|y| (0..12).map(move |x| (x, y))) {
-            let (origin, dir) = camera.ray(px, py);
-            let Some((point, _)) = f.scene.trace(origin, dir) else {
-                continue;
-            };
+        for (point, _) in f.seen(12, 9) {
             points += 1;
             let x = point.position;
             let own = |j: usize| (x - f.vpls[j].position).length();
@@ -826,14 +821,9 @@ mod tests {
         let blending = backend.blending();
         // The share of the gathered lights that face away, over the points the camera sees.
         let (mut gathered, mut away) = (0usize, 0usize);
-        for (px, py) in (0..18).flat_map(|y| (0..24).map(move |x| (x, y))) {
-            let (origin, dir) = camera.ray(px, py);
-            let Some((point, _)) = f.scene.trace(origin, dir) else {
-                continue;
-            };
+        for (point, normal) in f.seen(24, 18) {
             let x = point.position;
             let extents = |l| (summarised.max_extent(l), summarised.extents(l));
-            let normal = point.normal.unwrap();
             f.lgh
                 .query_reaching(x, blending, extents, |r| {
                     let level = f.lgh.level(r.level);
@@ -940,15 +930,9 @@ mod tests {
     #[test]
     fn lights_behind_a_point_give_it_nothing() {
         let f = Fixture::new();
-        let camera = Fixture::camera(16, 12);
         let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
         let (mut left_out, mut kept) = (0, 0);
-        for (px, py) in (0..12).flat_map(|y| (0..16).map(move |x| (x, y))) {
-            let (origin, dir) = camera.ray(px, py);
-            let Some((point, _)) = f.scene.trace(origin, dir) else {
-                continue;
-            };
-            let normal = point.normal.unwrap();
+        for (point, normal) in f.seen(16, 12) {
             f.lgh
                 .query(point.position, backend.blending(), |s| {
                     if s.level == 0 {

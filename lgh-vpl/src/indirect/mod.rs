@@ -349,12 +349,7 @@ impl<'a> Indirect<'a> {
                 return Vec3::ZERO;
             };
             let unshadowed = self.unshadowed_drawn(point, normal, light, v, scale, times as f32);
-            // A shadow ray only where there is light to hide.
-            let lit = if unshadowed != Vec3::ZERO && !self.visible(point, normal, v) {
-                Vec3::ZERO
-            } else {
-                unshadowed
-            };
+            let lit = self.shadowed(point, normal, v, unshadowed);
             tally.add(times as u32, unshadowed, lit);
             lit
         };
@@ -384,25 +379,17 @@ impl<'a> Indirect<'a> {
     /// VPL `v` with the isotropic intensity `intensity` shaded at `point` (unit `normal`): its
     /// cosine lobe restored (`2 max(0, n_v·ω)`, the flux unchanged) and one shadow ray.
     fn shade_vpl(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, intensity: Vec3) -> Vec3 {
-        self.shade_vpl_parts(point, normal, v, intensity).1
+        let lit = self.unshadowed(point, normal, v, intensity);
+        self.shadowed(point, normal, v, lit)
     }
 
-    /// [`shade_vpl`](Self::shade_vpl)'s light unshadowed and shadowed.
-    fn shade_vpl_parts(
-        &self,
-        point: &ShadingPoint,
-        normal: Vec3,
-        v: &Vpl,
-        intensity: Vec3,
-    ) -> (Vec3, Vec3) {
-        let lit = self.unshadowed(point, normal, v, intensity);
-        if lit == Vec3::ZERO {
-            return (lit, lit);
-        }
-        if self.visible(point, normal, v) {
-            (lit, lit)
+    /// `unshadowed`, the light VPL `v` gives `point` (unit `normal`), through one shadow ray:
+    /// a ray only where there is light to hide.
+    fn shadowed(&self, point: &ShadingPoint, normal: Vec3, v: &Vpl, unshadowed: Vec3) -> Vec3 {
+        if unshadowed == Vec3::ZERO || self.visible(point, normal, v) {
+            unshadowed
         } else {
-            (lit, Vec3::ZERO)
+            Vec3::ZERO
         }
     }
 
@@ -648,6 +635,21 @@ pub(crate) mod tests {
                 ..self.shader().settings
             };
             Indirect::new(&self.scene, &self.vpls, settings)
+        }
+
+        /// The surface points the room's camera ([`camera`](Self::camera)`(w, h)`) sees, row by
+        /// row, each with its unit shading normal.
+        pub(crate) fn seen(&self, w: usize, h: usize) -> Vec<(ShadingPoint, Vec3)> {
+            let camera = Self::camera(w, h);
+            (0..h)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .filter_map(|(px, py)| {
+                    let (origin, dir) = camera.ray(px, py);
+                    let (point, _) = self.scene.trace(origin, dir)?;
+                    let normal = point.normal?;
+                    Some((point, normal))
+                })
+                .collect()
         }
 
         /// The room from the front, `w × h`.

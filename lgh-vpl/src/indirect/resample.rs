@@ -63,9 +63,10 @@ pub const MAX_CANDIDATES: u32 = 16;
 /// The salt of the picks' hash at a shading point (the roulette's is `0xada << 40`).
 pub(super) const PICK_SALT: u64 = 0x91c << 40;
 
-/// The number in `[0, 1)` that picks sample `s`'s candidate of light `index` on level
-/// `level` at the point whose seed is `seed`: a hash, so that a light's samples keep their
-/// picks from one refinement round to the next, and each pick is independent of the roulette.
+/// The two numbers in `[0, 1)` of sample `s` of light `index` on level `level` at the point
+/// whose seed is `seed`: the first picks its candidate, the second plays for its ray
+/// ([`RayRoulette`]). A hash, so that a light's samples keep their numbers from one
+/// refinement round to the next, and each is independent of the roulette over the lights.
 #[inline]
 #[must_use]
 pub(super) fn pick_number(seed: u64, level: u8, index: u32, s: usize) -> (f64, f64) {
@@ -81,8 +82,8 @@ pub(super) fn pick_number(seed: u64, level: u8, index: u32, s: usize) -> (f64, f
 /// inverse. Unbiased whatever the threshold: the roulette's number is the draw's own
 /// (`pick_number`'s second), independent of its ray, and the mean is of values already
 /// drawn. The first [`RAY_ROULETTE_WARM_UP`] draws at a point always trace. On Sponza at
-/// α = 4 the draws below a quarter of the mean (before the roulette) were 22% of the rays
-/// and carried 2.4% of the light.
+/// α = 4 (53 × 30, the first pass, without the point bound) the draws below a quarter of the
+/// point's mean (before the roulette) were 22% of the rays and carried 2.4% of the light.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct RayRoulette {
     /// The draws' values so far, and how many.
@@ -168,7 +169,7 @@ impl Indirect<'_> {
         tally: &mut Tally,
     ) -> Draw {
         let How {
-            numbers: (u, v),
+            numbers: (u, chance),
             at_point,
             rays,
         } = how;
@@ -223,12 +224,9 @@ impl Indirect<'_> {
         } else {
             1.0
         };
-        let lit = if (q >= 1.0 || v < q) && self.visible(point, normal, &self.vpls[i]) {
-            if q >= 1.0 {
-                value
-            } else {
-                value * (1.0 / q) as f32
-            }
+        // (Weighted by 1/q, which is 1 for a ray always traced.)
+        let lit = if (q >= 1.0 || chance < q) && self.visible(point, normal, &self.vpls[i]) {
+            value * (1.0 / q) as f32
         } else {
             Vec3::ZERO
         };
@@ -263,7 +261,62 @@ mod tests {
     use crate::indirect::tests::{rel_rmse, Fixture};
     use crate::indirect::{render_lgh, BlendAt, Coarse};
     use crate::representatives::{Allocation, Representatives};
-    use lgh_core::LghBackend;
+    use lgh_core::{LghBackend, ShadingPoint};
+
+    /// One draw's candidates in the room: a coarse light's first four representatives at a
+    /// point the camera sees.
+    struct Set<'r> {
+        point: ShadingPoint,
+        normal: Vec3,
+        level: u8,
+        index: u32,
+        /// The light at its own luminance, unblended.
+        drawn: Drawn<'static>,
+        them: &'r [u32],
+    }
+
+    /// Every [`Set`] of the lights of `levels` (every 24th or so of a level, those with four
+    /// representatives or more) at the points the room's camera sees at 8 × 6.
+    fn candidate_sets<'r>(
+        f: &Fixture,
+        reps: &'r Representatives,
+        levels: std::ops::RangeInclusive<u8>,
+    ) -> Vec<Set<'r>> {
+        let mut sets = Vec::new();
+        for (point, normal) in f.seen(8, 6) {
+            for level in levels.clone() {
+                let lights = f.lgh.level(level);
+                for index in (0..lights.len() as u32).step_by(lights.len() / 24 + 1) {
+                    let all = reps.of(level, index);
+                    if all.len() < 4 {
+                        continue;
+                    }
+                    let drawn = Drawn {
+                        luminance: lights.luminance(index as usize),
+                        blend: None,
+                    };
+                    sets.push(Set {
+                        point,
+                        normal,
+                        level,
+                        index,
+                        drawn,
+                        them: &all[..4],
+                    });
+                }
+            }
+        }
+        sets
+    }
+
+    /// A draw's [`How`]: numbers `u` and `v`, worth its own value at the point.
+    fn how(u: f64, v: f64, rays: &mut RayRoulette) -> How<'_> {
+        How {
+            numbers: (u, v),
+            at_point: 1.0,
+            rays,
+        }
+    }
 
     /// A resampled draw's expectation over its pick is the plain estimate over its candidates,
     /// each with its own shadow ray (module docs): at points the camera sees in the room, for
@@ -279,73 +332,63 @@ mod tests {
         let f = Fixture::new();
         let shader = f.shader();
         let reps = Representatives::build_with(&f.lgh, Allocation::Nested(8));
-        let camera = Fixture::camera(8, 6);
         let (mut checked, mut mixed) = (0, 0);
-        for (px, py) in (0..6).flat_map(|y| (0..8).map(move |x| (x, y))) {
-            let (origin, dir) = camera.ray(px, py);
-            let Some((point, _)) = f.scene.trace(origin, dir) else {
-                continue;
-            };
-            let normal = point.normal.unwrap();
-            for level in 1..=2u8 {
-                let lights = f.lgh.level(level);
-                for index in (0..lights.len() as u32).step_by(lights.len() / 24 + 1) {
-                    let all = reps.of(level, index);
-                    if all.len() < 4 {
-                        continue;
-                    }
-                    let them = &all[..4];
-                    let drawn = Drawn {
-                        luminance: lights.luminance(index as usize),
-                        blend: None,
-                    };
-                    let mut plain_tally = Tally::default();
-                    let ids = them.iter().map(|&i| i as usize);
-                    let plain = shader.shade_drawn(&point, normal, drawn, ids, &mut plain_tally);
-                    let n = 4096;
-                    let mut mean = Vec3::ZERO.as_dvec3();
-                    let mut seen = [false; 2];
-                    for k in 0..n {
-                        let u = (k as f64 + 0.5) / n as f64;
-                        let mut tally = Tally::default();
-                        // A fresh ray roulette always traces (its warm-up).
-                        let how = How {
-                            numbers: (u, 0.5),
-                            at_point: 1.0,
-                            rays: &mut RayRoulette::default(),
-                        };
-                        let draw =
-                            shader.shade_resampled(&point, normal, drawn, them, how, &mut tally);
-                        mean += draw.lit.as_dvec3() / n as f64;
-                        if tally.unshadowed() > 0.0 {
-                            seen[usize::from(tally.lit() > 0.0)] = true;
-                        }
-                    }
-                    // The largest value a pick can take: `ũ_k r̄ / r_k` over the lit candidates.
-                    let lit: Vec<Vec3> = them
-                        .iter()
-                        .map(|&i| {
-                            let v = &f.vpls[i as usize];
-                            shader.unshadowed_drawn(&point, normal, drawn, v, drawn.luminance, 1.0)
-                        })
-                        .collect();
-                    let r = |u: &Vec3| f64::from(lgh_core::luminance(*u));
-                    let r_mean = lit.iter().map(r).sum::<f64>() / 4.0;
-                    let largest = lit
-                        .iter()
-                        .filter(|u| r(u) > 0.0)
-                        .map(|u| u.as_dvec3().max_element() * r_mean / r(u))
-                        .fold(0.0, f64::max);
-                    let off = (mean - plain.as_dvec3()).abs().max_element();
-                    let bound = (3.0 / n as f64 + 1e-5) * largest;
-                    assert!(
-                        off <= bound,
-                        "{level}/{index}: {mean} against {plain}, bound {bound}"
-                    );
-                    checked += usize::from(plain != Vec3::ZERO);
-                    mixed += usize::from(seen == [true, true]);
+        for Set {
+            point,
+            normal,
+            level,
+            index,
+            drawn,
+            them,
+        } in candidate_sets(&f, &reps, 1..=2)
+        {
+            let mut plain_tally = Tally::default();
+            let ids = them.iter().map(|&i| i as usize);
+            let plain = shader.shade_drawn(&point, normal, drawn, ids, &mut plain_tally);
+            let n = 4096;
+            let mut mean = Vec3::ZERO.as_dvec3();
+            let mut seen = [false; 2];
+            for k in 0..n {
+                let u = (k as f64 + 0.5) / n as f64;
+                let mut tally = Tally::default();
+                // A fresh ray roulette always traces (its warm-up).
+                let fresh = &mut RayRoulette::default();
+                let draw = shader.shade_resampled(
+                    &point,
+                    normal,
+                    drawn,
+                    them,
+                    how(u, 0.5, fresh),
+                    &mut tally,
+                );
+                mean += draw.lit.as_dvec3() / n as f64;
+                if tally.unshadowed() > 0.0 {
+                    seen[usize::from(tally.lit() > 0.0)] = true;
                 }
             }
+            // The largest value a pick can take: `ũ_k r̄ / r_k` over the lit candidates.
+            let lit: Vec<Vec3> = them
+                .iter()
+                .map(|&i| {
+                    let v = &f.vpls[i as usize];
+                    shader.unshadowed_drawn(&point, normal, drawn, v, drawn.luminance, 1.0)
+                })
+                .collect();
+            let r = |u: &Vec3| f64::from(lgh_core::luminance(*u));
+            let r_mean = lit.iter().map(r).sum::<f64>() / 4.0;
+            let largest = lit
+                .iter()
+                .filter(|u| r(u) > 0.0)
+                .map(|u| u.as_dvec3().max_element() * r_mean / r(u))
+                .fold(0.0, f64::max);
+            let off = (mean - plain.as_dvec3()).abs().max_element();
+            let bound = (3.0 / n as f64 + 1e-5) * largest;
+            assert!(
+                off <= bound,
+                "{level}/{index}: {mean} against {plain}, bound {bound}"
+            );
+            checked += usize::from(plain != Vec3::ZERO);
+            mixed += usize::from(seen == [true, true]);
         }
         println!("{checked} lit candidate sets, {mixed} partly hidden");
         assert!(checked > 20 && mixed > 0, "{checked} {mixed}");
@@ -362,7 +405,8 @@ mod tests {
         }
         // The mean is now 1e-9: a draw of 2 is far above it.
         assert_eq!(rays.probability(2.0), 1.0);
-        let mean = (16.0 * 1e-9 + 2.0) / 17.0;
+        let warm = f64::from(RAY_ROULETTE_WARM_UP);
+        let mean = (warm * 1e-9 + 2.0) / (warm + 1.0);
         let q = rays.probability(0.01);
         assert!((q - 0.01 / (RAY_ROULETTE * mean)).abs() < 1e-12, "{q}");
         assert_eq!(RayRoulette::default().probability(0.0), 1.0);
@@ -380,73 +424,50 @@ mod tests {
         let f = Fixture::new();
         let shader = f.shader();
         let reps = Representatives::build_with(&f.lgh, Allocation::Nested(8));
-        let camera = Fixture::camera(8, 6);
         let (mut checked, mut hidden) = (0, 0);
-        for (px, py) in (0..6).flat_map(|y| (0..8).map(move |x| (x, y))) {
-            let (origin, dir) = camera.ray(px, py);
-            let Some((point, _)) = f.scene.trace(origin, dir) else {
+        for Set {
+            point,
+            normal,
+            index,
+            drawn,
+            them,
+            ..
+        } in candidate_sets(&f, &reps, 1..=1)
+        {
+            let u = 0.37;
+            let mut tally = Tally::default();
+            let fresh = &mut RayRoulette::default();
+            let traced =
+                shader.shade_resampled(&point, normal, drawn, them, how(u, 0.0, fresh), &mut tally);
+            if tally.unshadowed() <= 0.0 {
                 continue;
-            };
-            let normal = point.normal.unwrap();
-            let lights = f.lgh.level(1);
-            for index in (0..lights.len() as u32).step_by(lights.len() / 24 + 1) {
-                let all = reps.of(1, index);
-                if all.len() < 4 {
-                    continue;
-                }
-                let drawn = Drawn {
-                    luminance: lights.luminance(index as usize),
-                    blend: None,
-                };
-                let them = &all[..4];
-                let u = 0.37;
-                let mut tally = Tally::default();
-                fn how(u: f64, v: f64, rays: &mut RayRoulette) -> How<'_> {
-                    How {
-                        numbers: (u, v),
-                        at_point: 1.0,
-                        rays,
-                    }
-                }
-                let fresh = &mut RayRoulette::default();
-                let traced = shader.shade_resampled(
-                    &point,
-                    normal,
-                    drawn,
-                    them,
-                    how(u, 0.0, fresh),
-                    &mut tally,
-                );
-                if tally.unshadowed() <= 0.0 {
-                    continue;
-                }
-                // The draw's value at the point is the candidates' mean luminance.
-                let value = tally.unshadowed();
-                let primed = RayRoulette {
-                    sum: 10.0 * value * f64::from(RAY_ROULETTE_WARM_UP),
-                    count: RAY_ROULETTE_WARM_UP,
-                };
-                let q = 1.0 / (10.0 * RAY_ROULETTE);
-                let n = 4096;
-                let mut mean = Vec3::ZERO.as_dvec3();
-                for k in 0..n {
-                    let v = (k as f64 + 0.5) / n as f64;
-                    let (rays, tally) = (&mut primed.clone(), &mut Tally::default());
-                    let draw =
-                        shader.shade_resampled(&point, normal, drawn, them, how(u, v, rays), tally);
-                    mean += draw.lit.as_dvec3() / n as f64;
-                }
-                let full = traced.lit.as_dvec3();
-                let scale = full.max_element().max(value);
-                let bound = (1.0 / (n as f64 * q) + 1e-5) * scale;
-                let off = (mean - full).abs().max_element();
-                assert!(
-                    off <= bound,
-                    "{index}: {mean} against {full}, bound {bound}"
-                );
-                checked += 1;
-                hidden += usize::from(traced.lit == Vec3::ZERO);
             }
+            // The draw's value at the point is the candidates' mean luminance.
+            let value = tally.unshadowed();
+            let primed = RayRoulette {
+                sum: 10.0 * value * f64::from(RAY_ROULETTE_WARM_UP),
+                count: RAY_ROULETTE_WARM_UP,
+            };
+            let q = 1.0 / (10.0 * RAY_ROULETTE);
+            let n = 4096;
+            let mut mean = Vec3::ZERO.as_dvec3();
+            for k in 0..n {
+                let v = (k as f64 + 0.5) / n as f64;
+                let (rays, tally) = (&mut primed.clone(), &mut Tally::default());
+                let draw =
+                    shader.shade_resampled(&point, normal, drawn, them, how(u, v, rays), tally);
+                mean += draw.lit.as_dvec3() / n as f64;
+            }
+            let full = traced.lit.as_dvec3();
+            let scale = full.max_element().max(value);
+            let bound = (1.0 / (n as f64 * q) + 1e-5) * scale;
+            let off = (mean - full).abs().max_element();
+            assert!(
+                off <= bound,
+                "{index}: {mean} against {full}, bound {bound}"
+            );
+            checked += 1;
+            hidden += usize::from(traced.lit == Vec3::ZERO);
         }
         println!("{checked} draws, {hidden} hidden");
         assert!(
