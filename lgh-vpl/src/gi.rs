@@ -198,8 +198,9 @@ pub const MIN_ADAPTIVE_SAMPLES: f32 = 0.25;
 /// ([`crate::facing`]) and the ray roulette ([`crate::indirect::resample`]), `lgh bench gi`
 /// at α = 4 and 365K VPLs measured, for 0.5, 0.4 and 0.35: Sponza (two runs of three
 /// renders each) 2.07%, 2.30% and 2.50% at 52–53×, 52× and 55–58× brute force's speed, the
-/// Cornell box (one run each) 1.57%, 1.73% and 1.99% at 100×, 116× and 114×; 0.35 keeps both under the figures the
-/// earlier model was measured at (2.68% and 2.29%), at those figures' speed.
+/// Cornell box (one run each) 1.57%, 1.73% and 1.99% at 100×, 116× and 114×; 0.35 keeps
+/// both under the figures the earlier model was measured at (2.68% and 2.29%), at about
+/// those figures' speed.
 pub const DEFAULT_ADAPTIVE_SAMPLES: f32 = 0.35;
 
 /// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least

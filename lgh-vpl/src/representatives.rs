@@ -244,7 +244,8 @@ impl Representatives {
     ///         assert!(f.faces_away(below, 1.0, reps.extent(level, i)));
     ///     }
     /// }
-    /// assert_eq!(Representatives::build_with(&lgh, Allocation::Nested(8)).facing(1, 0), Facing::ANY);
+    /// let unsummarised = Representatives::build_with(&lgh, Allocation::Nested(8));
+    /// assert_eq!(unsummarised.facing(1, 0), Facing::ANY);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     #[must_use]

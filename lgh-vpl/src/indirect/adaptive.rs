@@ -657,28 +657,10 @@ fn prefix(nested: bool, want: f32, len: usize) -> (usize, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::indirect::tests::{rel_rmse, Fixture};
+    use crate::indirect::tests::{light_sum, pool, rel_rmse, Fixture};
     use crate::indirect::{render_lgh, Coarse};
     use crate::render::Rendered;
     use crate::representatives::Allocation;
-
-    /// The sum of every pixel's channels: the image's light, whose ratio compares two
-    /// renders' means.
-    fn light_sum(r: &Rendered) -> f64 {
-        r.image
-            .pixels
-            .iter()
-            .map(|p| f64::from(p.element_sum()))
-            .sum()
-    }
-
-    /// A pool of `n` threads.
-    fn pool(n: usize) -> rayon::ThreadPool {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .unwrap()
-    }
 
     /// The per-representative blending counts every VPL exactly once: at each point the
     /// camera sees in the room (α = 4), every VPL's weight — `B_0` at its distance if level 0

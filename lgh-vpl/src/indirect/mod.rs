@@ -683,6 +683,24 @@ pub(crate) mod tests {
         }
     }
 
+    /// The sum of every pixel's channels: the image's light, whose ratio compares two
+    /// renders' means.
+    pub(super) fn light_sum(r: &Rendered) -> f64 {
+        r.image
+            .pixels
+            .iter()
+            .map(|p| f64::from(p.element_sum()))
+            .sum()
+    }
+
+    /// A pool of `n` threads.
+    pub(super) fn pool(n: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    }
+
     pub(super) fn rel_rmse(a: &Rendered, r: &Rendered) -> f64 {
         lgh_image::compare(&a.image, &r.image).unwrap().rel_rmse
     }

@@ -258,7 +258,7 @@ impl Indirect<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::indirect::tests::{rel_rmse, Fixture};
+    use crate::indirect::tests::{light_sum, pool, rel_rmse, Fixture};
     use crate::indirect::{render_lgh, BlendAt, Coarse};
     use crate::representatives::{Allocation, Representatives};
     use lgh_core::{LghBackend, ShadingPoint};
@@ -477,8 +477,8 @@ mod tests {
     }
 
     /// Resampled draws in the room at α = 4 with shadow rays, 0.5 draws a light on average
-    /// (`lgh gi`'s default when this was measured; 0.35 now): unbiased, their image's mean that of every coarse light shaded
-    /// through all 32 of its representatives; and less noisy than as many draws of one
+    /// (`lgh gi`'s default when this was measured; 0.35 now): unbiased, their image's mean
+    /// that of every coarse light shaded through all 32 of its representatives; and less noisy than as many draws of one
     /// representative each. Measured (32 × 24, blended per representative): 4 candidates
     /// 3.4% from brute force against 5.4% with 1, the mean 0.9965 times the complete
     /// estimate's.
@@ -504,23 +504,10 @@ mod tests {
         let (one, four) = (render(0.5, 1), render(0.5, DEFAULT_CANDIDATES));
         let complete = render(64.0, 1);
         let (e1, e4) = (rel_rmse(&one, &exact), rel_rmse(&four, &exact));
-        let sum = |r: &crate::render::Rendered| -> f64 {
-            r.image
-                .pixels
-                .iter()
-                .map(|p| f64::from(p.element_sum()))
-                .sum()
-        };
-        let ratio = sum(&four) / sum(&complete);
+        let ratio = light_sum(&four) / light_sum(&complete);
         println!("1 candidate {e1:.4}, 4 candidates {e4:.4}; mean {ratio:.4}");
         assert!(e4 < 0.8 * e1, "{e4} against {e1}");
         assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
-        let pool = |n| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .unwrap()
-        };
         let again = || render(0.5, DEFAULT_CANDIDATES);
         assert_eq!(pool(1).install(again), pool(3).install(again));
     }
