@@ -90,12 +90,12 @@ struct LevelReps {
     extents: Vec<f32>,
     /// The largest of them.
     max_extent: f32,
-    /// Light `i`'s [`Facing`] (empty if built without the VPLs).
+    /// Light `i`'s [`Facing`] ([`Facing::ANY`] for each if built without the VPLs).
     facings: Vec<Facing>,
 }
 
 /// One light's draw ([`draw`]).
-struct Drawn {
+struct LightDraw {
     reps: Vec<u32>,
     extent: f32,
     facing: Facing,
@@ -272,13 +272,13 @@ impl Representatives {
                         (s + f64::from(l.luminance), n + 1)
                     });
                 let mean_lum = sum / lit.max(1) as f64;
-                let per_light: Vec<Drawn> = (0..lights.len() as u32)
+                let per_light: Vec<LightDraw> = (0..lights.len() as u32)
                     .into_par_iter()
                     .map(|i| {
                         let k = allocation.count(lights.get(i as usize).luminance, mean_lum);
                         let drawn = draw(lgh, level, i, k, strata, vpls);
                         match allocation {
-                            Allocation::Nested(_) => Drawn {
+                            Allocation::Nested(_) => LightDraw {
                                 reps: nest(drawn.reps, level, i),
                                 ..drawn
                             },
@@ -290,15 +290,12 @@ impl Representatives {
                 starts.push(0u32);
                 let mut reps = Vec::new();
                 let mut extents = Vec::with_capacity(per_light.len());
-                let mut facings =
-                    Vec::with_capacity(if vpls.is_empty() { 0 } else { per_light.len() });
+                let mut facings = Vec::with_capacity(per_light.len());
                 for d in per_light {
                     reps.extend(d.reps);
                     starts.push(reps.len() as u32);
                     extents.push(d.extent);
-                    if !vpls.is_empty() {
-                        facings.push(d.facing);
-                    }
+                    facings.push(d.facing);
                 }
                 let max_extent = extents.iter().copied().fold(0.0, f32::max);
                 LevelReps {
@@ -484,7 +481,7 @@ fn draw(
     k: usize,
     strata: &[u8],
     vpls: &[Vpl],
-) -> Drawn {
+) -> LightDraw {
     let mut cands: Vec<(u32, f64)> = Vec::new();
     let centre = lgh.level(level).position(i as usize);
     let mut extent = 0.0f32;
@@ -502,21 +499,17 @@ fn draw(
     }
     let total: f64 = cands.iter().map(|c| c.1).sum();
     if total <= 0.0 || !total.is_finite() {
-        return Drawn {
+        return LightDraw {
             reps: Vec::new(),
             extent: 0.0,
             facing: Facing::ANY,
         };
     }
-    let facing = if vpls.is_empty() {
-        Facing::ANY
+    // Every VPL or none (none without them): a summary of some of them could rule out light.
+    let facing = if !vpls.is_empty() && cands.iter().all(|&(j, _)| (j as usize) < vpls.len()) {
+        Facing::of(cands.iter().map(|&(j, w)| (&vpls[j as usize], w)))
     } else {
-        // Every VPL or none: a summary of some of them could rule out light.
-        if cands.iter().all(|&(j, _)| (j as usize) < vpls.len()) {
-            Facing::of(cands.iter().map(|&(j, w)| (&vpls[j as usize], w)))
-        } else {
-            Facing::ANY
-        }
+        Facing::ANY
     };
     let mut rng = SplitMix64(SplitMix64::mix((u64::from(level) << 32) | u64::from(i)));
     let offset = f64::from(rng.next_f32());
@@ -530,7 +523,7 @@ fn draw(
         }
         out.push(cands[c].0);
     }
-    Drawn {
+    LightDraw {
         reps: out,
         extent,
         facing,

@@ -800,25 +800,20 @@ mod tests {
         let camera = Fixture::camera(24, 18);
         let shader = f.unshadowed_shader();
         let backend = LghBackend::new(&f.lgh, 4.0).unwrap();
-        let blending = backend.blending();
-        // The share of the gathered lights that face away, over the points the camera sees.
+        // The share of the gathered lights that face away, over the points the camera sees:
+        // those the gather keeps without the summaries and leaves out with them.
         let (mut gathered, mut away) = (0usize, 0usize);
+        let mut out = Vec::new();
         for (point, normal) in f.seen(24, 18) {
-            let x = point.position;
-            let extents = |l| (summarised.max_extent(l), summarised.extents(l));
-            f.lgh
-                .query_reaching(x, blending, extents, |r| {
-                    let level = f.lgh.level(r.level);
-                    let to = level.position(r.index as usize) - x;
-                    if behind(&point, normal, to, f.lgh.h(r.level)) {
-                        return;
-                    }
-                    gathered += 1;
-                    let facing = summarised.facing(r.level, r.index);
-                    let extent = summarised.extent(r.level, r.index);
-                    away += usize::from(facing.faces_away(x, r.distance, extent));
-                })
-                .unwrap();
+            let mut kept = |reps: &Representatives| {
+                out.clear();
+                let blend = BlendAt::Representative;
+                gather(&point, normal, &backend, reps, blend, &shader, &mut out).unwrap();
+                out.len()
+            };
+            let (all, facing) = (kept(&plain), kept(&summarised));
+            gathered += all;
+            away += all - facing;
         }
         println!("{away} of {gathered} gathered lights not behind the points face away");
         assert!(away * 20 > gathered, "{away} of {gathered}");

@@ -46,9 +46,9 @@
 //! so a light the roulette kept keeps its draw in the next round, at its new weight (coupled
 //! roulettes: the last round's light roulette is distributed as if drawn afresh; a light's
 //! number of candidates a draw is the one its first round chose). The estimate is still
-//! unbiased for a fixed
-//! number of rounds; stopping on the estimate itself adds a bias far below the noise it
-//! removes (the refined render's mean is tested against that of every representative).
+//! unbiased for a fixed number of rounds; stopping on the estimate itself adds a bias far
+//! below the noise it removes (the refined render's mean is tested against that of every
+//! representative).
 //! Systematic sampling spreads the draws more evenly than independent ones, so the sample
 //! variance over-states it: the rule errs on the side of refining.
 //!
