@@ -55,8 +55,8 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
-// `cargo test -p lgh-core --target wasm32-unknown-unknown` runs the tests in a browser (README,
-// "Embedding").
+// `cargo test -p lgh-core --target wasm32-unknown-unknown` runs the tests in a browser
+// (docs/embedding.md, "In a browser").
 #[cfg(test)]
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 

@@ -13,7 +13,7 @@ use lgh_core::{
 use proptest::prelude::*;
 use wasm_bindgen_test::wasm_bindgen_test;
 
-// In a browser (wasm32), see the README's "Embedding".
+// In a browser (wasm32), see docs/embedding.md.
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 fn settings(h1: f32, levels: u8) -> GridSettings {

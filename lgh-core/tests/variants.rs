@@ -6,7 +6,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::{Clustering, GridSettings, LightPosition, LightingGridHierarchy, PointLight};
 use wasm_bindgen_test::wasm_bindgen_test;
 
-// In a browser (wasm32), see the README's "Embedding".
+// In a browser (wasm32), see docs/embedding.md.
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 /// One light at `(0.3, 0.7, 0.2)` of a unit level-1 cell whose corner is the origin.

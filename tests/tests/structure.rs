@@ -309,3 +309,170 @@ fn library_crates_know_nothing_of_the_command_line_or_the_test_sets() {
         );
     }
 }
+
+/// The public modules a crate root declares (`pub mod name;` or `pub mod name {`).
+fn public_modules(lib: &str) -> Vec<String> {
+    code(lib)
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub mod "))
+        .map(|rest| {
+            rest.trim_end_matches(|c: char| c == ';' || c == '{' || c.is_whitespace())
+                .to_string()
+        })
+        .collect()
+}
+
+/// The crate root's own documentation: its leading `//!` lines.
+fn crate_doc(lib: &str) -> String {
+    lib.lines()
+        .take_while(|l| l.starts_with("//!") || l.trim().is_empty())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn public_modules_are_found_in_the_module_map() {
+    assert_eq!(
+        public_modules("//! doc\npub mod a;\nmod b;\npub mod c {\n}\n"),
+        ["a", "c"]
+    );
+    let mut problems = Vec::new();
+    for krate in CRATES {
+        let src = root().join(krate).join("src");
+        let lib = ["lib.rs", "main.rs"]
+            .iter()
+            .map(|f| src.join(f))
+            .find(|p| p.exists())
+            .unwrap();
+        let text = std::fs::read_to_string(&lib).unwrap();
+        let doc = crate_doc(&text);
+        for m in public_modules(&text) {
+            // A link `[`m`]`, `[m](mod@m)` or a mention `` `m` `` in the crate's top doc.
+            let named = [format!("[`{m}`]"), format!("(mod@{m})"), format!("`{m}`")]
+                .iter()
+                .any(|n| doc.contains(n.as_str()));
+            if !named {
+                problems.push(format!(
+                    "{krate}: pub mod {m} is not in the crate's module map"
+                ));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn the_readme_stays_short() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 300,
+        "README.md has {lines} lines: at most 300 (studies and figures go to docs/)"
+    );
+}
+
+/// The functions of `text` (outside its unit tests) longer than `most` lines, as
+/// `(name, first line, lines)`: from the line of `fn name` to the line of its closing brace at
+/// the same indentation.
+fn long_functions(text: &str, most: usize) -> Vec<(String, usize, usize)> {
+    let body = text.split("#[cfg(test)]\nmod tests").next().unwrap_or("");
+    let lines: Vec<&str> = body.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let indent = &line[..line.len() - trimmed.len()];
+        let Some(at) = trimmed.find("fn ") else {
+            continue;
+        };
+        let head = &trimmed[..at];
+        let words_before = head.split_whitespace().all(|w| {
+            [
+                "pub",
+                "pub(crate)",
+                "pub(super)",
+                "const",
+                "unsafe",
+                "async",
+            ]
+            .contains(&w)
+                || w.starts_with("extern")
+        });
+        if !words_before || trimmed.starts_with("//") {
+            continue;
+        }
+        // A declaration without a body (a trait's required method) ends with `;` before any `{`.
+        let opens = lines[i..]
+            .iter()
+            .position(|l| l.trim_end().ends_with('{') || l.trim_end().ends_with(';'));
+        if opens.is_none_or(|k| lines[i + k].trim_end().ends_with(';')) {
+            continue;
+        }
+        let close = format!("{indent}}}");
+        let end = lines[i..]
+            .iter()
+            .position(|l| l.trim_end() == close)
+            .map(|k| i + k);
+        if let Some(end) = end {
+            let n = end - i + 1;
+            if n > most {
+                let name = trimmed[at + 3..]
+                    .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                    .next()
+                    .unwrap_or("")
+                    .to_string();
+                out.push((name, i + 1, n));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_in_library_code_is_over_120_lines() {
+    let short = "fn a() {\n    1;\n}\n";
+    let long = format!("pub fn b() {{\n{}}}\n", "    x();\n".repeat(130));
+    assert!(long_functions(short, 120).is_empty());
+    assert_eq!(long_functions(&long, 120), [("b".to_string(), 1, 132)]);
+    let mut problems = Vec::new();
+    for krate in CRATES {
+        for f in rust_files(&root().join(krate).join("src")) {
+            let text = std::fs::read_to_string(&f).unwrap();
+            for (name, line, n) in long_functions(&text, 120) {
+                problems.push(format!("{}:{line}: fn {name} is {n} lines", f.display()));
+            }
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "cut these at their seams (at most 120 lines a function):\n{}",
+        problems.join("\n")
+    );
+}
+
+#[test]
+fn ci_requires_every_system_piece_a_test_can_skip() {
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    for piece in lgh_tests::Piece::ALL {
+        let export = format!("export {}=1", piece.variable());
+        assert!(
+            ci.lines().any(|l| l.trim_start().starts_with(&export)),
+            ".ci/run does not `{export}`: a missing {piece:?} would pass as SKIPPED"
+        );
+    }
+    // Every LGH_REQUIRE_ variable the tests read is one of the pieces.
+    let known: Vec<&str> = lgh_tests::Piece::ALL.iter().map(|p| p.variable()).collect();
+    let mut problems = Vec::new();
+    for f in workspace_files() {
+        let text = std::fs::read_to_string(&f).unwrap();
+        for (at, _) in text.match_indices("LGH_REQUIRE_") {
+            let name: String = text[at..]
+                .chars()
+                .take_while(|c| c.is_ascii_uppercase() || *c == '_')
+                .collect();
+            if name.len() > "LGH_REQUIRE_".len() && !known.contains(&name.as_str()) {
+                problems.push(format!("{}: {name} is not a lgh_tests::Piece", f.display()));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}

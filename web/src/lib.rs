@@ -9,8 +9,12 @@
 //! renders a frame into buffers that `lgh_web_rgba` and `lgh_web_rgb` point at in the
 //! module's memory. The same [`Renderer`] runs natively, and the browser test
 //! (`web/tests/browser.rs`) compares the canvas of headless Chromium with it, pixel for pixel.
+//!
+//! Modules: [`swarm`], the scene (the embers' positions and flicker, the ground and spheres),
+//! transcribed from the C++ example (`examples/c/swarm.h`) operation for operation.
 
 #![forbid(unsafe_op_in_unsafe_fn)]
+#![warn(missing_docs)]
 
 pub mod swarm;
 

@@ -88,8 +88,11 @@ pub fn ground_point(px: i32, py: i32, size: i32) -> [f32; 3] {
 
 /// A sphere resting on the ground: centre, radius, albedo.
 pub struct Sphere {
+    /// The centre, in the scene's units (y up; the ground is y = 0).
     pub centre: [f32; 3],
+    /// The radius: the sphere touches the ground where `centre[1] == radius`.
     pub radius: f32,
+    /// The Lambertian albedo, linear RGB.
     pub albedo: [f32; 3],
 }
 

@@ -4,9 +4,10 @@
 //! same frames rendered natively by [`lgh_web::Renderer`]: pixel for pixel, and the linear
 //! floats bit for bit (the core's float path — libm's, not a platform's — is the same in both).
 //!
-//! Needs Chromium and its driver (`.ci/run` installs them: `apt-get install chromium
-//! chromium-driver`) and the wasm target (`rustup target add wasm32-unknown-unknown`).
-//! `LGH_SKIP_BROWSER=1` skips it where they cannot be had; `LGH_WEB_BENCH=1` also times 10K and
+//! Needs Chromium and its driver (`apt-get install chromium chromium-driver`) and the wasm
+//! target (`rustup target add wasm32-unknown-unknown`): without them the test says SKIPPED and
+//! passes, unless `LGH_REQUIRE_BROWSER` or `LGH_REQUIRE_WASM` is set (`.ci/run` installs both
+//! and sets both), where it fails ([`lgh_tests::Piece`]). `LGH_WEB_BENCH=1` also times 10K and
 //! 100K lights at 256² in Chromium (the README's figures).
 
 use std::io::{BufRead, BufReader, Read, Write};
@@ -15,6 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use lgh_tests::Piece;
 use serde_json::{json, Value};
 
 /// The workspace's root.
@@ -23,6 +25,19 @@ fn root() -> PathBuf {
         .parent()
         .unwrap()
         .to_path_buf()
+}
+
+/// Whether rustup's `wasm32-unknown-unknown` target is installed: its standard library is in
+/// the sysroot.
+fn wasm_target_installed() -> bool {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    Command::new(rustc)
+        .args(["--print", "target-libdir", "--target", "wasm32-unknown-unknown"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| std::fs::read_dir(String::from_utf8_lossy(&o.stdout).trim()).ok())
+        .is_some_and(|mut entries| entries.next().is_some())
 }
 
 /// Builds `lgh_web.wasm` (the `wasm` profile: release, stripped) into a target folder of its
@@ -181,8 +196,8 @@ struct Driver {
 }
 
 impl Driver {
-    /// chromedriver started and a headless Chromium session opened, or `None` (with a message)
-    /// where they are not installed and `LGH_SKIP_BROWSER=1`.
+    /// chromedriver started and a headless Chromium session opened, or `None` (after
+    /// [`Piece::missing`]) where they are not installed.
     fn start() -> Option<Self> {
         let driver = [
             "chromedriver",
@@ -199,11 +214,13 @@ impl Driver {
         .into_iter()
         .find(|b| Path::new(b).exists());
         let (Some(driver), Some(chromium)) = (driver, chromium) else {
-            if std::env::var("LGH_SKIP_BROWSER").is_ok_and(|v| v == "1") {
-                eprintln!("SKIPPED: no chromium and chromedriver (LGH_SKIP_BROWSER=1)");
-                return None;
-            }
-            panic!("the browser test needs Chromium and its driver (apt-get install chromium chromium-driver), or LGH_SKIP_BROWSER=1");
+            let what = match (driver, chromium) {
+                (None, None) => "no Chromium and no chromedriver",
+                (None, _) => "no chromedriver",
+                _ => "no Chromium",
+            };
+            Piece::Browser.missing(what);
+            return None;
         };
         let port = TcpListener::bind("127.0.0.1:0")
             .unwrap()
@@ -297,6 +314,9 @@ fn native(count: usize, frames: i32, size: usize) -> lgh_web::Renderer {
 
 #[test]
 fn chromium_renders_the_native_frame_pixel_for_pixel() {
+    if !wasm_target_installed() {
+        return Piece::WasmTarget.missing("no wasm32-unknown-unknown target");
+    }
     let Some(driver) = Driver::start() else {
         return;
     };
