@@ -94,7 +94,8 @@ fn every_fire_frame_matches_the_official_library() {
     for path in &files {
         let ours = vdb::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert_eq!(ours.format_version, 224);
-        let theirs = oracle(path).unwrap_or_else(|e| panic!("the OpenVDB oracle on {}: {e}", path.display()));
+        let theirs = oracle(path)
+            .unwrap_or_else(|e| panic!("the OpenVDB oracle on {}: {e}", path.display()));
         let grids = theirs["grids"].as_array().unwrap();
         assert_eq!(grids.len(), ours.grids.len(), "{}", path.display());
         for t in grids {
