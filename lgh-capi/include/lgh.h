@@ -41,19 +41,30 @@ typedef struct LghBlending LghBlending;
 typedef struct LghHierarchy LghHierarchy;
 
 // How a hierarchy is built; [`lgh_settings_default`] fills the defaults.
+//
+// Three fields hold sentinels: `h1 == 0` derives the spacing, `has_origin == 0` takes the
+// lights' bounding-box minimum for the origin, and `max_level == -1` lets the library choose
+// the top level. [`lgh_settings_default`] sets all three and prunes nothing.
 typedef struct LghSettings {
   // `sizeof(LghSettings)` as the caller compiled it.
   uint32_t struct_size;
   // [`LGH_ABI_VERSION`] as the caller compiled it.
   uint32_t version;
-  // The level-1 grid spacing `h1`; 0: the paper's Sec. 6.4 rule (halve a cell over the
-  // lights' box until the level-1 vertices with light outnumber the lights).
+  // The level-1 grid spacing `h1`: positive and finite, or the sentinel 0 (the default;
+  // `-0.0` too) to derive it by the paper's Sec. 6.4 rule (halve a cell over the lights' box
+  // until the level-1 vertices with light outnumber the lights). Negative, NaN or infinite:
+  // `LGH_STATUS_INVALID_ARGUMENT`.
   float h1;
-  // Non-zero: the grids' origin is `origin`; 0: the lights' bounding-box minimum.
+  // A flag for `origin`: 0 (the default): no origin given, the grids' origin is the
+  // lights' bounding-box minimum and `origin` is not read; any other value: the grids'
+  // origin is `origin`.
   uint32_t has_origin;
-  // The grids' origin where `has_origin` is non-zero.
+  // The grids' origin (finite; a vertex of every level), read only where `has_origin` is
+  // non-zero.
   float origin[3];
-  // The top level `ℓ_max` (0 to 21); −1: the lowest level whose one cell holds every light.
+  // The top level `ℓ_max`: 0 to 21, or the sentinel -1 (the default) to let the library
+  // choose the lowest level whose one cell holds every light. Any other value:
+  // `LGH_STATUS_INVALID_ARGUMENT`.
   int32_t max_level;
   // Lights whose luminance is below this are skipped at every level but the top one (the
   // paper's weak-light pruning); 0: none.
@@ -109,8 +120,9 @@ uint32_t lgh_abi_version(void);
 // NUL-terminated string owned by the library, valid until the thread's next failed call.
 const char *lgh_last_error(void);
 
-// Fills `out` with the default settings (automatic `h1`, origin and top level, no pruning) and
-// this library's `struct_size` and `version`.
+// Fills `out` with the default settings and this library's `struct_size` and `version`: `h1`
+// derived (`h1 = 0`), the origin the lights' bounding-box minimum (`has_origin = 0`), the top
+// level chosen (`max_level = -1`), no pruning (`prune_below = 0`).
 //
 // # Safety
 // `out` must be NULL or point to writable memory for one [`LghSettings`].

@@ -2,8 +2,10 @@
 //! speak C — Unreal, Godot and Unity native plugins, in-house C++ engines.
 //!
 //! The header `include/lgh.h` is generated from this file by cbindgen and committed; the test
-//! `tests/header.rs` regenerates it and fails when the committed one is stale. The API, in the
-//! order an engine calls it:
+//! `tests/header.rs` regenerates it and fails when the committed one is stale. Each function's
+//! Rust example (a doctest calling it as C would) sits in a `#[cfg_attr(any(doc, doctest), doc
+//! = ...)]` attribute, which cbindgen does not copy: the header keeps the C documentation only.
+//! The API, in the order an engine calls it:
 //!
 //! 1. [`lgh_settings_default`] fills an [`LghSettings`] (its `struct_size` and `version` say which
 //!    layout the caller was compiled with);
@@ -72,6 +74,10 @@ pub enum LghStatus {
 }
 
 /// How a hierarchy is built; [`lgh_settings_default`] fills the defaults.
+///
+/// Three fields hold sentinels: `h1 == 0` derives the spacing, `has_origin == 0` takes the
+/// lights' bounding-box minimum for the origin, and `max_level == -1` lets the library choose
+/// the top level. [`lgh_settings_default`] sets all three and prunes nothing.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LghSettings {
@@ -79,14 +85,21 @@ pub struct LghSettings {
     pub struct_size: u32,
     /// [`LGH_ABI_VERSION`] as the caller compiled it.
     pub version: u32,
-    /// The level-1 grid spacing `h1`; 0: the paper's Sec. 6.4 rule (halve a cell over the
-    /// lights' box until the level-1 vertices with light outnumber the lights).
+    /// The level-1 grid spacing `h1`: positive and finite, or the sentinel 0 (the default;
+    /// `-0.0` too) to derive it by the paper's Sec. 6.4 rule (halve a cell over the lights' box
+    /// until the level-1 vertices with light outnumber the lights). Negative, NaN or infinite:
+    /// `LGH_STATUS_INVALID_ARGUMENT`.
     pub h1: f32,
-    /// Non-zero: the grids' origin is `origin`; 0: the lights' bounding-box minimum.
+    /// A flag for `origin`: 0 (the default): no origin given, the grids' origin is the
+    /// lights' bounding-box minimum and `origin` is not read; any other value: the grids'
+    /// origin is `origin`.
     pub has_origin: u32,
-    /// The grids' origin where `has_origin` is non-zero.
+    /// The grids' origin (finite; a vertex of every level), read only where `has_origin` is
+    /// non-zero.
     pub origin: [f32; 3],
-    /// The top level `ℓ_max` (0 to 21); −1: the lowest level whose one cell holds every light.
+    /// The top level `ℓ_max`: 0 to 21, or the sentinel -1 (the default) to let the library
+    /// choose the lowest level whose one cell holds every light. Any other value:
+    /// `LGH_STATUS_INVALID_ARGUMENT`.
     pub max_level: i32,
     /// Lights whose luminance is below this are skipped at every level but the top one (the
     /// paper's weak-light pruning); 0: none.
@@ -260,7 +273,20 @@ unsafe fn point_lights(
     Ok(p.iter().zip(i).map(light).collect())
 }
 
-/// The core's settings from the caller's, checked.
+/// [`LghSettings::h1`]'s sentinel: derive `h1` by the paper's Sec. 6.4 rule (`None` in
+/// [`GridSettings::h1`]). Compared with `==`, so `-0.0` means it too.
+const H1_DERIVED: f32 = 0.0;
+
+/// [`LghSettings::max_level`]'s sentinel: let the library choose `ℓ_max` (`None` in
+/// [`GridSettings::max_level`]).
+const MAX_LEVEL_CHOSEN: i32 = -1;
+
+/// [`LghSettings::has_origin`]'s value for "no origin given" (`None` in
+/// [`GridSettings::origin`]); any other value gives one.
+const NO_ORIGIN: u32 = 0;
+
+/// The core's settings from the caller's, checked: the C sentinels become `Option`s here and go
+/// no further in.
 fn grid_settings(s: &LghSettings) -> Result<GridSettings, Failure> {
     let own = std::mem::size_of::<LghSettings>() as u32;
     if s.struct_size != own || s.version != LGH_ABI_VERSION {
@@ -270,62 +296,135 @@ fn grid_settings(s: &LghSettings) -> Result<GridSettings, Failure> {
         );
         return Err(Failure(LghStatus::VersionMismatch, message));
     }
-    let bad = |message: String| Err(Failure(LghStatus::InvalidArgument, message));
-    let h1 = match s.h1 {
-        0.0 => None,
-        h if h.is_finite() && h > 0.0 => Some(h),
-        h => {
-            return bad(format!(
-                "h1 {h} must be positive and finite, or 0 (automatic)"
-            ))
-        }
-    };
-    let max_level = match s.max_level {
-        -1 => None,
-        l if (0..=i32::from(lgh_core::MAX_LEVEL)).contains(&l) => Some(l as u8),
-        l => return bad(format!("max_level {l} must be 0 to 21, or -1 (automatic)")),
-    };
     Ok(GridSettings {
-        h1,
-        origin: (s.has_origin != 0).then(|| Vec3::from(s.origin)),
-        max_level,
+        h1: spacing_from_c(s.h1)?,
+        origin: origin_from_c(s.has_origin, s.origin),
+        max_level: top_level_from_c(s.max_level)?,
         prune_below: s.prune_below,
         ..GridSettings::default()
     })
 }
 
+/// [`LghSettings::h1`] as the core's `h1`: [`H1_DERIVED`] → `None` (the Sec. 6.4 rule), a
+/// positive finite spacing → `Some`, anything else an error.
+fn spacing_from_c(h1: f32) -> Result<Option<f32>, Failure> {
+    if h1 == H1_DERIVED {
+        Ok(None)
+    } else if h1.is_finite() && h1 > 0.0 {
+        Ok(Some(h1))
+    } else {
+        let message = format!("h1 {h1} must be positive and finite, or 0 (automatic)");
+        Err(Failure(LghStatus::InvalidArgument, message))
+    }
+}
+
+/// [`LghSettings::max_level`] as the core's `ℓ_max`: [`MAX_LEVEL_CHOSEN`] → `None` (the library
+/// chooses), 0 to [`lgh_core::MAX_LEVEL`] → `Some`, anything else an error.
+fn top_level_from_c(max_level: i32) -> Result<Option<u8>, Failure> {
+    match max_level {
+        MAX_LEVEL_CHOSEN => Ok(None),
+        l if (0..=i32::from(lgh_core::MAX_LEVEL)).contains(&l) => Ok(Some(l as u8)),
+        l => {
+            let message = format!("max_level {l} must be 0 to 21, or -1 (automatic)");
+            Err(Failure(LghStatus::InvalidArgument, message))
+        }
+    }
+}
+
+/// [`LghSettings::has_origin`] and `origin` as the core's origin: [`NO_ORIGIN`] → `None` (the
+/// lights' bounding-box minimum), any other flag → `Some(origin)` (checked by the build).
+fn origin_from_c(has_origin: u32, origin: [f32; 3]) -> Option<Vec3> {
+    (has_origin != NO_ORIGIN).then(|| Vec3::from(origin))
+}
+
+/// The core's settings as C holds them, each `None` as its sentinel: the inverse of
+/// [`grid_settings`] for the fields C has.
+fn c_settings(g: &GridSettings) -> LghSettings {
+    LghSettings {
+        struct_size: std::mem::size_of::<LghSettings>() as u32,
+        version: LGH_ABI_VERSION,
+        h1: g.h1.unwrap_or(H1_DERIVED),
+        has_origin: u32::from(g.origin.is_some()),
+        origin: g.origin.map_or([0.0; 3], |o| o.to_array()),
+        max_level: g.max_level.map_or(MAX_LEVEL_CHOSEN, i32::from),
+        prune_below: g.prune_below,
+    }
+}
+
 /// The layout version this library was built with ([`LGH_ABI_VERSION`]).
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+assert_eq!(lgh_capi::lgh_abi_version(), lgh_capi::LGH_ABI_VERSION);
+```
+"#
+)]
 #[no_mangle]
+#[must_use]
 pub extern "C" fn lgh_abi_version() -> u32 {
     LGH_ABI_VERSION
 }
 
 /// The message of the calling thread's last failed call (an empty string if none failed): a
 /// NUL-terminated string owned by the library, valid until the thread's next failed call.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+use lgh_capi::*;
+use std::ffi::CStr;
+
+// SAFETY: NULL is refused with a status, never written.
+assert_eq!(unsafe { lgh_settings_default(std::ptr::null_mut()) }, LghStatus::NullArgument);
+// SAFETY: the library's string, live until this thread's next failure.
+let message = unsafe { CStr::from_ptr(lgh_last_error()) }.to_str()?;
+assert_eq!(message, "lgh_settings_default: out is NULL");
+# Ok::<(), Box<dyn std::error::Error>>(())
+```
+"#
+)]
 #[no_mangle]
+#[must_use]
 pub extern "C" fn lgh_last_error() -> *const c_char {
     LAST_ERROR.with(|e| e.borrow().as_ptr())
 }
 
-/// Fills `out` with the default settings (automatic `h1`, origin and top level, no pruning) and
-/// this library's `struct_size` and `version`.
+/// Fills `out` with the default settings and this library's `struct_size` and `version`: `h1`
+/// derived (`h1 = 0`), the origin the lights' bounding-box minimum (`has_origin = 0`), the top
+/// level chosen (`max_level = -1`), no pruning (`prune_below = 0`).
 ///
 /// # Safety
 /// `out` must be NULL or point to writable memory for one [`LghSettings`].
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+use lgh_capi::*;
+use std::mem::MaybeUninit;
+
+let mut s = MaybeUninit::<LghSettings>::uninit();
+// SAFETY: room for one LghSettings.
+assert_eq!(unsafe { lgh_settings_default(s.as_mut_ptr()) }, LghStatus::Ok);
+// SAFETY: filled by the call.
+let s = unsafe { s.assume_init() };
+// The three sentinels: derive h1, the lights' box for the origin, choose ℓ_max.
+assert_eq!((s.h1, s.has_origin, s.max_level), (0.0, 0, -1));
+assert_eq!(s.version, LGH_ABI_VERSION);
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_settings_default(out: *mut LghSettings) -> LghStatus {
     guard("lgh_settings_default", || {
         non_null(out, "out")?;
-        let d = GridSettings::default();
-        let settings = LghSettings {
-            struct_size: std::mem::size_of::<LghSettings>() as u32,
-            version: LGH_ABI_VERSION,
-            h1: d.h1.unwrap_or(0.0),
-            has_origin: 0,
-            origin: [0.0; 3],
-            max_level: d.max_level.map_or(-1, i32::from),
-            prune_below: d.prune_below,
-        };
+        let settings = c_settings(&GridSettings::default());
         // SAFETY: out is not NULL and, by the caller's promise, writable.
         unsafe { out.write(settings) };
         Ok(())
@@ -340,6 +439,32 @@ pub unsafe extern "C" fn lgh_settings_default(out: *mut LghSettings) -> LghStatu
 /// # Safety
 /// The arrays must hold `3 * count` readable floats (or be NULL with `count` 0); `settings` must
 /// be NULL or point to an [`LghSettings`]; `out` must point to writable memory for a pointer.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+use lgh_capi::*;
+use std::ptr::null_mut;
+
+let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+let mut s = std::mem::MaybeUninit::<LghSettings>::uninit();
+// SAFETY: room for one LghSettings, filled by the call.
+let s = unsafe { (lgh_settings_default(s.as_mut_ptr()), s.assume_init()).1 };
+let (mut h, bad) = (null_mut(), LghSettings { max_level: 22, ..s });
+// SAFETY: two lights' arrays, live settings and a writable handle.
+let status = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, &bad, &mut h) };
+assert_eq!((status, h.is_null()), (LghStatus::InvalidArgument, true)); // ℓ_max ≤ 21
+let good = LghSettings { h1: 0.5, ..s };
+// SAFETY: as above.
+let status = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, &good, &mut h) };
+assert_eq!((status, h.is_null()), (LghStatus::Ok, false));
+# // SAFETY: made above, not used after.
+# unsafe { lgh_hierarchy_destroy(h) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_hierarchy_create(
     positions: *const f32,
@@ -373,6 +498,26 @@ pub unsafe extern "C" fn lgh_hierarchy_create(
 /// # Safety
 /// `hierarchy` must be NULL or a hierarchy from [`lgh_hierarchy_create`] not yet freed, with no
 /// call using it meanwhile or after.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+// SAFETY: `h` was made by lgh_hierarchy_create and is not used after.
+unsafe { lgh_hierarchy_destroy(h) };
+// SAFETY: NULL is allowed (nothing is freed).
+unsafe { lgh_hierarchy_destroy(null_mut()) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_hierarchy_destroy(hierarchy: *mut LghHierarchy) {
     // SAFETY: the caller's promise.
@@ -383,6 +528,29 @@ pub unsafe extern "C" fn lgh_hierarchy_destroy(hierarchy: *mut LghHierarchy) {
 ///
 /// # Safety
 /// `hierarchy` must be NULL or a live hierarchy; `out` NULL or writable for one [`LghInfo`].
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+let mut info = LghInfo::default();
+// SAFETY: a live hierarchy and a writable LghInfo.
+assert_eq!(unsafe { lgh_hierarchy_info(h, &mut info) }, LghStatus::Ok);
+assert_eq!(info.light_count, 2);
+assert_eq!(info.h0, info.h1 / 2.0);
+# // SAFETY: made above, not used after.
+# unsafe { lgh_hierarchy_destroy(h) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_hierarchy_info(
     hierarchy: *const LghHierarchy,
@@ -412,6 +580,31 @@ pub unsafe extern "C" fn lgh_hierarchy_info(
 /// # Safety
 /// `hierarchy` must be NULL or a live hierarchy that no other thread uses during the call;
 /// `intensities` must hold `3 * count` readable floats.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+let hotter = [2.0f32, 1.0, 0.5, 0.0, 0.0, 0.0];
+// SAFETY: a live hierarchy and 3 · count floats.
+assert_eq!(unsafe { lgh_hierarchy_update_intensities(h, hotter.as_ptr(), 2) }, LghStatus::Ok);
+// One light short of the hierarchy's two: refused, the hierarchy unchanged.
+// SAFETY: as above.
+let status = unsafe { lgh_hierarchy_update_intensities(h, hotter.as_ptr(), 1) };
+assert_eq!(status, LghStatus::InvalidArgument);
+# // SAFETY: made above, not used after.
+# unsafe { lgh_hierarchy_destroy(h) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_hierarchy_update_intensities(
     hierarchy: *mut LghHierarchy,
@@ -436,6 +629,32 @@ pub unsafe extern "C" fn lgh_hierarchy_update_intensities(
 ///
 /// # Safety
 /// As [`lgh_hierarchy_update_intensities`], and `positions` as `intensities`.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+let moved = [0.0f32, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 2.0, 0.0];
+// SAFETY: a live hierarchy and 3 · count floats in each array.
+let status = unsafe { lgh_hierarchy_rebuild(h, moved.as_ptr(), [1.0f32; 9].as_ptr(), 3) };
+assert_eq!(status, LghStatus::Ok);
+let mut info = LghInfo::default();
+// SAFETY: a live hierarchy and a writable LghInfo.
+assert_eq!(unsafe { lgh_hierarchy_info(h, &mut info) }, LghStatus::Ok);
+assert_eq!(info.light_count, 3);
+# // SAFETY: made above, not used after.
+# unsafe { lgh_hierarchy_destroy(h) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_hierarchy_rebuild(
     hierarchy: *mut LghHierarchy,
@@ -459,6 +678,31 @@ pub unsafe extern "C" fn lgh_hierarchy_rebuild(
 ///
 /// # Safety
 /// `hierarchy` must be NULL or a live hierarchy; `out` must be writable for a pointer.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+let mut b = null_mut();
+// SAFETY: a live hierarchy and a writable handle.
+assert_eq!(unsafe { lgh_blending_create(h, -1.0, &mut b) }, LghStatus::InvalidArgument);
+assert!(b.is_null());
+// SAFETY: as above.
+assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+assert!(!b.is_null());
+# // SAFETY: made above, not used after.
+# unsafe { (lgh_blending_destroy(b), lgh_hierarchy_destroy(h)) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_blending_create(
     hierarchy: *const LghHierarchy,
@@ -483,6 +727,31 @@ pub unsafe extern "C" fn lgh_blending_create(
 /// # Safety
 /// `blending` must be NULL or a blending from [`lgh_blending_create`] not yet freed, with no
 /// call using it meanwhile or after.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+# let mut b = null_mut();
+# // SAFETY: a live hierarchy and a writable handle.
+# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+// SAFETY: `b` was made by lgh_blending_create and is not used after.
+unsafe { lgh_blending_destroy(b) };
+// SAFETY: NULL is allowed (nothing is freed).
+unsafe { lgh_blending_destroy(null_mut()) };
+# // SAFETY: made above, not used after.
+# unsafe { lgh_hierarchy_destroy(h) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_blending_destroy(blending: *mut LghBlending) {
     // SAFETY: the caller's promise.
@@ -529,6 +798,40 @@ unsafe fn query_args<'a>(
 /// `hierarchy` and `blending` NULL or live; `x` NULL or three readable floats; `out_rgb` NULL or
 /// three writable floats; `out_lights` NULL or writable; `shade` safe to call with a light, `user`
 /// and three writable floats.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+# let mut b = null_mut();
+# // SAFETY: a live hierarchy and a writable handle.
+# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+use std::ffi::c_void;
+
+/// Each light's blended intensity, unshaded.
+unsafe extern "C" fn intensity(light: *const LghLight, _: *mut c_void, out: *mut f32) {
+    // SAFETY: lgh_sum passes a live light and three writable floats.
+    unsafe { out.copy_from_nonoverlapping((*light).intensity.as_ptr(), 3) };
+}
+let (x, mut rgb, mut n) = ([50.0f32, 0.0, 0.0], [0.0f32; 3], 0u32);
+// SAFETY: live objects, a point, a callback as above and writable outputs.
+let status = unsafe { lgh_sum(h, b, x.as_ptr(), Some(intensity), null_mut(), rgb.as_mut_ptr(), &mut n) };
+assert_eq!(status, LghStatus::Ok);
+// Far away, the blended levels carry the lights' total intensity.
+assert!(n >= 1 && rgb.iter().all(|&c| (c - 2.0).abs() < 1e-5));
+# // SAFETY: made above, not used after.
+# unsafe { (lgh_blending_destroy(b), lgh_hierarchy_destroy(h)) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_sum(
     hierarchy: *const LghHierarchy,
@@ -573,6 +876,36 @@ pub unsafe extern "C" fn lgh_sum(
 /// # Safety
 /// As [`lgh_sum`]; `out` NULL (with `capacity` 0) or writable for `capacity` lights;
 /// `out_count` writable.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+# let mut b = null_mut();
+# // SAFETY: a live hierarchy and a writable handle.
+# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+let (x, mut needed) = ([0.5f32, 0.0, 0.0], 0usize);
+// SAFETY: live objects and a point; no buffer, with capacity 0.
+let status = unsafe { lgh_gather(h, b, x.as_ptr(), null_mut(), 0, &mut needed) };
+assert_eq!((status, needed), (LghStatus::BufferTooSmall, 2)); // both lights, at level 0
+let mut lights = vec![LghLight::default(); needed];
+// SAFETY: room for `needed` lights.
+let status = unsafe { lgh_gather(h, b, x.as_ptr(), lights.as_mut_ptr(), needed, &mut needed) };
+assert_eq!(status, LghStatus::Ok);
+assert!(lights.iter().all(|l| l.level == 0 && l.distance == 0.5));
+# // SAFETY: made above, not used after.
+# unsafe { (lgh_blending_destroy(b), lgh_hierarchy_destroy(h)) };
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_gather(
     hierarchy: *const LghHierarchy,
@@ -615,6 +948,40 @@ pub unsafe extern "C" fn lgh_gather(
 ///
 /// # Safety
 /// As [`lgh_sum`]; `points` and `out_rgb` hold `3 * count` readable and writable floats.
+#[cfg_attr(
+    any(doc, doctest),
+    doc = r#"
+# Example (Rust)
+
+```
+# use lgh_capi::*;
+# use std::ptr::{null, null_mut};
+# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+# let mut h = null_mut();
+# // SAFETY: two lights' arrays, the default settings and a writable handle.
+# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
+# assert_eq!(made, LghStatus::Ok);
+# let mut b = null_mut();
+# // SAFETY: a live hierarchy and a writable handle.
+# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+use lgh_core::glam::Vec3;
+use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
+
+let (points, mut rgb) = ([0.5f32, 2.0, 0.0, 9.0, 1.0, 3.0], [0.0f32; 6]);
+// SAFETY: live objects and 3 · 2 floats in and out.
+assert_eq!(unsafe { lgh_probe_batch(h, b, points.as_ptr(), 2, rgb.as_mut_ptr()) }, LghStatus::Ok);
+// The Rust API's sum, bit for bit.
+let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+let shade = |s: &lgh_core::LightSample| s.intensity * falloff(s.distance, lgh.h0());
+let (sum, _) = lgh.query_sum(Vec3::new(9.0, 1.0, 3.0), &lgh.blending(2.0)?, shade)?;
+assert_eq!(sum.to_array(), rgb[3..]);
+# // SAFETY: made above, not used after.
+# unsafe { (lgh_blending_destroy(b), lgh_hierarchy_destroy(h)) };
+# Ok::<(), Box<dyn std::error::Error>>(())
+```
+"#
+)]
 #[no_mangle]
 pub unsafe extern "C" fn lgh_probe_batch(
     hierarchy: *const LghHierarchy,

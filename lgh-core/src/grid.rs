@@ -58,6 +58,18 @@ pub enum LightPosition {
 }
 
 /// Settings of a build. `Default` chooses everything automatically.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::{GridSettings, LevelSource, LightingGridHierarchy, PointLight};
+///
+/// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::splat(3.0), Vec3::ONE)];
+/// let settings = GridSettings { h1: Some(0.5), source: LevelSource::PreviousLevel, ..Default::default() };
+/// assert_eq!(LightingGridHierarchy::build(&lights, &settings)?.h1(), 0.5);
+/// // `None`: chosen by the build (here `h1` by the paper's Sec. 6.4 rule).
+/// assert_eq!((GridSettings::default().h1, GridSettings::default().max_level), (None, None));
+/// # Ok::<(), lgh_core::BuildError>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct GridSettings {
     /// Level-1 spacing `h1`. `None`: the Sec. 6.4 rule — start from one cell over the lights'
@@ -93,6 +105,15 @@ pub(crate) struct Placement {
 }
 
 /// Bounding box `(min, max)` of the lights' positions (±∞ for no lights).
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::{bounds, PointLight};
+///
+/// let lights = [PointLight::new(Vec3::new(1.0, -2.0, 0.0), Vec3::ONE), PointLight::new(Vec3::Z, Vec3::ONE)];
+/// assert_eq!(bounds(&lights), (Vec3::new(0.0, -2.0, 0.0), Vec3::new(1.0, 0.0, 1.0)));
+/// assert_eq!(bounds(&[]).0, Vec3::INFINITY); // no lights: an empty box
+/// ```
 #[must_use]
 pub fn bounds(lights: &[PointLight]) -> (Vec3, Vec3) {
     lights.iter().fold(

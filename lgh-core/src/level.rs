@@ -17,7 +17,7 @@ use glam::Vec3;
 
 use crate::bricks::BrickIndex;
 use crate::grid::{Clustering, LightPosition};
-use crate::light::{luminance, GridLight, LevelLights};
+use crate::light::{luminance, GridLight, LevelKind, LevelLights};
 use crate::math::sqrt;
 use crate::morton;
 
@@ -162,7 +162,8 @@ pub(crate) fn splat(
     }
 }
 
-/// [`splat`] with the light-to-vertex weights `weights`.
+/// [`splat`] with the light-to-vertex weights `weights`: the sums of eqs. (1), (2) and (4) over
+/// the lights, the centres (eq. 2), the sums of eq. (5) about them, then each vertex's light.
 fn splat_with(
     topo: &Topology,
     input: &SplatInput<'_>,
@@ -172,64 +173,139 @@ fn splat_with(
     variant: SplatVariant,
     weights: impl Fn([f32; 3]) -> [f32; 8] + Copy,
 ) -> LevelLights {
+    let sums = moment_sums(topo, input, weights);
+    let mean = centres(&sums);
+    let sum_s = size_sums(topo, input, &mean, weights);
     let nv = topo.vertex_codes.len();
-    let mut sum_i = vec![Vec3::ZERO; nv];
-    let mut sum_v = vec![0.0f32; nv];
-    let mut sum_m1 = vec![[0.0f32; 3]; nv];
-    let mut sum_m2 = vec![[0.0f32; 3]; nv];
+    let lights = (0..nv).map(|i| {
+        let at = match variant.position {
+            LightPosition::IlluminationCentre => mean[i],
+            LightPosition::GridVertex => [0.0; 3],
+        };
+        let position = world_position(morton::decode(topo.vertex_codes[i]), at, origin, h);
+        let (variance, size) = variance_and_size(&sums, sum_s[i], mean[i], i, h as f32);
+        GridLight {
+            position,
+            intensity: sums.intensity[i],
+            variance,
+            size,
+            luminance: luminance(sums.intensity[i]),
+        }
+    });
+    LevelLights::from_lights(lights, LevelKind::Grid, threshold)
+}
 
-    // Pass 1: Σ w I, Σ v, Σ v o, Σ v (o² + extra) with v = w ‖I‖ and o the offset from the vertex.
+/// Each vertex's sums over the lights it gathers, offsets `o` from the vertex in cell units
+/// and `v = w ‖I‖` (so `Σ v` is the luminance the vertex gathers).
+struct MomentSums {
+    /// `Σ w I`: the vertex's intensity (eq. 1).
+    intensity: Vec<Vec3>,
+    /// `Σ v`.
+    weight: Vec<f32>,
+    /// `Σ v o`: the centre's numerator (eq. 2).
+    first: Vec<[f32; 3]>,
+    /// `Σ v (o² + extra)`: the variance's (eq. 4).
+    second: Vec<[f32; 3]>,
+}
+
+/// Pass 1 (eqs. 1, 2, 4): every cell's lights summed into its eight corners
+/// ([`cell_moment_sums`]), the cells' sums then added to their vertices, in cell order.
+fn moment_sums(
+    topo: &Topology,
+    input: &SplatInput<'_>,
+    weights: impl Fn([f32; 3]) -> [f32; 8] + Copy,
+) -> MomentSums {
+    let nv = topo.vertex_codes.len();
+    let mut sums = MomentSums {
+        intensity: vec![Vec3::ZERO; nv],
+        weight: vec![0.0f32; nv],
+        first: vec![[0.0f32; 3]; nv],
+        second: vec![[0.0f32; 3]; nv],
+    };
     for (c, ids) in topo.cell_vertices.iter().enumerate() {
         let (start, end) = (
             topo.cell_starts[c] as usize,
             topo.cell_starts[c + 1] as usize,
         );
-        let mut ai = [[0.0f32; 8]; 3];
-        let mut av = [0.0f32; 8];
-        let mut am1 = [[0.0f32; 8]; 3];
-        let mut am2 = [[0.0f32; 8]; 3];
-        for j in start..end {
-            let f = input.frac[j];
-            let intensity = input.intensity[j].to_array();
-            let lum = input.luminance[j];
-            let extra = input.extra_variance.map_or([0.0; 3], |e| e[j].to_array());
-            let w = weights(f);
-            for k in 0..8 {
-                let v = w[k] * lum;
-                av[k] += v;
-                for a in 0..3 {
-                    ai[a][k] += w[k] * intensity[a];
-                    let o = f[a] - CORNER[a][k];
-                    am1[a][k] += v * o;
-                    am2[a][k] += v * (o * o + extra[a]);
-                }
-            }
-        }
+        let cell = cell_moment_sums(input, start, end, weights);
         for (k, &id) in ids.iter().enumerate() {
             let id = id as usize;
-            sum_i[id] += Vec3::new(ai[0][k], ai[1][k], ai[2][k]);
-            sum_v[id] += av[k];
+            sums.intensity[id] += Vec3::new(cell.ai[0][k], cell.ai[1][k], cell.ai[2][k]);
+            sums.weight[id] += cell.av[k];
             for a in 0..3 {
-                sum_m1[id][a] += am1[a][k];
-                sum_m2[id][a] += am2[a][k];
+                sums.first[id][a] += cell.am1[a][k];
+                sums.second[id][a] += cell.am2[a][k];
             }
         }
     }
+    sums
+}
 
-    // Illumination centres relative to their vertices, in cell units.
-    let mean: Vec<[f32; 3]> = (0..nv)
+/// One cell's sums of [`MomentSums`] at its eight corners, by axis then corner.
+struct CellMomentSums {
+    ai: [[f32; 8]; 3],
+    av: [f32; 8],
+    am1: [[f32; 8]; 3],
+    am2: [[f32; 8]; 3],
+}
+
+/// The lights `start..end` of one cell summed, in input order, into its eight corners.
+#[inline(always)]
+fn cell_moment_sums(
+    input: &SplatInput<'_>,
+    start: usize,
+    end: usize,
+    weights: impl Fn([f32; 3]) -> [f32; 8],
+) -> CellMomentSums {
+    let mut ai = [[0.0f32; 8]; 3];
+    let mut av = [0.0f32; 8];
+    let mut am1 = [[0.0f32; 8]; 3];
+    let mut am2 = [[0.0f32; 8]; 3];
+    for j in start..end {
+        let f = input.frac[j];
+        let intensity = input.intensity[j].to_array();
+        let lum = input.luminance[j];
+        let extra = input.extra_variance.map_or([0.0; 3], |e| e[j].to_array());
+        let w = weights(f);
+        for k in 0..8 {
+            let v = w[k] * lum;
+            av[k] += v;
+            for a in 0..3 {
+                ai[a][k] += w[k] * intensity[a];
+                let o = f[a] - CORNER[a][k];
+                am1[a][k] += v * o;
+                am2[a][k] += v * (o * o + extra[a]);
+            }
+        }
+    }
+    CellMomentSums { ai, av, am1, am2 }
+}
+
+/// The illumination centres (eq. 2) relative to their vertices, in cell units: `Σ v o / Σ v`
+/// (the vertex itself where it gathers no luminance).
+fn centres(sums: &MomentSums) -> Vec<[f32; 3]> {
+    (0..sums.weight.len())
         .map(|i| {
-            let v = sum_v[i];
+            let v = sums.weight[i];
+            let m1 = sums.first[i];
             if v > 0.0 {
-                [sum_m1[i][0] / v, sum_m1[i][1] / v, sum_m1[i][2] / v]
+                [m1[0] / v, m1[1] / v, m1[2] / v]
             } else {
                 [0.0; 3]
             }
         })
-        .collect();
+        .collect()
+}
 
-    // Pass 2 (eq. 5 needs the centre first): Σ v ‖o − mean‖.
-    let mut sum_s = vec![0.0f32; nv];
+/// Pass 2 (eq. 5 needs the centre first): each vertex's `Σ v ‖o − mean‖`, every cell's lights
+/// summed into its eight corners, the cells' sums then added to their vertices, in cell order.
+fn size_sums(
+    topo: &Topology,
+    input: &SplatInput<'_>,
+    mean: &[[f32; 3]],
+    weights: impl Fn([f32; 3]) -> [f32; 8],
+) -> Vec<f32> {
+    let mut sum_s = vec![0.0f32; topo.vertex_codes.len()];
     for (c, ids) in topo.cell_vertices.iter().enumerate() {
         let (start, end) = (
             topo.cell_starts[c] as usize,
@@ -257,38 +333,35 @@ fn splat_with(
             sum_s[id as usize] += acc[k];
         }
     }
+    sum_s
+}
 
-    let hf = h as f32;
-    let lights = (0..nv).map(|i| {
-        let q = morton::decode(topo.vertex_codes[i]);
-        let v = sum_v[i];
-        let m = mean[i];
-        let at = match variant.position {
-            LightPosition::IlluminationCentre => m,
-            LightPosition::GridVertex => [0.0; 3],
-        };
-        let position = Vec3::new(
-            (origin[0] + (q[0] as f64 + at[0] as f64) * h) as f32,
-            (origin[1] + (q[1] as f64 + at[1] as f64) * h) as f32,
-            (origin[2] + (q[2] as f64 + at[2] as f64) * h) as f32,
+/// The world position of the point `at` (cell units) from vertex `q` of the grid of spacing `h`
+/// at `origin`, in f64 and then rounded.
+#[inline]
+fn world_position(q: [u32; 3], at: [f32; 3], origin: [f64; 3], h: f64) -> Vec3 {
+    Vec3::new(
+        (origin[0] + (q[0] as f64 + at[0] as f64) * h) as f32,
+        (origin[1] + (q[1] as f64 + at[1] as f64) * h) as f32,
+        (origin[2] + (q[2] as f64 + at[2] as f64) * h) as f32,
+    )
+}
+
+/// Vertex `i`'s per-axis variance (eq. 4: `Σ v o² / Σ v − mean²`, never below 0) and size
+/// (eq. 5: `sum_s / Σ v`), both scaled from cell units by `hf = h`; zero where it gathers no
+/// luminance.
+#[inline]
+fn variance_and_size(sums: &MomentSums, sum_s: f32, m: [f32; 3], i: usize, hf: f32) -> (Vec3, f32) {
+    let v = sums.weight[i];
+    if v > 0.0 {
+        let m2 = sums.second[i];
+        let var = Vec3::new(
+            (m2[0] / v - m[0] * m[0]).max(0.0),
+            (m2[1] / v - m[1] * m[1]).max(0.0),
+            (m2[2] / v - m[2] * m[2]).max(0.0),
         );
-        let (variance, size) = if v > 0.0 {
-            let var = Vec3::new(
-                (sum_m2[i][0] / v - m[0] * m[0]).max(0.0),
-                (sum_m2[i][1] / v - m[1] * m[1]).max(0.0),
-                (sum_m2[i][2] / v - m[2] * m[2]).max(0.0),
-            );
-            ((var * hf) * hf, sum_s[i] / v * hf)
-        } else {
-            (Vec3::ZERO, 0.0)
-        };
-        GridLight {
-            position,
-            intensity: sum_i[i],
-            variance,
-            size,
-            luminance: luminance(sum_i[i]),
-        }
-    });
-    LevelLights::from_lights(lights, false, threshold)
+        ((var * hf) * hf, sum_s / v * hf)
+    } else {
+        (Vec3::ZERO, 0.0)
+    }
 }

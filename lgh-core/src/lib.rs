@@ -42,6 +42,13 @@
 //! [`LightcutsBackend`] (over a [`LightTree`]) and [`WardBackend`]; their modules keep the same
 //! paths too (`lgh_core::octree::OctreeBackend`, …).
 //!
+//! Modules beside the hierarchy (whose types are at the root): [`lightcuts`] (Walter et al.'s
+//! light tree and cuts, the paper's baseline), [`octree`] (Paquette et al.'s light octree and
+//! its error bounds), [`ward`] (Ward's adaptive shadow testing), [`reflection`] (the Phong
+//! model of Paquette's eq. 1), [`near_field`] (what a voxel light gives close to it),
+//! [`spectrum`] (blackbody colour), [`metrics`] (error metrics of an approximation against a
+//! reference) and [`morton`] (Morton codes of grid coordinates, the hierarchy's order).
+//!
 //! Features: `std` (default), `rayon` (parallel build; the result is bit-identical to a serial one)
 //! and `testsets` (off by default: the light sets and query points of the module `testsets`, for
 //! tests and benchmarks only; production randomness is in [`random`], and the lights of published

@@ -34,6 +34,15 @@ pub struct PointLight {
 
 impl PointLight {
     /// A light at `position` with RGB intensity `intensity`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::PointLight;
+    ///
+    /// let light = PointLight::new(Vec3::new(1.0, 2.0, 3.0), Vec3::splat(0.5));
+    /// assert_eq!(light.position.y, 2.0);
+    /// assert_eq!(light.intensity, Vec3::splat(0.5));
+    /// ```
     #[must_use]
     pub const fn new(position: Vec3, intensity: Vec3) -> Self {
         PointLight {
@@ -98,6 +107,40 @@ pub(crate) fn is_reported(luminance: f32, threshold: f32) -> bool {
 
 /// Lanes of the distance scan.
 const LANES: usize = 8;
+
+/// Which lights a [`LevelLights`] holds, so what it stores of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum LevelKind {
+    /// Level 0: the input point lights `S0`, whose variance and size are zero (not stored).
+    Input,
+    /// A level ℓ ≥ 1 of grid lights, each with its variance (eq. 4) and size (eq. 5).
+    Grid,
+}
+
+/// The inner edge of the shell a [`LevelLights::scan`] reports: the lights at or within it are
+/// left out. A level's blending weight `B_ℓ` is zero at and inside `r_{ℓ−1}` (eq. 3), so the query
+/// of level ℓ ≥ 1 passes `Radius2(r_{ℓ−1}²)`; level 0 has no inner radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Inner {
+    /// No inner radius: every distance is beyond it (the ball `d² ≤ outer²`).
+    None,
+    /// The squared inner radius: a light is reported only where `d² > r²`.
+    Radius2(f32),
+}
+
+impl Inner {
+    /// A bound every reported squared distance exceeds, for the scan's one comparison per lane:
+    /// the squared radius, or for [`Inner::None`] −1, which every squared distance exceeds (a sum
+    /// of squares is ≥ 0 or NaN, and a NaN one fails the outer test as well), so `None` drops
+    /// nothing, exactly as no inner test at all.
+    #[inline(always)]
+    fn below2(self) -> f32 {
+        match self {
+            Inner::None => -1.0,
+            Inner::Radius2(r2) => r2,
+        }
+    }
+}
 
 /// What a query's closure returns per light: summed by value so it can live in registers.
 pub(crate) trait Contribution: Copy {
@@ -194,13 +237,15 @@ impl LevelLights {
         size: Vec::new(),
     };
 
-    /// Stores `lights`; with `points`, variance and size are dropped (they must be zero). Queries
-    /// will report only lights with luminance > 0 and ≥ `threshold`.
+    /// Stores `lights` of a level of kind `kind`; for [`LevelKind::Input`] variance and size are
+    /// dropped (they must be zero). Queries will report only lights with luminance > 0 and
+    /// ≥ `threshold`.
     pub(crate) fn from_lights(
         lights: impl ExactSizeIterator<Item = GridLight>,
-        points: bool,
+        kind: LevelKind,
         threshold: f32,
     ) -> Self {
+        let points = kind == LevelKind::Input;
         let n = lights.len();
         let mut out = LevelLights {
             x: Vec::with_capacity(n + LANES),
@@ -245,18 +290,55 @@ impl LevelLights {
     }
 
     /// Number of lights.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// assert_eq!(level0.len(), 2);
+    /// assert!(lgh.level(1).len() >= 8); // every corner of an occupied cell
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn len(&self) -> usize {
         self.position.len()
     }
 
     /// True if the level has no lights.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// assert!(!level0.is_empty());
+    /// assert!(lgh.level(lgh.max_level() + 1).is_empty());
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.position.is_empty()
     }
 
     /// Light `i`. Panics if `i >= len()`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// let light = level0.get(0);
+    /// assert_eq!((light.variance, light.size), (Vec3::ZERO, 0.0)); // input lights are points
+    /// assert_eq!(light.position, level0.position(0));
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn get(&self, i: usize) -> GridLight {
@@ -270,6 +352,19 @@ impl LevelLights {
     }
 
     /// Position (illumination centre) of light `i`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// let mut positions: Vec<Vec3> = (0..level0.len()).map(|i| level0.position(i)).collect();
+    /// positions.sort_by(|a, b| a.y.total_cmp(&b.y));
+    /// assert_eq!(positions, [Vec3::ZERO, Vec3::Y]);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn position(&self, i: usize) -> Vec3 {
@@ -278,6 +373,20 @@ impl LevelLights {
 
     /// True if queries report light `i`: it is not dark and not weaker than the level's
     /// weak-light threshold.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// // The dark light is never reported.
+    /// let reported: Vec<bool> = (0..2).map(|i| level0.is_reported(i)).collect();
+    /// assert_eq!(reported.iter().filter(|&&r| r).count(), 1);
+    /// assert!((0..2).all(|i| level0.is_reported(i) == (level0.intensity(i) != Vec3::ZERO)));
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn is_reported(&self, i: usize) -> bool {
@@ -285,6 +394,17 @@ impl LevelLights {
     }
 
     /// Luminance `‖I‖` of light `i`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{luminance, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// assert!((0..2).all(|i| level0.luminance(i) == luminance(level0.intensity(i))));
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn luminance(&self, i: usize) -> f32 {
@@ -292,6 +412,18 @@ impl LevelLights {
     }
 
     /// Intensity of light `i`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// let total: Vec3 = (0..level0.len()).map(|i| level0.intensity(i)).sum();
+    /// assert_eq!(total, Vec3::X);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn intensity(&self, i: usize) -> Vec3 {
@@ -299,6 +431,18 @@ impl LevelLights {
     }
 
     /// All lights, in index order.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::X), PointLight::new(Vec3::Y, Vec3::ZERO)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let level0 = lgh.level(0);
+    /// assert_eq!(level0.iter().len(), 2);
+    /// assert!(level0.iter().enumerate().all(|(i, l)| l == level0.get(i)));
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn iter(&self) -> impl ExactSizeIterator<Item = GridLight> + '_ {
         (0..self.len()).map(|i| self.get(i))
@@ -331,19 +475,20 @@ impl LevelLights {
         (self.x[i], self.y[i], self.z[i]) = (p.x, p.y, p.z);
     }
 
-    /// Calls `hit.hit(i, d)` for every light `i` in `start..end` with `inner2 < d² ≤ outer2` from
-    /// `x`, in increasing `i`, and returns the sum and number of the contributions it reports.
-    /// Distances are computed eight lanes at a time.
+    /// Calls `hit.hit(i, d)` for every light `i` in `start..end` whose distance `d` from `x` lies
+    /// beyond `inner` (see [`Inner`]) with `d² ≤ outer2`, in increasing `i`, and returns the sum
+    /// and number of the contributions it reports. Distances are computed eight lanes at a time.
     #[inline(always)]
     pub(crate) fn scan<H: Hit>(
         &self,
         start: usize,
         end: usize,
         x: Vec3,
-        inner2: f32,
+        inner: Inner,
         outer2: f32,
         hit: &mut H,
     ) -> (H::Out, u32) {
+        let inner2 = inner.below2();
         let mut sum = H::Out::ZERO;
         let mut count = 0u32;
         // Whole chunks of LANES from `start`; the position arrays carry LANES − 1 NaN entries of

@@ -146,12 +146,34 @@ impl<'a> LghBackend<'a> {
     }
 
     /// The hierarchy.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let backend = LghBackend::new(&lgh, 2.0)?;
+    /// assert!(core::ptr::eq(backend.hierarchy(), &lgh));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[must_use]
     pub fn hierarchy(&self) -> &'a LightingGridHierarchy {
         self.hierarchy
     }
 
     /// The blending parameters.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let backend = LghBackend::new(&lgh, 4.0)?;
+    /// assert_eq!(backend.blending().radius(1), 4.0 * lgh.h1()); // r_1 = α h_1
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[must_use]
     pub fn blending(&self) -> &Blending {
         &self.blending

@@ -12,7 +12,7 @@ use crate::error::BuildError;
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
 use crate::light::{
-    luminance, validate_intensity, validate_lights, GridLight, LevelLights, PointLight,
+    luminance, validate_intensity, validate_lights, GridLight, LevelKind, LevelLights, PointLight,
 };
 use crate::math::floor64;
 use crate::morton;
@@ -164,7 +164,7 @@ impl LightingGridHierarchy {
                 size: 0.0,
                 luminance: luminance(l.intensity),
             }),
-            true,
+            LevelKind::Input,
             level_threshold(0, placement.max_level, settings.prune_below),
         );
         drop(sorted);

@@ -69,30 +69,84 @@ pub struct LightingGridHierarchy {
 
 impl LightingGridHierarchy {
     /// Number of input lights.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.len(), 2);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn len(&self) -> usize {
         self.level0.len()
     }
 
     /// True if the hierarchy has no lights.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lgh = LightingGridHierarchy::build(&[], &GridSettings::default())?;
+    /// assert!(lgh.is_empty());
+    /// assert_eq!(lgh.query(Vec3::ZERO, &lgh.blending(2.0)?, |_| {})?, 0); // nothing to report
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.level0.is_empty()
     }
 
     /// The top level `ℓ_max`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let settings = GridSettings { max_level: Some(3), ..Default::default() };
+    /// let lgh = LightingGridHierarchy::build(&lights, &settings)?;
+    /// assert_eq!(lgh.max_level(), 3);
+    /// assert!(lgh.level(4).is_empty()); // no level above the top
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn max_level(&self) -> u8 {
         self.placement.max_level
     }
 
     /// Level-1 spacing `h_1`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let settings = GridSettings { h1: Some(0.25), ..Default::default() };
+    /// assert_eq!(LightingGridHierarchy::build(&lights, &settings)?.h1(), 0.25);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn h1(&self) -> f32 {
         self.placement.h1 as f32
     }
 
     /// Spacing `h_ℓ = 2^(ℓ−1) h_1` of level ℓ (`h_0 = h_1 / 2`).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.h(1), lgh.h1());
+    /// assert_eq!(lgh.h(3), 4.0 * lgh.h1()); // doubling per level
+    /// assert_eq!(lgh.h(0), lgh.h1() / 2.0);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn h(&self, level: u8) -> f32 {
         self.h64(level) as f32
@@ -104,12 +158,34 @@ impl LightingGridHierarchy {
     }
 
     /// `h_0 = h_1 / 2`, the clamp distance of the fall-off [`falloff`](crate::falloff).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.h0(), lgh.h1() / 2.0);
+    /// // Nearer than h0, the fall-off stays at 1 / h0².
+    /// assert_eq!(falloff(0.0, lgh.h0()), 1.0 / (lgh.h0() * lgh.h0()));
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn h0(&self) -> f32 {
         self.h(0)
     }
 
     /// The grids' shared origin (a vertex of every level).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ONE, Vec3::ONE), PointLight::new(Vec3::splat(2.0), Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.origin(), Vec3::ONE); // by default the lights' bounding-box minimum
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn origin(&self) -> Vec3 {
         let o = self.placement.origin;
@@ -117,6 +193,17 @@ impl LightingGridHierarchy {
     }
 
     /// Weak-light threshold of this hierarchy (0 = no pruning).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// assert_eq!(LightingGridHierarchy::build(&lights, &GridSettings::default())?.prune_below(), 0.0);
+    /// let settings = GridSettings { prune_below: 0.5, ..Default::default() };
+    /// assert_eq!(LightingGridHierarchy::build(&lights, &settings)?.prune_below(), 0.5);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn prune_below(&self) -> f32 {
         self.prune_below
@@ -167,6 +254,20 @@ impl LightingGridHierarchy {
 
     /// The lights of level `level` (level 0: the input lights, in the hierarchy's order).
     /// Empty for levels above `ℓ_max`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.level(0).len(), 2); // the input lights
+    /// // Each level carries the whole intensity (eq. 1).
+    /// let total: Vec3 = lgh.level(1).iter().map(|l| l.intensity).sum();
+    /// assert!((total - Vec3::splat(2.0)).abs().max_element() < 1e-6);
+    /// assert!(lgh.level(lgh.max_level() + 1).is_empty());
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn level(&self, level: u8) -> &LevelLights {
         static EMPTY: LevelLights = LevelLights::EMPTY;
@@ -181,6 +282,25 @@ impl LightingGridHierarchy {
 
     /// The grid vertex (integer coordinates relative to [`origin`](Self::origin), in units of `h_ℓ`)
     /// of light `index` of level `level ≥ 1`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// for i in 0..lgh.level(2).len() as u32 {
+    ///     let v = Vec3::from(lgh.vertex(2, i).unwrap().map(|c| c as f32));
+    ///     // A light's illumination centre lies within h_ℓ of its vertex.
+    ///     let centre = lgh.level(2).position(i as usize);
+    ///     assert!((lgh.origin() + v * lgh.h(2) - centre).abs().max_element() <= lgh.h(2));
+    /// }
+    /// assert_eq!(lgh.vertex(0, 0), None); // level 0 has no grid
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn vertex(&self, level: u8, index: u32) -> Option<[u32; 3]> {
         let l = self.levels.get((level as usize).checked_sub(1)?)?;
@@ -191,6 +311,20 @@ impl LightingGridHierarchy {
     }
 
     /// Index, in the slice given to [`build`](Self::build), of level-0 light `index`.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::X, Vec3::ONE), PointLight::new(Vec3::ZERO, Vec3::ONE)];
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// for k in 0..lgh.len() {
+    ///     let i = lgh.input_index(k as u32).unwrap();
+    ///     assert_eq!(lgh.level(0).position(k), lights[i].position);
+    /// }
+    /// assert_eq!(lgh.input_index(2), None);
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[must_use]
     pub fn input_index(&self, index: u32) -> Option<usize> {
         self.input.perm.get(index as usize).map(|&i| i as usize)
@@ -198,6 +332,21 @@ impl LightingGridHierarchy {
 
     /// True if `light` of `level` is reported by queries: not dark, and not weaker than the
     /// weak-light threshold unless it is on the top level (which is never pruned).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::splat(0.1))];
+    /// let settings = GridSettings { prune_below: 0.5, ..Default::default() };
+    /// let lgh = LightingGridHierarchy::build(&lights, &settings)?;
+    /// let active: Vec<bool> = lgh.level(0).iter().map(|l| lgh.is_active(0, &l)).collect();
+    /// assert_eq!(active.iter().filter(|&&a| a).count(), 1); // the dim light is pruned
+    /// // The top level is never pruned: only its dark lights are inactive.
+    /// let top = lgh.max_level();
+    /// assert!(lgh.level(top).iter().all(|l| lgh.is_active(top, &l) == (l.luminance > 0.0)));
+    /// # Ok::<(), lgh_core::BuildError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn is_active(&self, level: u8, light: &GridLight) -> bool {

@@ -9,7 +9,7 @@ use super::LightingGridHierarchy;
 use crate::blend::{Blending, Ramp};
 use crate::bricks::Ball;
 use crate::error::QueryError;
-use crate::light::{Contribution, Hit, LevelLights};
+use crate::light::{Contribution, Hit, Inner, LevelLights};
 use crate::many_lights::{LightSample, Lobe};
 
 /// Every level: what the unrestricted queries pass.
@@ -36,6 +36,23 @@ impl LightingGridHierarchy {
     /// Calls `f(index, distance)` for every light of `level` whose position lies within `radius`
     /// of `x` and that queries report (see [`is_active`](Self::is_active)), using the level's
     /// index (no allocation). Useful for shadow precomputation and tests.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> = (0..64u32)
+    ///     .map(|i| Vec3::new((i % 4) as f32, (i / 4 % 4) as f32, (i / 16) as f32))
+    ///     .map(|p| PointLight::new(p, Vec3::ONE))
+    ///     .collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let x = Vec3::ONE;
+    /// let mut near = Vec::new();
+    /// lgh.lights_within(0, x, 1.0, |i, d| near.push((i, d)))?;
+    /// assert_eq!(near.len(), 7); // the light at x and its 6 neighbours
+    /// assert!(near.iter().all(|&(i, d)| d <= 1.0 && d == (lgh.level(0).position(i as usize) - x).length()));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn lights_within(
         &self,
         level: u8,
@@ -49,11 +66,12 @@ impl LightingGridHierarchy {
         }
         let lights = self.level(level);
         let r2 = radius * radius;
+        let mut hit = |i: usize, d: f32| -> Option<()> {
+            f(i as u32, d);
+            Some(())
+        };
         let report = |s: usize, e: usize| {
-            lights.scan(s, e, x, -1.0, r2, &mut |i: usize, d: f32| -> Option<()> {
-                f(i as u32, d);
-                Some(())
-            });
+            lights.scan(s, e, x, Inner::None, r2, &mut hit);
         };
         self.for_each_range_within(level, x, radius, report);
         Ok(())
@@ -270,7 +288,7 @@ impl LightingGridHierarchy {
                         lights: &LevelLights,
                         start: usize,
                         end: usize,
-                        inner2: f32,
+                        inner: Inner,
                         outer2: f32| {
             let mut hits = LevelHits {
                 f: &mut f,
@@ -278,7 +296,7 @@ impl LightingGridHierarchy {
                 level,
                 lights,
             };
-            let (r, n) = lights.scan(start, end, x, inner2, outer2, &mut hits);
+            let (r, n) = lights.scan(start, end, x, inner, outer2, &mut hits);
             sum = sum.add(r);
             count += n;
         };
@@ -288,7 +306,7 @@ impl LightingGridHierarchy {
         let reach2 = reach * reach;
         if top == 0 {
             if wanted(0) {
-                scan(0, &self.level0, 0, self.level0.len(), -1.0, reach2);
+                scan(0, &self.level0, 0, self.level0.len(), Inner::None, reach2);
             }
             return Ok((sum, count));
         }
@@ -296,7 +314,7 @@ impl LightingGridHierarchy {
             let outer = blending.support(0).1.min(reach);
             let outer2 = outer * outer;
             self.for_each_range(0, x, outer, |s, e| {
-                scan(0, &self.level0, s, e, -1.0, outer2)
+                scan(0, &self.level0, s, e, Inner::None, outer2)
             });
         }
 
@@ -305,9 +323,9 @@ impl LightingGridHierarchy {
             let level = &self.levels[l as usize - 1];
             let (inner, outer) = blending.support(l);
             let outer = outer.min(reach);
-            let (inner2, outer2) = (inner * inner, outer * outer);
+            let (inner_edge, outer2) = (Inner::Radius2(inner * inner), outer * outer);
             self.for_each_range(l, x, outer, |s, e| {
-                scan(l, &level.lights, s, e, inner2, outer2)
+                scan(l, &level.lights, s, e, inner_edge, outer2)
             });
         }
 
@@ -322,7 +340,7 @@ impl LightingGridHierarchy {
             &level.lights,
             0,
             level.lights.len(),
-            inner * inner,
+            Inner::Radius2(inner * inner),
             reach2,
         );
         Ok((sum, count))
@@ -411,10 +429,10 @@ impl LightingGridHierarchy {
             let (widest, each) = extents(l);
             let widest = widest.max(0.0);
             let (scan_inner, scan_outer) = (inner - widest, outer + widest);
-            let inner2 = if scan_inner > 0.0 {
-                scan_inner * scan_inner
+            let inner_edge = if scan_inner > 0.0 {
+                Inner::Radius2(scan_inner * scan_inner)
             } else {
-                -1.0
+                Inner::None
             };
             let ramp = blending.ramp(l);
             let mut hit = |index: usize, d: f32| -> Option<()> {
@@ -433,7 +451,7 @@ impl LightingGridHierarchy {
             };
             let outer2 = scan_outer * scan_outer;
             self.for_each_range_within(l, x, scan_outer, |s, e| {
-                lights.scan(s, e, x, inner2, outer2, &mut hit);
+                lights.scan(s, e, x, inner_edge, outer2, &mut hit);
             });
         }
         Ok(count)
