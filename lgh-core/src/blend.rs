@@ -56,8 +56,8 @@ pub struct Blending {
     max_level: u8,
     /// `r_ℓ` for ℓ = 0..=MAX_LEVEL.
     radius: [f32; MAX_LEVEL as usize + 1],
-    /// Hard level switches instead of eq. (3)'s blending (a flickering variant).
-    hard: bool,
+    /// Eq. (3)'s blending, or hard level switches (a flickering variant).
+    switches: Switches,
     /// Per level `(a, c1, b, c2)` with `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`: the rising and
     /// falling ramps, `a = 1 / r_{ℓ−1}`, `b = 1 / r_ℓ` (exact powers-of-two multiples of `1 / r_0`),
     /// or a constant 1 where a level has no ramp on that side.
@@ -120,7 +120,7 @@ impl Blending {
             max_level,
             radius,
             ramps,
-            hard: false,
+            switches: Switches::Blended,
         })
     }
 
@@ -143,14 +143,14 @@ impl Blending {
     /// ```
     #[must_use]
     pub fn with_hard_switches(mut self) -> Self {
-        self.hard = true;
+        self.switches = Switches::Hard;
         self
     }
 
     /// Whether the levels switch hard ([`with_hard_switches`](Self::with_hard_switches)).
     #[must_use]
     pub fn hard_switches(&self) -> bool {
-        self.hard
+        self.switches == Switches::Hard
     }
 
     /// The paper's α.
@@ -216,8 +216,8 @@ impl Blending {
     #[inline(always)]
     pub(crate) fn ramp(&self, level: u8) -> Ramp {
         match self.ramps.get(level as usize) {
-            Some(&r) if level <= self.max_level => Ramp(r, self.hard),
-            _ => Ramp([0.0, -1.0, 0.0, -1.0], false), // always 0
+            Some(&r) if level <= self.max_level => Ramp(r, self.switches),
+            _ => Ramp([0.0, -1.0, 0.0, -1.0], Switches::Blended), // always 0
         }
     }
 }
@@ -226,7 +226,17 @@ impl Blending {
 /// with hard switches ([`Blending::with_hard_switches`]), 1 where that is above ½ (or exactly ½
 /// on its falling side) and 0 elsewhere.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Ramp([f32; 4], bool);
+pub(crate) struct Ramp([f32; 4], Switches);
+
+/// How a distance takes its levels: blended by eq. (3), or one level whole (the paper's
+/// flickering variant, Sec. 3.2; [`Blending::with_hard_switches`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Switches {
+    /// Eq. (3): the levels' weights overlap and sum to one.
+    Blended,
+    /// The level whose `B_ℓ` is largest takes the whole weight.
+    Hard,
+}
 
 impl Ramp {
     /// `B_ℓ(d)`.
@@ -235,7 +245,7 @@ impl Ramp {
         let [a, c1, b, c2] = self.0;
         let (rise, fall) = (d * a + c1, c2 - d * b);
         let w = rise.min(fall).clamp(0.0, 1.0);
-        if !self.1 {
+        if self.1 == Switches::Blended {
             return w;
         }
         // The two non-zero weights at any d are 2 − a' and a' − 1 of one a' = d / r_ℓ, so they
