@@ -31,7 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let res: usize = res.parse()?;
     let time: f32 = time.parse()?;
     let volume = match kind.as_str() {
-        // The README's fireball (`procedural::procedural`) and the demo's explosion.
+        // The older soft fireball (`procedural::procedural`) and the demo's explosion.
         "fireball" => procedural::procedural(res, time)?,
         "explosion" => procedural::explosion(res, time)?,
         // The scattering tests' ball (core radius 0.5, 2500 K); TIME is ignored.

@@ -47,7 +47,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 
 # The scenes: how to make the OpenVDB file, and the medium both renderers use.
 SCENES = {
-    # The README's fireball (lgh_volume::procedural::procedural) at 64^3, t = 0.5 s.
+    # The older soft fireball (lgh_volume::procedural::procedural) at 64^3, t = 0.5 s.
     "fireball64": {"kind": "fireball", "res": 64, "time": 0.5},
     # The demo's explosion (lgh_volume::procedural::explosion) at 128^3, t = 0.5 s.
     "explosion128": {"kind": "explosion", "res": 128, "time": 0.5},
