@@ -8,9 +8,14 @@ use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_image::Image;
-use lgh_vpl::gi::{self, DirectLight, GiMethod, GiScene, GiSettings};
-use lgh_vpl::primary::PrimaryLight;
-use lgh_vpl::vpl::VplSettings;
+use lgh_vpl::gi::{
+    self, AdaptiveShading, CoarseShading, DirectLight, GiError, GiMethod, GiScene, GiSettings,
+    PerLight, SampleSetting,
+};
+use lgh_vpl::indirect::refine::DEFAULT_POINT_ERROR;
+use lgh_vpl::primary::{LightParseError, PrimaryLight};
+use lgh_vpl::representatives::MAX_PER_LIGHT;
+use lgh_vpl::vpl::{VplError, VplSettings};
 use lgh_vpl::{Camera, Mesh};
 use serde_json::json;
 
@@ -59,12 +64,13 @@ pub enum SampleAllocation {
     Adaptive,
 }
 
-impl From<SampleAllocation> for gi::SampleAllocation {
-    fn from(a: SampleAllocation) -> Self {
-        match a {
-            SampleAllocation::Uniform => gi::SampleAllocation::Uniform,
-            SampleAllocation::Intensity => gi::SampleAllocation::Intensity,
-            SampleAllocation::Adaptive => gi::SampleAllocation::Adaptive,
+impl SampleAllocation {
+    /// The flag's value, for messages.
+    fn name(self) -> &'static str {
+        match self {
+            SampleAllocation::Uniform => "uniform",
+            SampleAllocation::Intensity => "intensity",
+            SampleAllocation::Adaptive => "adaptive",
         }
     }
 }
@@ -77,15 +83,6 @@ pub enum CoarseShadows {
     /// Beyond the paper: k of the VPLs the light stands for, drawn once per light by weight,
     /// each shaded with its own lobe and shadow ray.
     Representatives,
-}
-
-impl From<CoarseShadows> for gi::CoarseShadows {
-    fn from(c: CoarseShadows) -> Self {
-        match c {
-            CoarseShadows::Gaussian => gi::CoarseShadows::Gaussian,
-            CoarseShadows::Representatives => gi::CoarseShadows::Representatives,
-        }
-    }
 }
 
 /// `--missing-textures`.
@@ -215,11 +212,13 @@ pub struct SceneArgs {
     /// unshadowed (`--shadow-samples` per coarse light on average; below one, Russian roulette
     /// seeded by the point); `intensity`, per light in proportion to its luminance over its
     /// level's mean; or `uniform`, `--shadow-samples` each.
-    /// Default: `adaptive` with `--aggregation isotropic`, `intensity` with `buckets`.
+    /// Default: `adaptive` with `--aggregation isotropic`, `intensity` with `buckets`; refused
+    /// with `--coarse-shadows gaussian`, to which it does not apply.
     #[arg(long, value_enum)]
     pub sample_allocation: Option<SampleAllocation>,
     /// The most representatives one coarse light gets, 1 to 64 (`adaptive`: rounded down to a
-    /// power of two; default 32; `intensity`: default 16).
+    /// power of two; default 32; `intensity`: default 16; refused where it does not apply,
+    /// with `uniform` and `--coarse-shadows gaussian`).
     #[arg(long)]
     pub max_shadow_samples: Option<u32>,
     /// No shadow rays: every VPL reaches every point it faces.
@@ -228,7 +227,8 @@ pub struct SceneArgs {
     /// How the hierarchy aggregates the VPLs: `isotropic`, the paper's one hierarchy of
     /// isotropic points, or `buckets`, one hierarchy per dominant normal axis whose coarse
     /// lights keep their mean normal's lobe (beyond the paper: better on the Cornell box,
-    /// slower on Sponza; `docs/gi.md`).
+    /// slower on Sponza; `docs/gi.md`; with `--sample-allocation intensity` or `uniform`, or
+    /// `--coarse-shadows gaussian`).
     #[arg(long, value_enum, default_value_t = Aggregation::Isotropic)]
     pub aggregation: Aggregation,
     /// Lightcuts' relative error ε (Walter et al.'s 2%), for `--backend lightcuts` and
@@ -255,30 +255,32 @@ pub struct SceneArgs {
     /// the glossy term from
     /// the VPLs inside the lobe's cone one by one, the cone chosen so that the glossy light
     /// left out is at most this fraction of the point's diffuse light (default 0.01); `off`:
-    /// the hierarchy alone everywhere.
-    #[arg(long, default_value = "0.01", value_parser = parse_bound)]
-    pub lobe_error: Bound,
+    /// the hierarchy alone everywhere. Refused with another coarse shading.
+    #[arg(long, value_parser = parse_bound)]
+    pub lobe_error: Option<Bound>,
     /// Backend lgh, with the default coarse shading: the bound on each shading point's error
     /// (0.1 is 10% of its light). Where a point's error, estimated from its own samples
     /// (1.645 standard errors), may exceed it, its coarse lights are shaded again with twice
-    /// the representatives, up to six times; `off`: the mean number everywhere.
-    /// `lgh bench gi` counts the pixels over it (`points_over_bound`).
-    #[arg(long, default_value = "0.1", value_parser = parse_bound)]
-    pub point_error: Bound,
+    /// the representatives, up to six times; `off`: the mean number everywhere (default 0.1;
+    /// refused with another coarse shading). `lgh bench gi` counts the pixels over it
+    /// (`points_over_bound`; over 0.1 with another shading).
+    #[arg(long, value_parser = parse_bound)]
+    pub point_error: Option<Bound>,
     /// Backend lgh, with the default coarse shading: where a coarse light's blending weight
     /// B_ℓ is taken. `representative`: at each representative's own distance, with every
     /// coarse light that may reach the point, so the hierarchy's estimate is unbiased against
     /// brute force over the same VPLs; `centre`: at the light's centre, as in the paper's
     /// eq. (3), whose smoothing stays in the image (about 1.8% of Sponza's light at α = 4).
-    #[arg(long, value_enum, default_value_t = BlendAt::Representative)]
-    pub blend_at: BlendAt,
+    /// Default `representative`; refused with another coarse shading.
+    #[arg(long, value_enum)]
+    pub blend_at: Option<BlendAt>,
     /// Backend lgh, with the default coarse shading: the representatives each shadow ray of a
     /// coarse light chooses among: 1, 2, 4, 8 or 16. Each is weighed by what it gives the point
     /// unshadowed, and the ray goes to one picked in proportion (resampled importance
     /// sampling): unbiased, with less of the noise of which VPL was drawn. 1 draws each
-    /// representative on its own.
-    #[arg(long, default_value_t = lgh_vpl::indirect::DEFAULT_CANDIDATES)]
-    pub candidates: u32,
+    /// representative on its own. Default 4; refused with another coarse shading.
+    #[arg(long)]
+    pub candidates: Option<u32>,
     /// Don't show progress.
     #[arg(long)]
     pub quiet: bool,
@@ -339,25 +341,105 @@ impl SceneArgs {
                 max_bounces: self.bounces,
                 seed: self.seed,
             },
-            aggregation: self.aggregation.into(),
-            coarse_shadows: self.coarse_shadows.into(),
-            sample_allocation: self.sample_allocation.map(Into::into),
-            shadow_samples: self.shadow_samples,
-            max_shadow_samples: self.max_shadow_samples,
+            coarse: self.coarse()?,
             shadows: !self.no_shadows,
             direct,
             specular_depth: self.specular_depth,
-            lobe_error: self.lobe_error.0,
-            point_error: self.point_error.0,
-            blend: self.blend_at.into(),
-            candidates: self.candidates,
         };
-        settings.check()?;
+        settings.check().map_err(flag_error)?;
         let lightcuts = GiMethod::Lightcuts {
             relative_error: self.lightcuts_error,
         };
-        lightcuts.check()?;
+        lightcuts.check().map_err(flag_error)?;
         Ok((settings, lightcuts))
+    }
+
+    /// The coarse shading the flags ask for: `--coarse-shadows`, `--sample-allocation` (its
+    /// default `adaptive` with the one hierarchy, `intensity` with the buckets) and
+    /// `--aggregation` choose it, and each of the other flags must apply to it (a flag that
+    /// does not is refused, naming the flags it needs); what is not given takes the library's
+    /// default for that shading.
+    fn coarse(&self) -> Result<CoarseShading, crate::Error> {
+        let allocation = match (self.coarse_shadows, self.sample_allocation) {
+            (CoarseShadows::Gaussian, Some(a)) => {
+                return Err(crate::usage(format!(
+                    "--sample-allocation {}: applies to --coarse-shadows representatives, not \
+                     gaussian",
+                    a.name()
+                )))
+            }
+            (CoarseShadows::Gaussian, None) => None,
+            (CoarseShadows::Representatives, Some(a)) => Some(a),
+            (CoarseShadows::Representatives, None) => Some(match self.aggregation {
+                Aggregation::Isotropic => SampleAllocation::Adaptive,
+                Aggregation::Buckets => SampleAllocation::Intensity,
+            }),
+        };
+        // What the shading is, in flags, for the refusals.
+        let shading = match allocation {
+            None => "--coarse-shadows gaussian".to_string(),
+            Some(a) => format!("--sample-allocation {}", a.name()),
+        };
+        if allocation != Some(SampleAllocation::Adaptive) {
+            let adaptive_only = [
+                ("--lobe-error", self.lobe_error.is_some()),
+                ("--point-error", self.point_error.is_some()),
+                ("--blend-at", self.blend_at.is_some()),
+                ("--candidates", self.candidates.is_some()),
+            ];
+            if let Some((flag, _)) = adaptive_only.iter().find(|(_, given)| *given) {
+                return Err(crate::usage(format!(
+                    "{flag} applies only to the default coarse shading (--coarse-shadows \
+                     representatives --sample-allocation adaptive), not with {shading}"
+                )));
+            }
+        }
+        if let (Some(max), None | Some(SampleAllocation::Uniform)) =
+            (self.max_shadow_samples, allocation)
+        {
+            return Err(crate::usage(format!(
+                "--max-shadow-samples {max}: applies to --sample-allocation adaptive or \
+                 intensity, not with {shading}"
+            )));
+        }
+        let aggregation = self.aggregation.into();
+        let k = self.shadow_samples;
+        Ok(match allocation {
+            None => CoarseShading::Gaussian {
+                samples: k.map_or(Ok(9), |k| whole(k, SampleSetting::Gaussian))?,
+                aggregation,
+            },
+            Some(SampleAllocation::Uniform) => CoarseShading::Representatives {
+                per_light: PerLight::Uniform {
+                    samples: k.map_or(Ok(2), |k| whole(k, SampleSetting::Uniform))?,
+                },
+                aggregation,
+            },
+            Some(SampleAllocation::Intensity) => CoarseShading::Representatives {
+                per_light: PerLight::ByIntensity {
+                    mean: k.unwrap_or(2.0),
+                    max: self.max_shadow_samples.unwrap_or(16),
+                },
+                aggregation,
+            },
+            Some(SampleAllocation::Adaptive) => {
+                if self.aggregation == Aggregation::Buckets {
+                    return Err(crate::usage(
+                        "--sample-allocation adaptive needs --aggregation isotropic (the \
+                         buckets take intensity or uniform)",
+                    ));
+                }
+                let d = AdaptiveShading::default();
+                CoarseShading::Adaptive(AdaptiveShading {
+                    mean_samples: k.unwrap_or(d.mean_samples),
+                    max_samples: self.max_shadow_samples.unwrap_or(d.max_samples),
+                    lobe_error: self.lobe_error.map_or(d.lobe_error, |b| b.0),
+                    point_error: self.point_error.map_or(d.point_error, |b| b.0),
+                    blend: self.blend_at.map_or(d.blend, Into::into),
+                    candidates: self.candidates.unwrap_or(d.candidates),
+                })
+            }
+        })
     }
 
     /// Checks the image size, the lights and the camera, then reads the scene, traces its VPLs
@@ -373,7 +455,10 @@ impl SceneArgs {
         let given: Vec<PrimaryLight> = self
             .lights
             .iter()
-            .map(|s| s.parse())
+            .map(|s| {
+                s.parse()
+                    .map_err(|e: LightParseError| format!("--light {}: {}", e.light(), e.reason()))
+            })
             .collect::<Result<_, _>>()?;
         let camera = match &self.camera {
             Some(s) => Some(crate::explosion::parse_camera(s, Vec3::Y, width, height)?),
@@ -391,7 +476,7 @@ impl SceneArgs {
             Some(c) => c,
             None => gi::front_view(mesh.bounds(), width, height)?,
         };
-        let scene = GiScene::prepare(mesh, given, settings)?;
+        let scene = GiScene::prepare(mesh, given, settings).map_err(flag_error)?;
         let mesh = scene.scene().mesh();
         let triangles = mesh.triangles().len();
         let defaulted = (0..triangles as u32)
@@ -404,7 +489,7 @@ impl SceneArgs {
             );
         }
         for &method in methods {
-            scene.build_for(method)?;
+            scene.build_for(method).map_err(flag_error)?;
         }
         Ok((scene, camera))
     }
@@ -412,36 +497,167 @@ impl SceneArgs {
     /// Header attributes common to every image of `scene`.
     fn header(&self, scene: &GiScene) -> Vec<(&'static str, String)> {
         let s = scene.settings();
+        let c = Described::of(&s.coarse);
         vec![
             ("obj", self.obj.display().to_string()),
             ("vpls", scene.vpls().len().to_string()),
             ("light_paths", scene.light_paths().to_string()),
             ("bounces", self.bounces.to_string()),
             ("seed", self.seed.to_string()),
-            ("shadow_samples", s.shadow_samples().to_string()),
-            ("max_shadow_samples", s.max_shadow_samples().to_string()),
-            (
-                "sample_allocation",
-                s.sample_allocation().name().to_string(),
-            ),
-            ("coarse_shadows", s.coarse_shadows.name().to_string()),
+            ("shadow_samples", c.shadow_samples.to_string()),
+            ("max_shadow_samples", or_none(c.max_shadow_samples)),
+            ("sample_allocation", or_none(c.sample_allocation)),
+            ("coarse_shadows", s.coarse.name().to_string()),
             ("shadows", s.shadows.to_string()),
             ("h0", scene.h0().to_string()),
             ("specular_depth", s.specular_depth.to_string()),
             (
                 "lobe_error",
-                s.lobe_error.map_or("off".into(), |e| e.to_string()),
+                c.lobe_error.map_or("off".into(), |e| e.to_string()),
             ),
             (
                 "point_error",
-                s.point_error.map_or("off".into(), |e| e.to_string()),
+                c.point_error.map_or("off".into(), |e| e.to_string()),
             ),
-            ("blend_at", s.blend.name().to_string()),
-            ("candidates", s.candidates.to_string()),
+            ("blend_at", or_none(c.blend_at)),
+            ("candidates", or_none(c.candidates)),
             ("normals", self.normals.name().to_string()),
             ("unhonoured", unhonoured(scene.scene().mesh())),
         ]
     }
+}
+
+/// `k` of `--shadow-samples` as the whole number `setting` takes, or the refusal naming the
+/// flag.
+fn whole(k: f32, setting: SampleSetting) -> Result<u32, crate::Error> {
+    let (min, max) = match setting {
+        SampleSetting::Gaussian => (0.0, gi::MAX_GAUSSIAN_SAMPLES as f32),
+        _ => (1.0, MAX_PER_LIGHT as f32),
+    };
+    if k.is_finite() && k.fract() == 0.0 && k >= min && k <= max {
+        Ok(k as u32)
+    } else {
+        Err(samples_message(setting, k, min, max).into())
+    }
+}
+
+/// The refusal of `value` for `setting`, in flags: `--shadow-samples 2000: expected a whole
+/// number from 0 to 1024 with --coarse-shadows gaussian`.
+fn samples_message(setting: SampleSetting, value: f32, min: f32, max: f32) -> String {
+    let flag = if setting.is_max() {
+        "--max-shadow-samples"
+    } else {
+        "--shadow-samples"
+    };
+    let (whole, with) = match setting {
+        SampleSetting::Gaussian => (true, "--coarse-shadows gaussian"),
+        SampleSetting::Uniform => (true, "--sample-allocation uniform"),
+        SampleSetting::IntensityMean => (false, "--sample-allocation intensity"),
+        SampleSetting::IntensityMax => (true, "--sample-allocation intensity"),
+        SampleSetting::AdaptiveMean => (false, "--sample-allocation adaptive"),
+        SampleSetting::AdaptiveMax => (true, "--sample-allocation adaptive"),
+    };
+    let number = if whole { "a whole number" } else { "a number" };
+    format!("{flag} {value}: expected {number} from {min} to {max} with {with}")
+}
+
+/// A library error of `lgh gi`, worded with the flags: lgh-vpl names its own settings
+/// (`AdaptiveShading::candidates 3`), the command line the flag that set them
+/// (`--candidates 3`). Errors that name no setting pass through as they are.
+fn flag_error(e: GiError) -> crate::Error {
+    let message = match e {
+        GiError::Samples {
+            setting,
+            value,
+            min,
+            max,
+        } => samples_message(setting, value, min, max),
+        GiError::AreaStrata { area_strata } => {
+            format!("--area-strata {area_strata}: expected 1 to 64")
+        }
+        GiError::LobeError { error } => format!(
+            "--lobe-error {error}: expected a positive number (0.01 is 1% of a point's diffuse \
+             light) or off"
+        ),
+        GiError::PointError { error } => format!(
+            "--point-error {error}: expected a positive number (0.1 is 10% of a point's light) \
+             or off"
+        ),
+        GiError::Candidates { candidates } => format!(
+            "--candidates {candidates}: expected {} (1 draws each representative on its own)",
+            gi::candidate_values()
+        ),
+        GiError::SpecularDepth { depth } => format!(
+            "--specular-depth {depth}: expected 0 to {}",
+            gi::MAX_SPECULAR_DEPTH
+        ),
+        GiError::RelativeError { relative_error } => {
+            format!("--lightcuts-error {relative_error}: expected a positive number (0.02 is 2%)")
+        }
+        GiError::Vpl(VplError::NoLights) => {
+            "the scene has no emissive face (MTL Ke) and no --light was given".to_string()
+        }
+        e => return Box::new(e),
+    };
+    message.into()
+}
+
+/// A coarse shading's settings for the EXR header and the JSON, as `lgh gi`'s flags name
+/// them: `None` where a setting does not apply to it.
+struct Described {
+    shadow_samples: f32,
+    max_shadow_samples: Option<u32>,
+    sample_allocation: Option<&'static str>,
+    lobe_error: Option<f32>,
+    point_error: Option<f32>,
+    blend_at: Option<&'static str>,
+    candidates: Option<u32>,
+}
+
+impl Described {
+    fn of(coarse: &CoarseShading) -> Described {
+        let none = Described {
+            shadow_samples: 0.0,
+            max_shadow_samples: None,
+            sample_allocation: None,
+            lobe_error: None,
+            point_error: None,
+            blend_at: None,
+            candidates: None,
+        };
+        match *coarse {
+            CoarseShading::Gaussian { samples, .. } => Described {
+                shadow_samples: samples as f32,
+                ..none
+            },
+            CoarseShading::Representatives { per_light, .. } => {
+                let (shadow_samples, max_shadow_samples) = match per_light {
+                    PerLight::Uniform { samples } => (samples as f32, None),
+                    PerLight::ByIntensity { mean, max } => (mean, Some(max)),
+                };
+                Described {
+                    shadow_samples,
+                    max_shadow_samples,
+                    sample_allocation: Some(per_light.name()),
+                    ..none
+                }
+            }
+            CoarseShading::Adaptive(a) => Described {
+                shadow_samples: a.mean_samples,
+                max_shadow_samples: Some(a.max_samples),
+                sample_allocation: Some("adaptive"),
+                lobe_error: a.lobe_error,
+                point_error: a.point_error,
+                blend_at: Some(a.blend.name()),
+                candidates: Some(a.candidates),
+            },
+        }
+    }
+}
+
+/// A header value: `none` for a setting that does not apply.
+fn or_none(value: Option<impl ToString>) -> String {
+    value.map_or("none".into(), |v| v.to_string())
 }
 
 /// The statements `mesh`'s files ask for and the renderer does not honour, for a header: one
@@ -476,7 +692,9 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     let t = Instant::now();
     let (scene, camera) = s.prepare(&settings, (s.width, s.height), &[method])?;
     let prepare_s = t.elapsed().as_secs_f64();
-    let r = scene.render(method, &camera, &Bars::new(s.quiet))?;
+    let r = scene
+        .render(method, &camera, &Bars::new(s.quiet))
+        .map_err(flag_error)?;
     let mut header = s.header(&scene);
     header.push(("render_seconds", format!("{:.3}", r.seconds)));
     header.push(("direct", (!args.no_direct).to_string()));
@@ -486,10 +704,19 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
     }
     if let GiMethod::Lgh { alpha } = method {
         header.push(("alpha", alpha.to_string()));
-        header.push(("aggregation", settings.aggregation.name().to_string()));
+        let aggregation = settings.coarse.aggregation().name();
+        header.push(("aggregation", aggregation.to_string()));
     }
     let attrs = output::header_attributes(method.name(), &header);
     let png = output::write_exr_png(&args.out, &r.rendered.image, &attrs, None)?;
+    if let Some(hint) = dark_hint(
+        scene.scene(),
+        &camera,
+        &r.rendered.image,
+        s.camera.is_none(),
+    ) {
+        eprintln!("lgh gi: warning: {hint}");
+    }
     say!(
         "lgh gi: {} triangles, {} primary lights ({} emissive faces), {} VPLs from {} paths, traced and built in {prepare_s:.2} s; indirect by {} {:.1} s, {:.1} lights and {:.1} shadow rays per point; {} -> {}, {}",
         scene.scene().mesh().triangles().len(),
@@ -512,6 +739,52 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
         png.display()
     );
     Ok(())
+}
+
+/// The most pixels with any light that an image may have and be called black: 1%.
+const DARK_SHARE: f64 = 0.01;
+
+/// Why `image`, rendered from `camera` in `scene`, is black — at most [`DARK_SHARE`] of its
+/// pixels hold any light — and the flags that place the camera; `None` if it is not.
+/// `default_camera`: the camera is the front view ([`gi::front_view`], no `--camera`), which
+/// stands outside the scene's box, so in a closed room it sees the outside of a wall (the
+/// first image of a scanned conference room was black, and said nothing).
+fn dark_hint(
+    scene: &lgh_vpl::Scene,
+    camera: &Camera,
+    image: &Image,
+    default_camera: bool,
+) -> Option<String> {
+    let lit = image
+        .pixels
+        .iter()
+        .filter(|p| p.max_element() > 0.0)
+        .count();
+    if lit as f64 > DARK_SHARE * image.pixels.len() as f64 {
+        return None;
+    }
+    let (width, height) = (camera.width(), camera.height());
+    let hits = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let (origin, dir) = camera.ray(x, y);
+            scene.intersect(&lgh_vpl::Ray::new(origin, dir)).is_some()
+        })
+        .count();
+    let seen = if hits == 0 {
+        "the camera's rays hit nothing".to_string()
+    } else {
+        let share = 100.0 * hits as f64 / (width * height).max(1) as f64;
+        format!("{share:.0}% of the camera's rays hit a surface, and no light reaches it there")
+    };
+    let place = if default_camera {
+        "the default camera looks along -z at the scene's box from outside it, so in a closed \
+         room it sees the outside of a wall: place it inside with --camera \
+         EX,EY,EZ,TX,TY,TZ[,FOV]"
+    } else {
+        "check where --camera EX,EY,EZ,TX,TY,TZ[,FOV] stands and looks"
+    };
+    Some(format!("the image is black: {seen}; {place}"))
 }
 
 impl BenchGiArgs {
@@ -560,15 +833,13 @@ fn write_bench_image(
 /// Runs `lgh bench gi`: brute force over every VPL and the hierarchy at each α on the same
 /// pixels, in the same run; JSON on stdout.
 pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
-    let s = &args.scene;
     let alphas = args.alphas()?;
     if let Some(dir) = &args.out {
         if !dir.is_dir() {
             return Err(format!("--out {}: not a folder", dir.display()).into());
         }
     }
-    let (settings, lightcuts) = s.settings(DirectLight::Off)?;
-    let (width, height) = args.framing();
+    let (settings, lightcuts) = args.scene.settings(DirectLight::Off)?;
     let mut methods: Vec<GiMethod> = alphas
         .iter()
         .map(|&alpha| GiMethod::Lgh { alpha })
@@ -576,36 +847,100 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
     if args.lightcuts {
         methods.push(lightcuts);
     }
-    let (scene, camera) = s.prepare(&settings, (width, height), &methods)?;
-    let bars = Bars::new(s.quiet);
-    // The pixels over the renderer's per-point bound, or over the default one without it.
-    let counted_against = f64::from(
-        settings
-            .point_error
-            .unwrap_or(lgh_vpl::indirect::DEFAULT_POINT_ERROR),
-    );
-    let exact = scene.render(GiMethod::Brute, &camera, &bars)?;
-    if let Some(dir) = &args.out {
-        write_bench_image(dir, "brute", &s.header(&scene), &exact.rendered.image, None)?;
+    let bench = Bench::new(args, &settings, &methods)?;
+    let mut runs = Vec::new();
+    for &alpha in &alphas {
+        let extra = ("alpha", alpha.to_string());
+        let mut r = bench.against(GiMethod::Lgh { alpha }, format!("alpha-{alpha}"), extra)?;
+        r["alpha"] = json!(alpha);
+        runs.push(r);
     }
-    // One method's run against brute force: its JSON, its image and difference image.
-    let run = |method: GiMethod, name: String, extra: (&'static str, String)| {
-        let r = scene.render(method, &camera, &bars)?;
+    let lightcuts = if args.lightcuts {
+        let error = args.scene.lightcuts_error;
+        let extra = ("lightcuts_error", error.to_string());
+        let mut r = bench.against(lightcuts, "lightcuts".into(), extra)?;
+        r["relative_error"] = json!(error);
+        Some(r)
+    } else {
+        None
+    };
+    say!("{}", bench.summary(runs, lightcuts));
+    Ok(())
+}
+
+/// One `lgh bench gi`: the scene prepared for its methods, the camera, and brute force's
+/// render on its pixels, against which each method runs.
+struct Bench<'a> {
+    args: &'a BenchGiArgs,
+    scene: GiScene,
+    camera: Camera,
+    bars: Bars,
+    exact: gi::GiRender,
+    /// The per-pixel bound the pixels over it are counted against: the renderer's, or the
+    /// default one where it has none.
+    counted_against: f64,
+    /// The framing of `--pixels`.
+    size: (usize, usize),
+}
+
+impl<'a> Bench<'a> {
+    /// Prepares the scene with `settings` for `methods` at the framing of `--pixels`, and
+    /// renders brute force (its image written with `--out`).
+    fn new(
+        args: &'a BenchGiArgs,
+        settings: &GiSettings,
+        methods: &[GiMethod],
+    ) -> Result<Self, crate::Error> {
+        let s = &args.scene;
+        let size = args.framing();
+        let (scene, camera) = s.prepare(settings, size, methods)?;
+        let bars = Bars::new(s.quiet);
+        let point_error = Described::of(&settings.coarse).point_error;
+        let counted_against = f64::from(point_error.unwrap_or(DEFAULT_POINT_ERROR));
+        let exact = scene
+            .render(GiMethod::Brute, &camera, &bars)
+            .map_err(flag_error)?;
+        if let Some(dir) = &args.out {
+            write_bench_image(dir, "brute", &s.header(&scene), &exact.rendered.image, None)?;
+        }
+        Ok(Bench {
+            args,
+            scene,
+            camera,
+            bars,
+            exact,
+            counted_against,
+            size,
+        })
+    }
+
+    /// `method`'s run against brute force: its JSON, and with `--out` its image `gi-NAME.exr`
+    /// (with `extra` in its header) and difference image.
+    fn against(
+        &self,
+        method: GiMethod,
+        name: String,
+        extra: (&'static str, String),
+    ) -> Result<serde_json::Value, crate::Error> {
+        let (scene, exact) = (&self.scene, &self.exact);
+        let r = scene
+            .render(method, &self.camera, &self.bars)
+            .map_err(flag_error)?;
         let (image, truth) = (&r.rendered.image, &exact.rendered.image);
         let rel = lgh_image::compare(image, truth).map_or(f64::NAN, |e| e.rel_rmse);
-        let points = lgh_image::point_errors(image, truth, counted_against).unwrap_or(
+        let points = lgh_image::point_errors(image, truth, self.counted_against).unwrap_or(
             lgh_image::PointErrors {
                 max: f64::NAN,
                 p99: f64::NAN,
                 over: f64::NAN,
             },
         );
-        if let Some(dir) = &args.out {
-            let mut header = s.header(&scene);
+        if let Some(dir) = &self.args.out {
+            let mut header = self.args.scene.header(scene);
             header.push(extra);
             write_bench_image(dir, &name, &header, image, Some(truth))?;
         }
-        Ok::<_, crate::Error>(json!({
+        Ok(json!({
             "lights_per_point": r.rendered.mean_lights(),
             "shadow_rays_per_pixel": r.shadow_rays_per_point(),
             "seconds": r.seconds,
@@ -619,46 +954,39 @@ pub fn bench(args: &BenchGiArgs) -> Result<(), crate::Error> {
             "point_error_p99": points.p99,
             "points_over_bound": points.over,
         }))
-    };
-    let mut runs = Vec::new();
-    for &alpha in &alphas {
-        let extra = ("alpha", alpha.to_string());
-        let mut r = run(GiMethod::Lgh { alpha }, format!("alpha-{alpha}"), extra)?;
-        r["alpha"] = json!(alpha);
-        runs.push(r);
     }
-    let lightcuts = if args.lightcuts {
-        let extra = ("lightcuts_error", s.lightcuts_error.to_string());
-        let mut r = run(lightcuts, "lightcuts".into(), extra)?;
-        r["relative_error"] = json!(s.lightcuts_error);
-        Some(r)
-    } else {
-        None
-    };
-    say!(
-        "{}",
+
+    /// The bench's JSON: the settings (null where one does not apply to the coarse shading),
+    /// the pixels, and the `runs` and `lightcuts` run against brute force.
+    fn summary(
+        &self,
+        runs: Vec<serde_json::Value>,
+        lightcuts: Option<serde_json::Value>,
+    ) -> serde_json::Value {
+        let (s, settings) = (&self.args.scene, self.scene.settings());
+        let c = Described::of(&settings.coarse);
+        let (width, height) = self.size;
         json!({
             "scene": s.obj.display().to_string(),
-            "vpls": scene.vpls().len(),
+            "vpls": self.scene.vpls().len(),
             "normals": s.normals.name(),
-            "aggregation": settings.aggregation.name(),
-            "coarse_shadows": settings.coarse_shadows.name(),
-            "shadow_samples": settings.shadow_samples(),
-            "max_shadow_samples": settings.max_shadow_samples(),
-            "sample_allocation": settings.sample_allocation().name(),
+            "aggregation": settings.coarse.aggregation().name(),
+            "coarse_shadows": settings.coarse.name(),
+            "shadow_samples": c.shadow_samples,
+            "max_shadow_samples": c.max_shadow_samples,
+            "sample_allocation": c.sample_allocation,
             "component": "indirect",
-            "point_error": settings.point_error,
-            "blend_at": settings.blend.name(),
-            "candidates": settings.candidates,
-            "points_counted_against": counted_against,
-            "lobe_error": settings.lobe_error,
-            "pixels": exact.rendered.pixels_shaded,
+            "point_error": c.point_error,
+            "blend_at": c.blend_at,
+            "candidates": c.candidates,
+            "points_counted_against": self.counted_against,
+            "lobe_error": c.lobe_error,
+            "pixels": self.exact.rendered.pixels_shaded,
             "width": width,
             "height": height,
-            "brute_shadow_rays_per_pixel": exact.shadow_rays_per_point(),
+            "brute_shadow_rays_per_pixel": self.exact.shadow_rays_per_point(),
             "runs": runs,
             "lightcuts": lightcuts,
         })
-    );
-    Ok(())
+    }
 }

@@ -1001,6 +1001,41 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
             ],
             "adaptive",
         ),
+        // A flag that does not apply to the coarse shading asked for is refused, named.
+        (
+            vec!["--coarse-shadows", "gaussian", "--lobe-error", "0.05"],
+            "--lobe-error applies only to the default coarse shading",
+        ),
+        (
+            vec!["--sample-allocation", "intensity", "--candidates", "2"],
+            "--candidates applies only",
+        ),
+        (
+            vec![
+                "--coarse-shadows",
+                "gaussian",
+                "--sample-allocation",
+                "uniform",
+            ],
+            "--sample-allocation uniform: applies to --coarse-shadows representatives",
+        ),
+        (
+            vec![
+                "--sample-allocation",
+                "uniform",
+                "--max-shadow-samples",
+                "8",
+            ],
+            "--max-shadow-samples 8: applies to",
+        ),
+        (
+            vec!["--candidates", "3"],
+            "--candidates 3: expected 1, 2, 4, 8 or 16",
+        ),
+        (
+            vec!["--point-error", "0"],
+            "--point-error 0: expected a positive number",
+        ),
     ] {
         let mut args = vec!["gi", "--obj", s, "--light", lamp, "--out", "x.exr"];
         args.extend(bad);
@@ -1069,7 +1104,10 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
             args.push("--no-direct");
         }
         let o = lgh(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        // The default view sees into the box: no hint of a black image.
+        assert!(!err.contains("the image is black"), "{err}");
         let img = lgh_image::read_exr(&out).unwrap();
         assert!(img.pixels.iter().any(|p| p.x > 0.0), "{backend}");
         total.push(img.pixels.iter().map(|p| p.x as f64).sum::<f64>());
@@ -1194,6 +1232,82 @@ fn gi_names_what_the_scene_asks_for_and_does_not_render() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.contains("not honoured"), "{err}");
     assert_eq!(header(&out)("lgh:unhonoured"), listed);
+}
+
+/// `lgh gi` names once on stderr how many zero-area triangles the OBJ had (dropped, as they
+/// have nothing to render), and the EXR header keeps the count too.
+#[test]
+fn gi_names_the_zero_area_triangles_it_drops() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two triangles with area and three without (collinear, repeated corners).
+    let obj = file(
+        dir.path(),
+        "slivers.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\n\
+         f 1 2 3\nf 2 4 3\nf 1 2 5\nf 1 1 2\nf 3 3 3\n",
+    );
+    let out = dir.path().join("out.exr");
+    let o = tiny_gi(&obj, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let line = "`f of zero area` 3 of 5 triangles have zero area";
+    assert_eq!(err.matches(line).count(), 1, "{err}");
+    assert!(err.contains(&format!("{}: ", obj.display())), "{err}");
+    assert!(header(&out)("lgh:unhonoured").contains(line));
+    // Quiet: only the header.
+    let o = tiny_gi(&obj, &out, &["--quiet"]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("zero area"));
+}
+
+/// A closed box lit from inside, seen by the default camera, which stands outside the box:
+/// the image is black, and `lgh gi` says why and names `--camera`; placed inside with
+/// `--camera`, the image is lit and nothing is said.
+#[test]
+fn gi_says_why_the_default_camera_outside_a_closed_room_sees_black() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::new();
+    for z in [-1, 1] {
+        for y in [-1, 1] {
+            for x in [-1, 1] {
+                text += &format!("v {x} {y} {z}\n");
+            }
+        }
+    }
+    // The cube's six faces, two triangles each.
+    text += "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\n\
+             f 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n";
+    let obj = file(dir.path(), "closed.obj", &text);
+    let render = |extra: &[&str]| {
+        let out = dir.path().join("closed.exr");
+        let mut args = vec![
+            "gi",
+            "--obj",
+            obj.to_str().unwrap(),
+            "--light",
+            "point:0,0,0,5,5,5",
+            "--vpls",
+            "200",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = lgh(&args);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        (err, lgh_image::read_exr(&out).unwrap())
+    };
+    let (err, image) = render(&[]);
+    assert!(image.pixels.iter().all(|p| *p == Vec3::ZERO));
+    assert!(err.contains("the image is black"), "{err}");
+    assert!(err.contains("outside") && err.contains("--camera"), "{err}");
+    let (err, image) = render(&["--camera", "0,0,0.9,0,0,-1,60"]);
+    assert!(image.pixels.iter().any(|p| p.x > 0.0));
+    assert!(!err.contains("the image is black"), "{err}");
 }
 
 /// `--normals face` shades every face with its own normal: the file's `vn` is named as not

@@ -17,7 +17,7 @@
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use lgh_vpl::gi::{DirectLight, GiMethod, GiScene, GiSettings};
+use lgh_vpl::gi::{AdaptiveShading, CoarseShading, DirectLight, GiMethod, GiScene, GiSettings};
 use lgh_vpl::lgh_core::glam::Vec3;
 use lgh_vpl::primary::PrimaryLight;
 use lgh_vpl::vpl::VplSettings;
@@ -48,7 +48,10 @@ fn bench_scene(
         ..GiSettings::default()
     };
     let unbounded = GiSettings {
-        point_error: None,
+        coarse: CoarseShading::Adaptive(AdaptiveShading {
+            point_error: None,
+            ..AdaptiveShading::default()
+        }),
         ..settings
     };
     let camera = Camera::new(eye, target, Vec3::Y, fov, WIDTH, HEIGHT).expect("a valid camera");

@@ -9,7 +9,7 @@
 //! any camera through a [`GiMethod`] carrying its own parameters — the hierarchy at α (the
 //! paper's Fig. 13 compares α = 1, 4, 16 with brute force), brute force over every VPL (the
 //! exact answer of the same model) or Lightcuts at its relative error — with shadow rays
-//! through the BVH ([`crate::indirect`]; coarse lights shaded as [`CoarseShadows`] says: the
+//! through the BVH ([`crate::indirect`]; coarse lights shaded as [`CoarseShading`] says: the
 //! paper's Gaussian samples of Fig. 11d, or representative VPLs), plus the direct light of the
 //! primary lights ([`crate::direct`]) when the settings ask for it.
 //!
@@ -28,12 +28,13 @@ use lgh_core::{
 };
 
 use crate::direct::{render_direct, Direct, DirectSettings};
+use crate::indirect::lobe::DEFAULT_LOBE_ERROR;
+use crate::indirect::refine::DEFAULT_POINT_ERROR;
+use crate::indirect::resample::{DEFAULT_CANDIDATES, MAX_CANDIDATES};
+use crate::indirect::BlendAt;
 use crate::indirect::{
     point_lights, render_buckets, render_input_lights, render_lgh, Coarse, Indirect,
     IndirectSettings, NormalBuckets,
-};
-use crate::indirect::{
-    BlendAt, DEFAULT_CANDIDATES, DEFAULT_LOBE_ERROR, DEFAULT_POINT_ERROR, MAX_CANDIDATES,
 };
 use crate::mesh::Mesh;
 use crate::primary::{area_lights, PrimaryLight};
@@ -44,7 +45,9 @@ use crate::specular::DEFAULT_SPECULAR_DEPTH;
 use crate::vpl::{trace, Vpl, VplError, VplSettings, Vpls};
 use lgh_image::camera::{CameraError, Pinhole as Camera};
 
-/// How the hierarchy aggregates the VPLs.
+/// How a hierarchy aggregates the VPLs, for the coarse shadings drawn once per light
+/// ([`CoarseShading::Gaussian`], [`CoarseShading::Representatives`]); the adaptive shading
+/// shares its samples over the one isotropic hierarchy, so it has none to choose.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Aggregation {
     /// The paper's: one hierarchy, the VPLs aggregated as isotropic points.
@@ -57,6 +60,11 @@ pub enum Aggregation {
 
 impl Aggregation {
     /// Its name, as `lgh gi --aggregation` spells it.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::Aggregation;
+    /// assert_eq!(Aggregation::default().name(), "isotropic");
+    /// ```
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
@@ -66,49 +74,421 @@ impl Aggregation {
     }
 }
 
-/// Where a coarse light's `k` shadow samples lie.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CoarseShadows {
-    /// The paper's (Fig. 11d): `k` points drawn with the light's variance σ² (eq. 4).
-    Gaussian,
-    /// Beyond the paper: `k` of the VPLs the light stands for, drawn once per light by weight,
-    /// each shaded with its own lobe and shadow ray ([`crate::representatives`]).
-    #[default]
-    Representatives,
+/// How many representatives each coarse light draws, once per light, with
+/// [`CoarseShading::Representatives`] ([`crate::representatives`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PerLight {
+    /// The same number for every coarse light.
+    Uniform {
+        /// Representatives of each light, 1 to [`MAX_PER_LIGHT`].
+        samples: u32,
+    },
+    /// Per light, in proportion to its luminance against its level's mean.
+    ByIntensity {
+        /// The mean number per light, 1 to [`MAX_PER_LIGHT`].
+        mean: f32,
+        /// The most one light draws, 1 to [`MAX_PER_LIGHT`].
+        max: u32,
+    },
 }
 
-impl CoarseShadows {
-    /// Its name, as `lgh gi --coarse-shadows` spells it.
+impl PerLight {
+    /// Its name, as `lgh gi --sample-allocation` spells it: `uniform` or `intensity`.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::PerLight;
+    /// assert_eq!(PerLight::Uniform { samples: 2 }.name(), "uniform");
+    /// assert_eq!(PerLight::ByIntensity { mean: 2.0, max: 16 }.name(), "intensity");
+    /// ```
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
-            CoarseShadows::Gaussian => "gaussian",
-            CoarseShadows::Representatives => "representatives",
+            PerLight::Uniform { .. } => "uniform",
+            PerLight::ByIntensity { .. } => "intensity",
+        }
+    }
+
+    /// How the representatives are drawn.
+    fn allocation(self) -> Allocation {
+        match self {
+            PerLight::Uniform { samples } => Allocation::Uniform(samples),
+            PerLight::ByIntensity { mean, max } => Allocation::ByIntensity { mean, max },
         }
     }
 }
 
-/// How [`CoarseShadows::Representatives`] shares the shadow samples among coarse lights.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SampleAllocation {
-    /// `k` for every coarse light.
-    Uniform,
-    /// Per light, in proportion to its luminance against its level's mean.
-    Intensity,
-    /// Per shading point, in proportion to what each coarse light brings there unshadowed (a
-    /// power-of-two prefix of its nested representatives; [`Coarse::Adaptive`]).
-    Adaptive,
+/// The settings of [`CoarseShading::Adaptive`], the default: representatives shared per
+/// shading point over the one isotropic hierarchy ([`crate::indirect::Coarse::Adaptive`]).
+/// [`Default`] is `lgh gi`'s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdaptiveShading {
+    /// The mean draws per coarse light, shared among a point's coarse lights in proportion
+    /// to what each brings there unshadowed: [`MIN_ADAPTIVE_SAMPLES`] to [`MAX_PER_LIGHT`]
+    /// (below one, most lights take their draw by roulette). Default
+    /// [`DEFAULT_ADAPTIVE_SAMPLES`].
+    pub mean_samples: f32,
+    /// The most representatives one coarse light has, 1 to [`MAX_PER_LIGHT`], rounded down to
+    /// a power of two (the nested prefixes). Default 32: a light that dominates a point may
+    /// take many.
+    pub max_samples: u32,
+    /// The bound ε (relative to a point's reflected light, [`crate::indirect::lobe`]) at
+    /// which a glossy lobe too sharp for the hierarchy is split, its VPLs in the lobe's cone
+    /// shaded one by one; `None`: the hierarchy alone everywhere. Finite and above 0; default
+    /// [`DEFAULT_LOBE_ERROR`].
+    pub lobe_error: Option<f32>,
+    /// The bound ε on each shading point's error at which its coarse lights are shaded again
+    /// with more representatives, while the point's estimated error (1.645 standard errors,
+    /// [`crate::indirect::refine`]) exceeds ε of its light; `None`: the mean number
+    /// everywhere. Finite and above 0; default [`DEFAULT_POINT_ERROR`].
+    pub point_error: Option<f32>,
+    /// Where a coarse light's blending weight `B_ℓ` (eq. 3) is taken: at each
+    /// representative's own distance (the default: unbiased against brute force) or at the
+    /// light's centre ([`BlendAt`]).
+    pub blend: BlendAt,
+    /// The candidates each of a coarse light's draws looks at, one picked for its shadow ray
+    /// by what each gives unshadowed ([`crate::indirect::resample`]): a power of two from 1 to
+    /// [`MAX_CANDIDATES`] (so that a light's draws look at a power-of-two prefix of its nested
+    /// representatives), 1 drawing each representative on its own. Default
+    /// [`DEFAULT_CANDIDATES`].
+    pub candidates: u32,
 }
 
-impl SampleAllocation {
-    /// Its name, as `lgh gi --sample-allocation` spells it.
+impl Default for AdaptiveShading {
+    /// [`DEFAULT_ADAPTIVE_SAMPLES`] draws per coarse light on average, at most 32
+    /// representatives, the lobe bound [`DEFAULT_LOBE_ERROR`], the point bound
+    /// [`DEFAULT_POINT_ERROR`], blended per representative, each draw resampled among
+    /// [`DEFAULT_CANDIDATES`].
+    fn default() -> Self {
+        AdaptiveShading {
+            mean_samples: DEFAULT_ADAPTIVE_SAMPLES,
+            max_samples: 32,
+            lobe_error: Some(DEFAULT_LOBE_ERROR),
+            point_error: Some(DEFAULT_POINT_ERROR),
+            blend: BlendAt::Representative,
+            candidates: DEFAULT_CANDIDATES,
+        }
+    }
+}
+
+/// How [`GiMethod::Lgh`] shades the hierarchy's coarse lights (levels ≥ 1), each way with
+/// exactly the settings that apply to it (paper Sec. 6.4, Fig. 11; ARCHITECTURE.md, "From an
+/// OBJ to an EXR"). [`Default`] is `lgh gi`'s: [`CoarseShading::adaptive`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CoarseShading {
+    /// The paper's (Sec. 6.4, Fig. 11d): each coarse light a volume light, shaded through
+    /// `samples` points drawn with its variance σ² (eq. 4), each with a shadow ray.
+    Gaussian {
+        /// Samples `k` per coarse light, 0 to [`MAX_GAUSSIAN_SAMPLES`]; 0 shades it as a
+        /// point (Fig. 11c).
+        samples: u32,
+        /// How the VPLs are aggregated (with [`Aggregation::Buckets`] each sample emits its
+        /// bucket's lobe).
+        aggregation: Aggregation,
+    },
+    /// Beyond the paper: each coarse light shaded through some of the VPLs it stands for,
+    /// drawn once per light by weight, each with its own lobe and shadow ray
+    /// ([`crate::representatives`]).
+    Representatives {
+        /// How many each light draws.
+        per_light: PerLight,
+        /// How the VPLs are aggregated.
+        aggregation: Aggregation,
+    },
+    /// Beyond the paper, the default: representatives shared per shading point over the one
+    /// isotropic hierarchy, split lobes and a per-point error bound ([`AdaptiveShading`]).
+    Adaptive(AdaptiveShading),
+}
+
+impl Default for CoarseShading {
+    /// [`CoarseShading::adaptive`].
+    fn default() -> Self {
+        CoarseShading::adaptive()
+    }
+}
+
+impl CoarseShading {
+    /// The default shading, representatives shared per point, with [`AdaptiveShading`]'s
+    /// defaults.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{Aggregation, CoarseShading, DEFAULT_ADAPTIVE_SAMPLES};
+    /// let CoarseShading::Adaptive(a) = CoarseShading::adaptive() else { unreachable!() };
+    /// assert_eq!((a.mean_samples, a.max_samples), (DEFAULT_ADAPTIVE_SAMPLES, 32));
+    /// assert_eq!(CoarseShading::adaptive().aggregation(), Aggregation::Isotropic);
+    /// ```
+    #[must_use]
+    pub fn adaptive() -> Self {
+        CoarseShading::Adaptive(AdaptiveShading::default())
+    }
+
+    /// The paper's Gaussian samples (Fig. 11d): 9 per coarse light, one hierarchy.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{Aggregation, CoarseShading};
+    /// assert_eq!(
+    ///     CoarseShading::gaussian(),
+    ///     CoarseShading::Gaussian { samples: 9, aggregation: Aggregation::Isotropic }
+    /// );
+    /// ```
+    #[must_use]
+    pub fn gaussian() -> Self {
+        CoarseShading::Gaussian {
+            samples: 9,
+            aggregation: Aggregation::Isotropic,
+        }
+    }
+
+    /// Representatives drawn once per light in proportion to its luminance: 2 per light on
+    /// average, at most 16, one hierarchy.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{Aggregation, CoarseShading, PerLight};
+    /// assert_eq!(
+    ///     CoarseShading::by_intensity(),
+    ///     CoarseShading::Representatives {
+    ///         per_light: PerLight::ByIntensity { mean: 2.0, max: 16 },
+    ///         aggregation: Aggregation::Isotropic,
+    ///     }
+    /// );
+    /// ```
+    #[must_use]
+    pub fn by_intensity() -> Self {
+        CoarseShading::Representatives {
+            per_light: PerLight::ByIntensity { mean: 2.0, max: 16 },
+            aggregation: Aggregation::Isotropic,
+        }
+    }
+
+    /// Representatives drawn once per light, 2 for every light, one hierarchy.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{CoarseShading, PerLight};
+    /// let CoarseShading::Representatives { per_light, .. } = CoarseShading::uniform() else {
+    ///     unreachable!()
+    /// };
+    /// assert_eq!(per_light, PerLight::Uniform { samples: 2 });
+    /// ```
+    #[must_use]
+    pub fn uniform() -> Self {
+        CoarseShading::Representatives {
+            per_light: PerLight::Uniform { samples: 2 },
+            aggregation: Aggregation::Isotropic,
+        }
+    }
+
+    /// The same shading with `aggregation`, or `None` for the adaptive shading, which has
+    /// only the one isotropic hierarchy.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{Aggregation, CoarseShading};
+    /// let buckets = CoarseShading::gaussian().with_aggregation(Aggregation::Buckets);
+    /// assert_eq!(buckets.map(|c| c.aggregation()), Some(Aggregation::Buckets));
+    /// assert_eq!(CoarseShading::adaptive().with_aggregation(Aggregation::Buckets), None);
+    /// ```
+    #[must_use]
+    pub fn with_aggregation(self, aggregation: Aggregation) -> Option<Self> {
+        match self {
+            CoarseShading::Gaussian { samples, .. } => Some(CoarseShading::Gaussian {
+                samples,
+                aggregation,
+            }),
+            CoarseShading::Representatives { per_light, .. } => {
+                Some(CoarseShading::Representatives {
+                    per_light,
+                    aggregation,
+                })
+            }
+            CoarseShading::Adaptive(_) if aggregation == Aggregation::Isotropic => Some(self),
+            CoarseShading::Adaptive(_) => None,
+        }
+    }
+
+    /// How the VPLs are aggregated: the variant's own, [`Aggregation::Isotropic`] for the
+    /// adaptive shading.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{Aggregation, CoarseShading};
+    /// assert_eq!(CoarseShading::default().aggregation(), Aggregation::Isotropic);
+    /// ```
+    #[must_use]
+    pub fn aggregation(&self) -> Aggregation {
+        match *self {
+            CoarseShading::Gaussian { aggregation, .. }
+            | CoarseShading::Representatives { aggregation, .. } => aggregation,
+            CoarseShading::Adaptive(_) => Aggregation::Isotropic,
+        }
+    }
+
+    /// Where the samples lie, as `lgh gi --coarse-shadows` spells it: `gaussian` or
+    /// `representatives` (both ways of drawing representatives).
+    ///
+    /// ```
+    /// use lgh_vpl::gi::CoarseShading;
+    /// assert_eq!(CoarseShading::gaussian().name(), "gaussian");
+    /// assert_eq!(CoarseShading::adaptive().name(), "representatives");
+    /// ```
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            CoarseShading::Gaussian { .. } => "gaussian",
+            CoarseShading::Representatives { .. } | CoarseShading::Adaptive(_) => "representatives",
+        }
+    }
+
+    /// Checks every number against its range (the types say the rest).
+    ///
+    /// Errors: [`GiError::Samples`], [`GiError::LobeError`], [`GiError::PointError`],
+    /// [`GiError::Candidates`].
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{AdaptiveShading, CoarseShading, GiError, SampleSetting};
+    /// assert!(CoarseShading::default().check().is_ok());
+    /// let few = CoarseShading::Adaptive(AdaptiveShading { mean_samples: 0.2, ..Default::default() });
+    /// assert!(matches!(
+    ///     few.check(),
+    ///     Err(GiError::Samples { setting: SampleSetting::AdaptiveMean, .. })
+    /// ));
+    /// ```
+    pub fn check(&self) -> Result<(), GiError> {
+        let per_light = MAX_PER_LIGHT as f32;
+        let range = |setting: SampleSetting, value: f32, min: f32, max: f32| {
+            if value.is_finite() && value >= min && value <= max {
+                Ok(())
+            } else {
+                Err(GiError::Samples {
+                    setting,
+                    value,
+                    min,
+                    max,
+                })
+            }
+        };
+        let bound = |error: Option<f32>| error.is_none_or(|e| e.is_finite() && e > 0.0);
+        match *self {
+            CoarseShading::Gaussian { samples, .. } => range(
+                SampleSetting::Gaussian,
+                samples as f32,
+                0.0,
+                MAX_GAUSSIAN_SAMPLES as f32,
+            ),
+            CoarseShading::Representatives {
+                per_light: PerLight::Uniform { samples },
+                ..
+            } => range(SampleSetting::Uniform, samples as f32, 1.0, per_light),
+            CoarseShading::Representatives {
+                per_light: PerLight::ByIntensity { mean, max },
+                ..
+            } => {
+                range(SampleSetting::IntensityMean, mean, 1.0, per_light)?;
+                range(SampleSetting::IntensityMax, max as f32, 1.0, per_light)
+            }
+            CoarseShading::Adaptive(a) => {
+                // A mean shared per point: below one, most lights take their sample by
+                // roulette.
+                let mean = a.mean_samples;
+                range(
+                    SampleSetting::AdaptiveMean,
+                    mean,
+                    MIN_ADAPTIVE_SAMPLES,
+                    per_light,
+                )?;
+                range(
+                    SampleSetting::AdaptiveMax,
+                    a.max_samples as f32,
+                    1.0,
+                    per_light,
+                )?;
+                if !bound(a.lobe_error) {
+                    return Err(GiError::LobeError {
+                        error: a.lobe_error.unwrap_or_default(),
+                    });
+                }
+                if !bound(a.point_error) {
+                    return Err(GiError::PointError {
+                        error: a.point_error.unwrap_or_default(),
+                    });
+                }
+                if !(1..=MAX_CANDIDATES).contains(&a.candidates) || !a.candidates.is_power_of_two()
+                {
+                    return Err(GiError::Candidates {
+                        candidates: a.candidates,
+                    });
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The Gaussian samples of a coarse light shaded as the paper's volume light
+    /// ([`IndirectSettings::gaussian_samples`]): the Gaussian shading's `samples`; for
+    /// representatives drawn once per light, the whole part of their (mean) number, what a
+    /// light without representatives (one without weight) is shaded with; none for the
+    /// adaptive shading, which never shades a coarse light as a volume light.
+    fn gaussian_samples(&self) -> u32 {
+        match *self {
+            CoarseShading::Gaussian { samples, .. } => samples,
+            CoarseShading::Representatives {
+                per_light: PerLight::Uniform { samples },
+                ..
+            } => samples,
+            CoarseShading::Representatives {
+                per_light: PerLight::ByIntensity { mean, .. },
+                ..
+            } => mean as u32,
+            CoarseShading::Adaptive(_) => 0,
+        }
+    }
+}
+
+/// A number of [`CoarseShading`]'s samples, named in [`GiError::Samples`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SampleSetting {
+    /// [`CoarseShading::Gaussian`]'s `samples`.
+    Gaussian,
+    /// [`PerLight::Uniform`]'s `samples`.
+    Uniform,
+    /// [`PerLight::ByIntensity`]'s `mean`.
+    IntensityMean,
+    /// [`PerLight::ByIntensity`]'s `max`.
+    IntensityMax,
+    /// [`AdaptiveShading::mean_samples`].
+    AdaptiveMean,
+    /// [`AdaptiveShading::max_samples`].
+    AdaptiveMax,
+}
+
+impl SampleSetting {
+    /// Its name in the library: `CoarseShading::Gaussian samples`, `PerLight::ByIntensity
+    /// max`, `AdaptiveShading::mean_samples`, ….
+    ///
+    /// ```
+    /// use lgh_vpl::gi::SampleSetting;
+    /// assert_eq!(SampleSetting::AdaptiveMean.name(), "AdaptiveShading::mean_samples");
+    /// ```
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
-            SampleAllocation::Uniform => "uniform",
-            SampleAllocation::Intensity => "intensity",
-            SampleAllocation::Adaptive => "adaptive",
+            SampleSetting::Gaussian => "CoarseShading::Gaussian samples",
+            SampleSetting::Uniform => "PerLight::Uniform samples",
+            SampleSetting::IntensityMean => "PerLight::ByIntensity mean",
+            SampleSetting::IntensityMax => "PerLight::ByIntensity max",
+            SampleSetting::AdaptiveMean => "AdaptiveShading::mean_samples",
+            SampleSetting::AdaptiveMax => "AdaptiveShading::max_samples",
         }
+    }
+
+    /// Whether it is a most (`max`), not a number of samples.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::SampleSetting;
+    /// assert!(SampleSetting::AdaptiveMax.is_max() && !SampleSetting::Uniform.is_max());
+    /// ```
+    #[must_use]
+    pub fn is_max(self) -> bool {
+        matches!(
+            self,
+            SampleSetting::IntensityMax | SampleSetting::AdaptiveMax
+        )
     }
 }
 
@@ -134,30 +514,14 @@ impl Default for DirectLight {
 }
 
 /// What a [`GiScene`] is prepared with: everything that does not depend on the method.
-/// `None` settings take their default for the others ([`sample_allocation`],
-/// [`max_shadow_samples`], [`shadow_samples`]); [`Default`] is `lgh gi`'s defaults.
-///
-/// [`sample_allocation`]: Self::sample_allocation
-/// [`max_shadow_samples`]: Self::max_shadow_samples
-/// [`shadow_samples`]: Self::shadow_samples
+/// [`Default`] is `lgh gi`'s defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GiSettings {
     /// How many VPLs (at least), how many bounces, which seed (also the seed of Lightcuts'
     /// representatives).
     pub vpls: VplSettings,
-    /// How the hierarchy aggregates the VPLs.
-    pub aggregation: Aggregation,
-    /// How a coarse light's shadow samples are placed.
-    pub coarse_shadows: CoarseShadows,
-    /// How representatives are shared among coarse lights (`None`: the default for the
-    /// aggregation).
-    pub sample_allocation: Option<SampleAllocation>,
-    /// Shadow samples `k` of a coarse light (a mean for `Intensity` and `Adaptive`; `None`: the
-    /// default for the placement and allocation).
-    pub shadow_samples: Option<f32>,
-    /// The most representatives one coarse light gets (`None`: the default for the
-    /// allocation).
-    pub max_shadow_samples: Option<u32>,
+    /// How [`GiMethod::Lgh`] aggregates the VPLs and shades its coarse lights.
+    pub coarse: CoarseShading,
     /// Whether shadow rays are traced (false: every VPL reaches every point it faces).
     pub shadows: bool,
     /// Whether renders add the direct light.
@@ -165,36 +529,15 @@ pub struct GiSettings {
     /// The most mirrors and glass surfaces a camera or light path follows, 0 to
     /// [`MAX_SPECULAR_DEPTH`] ([`crate::specular`]).
     pub specular_depth: u32,
-    /// The bound ε (relative to a point's reflected light, [`crate::indirect::lobe`]) at which
-    /// [`GiMethod::Lgh`] with its default coarse shading (representatives shared per point,
-    /// [`crate::indirect::Coarse::Adaptive`]) splits a glossy lobe too sharp for it, its VPLs
-    /// in the lobe's cone shaded one by one; the other coarse shadings and the normal buckets
-    /// do not split. `None`: the hierarchy alone everywhere. Finite and above 0.
-    pub lobe_error: Option<f32>,
-    /// The bound ε on each shading point's error at which [`GiMethod::Lgh`] with its default
-    /// coarse shading shades a point's coarse lights again with more representatives, while
-    /// the point's estimated error (1.645 standard errors, [`crate::indirect::refine`]) exceeds
-    /// ε of its light. `None`: the mean number everywhere. Finite and above 0.
-    pub point_error: Option<f32>,
-    /// Where [`GiMethod::Lgh`] with its default coarse shading takes a coarse light's blending
-    /// weight `B_ℓ`: at each representative's own distance (the default: unbiased against
-    /// brute force) or at the light's centre, as in eq. (3) ([`BlendAt`]).
-    pub blend: BlendAt,
-    /// The candidates each of a coarse light's draws looks at with [`GiMethod::Lgh`]'s default
-    /// coarse shading, one picked for its shadow ray by what each gives unshadowed
-    /// ([`crate::indirect::resample`]): a power of two from 1 to [`MAX_CANDIDATES`] (so that
-    /// a light's draws look at a power-of-two prefix of its nested representatives), 1
-    /// drawing each representative on its own.
-    pub candidates: u32,
 }
 
-/// The least mean [`GiSettings::shadow_samples`] per coarse light that `Adaptive` takes: 1/4
-/// (shared per point, so below one most lights take their sample by roulette; below a quarter
-/// the point bound would do nearly all the work).
+/// The least [`AdaptiveShading::mean_samples`]: 1/4 (shared per point, so below one most
+/// lights take their sample by roulette; below a quarter the point bound would do nearly all
+/// the work).
 pub const MIN_ADAPTIVE_SAMPLES: f32 = 0.25;
 
-/// The mean draws per coarse light of the adaptive shading by default (`--shadow-samples`
-/// with `--sample-allocation adaptive`): 0.35. With the lights that face away left out
+/// The mean draws per coarse light of the adaptive shading by default
+/// ([`AdaptiveShading::mean_samples`]): 0.35. With the lights that face away left out
 /// ([`crate::facing`]) and the ray roulette ([`crate::indirect::resample`]), `lgh bench gi`
 /// at α = 4 and 365K VPLs measured, for 0.5, 0.4 and 0.35: Sponza (two runs of three
 /// renders each) 2.07%, 2.30% and 2.50% at 52–53×, 52× and 55–58× brute force's speed, the
@@ -203,129 +546,44 @@ pub const MIN_ADAPTIVE_SAMPLES: f32 = 0.25;
 /// those figures' speed.
 pub const DEFAULT_ADAPTIVE_SAMPLES: f32 = 0.35;
 
+/// The most Gaussian samples of a coarse light ([`CoarseShading::Gaussian`]): 1024.
+pub const MAX_GAUSSIAN_SAMPLES: u32 = 1024;
+
 /// The largest [`GiSettings::specular_depth`]: 32. (A camera path's branches carrying at least
 /// [`crate::specular::MIN_WEIGHT`] each are at most 1/`MIN_WEIGHT` = 1000, whatever the depth.)
 pub const MAX_SPECULAR_DEPTH: u32 = 32;
 
 impl Default for GiSettings {
-    /// [`VplSettings::default`] (100,000 VPLs of up to 3 bounces, seed 1), the one hierarchy,
-    /// representatives shared per point ([`DEFAULT_ADAPTIVE_SAMPLES`] draws per coarse light
-    /// on average, each resampled among 4, at most 32 representatives),
-    /// shadow rays, and the direct light through 4 × 4 strata.
+    /// [`VplSettings::default`] (100,000 VPLs of up to 3 bounces, seed 1),
+    /// [`CoarseShading::adaptive`] (representatives shared per point over the one hierarchy,
+    /// [`DEFAULT_ADAPTIVE_SAMPLES`] draws per coarse light on average, each resampled among
+    /// 4, at most 32 representatives), shadow rays, and the direct light through 4 × 4 strata.
     fn default() -> Self {
         GiSettings {
             vpls: VplSettings::default(),
-            aggregation: Aggregation::default(),
-            coarse_shadows: CoarseShadows::default(),
-            sample_allocation: None,
-            shadow_samples: None,
-            max_shadow_samples: None,
+            coarse: CoarseShading::default(),
             shadows: true,
             direct: DirectLight::default(),
             specular_depth: DEFAULT_SPECULAR_DEPTH,
-            lobe_error: Some(DEFAULT_LOBE_ERROR),
-            point_error: Some(DEFAULT_POINT_ERROR),
-            blend: BlendAt::default(),
-            candidates: DEFAULT_CANDIDATES,
         }
     }
 }
 
 impl GiSettings {
-    /// The allocation, or its default: `Adaptive` for the one hierarchy, `Intensity` for the
-    /// buckets (whose shading has no per-point allocation).
-    #[must_use]
-    pub fn sample_allocation(&self) -> SampleAllocation {
-        self.sample_allocation.unwrap_or(match self.aggregation {
-            Aggregation::Isotropic => SampleAllocation::Adaptive,
-            Aggregation::Buckets => SampleAllocation::Intensity,
-        })
-    }
-
-    /// The most representatives of one light, or its default: 32 for `Adaptive` (which shares
-    /// the samples per point, so a light that dominates a point may take many), 16 otherwise.
-    #[must_use]
-    pub fn max_shadow_samples(&self) -> u32 {
-        self.max_shadow_samples
-            .unwrap_or(match self.sample_allocation() {
-                SampleAllocation::Adaptive => 32,
-                SampleAllocation::Intensity | SampleAllocation::Uniform => 16,
-            })
-    }
-
-    /// `k`, or its default: 9 Gaussian samples (the paper's Fig. 11d); representatives,
-    /// [`DEFAULT_ADAPTIVE_SAMPLES`] for `Adaptive` (each draw resampled among
-    /// [`DEFAULT_CANDIDATES`]), 2 for `Intensity` and `Uniform`.
-    #[must_use]
-    pub fn shadow_samples(&self) -> f32 {
-        let representatives = self.coarse_shadows == CoarseShadows::Representatives;
-        self.shadow_samples
-            .unwrap_or(match self.sample_allocation() {
-                _ if !representatives => 9.0,
-                SampleAllocation::Adaptive => DEFAULT_ADAPTIVE_SAMPLES,
-                SampleAllocation::Intensity | SampleAllocation::Uniform => 2.0,
-            })
-    }
-
-    /// Checks the settings before any work ([`GiScene::prepare`] does too): `k` a whole number
-    /// from 0 (Gaussian samples, at most 1024) or 1 (representatives, at most
-    /// [`MAX_PER_LIGHT`]) unless it is a mean (`Intensity`; `Adaptive`, from
-    /// [`MIN_ADAPTIVE_SAMPLES`]); the most
-    /// representatives 1 to [`MAX_PER_LIGHT`]; `Adaptive` representatives only with the one
-    /// hierarchy; 1 to 64 strata. (The VPL counts are checked by [`trace`].)
+    /// Checks the settings before any work ([`GiScene::prepare`] does too): the coarse
+    /// shading's numbers ([`CoarseShading::check`]), the specular depth, 1 to 64 strata. (The
+    /// VPL counts are checked by [`trace`].)
     ///
-    /// Errors: [`GiError::ShadowSamples`], [`GiError::MaxShadowSamples`], [`GiError::PointError`],
-    /// [`GiError::AdaptiveBuckets`], [`GiError::AreaStrata`], [`GiError::SpecularDepth`],
-    /// [`GiError::Candidates`].
+    /// Errors: [`CoarseShading::check`]'s, [`GiError::AreaStrata`], [`GiError::SpecularDepth`].
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{GiError, GiSettings};
+    /// assert!(GiSettings::default().check().is_ok());
+    /// let deep = GiSettings { specular_depth: 33, ..GiSettings::default() };
+    /// assert_eq!(deep.check(), Err(GiError::SpecularDepth { depth: 33 }));
+    /// ```
     pub fn check(&self) -> Result<(), GiError> {
-        let representatives = self.coarse_shadows == CoarseShadows::Representatives;
-        let allocation = self.sample_allocation();
-        let samples = self.shadow_samples();
-        let whole = !representatives || allocation == SampleAllocation::Uniform;
-        let (min, max) = if representatives && allocation == SampleAllocation::Adaptive {
-            // A mean shared per point: below one, most lights take their sample by roulette.
-            (MIN_ADAPTIVE_SAMPLES, MAX_PER_LIGHT as f32)
-        } else if representatives {
-            (1.0, MAX_PER_LIGHT as f32)
-        } else {
-            (0.0, 1024.0)
-        };
-        if !(samples.is_finite() && samples >= min && samples <= max)
-            || (whole && samples.fract() != 0.0)
-        {
-            return Err(GiError::ShadowSamples {
-                samples,
-                whole,
-                min,
-                max,
-                coarse: self.coarse_shadows,
-            });
-        }
-        let most = self.max_shadow_samples();
-        if !(1..=MAX_PER_LIGHT).contains(&most) {
-            return Err(GiError::MaxShadowSamples { max: most });
-        }
-        if representatives
-            && allocation == SampleAllocation::Adaptive
-            && self.aggregation == Aggregation::Buckets
-        {
-            return Err(GiError::AdaptiveBuckets);
-        }
-        if let Some(error) = self.lobe_error {
-            if !(error.is_finite() && error > 0.0) {
-                return Err(GiError::LobeError { error });
-            }
-        }
-        if let Some(error) = self.point_error {
-            if !(error.is_finite() && error > 0.0) {
-                return Err(GiError::PointError { error });
-            }
-        }
-        if !(1..=MAX_CANDIDATES).contains(&self.candidates) || !self.candidates.is_power_of_two() {
-            return Err(GiError::Candidates {
-                candidates: self.candidates,
-            });
-        }
+        self.coarse.check()?;
         if self.specular_depth > MAX_SPECULAR_DEPTH {
             return Err(GiError::SpecularDepth {
                 depth: self.specular_depth,
@@ -336,19 +594,6 @@ impl GiSettings {
                 Err(GiError::AreaStrata { area_strata })
             }
             _ => Ok(()),
-        }
-    }
-
-    /// How the representatives are drawn, for a checked `k`.
-    fn allocation(&self) -> Allocation {
-        let k = self.shadow_samples();
-        match self.sample_allocation() {
-            SampleAllocation::Uniform => Allocation::Uniform(k as u32),
-            SampleAllocation::Intensity => Allocation::ByIntensity {
-                mean: k,
-                max: self.max_shadow_samples(),
-            },
-            SampleAllocation::Adaptive => Allocation::Nested(self.max_shadow_samples()),
         }
     }
 }
@@ -400,56 +645,47 @@ impl GiMethod {
     }
 }
 
-/// Why a [`GiScene`] could not be prepared or rendered. Messages name the settings as `lgh gi`
-/// spells them, as [`crate::primary`]'s do.
+/// Why a [`GiScene`] could not be prepared or rendered. Messages name the library's settings
+/// (`AdaptiveShading::candidates 3: …`); a command line words them with its own flags.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GiError {
-    /// `k` outside `min..=max`, or not whole where it must be.
-    ShadowSamples {
-        /// The rejected `k`.
-        samples: f32,
-        /// Whether it must be a whole number.
-        whole: bool,
+    /// A number of samples of [`CoarseShading`] outside `min..=max`.
+    Samples {
+        /// Which one.
+        setting: SampleSetting,
+        /// The rejected value.
+        value: f32,
         /// The least allowed.
         min: f32,
         /// The most allowed.
         max: f32,
-        /// The placement it was given for.
-        coarse: CoarseShadows,
     },
-    /// The most representatives of one light outside `1..=MAX_PER_LIGHT`.
-    MaxShadowSamples {
-        /// The rejected value.
-        max: u32,
-    },
-    /// [`SampleAllocation::Adaptive`] representatives with [`Aggregation::Buckets`].
-    AdaptiveBuckets,
-    /// Strata per side outside 1 to 64.
+    /// [`DirectLight::Stratified`]'s strata per side outside 1 to 64.
     AreaStrata {
         /// The rejected value.
         area_strata: u32,
     },
-    /// A lobe bound that is not finite and above 0.
+    /// [`AdaptiveShading::lobe_error`] not finite and above 0.
     LobeError {
         /// The rejected value.
         error: f32,
     },
-    /// A per-point bound that is not finite and above 0.
+    /// [`AdaptiveShading::point_error`] not finite and above 0.
     PointError {
         /// The rejected value.
         error: f32,
     },
-    /// Candidates of a resampled draw not a power of two from 1 to [`MAX_CANDIDATES`].
+    /// [`AdaptiveShading::candidates`] not a power of two from 1 to [`MAX_CANDIDATES`].
     Candidates {
         /// The rejected value.
         candidates: u32,
     },
-    /// A specular depth over [`MAX_SPECULAR_DEPTH`].
+    /// [`GiSettings::specular_depth`] over [`MAX_SPECULAR_DEPTH`].
     SpecularDepth {
         /// The rejected value.
         depth: u32,
     },
-    /// Lightcuts' relative error not finite and positive.
+    /// [`GiMethod::Lightcuts`]' relative error not finite and positive.
     RelativeError {
         /// The rejected value.
         relative_error: f32,
@@ -464,64 +700,64 @@ pub enum GiError {
     Render(RenderError),
 }
 
+/// The candidates [`AdaptiveShading::candidates`] takes, in words: "1, 2, 4, 8 or 16".
+///
+/// ```
+/// assert_eq!(lgh_vpl::gi::candidate_values(), "1, 2, 4, 8 or 16");
+/// ```
+#[must_use]
+pub fn candidate_values() -> String {
+    let powers: Vec<String> = (0..=MAX_CANDIDATES.ilog2())
+        .map(|k| (1u32 << k).to_string())
+        .collect();
+    match powers.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => powers.join(""),
+    }
+}
+
 impl std::fmt::Display for GiError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            GiError::ShadowSamples {
-                samples,
-                whole,
+            GiError::Samples {
+                setting,
+                value,
                 min,
                 max,
-                coarse,
             } => write!(
                 f,
-                "--shadow-samples {samples}: expected {} from {min} to {max} with \
-                 --coarse-shadows {}",
-                if *whole { "a whole number" } else { "a number" },
-                coarse.name()
+                "GiSettings::coarse: {} {value}: expected {min} to {max}",
+                setting.name()
             ),
-            GiError::MaxShadowSamples { max } => write!(
+            GiError::AreaStrata { area_strata } => write!(
                 f,
-                "--max-shadow-samples {max}: expected 1 to {MAX_PER_LIGHT}"
+                "GiSettings::direct: DirectLight::Stratified area_strata {area_strata}: \
+                 expected 1 to 64"
             ),
-            GiError::AdaptiveBuckets => write!(
-                f,
-                "--sample-allocation adaptive needs --aggregation isotropic (the buckets take \
-                 intensity or uniform)"
-            ),
-            GiError::AreaStrata { area_strata } => {
-                write!(f, "--area-strata {area_strata}: expected 1 to 64")
-            }
             GiError::LobeError { error } => write!(
                 f,
-                "--lobe-error {error}: expected a positive number (0.01 is 1% of a point's diffuse light)"
+                "GiSettings::coarse: AdaptiveShading::lobe_error {error}: expected a positive \
+                 number (0.01 is 1% of a point's diffuse light) or None"
             ),
             GiError::PointError { error } => write!(
                 f,
-                "--point-error {error}: expected a positive number (0.1 is 10% of a point's light) or off"
+                "GiSettings::coarse: AdaptiveShading::point_error {error}: expected a positive \
+                 number (0.1 is 10% of a point's light) or None"
             ),
-            GiError::Candidates { candidates } => {
-                // The powers of two up to the most: "1, 2, 4, 8 or 16".
-                let powers: Vec<String> = (0..=MAX_CANDIDATES.ilog2())
-                    .map(|k| (1u32 << k).to_string())
-                    .collect();
-                let (last, rest) = powers.split_last().expect("1 at least");
-                write!(
-                    f,
-                    "--candidates {candidates}: expected {} or {last} (1 draws each \
-                     representative on its own)",
-                    rest.join(", ")
-                )
-            }
-            GiError::SpecularDepth { depth } => {
-                write!(
-                    f,
-                    "--specular-depth {depth}: expected 0 to {MAX_SPECULAR_DEPTH}"
-                )
-            }
+            GiError::Candidates { candidates } => write!(
+                f,
+                "GiSettings::coarse: AdaptiveShading::candidates {candidates}: expected {} (1 \
+                 draws each representative on its own)",
+                candidate_values()
+            ),
+            GiError::SpecularDepth { depth } => write!(
+                f,
+                "GiSettings::specular_depth {depth}: expected 0 to {MAX_SPECULAR_DEPTH}"
+            ),
             GiError::RelativeError { relative_error } => write!(
                 f,
-                "--lightcuts-error {relative_error}: expected a positive number (0.02 is 2%)"
+                "GiMethod::Lightcuts relative_error {relative_error}: expected a positive \
+                 number (0.02 is 2%)"
             ),
             GiError::Vpl(e) => write!(f, "{e}"),
             GiError::Build(e) => write!(f, "{e}"),
@@ -631,10 +867,10 @@ pub struct GiRender {
     /// methods).
     pub bounded_points: u64,
     /// Shading points whose glossy lobe the hierarchy split, its VPLs in the lobe's cone shaded
-    /// one by one (`GiSettings::lobe_error`).
+    /// one by one ([`AdaptiveShading::lobe_error`]).
     pub lobe_split_points: u64,
     /// Shading points whose coarse lights were shaded again with more representatives, their
-    /// estimated error over the bound (`GiSettings::point_error`).
+    /// estimated error over the bound ([`AdaptiveShading::point_error`]).
     pub refined_points: u64,
     /// The direct light's cost, if it was rendered.
     pub direct: Option<DirectStats>,
@@ -732,13 +968,18 @@ impl GiScene {
         traced.sort_spatially();
         let points = point_lights(&traced.vpls);
         let lgh = LightingGridHierarchy::build(&points, &GridSettings::default())?;
+        // The bounds only the adaptive shading reads.
+        let adaptive = match settings.coarse {
+            CoarseShading::Adaptive(a) => Some(a),
+            _ => None,
+        };
         let shading = IndirectSettings {
             h0: lgh.h0(),
-            shadow_samples: settings.shadow_samples() as u32,
+            gaussian_samples: settings.coarse.gaussian_samples(),
             epsilon: 1e-4 * (hi - lo).length(),
             shadows: settings.shadows,
-            lobe_error: settings.lobe_error,
-            point_error: settings.point_error,
+            lobe_error: adaptive.and_then(|a| a.lobe_error),
+            point_error: adaptive.and_then(|a| a.point_error),
         };
         Ok(GiScene {
             scene,
@@ -840,13 +1081,13 @@ impl GiScene {
                 }
                 LghExtras::Isotropic(reps) => {
                     let backend = LghBackend::new(&self.lgh, alpha)?;
-                    let coarse = match (reps, self.settings.allocation()) {
+                    let coarse = match (reps, self.settings.coarse) {
                         (None, _) => Coarse::Gaussian,
-                        (Some(reps), Allocation::Nested(_)) => Coarse::Adaptive {
+                        (Some(reps), CoarseShading::Adaptive(a)) => Coarse::Adaptive {
                             reps,
-                            mean: self.settings.shadow_samples(),
-                            blend: self.settings.blend,
-                            candidates: self.settings.candidates,
+                            mean: a.mean_samples,
+                            blend: a.blend,
+                            candidates: a.candidates,
                         },
                         (Some(reps), _) => Coarse::Representatives(reps),
                     };
@@ -871,21 +1112,27 @@ impl GiScene {
     /// The normal buckets or the representatives, built at the first call.
     fn extras(&self) -> Result<&LghExtras, GiError> {
         get_or_build(&self.extras, || {
-            let representatives = self.settings.coarse_shadows == CoarseShadows::Representatives;
-            let allocation = self.settings.allocation();
-            Ok(match self.settings.aggregation {
-                Aggregation::Buckets => {
-                    let b = NormalBuckets::build(&self.traced.vpls, &GridSettings::default())?;
-                    LghExtras::Buckets(if representatives {
-                        b.with_representatives(allocation)
-                    } else {
-                        b
-                    })
-                }
-                Aggregation::Isotropic => {
-                    LghExtras::Isotropic(representatives.then(|| {
-                        Representatives::build_for(&self.lgh, allocation, &self.traced.vpls)
-                    }))
+            let vpls = &self.traced.vpls;
+            let buckets = || NormalBuckets::build(vpls, &GridSettings::default());
+            let drawn = |allocation| Representatives::build_for(&self.lgh, allocation, vpls);
+            Ok(match self.settings.coarse {
+                CoarseShading::Gaussian { aggregation, .. } => match aggregation {
+                    Aggregation::Isotropic => LghExtras::Isotropic(None),
+                    Aggregation::Buckets => LghExtras::Buckets(buckets()?),
+                },
+                CoarseShading::Representatives {
+                    per_light,
+                    aggregation,
+                } => match aggregation {
+                    Aggregation::Isotropic => {
+                        LghExtras::Isotropic(Some(drawn(per_light.allocation())))
+                    }
+                    Aggregation::Buckets => {
+                        LghExtras::Buckets(buckets()?.with_representatives(per_light.allocation()))
+                    }
+                },
+                CoarseShading::Adaptive(a) => {
+                    LghExtras::Isotropic(Some(drawn(Allocation::Nested(a.max_samples))))
                 }
             })
         })
@@ -1012,14 +1259,17 @@ mod tests {
     #[test]
     fn gi_scene_at_a_large_alpha_equals_brute_force() {
         let camera = crate::indirect::tests::Fixture::camera(24, 18);
-        for (aggregation, coarse_shadows) in [
-            (Aggregation::Isotropic, CoarseShadows::Representatives),
-            (Aggregation::Isotropic, CoarseShadows::Gaussian),
-            (Aggregation::Buckets, CoarseShadows::Gaussian),
+        for coarse in [
+            CoarseShading::adaptive(),
+            CoarseShading::gaussian(),
+            CoarseShading::Gaussian {
+                samples: 9,
+                aggregation: Aggregation::Buckets,
+            },
         ] {
+            let aggregation = coarse.aggregation();
             let scene = room(GiSettings {
-                aggregation,
-                coarse_shadows,
+                coarse,
                 shadows: true,
                 direct: DirectLight::Off,
                 ..GiSettings::default()
@@ -1029,7 +1279,7 @@ mod tests {
                 .render(GiMethod::Lgh { alpha: 256.0 }, &camera, &())
                 .unwrap();
             let e = rel_rmse(&got, &exact);
-            assert!(e < 1e-5, "{aggregation:?} {coarse_shadows:?}: {e}");
+            assert!(e < 1e-5, "{coarse:?}: {e}");
             if aggregation == Aggregation::Isotropic {
                 assert_eq!(got.rendered.mean_lights(), scene.vpls().len() as f64);
             }
@@ -1063,54 +1313,79 @@ mod tests {
         assert!(brighter.clone().any(|(a, b)| b.x > a.x));
     }
 
-    /// Bad settings and parameters are refused before any work.
+    /// Bad settings and parameters are refused before any work, each named as the library
+    /// spells it.
     #[test]
     fn bad_settings_are_refused() {
-        let bad = |settings: GiSettings| settings.check().unwrap_err().to_string();
-        let gaussian = GiSettings {
-            coarse_shadows: CoarseShadows::Gaussian,
+        let with = |coarse| GiSettings {
+            coarse,
             ..GiSettings::default()
         };
-        assert!(bad(GiSettings {
-            shadow_samples: Some(2000.0),
-            ..gaussian
-        })
-        .contains("--shadow-samples 2000"));
-        assert!(bad(GiSettings {
-            shadow_samples: Some(1.5),
-            sample_allocation: Some(SampleAllocation::Uniform),
-            ..GiSettings::default()
-        })
-        .contains("whole number"));
-        // The adaptive sharing's mean may go below one, down to a quarter; the others' may not.
-        let mean = |k: f32, allocation| GiSettings {
-            shadow_samples: Some(k),
-            sample_allocation: Some(allocation),
-            ..GiSettings::default()
+        let bad = |coarse| with(coarse).check().unwrap_err().to_string();
+        let gaussian = |samples| CoarseShading::Gaussian {
+            samples,
+            aggregation: Aggregation::Isotropic,
         };
-        assert!(mean(MIN_ADAPTIVE_SAMPLES, SampleAllocation::Adaptive)
-            .check()
-            .is_ok());
-        assert!(bad(mean(0.2, SampleAllocation::Adaptive)).contains("from 0.25 to 64"));
-        assert!(bad(mean(0.5, SampleAllocation::Intensity)).contains("from 1 to 64"));
-        assert!(bad(GiSettings {
-            max_shadow_samples: Some(65),
-            ..GiSettings::default()
-        })
-        .contains("--max-shadow-samples"));
+        assert!(with(gaussian(MAX_GAUSSIAN_SAMPLES)).check().is_ok());
         assert_eq!(
-            GiSettings {
-                aggregation: Aggregation::Buckets,
-                sample_allocation: Some(SampleAllocation::Adaptive),
-                ..GiSettings::default()
-            }
-            .check(),
-            Err(GiError::AdaptiveBuckets)
+            bad(gaussian(2000)),
+            "GiSettings::coarse: CoarseShading::Gaussian samples 2000: expected 0 to 1024"
         );
+        // The adaptive sharing's mean may go below one, down to a quarter; the others' may not.
+        let adaptive = |a: AdaptiveShading| CoarseShading::Adaptive(a);
+        let mean = |mean_samples| {
+            adaptive(AdaptiveShading {
+                mean_samples,
+                ..AdaptiveShading::default()
+            })
+        };
+        assert!(with(mean(MIN_ADAPTIVE_SAMPLES)).check().is_ok());
+        assert!(bad(mean(0.2)).contains("AdaptiveShading::mean_samples 0.2: expected 0.25 to 64"));
+        let intensity = |mean, max| CoarseShading::Representatives {
+            per_light: PerLight::ByIntensity { mean, max },
+            aggregation: Aggregation::Buckets,
+        };
+        assert!(with(intensity(1.5, 16)).check().is_ok());
+        assert!(
+            bad(intensity(0.5, 16)).contains("PerLight::ByIntensity mean 0.5: expected 1 to 64")
+        );
+        assert!(bad(intensity(2.0, 65)).contains("PerLight::ByIntensity max 65"));
+        assert!(bad(adaptive(AdaptiveShading {
+            max_samples: 0,
+            ..AdaptiveShading::default()
+        }))
+        .contains("AdaptiveShading::max_samples 0"));
+        let uniform = CoarseShading::Representatives {
+            per_light: PerLight::Uniform { samples: 0 },
+            aggregation: Aggregation::Isotropic,
+        };
+        assert!(bad(uniform).contains("PerLight::Uniform samples 0: expected 1 to 64"));
+        // The adaptive shading has no buckets: the type says so.
+        assert_eq!(
+            CoarseShading::adaptive().with_aggregation(Aggregation::Buckets),
+            None
+        );
+        for (error, name) in [
+            (Some(0.0), "lobe_error 0"),
+            (Some(f32::NAN), "lobe_error NaN"),
+        ] {
+            let a = adaptive(AdaptiveShading {
+                lobe_error: error,
+                ..AdaptiveShading::default()
+            });
+            assert!(bad(a).contains(name), "{}", bad(a));
+        }
+        let a = adaptive(AdaptiveShading {
+            point_error: Some(-1.0),
+            ..AdaptiveShading::default()
+        });
+        assert_eq!(with(a).check(), Err(GiError::PointError { error: -1.0 }));
         // Candidates: a power of two up to 16.
-        let candidates = |candidates| GiSettings {
-            candidates,
-            ..GiSettings::default()
+        let candidates = |candidates| {
+            with(adaptive(AdaptiveShading {
+                candidates,
+                ..AdaptiveShading::default()
+            }))
         };
         for ok in [1, 2, 4, 8, 16] {
             assert!(candidates(ok).check().is_ok(), "{ok}");
@@ -1121,7 +1396,18 @@ mod tests {
                 Err(GiError::Candidates { candidates: no })
             );
         }
-        assert!(bad(candidates(3)).contains("--candidates 3: expected 1, 2, 4, 8 or 16"));
+        assert!(candidates(3)
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("AdaptiveShading::candidates 3: expected 1, 2, 4, 8 or 16"));
+        // No message names a command-line flag.
+        let strata = GiSettings {
+            direct: DirectLight::Stratified { area_strata: 0 },
+            ..GiSettings::default()
+        };
+        let e = strata.check().unwrap_err().to_string();
+        assert!(e.contains("area_strata 0") && !e.contains("--"), "{e}");
         assert!(GiMethod::Lightcuts {
             relative_error: 0.0
         }
@@ -1130,5 +1416,33 @@ mod tests {
         assert!(GiMethod::Lgh { alpha: f32::NAN }.check().is_err());
         let none = GiScene::prepare(room_mesh(), [] as [PrimaryLight; 0], &GiSettings::default());
         assert_eq!(none.err(), Some(GiError::Vpl(VplError::NoLights)));
+    }
+
+    /// `Default` is `lgh gi`'s defaults, as they were before the settings became one enum.
+    #[test]
+    fn the_default_settings_are_lgh_gi_defaults() {
+        let d = GiSettings::default();
+        assert_eq!(d.vpls, VplSettings::default());
+        assert!(d.shadows && d.specular_depth == DEFAULT_SPECULAR_DEPTH);
+        assert_eq!(d.direct, DirectLight::Stratified { area_strata: 4 });
+        let CoarseShading::Adaptive(a) = d.coarse else {
+            panic!("{:?}", d.coarse)
+        };
+        assert_eq!(
+            a,
+            AdaptiveShading {
+                mean_samples: 0.35,
+                max_samples: 32,
+                lobe_error: Some(0.01),
+                point_error: Some(0.1),
+                blend: BlendAt::Representative,
+                candidates: 4,
+            }
+        );
+        assert_eq!(d.coarse.aggregation(), Aggregation::Isotropic);
+        // A coarse light is never shaded as a volume light by the adaptive shading.
+        assert_eq!(d.coarse.gaussian_samples(), 0);
+        assert_eq!(CoarseShading::gaussian().gaussian_samples(), 9);
+        assert_eq!(CoarseShading::by_intensity().gaussian_samples(), 2);
     }
 }

@@ -50,13 +50,43 @@ pub enum PrimaryLight {
     },
 }
 
-/// Why a `--light` could not be read.
+/// Why a light's text (`point:…`, `spot:…`, `sun:…`) could not be read: the text and the
+/// reason, which a command line words with its own flag.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct LightParseError(String);
+pub struct LightParseError {
+    light: String,
+    reason: String,
+}
+
+impl LightParseError {
+    /// The text that could not be read.
+    ///
+    /// ```
+    /// use lgh_vpl::primary::PrimaryLight;
+    /// let e = "lamp:1,2,3".parse::<PrimaryLight>().unwrap_err();
+    /// assert_eq!(e.light(), "lamp:1,2,3");
+    /// ```
+    #[must_use]
+    pub fn light(&self) -> &str {
+        &self.light
+    }
+
+    /// Why, with the form expected.
+    ///
+    /// ```
+    /// use lgh_vpl::primary::PrimaryLight;
+    /// let e = "point:0,1".parse::<PrimaryLight>().unwrap_err();
+    /// assert_eq!(e.reason(), "2 numbers, not 6 (expected point:X,Y,Z,R,G,B)");
+    /// ```
+    #[must_use]
+    pub fn reason(&self) -> &str {
+        &self.reason
+    }
+}
 
 impl fmt::Display for LightParseError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        write!(f, "primary light {}: {}", self.light, self.reason)
     }
 }
 
@@ -85,12 +115,16 @@ impl FromStr for PrimaryLight {
             "spot" => ("spot:X,Y,Z,DX,DY,DZ,ANGLE,R,G,B", 10),
             "sun" => ("sun:DX,DY,DZ,R,G,B", 6),
             _ => {
-                return Err(LightParseError(format!(
-                    "--light {s}: expected point:…, spot:… or sun:…"
-                )))
+                return Err(LightParseError {
+                    light: s.to_owned(),
+                    reason: "expected point:…, spot:… or sun:…".to_owned(),
+                })
             }
         };
-        let bad = |why: &str| LightParseError(format!("--light {s}: {why} (expected {form})"));
+        let bad = |why: &str| LightParseError {
+            light: s.to_owned(),
+            reason: format!("{why} (expected {form})"),
+        };
         let v: Vec<f32> = rest
             .split(',')
             .map(|x| x.trim().parse::<f32>())

@@ -1,6 +1,7 @@
 //! What an OBJ or MTL file asks for that the renderer does not do: each statement it does not
 //! honour, named once with the file and line of its first use and why ([`Unhonoured`]), so
-//! that nothing a scene asks for is dropped without a word. `lgh gi` prints them on stderr
+//! that nothing a scene asks for is dropped without a word (nor are its triangles of zero
+//! area: their count is named once, [`crate::obj::ZERO_AREA`]). `lgh gi` prints them on stderr
 //! (with `--quiet`, only the EXR header keeps them).
 //!
 //! Honoured: OBJ `v`, `vt`, `vn`, `f`, `usemtl`, `mtllib`, `o` and `g` (names, which change

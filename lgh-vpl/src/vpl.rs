@@ -146,7 +146,7 @@ impl std::fmt::Display for VplError {
         match self {
             VplError::NoLights => write!(
                 f,
-                "the scene has no emissive face (MTL Ke) and no --light was given"
+                "the scene has no emissive face (MTL Ke) and no primary light was given"
             ),
             VplError::Settings => write!(
                 f,

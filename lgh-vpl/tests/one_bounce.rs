@@ -101,7 +101,7 @@ fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
         let point = point_lights(vpls);
         let settings = IndirectSettings {
             h0,
-            shadow_samples: 0,
+            gaussian_samples: 0,
             epsilon,
             shadows: true,
             lobe_error: None,

@@ -423,7 +423,7 @@ fn light_leaves_and_reaches_the_face_not_the_shading_normal() {
     };
     let shading = IndirectSettings {
         h0: 1e-3,
-        shadow_samples: 0,
+        gaussian_samples: 0,
         epsilon: 1e-4,
         shadows: true,
         lobe_error: None,

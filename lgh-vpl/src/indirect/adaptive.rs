@@ -347,6 +347,67 @@ struct PassResult {
     complete: bool,
 }
 
+/// A light's estimate in one pass ([`Pass::shade_light`]).
+struct Shaded {
+    /// Its estimate through its prefix, unweighted by the roulette.
+    estimate: Estimate,
+    /// The roulette's probability of shading it (1 for a light owed a draw or more).
+    p: f64,
+    /// Whether its draws are resampled (two candidates or more each).
+    resampled: bool,
+    /// Whether it was shaded through all its representatives, unweighted.
+    complete: bool,
+}
+
+/// The draws of one light in a pass ([`Pass::shade_draws`]).
+struct Draws<'r> {
+    /// Its level (≥ 1) and index there.
+    level: u8,
+    index: u32,
+    /// Its representatives, nested.
+    all: &'r [u32],
+    /// The candidates of each draw (1: each draw one representative).
+    g: usize,
+    /// The light as its representatives are shaded.
+    drawn: Drawn<'r>,
+}
+
+impl Draws<'_> {
+    /// Whether each draw is resampled among two candidates or more.
+    fn resampled(&self) -> bool {
+        self.g >= 2
+    }
+}
+
+/// The parts of a pass's variance in luminance, summed over its lights
+/// ([`Pass::add_variance`]).
+#[derive(Default)]
+struct Variance {
+    /// The lights' own (k ≥ 2) and the roulettes'.
+    own: f64,
+    /// The unshadowed squares of the single draws, whose visibility is taken at the point's
+    /// fraction.
+    single_sq: f64,
+    /// The draws' luminance, shadowed and unshadowed: the point's visible fraction.
+    lit: f64,
+    unshadowed: f64,
+    /// Which VPL the single draws drew, fitted over all of them (`WhichVpl`).
+    which: WhichVpl,
+}
+
+impl Variance {
+    /// The pass's variance.
+    fn total(self) -> f64 {
+        let own = self.own + self.which.variance();
+        let visible = if self.unshadowed > 0.0 {
+            self.lit / self.unshadowed
+        } else {
+            1.0
+        };
+        own + visible * (1.0 - visible) * self.single_sq
+    }
+}
+
 /// The passes over one point's coarse lights.
 struct Pass<'a> {
     lgh: &'a LightingGridHierarchy,
@@ -381,7 +442,41 @@ impl Pass<'_> {
             done,
             chosen,
         } = scratch;
-        let (point, normal, shader, total) = (self.point, self.normal, self.shader, self.total);
+        let mut complete = self.choose(lights, chosen, mean, offset);
+        let mut radiance = Vec3::ZERO;
+        // Without a point bound nothing reads the variance: its parts are not computed.
+        let estimate_variance = self.shader.settings.point_error.is_some();
+        let mut variance = Variance::default();
+        for (k, &(i, want)) in chosen.iter().enumerate() {
+            self.hint(lights, chosen, k);
+            let light = &mut lights[i as usize];
+            let shaded = self.shade_light(light, done, want);
+            complete &= shaded.complete;
+            radiance += shaded.estimate.radiance * (1.0 / shaded.p) as f32;
+            if estimate_variance {
+                self.add_variance(&mut variance, light, &shaded);
+            }
+        }
+        PassResult {
+            radiance,
+            variance: variance.total(),
+            complete,
+        }
+    }
+
+    /// The lights of this pass, pushed on `chosen` (cleared first) with the draws each is
+    /// owed of `mean` per counted light: every light, but those the roulette leaves out
+    /// (its numbers drawn from `offset` at the first pass, kept in the lights after). Their
+    /// representatives are hinted to the cache as they are chosen. Returns whether no light
+    /// was left out.
+    fn choose(
+        &self,
+        lights: &mut [Candidate],
+        chosen: &mut Vec<(u32, f32)>,
+        mean: f32,
+        offset: Option<f64>,
+    ) -> bool {
+        let total = self.total;
         // At least one light's worth: a point whose every light is gathered by its extent
         // alone (its centre outside the support) would otherwise get no samples and lose the
         // light those lights' VPLs give it. Each light's share is above zero, so with any
@@ -415,170 +510,180 @@ impl Pass<'_> {
             self.reps.hint(light.level, light.index);
             chosen.push((i as u32, want));
         }
-        let mut radiance = Vec3::ZERO;
-        // The variance's parts: the lights' own (k ≥ 2) and the roulette's, and the unshadowed
-        // squares of the single draws, whose visibility is taken at the point's fraction.
-        let (mut own, mut single_sq) = (0.0f64, 0.0f64);
-        let (mut lit, mut unshadowed) = (0.0f64, 0.0f64);
-        // Without a point bound nothing reads the variance: its parts are not computed.
-        let estimate_variance = shader.settings.point_error.is_some();
-        // Which VPL the single draws drew, fitted over all of them (`WhichVpl`).
-        let mut which = WhichVpl::default();
-        for (k, &(i, want)) in chosen.iter().enumerate() {
-            self.hint(lights, chosen, k);
-            let light = &mut lights[i as usize];
-            let all = self.reps.of(light.level, light.index);
-            let (m, p) = prefix(nested, want, all.len());
-            // Resampled draws of `g` candidates each. A fresh light's draws look at fewer
-            // candidates the more of them it takes, down to every representative with a ray
-            // of its own (the estimate complete); a light shaded before keeps its draws'
-            // candidates, so that the new draws add to the old (shading it afresh with fewer
-            // threw 15% of the draws away on Sponza; keeping them took 0.97x the time at the
-            // same error over ten alternating pairs).
-            let g = if !nested {
-                1
-            } else if light.m > 0 {
-                usize::from(light.g)
-            } else {
-                group(self.candidates, all.len(), m)
-            };
-            let resampled = g >= 2;
-            // Every draw the light can take (resampled draws past its representatives wrap
-            // around, so a light drawn with `g ≥ 2` takes at most as many as it has).
-            complete &= m >= all.len() && p == 1.0;
-            let drawn = Drawn {
+        complete
+    }
+
+    /// `light`, owed `want` draws, shaded through a prefix of its representatives: its
+    /// estimate, kept in `done` (the draws it had before kept, only the new ones shaded), and
+    /// its draws and their candidates noted in `light`.
+    fn shade_light(&self, light: &mut Candidate, done: &mut Vec<Estimate>, want: f32) -> Shaded {
+        let nested = self.reps.is_nested();
+        let all = self.reps.of(light.level, light.index);
+        let (m, p) = prefix(nested, want, all.len());
+        // Resampled draws of `g` candidates each. A fresh light's draws look at fewer
+        // candidates the more of them it takes, down to every representative with a ray
+        // of its own (the estimate complete); a light shaded before keeps its draws'
+        // candidates, so that the new draws add to the old (shading it afresh with fewer
+        // threw 15% of the draws away on Sponza; keeping them took 0.97x the time at the
+        // same error over ten alternating pairs).
+        let g = if !nested {
+            1
+        } else if light.m > 0 {
+            usize::from(light.g)
+        } else {
+            group(self.candidates, all.len(), m)
+        };
+        let draws = Draws {
+            level: light.level,
+            index: light.index,
+            all,
+            g,
+            drawn: Drawn {
                 luminance: light.luminance,
                 blend: self.blending.map(|b| (b, light.level)),
-            };
-            // The draws shaded before (of `g` candidates too).
-            let before = usize::from(light.m);
-            // Draws `range` of the light, shaded now, with the light's luminance over
-            // `range.len()`.
-            let shade = |range: std::ops::Range<usize>, tally: &mut Tally, at_point: f32| {
-                if resampled {
-                    // Each draw with the light's luminance over the draws shaded now.
-                    let each = Drawn {
-                        luminance: drawn.luminance / range.len() as f32,
-                        ..drawn
-                    };
-                    let single = range.len() == 1;
-                    let (mut radiance, mut spread, mut played) = (Vec3::ZERO, 0.0, 0.0);
-                    let mut rays = self.rays.get();
-                    for s in range {
-                        let how = How {
-                            numbers: pick_number(self.seed, light.level, light.index, s),
-                            at_point,
-                            rays: &mut rays,
-                        };
-                        let them = draw_candidates(all, g, s);
-                        let draw = shader.shade_resampled(point, normal, each, them, how, tally);
-                        radiance += draw.lit;
-                        if single {
-                            (spread, played) = (draw.spread, draw.played);
-                        }
-                    }
-                    self.rays.set(rays);
-                    (radiance, spread, played)
-                } else {
-                    let ids = all.get(range).unwrap_or(&[]).iter().map(|&i| i as usize);
-                    (
-                        shader.shade_drawn(point, normal, drawn, ids, tally),
-                        0.0,
-                        0.0,
-                    )
-                }
-            };
-            let estimate = if before == m {
-                // The same draws as before: the same estimate.
-                done[light.slot as usize]
-            } else if before > 0 && before < m {
-                // The first `before` as before; the rest shaded now; both at their share of m.
-                let mut rest = Tally::default();
-                let (a, b) = (before as f32 / m as f32, (m - before) as f32 / m as f32);
-                let (more, _, _) = shade(before..m, &mut rest, b / p as f32);
-                let kept = done[light.slot as usize];
-                let tally = kept
-                    .tally
-                    .scaled(f64::from(a))
-                    .merged(&rest.scaled(f64::from(b)));
-                Estimate {
-                    radiance: kept.radiance * a + more * b,
-                    tally,
-                    spread: 0.0,
-                    played: 0.0,
-                }
-            } else {
-                let mut tally = Tally::default();
-                let (radiance, spread, played) = shade(0..m, &mut tally, 1.0 / p as f32);
-                Estimate {
-                    radiance,
-                    tally,
-                    spread,
-                    played,
-                }
-            };
-            if light.m == 0 {
-                light.slot = done.len() as u32;
-                done.push(estimate);
-            } else {
-                done[light.slot as usize] = estimate;
+            },
+        };
+        // Every draw the light can take (resampled draws past its representatives wrap
+        // around, so a light drawn with `g ≥ 2` takes at most as many as it has).
+        let complete = m >= all.len() && p == 1.0;
+        // The draws shaded before (of `g` candidates too).
+        let before = usize::from(light.m);
+        let estimate = if before == m {
+            // The same draws as before: the same estimate.
+            done[light.slot as usize]
+        } else if before > 0 && before < m {
+            // The first `before` as before; the rest shaded now; both at their share of m.
+            let mut rest = Tally::default();
+            let (a, b) = (before as f32 / m as f32, (m - before) as f32 / m as f32);
+            let (more, _, _) = self.shade_draws(&draws, before..m, &mut rest, b / p as f32);
+            let kept = done[light.slot as usize];
+            let tally = kept
+                .tally
+                .scaled(f64::from(a))
+                .merged(&rest.scaled(f64::from(b)));
+            Estimate {
+                radiance: kept.radiance * a + more * b,
+                tally,
+                spread: 0.0,
+                played: 0.0,
             }
-            light.g = g as u8;
-            // At most 64 representatives a light (`MAX_PER_LIGHT`).
-            light.m = m.min(usize::from(u8::MAX)) as u8;
-            let tally = estimate.tally;
-            radiance += estimate.radiance * (1.0 / p) as f32;
-            if !estimate_variance {
-                continue;
+        } else {
+            let mut tally = Tally::default();
+            let (radiance, spread, played) =
+                self.shade_draws(&draws, 0..m, &mut tally, 1.0 / p as f32);
+            Estimate {
+                radiance,
+                tally,
+                spread,
+                played,
             }
-            lit += tally.lit();
-            unshadowed += tally.unshadowed();
-            let scale = 1.0 / (p * p);
-            if tally.draws() >= 2 {
-                own += tally.variance(0.0) * scale;
-            } else {
-                single_sq += tally.unshadowed_squares() * scale;
-                // Its ray's roulette (the sample variance of two or more draws has it).
-                own += estimate.played * scale;
-                if resampled && tally.unshadowed() > 0.0 {
-                    // Which VPL was drawn, from the spread of the draw's own candidates. (A
-                    // draw whose every candidate is dark says nothing of the light's other
-                    // representatives: the fit below.)
-                    own += estimate.spread * scale;
-                } else {
-                    // Which VPL was drawn: its unshadowed share against the light's own,
-                    // unshadowed, as the isotropic point it is in the hierarchy, scaled by
-                    // the factor that fits the point's single draws best (one draw's
-                    // deviation from the mean it estimates, `refine::WhichVpl`).
-                    let level = self.lgh.level(light.level);
-                    let (position, intensity) = (
-                        level.position(light.index as usize),
-                        level.intensity(light.index as usize) * light.weight,
-                    );
-                    let point_like = if super::facing(point, normal, position) {
-                        let lit = shader.reflect(point, normal, position, intensity);
-                        f64::from(lgh_core::luminance(lit))
-                    } else {
-                        0.0
-                    };
-                    which.add(tally.unshadowed(), point_like, scale);
-                }
-            }
-            if p < 1.0 {
-                let x = tally.lit() / p;
-                own += x * x * (1.0 - p);
+        };
+        if light.m == 0 {
+            light.slot = done.len() as u32;
+            done.push(estimate);
+        } else {
+            done[light.slot as usize] = estimate;
+        }
+        light.g = g as u8;
+        // At most 64 representatives a light (`MAX_PER_LIGHT`).
+        light.m = m.min(usize::from(u8::MAX)) as u8;
+        Shaded {
+            estimate,
+            p,
+            resampled: draws.resampled(),
+            complete,
+        }
+    }
+
+    /// Draws `range` of a light, shaded now, with the light's luminance over `range.len()`,
+    /// each added to `tally`; `at_point` is the fraction of the point's light a draw stands
+    /// for, which its ray's roulette plays with ([`RayRoulette`]). With a single resampled
+    /// draw, also its which-VPL and ray roulette variances ([`Draw`]); else 0 and 0.
+    fn shade_draws(
+        &self,
+        draws: &Draws<'_>,
+        range: std::ops::Range<usize>,
+        tally: &mut Tally,
+        at_point: f32,
+    ) -> (Vec3, f64, f64) {
+        let (point, normal, shader) = (self.point, self.normal, self.shader);
+        if !draws.resampled() {
+            let ids = draws
+                .all
+                .get(range)
+                .unwrap_or(&[])
+                .iter()
+                .map(|&i| i as usize);
+            let lit = shader.shade_drawn(point, normal, draws.drawn, ids, tally);
+            return (lit, 0.0, 0.0);
+        }
+        // Each draw with the light's luminance over the draws shaded now.
+        let each = Drawn {
+            luminance: draws.drawn.luminance / range.len() as f32,
+            ..draws.drawn
+        };
+        let single = range.len() == 1;
+        let (mut radiance, mut spread, mut played) = (Vec3::ZERO, 0.0, 0.0);
+        let mut rays = self.rays.get();
+        for s in range {
+            let how = How {
+                numbers: pick_number(self.seed, draws.level, draws.index, s),
+                at_point,
+                rays: &mut rays,
+            };
+            let them = draw_candidates(draws.all, draws.g, s);
+            let draw = shader.shade_resampled(point, normal, each, them, how, tally);
+            radiance += draw.lit;
+            if single {
+                (spread, played) = (draw.spread, draw.played);
             }
         }
-        own += which.variance();
-        let visible = if unshadowed > 0.0 {
-            lit / unshadowed
+        self.rays.set(rays);
+        (radiance, spread, played)
+    }
+
+    /// Adds `light`'s part of the pass's variance, from its estimate `shaded`
+    /// ([`refine`](super::refine)).
+    fn add_variance(&self, parts: &mut Variance, light: &Candidate, shaded: &Shaded) {
+        let (point, normal, p) = (self.point, self.normal, shaded.p);
+        let estimate = &shaded.estimate;
+        let tally = estimate.tally;
+        parts.lit += tally.lit();
+        parts.unshadowed += tally.unshadowed();
+        let scale = 1.0 / (p * p);
+        if tally.draws() >= 2 {
+            parts.own += tally.variance(0.0) * scale;
         } else {
-            1.0
-        };
-        PassResult {
-            radiance,
-            variance: own + visible * (1.0 - visible) * single_sq,
-            complete,
+            parts.single_sq += tally.unshadowed_squares() * scale;
+            // Its ray's roulette (the sample variance of two or more draws has it).
+            parts.own += estimate.played * scale;
+            if shaded.resampled && tally.unshadowed() > 0.0 {
+                // Which VPL was drawn, from the spread of the draw's own candidates. (A
+                // draw whose every candidate is dark says nothing of the light's other
+                // representatives: the fit below.)
+                parts.own += estimate.spread * scale;
+            } else {
+                // Which VPL was drawn: its unshadowed share against the light's own,
+                // unshadowed, as the isotropic point it is in the hierarchy, scaled by
+                // the factor that fits the point's single draws best (one draw's
+                // deviation from the mean it estimates, `refine::WhichVpl`).
+                let level = self.lgh.level(light.level);
+                let (position, intensity) = (
+                    level.position(light.index as usize),
+                    level.intensity(light.index as usize) * light.weight,
+                );
+                let point_like = if super::facing(point, normal, position) {
+                    let lit = self.shader.reflect(point, normal, position, intensity);
+                    f64::from(lgh_core::luminance(lit))
+                } else {
+                    0.0
+                };
+                parts.which.add(tally.unshadowed(), point_like, scale);
+            }
+        }
+        if p < 1.0 {
+            let x = tally.lit() / p;
+            parts.own += x * x * (1.0 - p);
         }
     }
 
@@ -761,7 +866,7 @@ mod tests {
             &f.scene,
             &f.vpls,
             super::super::IndirectSettings {
-                point_error: Some(super::super::DEFAULT_POINT_ERROR),
+                point_error: Some(super::super::refine::DEFAULT_POINT_ERROR),
                 ..f.shader().settings
             },
         );
@@ -772,7 +877,7 @@ mod tests {
                 reps: &reps,
                 mean: crate::gi::DEFAULT_ADAPTIVE_SAMPLES,
                 blend: BlendAt::Representative,
-                candidates: super::super::DEFAULT_CANDIDATES,
+                candidates: super::super::resample::DEFAULT_CANDIDATES,
             };
             render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
         };
@@ -826,7 +931,7 @@ mod tests {
                 candidates: if mean > 64.0 {
                     1
                 } else {
-                    super::super::DEFAULT_CANDIDATES
+                    super::super::resample::DEFAULT_CANDIDATES
                 },
             };
             render_lgh(&f.scene, &camera, &backend, coarse, shader, |_| {}).unwrap()

@@ -37,7 +37,7 @@ pub enum Coarse<'a> {
         /// Where each light's blending weight is taken.
         blend: BlendAt,
         /// The candidates of each resampled draw, 1 to
-        /// [`MAX_CANDIDATES`](super::MAX_CANDIDATES) (1: each draw one representative,
+        /// [`MAX_CANDIDATES`](super::resample::MAX_CANDIDATES) (1: each draw one representative,
         /// [`resample`](super::resample)).
         candidates: u32,
     },

@@ -54,7 +54,7 @@ impl Cone {
     /// ```
     /// use lgh_core::glam::Vec3;
     /// use lgh_core::{Material, ShadingPoint};
-    /// use lgh_vpl::indirect::Cone;
+    /// use lgh_vpl::indirect::lobe::Cone;
     ///
     /// let phong = |exponent| ShadingPoint {
     ///     position: Vec3::ZERO,

@@ -29,7 +29,8 @@
 //! (the bright blotches of unclamped VPLs near corners).
 //!
 //! The shader is here; the normal buckets are in `buckets` and the strategies for coarse lights
-//! in `coarse`, both re-exported here.
+//! in `coarse`, both re-exported here. The modules [`lobe`], [`refine`] and [`resample`] are
+//! public, and their items are reached through them only (`indirect::lobe::Cone`).
 
 mod adaptive;
 mod buckets;
@@ -44,9 +45,8 @@ pub(crate) use buckets::render_buckets;
 pub use buckets::{BucketsAt, NormalBuckets};
 pub(crate) use coarse::render_lgh;
 pub use coarse::Coarse;
-pub use lobe::{Cone, DEFAULT_LOBE_ERROR, MAX_CONE};
-pub use refine::{Tally, WhichVpl, DEFAULT_POINT_ERROR};
-pub use resample::{DEFAULT_CANDIDATES, MAX_CANDIDATES};
+use lobe::Cone;
+use refine::{Tally, WhichVpl};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -80,18 +80,24 @@ fn isotropic_intensity(v: &Vpl) -> Vec3 {
 pub struct IndirectSettings {
     /// The singularity clamp `h0`: distances below it count as `h0`.
     pub h0: f32,
-    /// Shadow samples `k` of a coarse (volume) light; 0 shades it as a point (Fig. 11c).
-    pub shadow_samples: u32,
+    /// Gaussian shadow samples `k` of a coarse light shaded as the paper's volume light
+    /// (Sec. 6.4, Fig. 11d): every coarse light with [`Coarse::Gaussian`] and the normal
+    /// buckets without representatives, and a coarse light without representatives (one
+    /// without weight) otherwise; 0 shades it as a point (Fig. 11c). The representatives'
+    /// own numbers are theirs ([`crate::representatives::Allocation`],
+    /// [`Coarse::Adaptive`]'s `mean`).
+    pub gaussian_samples: u32,
     /// Offset of shadow rays from the surfaces they leave, against self-shadowing.
     pub epsilon: f32,
     /// Whether to trace shadow rays at all (false: every light is seen, as in Paquette et al.'s
     /// experiments; it separates the error of the volume lights' shadows from the rest).
     pub shadows: bool,
-    /// The bound ε at which the hierarchy's glossy points are split ([`lobe`]): `None` shades
-    /// every point through the hierarchy alone.
+    /// The bound ε at which the hierarchy's glossy points are split ([`lobe`]), read by
+    /// [`Coarse::Adaptive`] only: `None` shades every point through the hierarchy alone.
     pub lobe_error: Option<f32>,
-    /// The bound ε on each point's error at which the hierarchy's adaptive shading takes more
-    /// samples of the coarse lights ([`refine`]): `None` takes the mean everywhere.
+    /// The bound ε on each point's error at which the hierarchy's adaptive shading
+    /// ([`Coarse::Adaptive`], its only reader) takes more samples of the coarse lights
+    /// ([`refine`]): `None` takes the mean everywhere.
     pub point_error: Option<f32>,
 }
 
@@ -255,7 +261,7 @@ impl<'a> Indirect<'a> {
             Some(n) => 2.0 * n.dot((point.position - q).normalize_or_zero()).max(0.0),
             None => 1.0,
         };
-        let k = self.settings.shadow_samples;
+        let k = self.settings.gaussian_samples;
         if k == 0 || light.variance == Vec3::ZERO {
             if !facing(light.position) || occluded(light.position) {
                 return Vec3::ZERO;
@@ -619,7 +625,7 @@ pub(crate) mod tests {
         pub(super) fn shader(&self) -> Indirect<'_> {
             let settings = IndirectSettings {
                 h0: self.lgh.h0(),
-                shadow_samples: 9,
+                gaussian_samples: 9,
                 epsilon: 1e-4,
                 shadows: true,
                 lobe_error: None,
@@ -751,7 +757,7 @@ pub(crate) mod tests {
         let lights = point_lights(&[vpl]);
         let settings = IndirectSettings {
             h0: 0.01,
-            shadow_samples: 9,
+            gaussian_samples: 9,
             epsilon: 1e-4,
             shadows: true,
             lobe_error: None,

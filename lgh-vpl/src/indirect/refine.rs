@@ -169,7 +169,7 @@ impl Tally {
     ///
     /// ```
     /// use lgh_core::glam::Vec3;
-    /// use lgh_vpl::indirect::Tally;
+    /// use lgh_vpl::indirect::refine::Tally;
     ///
     /// // Two draws, one seen and one hidden, each 1/2 of an estimate of luminance 1.
     /// let mut t = Tally::default();
@@ -219,7 +219,7 @@ impl WhichVpl {
     /// point, `Σ s u²` where no light has one.
     ///
     /// ```
-    /// use lgh_vpl::indirect::WhichVpl;
+    /// use lgh_vpl::indirect::refine::WhichVpl;
     ///
     /// // Every draw 0.4 times its point's estimate: the point misjudges them all alike.
     /// let mut alike = WhichVpl::default();
