@@ -32,7 +32,7 @@ pub fn texels(cells: u32) -> usize {
 pub fn direction(face: usize, i: usize, j: usize, cells: u32) -> Vec3 {
     let c = |n: usize| -1.0 + 2.0 * n as f32 / cells as f32;
     let a = face / 2;
-    let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
     let mut v = [0.0f32; 3];
     v[a] = sign;
     v[(a + 1) % 3] = c(i);
