@@ -7,23 +7,29 @@
 //!   against the official library; [`cache`] places a cache's frames on one grid (Blender's
 //!   adaptive-domain offset) with Blender's grid names; [`grid`]: the dense grids.
 //! - [`medium`]: one frame's density and temperature ([`Volume`]) and how they absorb, scatter
-//!   and emit ([`Medium`]: Planck's or Blender's emission); [`procedural`](mod@procedural): the embedded
+//!   and emit ([`Medium`]: Planck's or Blender's emission; [`blender_blackbody`]: Cycles'
+//!   Blackbody node, measured); [`procedural`](mod@procedural): the embedded
 //!   explosions ([`explosion`], the demo's, and the older [`procedural`](fn@procedural)).
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
-//!   per-frame intensities; [`method`]: the many-lights method that shades them ([`Method`]:
+//!   per-frame intensities ([`voxel_light`]: what a voxel light emits, its cell's emission); [`method`]: the many-lights method that shades them ([`Method`]:
 //!   the lighting grid hierarchy at α, brute force, Lightcuts, or emission alone).
 //! - [`frame`]: [`FrameRender`], a frame made ready to render (scattering, method, shadows)
 //!   in one value; [`progress`]: how long work reports its progress.
 //! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: the
 //!   paper's deep-shadow cube maps over prefiltered density (Sec. 4, eq. 6), ray-marched, or
 //!   none); [`lighting`]: the one per-point lighting function, [`Lights::incident`] (eq. 1
-//!   with `V`).
-//! - [`render`]: the ray marcher (emission + single scattering) and the one pixel loop;
+//!   with `V`); [`lighting_cache`]: the coarse levels' light computed once per frame at the
+//!   vertices of a grid over the smoke and interpolated, level 0's near part summed at every
+//!   sample ([`near_part`]).
+//! - [`render`]: the ray marcher (emission + single scattering) and the one pixel loop, which
+//!   skips the empty bricks ([`occupancy`]) and composites opaque surfaces ([`surfaces`]: a
+//!   ground, or a room);
 //!   [`camera`]: the camera and its automatic framing; [`settings`]: what a render is asked to
 //!   do; [`stats`]: a render's work counts;
 //!   [`pathtrace`]: the unbiased path-traced reference on the same grids.
 //! - [`scattering`]: multiple scattering (Sec. 5): scattered lights at every voxel with smoke,
-//!   depth by depth, merged with the emission lights into one light per voxel.
+//!   depth by depth, merged with the emission lights into one light per voxel, or taken as a
+//!   grid of in-scattered radiance ([`scattered_light`]).
 //! - [`error`]: [`ReadError`] for reading a volume, [`RenderError`] for lighting and rendering it.
 //!
 //! Deep-shadow cube maps (Sec. 4) plug into [`Visibility`], multiple scattering (Sec. 5) calls
