@@ -50,7 +50,11 @@ fn openvdb() -> bool {
         Ok(o) if !o.status.success() => format!(
             "/usr/bin/python3 cannot import pyopenvdb and numpy: {}",
             // The exception, the traceback's last line.
-            String::from_utf8_lossy(&o.stderr).trim().lines().last().unwrap_or("")
+            String::from_utf8_lossy(&o.stderr)
+                .trim()
+                .lines()
+                .last()
+                .unwrap_or("")
         ),
         Ok(_) if !lgh_tests::runs("vdb_print", &["-version"]) => "no vdb_print".to_string(),
         Ok(_) => return true,
