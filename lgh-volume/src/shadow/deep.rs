@@ -683,8 +683,15 @@ impl Tracer<'_> {
                 .map(|_| {
                     let mut taken = 0u64;
                     loop {
-                        // The lock is released before the tile is traced.
-                        let Some(tile) = queue.lock().unwrap().next() else {
+                        // The lock is released before the tile is traced. Nothing can panic
+                        // while it is held (a vector's iterator steps), so it is never
+                        // poisoned; were it, the iterator would still be whole, so a poisoned
+                        // lock hands out its tiles all the same instead of panicking.
+                        let next = queue
+                            .lock()
+                            .unwrap_or_else(std::sync::PoisonError::into_inner)
+                            .next();
+                        let Some(tile) = next else {
                             return taken;
                         };
                         taken += self.trace_tile(tile, r, reach);
