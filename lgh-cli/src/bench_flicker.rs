@@ -14,7 +14,7 @@ use std::time::Instant;
 use lgh_core::{Clustering, LightPosition, LightcutsSettings, Representative};
 use lgh_image::Image;
 use lgh_volume::cache::{self, GridNames, Placement};
-use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings};
+use lgh_volume::lighting_cache::{CacheMode, LightingCacheSettings, RenderedLights};
 
 use crate::output::CacheArgs;
 use lgh_volume::medium::{framing_bounds, Medium, Volume};
@@ -414,7 +414,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), crate::Error> {
         "lighting_cache_first_level": args.cache.first_level(seq.footprint),
         // No multiple scattering here: `auto` is the emission lights' form.
         "lighting_cache_level0": lgh_volume::lighting_cache::Level0Form::from(args.cache.cache_level0)
-            .for_lights(false)
+            .for_lights(RenderedLights::Emission)
             .name(),
         "lighting_cache_level0_near": args.cache.cache_near.0,
         "lights_per_frame": rendered.lit as f64 / n,

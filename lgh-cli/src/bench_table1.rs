@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgh_volume::lighting_cache::{CacheStats, LightingCacheSettings};
+use lgh_volume::lighting_cache::{CacheStats, LightingCacheSettings, RenderedLights};
 use lgh_volume::render::MarchSettings;
 use lgh_volume::{FrameRender, Method, Shadows};
 use serde_json::{json, Value};
@@ -214,7 +214,7 @@ fn report(args: &Table1Args, scene: &Scene, runs: &[Run], march: &MarchSettings)
         "lighting_cache": first.cache.map(|c| json!({
             "first_level": march.lighting_cache.first_level,
             // No multiple scattering here: `auto` is the emission lights' form.
-            "level0": march.lighting_cache.level0.for_lights(false).name(),
+            "level0": march.lighting_cache.level0.for_lights(RenderedLights::Emission).name(),
             "level0_near": march.lighting_cache.near_reach,
             "vertices": c.vertices,
             "seconds": c.cpu_seconds,

@@ -18,7 +18,7 @@ use lgh_image::Image;
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::lighting::Lights;
-use crate::lighting_cache::{CachedLights, LightingCache, LightingCacheSettings};
+use crate::lighting_cache::{CachedLights, LightingCache, LightingCacheSettings, RenderedLights};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{FrameBackend, Method, Prepared};
@@ -61,21 +61,47 @@ pub struct PrepareSeconds {
 pub struct FrameRender<'a> {
     /// The frame's emission lights, as given.
     emission: &'a ExplosionLights,
-    /// The multiple-scattering pass, whose merged lights are rendered (`None` at depth 0).
-    scattered: Option<Scattered>,
+    /// What the render takes of multiple scattering.
+    scattering: Scattering,
     method: Method,
     /// The method over the lights the medium is shaded with, and their visibility (moved into
     /// the marcher).
     prepared: Prepared,
-    /// The method over the merged lights, for surfaces, when the medium takes the scattered
-    /// light in as a grid and is shaded with the emission lights
-    /// ([`MarchSettings::scattered_grid`]).
-    surface_prepared: Option<Prepared>,
     marcher: Marcher<'a>,
     /// The coarse levels' lighting cache, if the settings ask for one and the method is the
     /// hierarchy (filled as renders need it).
     cache: Option<LightingCache>,
     seconds: PrepareSeconds,
+}
+
+/// What a [`FrameRender`] takes of multiple scattering (paper Sec. 5).
+enum Scattering {
+    /// Single scattering: the emission lights alone (depth 0).
+    Single,
+    /// The pass's merged lights (each voxel's emission and every scattered depth), which the
+    /// medium and the surfaces are shaded with. A pass that stopped before its first depth
+    /// merges nothing: its lights are the emission's.
+    Merged(Scattered),
+    /// The scattered light as a grid of in-scattered radiance
+    /// ([`MarchSettings::scattered_grid`]): the medium is shaded with the emission lights and
+    /// the grid, the surfaces with the merged lights through `surfaces`.
+    Grid {
+        /// The pass, with its radiance grid.
+        scattered: Scattered,
+        /// The method over the merged lights, for surfaces (boxed: the other variants are
+        /// small).
+        surfaces: Box<Prepared>,
+    },
+}
+
+impl Scattering {
+    /// The pass, if there is one.
+    fn scattered(&self) -> Option<&Scattered> {
+        match self {
+            Scattering::Single => None,
+            Scattering::Merged(s) | Scattering::Grid { scattered: s, .. } => Some(s),
+        }
+    }
 }
 
 impl<'a> FrameRender<'a> {
@@ -109,32 +135,41 @@ impl<'a> FrameRender<'a> {
         let (scattered, pilot_shading) = match settings.scatter_depth {
             0 => (None, None),
             _ => {
-                let pass = with_level0(form.for_lights(true));
+                let pass = with_level0(form.for_lights(RenderedLights::Merged));
                 let (s, shading) =
                     scattering::scatter_keeping(lights, method, frame, medium, &pass, progress)?;
                 (Some(s), shading)
             }
         };
-        let scattering = if scattered.is_some() {
+        let scattering_seconds = if scattered.is_some() {
             t.elapsed().as_secs_f64()
         } else {
             0.0
         };
-        let merged = scattered.as_ref().map_or(lights, Scattered::lights);
         // With the scattered light as a grid the medium is shaded with the emission lights and
         // surfaces with the merged ones; their shadows (ray-marched or none) serve both.
-        let grid = scattered.as_ref().is_some_and(|s| s.radiance().is_some());
-        let (rendered, surface_prepared) = if grid {
-            (lights, Some(method.prepare(merged)?))
-        } else {
-            (merged, None)
+        let scattering = match scattered {
+            None => Scattering::Single,
+            Some(s) if s.radiance().is_some() => Scattering::Grid {
+                surfaces: Box::new(method.prepare(s.lights())?),
+                scattered: s,
+            },
+            Some(s) => Scattering::Merged(s),
+        };
+        let (rendered, cached_lights) = match &scattering {
+            Scattering::Single => (lights, RenderedLights::Emission),
+            Scattering::Merged(s) => (s.lights(), RenderedLights::Merged),
+            Scattering::Grid { .. } => (lights, RenderedLights::Emission),
         };
         // A skipped pass renders its emission lights with the shading its pilot made for them,
         // with a cache of the render's own form.
-        let rendering = with_level0(form.for_lights(scattered.is_some() && !grid));
+        let rendering = with_level0(form.for_lights(cached_lights));
         let shading = match pilot_shading {
             Some(mut shading) => {
-                if shading.cache.is_some() && form.for_lights(false) != form.for_lights(true) {
+                if shading.cache.is_some()
+                    && form.for_lights(RenderedLights::Emission)
+                        != form.for_lights(RenderedLights::Merged)
+                {
                     let (density, hierarchy) = (&frame.density, rendered.hierarchy());
                     let cache = &rendering.lighting_cache;
                     shading.cache = Some(LightingCache::new(density, medium, hierarchy, cache)?);
@@ -147,16 +182,15 @@ impl<'a> FrameRender<'a> {
         let cache = shading.cache;
         Ok(FrameRender {
             emission: lights,
-            scattered,
             method,
             prepared: shading.prepared,
-            surface_prepared,
             marcher: Marcher::with_visibility(frame, medium, settings, shading.visibility)?,
             cache,
             seconds: PrepareSeconds {
-                scattering,
+                scattering: scattering_seconds,
                 shadows,
             },
+            scattering,
         })
     }
 
@@ -200,11 +234,11 @@ impl<'a> FrameRender<'a> {
     ) -> Result<R, RenderError> {
         let lights = self.shading_lights()?;
         let cached = self.cached(lights.as_ref());
-        let surface = match &self.surface_prepared {
-            Some(p) => p.lights(self.lights())?,
-            None => None,
+        let surface = match &self.scattering {
+            Scattering::Grid { surfaces, .. } => surfaces.lights(self.lights())?,
+            Scattering::Single | Scattering::Merged(_) => None,
         };
-        let scattered = self.scattered.as_ref().and_then(Scattered::radiance);
+        let scattered = self.scattered().and_then(Scattered::radiance);
         f(Lit {
             lights: lights.as_ref(),
             cached: cached.as_ref(),
@@ -230,10 +264,9 @@ impl<'a> FrameRender<'a> {
     /// the emission lights when the scattered light comes as a grid
     /// ([`MarchSettings::scattered_grid`]); `None` for [`Method::Emission`].
     pub fn shading_lights(&self) -> Result<Option<Lights<FrameBackend<'_>>>, RenderError> {
-        let medium = if self.surface_prepared.is_some() {
-            self.emission
-        } else {
-            self.lights()
+        let medium = match self.scattering {
+            Scattering::Grid { .. } => self.emission,
+            Scattering::Single | Scattering::Merged(_) => self.lights(),
         };
         self.prepared.lights(medium)
     }
@@ -249,7 +282,7 @@ impl<'a> FrameRender<'a> {
         camera: &Camera,
         progress: &dyn Progress,
     ) -> Result<Option<Shares>, RenderError> {
-        let Some(scattered) = &self.scattered else {
+        let Some(scattered) = self.scattered() else {
             return Ok(None);
         };
         let (frame, medium) = (self.marcher.volume(), self.marcher.medium());
@@ -282,15 +315,13 @@ impl<'a> FrameRender<'a> {
     /// medium is shaded with the emission lights and the grid.)
     #[must_use]
     pub fn lights(&self) -> &ExplosionLights {
-        self.scattered
-            .as_ref()
-            .map_or(self.emission, Scattered::lights)
+        self.scattered().map_or(self.emission, Scattered::lights)
     }
 
     /// The multiple-scattering pass, if the settings asked for one.
     #[must_use]
     pub fn scattered(&self) -> Option<&Scattered> {
-        self.scattered.as_ref()
+        self.scattering.scattered()
     }
 
     /// The method.

@@ -211,24 +211,35 @@ impl Level0Form {
         }
     }
 
-    /// The form for a render of multiple scattering's merged lights (`merged`) or of the
-    /// emission's: [`Auto`](Self::Auto) resolved, the others as they are.
+    /// The form for a cache of `lights`: [`Auto`](Self::Auto) resolved (a ratio for the
+    /// emission's lights, light for the merged lights), the others as they are.
     ///
     /// ```
-    /// use lgh_volume::lighting_cache::Level0Form;
+    /// use lgh_volume::lighting_cache::{Level0Form, RenderedLights};
     ///
-    /// assert_eq!(Level0Form::Auto.for_lights(false), Level0Form::Ratio);
-    /// assert_eq!(Level0Form::Auto.for_lights(true), Level0Form::Light);
-    /// assert_eq!(Level0Form::Ratio.for_lights(true), Level0Form::Ratio);
+    /// assert_eq!(Level0Form::Auto.for_lights(RenderedLights::Emission), Level0Form::Ratio);
+    /// assert_eq!(Level0Form::Auto.for_lights(RenderedLights::Merged), Level0Form::Light);
+    /// assert_eq!(Level0Form::Ratio.for_lights(RenderedLights::Merged), Level0Form::Ratio);
     /// ```
     #[must_use]
-    pub fn for_lights(self, merged: bool) -> Self {
-        match self {
-            Level0Form::Auto if merged => Level0Form::Light,
-            Level0Form::Auto => Level0Form::Ratio,
-            form => form,
+    pub fn for_lights(self, lights: RenderedLights) -> Self {
+        match (self, lights) {
+            (Level0Form::Auto, RenderedLights::Merged) => Level0Form::Light,
+            (Level0Form::Auto, RenderedLights::Emission) => Level0Form::Ratio,
+            (form, _) => form,
         }
     }
+}
+
+/// The lights a lighting cache is made for, which decide [`Level0Form::Auto`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RenderedLights {
+    /// The emission's voxel lights, one a hot voxel (paper Sec. 6.1): few enough for level 0
+    /// to be summed at every sample, so its shadows are cached as a ratio.
+    Emission,
+    /// Multiple scattering's merged lights, one a smoky voxel (Sec. 5), or the scattering
+    /// pass's own, whose samples are the voxel centres: level 0's light is cached.
+    Merged,
 }
 
 /// How a render with multiple scattering takes in the scattered light (`--scattered-light`).
@@ -627,8 +638,9 @@ impl LightingCache {
                 // the coarse levels blend in the logarithm (module docs).
                 Some(t) if t.voxels == voxels && t.first > 0 => t.last = level,
                 _ => {
-                    let ratio =
-                        level == 0 && settings.level0.for_lights(false) == Level0Form::Ratio;
+                    let ratio = level == 0
+                        && settings.level0.for_lights(RenderedLights::Emission)
+                            == Level0Form::Ratio;
                     tiers.push(Lattice::new(density, voxels, level, level, ratio));
                 }
             }
