@@ -22,6 +22,7 @@ mod dark;
 mod demo;
 mod explosion;
 mod gi;
+mod hints;
 mod inspect;
 mod manifest;
 mod output;
@@ -212,7 +213,11 @@ fn main() {
         } => bench_flicker::run(a),
     };
     if let Err(e) = result {
-        eprintln!("lgh: error: {e}");
+        // One line: the library's words, then the flags that change the settings they name.
+        match hints::flags(e.as_ref()) {
+            Some(flags) => eprintln!("lgh: error: {e}; on the command line: {flags}"),
+            None => eprintln!("lgh: error: {e}"),
+        }
         std::process::exit(if e.downcast_ref::<Usage>().is_some() {
             2
         } else {

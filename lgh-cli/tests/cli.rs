@@ -463,7 +463,8 @@ fn demo_renders_an_exr_and_a_png() {
         ),
         (
             vec!["demo", "--shadows", "cubemap", "--shadow-memory", "0.001"],
-            "cube maps",
+            // The library names its setting; the CLI adds the flags.
+            "; on the command line: lower --alpha, raise --shadow-memory, or use --shadows raymarch",
         ),
         (
             vec!["demo", "--shadows", "cubemap", "--shadow-depths", "17"],

@@ -53,8 +53,8 @@ pub enum ReadError {
         /// The reference grid's file.
         reference_path: PathBuf,
     },
-    /// A flame grid was named (`--flame-grid`) with an RGB emission grid, which it cannot
-    /// scale: the flame factor scales the blackbody.
+    /// A flame grid was named ([`GridNames::flame`](crate::cache::GridNames::flame)) with an
+    /// RGB emission grid, which it cannot scale: the flame factor scales the blackbody.
     FlameWithColour {
         /// The file.
         path: PathBuf,
@@ -153,8 +153,8 @@ impl fmt::Display for ReadError {
             } => write!(
                 f,
                 "{}: '{emission}' is an RGB (vec3) emission grid, read as it is; the flame grid \
-                 '{flame}' scales a blackbody emission and cannot scale it: leave --flame-grid \
-                 out (or give none)",
+                 '{flame}' scales a blackbody emission and cannot scale it: name no flame grid \
+                 (GridNames::flame None)",
                 path.display()
             ),
             E::NotScalar {

@@ -197,8 +197,8 @@ impl fmt::Display for RenderError {
             } => write!(
                 f,
                 "the deep-shadow cube maps at alpha {alpha} would need {:.2} GB, more than the \
-                 {:.2} GB allowed them: lower --alpha, raise --shadow-memory, or use --shadows \
-                 raymarch",
+                 {:.2} GB allowed them (CubeMapSettings::memory_budget): lower alpha, raise the \
+                 budget, or shade with ray-marched shadows (Shadows::RayMarch)",
                 *needed as f64 / 1e9,
                 *budget as f64 / 1e9
             ),
@@ -214,7 +214,8 @@ impl fmt::Display for RenderError {
             } => write!(
                 f,
                 "multiple scattering to depth {depth} would need {:.2} GB for its lights, more \
-                 than the {:.2} GB allowed: lower --scatter-depth or raise --shadow-memory",
+                 than the {:.2} GB allowed (CubeMapSettings::memory_budget): lower the depth \
+                 (MarchSettings::scatter_depth) or raise the budget",
                 *needed as f64 / 1e9,
                 *budget as f64 / 1e9
             ),
