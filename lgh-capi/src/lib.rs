@@ -506,11 +506,7 @@ pub unsafe extern "C" fn lgh_hierarchy_create(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
+# let h = lgh_capi::doctest::two_lights();
 // SAFETY: `h` was made by lgh_hierarchy_create and is not used after.
 unsafe { lgh_hierarchy_destroy(h) };
 // SAFETY: NULL is allowed (nothing is freed).
@@ -536,11 +532,7 @@ pub unsafe extern "C" fn lgh_hierarchy_destroy(hierarchy: *mut LghHierarchy) {
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
+# let h = lgh_capi::doctest::two_lights();
 let mut info = LghInfo::default();
 // SAFETY: a live hierarchy and a writable LghInfo.
 assert_eq!(unsafe { lgh_hierarchy_info(h, &mut info) }, LghStatus::Ok);
@@ -588,11 +580,7 @@ pub unsafe extern "C" fn lgh_hierarchy_info(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
+# let h = lgh_capi::doctest::two_lights();
 let hotter = [2.0f32, 1.0, 0.5, 0.0, 0.0, 0.0];
 // SAFETY: a live hierarchy and 3 · count floats.
 assert_eq!(unsafe { lgh_hierarchy_update_intensities(h, hotter.as_ptr(), 2) }, LghStatus::Ok);
@@ -637,11 +625,7 @@ pub unsafe extern "C" fn lgh_hierarchy_update_intensities(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
+# let h = lgh_capi::doctest::two_lights();
 let moved = [0.0f32, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 2.0, 0.0];
 // SAFETY: a live hierarchy and 3 · count floats in each array.
 let status = unsafe { lgh_hierarchy_rebuild(h, moved.as_ptr(), [1.0f32; 9].as_ptr(), 3) };
@@ -686,11 +670,7 @@ pub unsafe extern "C" fn lgh_hierarchy_rebuild(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
+# let h = lgh_capi::doctest::two_lights();
 let mut b = null_mut();
 // SAFETY: a live hierarchy and a writable handle.
 assert_eq!(unsafe { lgh_blending_create(h, -1.0, &mut b) }, LghStatus::InvalidArgument);
@@ -735,14 +715,7 @@ pub unsafe extern "C" fn lgh_blending_create(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
-# let mut b = null_mut();
-# // SAFETY: a live hierarchy and a writable handle.
-# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+# let (h, b) = lgh_capi::doctest::two_lights_blended();
 // SAFETY: `b` was made by lgh_blending_create and is not used after.
 unsafe { lgh_blending_destroy(b) };
 // SAFETY: NULL is allowed (nothing is freed).
@@ -806,14 +779,7 @@ unsafe fn query_args<'a>(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
-# let mut b = null_mut();
-# // SAFETY: a live hierarchy and a writable handle.
-# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+# let (h, b) = lgh_capi::doctest::two_lights_blended();
 use std::ffi::c_void;
 
 /// Each light's blended intensity, unshaded.
@@ -884,14 +850,7 @@ pub unsafe extern "C" fn lgh_sum(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
-# let mut b = null_mut();
-# // SAFETY: a live hierarchy and a writable handle.
-# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+# let (h, b) = lgh_capi::doctest::two_lights_blended();
 let (x, mut needed) = ([0.5f32, 0.0, 0.0], 0usize);
 // SAFETY: live objects and a point; no buffer, with capacity 0.
 let status = unsafe { lgh_gather(h, b, x.as_ptr(), null_mut(), 0, &mut needed) };
@@ -956,14 +915,7 @@ pub unsafe extern "C" fn lgh_gather(
 ```
 # use lgh_capi::*;
 # use std::ptr::{null, null_mut};
-# let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
-# let mut h = null_mut();
-# // SAFETY: two lights' arrays, the default settings and a writable handle.
-# let made = unsafe { lgh_hierarchy_create(positions.as_ptr(), intensities.as_ptr(), 2, null(), &mut h) };
-# assert_eq!(made, LghStatus::Ok);
-# let mut b = null_mut();
-# // SAFETY: a live hierarchy and a writable handle.
-# assert_eq!(unsafe { lgh_blending_create(h, 2.0, &mut b) }, LghStatus::Ok);
+# let (h, b) = lgh_capi::doctest::two_lights_blended();
 use lgh_core::glam::Vec3;
 use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
 
@@ -1019,4 +971,45 @@ pub unsafe extern "C" fn lgh_probe_batch(
         }
         Ok(())
     })
+}
+
+/// What the functions' Rust examples start from, made once here instead of in hidden lines of
+/// each: not part of the C API (cbindgen exports only `extern "C"` functions and their types).
+#[doc(hidden)]
+pub mod doctest {
+    use super::*;
+
+    /// A hierarchy of two lights, at the origin and at x = 1, of intensity 1 each, with the
+    /// default settings; the example frees it.
+    #[must_use]
+    pub fn two_lights() -> *mut LghHierarchy {
+        let (positions, intensities) = ([0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0f32; 6]);
+        let mut h = core::ptr::null_mut();
+        // SAFETY: two lights' arrays of six floats each, the default settings (NULL) and a
+        // writable handle.
+        let made = unsafe {
+            lgh_hierarchy_create(
+                positions.as_ptr(),
+                intensities.as_ptr(),
+                2,
+                core::ptr::null(),
+                &mut h,
+            )
+        };
+        assert_eq!(made, LghStatus::Ok);
+        h
+    }
+
+    /// [`two_lights`] and its blending of eq. (3) at the paper's α = 2; the example frees both.
+    #[must_use]
+    pub fn two_lights_blended() -> (*mut LghHierarchy, *mut LghBlending) {
+        let h = two_lights();
+        let mut b = core::ptr::null_mut();
+        // SAFETY: `h` is the live hierarchy just made and `b` a writable handle.
+        assert_eq!(
+            unsafe { lgh_blending_create(h, 2.0, &mut b) },
+            LghStatus::Ok
+        );
+        (h, b)
+    }
 }
