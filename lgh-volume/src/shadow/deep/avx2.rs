@@ -16,7 +16,7 @@ use super::knots::TAU;
 use super::{CubeMaps, Depths, Fit, Knots, Tracer, INV_QUANT, MAX_DEPTHS, TAU_MAX};
 use crate::shadow::avx2::{fits, from_array, lerp, to_array, Gathers, LANES};
 use crate::shadow::lookup::{Slot, EXP2, NO_MAP};
-use crate::shadow::prefilter::Mix;
+use crate::shadow::prefilter::{DensityPyramid, Mix};
 
 /// [`CubeMaps::transmittances`] with AVX2, eight lights abreast: `false` (and nothing written)
 /// when this CPU lacks AVX2 or the maps are too large for 32-bit gather offsets. Each lane does
@@ -131,6 +131,8 @@ struct Footprint8 {
 #[inline]
 #[target_feature(enable = "avx2")]
 fn footprint8(x: Vec3, c: &[[f32; LANES]; 3], slots: &[Slot; LANES]) -> Footprint8 {
+    // SAFETY: AVX2 is enabled on this function, whose callers checked the CPU for it; `a` is
+    // eight f32, 32 bytes, exactly what the load reads, and `loadu` needs no alignment.
     let ld = |a: &[f32; LANES]| unsafe { _mm256_loadu_ps(a.as_ptr()) };
     let zero = _mm256_setzero_ps();
     let one = _mm256_set1_ps(1.0);
@@ -144,6 +146,8 @@ fn footprint8(x: Vec3, c: &[[f32; LANES]; 3], slots: &[Slot; LANES]) -> Footprin
     let offsets: [i32; LANES] = core::array::from_fn(|l| slots[l].offset as i32);
     let cells_u: [i32; LANES] = core::array::from_fn(|l| slots[l].cells as i32);
     let has_map: [i32; LANES] = core::array::from_fn(|l| -i32::from(slots[l] != NO_MAP));
+    // SAFETY: AVX2 is enabled on this function, whose callers checked the CPU for it; `a` is
+    // eight i32, 32 bytes, exactly what the load reads, and `loadu` needs no alignment.
     let li = |a: &[i32; LANES]| unsafe { _mm256_loadu_si256(a.as_ptr().cast()) };
     // Valid lanes: a map, d finite and > 0 (d < ∞ and d > 0 are both false for NaN).
     let valid = _mm256_and_ps(
@@ -218,6 +222,8 @@ fn locate8(
     slots: &[Slot; LANES],
     inv_spacing: &[f32; LANES],
 ) -> Located8 {
+    // SAFETY: AVX2 is enabled on this function, whose callers checked the CPU for it; `a` is
+    // eight f32, 32 bytes, exactly what the load reads, and `loadu` needs no alignment.
     let ld = |a: &[f32; LANES]| unsafe { _mm256_loadu_ps(a.as_ptr()) };
     let Footprint8 {
         d,
@@ -482,6 +488,194 @@ fn widen(v: __m256) -> [__m256d; 2] {
     ]
 }
 
+/// The normal equations of eight lanes' `deep::Fit`s, summed in f64 step by step, with the
+/// light's knot spacing and depth count that place each step among the depths.
+struct Fit8 {
+    diag: [Acc8; MAX_DEPTHS],
+    upper: [Acc8; MAX_DEPTHS - 1],
+    rhs: [Acc8; MAX_DEPTHS],
+    spacing: f32,
+    depths: usize,
+}
+
+impl Fit8 {
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn new(spacing: f32, depths: usize) -> Self {
+        let (diag, upper, rhs) = (
+            [Acc8::zero(); MAX_DEPTHS],
+            [Acc8::zero(); MAX_DEPTHS - 1],
+            [Acc8::zero(); MAX_DEPTHS],
+        );
+        Fit8 {
+            diag,
+            upper,
+            rhs,
+            spacing,
+            depths,
+        }
+    }
+
+    /// One step at distance `d` (length `dt`) of the `active` lanes: density `rho`, optical
+    /// depth `tau` before it and `dtau` across it, added as `deep::Fit::add` adds it, lane by
+    /// lane.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn step(&mut self, rho: __m256, tau: __m256, dtau: __m256, active: __m256, d: f32, dt: f32) {
+        let zero = _mm256_setzero_ps();
+        let (diag, upper, rhs) = (&mut self.diag, &mut self.upper, &mut self.rhs);
+        let sampled = _mm256_and_ps(active, _mm256_cmp_ps::<_CMP_GT_OQ>(rho, zero));
+        if _mm256_movemask_ps(sampled) != 0 {
+            let mid = _mm256_add_ps(tau, _mm256_mul_ps(_mm256_set1_ps(0.5), dtau));
+            let e = exp_neg8(_mm256_min_ps(
+                _mm256_mul_ps(_mm256_set1_ps(2.0), mid),
+                _mm256_set1_ps(80.0),
+            ));
+            let w = _mm256_mul_ps(_mm256_mul_ps(rho, e), _mm256_set1_ps(dt));
+            // Lanes not sampled add (0·a)·b = 0: their sums do not change.
+            let (w, mid) = (widen(_mm256_and_ps(w, sampled)), widen(mid));
+            // deep::Fit::add with the step's q, the same for all lanes.
+            let q = d / self.spacing;
+            let fk = (q as usize).min(self.depths - 1);
+            let t = f64::from(q - fk as f32).clamp(0.0, 1.0);
+            let (t_all, u_all) = ([_mm256_set1_pd(t); 2], [_mm256_set1_pd(1.0 - t); 2]);
+            diag[fk].add(&w, t, &t_all);
+            rhs[fk].add(&w, t, &mid);
+            if fk > 0 {
+                diag[fk - 1].add(&w, 1.0 - t, &u_all);
+                rhs[fk - 1].add(&w, 1.0 - t, &mid);
+                upper[fk - 1].add(&w, 1.0 - t, &t_all);
+            }
+        }
+    }
+
+    /// Each lane's fitted depths in `out`, solved from its sums as `deep::Fit::solve` does.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn solve(&self, out: &mut [([f32; MAX_DEPTHS], u32); LANES]) {
+        let (depths, spacing) = (self.depths, self.spacing);
+        let (diag, upper, rhs) = (&self.diag, &self.upper, &self.rhs);
+        let mut fits = [Fit::new(depths); LANES];
+        for k in 0..depths {
+            let (d, r) = (diag[k].lanes(), rhs[k].lanes());
+            let u = if k + 1 < depths {
+                upper[k].lanes()
+            } else {
+                [0.0; LANES]
+            };
+            for (l, fit) in fits.iter_mut().enumerate() {
+                (fit.diag[k], fit.rhs[k]) = (d[l], r[l]);
+                if k + 1 < depths {
+                    fit.upper[k] = u[l];
+                }
+            }
+        }
+        for (o, fit) in out.iter_mut().zip(fits) {
+            o.0 = fit.solve(&o.0[..depths], 1e-6 * spacing);
+        }
+    }
+}
+
+/// The lanes of the positions `x` (x, y, z lanes) inside the box `lo..=hi`: all bits set where
+/// inside.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn inside8(x: &[__m256; 3], lo: Vec3, hi: Vec3) -> __m256 {
+    let mut inside = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    for c in 0..3 {
+        inside = _mm256_and_ps(
+            inside,
+            _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_GE_OQ>(x[c], _mm256_set1_ps(lo[c])),
+                _mm256_cmp_ps::<_CMP_LE_OQ>(x[c], _mm256_set1_ps(hi[c])),
+            ),
+        );
+    }
+    inside
+}
+
+/// How far the lanes of `active_bits` at the positions `x` can jump together over empty space:
+/// the least clearance among them, less three filter widths (`width`, at least `h0`); negative
+/// where one of them cannot.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn margin8(tracer: &Tracer<'_>, x: &[__m256; 3], active_bits: i32, width: f32) -> f32 {
+    let xs = x.map(|v| to_array(v));
+    let mut margin = f32::INFINITY;
+    for l in (0..LANES).filter(|l| active_bits & (1 << l) != 0) {
+        let xl = Vec3::new(xs[0][l], xs[1][l], xs[2][l]);
+        margin = margin.min(tracer.empty.clearance(xl) - 3.0 * width.max(tracer.h0));
+    }
+    margin
+}
+
+/// The prefiltered density at the positions `x` for the filter width `width`: one level of the
+/// pyramid or two blended, as `Tracer::trace` samples it.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn density8(pyramid: &DensityPyramid, x: &[__m256; 3], width: f32) -> __m256 {
+    let at_level = |m: usize| {
+        let g = pyramid.grid(m);
+        // PaddedGrid::local: (x − origin) · 1/h, component by component.
+        let local = [0, 1, 2].map(|c| {
+            _mm256_mul_ps(
+                _mm256_sub_ps(x[c], _mm256_set1_ps(g.origin[c])),
+                _mm256_set1_ps(g.inv_voxel_size),
+            )
+        });
+        Gathers::new(g).sample(local)
+    };
+    match pyramid.mix(width) {
+        Mix::One(m) => at_level(m),
+        Mix::Two(m, t) => {
+            let a = at_level(m);
+            lerp(a, at_level(m + 1), _mm256_set1_ps(t))
+        }
+    }
+}
+
+/// `Knots::step` lane by lane for the step at distance `d` (length `dt`), optical depth `tau`
+/// before it and `dtau` across it, as `Tracer::trace_knots` calls it (inactive lanes have
+/// `dtau` = 0 and are left out).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn step_knots8(knots: &mut [Knots; LANES], tau: __m256, dtau: __m256, d: f32, dt: f32) {
+    let (t0, dt0) = (to_array(tau), to_array(dtau));
+    let (d0, d1) = (d - 0.5 * dt, d + 0.5 * dt);
+    for (l, k) in knots.iter_mut().enumerate() {
+        if dt0[l] > 0.0 {
+            k.step(d0, t0[l], d1, t0[l] + dt0[l]);
+        }
+    }
+}
+
+/// The lanes' results: the optical depths `at` (their first `depths`), or with `fit` the
+/// depths fitted to the steps, and each lane's sample count.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn results8(
+    at: &[__m256; MAX_DEPTHS],
+    depths: usize,
+    samples: &[u32; LANES],
+    fit: Option<&Fit8>,
+) -> [([f32; MAX_DEPTHS], u32); LANES] {
+    // Only the first `depths` entries are in use: convert and copy those alone.
+    let mut out = [([0.0f32; MAX_DEPTHS], 0u32); LANES];
+    for (k, v) in at.iter().enumerate().take(depths) {
+        for (o, x) in out.iter_mut().zip(to_array(*v)) {
+            o.0[k] = x;
+        }
+    }
+    for (o, &n) in out.iter_mut().zip(samples) {
+        o.1 = n;
+    }
+    if let Some(fit) = fit {
+        fit.solve(&mut out);
+    }
+    out
+}
+
+/// [`trace8`] on a CPU with AVX2, every pyramid level within 32-bit gather offsets.
 #[target_feature(enable = "avx2")]
 fn trace8_avx2(
     tracer: &Tracer<'_>,
@@ -506,11 +700,7 @@ fn trace8_avx2(
     let mut samples = [0u32; LANES];
     let mut tau = zero;
     let mut at = [zero; MAX_DEPTHS];
-    let (mut diag, mut upper, mut rhs) = (
-        [Acc8::zero(); MAX_DEPTHS],
-        [Acc8::zero(); MAX_DEPTHS - 1],
-        [Acc8::zero(); MAX_DEPTHS],
-    );
+    let mut fit = Fit8::new(spacing, depths);
     let mut look_again = 0.0f32;
     let mut live = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
     for (k, at_k) in at.iter_mut().enumerate().take(depths) {
@@ -522,16 +712,7 @@ fn trace8_avx2(
                 let dv = _mm256_set1_ps(d);
                 // x = p + dir·d, as Vec3's `p + dir * d`.
                 let x = [0, 1, 2].map(|c| _mm256_add_ps(origin[c], _mm256_mul_ps(dir[c], dv)));
-                let mut inside = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-                for c in 0..3 {
-                    inside = _mm256_and_ps(
-                        inside,
-                        _mm256_and_ps(
-                            _mm256_cmp_ps::<_CMP_GE_OQ>(x[c], _mm256_set1_ps(lo[c])),
-                            _mm256_cmp_ps::<_CMP_LE_OQ>(x[c], _mm256_set1_ps(hi[c])),
-                        ),
-                    );
-                }
+                let inside = inside8(&x, lo, hi);
                 if p_inside {
                     live = _mm256_and_ps(live, inside); // a convex box is not entered again
                 }
@@ -547,37 +728,14 @@ fn trace8_avx2(
                 let width = tracer.width(d, s, r);
                 if tracer.skip_empty && d >= look_again {
                     // The lanes jump together, as far as the least clear of them allows.
-                    let xs = x.map(|v| to_array(v));
-                    let mut margin = f32::INFINITY;
-                    for l in (0..LANES).filter(|l| active_bits & (1 << l) != 0) {
-                        let xl = Vec3::new(xs[0][l], xs[1][l], xs[2][l]);
-                        margin =
-                            margin.min(tracer.empty.clearance(xl) - 3.0 * width.max(tracer.h0));
-                    }
+                    let margin = margin8(tracer, &x, active_bits, width);
                     if margin >= 0.0 {
                         i += (margin / dt) as u32 + 1;
                         continue;
                     }
                     look_again = d + 2.0 * tracer.empty.block();
                 }
-                let at_level = |m: usize| {
-                    let g = pyramid.grid(m);
-                    // PaddedGrid::local: (x − origin) · 1/h, component by component.
-                    let local = [0, 1, 2].map(|c| {
-                        _mm256_mul_ps(
-                            _mm256_sub_ps(x[c], _mm256_set1_ps(g.origin[c])),
-                            _mm256_set1_ps(g.inv_voxel_size),
-                        )
-                    });
-                    Gathers::new(g).sample(local)
-                };
-                let rho = match pyramid.mix(width) {
-                    Mix::One(m) => at_level(m),
-                    Mix::Two(m, t) => {
-                        let a = at_level(m);
-                        lerp(a, at_level(m + 1), _mm256_set1_ps(t))
-                    }
-                };
+                let rho = density8(pyramid, &x, width);
                 let rho = _mm256_and_ps(rho, active);
                 for (l, c) in samples.iter_mut().enumerate() {
                     *c += u32::from(active_bits & (1 << l) != 0);
@@ -587,40 +745,10 @@ fn trace8_avx2(
                     _mm256_set1_ps(dt),
                 );
                 if fitted {
-                    let sampled = _mm256_and_ps(active, _mm256_cmp_ps::<_CMP_GT_OQ>(rho, zero));
-                    if _mm256_movemask_ps(sampled) != 0 {
-                        let mid = _mm256_add_ps(tau, _mm256_mul_ps(_mm256_set1_ps(0.5), dtau));
-                        let e = exp_neg8(_mm256_min_ps(
-                            _mm256_mul_ps(_mm256_set1_ps(2.0), mid),
-                            _mm256_set1_ps(80.0),
-                        ));
-                        let w = _mm256_mul_ps(_mm256_mul_ps(rho, e), _mm256_set1_ps(dt));
-                        // Lanes not sampled add (0·a)·b = 0: their sums do not change.
-                        let (w, mid) = (widen(_mm256_and_ps(w, sampled)), widen(mid));
-                        // deep::Fit::add with the step's q, the same for all lanes.
-                        let q = d / spacing;
-                        let fk = (q as usize).min(depths - 1);
-                        let t = f64::from(q - fk as f32).clamp(0.0, 1.0);
-                        let (t_all, u_all) = ([_mm256_set1_pd(t); 2], [_mm256_set1_pd(1.0 - t); 2]);
-                        diag[fk].add(&w, t, &t_all);
-                        rhs[fk].add(&w, t, &mid);
-                        if fk > 0 {
-                            diag[fk - 1].add(&w, 1.0 - t, &u_all);
-                            rhs[fk - 1].add(&w, 1.0 - t, &mid);
-                            upper[fk - 1].add(&w, 1.0 - t, &t_all);
-                        }
-                    }
+                    fit.step(rho, tau, dtau, active, d, dt);
                 }
                 if let Some(knots) = knots.as_deref_mut() {
-                    // Knots::step lane by lane, as `Tracer::trace_knots` calls it (inactive
-                    // lanes have dtau = 0).
-                    let (t0, dt0) = (to_array(tau), to_array(dtau));
-                    let (d0, d1) = (d - 0.5 * dt, d + 0.5 * dt);
-                    for (l, k) in knots.iter_mut().enumerate() {
-                        if dt0[l] > 0.0 {
-                            k.step(d0, t0[l], d1, t0[l] + dt0[l]);
-                        }
-                    }
+                    step_knots8(knots, tau, dtau, d, dt);
                 }
                 tau = _mm256_blendv_ps(tau, _mm256_add_ps(tau, dtau), active);
                 i += 1;
@@ -633,35 +761,5 @@ fn trace8_avx2(
         }
         *at_k = tau;
     }
-    // Only the first `depths` entries are in use: convert and copy those alone.
-    let mut out = [([0.0f32; MAX_DEPTHS], 0u32); LANES];
-    for (k, v) in at.iter().enumerate().take(depths) {
-        for (o, x) in out.iter_mut().zip(to_array(*v)) {
-            o.0[k] = x;
-        }
-    }
-    for (o, &n) in out.iter_mut().zip(&samples) {
-        o.1 = n;
-    }
-    if fitted {
-        let mut fits = [Fit::new(depths); LANES];
-        for k in 0..depths {
-            let (d, r) = (diag[k].lanes(), rhs[k].lanes());
-            let u = if k + 1 < depths {
-                upper[k].lanes()
-            } else {
-                [0.0; LANES]
-            };
-            for (l, fit) in fits.iter_mut().enumerate() {
-                (fit.diag[k], fit.rhs[k]) = (d[l], r[l]);
-                if k + 1 < depths {
-                    fit.upper[k] = u[l];
-                }
-            }
-        }
-        for (o, fit) in out.iter_mut().zip(fits) {
-            o.0 = fit.solve(&o.0[..depths], 1e-6 * spacing);
-        }
-    }
-    out
+    results8(&at, depths, &samples, fitted.then_some(&fit))
 }
