@@ -376,9 +376,14 @@ impl SceneArgs {
             }),
         };
         // What the shading is, in flags, for the refusals.
-        let shading = match allocation {
-            None => "--coarse-shadows gaussian".to_string(),
-            Some(a) => format!("--sample-allocation {}", a.name()),
+        let shading = match (allocation, self.sample_allocation) {
+            (None, _) => "--coarse-shadows gaussian".to_string(),
+            (Some(a), Some(_)) => format!("--sample-allocation {}", a.name()),
+            (Some(a), None) => format!(
+                "--sample-allocation {} (the default with --aggregation {})",
+                a.name(),
+                lgh_vpl::gi::Aggregation::from(self.aggregation).name()
+            ),
         };
         if allocation != Some(SampleAllocation::Adaptive) {
             let adaptive_only = [
@@ -406,19 +411,25 @@ impl SceneArgs {
         let k = self.shadow_samples;
         Ok(match allocation {
             None => CoarseShading::Gaussian {
-                samples: k.map_or(Ok(9), |k| whole(k, SampleSetting::Gaussian))?,
+                samples: k.map_or(Ok(gi::DEFAULT_GAUSSIAN_SAMPLES), |k| {
+                    whole(k, SampleSetting::Gaussian)
+                })?,
                 aggregation,
             },
             Some(SampleAllocation::Uniform) => CoarseShading::Representatives {
                 per_light: PerLight::Uniform {
-                    samples: k.map_or(Ok(2), |k| whole(k, SampleSetting::Uniform))?,
+                    samples: k.map_or(Ok(gi::DEFAULT_REPRESENTATIVES), |k| {
+                        whole(k, SampleSetting::Uniform)
+                    })?,
                 },
                 aggregation,
             },
             Some(SampleAllocation::Intensity) => CoarseShading::Representatives {
                 per_light: PerLight::ByIntensity {
-                    mean: k.unwrap_or(2.0),
-                    max: self.max_shadow_samples.unwrap_or(16),
+                    mean: k.unwrap_or(gi::DEFAULT_REPRESENTATIVES as f32),
+                    max: self
+                        .max_shadow_samples
+                        .unwrap_or(gi::DEFAULT_MAX_BY_INTENSITY),
                 },
                 aggregation,
             },
@@ -511,14 +522,8 @@ impl SceneArgs {
             ("shadows", s.shadows.to_string()),
             ("h0", scene.h0().to_string()),
             ("specular_depth", s.specular_depth.to_string()),
-            (
-                "lobe_error",
-                c.lobe_error.map_or("off".into(), |e| e.to_string()),
-            ),
-            (
-                "point_error",
-                c.point_error.map_or("off".into(), |e| e.to_string()),
-            ),
+            ("lobe_error", bound(c.lobe_error)),
+            ("point_error", bound(c.point_error)),
             ("blend_at", or_none(c.blend_at)),
             ("candidates", or_none(c.candidates)),
             ("normals", self.normals.name().to_string()),
@@ -608,8 +613,10 @@ struct Described {
     shadow_samples: f32,
     max_shadow_samples: Option<u32>,
     sample_allocation: Option<&'static str>,
-    lobe_error: Option<f32>,
-    point_error: Option<f32>,
+    /// `None` where the shading has no such bound, `Some(None)` where it is off.
+    lobe_error: Option<Option<f32>>,
+    /// As `lobe_error`.
+    point_error: Option<Option<f32>>,
     blend_at: Option<&'static str>,
     candidates: Option<u32>,
 }
@@ -646,12 +653,22 @@ impl Described {
                 shadow_samples: a.mean_samples,
                 max_shadow_samples: Some(a.max_samples),
                 sample_allocation: Some("adaptive"),
-                lobe_error: a.lobe_error,
-                point_error: a.point_error,
+                lobe_error: Some(a.lobe_error),
+                point_error: Some(a.point_error),
                 blend_at: Some(a.blend.name()),
                 candidates: Some(a.candidates),
             },
         }
+    }
+}
+
+/// A bound's header value: `none` where the shading has no such bound, `off` where it is
+/// turned off.
+fn bound(value: Option<Option<f32>>) -> String {
+    match value {
+        None => "none".into(),
+        Some(None) => "off".into(),
+        Some(Some(e)) => e.to_string(),
     }
 }
 
@@ -896,7 +913,7 @@ impl<'a> Bench<'a> {
         let (scene, camera) = s.prepare(settings, size, methods)?;
         let bars = Bars::new(s.quiet);
         let point_error = Described::of(&settings.coarse).point_error;
-        let counted_against = f64::from(point_error.unwrap_or(DEFAULT_POINT_ERROR));
+        let counted_against = f64::from(point_error.flatten().unwrap_or(DEFAULT_POINT_ERROR));
         let exact = scene
             .render(GiMethod::Brute, &camera, &bars)
             .map_err(flag_error)?;

@@ -233,7 +233,7 @@ impl CoarseShading {
     #[must_use]
     pub fn gaussian() -> Self {
         CoarseShading::Gaussian {
-            samples: 9,
+            samples: DEFAULT_GAUSSIAN_SAMPLES,
             aggregation: Aggregation::Isotropic,
         }
     }
@@ -254,7 +254,10 @@ impl CoarseShading {
     #[must_use]
     pub fn by_intensity() -> Self {
         CoarseShading::Representatives {
-            per_light: PerLight::ByIntensity { mean: 2.0, max: 16 },
+            per_light: PerLight::ByIntensity {
+                mean: DEFAULT_REPRESENTATIVES as f32,
+                max: DEFAULT_MAX_BY_INTENSITY,
+            },
             aggregation: Aggregation::Isotropic,
         }
     }
@@ -271,7 +274,9 @@ impl CoarseShading {
     #[must_use]
     pub fn uniform() -> Self {
         CoarseShading::Representatives {
-            per_light: PerLight::Uniform { samples: 2 },
+            per_light: PerLight::Uniform {
+                samples: DEFAULT_REPRESENTATIVES,
+            },
             aggregation: Aggregation::Isotropic,
         }
     }
@@ -530,6 +535,16 @@ pub struct GiSettings {
     /// [`MAX_SPECULAR_DEPTH`] ([`crate::specular`]).
     pub specular_depth: u32,
 }
+
+/// The Gaussian samples of [`CoarseShading::gaussian`]: 9, the paper's Fig. 11d.
+pub const DEFAULT_GAUSSIAN_SAMPLES: u32 = 9;
+
+/// The representatives a light draws with [`CoarseShading::uniform`], and their mean with
+/// [`CoarseShading::by_intensity`]: 2.
+pub const DEFAULT_REPRESENTATIVES: u32 = 2;
+
+/// The most representatives one light draws with [`CoarseShading::by_intensity`]: 16.
+pub const DEFAULT_MAX_BY_INTENSITY: u32 = 16;
 
 /// The least [`AdaptiveShading::mean_samples`]: 1/4 (shared per point, so below one most
 /// lights take their sample by roulette; below a quarter the point bound would do nearly all

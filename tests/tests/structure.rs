@@ -310,11 +310,16 @@ fn library_crates_know_nothing_of_the_command_line_or_the_test_sets() {
     }
 }
 
-/// The public modules a crate root declares (`pub mod name;` or `pub mod name {`).
+/// The public modules a crate root declares (`pub mod name;` or `pub mod name {`), but for
+/// those hidden from its documentation (`#[doc(hidden)]` on the line before).
 fn public_modules(lib: &str) -> Vec<String> {
-    code(lib)
-        .lines()
-        .filter_map(|l| l.trim().strip_prefix("pub mod "))
+    let code = code(lib);
+    let lines: Vec<&str> = code.lines().map(str::trim).collect();
+    lines
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i == 0 || lines[i - 1] != "#[doc(hidden)]")
+        .filter_map(|(_, l)| l.strip_prefix("pub mod "))
         .map(|rest| {
             rest.trim_end_matches(|c: char| c == ';' || c == '{' || c.is_whitespace())
                 .to_string()
@@ -333,7 +338,7 @@ fn crate_doc(lib: &str) -> String {
 #[test]
 fn public_modules_are_found_in_the_module_map() {
     assert_eq!(
-        public_modules("//! doc\npub mod a;\nmod b;\npub mod c {\n}\n"),
+        public_modules("//! doc\npub mod a;\nmod b;\npub mod c {\n}\n#[doc(hidden)]\npub mod d;\n"),
         ["a", "c"]
     );
     let mut problems = Vec::new();
@@ -395,7 +400,9 @@ fn long_functions(text: &str, most: usize) -> Vec<(String, usize, usize)> {
                 "async",
             ]
             .contains(&w)
-                || w.starts_with("extern")
+                || w == "extern"
+                // The ABI of `extern "C" fn`.
+                || (w.len() > 1 && w.starts_with('"') && w.ends_with('"'))
         });
         if !words_before || trimmed.starts_with("//") {
             continue;
@@ -432,6 +439,11 @@ fn no_function_in_library_code_is_over_120_lines() {
     let short = "fn a() {\n    1;\n}\n";
     let long = format!("pub fn b() {{\n{}}}\n", "    x();\n".repeat(130));
     assert!(long_functions(short, 120).is_empty());
+    let c_abi = format!(
+        "pub unsafe extern \"C\" fn c() {{\n{}}}\n",
+        "    x();\n".repeat(130)
+    );
+    assert_eq!(long_functions(&c_abi, 120), [("c".to_string(), 1, 132)]);
     assert_eq!(long_functions(&long, 120), [("b".to_string(), 1, 132)]);
     let mut problems = Vec::new();
     for krate in CRATES {

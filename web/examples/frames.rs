@@ -1,5 +1,5 @@
-//! The page's frames rendered natively, timed: what the README compares Chromium's frame times
-//! with. `cargo run --release -p lgh-web --example frames -- [LIGHTS] [SIZE] [FRAMES]`
+//! The page's frames rendered natively, timed: what docs/embedding.md compares Chromium's frame
+//! times with. `cargo run --release -p lgh-web --example frames -- [LIGHTS] [SIZE] [FRAMES]`
 //! (100000, 256, 8 by default).
 
 use std::time::Instant;

@@ -110,7 +110,7 @@ impl ScatterPlan {
     ///
     /// let plan = ScatterPlan { depth: 4, lights_per_depth: 10, merged_lights: 12, bytes: 5000 };
     /// assert!(plan.check(5000).is_ok());
-    /// assert!(plan.check(4999).unwrap_err().to_string().contains("--scatter-depth"));
+    /// assert!(plan.check(4999).unwrap_err().to_string().contains("MarchSettings::scatter_depth"));
     /// ```
     pub fn check(&self, budget: u64) -> Result<(), RenderError> {
         if self.bytes > budget {

@@ -81,7 +81,7 @@ pub const GROWTH: f32 = 2.0;
 
 /// The most refinement rounds at a point: six, in which the default 0.35 samples per light
 /// grow to 22 (0.5, the default before, to 32, as many as a light's representatives by
-/// default, `GiSettings::max_shadow_samples`; a light whose share is above the mean takes
+/// default, `AdaptiveShading::max_samples`; a light whose share is above the mean takes
 /// all of them sooner).
 pub const MAX_ROUNDS: u32 = 6;
 
