@@ -959,8 +959,6 @@ fn paquette_refuses_bad_input_before_any_work() {
 #[test]
 fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     let dir = tempfile::tempdir().unwrap();
-    let cornell = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data/meshes/cornellbox_original/CornellBox-Original.obj");
     let small = file(
         dir.path(),
         "small.obj",
@@ -1073,10 +1071,9 @@ fn gi_renders_the_cornell_box_and_refuses_what_it_cannot_light() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("1 of 1 triangles have no material"), "{err}");
-    if !cornell.exists() {
-        eprintln!("SKIPPED: {} is not here", cornell.display());
+    let Some(cornell) = lgh_tests::cornell_box() else {
         return;
-    }
+    };
     let mut total = Vec::new();
     for (backend, direct) in [
         ("brute", true),
@@ -1407,12 +1404,9 @@ fn gi_blend_at_is_in_the_header_and_changes_the_image() {
 /// same pixels, and writes the images and their difference images.
 #[test]
 fn bench_gi_prints_the_runs_against_brute_force() {
-    let cornell = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data/meshes/cornellbox_original/CornellBox-Original.obj");
-    if !cornell.exists() {
-        eprintln!("SKIPPED: {} is not here", cornell.display());
+    let Some(cornell) = lgh_tests::cornell_box() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let v = lgh_json(&[
         "bench",

@@ -349,7 +349,7 @@ impl Scratch {
             .status()
             .is_ok_and(|s| s.success());
         if !ok {
-            eprintln!("SKIPPED: cannot mount a tmpfs here (needs root or CAP_SYS_ADMIN)");
+            lgh_tests::Piece::Tmpfs.missing("cannot mount a tmpfs here");
             return None;
         }
         Some(Scratch { dir })

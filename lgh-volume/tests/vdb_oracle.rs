@@ -20,23 +20,17 @@ fn workspace() -> PathBuf {
         .to_path_buf()
 }
 
+/// The dev fire's frames, or `None` after saying SKIPPED ([`lgh_tests::data`]).
 fn fire_frames() -> Option<Vec<PathBuf>> {
-    let dir = lgh_tests::fire_dir();
+    let dir = lgh_tests::data("volumes/blender_fire_pesichra/data")?;
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .ok()?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "vdb"))
         .collect();
     files.sort();
-    if files.is_empty() {
-        None
-    } else {
-        Some(files)
-    }
-}
-
-fn skip(why: &str) {
-    eprintln!("SKIPPED: {why}");
+    assert!(!files.is_empty(), "no .vdb frame in {}", dir.display());
+    Some(files)
 }
 
 /// Whether the official library is here: `/usr/bin/python3` imports `pyopenvdb` and `numpy`,
@@ -91,7 +85,7 @@ fn same(a: f64, b: f64) -> bool {
 #[test]
 fn every_fire_frame_matches_the_official_library() {
     let Some(files) = fire_frames() else {
-        return skip("../shared/data/volumes/blender_fire_pesichra is not here");
+        return;
     };
     if !openvdb() {
         return;
@@ -151,7 +145,7 @@ fn every_fire_frame_matches_the_official_library() {
 #[test]
 fn truncated_or_corrupted_files_are_errors_not_crashes() {
     let Some(files) = fire_frames() else {
-        return skip("../shared/data/volumes/blender_fire_pesichra is not here");
+        return;
     };
     let bytes = std::fs::read(&files[0]).unwrap();
     // Every truncation is an error.

@@ -1075,12 +1075,9 @@ newmtl unused
 
     #[test]
     fn the_cornell_box_loads() {
-        let path =
-            lgh_tests::shared_data().join("meshes/cornellbox_original/CornellBox-Original.obj");
-        if !path.exists() {
-            eprintln!("SKIPPED: {} is not here", path.display());
+        let Some(path) = lgh_tests::cornell_box() else {
             return;
-        }
+        };
         let m = Mesh::load_obj(&path).unwrap();
         // 18 quads, no zero-area triangles; 8 MTL materials, all Lambertian, and the default.
         assert_eq!((m.triangles().len(), m.degenerate_skipped()), (36, 0));

@@ -617,15 +617,8 @@ mod tests {
         );
     }
 
-    /// The Cornell box of `../shared/data`, or `None` after saying SKIPPED.
+    /// The Cornell box's folder of the shared data, or `None` after saying SKIPPED.
     fn lgh_tests_data() -> Option<std::path::PathBuf> {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../shared/data/meshes/cornellbox_original");
-        if dir.is_dir() {
-            Some(dir)
-        } else {
-            eprintln!("SKIPPED: {} is not here", dir.display());
-            None
-        }
+        lgh_tests::data("meshes/cornellbox_original")
     }
 }

@@ -5,8 +5,6 @@
 //!
 //! Needs `../shared/data/meshes/cornellbox_original`; says SKIPPED without it.
 
-use std::path::Path;
-
 use lgh_core::glam::Vec3;
 use lgh_core::{BruteForce, GridSettings, LightSample, LightingGridHierarchy, ShadingPoint};
 use lgh_image::Image;
@@ -52,12 +50,9 @@ fn rel_rmse(a: &Image, r: &Image) -> f64 {
 ///   as `docs/gi.md` says (measured: 0.00–0.01%).
 #[test]
 fn first_bounce_vpls_agree_with_path_tracing_and_the_clamp_is_measured() {
-    let obj = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data/meshes/cornellbox_original/CornellBox-Original.obj");
-    if !obj.exists() {
-        eprintln!("SKIPPED: {} is not here", obj.display());
+    let Some(obj) = lgh_tests::cornell_box() else {
         return;
-    }
+    };
     let scene = Scene::new(Mesh::load_obj(&obj).unwrap());
     let lights = area_lights(scene.mesh());
     let px = env("LGH_PX", 16) as usize;

@@ -19,16 +19,35 @@ pub fn fire_dir() -> PathBuf {
     shared_data().join("volumes/blender_fire_pesichra/data")
 }
 
-/// Frame `n` (50..=56) of the dev fire cache, or `None` after saying `SKIPPED` on stderr when
-/// the data is absent.
-pub fn fire_frame(n: u32) -> Option<PathBuf> {
-    let p = fire_dir().join(format!("fluid_data_{n:04}.vdb"));
+/// `relative` inside the shared data folder ([`shared_data`]), or `None` after
+/// [`Piece::Data`]'s [`missing`](Piece::missing) (a failure with `LGH_REQUIRE_DATA` or
+/// `LGH_REQUIRE_ALL` set) when it is not there.
+///
+/// ```
+/// # std::env::remove_var("LGH_REQUIRE_DATA");
+/// # std::env::remove_var("LGH_REQUIRE_ALL");
+/// assert_eq!(lgh_tests::data("no/such/file.obj"), None); // says SKIPPED
+/// ```
+pub fn data(relative: impl AsRef<Path>) -> Option<PathBuf> {
+    let p = shared_data().join(relative);
     if p.exists() {
         Some(p)
     } else {
-        eprintln!("SKIPPED: {} is not here", p.display());
+        Piece::Data.missing(&format!("{} is not here", p.display()));
         None
     }
+}
+
+/// Frame `n` (50..=56) of the dev fire cache, or `None` after saying `SKIPPED` ([`data`]).
+pub fn fire_frame(n: u32) -> Option<PathBuf> {
+    data(format!(
+        "volumes/blender_fire_pesichra/data/fluid_data_{n:04}.vdb"
+    ))
+}
+
+/// The Cornell box's OBJ (its MTL beside it), or `None` after saying `SKIPPED` ([`data`]).
+pub fn cornell_box() -> Option<PathBuf> {
+    data("meshes/cornellbox_original/CornellBox-Original.obj")
 }
 
 /// Relative RMSE (luminance, ARCHITECTURE.md "Measuring") of the *scattered* light: `a` and `r`
@@ -55,13 +74,18 @@ pub fn scatter_rel_rmse(a: &lgh_image::Image, r: &lgh_image::Image, e: &lgh_imag
 #[doc = include_str!("../../README.md")]
 struct ReadmeDoctests;
 
-/// A piece of the system that some tests need and `cargo` does not install: a browser, a rustup
-/// target, a C++ compiler, a Python module, a scheduler. Outside CI a test without it says
-/// `SKIPPED: <what is missing> (<the install command>)` on stderr and passes; with its
-/// `LGH_REQUIRE_<PIECE>` variable set (`.ci/run` sets every one, after installing them) it fails,
-/// so a missing install step can never pass as green.
+/// A piece of the system that some tests need and `cargo` does not install: the shared data, a
+/// browser, a rustup target, a C++ compiler, a Python module, a scheduler, a CPU feature. Outside
+/// CI a test without it says `SKIPPED: <what is missing> (<how to get it>)` on stderr and passes;
+/// with its `LGH_REQUIRE_<PIECE>` variable set, or `LGH_REQUIRE_ALL` (which `.ci/run` sets, after
+/// installing them), it fails, so a missing install step can never pass as green. The pieces a
+/// machine may lack by nature ([`by_nature`](Self::by_nature): AVX2, mounting a tmpfs) are
+/// required by their own variable only.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Piece {
+    /// The real data of `../shared/data` (or `$LGH_SHARED_DATA`): the dev fire, the Cornell box,
+    /// Sponza ([`data`]).
+    Data,
     /// Chromium and chromedriver: the web page's browser test (`web/tests/browser.rs`).
     Browser,
     /// The `wasm32-unknown-unknown` rustup target: the web page's module, built by its browser
@@ -74,17 +98,61 @@ pub enum Piece {
     OpenVdb,
     /// Slurm and munge, run as root: the farm test's scheduler (`lgh-cli/tests/slurm.rs`).
     Slurm,
+    /// Mounting a small tmpfs (root or `CAP_SYS_ADMIN`): the full-disk test
+    /// (`lgh-cli/tests/hardening.rs`).
+    Tmpfs,
+    /// A CPU with AVX2: the eight-abreast kernels' tests against the one-by-one code
+    /// (`lgh-volume/src/shadow/deep.rs`).
+    Avx2,
 }
 
 impl Piece {
     /// Every piece, in the order the README lists them.
-    pub const ALL: [Piece; 5] = [
+    pub const ALL: [Piece; 8] = [
+        Piece::Data,
         Piece::Browser,
         Piece::WasmTarget,
         Piece::Cxx,
         Piece::OpenVdb,
         Piece::Slurm,
+        Piece::Tmpfs,
+        Piece::Avx2,
     ];
+
+    /// The piece's place in [`ALL`](Self::ALL): a match over every variant, so a new piece
+    /// cannot compile without a place, and a test checks that [`ALL`](Self::ALL) holds it there.
+    ///
+    /// ```
+    /// use lgh_tests::Piece;
+    /// for (i, piece) in Piece::ALL.into_iter().enumerate() {
+    ///     assert_eq!(piece.index(), i);
+    /// }
+    /// ```
+    #[must_use]
+    pub fn index(self) -> usize {
+        match self {
+            Piece::Data => 0,
+            Piece::Browser => 1,
+            Piece::WasmTarget => 2,
+            Piece::Cxx => 3,
+            Piece::OpenVdb => 4,
+            Piece::Slurm => 5,
+            Piece::Tmpfs => 6,
+            Piece::Avx2 => 7,
+        }
+    }
+
+    /// Whether a machine may lack the piece by its nature, whatever is installed (a CPU
+    /// feature, a kernel's permission): `LGH_REQUIRE_ALL` does not require it.
+    ///
+    /// ```
+    /// assert!(lgh_tests::Piece::Avx2.by_nature());
+    /// assert!(!lgh_tests::Piece::Data.by_nature());
+    /// ```
+    #[must_use]
+    pub fn by_nature(self) -> bool {
+        matches!(self, Piece::Tmpfs | Piece::Avx2)
+    }
 
     /// The variable that makes the piece required: `LGH_REQUIRE_BROWSER`, …
     ///
@@ -94,6 +162,9 @@ impl Piece {
     #[must_use]
     pub fn variable(self) -> &'static str {
         match self {
+            Piece::Data => "LGH_REQUIRE_DATA",
+            Piece::Tmpfs => "LGH_REQUIRE_TMPFS",
+            Piece::Avx2 => "LGH_REQUIRE_AVX2",
             Piece::Browser => "LGH_REQUIRE_BROWSER",
             Piece::WasmTarget => "LGH_REQUIRE_WASM",
             Piece::Cxx => "LGH_REQUIRE_CXX",
@@ -102,7 +173,8 @@ impl Piece {
         }
     }
 
-    /// The command that installs the piece on Debian (as `.ci/run` does).
+    /// How to get the piece: the command that installs it on Debian (as `.ci/run` does), or
+    /// what it takes.
     ///
     /// ```
     /// assert!(lgh_tests::Piece::Cxx.install().contains("g++"));
@@ -110,6 +182,11 @@ impl Piece {
     #[must_use]
     pub fn install(self) -> &'static str {
         match self {
+            Piece::Data => {
+                "put the shared data beside the checkout as ../shared/data, or set LGH_SHARED_DATA"
+            }
+            Piece::Tmpfs => "run the tests as root, or with CAP_SYS_ADMIN",
+            Piece::Avx2 => "a CPU with AVX2",
             Piece::Browser => "apt-get install chromium chromium-driver",
             Piece::WasmTarget => "rustup target add wasm32-unknown-unknown",
             Piece::Cxx => "apt-get install make g++",
@@ -118,10 +195,12 @@ impl Piece {
         }
     }
 
-    /// Whether this run requires the piece (its variable is set and not empty).
+    /// Whether this run requires the piece: its variable is set (and not empty), or
+    /// [`REQUIRE_ALL`] is and the piece is not one a machine may lack by nature.
     #[must_use]
     pub fn required(self) -> bool {
-        std::env::var_os(self.variable()).is_some_and(|v| !v.is_empty())
+        let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+        set(self.variable()) || (!self.by_nature() && set(REQUIRE_ALL))
     }
 
     /// Says `SKIPPED: <missing> (<install>)` on stderr, or panics with the same words when the
@@ -129,6 +208,7 @@ impl Piece {
     ///
     /// ```
     /// # std::env::remove_var("LGH_REQUIRE_CXX");
+    /// # std::env::remove_var("LGH_REQUIRE_ALL");
     /// lgh_tests::Piece::Cxx.missing("no c++ on the PATH"); // says SKIPPED and returns
     /// ```
     pub fn missing(self, missing: &str) {
@@ -139,6 +219,10 @@ impl Piece {
         eprintln!("SKIPPED: {line}");
     }
 }
+
+/// The variable that requires every piece but those a machine may lack by nature
+/// ([`Piece::by_nature`]): `.ci/run` sets it.
+pub const REQUIRE_ALL: &str = "LGH_REQUIRE_ALL";
 
 /// Whether `program` runs (`program args` exits, whatever its status).
 #[must_use]

@@ -462,28 +462,47 @@ fn no_function_in_library_code_is_over_120_lines() {
 }
 
 #[test]
-fn ci_requires_every_system_piece_a_test_can_skip() {
+fn ci_requires_every_piece_a_test_can_skip_and_no_test_reads_ci() {
     let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let exported = |name: &str| {
+        let export = format!("export {name}=1");
+        ci.lines().any(|l| l.trim_start().starts_with(&export))
+    };
+    assert!(
+        exported(lgh_tests::REQUIRE_ALL),
+        ".ci/run does not `export {}=1`: a missing piece would pass as SKIPPED",
+        lgh_tests::REQUIRE_ALL
+    );
     for piece in lgh_tests::Piece::ALL {
-        let export = format!("export {}=1", piece.variable());
+        // `.ci/run` names every piece, and says why a piece it does not require is not.
         assert!(
-            ci.lines().any(|l| l.trim_start().starts_with(&export)),
-            ".ci/run does not `{export}`: a missing {piece:?} would pass as SKIPPED"
+            ci.contains(piece.variable()),
+            ".ci/run does not name {piece:?}"
+        );
+        assert!(
+            !piece.by_nature() || !exported(piece.variable()),
+            "{piece:?} may be missing by nature on a CI machine"
         );
     }
-    // Every LGH_REQUIRE_ variable the tests read is one of the pieces.
-    let known: Vec<&str> = lgh_tests::Piece::ALL.iter().map(|p| p.variable()).collect();
+    // Every LGH_REQUIRE_ variable the tests read is one of the pieces, and no test asks
+    // whether it runs in CI: what CI requires, it says with LGH_REQUIRE_*.
+    let mut known: Vec<&str> = lgh_tests::Piece::ALL.iter().map(|p| p.variable()).collect();
+    known.push(lgh_tests::REQUIRE_ALL);
+    let reads_ci = ["var(\"CI\")", "var_os(\"CI\")"];
     let mut problems = Vec::new();
     for f in workspace_files() {
         let text = std::fs::read_to_string(&f).unwrap();
         for (at, _) in text.match_indices("LGH_REQUIRE_") {
             let name: String = text[at..]
                 .chars()
-                .take_while(|c| c.is_ascii_uppercase() || *c == '_')
+                .take_while(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || *c == '_')
                 .collect();
             if name.len() > "LGH_REQUIRE_".len() && !known.contains(&name.as_str()) {
                 problems.push(format!("{}: {name} is not a lgh_tests::Piece", f.display()));
             }
+        }
+        if reads_ci.iter().any(|r| text.contains(r)) {
+            problems.push(format!("{}: reads CI", f.display()));
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));

@@ -1287,8 +1287,7 @@ mod tests {
     fn batched_lookups_are_the_one_by_one_lookups_bit_for_bit() {
         // Without AVX2 both sides are the one-by-one code: nothing to compare.
         if !std::arch::is_x86_feature_detected!("avx2") {
-            eprintln!("SKIPPED: this CPU has no AVX2");
-            return;
+            return lgh_tests::Piece::Avx2.missing("this CPU has no AVX2");
         }
         // Every level's lights, looked up from points all over the box and beyond, in batches of
         // every length (AVX2 eights and the scalar rest), with lights without a map (index out
@@ -1360,8 +1359,7 @@ mod tests {
     fn texel_rays_eight_abreast_are_the_one_by_one_rays_bit_for_bit() {
         // Without AVX2 both sides are the one-by-one code: nothing to compare.
         if !std::arch::is_x86_feature_detected!("avx2") {
-            eprintln!("SKIPPED: this CPU has no AVX2");
-            return;
+            return lgh_tests::Piece::Avx2.missing("this CPU has no AVX2");
         }
         // Lights of every size inside and outside the box, in smoke with empty space between
         // blobs, both depth rules: whole maps traced with and without AVX2 must agree.
