@@ -291,8 +291,14 @@ fn within_the_flicker_bound(f: [f64; 3]) {
 /// The same on the dev Blender fire's frames 50–56 (skipped without `../shared/data`), with
 /// Blender's emission and smoke 200× denser than Blender's default (tests/explosion.rs), so
 /// that the shadows matter.
+///
+/// Fails today, which CI did not see while it ran no ignored test: in release, cube maps
+/// flicker 0.000278 against ray-marched point shadows' 0.000199 (1.39×, over the 1.1× bound),
+/// their own model ray-marched 0.000265, the maps against that model 0.000021 — the volume
+/// lights' model, not the maps, adds the flicker. Not run by CI until the bound is settled
+/// (issue 53).
 #[test]
-#[ignore]
+#[ignore = "fails its bound on the real fire (issue 53): 1.39x ray-marched shadows' flicker"]
 fn flicker_of_cube_map_shadows_on_the_real_fire() {
     let Some(paths) = (50..=56)
         .map(lgh_tests::fire_frame)
