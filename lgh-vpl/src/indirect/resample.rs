@@ -476,15 +476,18 @@ mod tests {
         );
     }
 
-    /// Resampled draws in the room at α = 4 with shadow rays, 0.5 draws a light on average
-    /// (`lgh gi`'s default when this was measured; 0.35 now): unbiased, their image's mean
-    /// that of every coarse light shaded through all 32 of its representatives; and less noisy than as many draws of one
-    /// representative each. Measured (32 × 24, blended per representative): 4 candidates
-    /// 3.4% from brute force against 5.4% with 1, the mean 0.9965 times the complete
-    /// estimate's.
-    /// Asserted: the error falls by a fifth or more and the mean is within 2% (the same bound
-    /// as the adaptive shading's own test: the per-pixel noise of a few percent, over 768
-    /// pixels that share lights); the image is the same on 1 and 3 threads.
+    /// Resampled draws in the room at α = 4 with shadow rays, at `lgh gi`'s default mean
+    /// ([`DEFAULT_ADAPTIVE_SAMPLES`](crate::gi::DEFAULT_ADAPTIVE_SAMPLES), 0.35 draws a light):
+    /// unbiased, their image's mean that of every coarse light shaded through all 32 of its
+    /// representatives; and less noisy than as many draws of one representative each.
+    /// Measured (32 × 24, blended per representative): 4 candidates 4.38% from brute force
+    /// against 6.53% with 1, the mean 0.9951 times the complete estimate's (at 0.5 draws a
+    /// light, the default before: 3.4%, 5.4%, 0.9965).
+    /// Asserted: the error falls by a fifth or more (measured: by a third), and the mean is
+    /// within 1.25% of the complete estimate's, 2.5× the 0.49% measured: the image's mean is
+    /// one draw of the estimator, its spread the per-pixel noise of a few percent over 768
+    /// pixels that share lights, so a bias of 1% or more fails while the draw's own deviation
+    /// passes; the image is the same on 1 and 3 threads.
     #[test]
     fn resampled_draws_are_unbiased_and_err_less() {
         let f = Fixture::new();
@@ -501,14 +504,15 @@ mod tests {
             };
             render_lgh(&f.scene, &camera, &backend, coarse, &shader, |_| {}).unwrap()
         };
-        let (one, four) = (render(0.5, 1), render(0.5, DEFAULT_CANDIDATES));
+        let mean = crate::gi::DEFAULT_ADAPTIVE_SAMPLES;
+        let (one, four) = (render(mean, 1), render(mean, DEFAULT_CANDIDATES));
         let complete = render(64.0, 1);
         let (e1, e4) = (rel_rmse(&one, &exact), rel_rmse(&four, &exact));
         let ratio = light_sum(&four) / light_sum(&complete);
         println!("1 candidate {e1:.4}, 4 candidates {e4:.4}; mean {ratio:.4}");
         assert!(e4 < 0.8 * e1, "{e4} against {e1}");
-        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
-        let again = || render(0.5, DEFAULT_CANDIDATES);
+        assert!((ratio - 1.0).abs() < 0.0125, "{ratio}");
+        let again = || render(mean, DEFAULT_CANDIDATES);
         assert_eq!(pool(1).install(again), pool(3).install(again));
     }
 }
