@@ -893,8 +893,10 @@ mod tests {
     /// may drop (`facing`'s module docs) and f32 sums. Measured first: a share of the lights
     /// each point gathers, and does not leave out as [`behind`] it, faces away (asserted:
     /// more than 5%), so the comparison bites.
-    /// At 0.5 draws a light, with shadow rays, the mean is within 2% of the complete image's
-    /// (as the other adaptive tests).
+    /// At `lgh gi`'s default 0.35 draws a light, with shadow rays, the image's mean is that of
+    /// the complete image: measured 0.9983 of it; asserted within 0.75% — the estimator's own
+    /// deviation on these small images is 0.17% here and 0.49% in `resample`'s test of the
+    /// same room, so a bias of 1% fails.
     #[test]
     fn lights_facing_away_are_left_out_and_nothing_is_lost() {
         let f = Fixture::new();
@@ -950,13 +952,14 @@ mod tests {
             );
         }
         let shadowed = f.shader();
+        let mean = crate::gi::DEFAULT_ADAPTIVE_SAMPLES;
         let (sampled, complete) = (
-            render(&summarised, 0.5, &shadowed),
+            render(&summarised, mean, &shadowed),
             render(&summarised, all, &shadowed),
         );
         let ratio = light_sum(&sampled) / light_sum(&complete);
-        println!("mean at 0.5 draws a light: {ratio:.4} of the complete image's");
-        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+        println!("mean at {mean} draws a light: {ratio:.4} of the complete image's");
+        assert!((ratio - 1.0).abs() < 0.0075, "{ratio}");
     }
 
     /// A light's resampled draws look at a power-of-two prefix of its representatives,
