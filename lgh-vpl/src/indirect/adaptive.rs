@@ -149,9 +149,9 @@ struct Candidate {
 struct Estimate {
     radiance: Vec3,
     tally: Tally,
-    /// A single resampled draw's which-VPL variance ([`Draw::spread`]); else 0.
+    /// A single resampled draw's which-VPL variance ([`Draw::spread`](super::resample::Draw::spread)); else 0.
     spread: f64,
-    /// A single resampled draw's ray roulette variance ([`Draw::played`]); else 0.
+    /// A single resampled draw's ray roulette variance ([`Draw::played`](super::resample::Draw::played)); else 0.
     played: f64,
 }
 
@@ -598,7 +598,7 @@ impl Pass<'_> {
     /// Draws `range` of a light, shaded now, with the light's luminance over `range.len()`,
     /// each added to `tally`; `at_point` is the fraction of the point's light a draw stands
     /// for, which its ray's roulette plays with ([`RayRoulette`]). With a single resampled
-    /// draw, also its which-VPL and ray roulette variances ([`Draw`]); else 0 and 0.
+    /// draw, also its which-VPL and ray roulette variances ([`Draw`](super::resample::Draw)); else 0 and 0.
     fn shade_draws(
         &self,
         draws: &Draws<'_>,
