@@ -9,12 +9,11 @@ use std::time::Instant;
 use lgh_core::glam::Vec3;
 use lgh_image::Image;
 use lgh_vpl::gi::{
-    self, AdaptiveShading, CoarseShading, DirectLight, GiError, GiMethod, GiScene, GiSettings,
-    PerLight, SampleSetting,
+    self, AdaptiveShading, CoarseShading, DirectLight, GiError, GiMethod, GiScene, GiSetting,
+    GiSettings, PerLight, SampleSetting,
 };
 use lgh_vpl::indirect::refine::DEFAULT_POINT_ERROR;
 use lgh_vpl::primary::{LightParseError, PrimaryLight};
-use lgh_vpl::representatives::MAX_PER_LIGHT;
 use lgh_vpl::vpl::{VplError, VplSettings};
 use lgh_vpl::{Camera, Mesh};
 use serde_json::json;
@@ -532,79 +531,64 @@ impl SceneArgs {
     }
 }
 
-/// `k` of `--shadow-samples` as the whole number `setting` takes, or the refusal naming the
-/// flag.
+/// `k` of `--shadow-samples` as the whole number `setting` takes (its range is the library's
+/// to check, [`CoarseShading::check`]), or the refusal naming the flag.
 fn whole(k: f32, setting: SampleSetting) -> Result<u32, crate::Error> {
-    let (min, max) = match setting {
-        SampleSetting::Gaussian => (0.0, gi::MAX_GAUSSIAN_SAMPLES as f32),
-        _ => (1.0, MAX_PER_LIGHT as f32),
-    };
-    if k.is_finite() && k.fract() == 0.0 && k >= min && k <= max {
+    if k.is_finite() && k.fract() == 0.0 && (0.0..=u32::MAX as f32).contains(&k) {
         Ok(k as u32)
     } else {
-        Err(samples_message(setting, k, min, max).into())
+        let (flag, with) = flag_of(GiSetting::Samples(setting));
+        Err(format!("{flag} {k}: expected a whole number{with}").into())
     }
 }
 
-/// The refusal of `value` for `setting`, in flags: `--shadow-samples 2000: expected a whole
-/// number from 0 to 1024 with --coarse-shadows gaussian`.
-fn samples_message(setting: SampleSetting, value: f32, min: f32, max: f32) -> String {
-    let flag = if setting.is_max() {
-        "--max-shadow-samples"
-    } else {
-        "--shadow-samples"
-    };
-    let (whole, with) = match setting {
-        SampleSetting::Gaussian => (true, "--coarse-shadows gaussian"),
-        SampleSetting::Uniform => (true, "--sample-allocation uniform"),
-        SampleSetting::IntensityMean => (false, "--sample-allocation intensity"),
-        SampleSetting::IntensityMax => (true, "--sample-allocation intensity"),
-        SampleSetting::AdaptiveMean => (false, "--sample-allocation adaptive"),
-        SampleSetting::AdaptiveMax => (true, "--sample-allocation adaptive"),
-    };
-    let number = if whole { "a whole number" } else { "a number" };
-    format!("{flag} {value}: expected {number} from {min} to {max} with {with}")
+/// The flag that sets `setting`, and the flags that choose the shading it belongs to (for a
+/// number of samples: ` with --coarse-shadows gaussian`, …; else empty).
+fn flag_of(setting: GiSetting) -> (&'static str, &'static str) {
+    match setting {
+        GiSetting::Samples(s) => {
+            let flag = if s.is_max() {
+                "--max-shadow-samples"
+            } else {
+                "--shadow-samples"
+            };
+            let with = match s {
+                SampleSetting::Gaussian => " with --coarse-shadows gaussian",
+                SampleSetting::Uniform => " with --sample-allocation uniform",
+                SampleSetting::IntensityMean | SampleSetting::IntensityMax => {
+                    " with --sample-allocation intensity"
+                }
+                SampleSetting::AdaptiveMean | SampleSetting::AdaptiveMax => {
+                    " with --sample-allocation adaptive"
+                }
+            };
+            (flag, with)
+        }
+        GiSetting::AreaStrata => ("--area-strata", ""),
+        GiSetting::LobeError => ("--lobe-error", ""),
+        GiSetting::PointError => ("--point-error", ""),
+        GiSetting::Candidates => ("--candidates", ""),
+        GiSetting::SpecularDepth => ("--specular-depth", ""),
+        GiSetting::RelativeError => ("--lightcuts-error", ""),
+    }
 }
 
 /// A library error of `lgh gi`, worded with the flags: lgh-vpl names its own settings
-/// (`AdaptiveShading::candidates 3`), the command line the flag that set them
-/// (`--candidates 3`). Errors that name no setting pass through as they are.
+/// (`AdaptiveShading::candidates 3: expected …`), the command line the flag that set them
+/// (`--candidates 3: expected …`), with the library's own words for what it takes
+/// ([`GiError::refusal`]). Errors that name no setting pass through as they are.
 fn flag_error(e: GiError) -> crate::Error {
-    let message = match e {
-        GiError::Samples {
-            setting,
-            value,
-            min,
-            max,
-        } => samples_message(setting, value, min, max),
-        GiError::AreaStrata { area_strata } => {
-            format!("--area-strata {area_strata}: expected 1 to 64")
-        }
-        GiError::LobeError { error } => format!(
-            "--lobe-error {error}: expected a positive number (0.01 is 1% of a point's diffuse \
-             light) or off"
-        ),
-        GiError::PointError { error } => format!(
-            "--point-error {error}: expected a positive number (0.1 is 10% of a point's light) \
-             or off"
-        ),
-        GiError::Candidates { candidates } => format!(
-            "--candidates {candidates}: expected {} (1 draws each representative on its own)",
-            gi::candidate_values()
-        ),
-        GiError::SpecularDepth { depth } => format!(
-            "--specular-depth {depth}: expected 0 to {}",
-            gi::MAX_SPECULAR_DEPTH
-        ),
-        GiError::RelativeError { relative_error } => {
-            format!("--lightcuts-error {relative_error}: expected a positive number (0.02 is 2%)")
-        }
+    if let Some(r) = e.refusal() {
+        let (flag, with) = flag_of(r.setting);
+        let or_off = if r.setting.optional() { " or off" } else { "" };
+        return format!("{flag} {}: {}{or_off}{with}", r.value, r.expected).into();
+    }
+    match e {
         GiError::Vpl(VplError::NoLights) => {
-            "the scene has no emissive face (MTL Ke) and no --light was given".to_string()
+            "the scene has no emissive face (MTL Ke) and no --light was given".into()
         }
-        e => return Box::new(e),
-    };
-    message.into()
+        e => Box::new(e),
+    }
 }
 
 /// A coarse shading's settings for the EXR header and the JSON, as `lgh gi`'s flags name

@@ -731,53 +731,159 @@ pub fn candidate_values() -> String {
     }
 }
 
-impl std::fmt::Display for GiError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+/// A setting of [`GiSettings`] or [`GiMethod`] that a [`GiError`] refuses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GiSetting {
+    /// A number of [`CoarseShading`]'s samples.
+    Samples(SampleSetting),
+    /// [`DirectLight::Stratified`]'s `area_strata`.
+    AreaStrata,
+    /// [`AdaptiveShading::lobe_error`].
+    LobeError,
+    /// [`AdaptiveShading::point_error`].
+    PointError,
+    /// [`AdaptiveShading::candidates`].
+    Candidates,
+    /// [`GiSettings::specular_depth`].
+    SpecularDepth,
+    /// [`GiMethod::Lightcuts`]' `relative_error`.
+    RelativeError,
+}
+
+impl GiSetting {
+    /// Its name in the library, with the setting that holds it:
+    /// `GiSettings::coarse: AdaptiveShading::candidates`.
+    ///
+    /// ```
+    /// use lgh_vpl::gi::GiSetting;
+    /// assert_eq!(GiSetting::SpecularDepth.name(), "GiSettings::specular_depth");
+    /// ```
+    #[must_use]
+    pub fn name(self) -> String {
         match self {
+            GiSetting::Samples(s) => format!("GiSettings::coarse: {}", s.name()),
+            GiSetting::AreaStrata => {
+                "GiSettings::direct: DirectLight::Stratified area_strata".into()
+            }
+            GiSetting::LobeError => "GiSettings::coarse: AdaptiveShading::lobe_error".into(),
+            GiSetting::PointError => "GiSettings::coarse: AdaptiveShading::point_error".into(),
+            GiSetting::Candidates => "GiSettings::coarse: AdaptiveShading::candidates".into(),
+            GiSetting::SpecularDepth => "GiSettings::specular_depth".into(),
+            GiSetting::RelativeError => "GiMethod::Lightcuts relative_error".into(),
+        }
+    }
+
+    /// Whether the setting is an `Option` whose `None` turns it off (a bound).
+    ///
+    /// ```
+    /// use lgh_vpl::gi::GiSetting;
+    /// assert!(GiSetting::PointError.optional() && !GiSetting::Candidates.optional());
+    /// ```
+    #[must_use]
+    pub fn optional(self) -> bool {
+        matches!(self, GiSetting::LobeError | GiSetting::PointError)
+    }
+}
+
+/// A refused setting, in parts, so that a caller with other names for the settings (a command
+/// line's flags) can word it with those: the error's message is
+/// `{name} {value}: {expected}` (and ` or None` for an [`optional`](GiSetting::optional) one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refusal {
+    /// Which setting.
+    pub setting: GiSetting,
+    /// The rejected value, as the message writes it.
+    pub value: String,
+    /// What it takes: `expected 1 to 64`.
+    pub expected: String,
+}
+
+impl GiError {
+    /// The refused setting, if the error is one (`None` for the errors of the work itself).
+    ///
+    /// ```
+    /// use lgh_vpl::gi::{GiError, GiSetting};
+    /// let r = GiError::SpecularDepth { depth: 40 }.refusal().unwrap();
+    /// assert_eq!((r.setting, r.value.as_str(), r.expected.as_str()),
+    ///            (GiSetting::SpecularDepth, "40", "expected 0 to 32"));
+    /// ```
+    #[must_use]
+    pub fn refusal(&self) -> Option<Refusal> {
+        let (setting, value, expected) = match *self {
             GiError::Samples {
                 setting,
                 value,
                 min,
                 max,
-            } => write!(
-                f,
-                "GiSettings::coarse: {} {value}: expected {min} to {max}",
-                setting.name()
+            } => (
+                GiSetting::Samples(setting),
+                value.to_string(),
+                format!("expected {min} to {max}"),
             ),
-            GiError::AreaStrata { area_strata } => write!(
-                f,
-                "GiSettings::direct: DirectLight::Stratified area_strata {area_strata}: \
-                 expected 1 to 64"
+            GiError::AreaStrata { area_strata } => (
+                GiSetting::AreaStrata,
+                area_strata.to_string(),
+                "expected 1 to 64".to_string(),
             ),
-            GiError::LobeError { error } => write!(
-                f,
-                "GiSettings::coarse: AdaptiveShading::lobe_error {error}: expected a positive \
-                 number (0.01 is 1% of a point's diffuse light) or None"
+            GiError::LobeError { error } => (
+                GiSetting::LobeError,
+                error.to_string(),
+                "expected a positive number (0.01 is 1% of a point's diffuse light)".to_string(),
             ),
-            GiError::PointError { error } => write!(
-                f,
-                "GiSettings::coarse: AdaptiveShading::point_error {error}: expected a positive \
-                 number (0.1 is 10% of a point's light) or None"
+            GiError::PointError { error } => (
+                GiSetting::PointError,
+                error.to_string(),
+                "expected a positive number (0.1 is 10% of a point's light)".to_string(),
             ),
-            GiError::Candidates { candidates } => write!(
-                f,
-                "GiSettings::coarse: AdaptiveShading::candidates {candidates}: expected {} (1 \
-                 draws each representative on its own)",
-                candidate_values()
+            GiError::Candidates { candidates } => (
+                GiSetting::Candidates,
+                candidates.to_string(),
+                format!(
+                    "expected {} (1 draws each representative on its own)",
+                    candidate_values()
+                ),
             ),
-            GiError::SpecularDepth { depth } => write!(
-                f,
-                "GiSettings::specular_depth {depth}: expected 0 to {MAX_SPECULAR_DEPTH}"
+            GiError::SpecularDepth { depth } => (
+                GiSetting::SpecularDepth,
+                depth.to_string(),
+                format!("expected 0 to {MAX_SPECULAR_DEPTH}"),
             ),
-            GiError::RelativeError { relative_error } => write!(
-                f,
-                "GiMethod::Lightcuts relative_error {relative_error}: expected a positive \
-                 number (0.02 is 2%)"
+            GiError::RelativeError { relative_error } => (
+                GiSetting::RelativeError,
+                relative_error.to_string(),
+                "expected a positive number (0.02 is 2%)".to_string(),
             ),
+            GiError::Vpl(_) | GiError::Build(_) | GiError::Query(_) | GiError::Render(_) => {
+                return None
+            }
+        };
+        Some(Refusal {
+            setting,
+            value,
+            expected,
+        })
+    }
+}
+
+impl std::fmt::Display for GiError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(r) = self.refusal() {
+            let or_none = if r.setting.optional() { " or None" } else { "" };
+            return write!(
+                f,
+                "{} {}: {}{or_none}",
+                r.setting.name(),
+                r.value,
+                r.expected
+            );
+        }
+        match self {
             GiError::Vpl(e) => write!(f, "{e}"),
             GiError::Build(e) => write!(f, "{e}"),
             GiError::Query(e) => write!(f, "{e}"),
             GiError::Render(e) => write!(f, "{e}"),
+            // Refusals, written above.
+            _ => Ok(()),
         }
     }
 }
