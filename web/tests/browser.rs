@@ -210,7 +210,7 @@ impl Driver {
             "/usr/lib/chromium/chromedriver",
         ]
         .into_iter()
-        .find(|d| Command::new(d).arg("--version").output().is_ok());
+        .find(|d| lgh_tests::runs(d, &["--version"]));
         let chromium = [
             "/usr/bin/chromium",
             "/usr/bin/chromium-browser",
