@@ -507,3 +507,40 @@ fn ci_requires_every_piece_a_test_can_skip_and_no_test_reads_ci() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// The package of a `.rs` file: the name in the `Cargo.toml` of the nearest folder above it.
+fn package_of(file: &Path) -> String {
+    let manifest = file
+        .ancestors()
+        .map(|d| d.join("Cargo.toml"))
+        .find(|m| m.is_file())
+        .unwrap();
+    let text = std::fs::read_to_string(manifest).unwrap();
+    let line = text.lines().find(|l| l.starts_with("name = ")).unwrap();
+    line["name = ".len()..].trim_matches('"').to_string()
+}
+
+/// An `#[ignore]`d test is one CI would never run: `.ci/run` runs each file that has one with
+/// `--ignored` (in release, where they take minutes and not hours).
+#[test]
+fn ci_runs_every_ignored_test() {
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let mut problems = Vec::new();
+    for f in workspace_files() {
+        let text = std::fs::read_to_string(&f).unwrap();
+        let ignores = text.lines().any(|l| l.trim_start().starts_with("#[ignore"));
+        if f.extension().is_some_and(|x| x == "md") || !ignores {
+            continue;
+        }
+        let in_tests = f.parent().is_some_and(|d| d.ends_with("tests"));
+        let Some(name) = f.file_stem().and_then(|s| s.to_str()).filter(|_| in_tests) else {
+            problems.push(format!("{}: an ignored test outside tests/", f.display()));
+            continue;
+        };
+        let run = format!("-p {} --test {name} -- --ignored", package_of(&f));
+        if !ci.lines().any(|l| l.contains(&run)) {
+            problems.push(format!("{}: .ci/run has no `{run}`", f.display()));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
