@@ -1078,11 +1078,11 @@ mod tests {
         let all = Coarse::Representatives(&reps);
         let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
         let ratio = light_sum(&render(4.0)) / light_sum(&full);
-        println!("adaptive mean over all-16 mean: {ratio:.4}");
-        // Measured 1.0027. Bound: the per-pixel noise is about the 4.4% RMSE above; over 768
-        // pixels that is 0.16% if they were independent, and neighbours share lights, so an
-        // order of magnitude more: 2%.
-        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+        println!("adaptive mean over all-16 mean: {ratio:.5}");
+        // Measured 1.00267, 0.27% off; bound 0.7% (2.6× it). The per-pixel noise is about the
+        // 4.4% RMSE above, 0.16% over 768 pixels were they independent, more as neighbours
+        // share lights: what is measured is that noise, and a bias of 1% fails.
+        assert!((ratio - 1.0).abs() < 0.007, "{ratio}");
         assert_eq!(
             pool(1).install(|| render(4.0)),
             pool(3).install(|| render(4.0))
@@ -1101,7 +1101,7 @@ mod tests {
     /// 3.68% → 2.70%, 918 of 955 points refined (at 3%, nearly every point's few samples may be off by that much); the
     /// mean 1.0027 times that of every representative. Asserted: the fraction over at least
     /// halves, the largest error and the image's fall, some points but not all are refined,
-    /// the mean is within 2%.
+    /// the mean is within 0.7%.
     #[test]
     fn refined_points_err_less() {
         let f = Fixture::new();
@@ -1148,14 +1148,15 @@ mod tests {
         assert!(after.max < before.max, "{after:?} against {before:?}");
         assert!(e1 < e0, "{e1} against {e0}");
         // Stopping on the estimate itself barely biases it: the mean matches that of every
-        // coarse light shaded through all its representatives (the bound of
-        // `adaptive_representatives_meet_the_targets_at_any_thread_count`, 2%).
+        // coarse light shaded through all its representatives. Measured 1.00274, 0.27% off;
+        // bound 0.7% (2.55× it), as in
+        // `adaptive_representatives_meet_the_targets_at_any_thread_count`.
         let shader = f.shader();
         let all = Coarse::Representatives(&reps);
         let full = render_lgh(&f.scene, &camera, &backend, all, &shader, |_| {}).unwrap();
         let ratio = light_sum(&refined) / light_sum(&full);
-        println!("refined mean over all-32 mean: {ratio:.4}");
-        assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+        println!("refined mean over all-32 mean: {ratio:.5}");
+        assert!((ratio - 1.0).abs() < 0.007, "{ratio}");
         assert_eq!(
             pool(1).install(|| render(Some(0.03)).0),
             pool(3).install(|| render(Some(0.03)).0)
