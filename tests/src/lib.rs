@@ -1,5 +1,8 @@
 //! Cross-crate integration tests live in `tests/tests/`. This library is what the test suites of
-//! every crate share: where the real data of `../shared/data` is, and how a test skips without it.
+//! every crate share: where the real data of `../shared/data` is, and how a test skips without it;
+//! and [`figures`], the published figures of `docs/figures.json` (`tools/figures`).
+
+pub mod figures;
 
 use std::path::{Path, PathBuf};
 
