@@ -289,7 +289,8 @@ pub fn check(root: &Path) -> Result<Vec<String>, String> {
             ));
             continue;
         }
-        let in_readme = published[f.id.as_str()].iter().any(|p| p == "README.md");
+        let pages = published.get(f.id.as_str());
+        let in_readme = pages.is_some_and(|p| p.iter().any(|p| p == "README.md"));
         if in_readme {
             let range = format!("{}..HEAD", f.commit);
             let mut args = vec!["log", "--format=%h %s", &range, "--"];
