@@ -124,11 +124,10 @@ impl SceneArgs {
     }
 }
 
-/// The demo's shadow-ray step, in voxels. Halving the shadow rays' samples changes the demo's
-/// scattered light by 0.08% (relative RMSE against 0.5-voxel steps, 160×90; 1 voxel: 0.015%),
-/// about 1/40 of the hierarchy's own error at α = 2, and saves about 40% of the render time
-/// (640×360: 37 s against 64 s with 1-voxel steps, same build). Measured on the older scene,
-/// [`lgh_volume::procedural::procedural`].
+/// The demo's shadow-ray step, in voxels: halving the shadow rays' samples (against 1-voxel
+/// steps) changes the demo's scattered light far less than the hierarchy's own error at α = 2
+/// and saves much of the render's time (`lgh demo --shadow-step 1` against the default, with
+/// `lgh compare`, shows by how much).
 pub const DEMO_SHADOW_STEP: f32 = 2.0;
 
 /// The demo's default shadows and shadow step: coarse lights' shadows as points (`raymarch`),

@@ -131,7 +131,7 @@ pub struct ExplosionArgs {
     /// How the emission between voxel centres follows the grids: `temperature`, the emission of
     /// the interpolated temperature (Cycles 3.x), or `attributes`, each grid interpolated on its
     /// own — the voxels' emission interpolated, times the interpolated flame (Cycles 4.x and
-    /// later; 6% brighter on the dev fire's thin flames)
+    /// later; brighter on thin flames)
     #[arg(long, value_enum, default_value_t = InterpolationArg::Temperature)]
     pub emission_interpolation: InterpolationArg,
     /// Kelvin per unit of the emission grid (Blender's Principled Volume temperature: 1000).
@@ -142,7 +142,7 @@ pub struct ExplosionArgs {
     pub emission_scale: f32,
     /// No emission at or below this temperature (kelvin): the lights are the hotter voxels
     /// [default: 0 with --emission-model blender, whose Principled Volume emits at every
-    /// temperature (a cut at 800 K left out 2% of a fireball's light); 800 with planck, whose
+    /// temperature (a cut at 800 K leaves out some of a fireball's light); 800 with planck, whose
     /// visible emission below it is negligible]
     #[arg(long)]
     pub min_temperature: Option<f32>,
@@ -258,8 +258,7 @@ fn frame_out(out: &Path, frame: Option<u32>) -> PathBuf {
 /// The flags a farm task may give beside `--manifest`; every other setting is the manifest's.
 /// `lgh explosion`'s default shadows and shadow step: every light shadowed as what it stands
 /// for (`volumes`: a coarse light's shadow ray as a point lets through more than its lights'
-/// rays do, +3.4% on the explosion's first scattered depth at α = 2 against brute force; as
-/// volume lights +0.7%), in one-voxel steps.
+/// rays do; as volume lights, less), in one-voxel steps.
 const EXPLOSION_DEFAULTS: (Shadows, f32) = (Shadows::Volumes, 1.0);
 
 const TASK_FLAGS: [&str; 4] = ["manifest", "frames", "resume", "quiet"];

@@ -269,7 +269,7 @@ pub struct SceneArgs {
     /// B_ℓ is taken. `representative`: at each representative's own distance, with every
     /// coarse light that may reach the point, so the hierarchy's estimate is unbiased against
     /// brute force over the same VPLs; `centre`: at the light's centre, as in the paper's
-    /// eq. (3), whose smoothing stays in the image (about 1.8% of Sponza's light at α = 4).
+    /// eq. (3), whose smoothing stays in the image.
     /// Default `representative`; refused with another coarse shading.
     #[arg(long, value_enum)]
     pub blend_at: Option<BlendAt>,

@@ -33,9 +33,8 @@ pub enum ShadowsArg {
     RayMarchVolumes,
     /// Ray-marched, each light as what it stands for: level-0 lights as points (as raymarch),
     /// coarse lights as the volume lights of eq. 6 in steps that widen with the prefilter —
-    /// point shadows let more light through a coarse light's one ray than its lights' rays do
-    /// (+3.3% on the explosion's first scattered depth at α 2; these +0.8%). Backends without a
-    /// hierarchy ray-march instead
+    /// point shadows let more light through a coarse light's one ray than its lights' rays do.
+    /// Backends without a hierarchy ray-march instead
     #[value(name = "volumes")]
     Volumes,
     /// No shadows.
@@ -198,8 +197,7 @@ pub struct CacheArgs {
     /// summed at every sample; beyond it level 0's unshadowed light is interpolated from the
     /// vertices, with a partition of unity between the parts from a third of the reach to it
     /// (`all`: every level-0 light summed at every sample). Shorter reaches are cheaper and
-    /// flicker more (on the dev fire: 1.5 voxels +19%, 3 voxels −1.6% against the uncached
-    /// render)
+    /// flicker more
     #[arg(long, default_value = "3", value_parser = parse_near_reach)]
     pub cache_near: NearReachArg,
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
@@ -244,8 +242,7 @@ pub enum ScatteredLightArg {
     /// The scattered depths' in-scattered radiance, computed at the voxels by one more fluence
     /// pass and interpolated at every sample, which then shades the emission lights only;
     /// surfaces are lit by the merged lights. Faster, but smooth between voxel centres where
-    /// the merged lights are not (on the Fig. 8-class frame at depth 4: 442 core-seconds against
-    /// 664; 4.0% from the merged lights' image with the same passes)
+    /// the merged lights are not
     Grid,
 }
 
@@ -291,7 +288,7 @@ impl CacheArgs {
 pub struct MarchArgs {
     /// Weak-light pruning (paper Sec. 6): the hierarchy skips, below its top level, the lights
     /// dimmer than this fraction of the frame's brightest light (their energy still reaches the
-    /// coarser levels). On the demo 3e-4 renders 1.7x faster and changes the image by 0.16%
+    /// coarser levels): faster, at a small change of the image
     #[arg(long, default_value_t = 0.0)]
     pub prune: f32,
     /// Shadows of the lights: shadow rays marched to every light (with the lighting cache, the
@@ -317,7 +314,7 @@ pub struct MarchArgs {
     pub shadow_depths: Option<usize>,
     /// Knots a cube-map texel stores, 2 to 16: the transmittance at K distances placed per texel
     /// where it changes (adaptive deep shadow maps; 2 bytes each, so the default 4 take the
-    /// memory of the paper's four depths; on the demo within 2% of the maps' own model)
+    /// memory of the paper's four depths)
     #[arg(long, value_name = "K", conflicts_with_all = ["sampled_depths", "shadow_depths"])]
     pub shadow_knots: Option<usize>,
     /// Cube maps trace coarse lights as points through the plain density instead of as volume

@@ -1,6 +1,7 @@
-//! The page's frames rendered natively, timed: what docs/embedding.md compares Chromium's frame
-//! times with. `cargo run --release -p lgh-web --example frames -- [LIGHTS] [SIZE] [FRAMES]`
-//! (100000, 256, 8 by default).
+//! The page's frames rendered natively, timed: what the browser's frame times
+//! (`LGH_WEB_BENCH=1` in web/tests/browser.rs) are set against.
+//! `cargo run --release -p lgh-web --example frames -- [LIGHTS] [SIZE] [FRAMES]` (100000, 256, 8
+//! by default).
 
 use std::time::Instant;
 

@@ -8,7 +8,8 @@
 //! target (`rustup target add wasm32-unknown-unknown`): without them the test says SKIPPED and
 //! passes, unless `LGH_REQUIRE_BROWSER` or `LGH_REQUIRE_WASM` is set (`.ci/run` installs both
 //! and sets both), where it fails ([`lgh_tests::Piece`]). `LGH_WEB_BENCH=1` also times 10K and
-//! 100K lights at 256² in Chromium (docs/embedding.md's figures).
+//! 100K lights at 256² in Chromium (the browser's frame times, to set against the native ones of
+//! `web/examples/frames.rs`).
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
