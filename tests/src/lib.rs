@@ -107,11 +107,14 @@ pub enum Piece {
     /// A CPU with AVX2: the eight-abreast kernels' tests against the one-by-one code
     /// (`lgh-volume/src/shadow/deep.rs`).
     Avx2,
+    /// A GPU adapter for wgpu — Vulkan, Metal or DX12; without a GPU, Mesa's software Vulkan
+    /// (lavapipe): lgh-gpu's tests (`lgh-gpu/tests/`).
+    Gpu,
 }
 
 impl Piece {
     /// Every piece, in the order the README lists them.
-    pub const ALL: [Piece; 8] = [
+    pub const ALL: [Piece; 9] = [
         Piece::Data,
         Piece::Browser,
         Piece::WasmTarget,
@@ -120,6 +123,7 @@ impl Piece {
         Piece::Slurm,
         Piece::Tmpfs,
         Piece::Avx2,
+        Piece::Gpu,
     ];
 
     /// The piece's place in [`ALL`](Self::ALL): a match over every variant, so a new piece
@@ -142,6 +146,7 @@ impl Piece {
             Piece::Slurm => 5,
             Piece::Tmpfs => 6,
             Piece::Avx2 => 7,
+            Piece::Gpu => 8,
         }
     }
 
@@ -173,6 +178,7 @@ impl Piece {
             Piece::Cxx => "LGH_REQUIRE_CXX",
             Piece::OpenVdb => "LGH_REQUIRE_OPENVDB",
             Piece::Slurm => "LGH_REQUIRE_SLURM",
+            Piece::Gpu => "LGH_REQUIRE_GPU",
         }
     }
 
@@ -195,6 +201,7 @@ impl Piece {
             Piece::Cxx => "apt-get install make g++",
             Piece::OpenVdb => "apt-get install python3-openvdb libopenvdb-tools",
             Piece::Slurm => "apt-get install slurm-wlm munge, and run the tests as root",
+            Piece::Gpu => "a GPU with its Vulkan driver, or apt-get install mesa-vulkan-drivers",
         }
     }
 

@@ -14,7 +14,7 @@ fn root() -> PathBuf {
 }
 
 /// The library crates, whose structure is checked.
-const CRATES: [&str; 8] = [
+const CRATES: [&str; 9] = [
     "lgh-core",
     "lgh-image",
     "lgh-volume",
@@ -22,6 +22,7 @@ const CRATES: [&str; 8] = [
     "lgh-ply",
     "lgh-cli",
     "lgh-capi",
+    "lgh-gpu",
     "web",
 ];
 
@@ -286,6 +287,7 @@ fn library_crates_know_nothing_of_the_command_line_or_the_test_sets() {
         "lgh-vpl",
         "lgh-ply",
         "lgh-capi",
+        "lgh-gpu",
         "web",
     ] {
         let manifest = std::fs::read_to_string(root().join(krate).join("Cargo.toml")).unwrap();

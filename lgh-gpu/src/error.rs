@@ -1,0 +1,77 @@
+//! What can go wrong on the GPU path.
+
+use core::fmt;
+
+/// An error of the GPU path: no adapter, a device that cannot hold the hierarchy, bad input.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GpuError {
+    /// No Vulkan, Metal or DX12 adapter was found (on Linux without a GPU, Mesa's software
+    /// Vulkan, lavapipe, is one: `apt-get install mesa-vulkan-drivers`).
+    NoAdapter(String),
+    /// The adapter would not give a device.
+    Device(String),
+    /// A level's dense grid of cells would be too large: its lights are spread too thinly for
+    /// the cell size its reach asks for.
+    TooManyCells {
+        /// The level.
+        level: u8,
+        /// The cells it would take.
+        cells: u64,
+        /// The most allowed.
+        most: u64,
+    },
+    /// A buffer would be larger than the device allows in one binding.
+    TooLarge {
+        /// What the buffer holds.
+        what: &'static str,
+        /// Its bytes.
+        bytes: u64,
+        /// The device's limit.
+        limit: u64,
+    },
+    /// The query's α or the hierarchy was refused by lgh-core.
+    Query(lgh_core::QueryError),
+    /// A shading point with a non-finite position, normal or albedo.
+    InvalidPoint {
+        /// Its index.
+        index: usize,
+    },
+    /// Reading the results back failed.
+    Readback(String),
+}
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GpuError::NoAdapter(why) => write!(
+                f,
+                "no GPU adapter (Vulkan, Metal or DX12): {why}; without a GPU on Linux, \
+                 Mesa's software Vulkan works: apt-get install mesa-vulkan-drivers"
+            ),
+            GpuError::Device(why) => write!(f, "the GPU adapter gave no device: {why}"),
+            GpuError::TooManyCells { level, cells, most } => write!(
+                f,
+                "level {level}'s lights are too spread out for the GPU's dense cells: {cells} \
+                 cells, at most {most}"
+            ),
+            GpuError::TooLarge { what, bytes, limit } => write!(
+                f,
+                "{what} take {bytes} bytes, more than the device's {limit} in one binding"
+            ),
+            GpuError::Query(e) => write!(f, "{e}"),
+            GpuError::InvalidPoint { index } => write!(
+                f,
+                "shading point {index} has a non-finite position, normal or albedo"
+            ),
+            GpuError::Readback(why) => write!(f, "reading the GPU's results back failed: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+impl From<lgh_core::QueryError> for GpuError {
+    fn from(e: lgh_core::QueryError) -> Self {
+        GpuError::Query(e)
+    }
+}

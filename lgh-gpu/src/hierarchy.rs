@@ -1,0 +1,313 @@
+//! A hierarchy's levels on the GPU for one α, and its query: eq. (1)'s blended sum at a buffer of
+//! shading points with a Lambertian response, unshadowed (`shade.wgsl`).
+
+use lgh_core::glam::Vec3;
+use lgh_core::{Blending, LightingGridHierarchy};
+use wgpu::util::DeviceExt;
+
+use crate::cells::Cells;
+use crate::context::Gpu;
+use crate::error::GpuError;
+use crate::layout::{GpuLight, LevelGrid, Params, ShadingPoint};
+
+/// The most cells of one level's dense grid (64 MiB of cell starts).
+pub const MAX_CELLS: u64 = 1 << 24;
+
+/// Threads of a workgroup of `shade.wgsl` (its `WORKGROUP`).
+const WORKGROUP: u32 = 64;
+
+/// A [`LightingGridHierarchy`] uploaded for the query at one α: each level's lights that the CPU
+/// query reports ([`LightingGridHierarchy::is_active`]), sorted into cells of half the level's
+/// reach, and each level's blending `B_ℓ` (eq. 3). The buffers stay on the GPU.
+#[derive(Debug)]
+pub struct GpuHierarchy {
+    gpu: Gpu,
+    levels: Vec<LevelGrid>,
+    h0: f32,
+    alpha: f32,
+    level_buffer: wgpu::Buffer,
+    start_buffer: wgpu::Buffer,
+    light_buffer: wgpu::Buffer,
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// `[a, c1, b, c2]` of `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`, the same floats as
+/// lgh-core's: `1/r_ℓ = (1/r_0) / 2^ℓ`, exact.
+fn ramp(blending: &Blending, level: u8) -> [f32; 4] {
+    let inv = |l: u8| (1.0 / blending.radius(0)) / (1u64 << l) as f32;
+    let top = blending.max_level();
+    let (a, c1) = if level > 0 {
+        (inv(level - 1), -1.0)
+    } else {
+        (0.0, 1.0)
+    };
+    let (b, c2) = if level < top {
+        (inv(level), 2.0)
+    } else {
+        (0.0, 1.0)
+    };
+    [a, c1, b, c2]
+}
+
+/// The level's grid, its cell starts and its lights in cell order.
+fn level_grid(
+    lgh: &LightingGridHierarchy,
+    blending: &Blending,
+    level: u8,
+) -> Result<(LevelGrid, Vec<u32>, Vec<GpuLight>), GpuError> {
+    let top = lgh.max_level();
+    let lights: Vec<_> = lgh
+        .level(level)
+        .iter()
+        .filter(|l| lgh.is_active(level, l))
+        .collect();
+    let (inner, outer) = blending.support(level);
+    let inner2 = if level == 0 { -1.0 } else { inner * inner };
+    let cells = if level == top {
+        Cells {
+            origin: Vec3::ZERO,
+            cell: 0.0,
+            dims: [0; 3],
+            starts: Vec::new(),
+            order: (0..lights.len() as u32).collect(),
+        }
+    } else {
+        let positions: Vec<Vec3> = lights.iter().map(|l| l.position).collect();
+        Cells::sort(&positions, outer * 0.5, MAX_CELLS, level)?
+    };
+    let gpu_lights = cells
+        .order
+        .iter()
+        .map(|&i| GpuLight {
+            position: lights[i as usize].position.to_array(),
+            intensity: lights[i as usize].intensity.to_array(),
+            ..Default::default()
+        })
+        .collect();
+    let grid = LevelGrid {
+        origin: cells.origin.to_array(),
+        cell: cells.cell,
+        dims: cells.dims,
+        light_count: lights.len() as u32,
+        inner2,
+        outer2: if level == top {
+            f32::MAX
+        } else {
+            outer * outer
+        },
+        ramp: ramp(blending, level),
+        ..Default::default()
+    };
+    Ok((grid, cells.starts, gpu_lights))
+}
+
+impl GpuHierarchy {
+    /// Uploads `lgh` for queries at `alpha` (the paper's α; lgh-core's [`Blending`]).
+    ///
+    /// Errors if α is refused, if a level's lights are too spread out for its dense cells
+    /// ([`MAX_CELLS`]), or if a buffer exceeds the device's binding size.
+    pub fn upload(
+        gpu: &Gpu,
+        lgh: &LightingGridHierarchy,
+        alpha: f32,
+    ) -> Result<GpuHierarchy, GpuError> {
+        let blending = lgh.blending(alpha)?;
+        let (mut levels, mut starts, mut lights) = (Vec::new(), Vec::new(), Vec::new());
+        if !lgh.is_empty() {
+            for level in 0..=lgh.max_level() {
+                let (mut grid, level_starts, level_lights) = level_grid(lgh, &blending, level)?;
+                grid.first_cell = starts.len() as u32;
+                grid.first_light = lights.len() as u32;
+                starts.extend(level_starts);
+                lights.extend(level_lights);
+                levels.push(grid);
+            }
+        }
+        // WGSL has no empty arrays: one zeroed element where a buffer would be empty.
+        starts.push(0);
+        if lights.is_empty() {
+            lights.push(GpuLight::default());
+        }
+        let limit = gpu.device().limits().max_storage_buffer_binding_size;
+        check_size("the lights", lights.len() * size_of::<GpuLight>(), limit)?;
+        check_size("the cells", starts.len() * size_of::<u32>(), limit)?;
+        let device = gpu.device();
+        let storage = |label: &str, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let mut level_bytes = bytemuck::cast_slice::<LevelGrid, u8>(&levels).to_vec();
+        if levels.is_empty() {
+            level_bytes = bytemuck::bytes_of(&LevelGrid::default()).to_vec();
+        }
+        let module = device.create_shader_module(wgpu::include_wgsl!("shade.wgsl"));
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("lgh-gpu shade"),
+            layout: None,
+            module: &module,
+            entry_point: Some("shade"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Ok(GpuHierarchy {
+            gpu: gpu.clone(),
+            h0: lgh.h0(),
+            alpha,
+            level_buffer: storage("lgh-gpu levels", &level_bytes),
+            start_buffer: storage("lgh-gpu cell starts", bytemuck::cast_slice(&starts)),
+            light_buffer: storage("lgh-gpu lights", bytemuck::cast_slice(&lights)),
+            levels,
+            pipeline,
+        })
+    }
+
+    /// The α it was uploaded for.
+    #[must_use]
+    pub fn alpha(&self) -> f32 {
+        self.alpha
+    }
+
+    /// Its levels as the query reads them.
+    #[must_use]
+    pub fn levels(&self) -> &[LevelGrid] {
+        &self.levels
+    }
+
+    /// The outgoing radiance at each shading point, RGB: `ρ/π · Σ_ℓ Σ_i B_ℓ(d)·g(d)·I_ℓi·max(0,
+    /// n·ω)` over the lights lgh-core's query reports there (eq. 1 with eq. 3's blending,
+    /// `g(d) = 1/max(d, h0)²`, unshadowed): what `LightingGridHierarchy::query_sum` sums with
+    /// that response, up to the order of the sum. Runs on the GPU and waits for it.
+    ///
+    /// Errors on a non-finite point ([`GpuError::InvalidPoint`]) or a failed readback.
+    pub fn shade(&self, points: &[ShadingPoint]) -> Result<Vec<[f32; 3]>, GpuError> {
+        if let Some(index) = points.iter().position(|p| {
+            let all = [p.position, p.normal, p.albedo];
+            !all.iter().flatten().all(|v| v.is_finite())
+        }) {
+            return Err(GpuError::InvalidPoint { index });
+        }
+        if points.is_empty() {
+            return Ok(Vec::new());
+        }
+        let device = self.gpu.device();
+        let limit = device.limits().max_storage_buffer_binding_size;
+        check_size("the shading points", size_of_val(points), limit)?;
+        let out_bytes = (points.len() * 16) as u64;
+        check_size("the radiance", out_bytes as usize, limit)?;
+        let params = Params {
+            levels: self.levels.len() as u32,
+            points: points.len() as u32,
+            h0: self.h0,
+            _pad: 0,
+        };
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let uniform = init(
+            "lgh-gpu params",
+            bytemuck::bytes_of(&params),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let point_buffer = init(
+            "lgh-gpu points",
+            bytemuck::cast_slice(points),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let buffer = |label: &str, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: out_bytes,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let out = buffer(
+            "lgh-gpu radiance",
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let staging = buffer(
+            "lgh-gpu readback",
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let entries: Vec<wgpu::BindGroupEntry> = [
+            &uniform,
+            &self.level_buffer,
+            &self.start_buffer,
+            &self.light_buffer,
+            &point_buffer,
+            &out,
+        ]
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lgh-gpu shade"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            let (x, y) = workgroups(points.len() as u32, device.limits());
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, out_bytes);
+        self.gpu.queue().submit([encoder.finish()]);
+        let rgba: Vec<[f32; 4]> = read_back(&self.gpu, &staging)?;
+        Ok(rgba.into_iter().map(|c| [c[0], c[1], c[2]]).collect())
+    }
+}
+
+/// Workgroups for `n` points, as (x, y): x at most the device's per-dimension limit
+/// (`shade.wgsl` numbers the points `id.x + id.y · groups.x · WORKGROUP`).
+fn workgroups(n: u32, limits: wgpu::Limits) -> (u32, u32) {
+    let groups = n.div_ceil(WORKGROUP);
+    let most = limits.max_compute_workgroups_per_dimension.max(1);
+    let x = groups.min(most);
+    (x, groups.div_ceil(x))
+}
+
+fn check_size(what: &'static str, bytes: usize, limit: u64) -> Result<(), GpuError> {
+    let bytes = bytes as u64;
+    if bytes > limit {
+        return Err(GpuError::TooLarge { what, bytes, limit });
+    }
+    Ok(())
+}
+
+/// The contents of a `MAP_READ` buffer once the GPU is done with it.
+fn read_back<T: bytemuck::Pod>(gpu: &Gpu, staging: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
+    let slice = staging.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    gpu.device()
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|e| GpuError::Readback(e.to_string()))?
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let values = {
+        let view = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        bytemuck::cast_slice::<u8, T>(&view).to_vec()
+    };
+    staging.unmap();
+    Ok(values)
+}
