@@ -48,7 +48,9 @@ pub struct Figure {
     pub machine: Value,
     /// The day it was measured, `YYYY-MM-DD`.
     pub date: String,
-    /// The paths of the code it measures: a change to them after `commit` makes it stale.
+    /// The paths of the workspace's code it measures (crates' sources, the CLI's files): a
+    /// change to them after `commit` makes it stale. Dependencies' updates (`Cargo.lock`) are
+    /// not tracked.
     pub code: Vec<String>,
 }
 
