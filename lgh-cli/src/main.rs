@@ -16,6 +16,7 @@ macro_rules! say {
 mod bench;
 mod bench_explosion;
 mod bench_flicker;
+mod bench_gpu;
 mod bench_table1;
 mod compare;
 mod dark;
@@ -88,6 +89,9 @@ enum BenchCommand {
     /// Temporal flicker of a sequence (the paper's Figs. 9, 10): the hierarchy, Lightcuts and
     /// the paper's flickering variants against brute force, frame by frame.
     Flicker(bench_flicker::FlickerArgs),
+    /// The hierarchy's query on the GPU (lgh-gpu) against the CPU path on every core, on the
+    /// web page's ember swarm, in the same run.
+    Gpu(bench_gpu::GpuBenchArgs),
 }
 
 /// The CLI's error: any library's typed error or a message, shown as one line by `main`.
@@ -211,6 +215,9 @@ fn main() {
         Command::Bench {
             which: BenchCommand::Flicker(a),
         } => bench_flicker::run(a),
+        Command::Bench {
+            which: BenchCommand::Gpu(a),
+        } => bench_gpu::run(a),
     };
     if let Err(e) = result {
         // One line: the library's words, then the flags that change the settings they name.

@@ -29,9 +29,11 @@ impl Gpu {
         };
         let adapter = pollster::block_on(instance.request_adapter(&options))
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        // Timestamps where the adapter has them (`lgh bench gpu` times the kernels with them).
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("lgh-gpu"),
             required_limits: adapter.limits(),
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
             ..Default::default()
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
@@ -73,5 +75,32 @@ impl Gpu {
     #[must_use]
     pub fn adapter(&self) -> &wgpu::AdapterInfo {
         &self.adapter
+    }
+
+    /// The contents of a `MAP_READ` buffer once the GPU is done with it.
+    pub(crate) fn read_back<T: bytemuck::Pod>(
+        &self,
+        staging: &wgpu::Buffer,
+    ) -> Result<Vec<T>, GpuError> {
+        let slice = staging.slice(..);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = sender.send(r);
+        });
+        self.device()
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        receiver
+            .recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let values = {
+            let view = slice
+                .get_mapped_range()
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            bytemuck::cast_slice::<u8, T>(&view).to_vec()
+        };
+        staging.unmap();
+        Ok(values)
     }
 }

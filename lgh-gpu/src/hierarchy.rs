@@ -9,6 +9,7 @@ use crate::cells::Cells;
 use crate::context::Gpu;
 use crate::error::GpuError;
 use crate::layout::{GpuLight, LevelGrid, Params, ShadingPoint};
+use crate::timing::PassTimer;
 
 /// The most cells of one level's dense grid (64 MiB of cell starts).
 pub const MAX_CELLS: u64 = 1 << 24;
@@ -183,6 +184,16 @@ impl GpuHierarchy {
     ///
     /// Errors on a non-finite point ([`GpuError::InvalidPoint`]) or a failed readback.
     pub fn shade(&self, points: &[ShadingPoint]) -> Result<Vec<[f32; 3]>, GpuError> {
+        self.shade_timed(points).map(|(radiance, _)| radiance)
+    }
+
+    /// [`shade`](Self::shade), with how long it took: the kernel's own time by timestamp
+    /// queries where the device has them, and the wall time from the submission to the results
+    /// read back.
+    pub fn shade_timed(
+        &self,
+        points: &[ShadingPoint],
+    ) -> Result<(Vec<[f32; 3]>, ShadeTiming), GpuError> {
         if let Some(index) = points.iter().position(|p| {
             let all = [p.position, p.normal, p.albedo];
             !all.iter().flatten().all(|v| v.is_finite())
@@ -190,8 +201,44 @@ impl GpuHierarchy {
             return Err(GpuError::InvalidPoint { index });
         }
         if points.is_empty() {
-            return Ok(Vec::new());
+            let timing = ShadeTiming {
+                kernel_ms: None,
+                wall_ms: 0.0,
+            };
+            return Ok((Vec::new(), timing));
         }
+        let device = self.gpu.device();
+        let (bind_group, out, staging, out_bytes) = self.bind(points)?;
+        let timer = PassTimer::new(&self.gpu);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("lgh-gpu shade"),
+                timestamp_writes: timer.as_ref().map(PassTimer::writes),
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            let (x, y) = workgroups(points.len() as u32, device.limits());
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, out_bytes);
+        if let Some(t) = &timer {
+            t.resolve(&mut encoder);
+        }
+        let start = std::time::Instant::now();
+        self.gpu.queue().submit([encoder.finish()]);
+        let rgba: Vec<[f32; 4]> = self.gpu.read_back(&staging)?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        let kernel_ms = timer.map(|t| t.milliseconds(&self.gpu)).transpose()?;
+        let radiance = rgba.into_iter().map(|c| [c[0], c[1], c[2]]).collect();
+        Ok((radiance, ShadeTiming { kernel_ms, wall_ms }))
+    }
+
+    /// The points' buffer, the output and its readback buffer, and the bind group of them all.
+    fn bind(
+        &self,
+        points: &[ShadingPoint],
+    ) -> Result<(wgpu::BindGroup, wgpu::Buffer, wgpu::Buffer, u64), GpuError> {
         let device = self.gpu.device();
         let limit = device.limits().max_storage_buffer_binding_size;
         check_size("the shading points", size_of_val(points), limit)?;
@@ -236,39 +283,38 @@ impl GpuHierarchy {
             "lgh-gpu readback",
             wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         );
-        let entries: Vec<wgpu::BindGroupEntry> = [
+        let buffers = [
             &uniform,
             &self.level_buffer,
             &self.start_buffer,
             &self.light_buffer,
             &point_buffer,
             &out,
-        ]
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
+        ];
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("lgh-gpu shade"),
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            let (x, y) = workgroups(points.len() as u32, device.limits());
-            pass.dispatch_workgroups(x, y, 1);
-        }
-        encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, out_bytes);
-        self.gpu.queue().submit([encoder.finish()]);
-        let rgba: Vec<[f32; 4]> = read_back(&self.gpu, &staging)?;
-        Ok(rgba.into_iter().map(|c| [c[0], c[1], c[2]]).collect())
+        Ok((bind_group, out, staging, out_bytes))
     }
+}
+
+/// How long [`GpuHierarchy::shade_timed`] took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadeTiming {
+    /// The kernel's milliseconds by timestamp queries; `None` where the device has none.
+    pub kernel_ms: Option<f64>,
+    /// Milliseconds from the submission to the results read back (a fence).
+    pub wall_ms: f64,
 }
 
 /// Workgroups for `n` points, as (x, y): x at most the device's per-dimension limit
@@ -286,28 +332,4 @@ fn check_size(what: &'static str, bytes: usize, limit: u64) -> Result<(), GpuErr
         return Err(GpuError::TooLarge { what, bytes, limit });
     }
     Ok(())
-}
-
-/// The contents of a `MAP_READ` buffer once the GPU is done with it.
-fn read_back<T: bytemuck::Pod>(gpu: &Gpu, staging: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
-    let slice = staging.slice(..);
-    let (sender, receiver) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = sender.send(r);
-    });
-    gpu.device()
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    receiver
-        .recv()
-        .map_err(|e| GpuError::Readback(e.to_string()))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let values = {
-        let view = slice
-            .get_mapped_range()
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        bytemuck::cast_slice::<u8, T>(&view).to_vec()
-    };
-    staging.unmap();
-    Ok(values)
 }

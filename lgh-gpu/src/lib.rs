@@ -16,6 +16,7 @@
 //! | [`layout`] | the buffers' element types, `#[repr(C)]` and mirrored in the WGSL: a contract for engines not on wgpu |
 //! | [`cells`] | a level's lights sorted into a dense grid of cells, with each cell's range (built on the CPU) |
 //! | [`hierarchy`] | [`GpuHierarchy`]: a hierarchy's levels on the GPU for one α, and its query ([`shade`](GpuHierarchy::shade)) |
+//! | [`timing`] | a compute pass timed by timestamp queries, where the adapter has them |
 //! | [`error`] | [`GpuError`] |
 //!
 //! ```no_run
@@ -42,8 +43,9 @@ pub mod context;
 pub mod error;
 pub mod hierarchy;
 pub mod layout;
+pub mod timing;
 
 pub use context::Gpu;
 pub use error::GpuError;
-pub use hierarchy::GpuHierarchy;
+pub use hierarchy::{GpuHierarchy, ShadeTiming};
 pub use layout::{GpuLight, LevelGrid, ShadingPoint};

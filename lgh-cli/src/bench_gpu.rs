@@ -1,0 +1,180 @@
+//! `lgh bench gpu`: the hierarchy's query on the GPU (lgh-gpu) against the CPU path on every
+//! core of the same machine, on the same frame of the web page's ember swarm, in one run; JSON.
+//!
+//! Measured today: the upload of a CPU-built hierarchy and the GPU query (`shade_ms`, by
+//! timestamp queries where the adapter has them, else submission to fence). The build, the
+//! intensity update, the rebuild and the gather on the GPU are not written yet: their keys are
+//! `null`.
+
+use std::time::Instant;
+
+use lgh_core::glam::Vec3;
+use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
+use lgh_gpu::{Gpu, GpuHierarchy, ShadingPoint};
+use lgh_web::swarm;
+use rayon::prelude::*;
+use serde_json::json;
+
+/// Arguments of `lgh bench gpu`.
+#[derive(Debug, clap::Args)]
+pub struct GpuBenchArgs {
+    /// Embers of the swarm (the web page's scene), each a point light.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub lights: usize,
+    /// Image width: one shading point a pixel, the swarm's ground and spheres seen from above
+    /// (a band of the page's square view where the image is not square).
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// The paper's α.
+    #[arg(long, default_value_t = 2.0)]
+    pub alpha: f32,
+    /// Lights drawn per point by the gather (not on the GPU yet: reported, not run).
+    #[arg(long, default_value_t = 4)]
+    pub k: u32,
+    /// The swarm's frame (48 a second; it grows and cools over the first second).
+    #[arg(long, default_value_t = 12)]
+    pub frame: i32,
+    /// CPU worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Write the JSON here (atomically) as well as to stdout.
+    #[arg(long)]
+    pub out: Option<std::path::PathBuf>,
+}
+
+/// The swarm's G-buffer at `width × height`: the page's view, from above.
+fn g_buffer(width: u32, height: u32) -> Vec<ShadingPoint> {
+    let size = width.max(height) as i32;
+    (0..height as i32)
+        .flat_map(|py| (0..width as i32).map(move |px| (px, py)))
+        .map(|(px, py)| {
+            let (p, n, albedo) = swarm::surface(px, py, size);
+            ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo))
+        })
+        .collect()
+}
+
+/// The CPU path: lgh-core's query with the same Lambertian response, on every thread of the
+/// pool.
+fn cpu_shade(lgh: &LightingGridHierarchy, alpha: f32, points: &[ShadingPoint]) -> Vec<[f32; 3]> {
+    let blending = lgh.blending(alpha).expect("α checked");
+    points
+        .par_iter()
+        .map(|p| {
+            let (x, n) = (Vec3::from(p.position), Vec3::from(p.normal));
+            let shade = |s: &lgh_core::LightSample| {
+                let d = s.distance;
+                let cosine = if d > 0.0 {
+                    (n.dot(s.position - x) / d).max(0.0)
+                } else {
+                    0.0
+                };
+                s.intensity * falloff(d, lgh.h0()) * cosine
+            };
+            let (sum, _) = lgh.query_sum(x, &blending, shade).expect("finite points");
+            (sum * Vec3::from(p.albedo) / core::f32::consts::PI).to_array()
+        })
+        .collect()
+}
+
+/// `sqrt(mean((A − R)²)) / mean(R)` on luminance (Rec. 709).
+fn rel_rmse(a: &[[f32; 3]], r: &[[f32; 3]]) -> f64 {
+    let lum = |c: &[f32; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
+    let n = a.len().max(1) as f64;
+    let se: f64 = a
+        .iter()
+        .zip(r)
+        .map(|(x, y)| (lum(x) - lum(y)).powi(2))
+        .sum();
+    let mean: f64 = r.iter().map(lum).sum::<f64>() / n;
+    (se / n).sqrt() / mean
+}
+
+/// Runs the benchmark and prints its JSON report.
+pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
+    crate::check_alpha(args.alpha)?;
+    if args.lights == 0 || args.width == 0 || args.height == 0 {
+        return Err("--lights, --width and --height must be at least 1".into());
+    }
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = args.threads {
+        builder = builder.num_threads(t);
+    }
+    let pool = builder.build()?;
+    let lights: Vec<PointLight> = (0..args.lights)
+        .map(|i| {
+            let (p, c) = swarm::light(i, args.frame);
+            PointLight::new(Vec3::from(p), Vec3::from(c))
+        })
+        .collect();
+    let points = g_buffer(args.width, args.height);
+    let gpu = Gpu::new()?;
+    let adapter = gpu.adapter();
+    eprintln!(
+        "lgh bench gpu: {} ({:?}, {:?}); {} lights, {} points",
+        adapter.name,
+        adapter.backend,
+        adapter.device_type,
+        lights.len(),
+        points.len()
+    );
+    let start = Instant::now();
+    let lgh = pool.install(|| LightingGridHierarchy::build(&lights, &GridSettings::default()))?;
+    let cpu_build_ms = start.elapsed().as_secs_f64() * 1e3;
+    let start = Instant::now();
+    let on_gpu = GpuHierarchy::upload(&gpu, &lgh, args.alpha)?;
+    let upload_ms = start.elapsed().as_secs_f64() * 1e3;
+    // A first run warms the pipeline; the best of three is reported.
+    let (gpu_image, _) = on_gpu.shade_timed(&points)?;
+    let mut timings = Vec::new();
+    for _ in 0..3 {
+        timings.push(on_gpu.shade_timed(&points)?.1);
+    }
+    let kernel = timings.iter().filter_map(|t| t.kernel_ms).reduce(f64::min);
+    let wall = timings
+        .iter()
+        .map(|t| t.wall_ms)
+        .fold(f64::INFINITY, f64::min);
+    let shade_ms = kernel.unwrap_or(wall);
+    eprintln!(
+        "lgh bench gpu: GPU shade {shade_ms:.2} ms; the CPU path on {} threads…",
+        pool.current_num_threads()
+    );
+    let start = Instant::now();
+    let cpu_image = pool.install(|| cpu_shade(&lgh, args.alpha, &points));
+    let cpu_shade_ms = start.elapsed().as_secs_f64() * 1e3;
+    let report = json!({
+        "benchmark": "lgh bench gpu",
+        "adapter": adapter.name,
+        "backend": format!("{:?}", adapter.backend),
+        "device_type": format!("{:?}", adapter.device_type),
+        "lights": lights.len(),
+        "width": args.width,
+        "height": args.height,
+        "alpha": args.alpha,
+        "frame": args.frame,
+        "k": args.k,
+        "build_ms": null,
+        "update_ms": null,
+        "rebuild_ms": null,
+        "gather_ms": null,
+        "cpu_build_ms": cpu_build_ms,
+        "upload_ms": upload_ms,
+        "shade_ms": shade_ms,
+        "shade_timer": if kernel.is_some() { "timestamp queries" } else { "submission to fence" },
+        "shade_wall_ms": wall,
+        "cpu_threads": pool.current_num_threads(),
+        "cpu_shade_ms": cpu_shade_ms,
+        "speedup_vs_cpu": cpu_shade_ms / shade_ms,
+        "rel_rmse_vs_cpu": rel_rmse(&gpu_image, &cpu_image),
+    });
+    let text = serde_json::to_string_pretty(&report)?;
+    say!("{text}");
+    if let Some(out) = &args.out {
+        lgh_image::write_atomic(out, |w| w.write_all(text.as_bytes()))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,66 @@
+//! Timing a compute pass on the GPU with timestamp queries (where the adapter has them):
+//! `lgh bench gpu` reports the kernel's own time, not the upload or the readback.
+
+use crate::context::Gpu;
+use crate::error::GpuError;
+
+/// Two timestamps around a compute pass, resolved and read back after it.
+#[derive(Debug)]
+pub struct PassTimer {
+    query_set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    staging: wgpu::Buffer,
+}
+
+impl PassTimer {
+    /// A timer for one pass, if the device was given `Features::TIMESTAMP_QUERY` ([`Gpu::new`]
+    /// asks for it where the adapter has it).
+    #[must_use]
+    pub fn new(gpu: &Gpu) -> Option<PassTimer> {
+        let device = gpu.device();
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        let query_set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("lgh-gpu pass timer"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2,
+        });
+        let buffer = |usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("lgh-gpu timestamps"),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Some(PassTimer {
+            query_set,
+            resolve: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            staging: buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+        })
+    }
+
+    /// The pass's timestamp writes: at its beginning and its end.
+    #[must_use]
+    pub fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        }
+    }
+
+    /// Records the resolve of the two timestamps, after the pass.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.query_set, 0..2, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, 16);
+    }
+
+    /// The pass's milliseconds, once the commands were submitted.
+    pub fn milliseconds(&self, gpu: &Gpu) -> Result<f64, GpuError> {
+        let ticks: Vec<u64> = gpu.read_back(&self.staging)?;
+        let period = f64::from(gpu.queue().get_timestamp_period());
+        Ok(ticks[1].saturating_sub(ticks[0]) as f64 * period * 1e-6)
+    }
+}

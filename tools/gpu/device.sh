@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# `lgh bench gpu` on a lent machine with a GPU (the session's device tool), from a release `lgh`
+# built here and carried there, with Vulkan's loader carried as a Debian package. Prints the
+# bench's JSON (and writes it to $OUT/gpu.json there), to record with
+# `tools/figures take gpu.json CORES CPU ID ...`.
+#
+# Here, once (x86-64):
+#   cargo build --release -p lgh-cli && mkdir -p .dev && objcopy --strip-debug target/release/lgh .dev/lgh
+#   echo /.dev/ >> .git/info/exclude; echo /.gl/ >> .git/info/exclude; mkdir -p .gl /tmp/amd64/partial
+#   o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+#   apt-get $o update && (cd .gl && apt-get $o download libvulkan1)
+# There (carry .dev and .gl): tools/gpu/device.sh [lgh bench gpu's flags]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+for f in .gl/*.deb; do dpkg -x "$f" /; done
+ldconfig
+nvidia_icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+if [ -f "$nvidia_icd" ]; then
+    export VK_DRIVER_FILES="$nvidia_icd"
+fi
+nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader >&2 || true
+echo "cores: $(nproc); $(grep -m1 'model name' /proc/cpuinfo)" >&2
+.dev/lgh bench gpu "$@" --out "${OUT:-/tmp}/gpu.json"
