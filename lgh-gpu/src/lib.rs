@@ -19,6 +19,11 @@
 //! | [`timing`] | a compute pass timed by timestamp queries, where the adapter has them |
 //! | [`error`] | [`GpuError`] |
 //!
+//! For engines not on wgpu (Unreal, Godot, Unity, an in-house RHI), each kernel is committed in
+//! `lgh-gpu/generated/` as naga translated it — SPIR-V, HLSL 6.0, GLSL 4.30, MSL 2.4 — and kept
+//! current by `tests/translations.rs`: such an engine dispatches the same kernel on buffers laid
+//! out as [`layout`] says.
+//!
 //! ```no_run
 //! use lgh_core::glam::Vec3;
 //! use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};

@@ -1,0 +1,124 @@
+//! For engines not on wgpu (Unreal, Godot, Unity, an in-house RHI): each WGSL kernel translated
+//! by naga — wgpu's own shader compiler — to SPIR-V, HLSL (shader model 6.0), GLSL (4.30
+//! compute) and MSL (2.4), committed in `lgh-gpu/generated/` beside a buffer layout that is a
+//! contract (`lgh_gpu::layout`). This test translates them again and fails if a committed file
+//! is missing or differs: `LGH_BLESS=1 cargo test -p lgh-gpu --test translations` rewrites them.
+
+use std::path::{Path, PathBuf};
+
+use naga::{back, front, valid};
+
+/// The kernels: (WGSL file in `src/`, entry point).
+const KERNELS: [(&str, &str); 1] = [("shade.wgsl", "shade")];
+
+/// Each translation of `wgsl`'s `entry`: (file extension, contents).
+fn translate(wgsl: &str, entry: &str) -> Vec<(&'static str, Vec<u8>)> {
+    let module =
+        front::wgsl::parse_str(wgsl).unwrap_or_else(|e| panic!("{}", e.emit_to_string(wgsl)));
+    let mut validator =
+        valid::Validator::new(valid::ValidationFlags::all(), valid::Capabilities::all());
+    let info = validator
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(wgsl)));
+    let stage = naga::ShaderStage::Compute;
+
+    let spv_pipeline = back::spv::PipelineOptions {
+        shader_stage: stage,
+        entry_point: entry.into(),
+    };
+    let spv_options = back::spv::Options {
+        lang_version: (1, 3),
+        ..Default::default()
+    };
+    let spv = back::spv::write_vec(&module, &info, &spv_options, Some(&spv_pipeline)).unwrap();
+    let spv: Vec<u8> = spv.iter().flat_map(|w| w.to_le_bytes()).collect();
+
+    let mut hlsl = String::new();
+    let hlsl_options = back::hlsl::Options {
+        shader_model: back::hlsl::ShaderModel::V6_0,
+        ..Default::default()
+    };
+    let hlsl_pipeline = back::hlsl::PipelineOptions {
+        entry_point: Some((stage, entry.into())),
+    };
+    back::hlsl::Writer::new(&mut hlsl, &hlsl_options, &hlsl_pipeline)
+        .write(&module, &info, None)
+        .unwrap();
+
+    let msl_options = back::msl::Options {
+        lang_version: (2, 4),
+        ..Default::default()
+    };
+    let msl_pipeline = back::msl::PipelineOptions {
+        entry_point: Some((stage, entry.into())),
+        ..Default::default()
+    };
+    let (msl, _) = back::msl::write_string(&module, &info, &msl_options, &msl_pipeline).unwrap();
+
+    let mut glsl = String::new();
+    let glsl_options = back::glsl::Options {
+        version: back::glsl::Version::Desktop(430),
+        ..Default::default()
+    };
+    let glsl_pipeline = back::glsl::PipelineOptions {
+        shader_stage: stage,
+        entry_point: entry.into(),
+        multiview: None,
+    };
+    back::glsl::Writer::new(
+        &mut glsl,
+        &module,
+        &info,
+        &glsl_options,
+        &glsl_pipeline,
+        naga::proc::BoundsCheckPolicies::default(),
+    )
+    .unwrap()
+    .write()
+    .unwrap();
+
+    vec![
+        ("spv", spv),
+        ("hlsl", hlsl.into_bytes()),
+        ("comp.glsl", glsl.into_bytes()),
+        ("metal", msl.into_bytes()),
+    ]
+}
+
+fn crate_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
+}
+
+#[test]
+fn the_committed_translations_are_current() {
+    let bless = std::env::var_os("LGH_BLESS").is_some_and(|v| !v.is_empty());
+    let mut stale = Vec::new();
+    for (file, entry) in KERNELS {
+        let wgsl = std::fs::read_to_string(crate_dir().join("src").join(file)).unwrap();
+        let stem = file.trim_end_matches(".wgsl");
+        for (ext, contents) in translate(&wgsl, entry) {
+            let path = crate_dir().join("generated").join(format!("{stem}.{ext}"));
+            if std::fs::read(&path).ok().as_deref() == Some(&contents[..]) {
+                continue;
+            }
+            if bless {
+                std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+                std::fs::write(&path, &contents).unwrap();
+            } else {
+                stale.push(path.display().to_string());
+            }
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "missing or stale: {}\n(`LGH_BLESS=1 cargo test -p lgh-gpu --test translations` rewrites them)",
+        stale.join(", ")
+    );
+}
+
+/// The translations are a function of the WGSL alone: the same bytes twice.
+#[test]
+fn translating_twice_gives_the_same_bytes() {
+    let wgsl = std::fs::read_to_string(crate_dir().join("src/shade.wgsl")).unwrap();
+    assert_eq!(translate(&wgsl, "shade"), translate(&wgsl, "shade"));
+}
