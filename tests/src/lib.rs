@@ -250,3 +250,13 @@ pub fn runs(program: &str, args: &[&str]) -> bool {
 #[cfg(doctest)]
 #[doc = include_str!("../../docs/library.md")]
 struct LibraryDoctests;
+
+/// `f` run on a pool of `threads` rayon threads: the determinism tests compare what it returns
+/// across thread counts.
+pub fn on<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}

@@ -10,19 +10,11 @@ use lgh_core::glam::Vec3;
 use lgh_core::octree::{LightOctree, OctreeBackend};
 use lgh_core::{LghBackend, LightingGridHierarchy, ManyLights};
 use lgh_image::Image;
+use lgh_tests::on;
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Shadows};
 use lgh_vpl::paquette::{self, Surface, TestScene};
-
-/// `f` run on a pool of `threads` rayon threads.
-fn on<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 /// The pixels' bits, so that `-0.0` against `0.0` or two NaNs count as what they are.
 fn bits(image: &Image) -> Vec<[u32; 3]> {

@@ -21,6 +21,7 @@ use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
 use lgh_core::{GridSettings, LevelSource, LightingGridHierarchy, Material, PointLight};
 use lgh_image::Image;
+use lgh_tests::on;
 use lgh_volume::lighting_cache::LightingCacheSettings;
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::{DenseGrid, ExplosionLights, FrameRender, Medium, Method, Shadows, Volume};
@@ -33,15 +34,6 @@ use rayon::prelude::*;
 
 /// The thread counts compared with the one-thread reference.
 const THREADS: [usize; 3] = [2, 3, 8];
-
-/// `f` run on a pool of `threads` rayon threads.
-fn on<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 /// The bits of `v`'s components.
 fn vec_bits(v: Vec3) -> [u32; 3] {
