@@ -27,7 +27,7 @@ struct Params {
     uint levels;
     uint points;
     float h0_;
-    uint pad;
+    uint split;
 };
 const uint WORKGROUP = 64u;
 const float INV_PI = 0.31830987;
@@ -40,9 +40,11 @@ layout(std430) readonly buffer type_6_block_2Compute { uint _group_0_binding_2_c
 
 layout(std430) readonly buffer type_7_block_3Compute { Light _group_0_binding_3_cs[]; };
 
-layout(std430) readonly buffer type_8_block_4Compute { Point _group_0_binding_4_cs[]; };
+layout(std430) readonly buffer type_7_block_4Compute { Light _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_9_block_5Compute { vec4 _group_0_binding_5_cs[]; };
+layout(std430) readonly buffer type_8_block_5Compute { Point _group_0_binding_4_cs[]; };
+
+layout(std430) buffer type_9_block_6Compute { vec4 _group_0_binding_5_cs[]; };
 
 
 float blend(vec4 ramp, float d) {
@@ -52,29 +54,41 @@ float blend(vec4 ramp, float d) {
 }
 
 vec3 contribution(Level level, uint k, vec3 x, vec3 n) {
+    Light light = Light(vec3(0.0), vec3(0.0));
     bool local = false;
     float cosine = 0.0;
-    Light light = _group_0_binding_3_cs[(level.first_light + k)];
-    vec3 v = (light.position - x);
+    uint i = (level.first_light + k);
+    uint _e9 = _group_0_binding_0_cs.split;
+    if ((i < _e9)) {
+        Light _e13 = _group_0_binding_3_cs[i];
+        light = _e13;
+    } else {
+        uint _e17 = _group_0_binding_0_cs.split;
+        Light _e20 = _group_0_binding_6_cs[(i - _e17)];
+        light = _e20;
+    }
+    vec3 _e22 = light.position;
+    vec3 v = (_e22 - x);
     float d2_ = dot(v, v);
     if ((d2_ > level.inner2_)) {
         local = (d2_ <= level.outer2_);
     } else {
         local = false;
     }
-    bool _e19 = local;
-    if (!(_e19)) {
+    bool _e32 = local;
+    if (!(_e32)) {
         return vec3(0.0);
     }
     float d_1 = sqrt(d2_);
-    float _e26 = _group_0_binding_0_cs.h0_;
-    float c = max(d_1, _e26);
+    float _e39 = _group_0_binding_0_cs.h0_;
+    float c = max(d_1, _e39);
     if ((d_1 > 0.0)) {
         cosine = max((dot(n, v) / d_1), 0.0);
     }
-    float _e38 = blend(level.ramp, d_1);
-    float _e43 = cosine;
-    return (light.intensity * ((_e38 * (1.0 / (c * c))) * _e43));
+    vec3 _e50 = light.intensity;
+    float _e52 = blend(level.ramp, d_1);
+    float _e57 = cosine;
+    return (_e50 * ((_e52 * (1.0 / (c * c))) * _e57));
 }
 
 vec3 level_sum(Level level_1, vec3 x_1, vec3 n_1) {
@@ -189,12 +203,12 @@ void main() {
     uvec3 groups = gl_NumWorkGroups;
     vec3 sum = vec3(0.0);
     uint l = 0u;
-    uint i = (id.x + ((id.y * groups.x) * WORKGROUP));
+    uint i_1 = (id.x + ((id.y * groups.x) * WORKGROUP));
     uint _e11 = _group_0_binding_0_cs.points;
-    if ((i >= _e11)) {
+    if ((i_1 >= _e11)) {
         return;
     }
-    Point p = _group_0_binding_4_cs[i];
+    Point p = _group_0_binding_4_cs[i_1];
     bool loop_init_4 = true;
     while(true) {
         if (!loop_init_4) {
@@ -217,7 +231,7 @@ void main() {
         }
     }
     vec3 _e40 = sum;
-    _group_0_binding_5_cs[i] = vec4(((_e40 * p.albedo) * INV_PI), 0.0);
+    _group_0_binding_5_cs[i_1] = vec4(((_e40 * p.albedo) * INV_PI), 0.0);
     return;
 }
 

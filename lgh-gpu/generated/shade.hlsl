@@ -30,7 +30,7 @@ struct Params {
     uint levels;
     uint points;
     float h0_;
-    uint pad;
+    uint split;
 };
 
 static const uint WORKGROUP = 64u;
@@ -40,6 +40,7 @@ cbuffer params : register(b0) { Params params; }
 ByteAddressBuffer levels : register(t1);
 ByteAddressBuffer starts : register(t2);
 ByteAddressBuffer lights : register(t3);
+ByteAddressBuffer lights_hi : register(t6);
 ByteAddressBuffer points : register(t4);
 RWByteAddressBuffer radiance : register(u5);
 
@@ -59,30 +60,42 @@ Light ConstructLight(float3 arg0, float3 arg1) {
 
 float3 contribution(Level level, uint k, float3 x, float3 n)
 {
+    Light light = (Light)0;
     bool local = (bool)0;
     float cosine = 0.0;
 
-    Light light = ConstructLight(asfloat(lights.Load3((level.first_light + k)*32+0)), asfloat(lights.Load3((level.first_light + k)*32+16)));
-    float3 v = (light.position - x);
+    uint i = (level.first_light + k);
+    uint _e9 = params.split;
+    if ((i < _e9)) {
+        Light _e13 = ConstructLight(asfloat(lights.Load3(i*32+0)), asfloat(lights.Load3(i*32+16)));
+        light = _e13;
+    } else {
+        uint _e17 = params.split;
+        Light _e20 = ConstructLight(asfloat(lights_hi.Load3((i - _e17)*32+0)), asfloat(lights_hi.Load3((i - _e17)*32+16)));
+        light = _e20;
+    }
+    float3 _e22 = light.position;
+    float3 v = (_e22 - x);
     float d2_ = dot(v, v);
     if ((d2_ > level.inner2_)) {
         local = (d2_ <= level.outer2_);
     } else {
         local = false;
     }
-    bool _e19 = local;
-    if (!(_e19)) {
+    bool _e32 = local;
+    if (!(_e32)) {
         return (0.0).xxx;
     }
     float d_1 = sqrt(d2_);
-    float _e26 = params.h0_;
-    float c = max(d_1, _e26);
+    float _e39 = params.h0_;
+    float c = max(d_1, _e39);
     if ((d_1 > 0.0)) {
         cosine = max((dot(n, v) / d_1), 0.0);
     }
-    const float _e38 = blend(level.ramp, d_1);
-    float _e43 = cosine;
-    return (light.intensity * ((_e38 * (1.0 / (c * c))) * _e43));
+    float3 _e50 = light.intensity;
+    const float _e52 = blend(level.ramp, d_1);
+    float _e57 = cosine;
+    return (_e50 * ((_e52 * (1.0 / (c * c))) * _e57));
 }
 
 uint3 naga_f2u32(float3 value) {
@@ -238,12 +251,12 @@ void shade(uint3 id : SV_DispatchThreadID, uint3 groups : SV_GroupID)
     float3 sum = (0.0).xxx;
     uint l = 0u;
 
-    uint i = (id.x + ((id.y * groups.x) * WORKGROUP));
+    uint i_1 = (id.x + ((id.y * groups.x) * WORKGROUP));
     uint _e11 = params.points;
-    if ((i >= _e11)) {
+    if ((i_1 >= _e11)) {
         return;
     }
-    Point p = ConstructPoint(asfloat(points.Load3(i*48+0)), asfloat(points.Load3(i*48+16)), asfloat(points.Load3(i*48+32)));
+    Point p = ConstructPoint(asfloat(points.Load3(i_1*48+0)), asfloat(points.Load3(i_1*48+16)), asfloat(points.Load3(i_1*48+32)));
     uint2 loop_bound_4 = uint2(4294967295u, 4294967295u);
     bool loop_init_4 = true;
     while(true) {
@@ -269,6 +282,6 @@ void shade(uint3 id : SV_DispatchThreadID, uint3 groups : SV_GroupID)
         }
     }
     float3 _e40 = sum;
-    radiance.Store4(i*16, asuint(float4(((_e40 * p.albedo) * INV_PI), 0.0)));
+    radiance.Store4(i_1*16, asuint(float4(((_e40 * p.albedo) * INV_PI), 0.0)));
     return;
 }

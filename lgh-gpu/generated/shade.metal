@@ -10,6 +10,7 @@ struct _mslBufferSizes {
     uint size3;
     uint size4;
     uint size5;
+    uint size6;
 };
 
 struct Light {
@@ -36,7 +37,7 @@ struct Params {
     uint levels;
     uint points;
     float h0_;
-    uint pad;
+    uint split;
 };
 typedef Level type_5[1];
 typedef uint type_6[1];
@@ -62,31 +63,44 @@ metal::float3 contribution(
     metal::float3 n,
     constant Params& params,
     device type_7 const& lights,
+    device type_7 const& lights_hi,
     constant _mslBufferSizes& _buffer_sizes
 ) {
+    Light light = {};
     bool local = {};
     float cosine = 0.0;
-    Light light = lights[level.first_light + k];
-    metal::float3 v = light.position - x;
+    uint i = level.first_light + k;
+    uint _e9 = params.split;
+    if (i < _e9) {
+        Light _e13 = lights[i];
+        light = _e13;
+    } else {
+        uint _e17 = params.split;
+        Light _e20 = lights_hi[i - _e17];
+        light = _e20;
+    }
+    metal::float3 _e22 = light.position;
+    metal::float3 v = _e22 - x;
     float d2_ = metal::dot(v, v);
     if (d2_ > level.inner2_) {
         local = d2_ <= level.outer2_;
     } else {
         local = false;
     }
-    bool _e19 = local;
-    if (!(_e19)) {
+    bool _e32 = local;
+    if (!(_e32)) {
         return metal::float3(0.0);
     }
     float d_1 = metal::sqrt(d2_);
-    float _e26 = params.h0_;
-    float c = metal::max(d_1, _e26);
+    float _e39 = params.h0_;
+    float c = metal::max(d_1, _e39);
     if (d_1 > 0.0) {
         cosine = metal::max(metal::dot(n, v) / d_1, 0.0);
     }
-    float _e38 = blend(level.ramp, d_1);
-    float _e43 = cosine;
-    return light.intensity * ((_e38 * (1.0 / (c * c))) * _e43);
+    metal::float3 _e50 = light.intensity;
+    float _e52 = blend(level.ramp, d_1);
+    float _e57 = cosine;
+    return _e50 * ((_e52 * (1.0 / (c * c))) * _e57);
 }
 
 metal::uint3 naga_f2u32(metal::float3 value) {
@@ -100,6 +114,7 @@ metal::float3 level_sum(
     constant Params& params,
     device type_6 const& starts,
     device type_7 const& lights,
+    device type_7 const& lights_hi,
     constant _mslBufferSizes& _buffer_sizes
 ) {
     metal::float3 sum_1 = metal::float3(0.0);
@@ -127,7 +142,7 @@ metal::float3 level_sum(
             {
                 metal::float3 _e15 = sum_1;
                 uint _e16 = k_1;
-                metal::float3 _e17 = contribution(level_1, _e16, x_1, n_1, params, lights, _buffer_sizes);
+                metal::float3 _e17 = contribution(level_1, _e16, x_1, n_1, params, lights, lights_hi, _buffer_sizes);
                 sum_1 = _e15 + _e17;
             }
         }
@@ -208,7 +223,7 @@ metal::float3 level_sum(
                         {
                             metal::float3 _e100 = sum_1;
                             uint _e101 = k_2;
-                            metal::float3 _e102 = contribution(level_1, _e101, x_1, n_1, params, lights, _buffer_sizes);
+                            metal::float3 _e102 = contribution(level_1, _e101, x_1, n_1, params, lights, lights_hi, _buffer_sizes);
                             sum_1 = _e100 + _e102;
                         }
                     }
@@ -229,18 +244,19 @@ struct shadeInput {
 , device type_5 const& levels [[user(fake0)]]
 , device type_6 const& starts [[user(fake0)]]
 , device type_7 const& lights [[user(fake0)]]
+, device type_7 const& lights_hi [[user(fake0)]]
 , device type_8 const& points [[user(fake0)]]
 , device type_9& radiance [[user(fake0)]]
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
     metal::float3 sum = metal::float3(0.0);
     uint l = 0u;
-    uint i = id.x + ((id.y * groups.x) * WORKGROUP);
+    uint i_1 = id.x + ((id.y * groups.x) * WORKGROUP);
     uint _e11 = params.points;
-    if (i >= _e11) {
+    if (i_1 >= _e11) {
         return;
     }
-    Point p = points[i];
+    Point p = points[i_1];
     uint2 loop_bound_4 = uint2(4294967295u);
     bool loop_init_4 = true;
     while(true) {
@@ -261,11 +277,11 @@ struct shadeInput {
             metal::float3 _e26 = sum;
             uint _e28 = l;
             Level _e30 = levels[_e28];
-            metal::float3 _e33 = level_sum(_e30, p.position, p.normal, params, starts, lights, _buffer_sizes);
+            metal::float3 _e33 = level_sum(_e30, p.position, p.normal, params, starts, lights, lights_hi, _buffer_sizes);
             sum = _e26 + _e33;
         }
     }
     metal::float3 _e40 = sum;
-    radiance[i] = metal::float4((_e40 * p.albedo) * INV_PI, 0.0);
+    radiance[i_1] = metal::float4((_e40 * p.albedo) * INV_PI, 0.0);
     return;
 }

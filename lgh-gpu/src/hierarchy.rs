@@ -29,6 +29,9 @@ pub struct GpuHierarchy {
     level_buffer: wgpu::Buffer,
     start_buffer: wgpu::Buffer,
     light_buffer: wgpu::Buffer,
+    /// The lights from `split` on (a one-light placeholder where all fit in the first).
+    light_buffer_hi: wgpu::Buffer,
+    split: u32,
     pipeline: wgpu::ComputePipeline,
 }
 
@@ -112,6 +115,18 @@ impl GpuHierarchy {
         lgh: &LightingGridHierarchy,
         alpha: f32,
     ) -> Result<GpuHierarchy, GpuError> {
+        let limit = gpu.device().limits().max_storage_buffer_binding_size;
+        Self::upload_within(gpu, lgh, alpha, limit)
+    }
+
+    /// [`upload`](Self::upload) with the lights split over two bindings of at most `limit`
+    /// bytes each.
+    fn upload_within(
+        gpu: &Gpu,
+        lgh: &LightingGridHierarchy,
+        alpha: f32,
+        limit: u64,
+    ) -> Result<GpuHierarchy, GpuError> {
         let blending = lgh.blending(alpha)?;
         let (mut levels, mut starts, mut lights) = (Vec::new(), Vec::new(), Vec::new());
         if !lgh.is_empty() {
@@ -129,8 +144,18 @@ impl GpuHierarchy {
         if lights.is_empty() {
             lights.push(GpuLight::default());
         }
-        let limit = gpu.device().limits().max_storage_buffer_binding_size;
-        check_size("the lights", lights.len() * size_of::<GpuLight>(), limit)?;
+        // Two bindings of lights, the second from `split` on, where one would be too large.
+        let split = (limit / size_of::<GpuLight>() as u64).min(u32::MAX as u64) as usize;
+        check_size(
+            "the lights",
+            lights.len() * size_of::<GpuLight>(),
+            2 * limit,
+        )?;
+        let hi = if lights.len() > split {
+            lights.split_off(split)
+        } else {
+            vec![GpuLight::default()]
+        };
         check_size("the cells", starts.len() * size_of::<u32>(), limit)?;
         let device = gpu.device();
         let storage = |label: &str, contents: &[u8]| {
@@ -160,6 +185,8 @@ impl GpuHierarchy {
             level_buffer: storage("lgh-gpu levels", &level_bytes),
             start_buffer: storage("lgh-gpu cell starts", bytemuck::cast_slice(&starts)),
             light_buffer: storage("lgh-gpu lights", bytemuck::cast_slice(&lights)),
+            light_buffer_hi: storage("lgh-gpu lights, second", bytemuck::cast_slice(&hi)),
+            split: split as u32,
             levels,
             pipeline,
         })
@@ -248,7 +275,7 @@ impl GpuHierarchy {
             levels: self.levels.len() as u32,
             points: points.len() as u32,
             h0: self.h0,
-            _pad: 0,
+            split: self.split,
         };
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -290,6 +317,7 @@ impl GpuHierarchy {
             &self.light_buffer,
             &point_buffer,
             &out,
+            &self.light_buffer_hi,
         ];
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
@@ -332,4 +360,36 @@ fn check_size(what: &'static str, bytes: usize, limit: u64) -> Result<(), GpuErr
         return Err(GpuError::TooLarge { what, bytes, limit });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lgh_core::{GridSettings, PointLight};
+
+    /// Lights split over two bindings give the same bits as in one.
+    #[test]
+    fn lights_split_over_two_bindings_give_the_same_bits() {
+        let gpu = match Gpu::new() {
+            Ok(gpu) => gpu,
+            Err(e) => return lgh_tests::Piece::Gpu.missing(&e.to_string()),
+        };
+        let lights: Vec<PointLight> = lgh_core::testsets::clumped_lights(500, 8);
+        let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
+        let points: Vec<ShadingPoint> = (0..200)
+            .map(|i| {
+                let p = Vec3::new(i as f32 * 0.05, 1.0, (i % 7) as f32);
+                ShadingPoint::new(p, Vec3::Y, Vec3::splat(0.7))
+            })
+            .collect();
+        let whole = GpuHierarchy::upload(&gpu, &lgh, 2.0).unwrap();
+        let total = whole.levels.iter().map(|l| l.light_count).sum::<u32>();
+        // A binding of three fifths of the lights: the second holds the rest.
+        let most = (total as u64 * 3 / 5 + 1) * size_of::<GpuLight>() as u64;
+        let split = GpuHierarchy::upload_within(&gpu, &lgh, 2.0, most).unwrap();
+        assert!(split.split < total, "{} of {total}", split.split);
+        assert_eq!(split.shade(&points).unwrap(), whole.shade(&points).unwrap());
+        let too_small = GpuHierarchy::upload_within(&gpu, &lgh, 2.0, 64);
+        assert!(matches!(too_small, Err(GpuError::TooLarge { .. })));
+    }
 }

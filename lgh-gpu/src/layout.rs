@@ -95,6 +95,7 @@ pub struct Params {
     pub points: u32,
     /// The fall-off's clamp `h0`: `g(d) = 1 / max(d, h0)²`.
     pub h0: f32,
-    /// Padding.
-    pub _pad: u32,
+    /// The lights from this index on are in the second lights buffer (binding 6): one binding
+    /// holds at most the device's `max_storage_buffer_binding_size`.
+    pub split: u32,
 }

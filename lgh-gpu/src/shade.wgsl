@@ -29,13 +29,16 @@ struct Params {
     levels: u32,
     points: u32,
     h0: f32,
-    pad: u32,
+    // Lights from this index on are in `lights_hi` (one binding holds at most the device's
+    // binding size: 128 MiB on lavapipe).
+    split: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> levels: array<Level>;
 @group(0) @binding(2) var<storage, read> starts: array<u32>;
 @group(0) @binding(3) var<storage, read> lights: array<Light>;
+@group(0) @binding(6) var<storage, read> lights_hi: array<Light>;
 @group(0) @binding(4) var<storage, read> points: array<Point>;
 @group(0) @binding(5) var<storage, read_write> radiance: array<vec4<f32>>;
 
@@ -52,7 +55,13 @@ fn blend(ramp: vec4<f32>, d: f32) -> f32 {
 // What light k of `level` adds at x with normal n: B·I·g·max(0, n·ω), 0 outside the level's
 // support (d² ≤ inner² or d² > outer², as lgh-core's scan).
 fn contribution(level: Level, k: u32, x: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
-    let light = lights[level.first_light + k];
+    let i = level.first_light + k;
+    var light: Light;
+    if i < params.split {
+        light = lights[i];
+    } else {
+        light = lights_hi[i - params.split];
+    }
     let v = light.position - x;
     let d2 = dot(v, v);
     if !(d2 > level.inner2 && d2 <= level.outer2) {
