@@ -240,3 +240,44 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+
+    /// Partition of unity, through the GPU: a single light is every level's light at its own
+    /// position (each level splats it onto its vertices with weights summing to one, eqs. 1-2),
+    /// so at any distance the blended sum is the light's own `I·g(d)·cos·ρ/π`: the levels'
+    /// weights `B_ℓ` and the vertices' weights both sum to one. Within the summation bound of
+    /// the module docs (at most 8 terms a level, 22 levels).
+    #[test]
+    fn one_light_is_lit_as_itself_at_any_distance(
+        seed in 0u64..1000,
+        alpha in 0.5f32..8.0,
+        distance in 0.01f32..100.0,
+    ) {
+        let Some(gpu) = gpu() else { return Ok(()) };
+        let light = uniform_cube(1, seed)[0];
+        // Levels 1 to 6 over a level-1 spacing of 0.1 (one light alone would need none).
+        let settings = GridSettings {
+            h1: Some(0.1),
+            origin: Some(Vec3::splat(-1.0)),
+            max_level: Some(6),
+            ..Default::default()
+        };
+        let lgh = LightingGridHierarchy::build(&[light], &settings).unwrap();
+        prop_assert_eq!(lgh.max_level(), 6);
+        let normal = Vec3::new(0.3, 1.0, -0.2).normalize();
+        let x = light.position - normal * distance;
+        let point = ShadingPoint::new(x, normal, Vec3::splat(0.9));
+        let got = GpuHierarchy::upload(gpu, &lgh, alpha).unwrap().shade(&[point]).unwrap()[0];
+        let d = (light.position - x).length();
+        let cosine = (normal.dot(light.position - x) / d).max(0.0);
+        let want = light.intensity * falloff(d, lgh.h0()) * cosine * 0.9 / core::f32::consts::PI;
+        let terms = 8 * (u32::from(lgh.max_level()) + 1);
+        let bound = (2 * terms + 32) as f32 * U as f32;
+        for c in 0..3 {
+            prop_assert!((got[c] - want[c]).abs() <= bound * want[c] + 1e-30,
+                         "{} against {} at d = {d}", got[c], want[c]);
+        }
+    }
+}
