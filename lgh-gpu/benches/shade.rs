@@ -1,0 +1,64 @@
+//! Criterion benchmark of the GPU query (`GpuHierarchy::shade_timed`, wall time to the results
+//! read back) against lgh-core's query on every core, on the same hierarchy and points:
+//! `cargo bench -p lgh-gpu`. `lgh bench gpu` measures the kernel alone (timestamp queries), the
+//! CPU path and their agreement, as JSON. Without a GPU adapter it says so and measures nothing.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use lgh_core::glam::Vec3;
+use lgh_core::{falloff, testsets, GridSettings, LightingGridHierarchy};
+use lgh_gpu::{Gpu, GpuHierarchy, ShadingPoint};
+use rayon::prelude::*;
+
+/// The explosion set at 64³ (about 130K lights) and a 256 × 256 grid of points below it.
+fn scene() -> (LightingGridHierarchy, Vec<ShadingPoint>) {
+    let lights = testsets::explosion_shell(64);
+    let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).expect("a build");
+    let points = (0..256 * 256)
+        .map(|i| {
+            let (u, v) = ((i % 256) as f32 / 255.0, (i / 256) as f32 / 255.0);
+            ShadingPoint::new(Vec3::new(u, -0.2, v), Vec3::Y, Vec3::splat(0.8))
+        })
+        .collect();
+    (lgh, points)
+}
+
+fn shade(c: &mut Criterion) {
+    let gpu = match Gpu::new() {
+        Ok(gpu) => gpu,
+        Err(e) => {
+            eprintln!("lgh-gpu bench: nothing measured: {e}");
+            return;
+        }
+    };
+    let (lgh, points) = scene();
+    let on_gpu = GpuHierarchy::upload(&gpu, &lgh, 2.0).expect("an upload");
+    let blending = lgh.blending(2.0).expect("α = 2");
+    let mut g = c.benchmark_group("shade_explosion_64_256x256");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(points.len() as u64));
+    g.bench_function("gpu", |b| {
+        b.iter(|| black_box(on_gpu.shade_timed(&points).expect("a query")))
+    });
+    g.bench_function("cpu_all_cores", |b| {
+        b.iter(|| {
+            let sums: Vec<Vec3> = points
+                .par_iter()
+                .map(|p| {
+                    let (x, n) = (Vec3::from(p.position), Vec3::from(p.normal));
+                    let shade = |s: &lgh_core::LightSample| {
+                        let cosine = (n.dot(s.position - x) / s.distance.max(1e-30)).max(0.0);
+                        s.intensity * falloff(s.distance, lgh.h0()) * cosine
+                    };
+                    lgh.query_sum(x, &blending, shade).expect("a point").0
+                })
+                .collect();
+            black_box(sums)
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, shade);
+criterion_main!(benches);
