@@ -9,7 +9,8 @@
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
+use lgh_core::metrics::ErrorStats;
+use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
 use lgh_gpu::{Gpu, GpuHierarchy, ShadingPoint};
 use lgh_web::swarm;
 use rayon::prelude::*;
@@ -57,40 +58,30 @@ fn g_buffer(width: u32, height: u32) -> Vec<ShadingPoint> {
         .collect()
 }
 
-/// The CPU path: lgh-core's query with the same Lambertian response, on every thread of the
-/// pool.
-fn cpu_shade(lgh: &LightingGridHierarchy, alpha: f32, points: &[ShadingPoint]) -> Vec<[f32; 3]> {
-    let blending = lgh.blending(alpha).expect("α checked");
-    points
+/// The CPU path: the same query through lgh-core (`lgh_gpu::reference`), on every thread of
+/// the pool.
+fn cpu_shade(
+    lgh: &LightingGridHierarchy,
+    alpha: f32,
+    points: &[ShadingPoint],
+) -> Result<Vec<Vec3>, crate::Error> {
+    let blending = lgh.blending(alpha)?;
+    let image: Result<Vec<Vec3>, _> = points
         .par_iter()
-        .map(|p| {
-            let (x, n) = (Vec3::from(p.position), Vec3::from(p.normal));
-            let shade = |s: &lgh_core::LightSample| {
-                let d = s.distance;
-                let cosine = if d > 0.0 {
-                    (n.dot(s.position - x) / d).max(0.0)
-                } else {
-                    0.0
-                };
-                s.intensity * falloff(d, lgh.h0()) * cosine
-            };
-            let (sum, _) = lgh.query_sum(x, &blending, shade).expect("finite points");
-            (sum * Vec3::from(p.albedo) / core::f32::consts::PI).to_array()
-        })
-        .collect()
+        .map(|p| lgh_gpu::reference::shade(lgh, &blending, p))
+        .collect();
+    Ok(image?)
 }
 
-/// `sqrt(mean((A − R)²)) / mean(R)` on luminance (Rec. 709).
-fn rel_rmse(a: &[[f32; 3]], r: &[[f32; 3]]) -> f64 {
-    let lum = |c: &[f32; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
-    let n = a.len().max(1) as f64;
-    let se: f64 = a
-        .iter()
-        .zip(r)
-        .map(|(x, y)| (lum(x) - lum(y)).powi(2))
-        .sum();
-    let mean: f64 = r.iter().map(lum).sum::<f64>() / n;
-    (se / n).sqrt() / mean
+/// The GPU's image against the CPU's: the relative RMSE of luminance, and of each channel on
+/// its own (luminance can hide a channel's error).
+fn rel_rmse(gpu: &[Vec3], cpu: &[Vec3]) -> (f64, [f64; 3]) {
+    let of = |a: &[Vec3], r: &[Vec3]| ErrorStats::compare(a, r).map_or(f64::NAN, |s| s.rel_rmse);
+    // A grey pixel's luminance is its value (the weights sum to one): each channel as grey.
+    let channel =
+        |img: &[Vec3], c: usize| -> Vec<Vec3> { img.iter().map(|v| Vec3::splat(v[c])).collect() };
+    let rgb = [0, 1, 2].map(|c| of(&channel(gpu, c), &channel(cpu, c)));
+    (of(gpu, cpu), rgb)
 }
 
 /// Runs the benchmark and prints its JSON report.
@@ -129,6 +120,7 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
     let upload_ms = start.elapsed().as_secs_f64() * 1e3;
     // A first run warms the pipeline; the best of three is reported.
     let (gpu_image, _) = on_gpu.shade_timed(&points)?;
+    let gpu_image: Vec<Vec3> = gpu_image.into_iter().map(Vec3::from).collect();
     let mut timings = Vec::new();
     for _ in 0..3 {
         timings.push(on_gpu.shade_timed(&points)?.1);
@@ -144,7 +136,8 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
         pool.current_num_threads()
     );
     let start = Instant::now();
-    let cpu_image = pool.install(|| cpu_shade(&lgh, args.alpha, &points));
+    let cpu_image = pool.install(|| cpu_shade(&lgh, args.alpha, &points))?;
+    let (rel_rmse_vs_cpu, rel_rmse_vs_cpu_rgb) = rel_rmse(&gpu_image, &cpu_image);
     let cpu_shade_ms = start.elapsed().as_secs_f64() * 1e3;
     let report = json!({
         "benchmark": "lgh bench gpu",
@@ -169,7 +162,8 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
         "cpu_threads": pool.current_num_threads(),
         "cpu_shade_ms": cpu_shade_ms,
         "speedup_vs_cpu": cpu_shade_ms / shade_ms,
-        "rel_rmse_vs_cpu": rel_rmse(&gpu_image, &cpu_image),
+        "rel_rmse_vs_cpu": rel_rmse_vs_cpu,
+        "rel_rmse_vs_cpu_rgb": rel_rmse_vs_cpu_rgb,
     });
     let text = serde_json::to_string_pretty(&report)?;
     say!("{text}");

@@ -50,4 +50,9 @@ fn bench_gpu_prints_its_keys_and_agrees_with_the_cpu() {
     // worst), which an image-wide RMSE cannot exceed; 10⁻⁵ holds any adapter's rounding.
     let err = v["rel_rmse_vs_cpu"].as_f64().unwrap();
     assert!((0.0..1e-5).contains(&err), "{err}");
+    // And each channel on its own: luminance could hide one channel's error.
+    for c in 0..3 {
+        let err = v["rel_rmse_vs_cpu_rgb"][c].as_f64().unwrap();
+        assert!((0.0..1e-5).contains(&err), "channel {c}: {err}");
+    }
 }

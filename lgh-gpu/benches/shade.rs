@@ -7,7 +7,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use lgh_core::glam::Vec3;
-use lgh_core::{falloff, testsets, GridSettings, LightingGridHierarchy};
+use lgh_core::{testsets, GridSettings, LightingGridHierarchy};
 use lgh_gpu::{Gpu, GpuHierarchy, ShadingPoint};
 use rayon::prelude::*;
 
@@ -45,14 +45,7 @@ fn shade(c: &mut Criterion) {
         b.iter(|| {
             let sums: Vec<Vec3> = points
                 .par_iter()
-                .map(|p| {
-                    let (x, n) = (Vec3::from(p.position), Vec3::from(p.normal));
-                    let shade = |s: &lgh_core::LightSample| {
-                        let cosine = (n.dot(s.position - x) / s.distance.max(1e-30)).max(0.0);
-                        s.intensity * falloff(s.distance, lgh.h0()) * cosine
-                    };
-                    lgh.query_sum(x, &blending, shade).expect("a point").0
-                })
+                .map(|p| lgh_gpu::reference::shade(&lgh, &blending, p).expect("a point"))
                 .collect();
             black_box(sums)
         })

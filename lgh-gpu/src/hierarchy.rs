@@ -33,6 +33,8 @@ pub struct GpuHierarchy {
     light_buffer_hi: wgpu::Buffer,
     split: u32,
     pipeline: wgpu::ComputePipeline,
+    /// The pipeline's bind group layout, fetched once.
+    layout: wgpu::BindGroupLayout,
 }
 
 /// `[a, c1, b, c2]` of `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`, the same floats as
@@ -188,6 +190,7 @@ impl GpuHierarchy {
             light_buffer_hi: storage("lgh-gpu lights, second", bytemuck::cast_slice(&hi)),
             split: split as u32,
             levels,
+            layout: pipeline.get_bind_group_layout(0),
             pipeline,
         })
     }
@@ -329,7 +332,7 @@ impl GpuHierarchy {
             .collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("lgh-gpu shade"),
-            layout: &self.pipeline.get_bind_group_layout(0),
+            layout: &self.layout,
             entries: &entries,
         });
         Ok((bind_group, out, staging, out_bytes))

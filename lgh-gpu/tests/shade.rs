@@ -20,6 +20,7 @@ use std::sync::OnceLock;
 use lgh_core::glam::Vec3;
 use lgh_core::testsets::{clumped_lights, explosion_shell, shading_points, uniform_cube};
 use lgh_core::{falloff, GridSettings, LightingGridHierarchy, Material, PointLight};
+use lgh_gpu::reference::response;
 use lgh_gpu::{Gpu, GpuError, GpuHierarchy, ShadingPoint};
 use lgh_tests::Piece;
 use proptest::prelude::*;
@@ -71,13 +72,7 @@ fn cpu(lgh: &LightingGridHierarchy, alpha: f32, p: &ShadingPoint) -> (Vec3, Vec3
     let mut unweighted = Vec3::ZERO;
     let (sum, count) = lgh
         .query_sum(x, &blending, |s| {
-            let d = s.distance;
-            let cosine = if d > 0.0 {
-                (n.dot(s.position - x) / d).max(0.0)
-            } else {
-                0.0
-            };
-            let term = s.intensity * falloff(d, lgh.h0()) * cosine;
+            let term = response(x, n, lgh.h0(), s);
             unweighted += term / s.weight;
             term
         })

@@ -153,10 +153,10 @@ fn save(root: &Path, figures: &[Figure]) -> Result<(), String> {
     write_whole(&root.join(FIGURES), &text)
 }
 
+/// Writes `text` to `path` whole (lgh-image's atomic write: a temporary file renamed over it).
 fn write_whole(path: &Path, text: &str) -> Result<(), String> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, text).map_err(|e| format!("{}: {e}", tmp.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+    lgh_image::write_atomic(path, |w| w.write_all(text.as_bytes()))
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// A marked number on a page.
