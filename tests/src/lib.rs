@@ -260,3 +260,14 @@ pub fn on<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         .expect("a thread pool")
         .install(f)
 }
+
+/// An image's pixels as bits, so that `-0.0` against `0.0` or two NaNs count as what they are:
+/// what the determinism tests compare.
+#[must_use]
+pub fn image_bits(image: &lgh_image::Image) -> Vec<[u32; 3]> {
+    image
+        .pixels
+        .iter()
+        .map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}

@@ -10,20 +10,11 @@ use lgh_core::glam::Vec3;
 use lgh_core::octree::{LightOctree, OctreeBackend};
 use lgh_core::{LghBackend, LightingGridHierarchy, ManyLights};
 use lgh_image::Image;
-use lgh_tests::on;
+use lgh_tests::{image_bits, on};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Shadows};
 use lgh_vpl::paquette::{self, Surface, TestScene};
-
-/// The pixels' bits, so that `-0.0` against `0.0` or two NaNs count as what they are.
-fn bits(image: &Image) -> Vec<[u32; 3]> {
-    image
-        .pixels
-        .iter()
-        .map(|p| p.to_array().map(f32::to_bits))
-        .collect()
-}
 
 /// `render` on 1, 2 and 3 threads: the same bits every time, and not a black image.
 fn same_on_any_thread_count(what: &str, render: impl Fn() -> Image + Sync) {
@@ -34,7 +25,7 @@ fn same_on_any_thread_count(what: &str, render: impl Fn() -> Image + Sync) {
     );
     for threads in [2, 3] {
         assert!(
-            bits(&on(threads, &render)) == bits(&reference),
+            image_bits(&on(threads, &render)) == image_bits(&reference),
             "{what}: pixels differ on {threads} threads"
         );
     }

@@ -20,8 +20,7 @@
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
 use lgh_core::{GridSettings, LevelSource, LightingGridHierarchy, Material, PointLight};
-use lgh_image::Image;
-use lgh_tests::on;
+use lgh_tests::{image_bits, on};
 use lgh_volume::lighting_cache::LightingCacheSettings;
 use lgh_volume::render::{Camera, Framing, MarchSettings};
 use lgh_volume::{DenseGrid, ExplosionLights, FrameRender, Medium, Method, Shadows, Volume};
@@ -38,11 +37,6 @@ const THREADS: [usize; 3] = [2, 3, 8];
 /// The bits of `v`'s components.
 fn vec_bits(v: Vec3) -> [u32; 3] {
     v.to_array().map(f32::to_bits)
-}
-
-/// The pixels' bits.
-fn image_bits(image: &Image) -> Vec<u32> {
-    image.pixels.iter().copied().flat_map(vec_bits).collect()
 }
 
 /// `run` on 1 thread, then on each of [`THREADS`]: the same bits every time. `lit` says whether
@@ -263,7 +257,7 @@ proptest! {
             let frame = FrameRender::new(&lights, method, &volume, &medium, &settings, &())
                 .unwrap();
             let (image, _) = frame.render(&camera, &()).unwrap();
-            let mut bits = image_bits(&image);
+            let mut bits: Vec<u32> = image_bits(&image).concat();
             bits.extend(frame.lights().lights().iter().flat_map(|l| vec_bits(l.intensity)));
             bits
         })?;
@@ -303,7 +297,7 @@ proptest! {
         same_bits(&format!("VPLs, {settings:?}, alpha {alpha}"), any_positive, || {
             let scene = GiScene::prepare(mesh.clone(), lamps.clone(), &settings).unwrap();
             let r = scene.render(GiMethod::Lgh { alpha }, &camera, &()).unwrap();
-            let mut bits = image_bits(&r.rendered.image);
+            let mut bits: Vec<u32> = image_bits(&r.rendered.image).concat();
             bits.extend([r.shadow_rays, r.bounded_points].map(|n| n as u32));
             for vpl in scene.vpls() {
                 bits.extend(vec_bits(vpl.position));
