@@ -16,7 +16,7 @@
 //! | [`layout`] | the buffers' element types, `#[repr(C)]` and mirrored in the WGSL: a contract for engines not on wgpu |
 //! | [`cells`] | a level's lights sorted into a dense grid of cells, with each cell's range (built on the CPU) |
 //! | [`hierarchy`] | [`GpuHierarchy`]: a hierarchy's levels on the GPU for one α, and its query ([`shade`](GpuHierarchy::shade)) |
-//! | [`reference`] | the same query on the CPU through lgh-core, the tests' and benches' reference |
+//! | [`reference`](mod@reference) | the same query on the CPU through lgh-core, the tests' and benches' reference |
 //! | [`timing`] | a compute pass timed by timestamp queries, where the adapter has them |
 //! | [`error`] | [`GpuError`] |
 //!
