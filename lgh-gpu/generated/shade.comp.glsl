@@ -22,15 +22,27 @@ struct Level {
     float inner2_;
     float outer2_;
     vec4 ramp;
+    float margin;
+    uint stride;
+    uint order;
+    uint bank;
 };
 struct Params {
     uint levels;
     uint points;
     float h0_;
     uint split;
+    uint k;
+    uint seed;
+    uint _pad0_;
+    uint _pad1_;
 };
 const uint WORKGROUP = 64u;
 const float INV_PI = 0.31830987;
+const uint CELLS_ROWS = 0u;
+const uint CELLS_MORTON = 1u;
+const uint STARTS_CELLS = 0u;
+const uint STARTS_SLOTS = 1u;
 
 layout(std140) uniform Params_block_0Compute { Params _group_0_binding_0_cs; };
 
@@ -44,7 +56,11 @@ layout(std430) readonly buffer type_7_block_4Compute { Light _group_0_binding_6_
 
 layout(std430) readonly buffer type_8_block_5Compute { Point _group_0_binding_4_cs[]; };
 
-layout(std430) buffer type_9_block_6Compute { vec4 _group_0_binding_5_cs[]; };
+layout(std430) readonly buffer type_6_block_6Compute { uint _group_0_binding_7_cs[]; };
+
+vec3 sum = vec3(0.0);
+
+layout(std430) buffer type_10_block_7Compute { vec4 _group_0_binding_5_cs[]; };
 
 
 float blend(vec4 ramp, float d) {
@@ -53,100 +69,144 @@ float blend(vec4 ramp, float d) {
     return clamp(min(rise, fall), 0.0, 1.0);
 }
 
-vec3 contribution(Level level, uint k, vec3 x, vec3 n) {
-    Light light = Light(vec3(0.0), vec3(0.0));
+Light light_at(uint i) {
+    uint _e3 = _group_0_binding_0_cs.split;
+    if ((i < _e3)) {
+        Light _e7 = _group_0_binding_3_cs[i];
+        return _e7;
+    }
+    uint _e11 = _group_0_binding_0_cs.split;
+    Light _e14 = _group_0_binding_6_cs[(i - _e11)];
+    return _e14;
+}
+
+vec3 contribution(Level level, Light light, vec3 x, vec3 n) {
     bool local = false;
     float cosine = 0.0;
-    uint i = (level.first_light + k);
-    uint _e9 = _group_0_binding_0_cs.split;
-    if ((i < _e9)) {
-        Light _e13 = _group_0_binding_3_cs[i];
-        light = _e13;
-    } else {
-        uint _e17 = _group_0_binding_0_cs.split;
-        Light _e20 = _group_0_binding_6_cs[(i - _e17)];
-        light = _e20;
-    }
-    vec3 _e22 = light.position;
-    vec3 v = (_e22 - x);
-    float d2_ = dot(v, v);
+    vec3 v_1 = (light.position - x);
+    float d2_ = dot(v_1, v_1);
     if ((d2_ > level.inner2_)) {
         local = (d2_ <= level.outer2_);
     } else {
         local = false;
     }
-    bool _e32 = local;
-    if (!(_e32)) {
+    bool _e14 = local;
+    if (!(_e14)) {
         return vec3(0.0);
     }
     float d_1 = sqrt(d2_);
-    float _e39 = _group_0_binding_0_cs.h0_;
-    float c = max(d_1, _e39);
+    float _e21 = _group_0_binding_0_cs.h0_;
+    float c_2 = max(d_1, _e21);
     if ((d_1 > 0.0)) {
-        cosine = max((dot(n, v) / d_1), 0.0);
+        cosine = max((dot(n, v_1) / d_1), 0.0);
     }
-    vec3 _e50 = light.intensity;
-    float _e52 = blend(level.ramp, d_1);
-    float _e57 = cosine;
-    return (_e50 * ((_e52 * (1.0 / (c * c))) * _e57));
+    float _e33 = blend(level.ramp, d_1);
+    float _e38 = cosine;
+    return (light.intensity * ((_e33 * (1.0 / (c_2 * c_2))) * _e38));
 }
 
-vec3 level_sum(Level level_1, vec3 x_1, vec3 n_1) {
-    vec3 sum_1 = vec3(0.0);
-    uint k_1 = 0u;
+void visit(uint i_1, Light light_1, vec3 term) {
+    vec3 _e4 = sum;
+    sum = (_e4 + term);
+    return;
+}
+
+void visit_range(Level level_1, uint start, uint end, vec3 x_1, vec3 n_1) {
+    uint k = 0u;
+    k = start;
+    bool loop_init = true;
+    while(true) {
+        if (!loop_init) {
+            uint _e14 = k;
+            k = (_e14 + 1u);
+        }
+        loop_init = false;
+        uint _e6 = k;
+        if ((_e6 < end)) {
+        } else {
+            break;
+        }
+        {
+            uint _e9 = k;
+            uint i_3 = (level_1.first_light + _e9);
+            Light _e11 = light_at(i_3);
+            vec3 _e12 = contribution(level_1, _e11, x_1, n_1);
+            visit(i_3, _e11, _e12);
+        }
+    }
+    return;
+}
+
+uint cell_start(Level level_2, uint i_2) {
+    if ((level_2.bank == STARTS_SLOTS)) {
+        uint _e7 = _group_0_binding_7_cs[i_2];
+        return _e7;
+    }
+    uint _e10 = _group_0_binding_2_cs[i_2];
+    return _e10;
+}
+
+uint spread3_(uint v) {
+    uint x_2 = 0u;
+    x_2 = (v & 1023u);
+    uint _e4 = x_2;
+    uint _e5 = x_2;
+    x_2 = ((_e4 | (_e5 << 16u)) & 50331903u);
+    uint _e11 = x_2;
+    uint _e12 = x_2;
+    x_2 = ((_e11 | (_e12 << 8u)) & 50393103u);
+    uint _e18 = x_2;
+    uint _e19 = x_2;
+    x_2 = ((_e18 | (_e19 << 4u)) & 51130563u);
+    uint _e25 = x_2;
+    uint _e26 = x_2;
+    x_2 = ((_e25 | (_e26 << 2u)) & 153391689u);
+    uint _e32 = x_2;
+    return _e32;
+}
+
+uint morton3_(uvec3 c) {
+    uint _e2 = spread3_(c.x);
+    uint _e4 = spread3_(c.y);
+    uint _e9 = spread3_(c.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
+}
+
+void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
     bool local_1 = false;
     uint z = 0u;
     uint y = 0u;
-    uint k_2 = 0u;
-    if ((level_1.dims.x == 0u)) {
-        bool loop_init = true;
-        while(true) {
-            if (!loop_init) {
-                uint _e20 = k_1;
-                k_1 = (_e20 + 1u);
-            }
-            loop_init = false;
-            uint _e12 = k_1;
-            if ((_e12 < level_1.light_count)) {
-            } else {
-                break;
-            }
-            {
-                vec3 _e15 = sum_1;
-                uint _e16 = k_1;
-                vec3 _e17 = contribution(level_1, _e16, x_1, n_1);
-                sum_1 = (_e15 + _e17);
-            }
-        }
-        vec3 _e22 = sum_1;
-        return _e22;
+    uint c_1 = 0u;
+    if ((level_3.dims.x == 0u)) {
+        visit_range(level_3, 0u, level_3.light_count, x_3, n_2);
+        return;
     }
-    float reach = sqrt(level_1.outer2_);
-    vec3 lo = floor((((x_1 - vec3(reach)) - level_1.origin) / vec3(level_1.cell)));
-    vec3 hi = floor((((x_1 + vec3(reach)) - level_1.origin) / vec3(level_1.cell)));
-    vec3 top = vec3((level_1.dims - uvec3(1u)));
+    float reach = (sqrt(level_3.outer2_) + level_3.margin);
+    vec3 lo = floor((((x_3 - vec3(reach)) - level_3.origin) / vec3(level_3.cell)));
+    vec3 hi = floor((((x_3 + vec3(reach)) - level_3.origin) / vec3(level_3.cell)));
+    vec3 top = vec3((level_3.dims - uvec3(1u)));
     if (!(any(lessThan(hi, vec3(0.0))))) {
         local_1 = any(greaterThan(lo, top));
     } else {
         local_1 = true;
     }
-    bool _e56 = local_1;
-    if (_e56) {
-        vec3 _e57 = sum_1;
-        return _e57;
+    bool _e44 = local_1;
+    if (_e44) {
+        return;
     }
     uvec3 a = uvec3(max(lo, vec3(0.0)));
     uvec3 b = uvec3(min(hi, top));
+    uint s = level_3.stride;
     z = a.z;
     bool loop_init_1 = true;
     while(true) {
         if (!loop_init_1) {
-            uint _e111 = z;
-            z = (_e111 + 1u);
+            uint _e115 = z;
+            z = (_e115 + 1u);
         }
         loop_init_1 = false;
-        uint _e66 = z;
-        if ((_e66 <= b.z)) {
+        uint _e54 = z;
+        if ((_e54 <= b.z)) {
         } else {
             break;
         }
@@ -155,83 +215,96 @@ vec3 level_sum(Level level_1, vec3 x_1, vec3 n_1) {
             bool loop_init_2 = true;
             while(true) {
                 if (!loop_init_2) {
-                    uint _e108 = y;
-                    y = (_e108 + 1u);
+                    uint _e112 = y;
+                    y = (_e112 + 1u);
                 }
                 loop_init_2 = false;
-                uint _e71 = y;
-                if ((_e71 <= b.y)) {
+                uint _e59 = y;
+                if ((_e59 <= b.y)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e75 = z;
-                    uint _e79 = y;
-                    uint row = (level_1.first_cell + (((_e75 * level_1.dims.y) + _e79) * level_1.dims.x));
-                    uint start = _group_0_binding_2_cs[(row + a.x)];
-                    uint end = _group_0_binding_2_cs[((row + b.x) + 1u)];
-                    k_2 = start;
-                    bool loop_init_3 = true;
-                    while(true) {
-                        if (!loop_init_3) {
-                            uint _e105 = k_2;
-                            k_2 = (_e105 + 1u);
-                        }
-                        loop_init_3 = false;
-                        uint _e98 = k_2;
-                        if ((_e98 < end)) {
-                        } else {
-                            break;
-                        }
-                        {
-                            vec3 _e100 = sum_1;
-                            uint _e101 = k_2;
-                            vec3 _e102 = contribution(level_1, _e101, x_1, n_1);
-                            sum_1 = (_e100 + _e102);
+                    if ((level_3.order == CELLS_ROWS)) {
+                        uint _e65 = z;
+                        uint _e69 = y;
+                        uint row = (((_e65 * level_3.dims.y) + _e69) * level_3.dims.x);
+                        uint _e79 = cell_start(level_3, (level_3.first_cell + (s * (row + a.x))));
+                        uint _e87 = cell_start(level_3, (level_3.first_cell + (s * ((row + b.x) + 1u))));
+                        visit_range(level_3, _e79, _e87, x_3, n_2);
+                    } else {
+                        c_1 = a.x;
+                        bool loop_init_3 = true;
+                        while(true) {
+                            if (!loop_init_3) {
+                                uint _e109 = c_1;
+                                c_1 = (_e109 + 1u);
+                            }
+                            loop_init_3 = false;
+                            uint _e90 = c_1;
+                            if ((_e90 <= b.x)) {
+                            } else {
+                                break;
+                            }
+                            {
+                                uint _e93 = c_1;
+                                uint _e94 = y;
+                                uint _e95 = z;
+                                uint _e97 = morton3_(uvec3(_e93, _e94, _e95));
+                                uint _e101 = cell_start(level_3, (level_3.first_cell + (s * _e97)));
+                                uint _e107 = cell_start(level_3, (level_3.first_cell + (s * (_e97 + 1u))));
+                                visit_range(level_3, _e101, _e107, x_3, n_2);
+                            }
                         }
                     }
                 }
             }
         }
     }
-    vec3 _e113 = sum_1;
-    return _e113;
+    return;
+}
+
+void walk(vec3 x_4, vec3 n_3) {
+    uint l = 0u;
+    bool loop_init_4 = true;
+    while(true) {
+        if (!loop_init_4) {
+            uint _e14 = l;
+            l = (_e14 + 1u);
+        }
+        loop_init_4 = false;
+        uint _e4 = l;
+        uint _e7 = _group_0_binding_0_cs.levels;
+        if ((_e4 < _e7)) {
+        } else {
+            break;
+        }
+        {
+            uint _e10 = l;
+            Level _e12 = _group_0_binding_1_cs[_e10];
+            walk_level(_e12, x_4, n_3);
+        }
+    }
+    return;
+}
+
+uint point_index(uvec3 id_1, uvec3 groups_1) {
+    return (id_1.x + ((id_1.y * groups_1.x) * WORKGROUP));
 }
 
 void main() {
     uvec3 id = gl_GlobalInvocationID;
     uvec3 groups = gl_NumWorkGroups;
-    vec3 sum = vec3(0.0);
-    uint l = 0u;
-    uint i_1 = (id.x + ((id.y * groups.x) * WORKGROUP));
-    uint _e11 = _group_0_binding_0_cs.points;
-    if ((i_1 >= _e11)) {
+    uint _e2 = point_index(id, groups);
+    uint _e5 = _group_0_binding_0_cs.points;
+    if ((_e2 >= _e5)) {
         return;
     }
-    Point p = _group_0_binding_4_cs[i_1];
-    bool loop_init_4 = true;
-    while(true) {
-        if (!loop_init_4) {
-            uint _e36 = l;
-            l = (_e36 + 1u);
-        }
-        loop_init_4 = false;
-        uint _e21 = l;
-        uint _e24 = _group_0_binding_0_cs.levels;
-        if ((_e21 < _e24)) {
-        } else {
-            break;
-        }
-        {
-            vec3 _e26 = sum;
-            uint _e28 = l;
-            Level _e30 = _group_0_binding_1_cs[_e28];
-            vec3 _e33 = level_sum(_e30, p.position, p.normal);
-            sum = (_e26 + _e33);
-        }
-    }
-    vec3 _e40 = sum;
-    _group_0_binding_5_cs[i_1] = vec4(((_e40 * p.albedo) * INV_PI), 0.0);
+    Point p = _group_0_binding_4_cs[_e2];
+    sum = vec3(0.0);
+    walk(p.position, p.normal);
+    vec3 _e18 = sum;
+    _group_0_binding_5_cs[_e2] = vec4(((_e18 * p.albedo) * INV_PI), 0.0);
     return;
 }
 

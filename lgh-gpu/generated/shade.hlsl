@@ -24,6 +24,10 @@ struct Level {
     float inner2_;
     float outer2_;
     float4 ramp;
+    float margin;
+    uint stride;
+    uint order;
+    uint bank;
 };
 
 struct Params {
@@ -31,10 +35,18 @@ struct Params {
     uint points;
     float h0_;
     uint split;
+    uint k;
+    uint seed;
+    uint _pad0_;
+    uint _pad1_;
 };
 
 static const uint WORKGROUP = 64u;
 static const float INV_PI = 0.31830987;
+static const uint CELLS_ROWS = 0u;
+static const uint CELLS_MORTON = 1u;
+static const uint STARTS_CELLS = 0u;
+static const uint STARTS_SLOTS = 1u;
 
 cbuffer params : register(b0) { Params params; }
 ByteAddressBuffer levels : register(t1);
@@ -42,6 +54,8 @@ ByteAddressBuffer starts : register(t2);
 ByteAddressBuffer lights : register(t3);
 ByteAddressBuffer lights_hi : register(t6);
 ByteAddressBuffer points : register(t4);
+ByteAddressBuffer slots : register(t7);
+static float3 sum = (float3)0;
 RWByteAddressBuffer radiance : register(u5);
 
 float blend(float4 ramp, float d)
@@ -58,101 +72,155 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-float3 contribution(Level level, uint k, float3 x, float3 n)
+Light light_at(uint i)
 {
-    Light light = (Light)0;
+    uint _e3 = params.split;
+    if ((i < _e3)) {
+        Light _e7 = ConstructLight(asfloat(lights.Load3(i*32+0)), asfloat(lights.Load3(i*32+16)));
+        const Light light_2 = _e7;
+        return light_2;
+    }
+    uint _e11 = params.split;
+    Light _e14 = ConstructLight(asfloat(lights_hi.Load3((i - _e11)*32+0)), asfloat(lights_hi.Load3((i - _e11)*32+16)));
+    const Light light_3 = _e14;
+    return light_3;
+}
+
+float3 contribution(Level level, Light light, float3 x, float3 n)
+{
     bool local = (bool)0;
     float cosine = 0.0;
 
-    uint i = (level.first_light + k);
-    uint _e9 = params.split;
-    if ((i < _e9)) {
-        Light _e13 = ConstructLight(asfloat(lights.Load3(i*32+0)), asfloat(lights.Load3(i*32+16)));
-        light = _e13;
-    } else {
-        uint _e17 = params.split;
-        Light _e20 = ConstructLight(asfloat(lights_hi.Load3((i - _e17)*32+0)), asfloat(lights_hi.Load3((i - _e17)*32+16)));
-        light = _e20;
-    }
-    float3 _e22 = light.position;
-    float3 v = (_e22 - x);
-    float d2_ = dot(v, v);
+    float3 v_1 = (light.position - x);
+    float d2_ = dot(v_1, v_1);
     if ((d2_ > level.inner2_)) {
         local = (d2_ <= level.outer2_);
     } else {
         local = false;
     }
-    bool _e32 = local;
-    if (!(_e32)) {
+    bool _e14 = local;
+    if (!(_e14)) {
         return (0.0).xxx;
     }
     float d_1 = sqrt(d2_);
-    float _e39 = params.h0_;
-    float c = max(d_1, _e39);
+    float _e21 = params.h0_;
+    float c_2 = max(d_1, _e21);
     if ((d_1 > 0.0)) {
-        cosine = max((dot(n, v) / d_1), 0.0);
+        cosine = max((dot(n, v_1) / d_1), 0.0);
     }
-    float3 _e50 = light.intensity;
-    const float _e52 = blend(level.ramp, d_1);
-    float _e57 = cosine;
-    return (_e50 * ((_e52 * (1.0 / (c * c))) * _e57));
+    const float _e33 = blend(level.ramp, d_1);
+    float _e38 = cosine;
+    return (light.intensity * ((_e33 * (1.0 / (c_2 * c_2))) * _e38));
+}
+
+void visit(uint i_1, Light light_1, float3 term)
+{
+    float3 _e4 = sum;
+    sum = (_e4 + term);
+    return;
+}
+
+void visit_range(Level level_1, uint start, uint end, float3 x_1, float3 n_1)
+{
+    uint k = (uint)0;
+
+    k = start;
+    uint2 loop_bound = uint2(4294967295u, 4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (all(loop_bound == uint2(0u, 0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            uint _e14 = k;
+            k = (_e14 + 1u);
+        }
+        loop_init = false;
+        uint _e6 = k;
+        if ((_e6 < end)) {
+        } else {
+            break;
+        }
+        {
+            uint _e9 = k;
+            uint i_3 = (level_1.first_light + _e9);
+            const Light _e11 = light_at(i_3);
+            const float3 _e12 = contribution(level_1, _e11, x_1, n_1);
+            visit(i_3, _e11, _e12);
+        }
+    }
+    return;
+}
+
+uint cell_start(Level level_2, uint i_2)
+{
+    if ((level_2.bank == STARTS_SLOTS)) {
+        uint _e7 = asuint(slots.Load(i_2*4));
+        return _e7;
+    }
+    uint _e10 = asuint(starts.Load(i_2*4));
+    return _e10;
+}
+
+uint spread3_(uint v)
+{
+    uint x_2 = (uint)0;
+
+    x_2 = (v & 1023u);
+    uint _e4 = x_2;
+    uint _e5 = x_2;
+    x_2 = ((_e4 | (_e5 << 16u)) & 50331903u);
+    uint _e11 = x_2;
+    uint _e12 = x_2;
+    x_2 = ((_e11 | (_e12 << 8u)) & 50393103u);
+    uint _e18 = x_2;
+    uint _e19 = x_2;
+    x_2 = ((_e18 | (_e19 << 4u)) & 51130563u);
+    uint _e25 = x_2;
+    uint _e26 = x_2;
+    x_2 = ((_e25 | (_e26 << 2u)) & 153391689u);
+    uint _e32 = x_2;
+    return _e32;
+}
+
+uint morton3_(uint3 c)
+{
+    const uint _e2 = spread3_(c.x);
+    const uint _e4 = spread3_(c.y);
+    const uint _e9 = spread3_(c.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
 }
 
 uint3 naga_f2u32(float3 value) {
     return uint3(clamp(value, 0.0, 4294967000.0));
 }
 
-float3 level_sum(Level level_1, float3 x_1, float3 n_1)
+void walk_level(Level level_3, float3 x_3, float3 n_2)
 {
-    float3 sum_1 = (0.0).xxx;
-    uint k_1 = 0u;
     bool local_1 = (bool)0;
     uint z = (uint)0;
     uint y = (uint)0;
-    uint k_2 = (uint)0;
+    uint c_1 = (uint)0;
 
-    if ((level_1.dims.x == 0u)) {
-        uint2 loop_bound = uint2(4294967295u, 4294967295u);
-        bool loop_init = true;
-        while(true) {
-            if (all(loop_bound == uint2(0u, 0u))) { break; }
-            loop_bound -= uint2(loop_bound.y == 0u, 1u);
-            if (!loop_init) {
-                uint _e20 = k_1;
-                k_1 = (_e20 + 1u);
-            }
-            loop_init = false;
-            uint _e12 = k_1;
-            if ((_e12 < level_1.light_count)) {
-            } else {
-                break;
-            }
-            {
-                float3 _e15 = sum_1;
-                uint _e16 = k_1;
-                const float3 _e17 = contribution(level_1, _e16, x_1, n_1);
-                sum_1 = (_e15 + _e17);
-            }
-        }
-        float3 _e22 = sum_1;
-        return _e22;
+    if ((level_3.dims.x == 0u)) {
+        visit_range(level_3, 0u, level_3.light_count, x_3, n_2);
+        return;
     }
-    float reach = sqrt(level_1.outer2_);
-    float3 lo = floor((((x_1 - (reach).xxx) - level_1.origin) / (level_1.cell).xxx));
-    float3 hi = floor((((x_1 + (reach).xxx) - level_1.origin) / (level_1.cell).xxx));
-    float3 top = float3((level_1.dims - (1u).xxx));
+    float reach = (sqrt(level_3.outer2_) + level_3.margin);
+    float3 lo = floor((((x_3 - (reach).xxx) - level_3.origin) / (level_3.cell).xxx));
+    float3 hi = floor((((x_3 + (reach).xxx) - level_3.origin) / (level_3.cell).xxx));
+    float3 top = float3((level_3.dims - (1u).xxx));
     if (!(any((hi < (0.0).xxx)))) {
         local_1 = any((lo > top));
     } else {
         local_1 = true;
     }
-    bool _e56 = local_1;
-    if (_e56) {
-        float3 _e57 = sum_1;
-        return _e57;
+    bool _e44 = local_1;
+    if (_e44) {
+        return;
     }
     uint3 a = naga_f2u32(max(lo, (0.0).xxx));
     uint3 b = naga_f2u32(min(hi, top));
+    uint s = level_3.stride;
     z = a.z;
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -160,12 +228,12 @@ float3 level_sum(Level level_1, float3 x_1, float3 n_1)
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e111 = z;
-            z = (_e111 + 1u);
+            uint _e115 = z;
+            z = (_e115 + 1u);
         }
         loop_init_1 = false;
-        uint _e66 = z;
-        if ((_e66 <= b.z)) {
+        uint _e54 = z;
+        if ((_e54 <= b.z)) {
         } else {
             break;
         }
@@ -177,61 +245,59 @@ float3 level_sum(Level level_1, float3 x_1, float3 n_1)
                 if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
                 loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
                 if (!loop_init_2) {
-                    uint _e108 = y;
-                    y = (_e108 + 1u);
+                    uint _e112 = y;
+                    y = (_e112 + 1u);
                 }
                 loop_init_2 = false;
-                uint _e71 = y;
-                if ((_e71 <= b.y)) {
+                uint _e59 = y;
+                if ((_e59 <= b.y)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e75 = z;
-                    uint _e79 = y;
-                    uint row = (level_1.first_cell + (((_e75 * level_1.dims.y) + _e79) * level_1.dims.x));
-                    uint start = asuint(starts.Load((row + a.x)*4));
-                    uint end = asuint(starts.Load(((row + b.x) + 1u)*4));
-                    k_2 = start;
-                    uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
-                    bool loop_init_3 = true;
-                    while(true) {
-                        if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
-                        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
-                        if (!loop_init_3) {
-                            uint _e105 = k_2;
-                            k_2 = (_e105 + 1u);
-                        }
-                        loop_init_3 = false;
-                        uint _e98 = k_2;
-                        if ((_e98 < end)) {
-                        } else {
-                            break;
-                        }
-                        {
-                            float3 _e100 = sum_1;
-                            uint _e101 = k_2;
-                            const float3 _e102 = contribution(level_1, _e101, x_1, n_1);
-                            sum_1 = (_e100 + _e102);
+                    if ((level_3.order == CELLS_ROWS)) {
+                        uint _e65 = z;
+                        uint _e69 = y;
+                        uint row = (((_e65 * level_3.dims.y) + _e69) * level_3.dims.x);
+                        const uint _e79 = cell_start(level_3, (level_3.first_cell + (s * (row + a.x))));
+                        const uint _e87 = cell_start(level_3, (level_3.first_cell + (s * ((row + b.x) + 1u))));
+                        visit_range(level_3, _e79, _e87, x_3, n_2);
+                    } else {
+                        c_1 = a.x;
+                        uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
+                        bool loop_init_3 = true;
+                        while(true) {
+                            if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
+                            loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+                            if (!loop_init_3) {
+                                uint _e109 = c_1;
+                                c_1 = (_e109 + 1u);
+                            }
+                            loop_init_3 = false;
+                            uint _e90 = c_1;
+                            if ((_e90 <= b.x)) {
+                            } else {
+                                break;
+                            }
+                            {
+                                uint _e93 = c_1;
+                                uint _e94 = y;
+                                uint _e95 = z;
+                                const uint _e97 = morton3_(uint3(_e93, _e94, _e95));
+                                const uint _e101 = cell_start(level_3, (level_3.first_cell + (s * _e97)));
+                                const uint _e107 = cell_start(level_3, (level_3.first_cell + (s * (_e97 + 1u))));
+                                visit_range(level_3, _e101, _e107, x_3, n_2);
+                            }
                         }
                     }
                 }
             }
         }
     }
-    float3 _e113 = sum_1;
-    return _e113;
+    return;
 }
 
-Point ConstructPoint(float3 arg0, float3 arg1, float3 arg2) {
-    Point ret = (Point)0;
-    ret.position = arg0;
-    ret.normal = arg1;
-    ret.albedo = arg2;
-    return ret;
-}
-
-Level ConstructLevel(float3 arg0, float arg1, uint3 arg2, uint arg3, uint arg4, uint arg5, float arg6, float arg7, float4 arg8) {
+Level ConstructLevel(float3 arg0, float arg1, uint3 arg2, uint arg3, uint arg4, uint arg5, float arg6, float arg7, float4 arg8, float arg9, uint arg10, uint arg11, uint arg12) {
     Level ret = (Level)0;
     ret.origin = arg0;
     ret.cell = arg1;
@@ -242,46 +308,67 @@ Level ConstructLevel(float3 arg0, float arg1, uint3 arg2, uint arg3, uint arg4, 
     ret.inner2_ = arg6;
     ret.outer2_ = arg7;
     ret.ramp = arg8;
+    ret.margin = arg9;
+    ret.stride = arg10;
+    ret.order = arg11;
+    ret.bank = arg12;
     return ret;
 }
 
-[numthreads(64, 1, 1)]
-void shade(uint3 id : SV_DispatchThreadID, uint3 groups : SV_GroupID)
+void walk(float3 x_4, float3 n_3)
 {
-    float3 sum = (0.0).xxx;
     uint l = 0u;
 
-    uint i_1 = (id.x + ((id.y * groups.x) * WORKGROUP));
-    uint _e11 = params.points;
-    if ((i_1 >= _e11)) {
-        return;
-    }
-    Point p = ConstructPoint(asfloat(points.Load3(i_1*48+0)), asfloat(points.Load3(i_1*48+16)), asfloat(points.Load3(i_1*48+32)));
     uint2 loop_bound_4 = uint2(4294967295u, 4294967295u);
     bool loop_init_4 = true;
     while(true) {
         if (all(loop_bound_4 == uint2(0u, 0u))) { break; }
         loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
         if (!loop_init_4) {
-            uint _e36 = l;
-            l = (_e36 + 1u);
+            uint _e14 = l;
+            l = (_e14 + 1u);
         }
         loop_init_4 = false;
-        uint _e21 = l;
-        uint _e24 = params.levels;
-        if ((_e21 < _e24)) {
+        uint _e4 = l;
+        uint _e7 = params.levels;
+        if ((_e4 < _e7)) {
         } else {
             break;
         }
         {
-            float3 _e26 = sum;
-            uint _e28 = l;
-            Level _e30 = ConstructLevel(asfloat(levels.Load3(_e28*64+0)), asfloat(levels.Load(_e28*64+12)), asuint(levels.Load3(_e28*64+16)), asuint(levels.Load(_e28*64+28)), asuint(levels.Load(_e28*64+32)), asuint(levels.Load(_e28*64+36)), asfloat(levels.Load(_e28*64+40)), asfloat(levels.Load(_e28*64+44)), asfloat(levels.Load4(_e28*64+48)));
-            const float3 _e33 = level_sum(_e30, p.position, p.normal);
-            sum = (_e26 + _e33);
+            uint _e10 = l;
+            Level _e12 = ConstructLevel(asfloat(levels.Load3(_e10*80+0)), asfloat(levels.Load(_e10*80+12)), asuint(levels.Load3(_e10*80+16)), asuint(levels.Load(_e10*80+28)), asuint(levels.Load(_e10*80+32)), asuint(levels.Load(_e10*80+36)), asfloat(levels.Load(_e10*80+40)), asfloat(levels.Load(_e10*80+44)), asfloat(levels.Load4(_e10*80+48)), asfloat(levels.Load(_e10*80+64)), asuint(levels.Load(_e10*80+68)), asuint(levels.Load(_e10*80+72)), asuint(levels.Load(_e10*80+76)));
+            walk_level(_e12, x_4, n_3);
         }
     }
-    float3 _e40 = sum;
-    radiance.Store4(i_1*16, asuint(float4(((_e40 * p.albedo) * INV_PI), 0.0)));
+    return;
+}
+
+uint point_index(uint3 id_1, uint3 groups_1)
+{
+    return (id_1.x + ((id_1.y * groups_1.x) * WORKGROUP));
+}
+
+Point ConstructPoint(float3 arg0, float3 arg1, float3 arg2) {
+    Point ret = (Point)0;
+    ret.position = arg0;
+    ret.normal = arg1;
+    ret.albedo = arg2;
+    return ret;
+}
+
+[numthreads(64, 1, 1)]
+void shade(uint3 id : SV_DispatchThreadID, uint3 groups : SV_GroupID)
+{
+    const uint _e2 = point_index(id, groups);
+    uint _e5 = params.points;
+    if ((_e2 >= _e5)) {
+        return;
+    }
+    Point p = ConstructPoint(asfloat(points.Load3(_e2*48+0)), asfloat(points.Load3(_e2*48+16)), asfloat(points.Load3(_e2*48+32)));
+    sum = (0.0).xxx;
+    walk(p.position, p.normal);
+    float3 _e18 = sum;
+    radiance.Store4(_e2*16, asuint(float4(((_e18 * p.albedo) * INV_PI), 0.0)));
     return;
 }

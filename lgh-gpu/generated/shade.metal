@@ -11,6 +11,7 @@ struct _mslBufferSizes {
     uint size4;
     uint size5;
     uint size6;
+    uint size8;
 };
 
 struct Light {
@@ -32,20 +33,32 @@ struct Level {
     float inner2_;
     float outer2_;
     metal::float4 ramp;
+    float margin;
+    uint stride;
+    uint order;
+    uint bank;
 };
 struct Params {
     uint levels;
     uint points;
     float h0_;
     uint split;
+    uint k;
+    uint seed;
+    uint _pad0_;
+    uint _pad1_;
 };
 typedef Level type_5[1];
 typedef uint type_6[1];
 typedef Light type_7[1];
 typedef Point type_8[1];
-typedef metal::float4 type_9[1];
+typedef metal::float4 type_10[1];
 constant uint WORKGROUP = 64u;
 constant float INV_PI = 0.31830987;
+constant uint CELLS_ROWS = 0u;
+constant uint CELLS_MORTON = 1u;
+constant uint STARTS_CELLS = 0u;
+constant uint STARTS_SLOTS = 1u;
 
 float blend(
     metal::float4 ramp,
@@ -56,115 +69,190 @@ float blend(
     return metal::clamp(metal::min(rise, fall), 0.0, 1.0);
 }
 
-metal::float3 contribution(
-    Level level,
-    uint k,
-    metal::float3 x,
-    metal::float3 n,
+Light light_at(
+    uint i,
     constant Params& params,
     device type_7 const& lights,
     device type_7 const& lights_hi,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    Light light = {};
+    uint _e3 = params.split;
+    if (i < _e3) {
+        Light _e7 = lights[i];
+        return _e7;
+    }
+    uint _e11 = params.split;
+    Light _e14 = lights_hi[i - _e11];
+    return _e14;
+}
+
+metal::float3 contribution(
+    Level level,
+    Light light,
+    metal::float3 x,
+    metal::float3 n,
+    constant Params& params
+) {
     bool local = {};
     float cosine = 0.0;
-    uint i = level.first_light + k;
-    uint _e9 = params.split;
-    if (i < _e9) {
-        Light _e13 = lights[i];
-        light = _e13;
-    } else {
-        uint _e17 = params.split;
-        Light _e20 = lights_hi[i - _e17];
-        light = _e20;
-    }
-    metal::float3 _e22 = light.position;
-    metal::float3 v = _e22 - x;
-    float d2_ = metal::dot(v, v);
+    metal::float3 v_1 = light.position - x;
+    float d2_ = metal::dot(v_1, v_1);
     if (d2_ > level.inner2_) {
         local = d2_ <= level.outer2_;
     } else {
         local = false;
     }
-    bool _e32 = local;
-    if (!(_e32)) {
+    bool _e14 = local;
+    if (!(_e14)) {
         return metal::float3(0.0);
     }
     float d_1 = metal::sqrt(d2_);
-    float _e39 = params.h0_;
-    float c = metal::max(d_1, _e39);
+    float _e21 = params.h0_;
+    float c_2 = metal::max(d_1, _e21);
     if (d_1 > 0.0) {
-        cosine = metal::max(metal::dot(n, v) / d_1, 0.0);
+        cosine = metal::max(metal::dot(n, v_1) / d_1, 0.0);
     }
-    metal::float3 _e50 = light.intensity;
-    float _e52 = blend(level.ramp, d_1);
-    float _e57 = cosine;
-    return _e50 * ((_e52 * (1.0 / (c * c))) * _e57);
+    float _e33 = blend(level.ramp, d_1);
+    float _e38 = cosine;
+    return light.intensity * ((_e33 * (1.0 / (c_2 * c_2))) * _e38);
+}
+
+void visit(
+    uint i_1,
+    Light light_1,
+    metal::float3 term,
+    thread metal::float3& sum
+) {
+    metal::float3 _e4 = sum;
+    sum = _e4 + term;
+    return;
+}
+
+void visit_range(
+    Level level_1,
+    uint start,
+    uint end,
+    metal::float3 x_1,
+    metal::float3 n_1,
+    constant Params& params,
+    device type_7 const& lights,
+    device type_7 const& lights_hi,
+    thread metal::float3& sum,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    uint k = {};
+    k = start;
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            uint _e14 = k;
+            k = _e14 + 1u;
+        }
+        loop_init = false;
+        uint _e6 = k;
+        if (_e6 < end) {
+        } else {
+            break;
+        }
+        {
+            uint _e9 = k;
+            uint i_3 = level_1.first_light + _e9;
+            Light _e11 = light_at(i_3, params, lights, lights_hi, _buffer_sizes);
+            metal::float3 _e12 = contribution(level_1, _e11, x_1, n_1, params);
+            visit(i_3, _e11, _e12, sum);
+        }
+    }
+    return;
+}
+
+uint cell_start(
+    Level level_2,
+    uint i_2,
+    device type_6 const& starts,
+    device type_6 const& slots,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    if (level_2.bank == STARTS_SLOTS) {
+        uint _e7 = slots[i_2];
+        return _e7;
+    }
+    uint _e10 = starts[i_2];
+    return _e10;
+}
+
+uint spread3_(
+    uint v
+) {
+    uint x_2 = {};
+    x_2 = v & 1023u;
+    uint _e4 = x_2;
+    uint _e5 = x_2;
+    x_2 = (_e4 | (_e5 << 16u)) & 50331903u;
+    uint _e11 = x_2;
+    uint _e12 = x_2;
+    x_2 = (_e11 | (_e12 << 8u)) & 50393103u;
+    uint _e18 = x_2;
+    uint _e19 = x_2;
+    x_2 = (_e18 | (_e19 << 4u)) & 51130563u;
+    uint _e25 = x_2;
+    uint _e26 = x_2;
+    x_2 = (_e25 | (_e26 << 2u)) & 153391689u;
+    uint _e32 = x_2;
+    return _e32;
+}
+
+uint morton3_(
+    metal::uint3 c
+) {
+    uint _e2 = spread3_(c.x);
+    uint _e4 = spread3_(c.y);
+    uint _e9 = spread3_(c.z);
+    return (_e2 | (_e4 << 1u)) | (_e9 << 2u);
 }
 
 metal::uint3 naga_f2u32(metal::float3 value) {
     return static_cast<metal::uint3>(metal::clamp(value, 0.0, 4294967000.0));
 }
 
-metal::float3 level_sum(
-    Level level_1,
-    metal::float3 x_1,
-    metal::float3 n_1,
+void walk_level(
+    Level level_3,
+    metal::float3 x_3,
+    metal::float3 n_2,
     constant Params& params,
     device type_6 const& starts,
     device type_7 const& lights,
     device type_7 const& lights_hi,
+    device type_6 const& slots,
+    thread metal::float3& sum,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    metal::float3 sum_1 = metal::float3(0.0);
-    uint k_1 = 0u;
     bool local_1 = {};
     uint z = {};
     uint y = {};
-    uint k_2 = {};
-    if (level_1.dims[0] == 0u) {
-        uint2 loop_bound = uint2(4294967295u);
-        bool loop_init = true;
-        while(true) {
-            if (metal::all(loop_bound == uint2(0u))) { break; }
-            loop_bound -= uint2(loop_bound.y == 0u, 1u);
-            if (!loop_init) {
-                uint _e20 = k_1;
-                k_1 = _e20 + 1u;
-            }
-            loop_init = false;
-            uint _e12 = k_1;
-            if (_e12 < level_1.light_count) {
-            } else {
-                break;
-            }
-            {
-                metal::float3 _e15 = sum_1;
-                uint _e16 = k_1;
-                metal::float3 _e17 = contribution(level_1, _e16, x_1, n_1, params, lights, lights_hi, _buffer_sizes);
-                sum_1 = _e15 + _e17;
-            }
-        }
-        metal::float3 _e22 = sum_1;
-        return _e22;
+    uint c_1 = {};
+    if (level_3.dims[0] == 0u) {
+        visit_range(level_3, 0u, level_3.light_count, x_3, n_2, params, lights, lights_hi, sum, _buffer_sizes);
+        return;
     }
-    float reach = metal::sqrt(level_1.outer2_);
-    metal::float3 lo = metal::floor(((x_1 - metal::float3(reach)) - level_1.origin) / metal::float3(level_1.cell));
-    metal::float3 hi = metal::floor(((x_1 + metal::float3(reach)) - level_1.origin) / metal::float3(level_1.cell));
-    metal::float3 top = static_cast<metal::float3>(level_1.dims - metal::uint3(1u));
+    float reach = metal::sqrt(level_3.outer2_) + level_3.margin;
+    metal::float3 lo = metal::floor(((x_3 - metal::float3(reach)) - level_3.origin) / metal::float3(level_3.cell));
+    metal::float3 hi = metal::floor(((x_3 + metal::float3(reach)) - level_3.origin) / metal::float3(level_3.cell));
+    metal::float3 top = static_cast<metal::float3>(level_3.dims - metal::uint3(1u));
     if (!(metal::any(hi < metal::float3(0.0)))) {
         local_1 = metal::any(lo > top);
     } else {
         local_1 = true;
     }
-    bool _e56 = local_1;
-    if (_e56) {
-        metal::float3 _e57 = sum_1;
-        return _e57;
+    bool _e44 = local_1;
+    if (_e44) {
+        return;
     }
     metal::uint3 a = naga_f2u32(metal::max(lo, metal::float3(0.0)));
     metal::uint3 b = naga_f2u32(metal::min(hi, top));
+    uint s = level_3.stride;
     z = a.z;
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -172,12 +260,12 @@ metal::float3 level_sum(
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e111 = z;
-            z = _e111 + 1u;
+            uint _e115 = z;
+            z = _e115 + 1u;
         }
         loop_init_1 = false;
-        uint _e66 = z;
-        if (_e66 <= b.z) {
+        uint _e54 = z;
+        if (_e54 <= b.z) {
         } else {
             break;
         }
@@ -189,50 +277,101 @@ metal::float3 level_sum(
                 if (metal::all(loop_bound_2 == uint2(0u))) { break; }
                 loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
                 if (!loop_init_2) {
-                    uint _e108 = y;
-                    y = _e108 + 1u;
+                    uint _e112 = y;
+                    y = _e112 + 1u;
                 }
                 loop_init_2 = false;
-                uint _e71 = y;
-                if (_e71 <= b.y) {
+                uint _e59 = y;
+                if (_e59 <= b.y) {
                 } else {
                     break;
                 }
                 {
-                    uint _e75 = z;
-                    uint _e79 = y;
-                    uint row = level_1.first_cell + (((_e75 * level_1.dims[1]) + _e79) * level_1.dims[0]);
-                    uint start = starts[row + a.x];
-                    uint end = starts[(row + b.x) + 1u];
-                    k_2 = start;
-                    uint2 loop_bound_3 = uint2(4294967295u);
-                    bool loop_init_3 = true;
-                    while(true) {
-                        if (metal::all(loop_bound_3 == uint2(0u))) { break; }
-                        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
-                        if (!loop_init_3) {
-                            uint _e105 = k_2;
-                            k_2 = _e105 + 1u;
-                        }
-                        loop_init_3 = false;
-                        uint _e98 = k_2;
-                        if (_e98 < end) {
-                        } else {
-                            break;
-                        }
-                        {
-                            metal::float3 _e100 = sum_1;
-                            uint _e101 = k_2;
-                            metal::float3 _e102 = contribution(level_1, _e101, x_1, n_1, params, lights, lights_hi, _buffer_sizes);
-                            sum_1 = _e100 + _e102;
+                    if (level_3.order == CELLS_ROWS) {
+                        uint _e65 = z;
+                        uint _e69 = y;
+                        uint row = ((_e65 * level_3.dims[1]) + _e69) * level_3.dims[0];
+                        uint _e79 = cell_start(level_3, level_3.first_cell + (s * (row + a.x)), starts, slots, _buffer_sizes);
+                        uint _e87 = cell_start(level_3, level_3.first_cell + (s * ((row + b.x) + 1u)), starts, slots, _buffer_sizes);
+                        visit_range(level_3, _e79, _e87, x_3, n_2, params, lights, lights_hi, sum, _buffer_sizes);
+                    } else {
+                        c_1 = a.x;
+                        uint2 loop_bound_3 = uint2(4294967295u);
+                        bool loop_init_3 = true;
+                        while(true) {
+                            if (metal::all(loop_bound_3 == uint2(0u))) { break; }
+                            loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+                            if (!loop_init_3) {
+                                uint _e109 = c_1;
+                                c_1 = _e109 + 1u;
+                            }
+                            loop_init_3 = false;
+                            uint _e90 = c_1;
+                            if (_e90 <= b.x) {
+                            } else {
+                                break;
+                            }
+                            {
+                                uint _e93 = c_1;
+                                uint _e94 = y;
+                                uint _e95 = z;
+                                uint _e97 = morton3_(metal::uint3(_e93, _e94, _e95));
+                                uint _e101 = cell_start(level_3, level_3.first_cell + (s * _e97), starts, slots, _buffer_sizes);
+                                uint _e107 = cell_start(level_3, level_3.first_cell + (s * (_e97 + 1u)), starts, slots, _buffer_sizes);
+                                visit_range(level_3, _e101, _e107, x_3, n_2, params, lights, lights_hi, sum, _buffer_sizes);
+                            }
                         }
                     }
                 }
             }
         }
     }
-    metal::float3 _e113 = sum_1;
-    return _e113;
+    return;
+}
+
+void walk(
+    metal::float3 x_4,
+    metal::float3 n_3,
+    constant Params& params,
+    device type_5 const& levels,
+    device type_6 const& starts,
+    device type_7 const& lights,
+    device type_7 const& lights_hi,
+    device type_6 const& slots,
+    thread metal::float3& sum,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    uint l = 0u;
+    uint2 loop_bound_4 = uint2(4294967295u);
+    bool loop_init_4 = true;
+    while(true) {
+        if (metal::all(loop_bound_4 == uint2(0u))) { break; }
+        loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
+        if (!loop_init_4) {
+            uint _e14 = l;
+            l = _e14 + 1u;
+        }
+        loop_init_4 = false;
+        uint _e4 = l;
+        uint _e7 = params.levels;
+        if (_e4 < _e7) {
+        } else {
+            break;
+        }
+        {
+            uint _e10 = l;
+            Level _e12 = levels[_e10];
+            walk_level(_e12, x_4, n_3, params, starts, lights, lights_hi, slots, sum, _buffer_sizes);
+        }
+    }
+    return;
+}
+
+uint point_index(
+    metal::uint3 id_1,
+    metal::uint3 groups_1
+) {
+    return id_1.x + ((id_1.y * groups_1.x) * WORKGROUP);
 }
 
 struct shadeInput {
@@ -246,42 +385,20 @@ struct shadeInput {
 , device type_7 const& lights [[user(fake0)]]
 , device type_7 const& lights_hi [[user(fake0)]]
 , device type_8 const& points [[user(fake0)]]
-, device type_9& radiance [[user(fake0)]]
+, device type_6 const& slots [[user(fake0)]]
+, device type_10& radiance [[user(fake0)]]
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
-    metal::float3 sum = metal::float3(0.0);
-    uint l = 0u;
-    uint i_1 = id.x + ((id.y * groups.x) * WORKGROUP);
-    uint _e11 = params.points;
-    if (i_1 >= _e11) {
+    metal::float3 sum = {};
+    uint _e2 = point_index(id, groups);
+    uint _e5 = params.points;
+    if (_e2 >= _e5) {
         return;
     }
-    Point p = points[i_1];
-    uint2 loop_bound_4 = uint2(4294967295u);
-    bool loop_init_4 = true;
-    while(true) {
-        if (metal::all(loop_bound_4 == uint2(0u))) { break; }
-        loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
-        if (!loop_init_4) {
-            uint _e36 = l;
-            l = _e36 + 1u;
-        }
-        loop_init_4 = false;
-        uint _e21 = l;
-        uint _e24 = params.levels;
-        if (_e21 < _e24) {
-        } else {
-            break;
-        }
-        {
-            metal::float3 _e26 = sum;
-            uint _e28 = l;
-            Level _e30 = levels[_e28];
-            metal::float3 _e33 = level_sum(_e30, p.position, p.normal, params, starts, lights, lights_hi, _buffer_sizes);
-            sum = _e26 + _e33;
-        }
-    }
-    metal::float3 _e40 = sum;
-    radiance[i_1] = metal::float4((_e40 * p.albedo) * INV_PI, 0.0);
+    Point p = points[_e2];
+    sum = metal::float3(0.0);
+    walk(p.position, p.normal, params, levels, starts, lights, lights_hi, slots, sum, _buffer_sizes);
+    metal::float3 _e18 = sum;
+    radiance[_e2] = metal::float4((_e18 * p.albedo) * INV_PI, 0.0);
     return;
 }

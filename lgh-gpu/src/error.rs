@@ -38,6 +38,15 @@ pub enum GpuError {
     },
     /// Reading the results back failed.
     Readback(String),
+    /// A grid whose box or spacing is not finite and positive.
+    InvalidGrid,
+    /// A light or intensity refused, as lgh-core's build refuses it.
+    Build(lgh_core::BuildError),
+    /// The gather draws 1 to [`MAX_K`](crate::gather::MAX_K) lights a point.
+    InvalidK {
+        /// The draws asked for.
+        k: u32,
+    },
 }
 
 impl fmt::Display for GpuError {
@@ -64,11 +73,27 @@ impl fmt::Display for GpuError {
                 "shading point {index} has a non-finite position, normal or albedo"
             ),
             GpuError::Readback(why) => write!(f, "reading the GPU's results back failed: {why}"),
+            GpuError::InvalidGrid => write!(
+                f,
+                "the GPU grid's box and level-1 spacing must be finite, the spacing positive"
+            ),
+            GpuError::Build(e) => write!(f, "{e}"),
+            GpuError::InvalidK { k } => write!(
+                f,
+                "the gather draws 1 to {} lights a point, not {k}",
+                crate::gather::MAX_K
+            ),
         }
     }
 }
 
 impl std::error::Error for GpuError {}
+
+impl From<lgh_core::BuildError> for GpuError {
+    fn from(e: lgh_core::BuildError) -> Self {
+        GpuError::Build(e)
+    }
+}
 
 impl From<lgh_core::QueryError> for GpuError {
     fn from(e: lgh_core::QueryError) -> Self {

@@ -1,20 +1,23 @@
 //! A hierarchy's levels on the GPU for one α, and its query: eq. (1)'s blended sum at a buffer of
 //! shading points with a Lambertian response, unshadowed (`shade.wgsl`).
 
+use std::sync::Arc;
+
 use lgh_core::glam::Vec3;
 use lgh_core::{Blending, LightingGridHierarchy};
 use wgpu::util::DeviceExt;
 
 use crate::cells::Cells;
 use crate::context::Gpu;
+use crate::dispatch;
 use crate::error::GpuError;
-use crate::layout::{GpuLight, LevelGrid, Params, ShadingPoint};
-use crate::timing::PassTimer;
+use crate::layout::{cell_order, GpuLight, LevelGrid, Params, ShadingPoint};
+use crate::timing::{GpuTiming, PassTimer};
 
 /// The most cells of one level's dense grid (64 MiB of cell starts).
 pub const MAX_CELLS: u64 = 1 << 24;
 
-/// Threads of a workgroup of `shade.wgsl` (its `WORKGROUP`).
+/// Threads of a workgroup of `walk.wgsl` (its `WORKGROUP`).
 const WORKGROUP: u32 = 64;
 
 /// A [`LightingGridHierarchy`] uploaded for the query at one α: each level's lights that the CPU
@@ -22,19 +25,67 @@ const WORKGROUP: u32 = 64;
 /// reach, and each level's blending `B_ℓ` (eq. 3). The buffers stay on the GPU.
 #[derive(Debug)]
 pub struct GpuHierarchy {
-    gpu: Gpu,
-    levels: Vec<LevelGrid>,
-    h0: f32,
-    alpha: f32,
-    level_buffer: wgpu::Buffer,
-    start_buffer: wgpu::Buffer,
-    light_buffer: wgpu::Buffer,
-    /// The lights from `split` on (a one-light placeholder where all fit in the first).
-    light_buffer_hi: wgpu::Buffer,
-    split: u32,
-    pipeline: wgpu::ComputePipeline,
-    /// The pipeline's bind group layout, fetched once.
-    layout: wgpu::BindGroupLayout,
+    pub(crate) gpu: Gpu,
+    pub(crate) levels: Vec<LevelGrid>,
+    pub(crate) h0: f32,
+    pub(crate) alpha: f32,
+    pub(crate) buffers: QueryBuffers,
+    pub(crate) kernels: Arc<QueryKernels>,
+}
+
+/// The buffers the query reads (`walk.wgsl`'s bindings).
+#[derive(Clone, Debug)]
+pub(crate) struct QueryBuffers {
+    /// The levels (binding 1).
+    pub levels: wgpu::Buffer,
+    /// Cell starts of the levels sorted on the CPU and of the GPU build's level 0 (binding 2).
+    pub starts: wgpu::Buffer,
+    /// The GPU build's vertex numbering, whose blocks are the cells of levels ≥ 1 (binding 7).
+    pub slots: wgpu::Buffer,
+    /// The lights (binding 3)…
+    pub lights: wgpu::Buffer,
+    /// …and those from `split` on (binding 6; a one-light placeholder where all fit in the first).
+    pub lights_hi: wgpu::Buffer,
+    pub split: u32,
+}
+
+/// The kernels that walk the hierarchy, compiled once for a device.
+#[derive(Debug)]
+pub(crate) struct QueryKernels {
+    shade: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+    gather: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+}
+
+impl QueryKernels {
+    pub fn new(device: &wgpu::Device) -> QueryKernels {
+        let compile = |kernel: crate::kernels::Kernel| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(kernel.name),
+                source: wgpu::ShaderSource::Wgsl(kernel.source().into()),
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(kernel.name),
+                layout: None,
+                module: &module,
+                entry_point: Some(kernel.entries[0]),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let layout = pipeline.get_bind_group_layout(0);
+            (pipeline, layout)
+        };
+        QueryKernels {
+            shade: compile(crate::kernels::SHADE),
+            gather: compile(crate::kernels::GATHER),
+        }
+    }
+}
+
+/// Which kernel walks the hierarchy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Walk {
+    Shade,
+    Gather,
 }
 
 /// `[a, c1, b, c2]` of `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`, the same floats as
@@ -55,6 +106,21 @@ fn ramp(blending: &Blending, level: u8) -> [f32; 4] {
     [a, c1, b, c2]
 }
 
+/// Level `level`'s blending as the query reads it: its support (squared) and ramp.
+pub(crate) fn blended(blending: &Blending, level: u8, top: u8) -> LevelGrid {
+    let (inner, outer) = blending.support(level);
+    LevelGrid {
+        inner2: if level == 0 { -1.0 } else { inner * inner },
+        outer2: if level == top {
+            f32::MAX
+        } else {
+            outer * outer
+        },
+        ramp: ramp(blending, level),
+        ..Default::default()
+    }
+}
+
 /// The level's grid, its cell starts and its lights in cell order.
 fn level_grid(
     lgh: &LightingGridHierarchy,
@@ -67,8 +133,7 @@ fn level_grid(
         .iter()
         .filter(|l| lgh.is_active(level, l))
         .collect();
-    let (inner, outer) = blending.support(level);
-    let inner2 = if level == 0 { -1.0 } else { inner * inner };
+    let (_, outer) = blending.support(level);
     let cells = if level == top {
         Cells {
             origin: Vec3::ZERO,
@@ -95,14 +160,10 @@ fn level_grid(
         cell: cells.cell,
         dims: cells.dims,
         light_count: lights.len() as u32,
-        inner2,
-        outer2: if level == top {
-            f32::MAX
-        } else {
-            outer * outer
-        },
-        ramp: ramp(blending, level),
-        ..Default::default()
+        stride: 1,
+        order: cell_order::ROWS,
+        bank: cell_order::IN_STARTS,
+        ..blended(blending, level, top)
     };
     Ok((grid, cells.starts, gpu_lights))
 }
@@ -171,27 +232,21 @@ impl GpuHierarchy {
         if levels.is_empty() {
             level_bytes = bytemuck::bytes_of(&LevelGrid::default()).to_vec();
         }
-        let module = device.create_shader_module(wgpu::include_wgsl!("shade.wgsl"));
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("lgh-gpu shade"),
-            layout: None,
-            module: &module,
-            entry_point: Some("shade"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let buffers = QueryBuffers {
+            levels: storage("lgh-gpu levels", &level_bytes),
+            starts: storage("lgh-gpu cell starts", bytemuck::cast_slice(&starts)),
+            slots: storage("lgh-gpu slots (none)", &[0; 4]),
+            lights: storage("lgh-gpu lights", bytemuck::cast_slice(&lights)),
+            lights_hi: storage("lgh-gpu lights, second", bytemuck::cast_slice(&hi)),
+            split: split as u32,
+        };
         Ok(GpuHierarchy {
             gpu: gpu.clone(),
             h0: lgh.h0(),
             alpha,
-            level_buffer: storage("lgh-gpu levels", &level_bytes),
-            start_buffer: storage("lgh-gpu cell starts", bytemuck::cast_slice(&starts)),
-            light_buffer: storage("lgh-gpu lights", bytemuck::cast_slice(&lights)),
-            light_buffer_hi: storage("lgh-gpu lights, second", bytemuck::cast_slice(&hi)),
-            split: split as u32,
             levels,
-            layout: pipeline.get_bind_group_layout(0),
-            pipeline,
+            buffers,
+            kernels: Arc::new(QueryKernels::new(device)),
         })
     }
 
@@ -223,7 +278,20 @@ impl GpuHierarchy {
     pub fn shade_timed(
         &self,
         points: &[ShadingPoint],
-    ) -> Result<(Vec<[f32; 3]>, ShadeTiming), GpuError> {
+    ) -> Result<(Vec<[f32; 3]>, GpuTiming), GpuError> {
+        let (rgba, timing) = self.walk::<[f32; 4]>(Walk::Shade, points, 1, 0)?;
+        let radiance = rgba.into_iter().map(|c| [c[0], c[1], c[2]]).collect();
+        Ok((radiance, timing))
+    }
+
+    /// Runs `walk` at `points`, `per_point` outputs of `T` each, and reads them back.
+    pub(crate) fn walk<T: bytemuck::Pod>(
+        &self,
+        walk: Walk,
+        points: &[ShadingPoint],
+        per_point: u32,
+        seed: u32,
+    ) -> Result<(Vec<T>, GpuTiming), GpuError> {
         if let Some(index) = points.iter().position(|p| {
             let all = [p.position, p.normal, p.albedo];
             !all.iter().flatten().all(|v| v.is_finite())
@@ -231,24 +299,30 @@ impl GpuHierarchy {
             return Err(GpuError::InvalidPoint { index });
         }
         if points.is_empty() {
-            let timing = ShadeTiming {
+            let timing = GpuTiming {
                 kernel_ms: None,
                 wall_ms: 0.0,
             };
             return Ok((Vec::new(), timing));
         }
         let device = self.gpu.device();
-        let (bind_group, out, staging, out_bytes) = self.bind(points)?;
+        let (pipeline, layout) = match walk {
+            Walk::Shade => &self.kernels.shade,
+            Walk::Gather => &self.kernels.gather,
+        };
+        let out_bytes = (points.len() * per_point as usize * size_of::<T>()) as u64;
+        let (bind_group, out, staging) = self.bind(layout, points, per_point, seed, out_bytes)?;
         let timer = PassTimer::new(&self.gpu);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("lgh-gpu shade"),
+                label: Some("lgh-gpu walk"),
                 timestamp_writes: timer.as_ref().map(PassTimer::writes),
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
-            let (x, y) = workgroups(points.len() as u32, device.limits());
+            let groups = (points.len() as u32).div_ceil(WORKGROUP);
+            let (x, y) = dispatch::groups(groups, &device.limits());
             pass.dispatch_workgroups(x, y, 1);
         }
         encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, out_bytes);
@@ -257,28 +331,33 @@ impl GpuHierarchy {
         }
         let start = std::time::Instant::now();
         self.gpu.queue().submit([encoder.finish()]);
-        let rgba: Vec<[f32; 4]> = self.gpu.read_back(&staging)?;
+        let values: Vec<T> = self.gpu.read_back(&staging)?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;
         let kernel_ms = timer.map(|t| t.milliseconds(&self.gpu)).transpose()?;
-        let radiance = rgba.into_iter().map(|c| [c[0], c[1], c[2]]).collect();
-        Ok((radiance, ShadeTiming { kernel_ms, wall_ms }))
+        Ok((values, GpuTiming { kernel_ms, wall_ms }))
     }
 
     /// The points' buffer, the output and its readback buffer, and the bind group of them all.
     fn bind(
         &self,
+        layout: &wgpu::BindGroupLayout,
         points: &[ShadingPoint],
-    ) -> Result<(wgpu::BindGroup, wgpu::Buffer, wgpu::Buffer, u64), GpuError> {
+        k: u32,
+        seed: u32,
+        out_bytes: u64,
+    ) -> Result<(wgpu::BindGroup, wgpu::Buffer, wgpu::Buffer), GpuError> {
         let device = self.gpu.device();
         let limit = device.limits().max_storage_buffer_binding_size;
         check_size("the shading points", size_of_val(points), limit)?;
-        let out_bytes = (points.len() * 16) as u64;
-        check_size("the radiance", out_bytes as usize, limit)?;
+        check_size("the results", out_bytes as usize, limit)?;
         let params = Params {
             levels: self.levels.len() as u32,
             points: points.len() as u32,
             h0: self.h0,
-            split: self.split,
+            split: self.buffers.split,
+            k,
+            seed,
+            _pad: [0; 2],
         };
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -306,21 +385,23 @@ impl GpuHierarchy {
             })
         };
         let out = buffer(
-            "lgh-gpu radiance",
+            "lgh-gpu results",
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
         let staging = buffer(
             "lgh-gpu readback",
             wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         );
+        let b = &self.buffers;
         let buffers = [
             &uniform,
-            &self.level_buffer,
-            &self.start_buffer,
-            &self.light_buffer,
+            &b.levels,
+            &b.starts,
+            &b.lights,
             &point_buffer,
             &out,
-            &self.light_buffer_hi,
+            &b.lights_hi,
+            &b.slots,
         ];
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
@@ -331,33 +412,15 @@ impl GpuHierarchy {
             })
             .collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("lgh-gpu shade"),
-            layout: &self.layout,
+            label: Some("lgh-gpu walk"),
+            layout,
             entries: &entries,
         });
-        Ok((bind_group, out, staging, out_bytes))
+        Ok((bind_group, out, staging))
     }
 }
 
-/// How long [`GpuHierarchy::shade_timed`] took.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShadeTiming {
-    /// The kernel's milliseconds by timestamp queries; `None` where the device has none.
-    pub kernel_ms: Option<f64>,
-    /// Milliseconds from the submission to the results read back (a fence).
-    pub wall_ms: f64,
-}
-
-/// Workgroups for `n` points, as (x, y): x at most the device's per-dimension limit
-/// (`shade.wgsl` numbers the points `id.x + id.y · groups.x · WORKGROUP`).
-fn workgroups(n: u32, limits: wgpu::Limits) -> (u32, u32) {
-    let groups = n.div_ceil(WORKGROUP);
-    let most = limits.max_compute_workgroups_per_dimension.max(1);
-    let x = groups.min(most);
-    (x, groups.div_ceil(x))
-}
-
-fn check_size(what: &'static str, bytes: usize, limit: u64) -> Result<(), GpuError> {
+pub(crate) fn check_size(what: &'static str, bytes: usize, limit: u64) -> Result<(), GpuError> {
     let bytes = bytes as u64;
     if bytes > limit {
         return Err(GpuError::TooLarge { what, bytes, limit });
@@ -390,7 +453,11 @@ mod tests {
         // A binding of three fifths of the lights: the second holds the rest.
         let most = (total as u64 * 3 / 5 + 1) * size_of::<GpuLight>() as u64;
         let split = GpuHierarchy::upload_within(&gpu, &lgh, 2.0, most).unwrap();
-        assert!(split.split < total, "{} of {total}", split.split);
+        assert!(
+            split.buffers.split < total,
+            "{} of {total}",
+            split.buffers.split
+        );
         assert_eq!(split.shade(&points).unwrap(), whole.shade(&points).unwrap());
         let too_small = GpuHierarchy::upload_within(&gpu, &lgh, 2.0, 64);
         assert!(matches!(too_small, Err(GpuError::TooLarge { .. })));

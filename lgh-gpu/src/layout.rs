@@ -1,6 +1,7 @@
 //! The buffers' element types. Each is `#[repr(C)]` with the offsets of its WGSL struct in
-//! `shade.wgsl` (a `vec3<f32>` is 16-byte aligned there, so each is padded to 16 bytes): an
-//! engine not on wgpu that dispatches the same kernels fills its buffers with these layouts.
+//! `walk.wgsl` and `build.wgsl` (a `vec3<f32>` is 16-byte aligned there, so each is padded to
+//! 16 bytes): an engine not on wgpu that dispatches the same kernels fills its buffers with
+//! these layouts.
 
 use bytemuck::{Pod, Zeroable};
 use lgh_core::glam::Vec3;
@@ -59,8 +60,22 @@ impl ShadingPoint {
     }
 }
 
+/// How a level's cells are numbered in its starts ([`LevelGrid::order`]) and where the starts
+/// are ([`LevelGrid::bank`]).
+pub mod cell_order {
+    /// Row by row: cell `(x, y, z)` is `(z·dims.y + y)·dims.x + x` (cells sorted on the CPU).
+    pub const ROWS: u32 = 0;
+    /// By the Morton code of `(x, y, z)` (the hierarchy built on the GPU, `build.wgsl`).
+    pub const MORTON: u32 = 1;
+    /// The starts are in the cell starts' buffer (binding 2).
+    pub const IN_STARTS: u32 = 0;
+    /// The starts are the GPU build's vertex numbering (binding 7): a level's cells are blocks
+    /// of 2³ vertices, so `stride` 8.
+    pub const IN_SLOTS: u32 = 1;
+}
+
 /// One level as the query reads it: its cells (a dense grid over the level's lights' box, each
-/// cell a range of the level's lights sorted by cell), its lights, and its blending. 64 bytes.
+/// cell a range of the level's lights sorted by cell), its lights, and its blending. 80 bytes.
 /// `dims` all zero: no cells, every light is scanned (the top level, which has a few).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -71,7 +86,7 @@ pub struct LevelGrid {
     pub cell: f32,
     /// Cells along x, y, z.
     pub dims: [u32; 3],
-    /// Where the level's `dims.x·dims.y·dims.z + 1` cell starts begin in the starts buffer.
+    /// Where the level's cell starts begin in the starts buffer.
     pub first_cell: u32,
     /// Where the level's lights begin in the lights buffer.
     pub first_light: u32,
@@ -83,9 +98,19 @@ pub struct LevelGrid {
     pub outer2: f32,
     /// `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)` as `[a, c1, b, c2]` (eq. 3).
     pub ramp: [f32; 4],
+    /// How far a light may lie outside its cell: 0 where lights are sorted by their position,
+    /// `h_ℓ` where a vertex's light is filed under its vertex (its centre is within a cell of it).
+    pub margin: f32,
+    /// Cell `c`'s lights are `starts[first_cell + stride·c] .. starts[first_cell + stride·(c+1)]`
+    /// (relative to `first_light`).
+    pub stride: u32,
+    /// How cells are numbered: [`cell_order::ROWS`] or [`cell_order::MORTON`].
+    pub order: u32,
+    /// Which buffer holds the cell starts: [`cell_order::IN_STARTS`] or [`cell_order::IN_SLOTS`].
+    pub bank: u32,
 }
 
-/// The query's parameters (a uniform). 16 bytes.
+/// The query's parameters (a uniform). 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Params {
@@ -98,4 +123,24 @@ pub struct Params {
     /// The lights from this index on are in the second lights buffer (binding 6): one binding
     /// holds at most the device's `max_storage_buffer_binding_size`.
     pub split: u32,
+    /// The gather's draws per point (`gather.wgsl`; 0 for the shade).
+    pub k: u32,
+    /// The gather's seed.
+    pub seed: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+
+/// One light the gather drew for a shading point (`gather.wgsl`'s `Sample`). 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GatherSample {
+    /// The light's centre: where the shadow ray goes.
+    pub position: [f32; 3],
+    /// Padding.
+    pub _pad0: f32,
+    /// The RGB radiance it stands for when unshadowed: `ρ/π · term · W / w / K`.
+    pub weight: [f32; 3],
+    /// Padding.
+    pub _pad1: f32,
 }

@@ -44,15 +44,25 @@
 
 #![warn(missing_docs)]
 
+pub mod build;
 pub mod cells;
 pub mod context;
+pub mod dispatch;
 pub mod error;
+pub mod gather;
+pub mod grid;
 pub mod hierarchy;
+pub mod kernels;
 pub mod layout;
 pub mod reference;
+pub mod scan;
+pub mod sort;
 pub mod timing;
 
+pub use build::{BuiltLight, GpuBuilder};
 pub use context::Gpu;
 pub use error::GpuError;
-pub use hierarchy::{GpuHierarchy, ShadeTiming};
-pub use layout::{GpuLight, LevelGrid, ShadingPoint};
+pub use grid::GpuGrid;
+pub use hierarchy::GpuHierarchy;
+pub use layout::{GatherSample, GpuLight, LevelGrid, ShadingPoint};
+pub use timing::GpuTiming;

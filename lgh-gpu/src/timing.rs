@@ -64,3 +64,13 @@ impl PassTimer {
         Ok(ticks[1].saturating_sub(ticks[0]) as f64 * period * 1e-6)
     }
 }
+
+/// How long a GPU call took ([`GpuHierarchy::shade_timed`](crate::GpuHierarchy::shade_timed),
+/// [`GpuBuilder::rebuild`](crate::GpuBuilder::rebuild), …).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuTiming {
+    /// The kernel's milliseconds by timestamp queries; `None` where the device has none.
+    pub kernel_ms: Option<f64>,
+    /// Milliseconds from the first submission to the results read back (a fence).
+    pub wall_ms: f64,
+}

@@ -15,50 +15,17 @@
 //! Without a GPU adapter (and without Mesa's lavapipe) the tests say SKIPPED, unless
 //! `LGH_REQUIRE_GPU` or `LGH_REQUIRE_ALL` is set (`lgh_tests::Piece::Gpu`).
 
-use std::sync::OnceLock;
-
 use lgh_core::glam::Vec3;
-use lgh_core::testsets::{clumped_lights, explosion_shell, shading_points, uniform_cube};
-use lgh_core::{falloff, GridSettings, LightingGridHierarchy, Material, PointLight};
+mod common;
+
+use common::{g_buffer, gpu};
+use lgh_core::testsets::{clumped_lights, explosion_shell, uniform_cube};
+use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
 use lgh_gpu::reference::response;
 use lgh_gpu::{Gpu, GpuError, GpuHierarchy, ShadingPoint};
-use lgh_tests::Piece;
 use proptest::prelude::*;
 
 const U: f64 = 1.0 / (1u64 << 24) as f64;
-
-/// The one device of the tests, or SKIPPED.
-fn gpu() -> Option<&'static Gpu> {
-    static GPU: OnceLock<Result<Gpu, GpuError>> = OnceLock::new();
-    match GPU.get_or_init(Gpu::new) {
-        Ok(gpu) => Some(gpu),
-        Err(e) => {
-            Piece::Gpu.missing(&e.to_string());
-            None
-        }
-    }
-}
-
-/// A G-buffer's points from lgh-core's shading points: Lambert's albedo where it has one (0.5
-/// otherwise), the normal where it has one (+z otherwise).
-fn g_buffer(lights: &[PointLight], n: usize, seed: u64) -> Vec<ShadingPoint> {
-    let (lo, hi) = lights
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), l| {
-            (lo.min(l.position), hi.max(l.position))
-        });
-    shading_points(lo, hi, n, seed)
-        .into_iter()
-        .map(|p| {
-            let albedo = match p.material {
-                Material::Lambert { albedo } => albedo,
-                Material::Phong { kd, .. } => kd,
-                _ => Vec3::splat(0.5),
-            };
-            ShadingPoint::new(p.position, p.normal.unwrap_or(Vec3::Z), albedo)
-        })
-        .collect()
-}
 
 /// The CPU's answer at `p`, the bound on the GPU's difference per channel, and the lights
 /// counted.

@@ -1,15 +1,12 @@
-//! For engines not on wgpu (Unreal, Godot, Unity, an in-house RHI): each WGSL kernel translated
+//! For engines not on wgpu (Unreal, Godot, Unity, an in-house RHI): each WGSL entry point translated
 //! by naga — wgpu's own shader compiler — to SPIR-V, HLSL (shader model 6.0), GLSL (4.30
 //! compute) and MSL (2.4), committed in `lgh-gpu/generated/` beside a buffer layout that is a
-//! contract (`lgh_gpu::layout`). This test translates them again and fails if a committed file
+//! contract (`lgh_gpu::layout`), one file a kernel and language (`ENTRY.spv`, …). This test translates them again and fails if a committed file
 //! is missing or differs: `LGH_BLESS=1 cargo test -p lgh-gpu --test translations` rewrites them.
 
 use std::path::{Path, PathBuf};
 
 use naga::{back, front, valid};
-
-/// The kernels: (WGSL file in `src/`, entry point).
-const KERNELS: [(&str, &str); 1] = [("shade.wgsl", "shade")];
 
 /// Each translation of `wgsl`'s `entry`: (file extension, contents).
 fn translate(wgsl: &str, entry: &str) -> Vec<(&'static str, Vec<u8>)> {
@@ -93,20 +90,9 @@ fn crate_dir() -> PathBuf {
 fn the_committed_translations_are_current() {
     let bless = std::env::var_os("LGH_BLESS").is_some_and(|v| !v.is_empty());
     let mut stale = Vec::new();
-    for (file, entry) in KERNELS {
-        let wgsl = std::fs::read_to_string(crate_dir().join("src").join(file)).unwrap();
-        let stem = file.trim_end_matches(".wgsl");
-        for (ext, contents) in translate(&wgsl, entry) {
-            let path = crate_dir().join("generated").join(format!("{stem}.{ext}"));
-            if std::fs::read(&path).ok().as_deref() == Some(&contents[..]) {
-                continue;
-            }
-            if bless {
-                std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-                std::fs::write(&path, &contents).unwrap();
-            } else {
-                stale.push(path.display().to_string());
-            }
+    for kernel in lgh_gpu::kernels::ALL {
+        for entry in kernel.entries {
+            check(kernel.source(), entry, bless, &mut stale);
         }
     }
     assert!(
@@ -116,9 +102,25 @@ fn the_committed_translations_are_current() {
     );
 }
 
+/// `entry`'s translations against the committed `generated/ENTRY.EXT` (rewritten if `bless`).
+fn check(wgsl: &str, entry: &str, bless: bool, stale: &mut Vec<String>) {
+    for (ext, contents) in translate(wgsl, entry) {
+        let path = crate_dir().join("generated").join(format!("{entry}.{ext}"));
+        if std::fs::read(&path).ok().as_deref() == Some(&contents[..]) {
+            continue;
+        }
+        if bless {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &contents).unwrap();
+        } else {
+            stale.push(path.display().to_string());
+        }
+    }
+}
+
 /// The translations are a function of the WGSL alone: the same bytes twice.
 #[test]
 fn translating_twice_gives_the_same_bytes() {
-    let wgsl = std::fs::read_to_string(crate_dir().join("src/shade.wgsl")).unwrap();
-    assert_eq!(translate(&wgsl, "shade"), translate(&wgsl, "shade"));
+    let wgsl = lgh_gpu::kernels::BUILD.source();
+    assert_eq!(translate(wgsl, "splat_wide"), translate(wgsl, "splat_wide"));
 }

@@ -1,0 +1,728 @@
+//! The hierarchy built on the GPU (`build.wgsl`, paper Sec. 3 and 5): from a buffer of lights,
+//! every level by eqs. (1), (2), (4) and (5), deterministically (no float atomics: each sum is
+//! gathered in a fixed order), in two submissions:
+//!
+//! 1. **Topology.** Each light counted in its level-1 cell, the counts scanned into the cells'
+//!    starts, the lights sorted by cell, ties by index (a stable radix sort); each level's
+//!    vertex slots marked where a light lies in one of the vertex's eight cells, and scanned into
+//!    the vertices' numbers. The levels' vertex counts are read back (a few bytes) to place each
+//!    level's lights.
+//! 2. **Splat.** The lights gathered in the sorted order, then each vertex's light splatted from
+//!    the input lights of its eight cells — one invocation a vertex on the fine levels, one
+//!    workgroup a vertex (its lanes' sums added in a fixed tree) on the coarse ones.
+//!
+//! [`GpuBuilder::update_intensities`] (same positions, new intensities: the animated fire)
+//! runs the splat alone; [`GpuBuilder::rebuild`] (lights that move, any count) both.
+
+use std::sync::Arc;
+
+use bytemuck::{Pod, Zeroable};
+use lgh_core::glam::Vec3;
+use lgh_core::{Blending, BuildError, PointLight};
+
+use crate::context::Gpu;
+use crate::dispatch::{self, Uniforms};
+use crate::error::GpuError;
+use crate::grid::GpuGrid;
+use crate::hierarchy::{blended, check_size, GpuHierarchy, QueryBuffers, QueryKernels};
+use crate::layout::{cell_order, GpuLight, LevelGrid};
+use crate::scan::{self, Scan};
+use crate::sort::RadixSort;
+use crate::timing::{GpuTiming, PassTimer};
+
+/// One dispatch's uniform (`build.wgsl`'s `Step`). 64 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct Step {
+    origin: [f32; 3],
+    h1: f32,
+    n: u32,
+    bits: u32,
+    level: u32,
+    top: u32,
+    max_cell: u32,
+    slot_offset: u32,
+    light_base: u32,
+    threshold: f32,
+    count: u32,
+    _pad: [u32; 3],
+}
+
+/// Threads of a workgroup of `build.wgsl` (its `WORKGROUP`).
+const WORKGROUP: u32 = 64;
+
+/// Levels with at most this many vertex slots splat one workgroup a vertex (`splat_wide`):
+/// their vertices gather many lights each.
+const WIDE_AT_MOST: u32 = 1 << 15;
+
+/// `build.wgsl`'s entry points, in [`kernels::BUILD`](crate::kernels::BUILD)'s order.
+#[derive(Clone, Copy, Debug)]
+enum Kernel {
+    Locate,
+    CopyCounts,
+    GatherSorted,
+    MarkVertices,
+    Splat,
+    SplatWide,
+}
+
+/// A light of a level as the GPU built it, read back ([`GpuBuilder::read_level`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuiltLight {
+    /// Its grid vertex (levels ≥ 1), or the input light's index (level 0, as `[i, 0, 0]`).
+    pub vertex: [u32; 3],
+    /// Its centre (eq. 2).
+    pub position: Vec3,
+    /// Its RGB intensity (eq. 1); 0 where it is weaker than the threshold.
+    pub intensity: Vec3,
+    /// Its per-axis variance (eq. 4).
+    pub variance: Vec3,
+    /// Its size (eq. 5).
+    pub size: f32,
+}
+
+/// The lights' buffers, for up to `capacity` lights: their order by cell is the sort's values.
+#[derive(Debug)]
+struct LightBuffers {
+    capacity: u32,
+    positions: wgpu::Buffer,
+    intensities: wgpu::Buffer,
+    sort: RadixSort,
+    sorted: wgpu::Buffer,
+}
+
+/// The levels' lights' buffers (the query's lights and their variances and sizes), for up to
+/// `capacity` lights of all levels together.
+#[derive(Debug)]
+struct OutBuffers {
+    capacity: u32,
+    lights: wgpu::Buffer,
+    extras: wgpu::Buffer,
+}
+
+/// A hierarchy built, updated and rebuilt on the GPU, for queries at one α. Its buffers stay on
+/// the GPU between frames and only grow.
+///
+/// ```no_run
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::PointLight;
+/// use lgh_gpu::{Gpu, GpuBuilder, GpuGrid, ShadingPoint};
+///
+/// let lights: Vec<PointLight> = (0..1000)
+///     .map(|i| PointLight::new(Vec3::new(i as f32 * 0.01, 0.0, 1.0), Vec3::ONE))
+///     .collect();
+/// let gpu = Gpu::new()?;
+/// let mut builder = GpuBuilder::new(&gpu, GpuGrid::fitting(&lights)?, 2.0)?;
+/// builder.rebuild(&lights)?; // positions and intensities
+/// builder.update_intensities(&vec![Vec3::splat(2.0); 1000])?; // the next frame
+/// let floor = ShadingPoint::new(Vec3::ZERO, Vec3::Z, Vec3::splat(0.8));
+/// let radiance = builder.hierarchy().shade(&[floor])?;
+/// assert!(radiance[0][0] > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct GpuBuilder {
+    gpu: Gpu,
+    grid: GpuGrid,
+    alpha: f32,
+    prune_below: f32,
+    blending: Blending,
+    layout: wgpu::BindGroupLayout,
+    pipelines: Vec<wgpu::ComputePipeline>,
+    scan: Scan,
+    query: Arc<QueryKernels>,
+    counts: wgpu::Buffer,
+    starts: wgpu::Buffer,
+    slots: wgpu::Buffer,
+    /// Where each level ℓ ≥ 1's vertex slots begin in `slots` (index ℓ − 1).
+    slot_offsets: Vec<u32>,
+    /// Where the scans' block sums go in `slots`.
+    slot_scratch: u32,
+    level_buffer: wgpu::Buffer,
+    lights: LightBuffers,
+    out: OutBuffers,
+    /// The lights of the last build.
+    n: u32,
+    /// Each level's grid as the query reads it.
+    levels: Vec<LevelGrid>,
+}
+
+impl GpuBuilder {
+    /// A builder on `gpu` for lights within `grid`'s box, queried at `alpha` (the paper's α).
+    /// Nothing is built until [`rebuild`](Self::rebuild).
+    ///
+    /// Errors if α is refused (lgh-core's [`Blending`]) or the grid's buffers exceed the
+    /// device's binding size.
+    pub fn new(gpu: &Gpu, grid: GpuGrid, alpha: f32) -> Result<GpuBuilder, GpuError> {
+        let blending = Blending::new(alpha, grid.h1, grid.max_level())?;
+        let device = gpu.device();
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let cells = grid.side().pow(3);
+        let starts_len = cells + 1 + Scan::scratch(cells + 1);
+        let mut slot_offsets = Vec::new();
+        let mut at = 0u32;
+        for level in 1..=grid.max_level() {
+            slot_offsets.push(at);
+            at += slots_a_side(&grid, level).pow(3) + 1;
+        }
+        let slot_scratch = at;
+        let scratch: u32 = (1..=grid.max_level())
+            .map(|l| Scan::scratch(slots_a_side(&grid, l).pow(3) + 1))
+            .sum();
+        let slots_len = at + scratch;
+        for (what, len) in [
+            ("the cell counts", cells),
+            ("the cell starts", starts_len),
+            ("the vertex slots", slots_len),
+        ] {
+            check_size(what, len as usize * 4, limit)?;
+        }
+        let zeroed = |label: &str, len: u32, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: u64::from(len.max(1)) * 4,
+                usage: wgpu::BufferUsages::STORAGE | usage,
+                mapped_at_creation: false,
+            })
+        };
+        let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 10);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("lgh-gpu build.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(crate::kernels::BUILD.source().into()),
+        });
+        let pipelines = crate::kernels::BUILD
+            .entries
+            .iter()
+            .map(|entry| dispatch::pipeline(device, &layout, &module, entry))
+            .collect();
+        let levels = grid.max_level() as u64 + 1;
+        let level_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lgh-gpu levels"),
+            size: levels * size_of::<LevelGrid>() as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let copy = wgpu::BufferUsages::COPY_SRC;
+        Ok(GpuBuilder {
+            gpu: gpu.clone(),
+            grid,
+            alpha,
+            prune_below: 0.0,
+            blending,
+            scan: Scan::new(device),
+            query: Arc::new(QueryKernels::new(device)),
+            counts: zeroed("lgh-gpu cell counts", cells, wgpu::BufferUsages::empty()),
+            starts: zeroed("lgh-gpu cell starts", starts_len, copy),
+            slots: zeroed("lgh-gpu vertex slots", slots_len, copy),
+            slot_offsets,
+            slot_scratch,
+            level_buffer,
+            lights: light_buffers(device, 0),
+            out: out_buffers(device, 0),
+            n: 0,
+            levels: Vec::new(),
+            layout,
+            pipelines,
+        })
+    }
+
+    /// The builder with lgh-core's weak-light threshold `prune_below`
+    /// ([`GridSettings::prune_below`](lgh_core::GridSettings::prune_below)): a light of a level
+    /// below the top whose luminance is below it adds nothing. Errors unless finite and ≥ 0.
+    pub fn with_prune_below(mut self, prune_below: f32) -> Result<GpuBuilder, GpuError> {
+        if !(prune_below.is_finite() && prune_below >= 0.0) {
+            return Err(BuildError::InvalidThreshold {
+                threshold: prune_below,
+            }
+            .into());
+        }
+        self.prune_below = prune_below;
+        Ok(self)
+    }
+
+    /// Its grid.
+    #[must_use]
+    pub fn grid(&self) -> &GpuGrid {
+        &self.grid
+    }
+
+    /// The lights of the last build.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.n as usize
+    }
+
+    /// True before any light was built.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Builds the hierarchy of `lights` (any count, any positions: lights that moved), both
+    /// submissions. Lights outside the grid's box are clamped into its boundary cells (as
+    /// lgh-core clamps to its grid), so points far outside the box may miss them.
+    ///
+    /// Errors on a non-finite position or a non-finite or negative intensity (lgh-core's
+    /// [`BuildError`]s), or where the levels' lights exceed the device's binding size.
+    pub fn rebuild(&mut self, lights: &[PointLight]) -> Result<GpuTiming, GpuError> {
+        for (index, l) in lights.iter().enumerate() {
+            if !l.position.is_finite() {
+                return Err(BuildError::NonFinitePosition { index }.into());
+            }
+            check_intensity(index, l.intensity)?;
+        }
+        let n = u32::try_from(lights.len()).map_err(|_| BuildError::TooManyLights {
+            count: lights.len(),
+        })?;
+        if n > self.lights.capacity {
+            self.lights = light_buffers(self.gpu.device(), n);
+        }
+        self.n = n;
+        let positions: Vec<[f32; 4]> = lights
+            .iter()
+            .map(|l| l.position.extend(1.0).into())
+            .collect();
+        let intensities: Vec<[f32; 4]> = lights
+            .iter()
+            .map(|l| l.intensity.extend(0.0).into())
+            .collect();
+        let queue = self.gpu.queue();
+        queue.write_buffer(&self.lights.positions, 0, bytemuck::cast_slice(&positions));
+        queue.write_buffer(
+            &self.lights.intensities,
+            0,
+            bytemuck::cast_slice(&intensities),
+        );
+        let start = std::time::Instant::now();
+        let (vertices, topology_ms) = self.topology()?;
+        self.place_levels(&vertices)?;
+        let splat_ms = self.splat()?;
+        Ok(GpuTiming {
+            kernel_ms: topology_ms.zip(splat_ms).map(|(a, b)| a + b),
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// New intensities for the lights of the last [`rebuild`](Self::rebuild), same positions:
+    /// the splat alone, the topology kept. Gives the same bits as a rebuild with them.
+    ///
+    /// Errors unless `intensities` has one per light, each finite and ≥ 0.
+    pub fn update_intensities(&mut self, intensities: &[Vec3]) -> Result<GpuTiming, GpuError> {
+        if intensities.len() != self.n as usize {
+            return Err(BuildError::LengthMismatch {
+                expected: self.n as usize,
+                got: intensities.len(),
+            }
+            .into());
+        }
+        for (index, &i) in intensities.iter().enumerate() {
+            check_intensity(index, i)?;
+        }
+        let rgb: Vec<[f32; 4]> = intensities.iter().map(|i| i.extend(0.0).into()).collect();
+        let start = std::time::Instant::now();
+        self.gpu
+            .queue()
+            .write_buffer(&self.lights.intensities, 0, bytemuck::cast_slice(&rgb));
+        let kernel_ms = self.splat()?;
+        Ok(GpuTiming {
+            kernel_ms,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// The hierarchy as the query reads it (its buffers shared with the builder: a later
+    /// rebuild or update shows in it, unless the buffers had to grow).
+    #[must_use]
+    pub fn hierarchy(&self) -> GpuHierarchy {
+        GpuHierarchy {
+            gpu: self.gpu.clone(),
+            levels: self.levels.clone(),
+            h0: self.grid.h(0),
+            alpha: self.alpha,
+            buffers: QueryBuffers {
+                levels: self.level_buffer.clone(),
+                starts: self.starts.clone(),
+                slots: self.slots.clone(),
+                lights: self.out.lights.clone(),
+                lights_hi: self.out.lights.clone(),
+                split: u32::MAX,
+            },
+            kernels: self.query.clone(),
+        }
+    }
+
+    /// Level `level`'s lights as built, read back from the GPU (the tests compare them with
+    /// lgh-core's build on [`GpuGrid::settings`]): level 0 in the sorted order, each level
+    /// above by vertex.
+    pub fn read_level(&self, level: u8) -> Result<Vec<BuiltLight>, GpuError> {
+        let Some(grid) = self.levels.get(level as usize) else {
+            return Ok(Vec::new());
+        };
+        let lights: Vec<GpuLight> = self.read(&self.out.lights)?;
+        let extras: Vec<[f32; 4]> = self.read(&self.out.extras)?;
+        let first = grid.first_light as usize;
+        let keys: Vec<[u32; 3]> = if level == 0 {
+            let order: Vec<u32> = self.read(&self.lights.sort.values)?;
+            order[..self.n as usize]
+                .iter()
+                .map(|&i| [i, 0, 0])
+                .collect()
+        } else {
+            let slots: Vec<u32> = self.read(&self.slots)?;
+            let offset = self.slot_offsets[level as usize - 1] as usize;
+            let count = slots_a_side(&self.grid, level).pow(3) as usize;
+            (0..count)
+                .filter(|&m| slots[offset + m + 1] > slots[offset + m])
+                .map(|m| demorton(m as u32))
+                .collect()
+        };
+        Ok(keys
+            .into_iter()
+            .enumerate()
+            .map(|(k, vertex)| {
+                let (l, e) = (lights[first + k], extras[first + k]);
+                BuiltLight {
+                    vertex,
+                    position: l.position.into(),
+                    intensity: l.intensity.into(),
+                    variance: Vec3::new(e[0], e[1], e[2]),
+                    size: e[3],
+                }
+            })
+            .collect())
+    }
+
+    fn read<T: Pod>(&self, buffer: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
+        let encoder = self
+            .gpu
+            .device()
+            .create_command_encoder(&Default::default());
+        dispatch::read(&self.gpu, encoder, buffer)
+    }
+
+    /// The uniform of a dispatch at `level` over `count` items.
+    fn step(&self, level: u8, count: u32) -> Step {
+        let g = &self.grid;
+        let top = g.max_level();
+        Step {
+            origin: g.origin.to_array(),
+            h1: g.h1,
+            n: self.n,
+            bits: u32::from(g.bits),
+            level: u32::from(level),
+            top: u32::from(top),
+            max_cell: g.max_cell(),
+            slot_offset: if level > 0 {
+                self.slot_offsets[level as usize - 1]
+            } else {
+                0
+            },
+            light_base: self.levels.get(level as usize).map_or(0, |l| l.first_light),
+            threshold: if level == top { 0.0 } else { self.prune_below },
+            count,
+            _pad: [0; 3],
+        }
+    }
+
+    fn bind(&self, uniforms: &Uniforms) -> wgpu::BindGroup {
+        let l = &self.lights;
+        dispatch::bind(
+            self.gpu.device(),
+            &self.layout,
+            uniforms,
+            &[
+                &l.positions,
+                &l.intensities,
+                &self.counts,
+                &self.starts,
+                &l.sort.values,
+                &l.sorted,
+                &self.slots,
+                &self.out.lights,
+                &self.out.extras,
+                &l.sort.keys,
+            ],
+        )
+    }
+
+    /// Records `kernel` over `items` (one invocation each; one workgroup each for `SplatWide`)
+    /// with uniform `index`.
+    fn record(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        bind: &wgpu::BindGroup,
+        uniforms: &Uniforms,
+        (kernel, index, items): (Kernel, u32, u32),
+    ) {
+        let groups = match kernel {
+            Kernel::SplatWide => items,
+            _ => items.div_ceil(WORKGROUP),
+        };
+        pass.set_pipeline(&self.pipelines[kernel as usize]);
+        pass.set_bind_group(0, bind, &[uniforms.offset(index)]);
+        let (x, y) = dispatch::groups(groups, &self.gpu.device().limits());
+        pass.dispatch_workgroups(x, y, 1);
+    }
+
+    /// Submission 1: the counting sort and each level's vertex numbering; returns each level
+    /// ℓ ≥ 1's vertex count.
+    fn topology(&self) -> Result<(Vec<u32>, Option<f64>), GpuError> {
+        let device = self.gpu.device();
+        let g = &self.grid;
+        let cells = g.side().pow(3);
+        let mut steps = Vec::new();
+        let n = self.n;
+        steps.push(self.step(0, cells));
+        // The scans: the cell starts, then each level's slots.
+        let mut starts_scan = Vec::new();
+        let mut scratch = cells + 1;
+        Scan::plan(0, cells + 1, &mut scratch, &mut starts_scan);
+        let mut slot_scans = Vec::new();
+        let mut scratch = self.slot_scratch;
+        for level in 1..=g.max_level() {
+            let count = slots_a_side(g, level).pow(3);
+            steps.push(self.step(level, count));
+            let mut one = Vec::new();
+            Scan::plan(
+                self.slot_offsets[level as usize - 1],
+                count + 1,
+                &mut scratch,
+                &mut one,
+            );
+            slot_scans.push(one);
+        }
+        let uniforms = Uniforms::new(device, &steps);
+        let all_scans: Vec<scan::Step> = starts_scan
+            .iter()
+            .chain(slot_scans.iter().flatten())
+            .map(|s| s.1)
+            .collect();
+        let scan_uniforms = Uniforms::new(device, &all_scans);
+        let bind = self.bind(&uniforms);
+        let bind_starts = self.scan.bind(device, &scan_uniforms, &self.starts);
+        let bind_slots = self.scan.bind(device, &scan_uniforms, &self.slots);
+        let timer = PassTimer::new(&self.gpu);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("lgh-gpu build: topology"),
+                timestamp_writes: timer.as_ref().map(PassTimer::writes),
+            });
+            let limits = device.limits();
+            self.record(&mut pass, &bind, &uniforms, (Kernel::Locate, 0, n));
+            self.record(&mut pass, &bind, &uniforms, (Kernel::CopyCounts, 0, cells));
+            self.scan.record(
+                &mut pass,
+                &bind_starts,
+                &scan_uniforms,
+                0,
+                &starts_scan,
+                &limits,
+            );
+            let key_bits = 3 * u32::from(g.bits);
+            self.lights
+                .sort
+                .record(device, &mut pass, &self.scan, n, key_bits);
+            let mut first = starts_scan.len() as u32;
+            for (k, one) in slot_scans.iter().enumerate() {
+                let count = steps[k + 1].count;
+                let mark = (Kernel::MarkVertices, k as u32 + 1, count);
+                self.record(&mut pass, &bind, &uniforms, mark);
+                self.scan
+                    .record(&mut pass, &bind_slots, &scan_uniforms, first, one, &limits);
+                first += one.len() as u32;
+            }
+        }
+        let levels = g.max_level() as u64;
+        let totals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lgh-gpu vertex counts"),
+            size: levels * 4,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        for level in 1..=g.max_level() {
+            let at = self.slot_offsets[level as usize - 1] + slots_a_side(g, level).pow(3);
+            let to = u64::from(level - 1) * 4;
+            encoder.copy_buffer_to_buffer(&self.slots, u64::from(at) * 4, &totals, to, 4);
+        }
+        if let Some(t) = &timer {
+            t.resolve(&mut encoder);
+        }
+        self.gpu.queue().submit([encoder.finish()]);
+        let vertices: Vec<u32> = self.gpu.read_back(&totals)?;
+        let ms = timer.map(|t| t.milliseconds(&self.gpu)).transpose()?;
+        Ok((vertices, ms))
+    }
+
+    /// Each level's place in the lights and its grid as the query reads it; the lights'
+    /// buffers grown where they must.
+    fn place_levels(&mut self, vertices: &[u32]) -> Result<(), GpuError> {
+        let g = self.grid;
+        let top = g.max_level();
+        let mut levels = Vec::new();
+        let mut first = 0u64;
+        for level in 0..=top {
+            let count = if level == 0 {
+                self.n
+            } else {
+                vertices[level as usize - 1]
+            };
+            let base = blended(&self.blending, level, top);
+            let grid = if level == 0 {
+                LevelGrid {
+                    origin: g.origin.to_array(),
+                    cell: g.h1,
+                    dims: [g.side(); 3],
+                    stride: 1,
+                    order: cell_order::MORTON,
+                    bank: cell_order::IN_STARTS,
+                    ..base
+                }
+            } else if level == top {
+                LevelGrid { ..base }
+            } else {
+                // Blocks of 2³ vertices: slot 8·Morton(block) begins a block's vertices.
+                let h = g.h(level);
+                LevelGrid {
+                    origin: g.origin.to_array(),
+                    cell: 2.0 * h,
+                    dims: [slots_a_side(&g, level) / 2; 3],
+                    first_cell: self.slot_offsets[level as usize - 1],
+                    margin: h,
+                    stride: 8,
+                    order: cell_order::MORTON,
+                    bank: cell_order::IN_SLOTS,
+                    ..base
+                }
+            };
+            levels.push(LevelGrid {
+                first_light: first as u32,
+                light_count: count,
+                ..grid
+            });
+            first += u64::from(count);
+        }
+        let limit = self.gpu.device().limits().max_storage_buffer_binding_size;
+        check_size(
+            "the levels' lights",
+            first as usize * size_of::<GpuLight>(),
+            limit,
+        )?;
+        let total = first.max(1) as u32;
+        if total > self.out.capacity {
+            // Grown with room, so that a few more lights next frame do not reallocate.
+            self.out = out_buffers(self.gpu.device(), total + total / 8);
+        }
+        self.gpu
+            .queue()
+            .write_buffer(&self.level_buffer, 0, bytemuck::cast_slice(&levels));
+        self.levels = levels;
+        Ok(())
+    }
+
+    /// Submission 2: the lights in the sorted order, then every level's splat.
+    fn splat(&self) -> Result<Option<f64>, GpuError> {
+        let device = self.gpu.device();
+        let g = &self.grid;
+        let mut steps = vec![self.step(0, self.n)];
+        let mut plan = vec![(Kernel::GatherSorted, 0, self.n)];
+        for level in 1..=g.max_level() {
+            let count = slots_a_side(g, level).pow(3);
+            let kernel = if count <= WIDE_AT_MOST {
+                Kernel::SplatWide
+            } else {
+                Kernel::Splat
+            };
+            plan.push((kernel, steps.len() as u32, count));
+            steps.push(self.step(level, count));
+        }
+        let uniforms = Uniforms::new(device, &steps);
+        let bind = self.bind(&uniforms);
+        let timer = PassTimer::new(&self.gpu);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("lgh-gpu build: splat"),
+                timestamp_writes: timer.as_ref().map(PassTimer::writes),
+            });
+            for &p in &plan {
+                self.record(&mut pass, &bind, &uniforms, p);
+            }
+        }
+        if let Some(t) = &timer {
+            t.resolve(&mut encoder);
+        }
+        self.gpu.queue().submit([encoder.finish()]);
+        match timer {
+            Some(t) => t.milliseconds(&self.gpu).map(Some),
+            None => {
+                self.gpu
+                    .device()
+                    .poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| GpuError::Readback(e.to_string()))?;
+                Ok(None)
+            }
+        }
+    }
+}
+
+/// Level ℓ's vertex slots a side: `2^(bits − ℓ + 1)`.
+fn slots_a_side(grid: &GpuGrid, level: u8) -> u32 {
+    1 << (grid.bits - (level - 1))
+}
+
+fn demorton(m: u32) -> [u32; 3] {
+    let compact = |v: u32| (0..10).fold(0, |acc, b| acc | ((v >> (3 * b)) & 1) << b);
+    [compact(m), compact(m >> 1), compact(m >> 2)]
+}
+
+fn check_intensity(index: usize, i: Vec3) -> Result<(), GpuError> {
+    if !i.is_finite() || i.min_element() < 0.0 {
+        return Err(BuildError::InvalidIntensity { index }.into());
+    }
+    Ok(())
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+fn light_buffers(device: &wgpu::Device, capacity: u32) -> LightBuffers {
+    let n = u64::from(capacity);
+    LightBuffers {
+        capacity,
+        positions: storage(device, "lgh-gpu input positions", n * 16),
+        intensities: storage(device, "lgh-gpu input intensities", n * 16),
+        sort: RadixSort::new(device, capacity),
+        sorted: storage(device, "lgh-gpu sorted lights", n * 32),
+    }
+}
+
+fn out_buffers(device: &wgpu::Device, capacity: u32) -> OutBuffers {
+    let n = u64::from(capacity);
+    OutBuffers {
+        capacity,
+        lights: storage(device, "lgh-gpu level lights", n * 32),
+        extras: storage(device, "lgh-gpu level variances and sizes", n * 16),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demorton_inverts_the_morton_code() {
+        let c = [5u32, 200, 77];
+        let spread = |v: u32| (0..10).fold(0, |acc, b| acc | ((v >> b) & 1) << (3 * b));
+        let m = spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2;
+        assert_eq!(demorton(m), c);
+    }
+}

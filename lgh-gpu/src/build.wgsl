@@ -1,0 +1,361 @@
+// The hierarchy built on the GPU (paper Sec. 3): the input lights counted in level-1 cells and
+// sorted by cell (sort.wgsl), then each level's lights splatted from the input lights by eqs. (1), (2),
+// (4) and (5). Every sum is gathered by one invocation or one workgroup in a fixed order — no
+// float atomics — so the same lights give the same bits on every run. Driven by build.rs; the
+// prefix sums are scan.wgsl's.
+//
+// Cells and vertices are numbered by Morton code on a grid of 2^bits level-1 cells a side, so a
+// level-ℓ cell is a contiguous run of level-1 cells: Morton(c) << 3(ℓ−1) onwards.
+
+struct Step {
+    // The grid: its origin and level-1 spacing.
+    origin: vec3<f32>,
+    h1: f32,
+    // Input lights; Morton bits a side; this level ℓ; the top level.
+    n: u32,
+    bits: u32,
+    level: u32,
+    top: u32,
+    // The largest level-1 cell coordinate (lights beyond are clamped into it); where this
+    // level's vertex slots begin in `slots`; where its lights begin in `out`; its weak-light
+    // threshold (0 on the top level).
+    max_cell: u32,
+    slot_offset: u32,
+    light_base: u32,
+    threshold: f32,
+    // Items of this dispatch (cells or vertex slots).
+    count: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+struct Light {
+    position: vec3<f32>,
+    intensity: vec3<f32>,
+}
+
+// An input light in the sorted order, as the splat reads it: its place in its level-1 cell
+// (cell units), luminance, RGB intensity and its level-1 cell packed 10 bits an axis.
+struct Sorted {
+    frac: vec3<f32>,
+    luminance: f32,
+    intensity: vec3<f32>,
+    cell: u32,
+}
+
+@group(0) @binding(0) var<uniform> step: Step;
+@group(0) @binding(1) var<storage, read_write> positions: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> intensities: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read_write> counts: array<atomic<u32>>;
+@group(0) @binding(4) var<storage, read_write> starts: array<u32>;
+@group(0) @binding(5) var<storage, read_write> order: array<u32>;
+@group(0) @binding(6) var<storage, read_write> sorted: array<Sorted>;
+@group(0) @binding(7) var<storage, read_write> slots: array<u32>;
+@group(0) @binding(8) var<storage, read_write> out: array<Light>;
+@group(0) @binding(9) var<storage, read_write> extras: array<vec4<f32>>;
+@group(0) @binding(10) var<storage, read_write> keys: array<u32>;
+
+const WORKGROUP: u32 = 64u;
+// Rec. 709 luminance, lgh-core's LUMINANCE_WEIGHTS.
+const LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
+
+fn flat(id: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return id.x + id.y * groups.x * WORKGROUP;
+}
+
+fn spread3(v: u32) -> u32 {
+    var x = v & 0x3ffu;
+    x = (x | (x << 16u)) & 0x030000ffu;
+    x = (x | (x << 8u)) & 0x0300f00fu;
+    x = (x | (x << 4u)) & 0x030c30c3u;
+    x = (x | (x << 2u)) & 0x09249249u;
+    return x;
+}
+
+fn compact3(v: u32) -> u32 {
+    var x = v & 0x09249249u;
+    x = (x | (x >> 2u)) & 0x030c30c3u;
+    x = (x | (x >> 4u)) & 0x0300f00fu;
+    x = (x | (x >> 8u)) & 0x030000ffu;
+    x = (x | (x >> 16u)) & 0x3ffu;
+    return x;
+}
+
+fn morton3(c: vec3<u32>) -> u32 {
+    return spread3(c.x) | (spread3(c.y) << 1u) | (spread3(c.z) << 2u);
+}
+
+fn demorton3(m: u32) -> vec3<u32> {
+    return vec3<u32>(compact3(m), compact3(m >> 1u), compact3(m >> 2u));
+}
+
+fn pack(c: vec3<u32>) -> u32 {
+    return c.x | (c.y << 10u) | (c.z << 20u);
+}
+
+fn unpack(c: u32) -> vec3<u32> {
+    return vec3<u32>(c & 0x3ffu, (c >> 10u) & 0x3ffu, c >> 20u);
+}
+
+struct Located {
+    cell: vec3<u32>,
+    frac: vec3<f32>,
+}
+
+// A light's level-1 cell and its place in it, clamped to the grid as lgh-core's `locate`.
+fn locate_light(p: vec3<f32>) -> Located {
+    let t = (p - step.origin) / step.h1;
+    let c = clamp(floor(t), vec3<f32>(0.0), vec3<f32>(f32(step.max_cell)));
+    return Located(vec3<u32>(c), clamp(t - c, vec3<f32>(0.0), vec3<f32>(1.0)));
+}
+
+// Each input light counted in its level-1 cell, and given its cell's Morton code as the key
+// the radix sort (sort.wgsl) orders the lights by, ties by index.
+@compute @workgroup_size(WORKGROUP)
+fn locate(@builtin(global_invocation_id) id: vec3<u32>,
+          @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = flat(id, groups);
+    if i >= step.n {
+        return;
+    }
+    let m = morton3(locate_light(positions[i].xyz).cell);
+    atomicAdd(&counts[m], 1u);
+    keys[i] = m;
+    order[i] = i;
+}
+
+// The counts copied for the scan (which makes them the cells' starts), with a 0 after them
+// (which the scan makes the total); the counts go back to 0, ready for the next build.
+@compute @workgroup_size(WORKGROUP)
+fn copy_counts(@builtin(global_invocation_id) id: vec3<u32>,
+               @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = flat(id, groups);
+    if m >= step.count {
+        return;
+    }
+    starts[m] = atomicExchange(&counts[m], 0u);
+    if m == 0u {
+        starts[step.count] = 0u;
+    }
+}
+
+// The input lights in the sorted order, for the splat, and as level 0 of the query (a light
+// weaker than the threshold given no intensity: it adds nothing, as lgh-core's query skips it).
+@compute @workgroup_size(WORKGROUP)
+fn gather_sorted(@builtin(global_invocation_id) id: vec3<u32>,
+                 @builtin(num_workgroups) groups: vec3<u32>) {
+    let j = flat(id, groups);
+    if j >= step.n {
+        return;
+    }
+    let i = order[j];
+    let p = positions[i].xyz;
+    let intensity = intensities[i].xyz;
+    let at = locate_light(p);
+    let luminance = dot(intensity, LUMINANCE);
+    sorted[j] = Sorted(at.frac, luminance, intensity, pack(at.cell));
+    let reported = luminance > 0.0 && luminance >= step.threshold;
+    out[j] = Light(p, select(vec3<f32>(0.0), intensity, reported));
+    extras[j] = vec4<f32>(0.0);
+}
+
+// Corner k of a cell is at offset (k & 1, (k >> 1) & 1, k >> 2).
+fn corner(k: u32) -> vec3<u32> {
+    return vec3<u32>(k & 1u, (k >> 1u) & 1u, k >> 2u);
+}
+
+// Level-ℓ cells a side.
+fn cells_a_side() -> u32 {
+    return 1u << (step.bits - (step.level - 1u));
+}
+
+// The sorted input lights of level-ℓ cell c: a run of level-1 cells.
+fn cell_range(c: vec3<u32>) -> vec2<u32> {
+    let shift = 3u * (step.level - 1u);
+    let m = morton3(c);
+    return vec2<u32>(starts[m << shift], starts[(m + 1u) << shift]);
+}
+
+// Vertex slot m of level ℓ marked 1 if a light lies in one of its eight cells ("levels are
+// sparse"), 0 otherwise; the scan then numbers the marked vertices.
+@compute @workgroup_size(WORKGROUP)
+fn mark_vertices(@builtin(global_invocation_id) id: vec3<u32>,
+                 @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = flat(id, groups);
+    if m >= step.count {
+        return;
+    }
+    let q = demorton3(m);
+    let side = cells_a_side();
+    var occupied = 0u;
+    for (var k = 0u; k < 8u; k++) {
+        let o = corner(k);
+        if any(q < o) || any(q - o >= vec3<u32>(side)) {
+            continue;
+        }
+        let r = cell_range(q - o);
+        if r.y > r.x {
+            occupied = 1u;
+        }
+    }
+    slots[step.slot_offset + m] = occupied;
+    if m == 0u {
+        slots[step.slot_offset + step.count] = 0u;
+    }
+}
+
+// A vertex's sums over the lights of its eight cells, offsets o from the vertex in cell units
+// and v = w·‖I‖ (lgh-core's MomentSums): Σ w I (eq. 1), Σ v, Σ v o (eq. 2), Σ v o² (eq. 4).
+struct Sums {
+    intensity: vec3<f32>,
+    weight: f32,
+    first: vec3<f32>,
+    second: vec3<f32>,
+}
+
+// Lights j ≡ lane (mod lanes) of each of vertex q's cells, cell by cell.
+fn moment_sums(q: vec3<u32>, lane: u32, lanes: u32) -> Sums {
+    var s = Sums(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+    let side = cells_a_side();
+    let sub = step.level - 1u;
+    let mask = (1u << sub) - 1u;
+    let scale = 1.0 / f32(1u << sub);
+    for (var k = 0u; k < 8u; k++) {
+        let o = corner(k);
+        if any(q < o) || any(q - o >= vec3<u32>(side)) {
+            continue;
+        }
+        let r = cell_range(q - o);
+        let at = vec3<f32>(o);
+        for (var j = r.x + lane; j < r.y; j += lanes) {
+            let light = sorted[j];
+            let g = min((vec3<f32>(unpack(light.cell) & vec3<u32>(mask)) + light.frac) * scale,
+                        vec3<f32>(1.0));
+            let wa = select(vec3<f32>(1.0) - g, g, o == vec3<u32>(1u));
+            let w = wa.x * wa.y * wa.z;
+            let v = w * light.luminance;
+            let off = g - at;
+            s.intensity += w * light.intensity;
+            s.weight += v;
+            s.first += v * off;
+            s.second += v * (off * off);
+        }
+    }
+    return s;
+}
+
+// Σ v ‖o − mean‖ of eq. (5) over the same lights.
+fn size_sum(q: vec3<u32>, mean: vec3<f32>, lane: u32, lanes: u32) -> f32 {
+    var sum = 0.0;
+    let side = cells_a_side();
+    let sub = step.level - 1u;
+    let mask = (1u << sub) - 1u;
+    let scale = 1.0 / f32(1u << sub);
+    for (var k = 0u; k < 8u; k++) {
+        let o = corner(k);
+        if any(q < o) || any(q - o >= vec3<u32>(side)) {
+            continue;
+        }
+        let r = cell_range(q - o);
+        let centre = vec3<f32>(o) + mean;
+        for (var j = r.x + lane; j < r.y; j += lanes) {
+            let light = sorted[j];
+            let g = min((vec3<f32>(unpack(light.cell) & vec3<u32>(mask)) + light.frac) * scale,
+                        vec3<f32>(1.0));
+            let wa = select(vec3<f32>(1.0) - g, g, o == vec3<u32>(1u));
+            let w = wa.x * wa.y * wa.z;
+            sum += w * light.luminance * length(g - centre);
+        }
+    }
+    return sum;
+}
+
+// The illumination centre relative to the vertex, in cell units (eq. 2): the vertex itself
+// where it gathers no luminance.
+fn centre(s: Sums) -> vec3<f32> {
+    if s.weight > 0.0 {
+        return s.first / s.weight;
+    }
+    return vec3<f32>(0.0);
+}
+
+// Vertex v (slot m, at q) of level ℓ written as the query's light and its variance (eq. 4) and
+// size (eq. 5).
+fn write_vertex(q: vec3<u32>, v: u32, s: Sums, mean: vec3<f32>, size_sum: f32) {
+    let h = step.h1 * f32(1u << (step.level - 1u));
+    var variance = vec3<f32>(0.0);
+    var size = 0.0;
+    if s.weight > 0.0 {
+        variance = max(s.second / s.weight - mean * mean, vec3<f32>(0.0)) * h * h;
+        size = size_sum / s.weight * h;
+    }
+    let position = step.origin + (vec3<f32>(q) + mean) * h;
+    let luminance = dot(s.intensity, LUMINANCE);
+    let reported = luminance > 0.0 && luminance >= step.threshold;
+    out[step.light_base + v] = Light(position, select(vec3<f32>(0.0), s.intensity, reported));
+    extras[step.light_base + v] = vec4<f32>(variance, size);
+}
+
+// One invocation a vertex slot: the levels whose vertices gather a few lights.
+@compute @workgroup_size(WORKGROUP)
+fn splat(@builtin(global_invocation_id) id: vec3<u32>,
+         @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = flat(id, groups);
+    if m >= step.count {
+        return;
+    }
+    let v = slots[step.slot_offset + m];
+    if slots[step.slot_offset + m + 1u] == v {
+        return;
+    }
+    let q = demorton3(m);
+    let s = moment_sums(q, 0u, 1u);
+    let mean = centre(s);
+    write_vertex(q, v, s, mean, size_sum(q, mean, 0u, 1u));
+}
+
+var<workgroup> partial: array<array<vec4<f32>, 3>, WORKGROUP>;
+var<workgroup> shared_mean: vec3<f32>;
+
+// The workgroup's partial sums added in a fixed tree into partial[0].
+fn reduce(lane: u32) {
+    for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
+        if lane < stride {
+            for (var a = 0u; a < 3u; a++) {
+                partial[lane][a] += partial[lane + stride][a];
+            }
+        }
+        workgroupBarrier();
+    }
+}
+
+// One workgroup a vertex slot: the coarse levels, whose vertices gather many lights. Each lane
+// sums every WORKGROUP-th light, then the lanes' sums are added in a fixed tree.
+@compute @workgroup_size(WORKGROUP)
+fn splat_wide(@builtin(local_invocation_index) lane: u32,
+              @builtin(workgroup_id) wg: vec3<u32>,
+              @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = wg.x + wg.y * groups.x;
+    if m >= step.count {
+        return;
+    }
+    let q = demorton3(m);
+    let s = moment_sums(q, lane, WORKGROUP);
+    partial[lane] = array<vec4<f32>, 3>(vec4<f32>(s.intensity, s.weight),
+                                        vec4<f32>(s.first, 0.0), vec4<f32>(s.second, 0.0));
+    workgroupBarrier();
+    reduce(lane);
+    let total = Sums(partial[0][0].xyz, partial[0][0].w, partial[0][1].xyz, partial[0][2].xyz);
+    if lane == 0u {
+        shared_mean = centre(total);
+    }
+    let mean = workgroupUniformLoad(&shared_mean);
+    partial[lane][0] = vec4<f32>(size_sum(q, mean, lane, WORKGROUP), 0.0, 0.0, 0.0);
+    workgroupBarrier();
+    reduce(lane);
+    let v = slots[step.slot_offset + m];
+    if lane == 0u && slots[step.slot_offset + m + 1u] != v {
+        write_vertex(q, v, total, mean, partial[0][0].x);
+    }
+}
