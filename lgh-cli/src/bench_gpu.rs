@@ -1,17 +1,17 @@
-//! `lgh bench gpu`: the hierarchy's query on the GPU (lgh-gpu) against the CPU path on every
-//! core of the same machine, on the same frame of the web page's ember swarm, in one run; JSON.
+//! `lgh bench gpu`: the hierarchy's per-frame path on the GPU (lgh-gpu: build, intensity
+//! update, rebuild of moved lights, query, gather) against the CPU path on every core of the
+//! same machine, on the same frame of the web page's ember swarm, in one run; JSON.
 //!
-//! Measured today: the upload of a CPU-built hierarchy and the GPU query (`shade_ms`, by
-//! timestamp queries where the adapter has them, else submission to fence). The build, the
-//! intensity update, the rebuild and the gather on the GPU are not written yet: their keys are
-//! `null`.
+//! Each GPU time is the kernels' own by timestamp queries where the adapter has them, else
+//! submission to fence, the best of three. The CPU path is lgh-core's build on the GPU's
+//! placement and its query with the same response (`lgh_gpu::reference`).
 
 use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
-use lgh_gpu::{Gpu, GpuHierarchy, ShadingPoint};
+use lgh_gpu::{Gpu, GpuBuilder, GpuGrid, GpuTiming, ShadingPoint};
 use lgh_web::swarm;
 use rayon::prelude::*;
 use serde_json::json;
@@ -32,7 +32,7 @@ pub struct GpuBenchArgs {
     /// The paper's α.
     #[arg(long, default_value_t = 2.0)]
     pub alpha: f32,
-    /// Lights drawn per point by the gather (not on the GPU yet: reported, not run).
+    /// Lights drawn per point by the gather.
     #[arg(long, default_value_t = 4)]
     pub k: u32,
     /// The swarm's frame (48 a second; it grows and cools over the first second).
@@ -84,6 +84,16 @@ fn rel_rmse(gpu: &[Vec3], cpu: &[Vec3]) -> (f64, [f64; 3]) {
     (of(gpu, cpu), rgb)
 }
 
+/// The best of `runs`: the kernels' milliseconds (timestamp queries, else the wall), the
+/// wall's, and which timer gave the first.
+fn best(runs: &[GpuTiming]) -> (f64, f64, &'static str) {
+    let wall = runs.iter().map(|t| t.wall_ms).fold(f64::INFINITY, f64::min);
+    match runs.iter().filter_map(|t| t.kernel_ms).reduce(f64::min) {
+        Some(kernel) => (kernel, wall, "timestamp queries"),
+        None => (wall, wall, "submission to fence"),
+    }
+}
+
 /// Runs the benchmark and prints its JSON report.
 pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
     crate::check_alpha(args.alpha)?;
@@ -112,33 +122,50 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
         lights.len(),
         points.len()
     );
+    // The GPU's grid at lgh-core's own spacing where it fits (else a coarser one), and the
+    // CPU's build on the same placement: the same levels on both sides.
+    let auto = pool.install(|| LightingGridHierarchy::build(&lights, &GridSettings::default()))?;
+    let (lo, hi) = lgh_core::bounds(&lights);
+    let grid = GpuGrid::enclosing(lo, hi, auto.h1()).or_else(|_| GpuGrid::fitting(&lights))?;
+    drop(auto);
     let start = Instant::now();
-    let lgh = pool.install(|| LightingGridHierarchy::build(&lights, &GridSettings::default()))?;
+    let lgh = pool.install(|| LightingGridHierarchy::build(&lights, &grid.settings()))?;
     let cpu_build_ms = start.elapsed().as_secs_f64() * 1e3;
-    let start = Instant::now();
-    let on_gpu = GpuHierarchy::upload(&gpu, &lgh, args.alpha)?;
-    let upload_ms = start.elapsed().as_secs_f64() * 1e3;
-    // A first run warms the pipeline; the best of three is reported.
-    let (gpu_image, _) = on_gpu.shade_timed(&points)?;
-    let gpu_image: Vec<Vec3> = gpu_image.into_iter().map(Vec3::from).collect();
-    let mut timings = Vec::new();
+    let mut on_gpu = GpuBuilder::new(&gpu, grid, args.alpha)?;
+    let build = on_gpu.rebuild(&lights)?;
+    // The next frame: the embers moved (a rebuild), or only their colours (an update).
+    let next: Vec<PointLight> = (0..args.lights)
+        .map(|i| {
+            let (p, c) = swarm::light(i, args.frame + 1);
+            PointLight::new(Vec3::from(p), Vec3::from(c))
+        })
+        .collect();
+    let recoloured: Vec<Vec3> = next.iter().map(|l| l.intensity).collect();
+    let own: Vec<Vec3> = lights.iter().map(|l| l.intensity).collect();
+    let (mut rebuilds, mut updates) = (Vec::new(), Vec::new());
     for _ in 0..3 {
-        timings.push(on_gpu.shade_timed(&points)?.1);
+        rebuilds.push(on_gpu.rebuild(&next)?);
+        rebuilds.push(on_gpu.rebuild(&lights)?);
+        updates.push(on_gpu.update_intensities(&recoloured)?);
+        updates.push(on_gpu.update_intensities(&own)?);
     }
-    let kernel = timings.iter().filter_map(|t| t.kernel_ms).reduce(f64::min);
-    let wall = timings
-        .iter()
-        .map(|t| t.wall_ms)
-        .fold(f64::INFINITY, f64::min);
-    let shade_ms = kernel.unwrap_or(wall);
+    let hierarchy = on_gpu.hierarchy();
+    let (gpu_image, _) = hierarchy.shade_timed(&points)?;
+    let gpu_image: Vec<Vec3> = gpu_image.into_iter().map(Vec3::from).collect();
+    let (mut shades, mut gathers) = (Vec::new(), Vec::new());
+    for seed in 0..3 {
+        shades.push(hierarchy.shade_timed(&points)?.1);
+        gathers.push(hierarchy.gather_timed(&points, args.k, seed)?.1);
+    }
+    let (shade_ms, shade_wall_ms, timer) = best(&shades);
     eprintln!(
         "lgh bench gpu: GPU shade {shade_ms:.2} ms; the CPU path on {} threads…",
         pool.current_num_threads()
     );
     let start = Instant::now();
     let cpu_image = pool.install(|| cpu_shade(&lgh, args.alpha, &points))?;
-    let (rel_rmse_vs_cpu, rel_rmse_vs_cpu_rgb) = rel_rmse(&gpu_image, &cpu_image);
     let cpu_shade_ms = start.elapsed().as_secs_f64() * 1e3;
+    let (rel_rmse_vs_cpu, rel_rmse_vs_cpu_rgb) = rel_rmse(&gpu_image, &cpu_image);
     let report = json!({
         "benchmark": "lgh bench gpu",
         "adapter": adapter.name,
@@ -150,15 +177,17 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
         "alpha": args.alpha,
         "frame": args.frame,
         "k": args.k,
-        "build_ms": null,
-        "update_ms": null,
-        "rebuild_ms": null,
-        "gather_ms": null,
-        "cpu_build_ms": cpu_build_ms,
-        "upload_ms": upload_ms,
+        "h1": grid.h1,
+        "levels": grid.max_level() + 1,
+        "build_ms": best(&[build]).0,
+        "update_ms": best(&updates).0,
+        "rebuild_ms": best(&rebuilds).0,
+        "rebuild_wall_ms": best(&rebuilds).1,
         "shade_ms": shade_ms,
-        "shade_timer": if kernel.is_some() { "timestamp queries" } else { "submission to fence" },
-        "shade_wall_ms": wall,
+        "shade_wall_ms": shade_wall_ms,
+        "gather_ms": best(&gathers).0,
+        "timer": timer,
+        "cpu_build_ms": cpu_build_ms,
         "cpu_threads": pool.current_num_threads(),
         "cpu_shade_ms": cpu_shade_ms,
         "speedup_vs_cpu": cpu_shade_ms / shade_ms,

@@ -119,18 +119,11 @@ vec3 contribution(Level level, Light light, vec3 x, vec3 n) {
     return (light.intensity * ((_e33 * (1.0 / (c_2 * c_2))) * _e38));
 }
 
-uint pcg(uint v) {
-    uint state = ((v * 747796405u) + 2891336453u);
-    uint word = (((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u);
-    return ((word >> 22u) ^ word);
-}
-
 float next_uniform() {
     uint _e2 = rng;
     rng = ((_e2 * 747796405u) + 2891336453u);
     uint _e8 = rng;
-    uint _e9 = pcg(_e8);
-    return (float((_e9 >> 8u)) * 5.9604645e-8);
+    return (float((_e8 >> 8u)) * 5.9604645e-8);
 }
 
 void visit(uint i_1, Light light_1, vec3 term) {
@@ -205,9 +198,9 @@ uint cell_start(Level level_2, uint i_2) {
     return _e10;
 }
 
-uint spread3_(uint v_1) {
+uint spread3_(uint v) {
     uint x_2 = 0u;
-    x_2 = (v_1 & 1023u);
+    x_2 = (v & 1023u);
     uint _e4 = x_2;
     uint _e5 = x_2;
     x_2 = ((_e4 | (_e5 << 16u)) & 50331903u);
@@ -260,8 +253,8 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e115 = z;
-            z = (_e115 + 1u);
+            uint _e143 = z;
+            z = (_e143 + 1u);
         }
         loop_init_2 = false;
         uint _e54 = z;
@@ -274,8 +267,8 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
-                    uint _e112 = y;
-                    y = (_e112 + 1u);
+                    uint _e140 = y;
+                    y = (_e140 + 1u);
                 }
                 loop_init_3 = false;
                 uint _e59 = y;
@@ -296,8 +289,8 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
                         bool loop_init_4 = true;
                         while(true) {
                             if (!loop_init_4) {
-                                uint _e109 = c_1;
-                                c_1 = (_e109 + 1u);
+                                uint _e137 = c_1;
+                                c_1 = (_e137 + 1u);
                             }
                             loop_init_4 = false;
                             uint _e90 = c_1;
@@ -306,13 +299,22 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
                                 break;
                             }
                             {
-                                uint _e93 = c_1;
-                                uint _e94 = y;
-                                uint _e95 = z;
-                                uint _e97 = morton3_(uvec3(_e93, _e94, _e95));
-                                uint _e101 = cell_start(level_3, (level_3.first_cell + (s * _e97)));
-                                uint _e107 = cell_start(level_3, (level_3.first_cell + (s * (_e97 + 1u))));
-                                visit_range(level_3, _e101, _e107, x_3, n_2);
+                                uint _e94 = c_1;
+                                uint _e95 = y;
+                                uint _e96 = z;
+                                vec3 low = ((level_3.origin + (vec3(uvec3(_e94, _e95, _e96)) * level_3.cell)) - vec3(level_3.margin));
+                                vec3 high = (low + vec3((level_3.cell + (2.0 * level_3.margin))));
+                                vec3 out_ = max(max((low - x_3), (x_3 - high)), vec3(0.0));
+                                if ((dot(out_, out_) > level_3.outer2_)) {
+                                    continue;
+                                }
+                                uint _e121 = c_1;
+                                uint _e122 = y;
+                                uint _e123 = z;
+                                uint _e125 = morton3_(uvec3(_e121, _e122, _e123));
+                                uint _e129 = cell_start(level_3, (level_3.first_cell + (s * _e125)));
+                                uint _e135 = cell_start(level_3, (level_3.first_cell + (s * (_e125 + 1u))));
+                                visit_range(level_3, _e129, _e135, x_3, n_2);
                             }
                         }
                     }
@@ -349,6 +351,12 @@ void walk(vec3 x_4, vec3 n_3) {
 
 uint point_index(uvec3 id_1, uvec3 groups_1) {
     return (id_1.x + ((id_1.y * groups_1.x) * WORKGROUP));
+}
+
+uint pcg(uint v_1) {
+    uint state = ((v_1 * 747796405u) + 2891336453u);
+    uint word = (((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u);
+    return ((word >> 22u) ^ word);
 }
 
 void main() {

@@ -126,20 +126,12 @@ float3 contribution(Level level, Light light, float3 x, float3 n)
     return (light.intensity * ((_e33 * (1.0 / (c_2 * c_2))) * _e38));
 }
 
-uint pcg(uint v)
-{
-    uint state = ((v * 747796405u) + 2891336453u);
-    uint word = (((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u);
-    return ((word >> 22u) ^ word);
-}
-
 float next_uniform()
 {
     uint _e2 = rng;
     rng = ((_e2 * 747796405u) + 2891336453u);
     uint _e8 = rng;
-    const uint _e9 = pcg(_e8);
-    return (float((_e9 >> 8u)) * 5.9604645e-8);
+    return (float((_e8 >> 8u)) * 5.9604645e-8);
 }
 
 void visit(uint i_1, Light light_1, float3 term)
@@ -225,11 +217,11 @@ uint cell_start(Level level_2, uint i_2)
     return _e10;
 }
 
-uint spread3_(uint v_1)
+uint spread3_(uint v)
 {
     uint x_2 = (uint)0;
 
-    x_2 = (v_1 & 1023u);
+    x_2 = (v & 1023u);
     uint _e4 = x_2;
     uint _e5 = x_2;
     x_2 = ((_e4 | (_e5 << 16u)) & 50331903u);
@@ -292,8 +284,8 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
         if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            uint _e115 = z;
-            z = (_e115 + 1u);
+            uint _e143 = z;
+            z = (_e143 + 1u);
         }
         loop_init_2 = false;
         uint _e54 = z;
@@ -309,8 +301,8 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
                 if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
                 loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
                 if (!loop_init_3) {
-                    uint _e112 = y;
-                    y = (_e112 + 1u);
+                    uint _e140 = y;
+                    y = (_e140 + 1u);
                 }
                 loop_init_3 = false;
                 uint _e59 = y;
@@ -334,8 +326,8 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
                             if (all(loop_bound_4 == uint2(0u, 0u))) { break; }
                             loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
                             if (!loop_init_4) {
-                                uint _e109 = c_1;
-                                c_1 = (_e109 + 1u);
+                                uint _e137 = c_1;
+                                c_1 = (_e137 + 1u);
                             }
                             loop_init_4 = false;
                             uint _e90 = c_1;
@@ -344,13 +336,22 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
                                 break;
                             }
                             {
-                                uint _e93 = c_1;
-                                uint _e94 = y;
-                                uint _e95 = z;
-                                const uint _e97 = morton3_(uint3(_e93, _e94, _e95));
-                                const uint _e101 = cell_start(level_3, (level_3.first_cell + (s * _e97)));
-                                const uint _e107 = cell_start(level_3, (level_3.first_cell + (s * (_e97 + 1u))));
-                                visit_range(level_3, _e101, _e107, x_3, n_2);
+                                uint _e94 = c_1;
+                                uint _e95 = y;
+                                uint _e96 = z;
+                                float3 low = ((level_3.origin + (float3(uint3(_e94, _e95, _e96)) * level_3.cell)) - (level_3.margin).xxx);
+                                float3 high = (low + ((level_3.cell + (2.0 * level_3.margin))).xxx);
+                                float3 out_ = max(max((low - x_3), (x_3 - high)), (0.0).xxx);
+                                if ((dot(out_, out_) > level_3.outer2_)) {
+                                    continue;
+                                }
+                                uint _e121 = c_1;
+                                uint _e122 = y;
+                                uint _e123 = z;
+                                const uint _e125 = morton3_(uint3(_e121, _e122, _e123));
+                                const uint _e129 = cell_start(level_3, (level_3.first_cell + (s * _e125)));
+                                const uint _e135 = cell_start(level_3, (level_3.first_cell + (s * (_e125 + 1u))));
+                                visit_range(level_3, _e129, _e135, x_3, n_2);
                             }
                         }
                     }
@@ -411,6 +412,13 @@ void walk(float3 x_4, float3 n_3)
 uint point_index(uint3 id_1, uint3 groups_1)
 {
     return (id_1.x + ((id_1.y * groups_1.x) * WORKGROUP));
+}
+
+uint pcg(uint v_1)
+{
+    uint state = ((v_1 * 747796405u) + 2891336453u);
+    uint word = (((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u);
+    return ((word >> 22u) ^ word);
 }
 
 Sample ConstructSample(float3 arg0, float3 arg1) {

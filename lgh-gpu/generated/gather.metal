@@ -129,22 +129,13 @@ metal::float3 contribution(
     return light.intensity * ((_e33 * (1.0 / (c_2 * c_2))) * _e38);
 }
 
-uint pcg(
-    uint v
-) {
-    uint state = (v * 747796405u) + 2891336453u;
-    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
 float next_uniform(
     thread uint& rng
 ) {
     uint _e2 = rng;
     rng = (_e2 * 747796405u) + 2891336453u;
     uint _e8 = rng;
-    uint _e9 = pcg(_e8);
-    return static_cast<float>(_e9 >> 8u) * 0.000000059604645;
+    return static_cast<float>(_e8 >> 8u) * 0.000000059604645;
 }
 
 void visit(
@@ -257,10 +248,10 @@ uint cell_start(
 }
 
 uint spread3_(
-    uint v_1
+    uint v
 ) {
     uint x_2 = {};
-    x_2 = v_1 & 1023u;
+    x_2 = v & 1023u;
     uint _e4 = x_2;
     uint _e5 = x_2;
     x_2 = (_e4 | (_e5 << 16u)) & 50331903u;
@@ -337,8 +328,8 @@ void walk_level(
         if (metal::all(loop_bound_2 == uint2(0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            uint _e115 = z;
-            z = _e115 + 1u;
+            uint _e143 = z;
+            z = _e143 + 1u;
         }
         loop_init_2 = false;
         uint _e54 = z;
@@ -354,8 +345,8 @@ void walk_level(
                 if (metal::all(loop_bound_3 == uint2(0u))) { break; }
                 loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
                 if (!loop_init_3) {
-                    uint _e112 = y;
-                    y = _e112 + 1u;
+                    uint _e140 = y;
+                    y = _e140 + 1u;
                 }
                 loop_init_3 = false;
                 uint _e59 = y;
@@ -379,8 +370,8 @@ void walk_level(
                             if (metal::all(loop_bound_4 == uint2(0u))) { break; }
                             loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
                             if (!loop_init_4) {
-                                uint _e109 = c_1;
-                                c_1 = _e109 + 1u;
+                                uint _e137 = c_1;
+                                c_1 = _e137 + 1u;
                             }
                             loop_init_4 = false;
                             uint _e90 = c_1;
@@ -389,13 +380,22 @@ void walk_level(
                                 break;
                             }
                             {
-                                uint _e93 = c_1;
-                                uint _e94 = y;
-                                uint _e95 = z;
-                                uint _e97 = morton3_(metal::uint3(_e93, _e94, _e95));
-                                uint _e101 = cell_start(level_3, level_3.first_cell + (s * _e97), starts, slots, _buffer_sizes);
-                                uint _e107 = cell_start(level_3, level_3.first_cell + (s * (_e97 + 1u)), starts, slots, _buffer_sizes);
-                                visit_range(level_3, _e101, _e107, x_3, n_2, params, lights, lights_hi, total, rng, chosen_position, chosen_term, chosen_weight, _buffer_sizes);
+                                uint _e94 = c_1;
+                                uint _e95 = y;
+                                uint _e96 = z;
+                                metal::float3 low = (level_3.origin + (static_cast<metal::float3>(metal::uint3(_e94, _e95, _e96)) * level_3.cell)) - metal::float3(level_3.margin);
+                                metal::float3 high = low + metal::float3(level_3.cell + (2.0 * level_3.margin));
+                                metal::float3 out = metal::max(metal::max(low - x_3, x_3 - high), metal::float3(0.0));
+                                if (metal::dot(out, out) > level_3.outer2_) {
+                                    continue;
+                                }
+                                uint _e121 = c_1;
+                                uint _e122 = y;
+                                uint _e123 = z;
+                                uint _e125 = morton3_(metal::uint3(_e121, _e122, _e123));
+                                uint _e129 = cell_start(level_3, level_3.first_cell + (s * _e125), starts, slots, _buffer_sizes);
+                                uint _e135 = cell_start(level_3, level_3.first_cell + (s * (_e125 + 1u)), starts, slots, _buffer_sizes);
+                                visit_range(level_3, _e129, _e135, x_3, n_2, params, lights, lights_hi, total, rng, chosen_position, chosen_term, chosen_weight, _buffer_sizes);
                             }
                         }
                     }
@@ -453,6 +453,14 @@ uint point_index(
     metal::uint3 groups_1
 ) {
     return id_1.x + ((id_1.y * groups_1.x) * WORKGROUP);
+}
+
+uint pcg(
+    uint v_1
+) {
+    uint state = (v_1 * 747796405u) + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
 }
 
 struct gatherInput {

@@ -15,6 +15,7 @@ struct _mslBufferSizes {
     uint size8;
     uint size9;
     uint size10;
+    uint size11;
 };
 
 struct Step {
@@ -29,9 +30,9 @@ struct Step {
     uint light_base;
     float threshold;
     uint count;
+    uint parts;
     uint _pad0_;
     uint _pad1_;
-    uint _pad2_;
 };
 struct Light {
     metal::float3 position;
@@ -59,19 +60,23 @@ struct Sums {
     metal::float3 second;
 };
 struct type_13 {
+    metal::float4 inner[5];
+};
+typedef type_13 type_14[1];
+struct type_15 {
     metal::float4 inner[3];
 };
-struct type_14 {
-    type_13 inner[64];
+struct type_16 {
+    type_15 inner[64];
 };
 constant uint WORKGROUP = 64u;
 constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
 
 uint flat(
-    metal::uint3 id_5,
-    metal::uint3 groups_6
+    metal::uint3 id_7,
+    metal::uint3 groups_9
 ) {
-    return id_5.x + ((id_5.y * groups_6.x) * WORKGROUP);
+    return id_7.x + ((id_7.y * groups_9.x) * WORKGROUP);
 }
 
 uint spread3_(
@@ -192,7 +197,7 @@ metal::uint2 cell_range(
 
 Sums moment_sums(
     metal::uint3 q,
-    uint lane_1,
+    uint lane_2,
     uint lanes,
     constant Step& step,
     device type_7 const& starts,
@@ -201,7 +206,7 @@ Sums moment_sums(
 ) {
     Sums s = Sums {metal::float3(0.0), 0.0, metal::float3(0.0), metal::float3(0.0)};
     uint k_2 = 0u;
-    bool local_3 = {};
+    bool local_2 = {};
     uint j = {};
     uint _e12 = cells_a_side(step);
     uint _e15 = step.level;
@@ -227,17 +232,17 @@ Sums moment_sums(
             uint _e32 = k_2;
             metal::uint3 _e33 = corner(_e32);
             if (!(metal::any(q < _e33))) {
-                local_3 = metal::any((q - _e33) >= metal::uint3(_e12));
+                local_2 = metal::any((q - _e33) >= metal::uint3(_e12));
             } else {
-                local_3 = true;
+                local_2 = true;
             }
-            bool _e44 = local_3;
+            bool _e44 = local_2;
             if (_e44) {
                 continue;
             }
             metal::uint2 _e46 = cell_range(q - _e33, step, starts, _buffer_sizes);
             metal::float3 at = static_cast<metal::float3>(_e33);
-            j = _e46.x + lane_1;
+            j = _e46.x + lane_2;
             uint2 loop_bound_1 = uint2(4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -257,11 +262,11 @@ Sums moment_sums(
                     uint _e55 = j;
                     Sorted light = sorted[_e55];
                     metal::uint3 _e59 = unpack(light.cell);
-                    metal::float3 g = metal::min((static_cast<metal::float3>(_e59 & metal::uint3(mask)) + light.frac) * scale, metal::float3(1.0));
-                    metal::float3 wa = metal::select(metal::float3(1.0) - g, g, _e33 == metal::uint3(1u));
+                    metal::float3 g_2 = metal::min((static_cast<metal::float3>(_e59 & metal::uint3(mask)) + light.frac) * scale, metal::float3(1.0));
+                    metal::float3 wa = metal::select(metal::float3(1.0) - g_2, g_2, _e33 == metal::uint3(1u));
                     float w = (wa.x * wa.y) * wa.z;
                     float v_3 = w * light.luminance;
-                    metal::float3 off = g - at;
+                    metal::float3 off = g_2 - at;
                     metal::float3 _e85 = s.intensity;
                     s.intensity = _e85 + (w * light.intensity);
                     float _e90 = s.weight;
@@ -278,10 +283,10 @@ Sums moment_sums(
     return _e106;
 }
 
-float size_sum(
+float size_sum_1(
     metal::uint3 q_1,
     metal::float3 mean,
-    uint lane_2,
+    uint lane_3,
     uint lanes_1,
     constant Step& step,
     device type_7 const& starts,
@@ -290,7 +295,7 @@ float size_sum(
 ) {
     float sum = 0.0;
     uint k_3 = 0u;
-    bool local_4 = {};
+    bool local_3 = {};
     uint j_1 = {};
     uint _e6 = cells_a_side(step);
     uint _e9 = step.level;
@@ -316,17 +321,17 @@ float size_sum(
             uint _e26 = k_3;
             metal::uint3 _e27 = corner(_e26);
             if (!(metal::any(q_1 < _e27))) {
-                local_4 = metal::any((q_1 - _e27) >= metal::uint3(_e6));
+                local_3 = metal::any((q_1 - _e27) >= metal::uint3(_e6));
             } else {
-                local_4 = true;
+                local_3 = true;
             }
-            bool _e38 = local_4;
+            bool _e38 = local_3;
             if (_e38) {
                 continue;
             }
             metal::uint2 _e40 = cell_range(q_1 - _e27, step, starts, _buffer_sizes);
             metal::float3 centre_1 = static_cast<metal::float3>(_e27) + mean;
-            j_1 = _e40.x + lane_2;
+            j_1 = _e40.x + lane_3;
             uint2 loop_bound_3 = uint2(4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -346,11 +351,11 @@ float size_sum(
                     uint _e50 = j_1;
                     Sorted light_1 = sorted[_e50];
                     metal::uint3 _e54 = unpack(light_1.cell);
-                    metal::float3 g_1 = metal::min((static_cast<metal::float3>(_e54 & metal::uint3(mask_1)) + light_1.frac) * scale_1, metal::float3(1.0));
-                    metal::float3 wa_1 = metal::select(metal::float3(1.0) - g_1, g_1, _e27 == metal::uint3(1u));
+                    metal::float3 g_3 = metal::min((static_cast<metal::float3>(_e54 & metal::uint3(mask_1)) + light_1.frac) * scale_1, metal::float3(1.0));
+                    metal::float3 wa_1 = metal::select(metal::float3(1.0) - g_3, g_3, _e27 == metal::uint3(1u));
                     float w_1 = (wa_1.x * wa_1.y) * wa_1.z;
                     float _e76 = sum;
-                    sum = _e76 + ((w_1 * light_1.luminance) * metal::length(g_1 - centre_1));
+                    sum = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
                 }
             }
         }
@@ -373,7 +378,7 @@ void write_vertex(
     uint v_2,
     Sums s_2,
     metal::float3 mean_1,
-    float size_sum_1,
+    float size_sum_2,
     constant Step& step,
     device type_9& out,
     device type_4& extras,
@@ -381,24 +386,24 @@ void write_vertex(
 ) {
     metal::float3 variance = metal::float3(0.0);
     float size = 0.0;
-    bool local_5 = {};
+    bool local_4 = {};
     float _e7 = step.h1_;
     uint _e11 = step.level;
     float h = _e7 * static_cast<float>(1u << (_e11 - 1u));
     if (s_2.weight > 0.0) {
         variance = (metal::max((s_2.second / metal::float3(s_2.weight)) - (mean_1 * mean_1), metal::float3(0.0)) * h) * h;
-        size = (size_sum_1 / s_2.weight) * h;
+        size = (size_sum_2 / s_2.weight) * h;
     }
     metal::float3 _e41 = step.origin;
     metal::float3 position = _e41 + ((static_cast<metal::float3>(q_2) + mean_1) * h);
     float luminance = metal::dot(s_2.intensity, LUMINANCE);
     if (luminance > 0.0) {
         float _e55 = step.threshold;
-        local_5 = luminance >= _e55;
+        local_4 = luminance >= _e55;
     } else {
-        local_5 = false;
+        local_4 = false;
     }
-    bool reported = local_5;
+    bool reported = local_4;
     uint _e62 = step.light_base;
     out[_e62 + v_2] = Light {position, reported ? s_2.intensity : metal::float3(0.0)};
     uint _e73 = step.light_base;
@@ -413,11 +418,11 @@ uint naga_div(uint lhs, uint rhs) {
 }
 
 void reduce(
-    uint lane_3,
-    threadgroup type_14& partial
+    uint lane_4,
+    threadgroup type_16& lane_sums
 ) {
     uint stride = 32u;
-    uint a = {};
+    uint a_3 = {};
     uint2 loop_bound_4 = uint2(4294967295u);
     bool loop_init_4 = true;
     while(true) {
@@ -435,30 +440,30 @@ void reduce(
         }
         {
             uint _e6 = stride;
-            if (lane_3 < _e6) {
-                a = 0u;
+            if (lane_4 < _e6) {
+                a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u);
                 bool loop_init_5 = true;
                 while(true) {
                     if (metal::all(loop_bound_5 == uint2(0u))) { break; }
                     loop_bound_5 -= uint2(loop_bound_5.y == 0u, 1u);
                     if (!loop_init_5) {
-                        uint _e27 = a;
-                        a = _e27 + 1u;
+                        uint _e27 = a_3;
+                        a_3 = _e27 + 1u;
                     }
                     loop_init_5 = false;
-                    uint _e10 = a;
+                    uint _e10 = a_3;
                     if (_e10 < 3u) {
                     } else {
                         break;
                     }
                     {
-                        uint _e15 = a;
-                        metal::float4 _e17 = partial.inner[lane_3].inner[_e15];
+                        uint _e15 = a_3;
+                        metal::float4 _e17 = lane_sums.inner[lane_4].inner[_e15];
                         uint _e19 = stride;
-                        uint _e22 = a;
-                        metal::float4 _e24 = partial.inner[lane_3 + _e19].inner[_e22];
-                        partial.inner[lane_3].inner[_e15] = _e17 + _e24;
+                        uint _e22 = a_3;
+                        metal::float4 _e24 = lane_sums.inner[lane_4 + _e19].inner[_e22];
+                        lane_sums.inner[lane_4].inner[_e15] = _e17 + _e24;
                     }
                 }
             }

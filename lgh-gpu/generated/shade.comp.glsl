@@ -201,8 +201,8 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
     bool loop_init_1 = true;
     while(true) {
         if (!loop_init_1) {
-            uint _e115 = z;
-            z = (_e115 + 1u);
+            uint _e143 = z;
+            z = (_e143 + 1u);
         }
         loop_init_1 = false;
         uint _e54 = z;
@@ -215,8 +215,8 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
             bool loop_init_2 = true;
             while(true) {
                 if (!loop_init_2) {
-                    uint _e112 = y;
-                    y = (_e112 + 1u);
+                    uint _e140 = y;
+                    y = (_e140 + 1u);
                 }
                 loop_init_2 = false;
                 uint _e59 = y;
@@ -237,8 +237,8 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
                         bool loop_init_3 = true;
                         while(true) {
                             if (!loop_init_3) {
-                                uint _e109 = c_1;
-                                c_1 = (_e109 + 1u);
+                                uint _e137 = c_1;
+                                c_1 = (_e137 + 1u);
                             }
                             loop_init_3 = false;
                             uint _e90 = c_1;
@@ -247,13 +247,22 @@ void walk_level(Level level_3, vec3 x_3, vec3 n_2) {
                                 break;
                             }
                             {
-                                uint _e93 = c_1;
-                                uint _e94 = y;
-                                uint _e95 = z;
-                                uint _e97 = morton3_(uvec3(_e93, _e94, _e95));
-                                uint _e101 = cell_start(level_3, (level_3.first_cell + (s * _e97)));
-                                uint _e107 = cell_start(level_3, (level_3.first_cell + (s * (_e97 + 1u))));
-                                visit_range(level_3, _e101, _e107, x_3, n_2);
+                                uint _e94 = c_1;
+                                uint _e95 = y;
+                                uint _e96 = z;
+                                vec3 low = ((level_3.origin + (vec3(uvec3(_e94, _e95, _e96)) * level_3.cell)) - vec3(level_3.margin));
+                                vec3 high = (low + vec3((level_3.cell + (2.0 * level_3.margin))));
+                                vec3 out_ = max(max((low - x_3), (x_3 - high)), vec3(0.0));
+                                if ((dot(out_, out_) > level_3.outer2_)) {
+                                    continue;
+                                }
+                                uint _e121 = c_1;
+                                uint _e122 = y;
+                                uint _e123 = z;
+                                uint _e125 = morton3_(uvec3(_e121, _e122, _e123));
+                                uint _e129 = cell_start(level_3, (level_3.first_cell + (s * _e125)));
+                                uint _e135 = cell_start(level_3, (level_3.first_cell + (s * (_e125 + 1u))));
+                                visit_range(level_3, _e129, _e135, x_3, n_2);
                             }
                         }
                     }

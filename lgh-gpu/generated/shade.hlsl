@@ -228,8 +228,8 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e115 = z;
-            z = (_e115 + 1u);
+            uint _e143 = z;
+            z = (_e143 + 1u);
         }
         loop_init_1 = false;
         uint _e54 = z;
@@ -245,8 +245,8 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
                 if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
                 loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
                 if (!loop_init_2) {
-                    uint _e112 = y;
-                    y = (_e112 + 1u);
+                    uint _e140 = y;
+                    y = (_e140 + 1u);
                 }
                 loop_init_2 = false;
                 uint _e59 = y;
@@ -270,8 +270,8 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
                             if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
                             loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
                             if (!loop_init_3) {
-                                uint _e109 = c_1;
-                                c_1 = (_e109 + 1u);
+                                uint _e137 = c_1;
+                                c_1 = (_e137 + 1u);
                             }
                             loop_init_3 = false;
                             uint _e90 = c_1;
@@ -280,13 +280,22 @@ void walk_level(Level level_3, float3 x_3, float3 n_2)
                                 break;
                             }
                             {
-                                uint _e93 = c_1;
-                                uint _e94 = y;
-                                uint _e95 = z;
-                                const uint _e97 = morton3_(uint3(_e93, _e94, _e95));
-                                const uint _e101 = cell_start(level_3, (level_3.first_cell + (s * _e97)));
-                                const uint _e107 = cell_start(level_3, (level_3.first_cell + (s * (_e97 + 1u))));
-                                visit_range(level_3, _e101, _e107, x_3, n_2);
+                                uint _e94 = c_1;
+                                uint _e95 = y;
+                                uint _e96 = z;
+                                float3 low = ((level_3.origin + (float3(uint3(_e94, _e95, _e96)) * level_3.cell)) - (level_3.margin).xxx);
+                                float3 high = (low + ((level_3.cell + (2.0 * level_3.margin))).xxx);
+                                float3 out_ = max(max((low - x_3), (x_3 - high)), (0.0).xxx);
+                                if ((dot(out_, out_) > level_3.outer2_)) {
+                                    continue;
+                                }
+                                uint _e121 = c_1;
+                                uint _e122 = y;
+                                uint _e123 = z;
+                                const uint _e125 = morton3_(uint3(_e121, _e122, _e123));
+                                const uint _e129 = cell_start(level_3, (level_3.first_cell + (s * _e125)));
+                                const uint _e135 = cell_start(level_3, (level_3.first_cell + (s * (_e125 + 1u))));
+                                visit_range(level_3, _e129, _e135, x_3, n_2);
                             }
                         }
                     }

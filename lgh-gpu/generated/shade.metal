@@ -260,8 +260,8 @@ void walk_level(
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e115 = z;
-            z = _e115 + 1u;
+            uint _e143 = z;
+            z = _e143 + 1u;
         }
         loop_init_1 = false;
         uint _e54 = z;
@@ -277,8 +277,8 @@ void walk_level(
                 if (metal::all(loop_bound_2 == uint2(0u))) { break; }
                 loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
                 if (!loop_init_2) {
-                    uint _e112 = y;
-                    y = _e112 + 1u;
+                    uint _e140 = y;
+                    y = _e140 + 1u;
                 }
                 loop_init_2 = false;
                 uint _e59 = y;
@@ -302,8 +302,8 @@ void walk_level(
                             if (metal::all(loop_bound_3 == uint2(0u))) { break; }
                             loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
                             if (!loop_init_3) {
-                                uint _e109 = c_1;
-                                c_1 = _e109 + 1u;
+                                uint _e137 = c_1;
+                                c_1 = _e137 + 1u;
                             }
                             loop_init_3 = false;
                             uint _e90 = c_1;
@@ -312,13 +312,22 @@ void walk_level(
                                 break;
                             }
                             {
-                                uint _e93 = c_1;
-                                uint _e94 = y;
-                                uint _e95 = z;
-                                uint _e97 = morton3_(metal::uint3(_e93, _e94, _e95));
-                                uint _e101 = cell_start(level_3, level_3.first_cell + (s * _e97), starts, slots, _buffer_sizes);
-                                uint _e107 = cell_start(level_3, level_3.first_cell + (s * (_e97 + 1u)), starts, slots, _buffer_sizes);
-                                visit_range(level_3, _e101, _e107, x_3, n_2, params, lights, lights_hi, sum, _buffer_sizes);
+                                uint _e94 = c_1;
+                                uint _e95 = y;
+                                uint _e96 = z;
+                                metal::float3 low = (level_3.origin + (static_cast<metal::float3>(metal::uint3(_e94, _e95, _e96)) * level_3.cell)) - metal::float3(level_3.margin);
+                                metal::float3 high = low + metal::float3(level_3.cell + (2.0 * level_3.margin));
+                                metal::float3 out = metal::max(metal::max(low - x_3, x_3 - high), metal::float3(0.0));
+                                if (metal::dot(out, out) > level_3.outer2_) {
+                                    continue;
+                                }
+                                uint _e121 = c_1;
+                                uint _e122 = y;
+                                uint _e123 = z;
+                                uint _e125 = morton3_(metal::uint3(_e121, _e122, _e123));
+                                uint _e129 = cell_start(level_3, level_3.first_cell + (s * _e125), starts, slots, _buffer_sizes);
+                                uint _e135 = cell_start(level_3, level_3.first_cell + (s * (_e125 + 1u)), starts, slots, _buffer_sizes);
+                                visit_range(level_3, _e129, _e135, x_3, n_2, params, lights, lights_hi, sum, _buffer_sizes);
                             }
                         }
                     }

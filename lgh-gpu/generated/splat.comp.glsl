@@ -15,9 +15,9 @@ struct Step {
     uint light_base;
     float threshold;
     uint count;
+    uint parts;
     uint _pad0_;
     uint _pad1_;
-    uint _pad2_;
 };
 struct Light {
     vec3 position;
@@ -55,8 +55,8 @@ layout(std430) buffer type_9_block_4Compute { Light _group_0_binding_8_cs[]; };
 layout(std430) buffer type_4_block_5Compute { vec4 _group_0_binding_9_cs[]; };
 
 
-uint flat_(uvec3 id_5, uvec3 groups_6) {
-    return (id_5.x + ((id_5.y * groups_6.x) * WORKGROUP));
+uint flat_(uvec3 id_7, uvec3 groups_9) {
+    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -147,10 +147,10 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
+Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
     Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
     uint k_2 = 0u;
-    bool local_3 = false;
+    bool local_2 = false;
     uint j = 0u;
     uint _e12 = cells_a_side();
     uint _e15 = _group_0_binding_0_cs.level;
@@ -173,17 +173,17 @@ Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
             uint _e32 = k_2;
             uvec3 _e33 = corner(_e32);
             if (!(any(lessThan(q, _e33)))) {
-                local_3 = any(greaterThanEqual((q - _e33), uvec3(_e12)));
+                local_2 = any(greaterThanEqual((q - _e33), uvec3(_e12)));
             } else {
-                local_3 = true;
+                local_2 = true;
             }
-            bool _e44 = local_3;
+            bool _e44 = local_2;
             if (_e44) {
                 continue;
             }
             uvec2 _e46 = cell_range((q - _e33));
             vec3 at = vec3(_e33);
-            j = (_e46.x + lane_1);
+            j = (_e46.x + lane_2);
             bool loop_init_1 = true;
             while(true) {
                 if (!loop_init_1) {
@@ -200,11 +200,11 @@ Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
                     uint _e55 = j;
                     Sorted light = _group_0_binding_6_cs[_e55];
                     uvec3 _e59 = unpack(light.cell);
-                    vec3 g = min(((vec3((_e59 & uvec3(mask))) + light.frac) * scale), vec3(1.0));
-                    vec3 wa = mix((vec3(1.0) - g), g, equal(_e33, uvec3(1u)));
+                    vec3 g_2 = min(((vec3((_e59 & uvec3(mask))) + light.frac) * scale), vec3(1.0));
+                    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(_e33, uvec3(1u)));
                     float w = ((wa.x * wa.y) * wa.z);
                     float v_3 = (w * light.luminance);
-                    vec3 off = (g - at);
+                    vec3 off = (g_2 - at);
                     vec3 _e85 = s.intensity;
                     s.intensity = (_e85 + (w * light.intensity));
                     float _e90 = s.weight;
@@ -221,10 +221,10 @@ Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
     return _e106;
 }
 
-float size_sum(uvec3 q_1, vec3 mean, uint lane_2, uint lanes_1) {
+float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
     float sum = 0.0;
     uint k_3 = 0u;
-    bool local_4 = false;
+    bool local_3 = false;
     uint j_1 = 0u;
     uint _e6 = cells_a_side();
     uint _e9 = _group_0_binding_0_cs.level;
@@ -247,17 +247,17 @@ float size_sum(uvec3 q_1, vec3 mean, uint lane_2, uint lanes_1) {
             uint _e26 = k_3;
             uvec3 _e27 = corner(_e26);
             if (!(any(lessThan(q_1, _e27)))) {
-                local_4 = any(greaterThanEqual((q_1 - _e27), uvec3(_e6)));
+                local_3 = any(greaterThanEqual((q_1 - _e27), uvec3(_e6)));
             } else {
-                local_4 = true;
+                local_3 = true;
             }
-            bool _e38 = local_4;
+            bool _e38 = local_3;
             if (_e38) {
                 continue;
             }
             uvec2 _e40 = cell_range((q_1 - _e27));
             vec3 centre_1 = (vec3(_e27) + mean);
-            j_1 = (_e40.x + lane_2);
+            j_1 = (_e40.x + lane_3);
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
@@ -274,11 +274,11 @@ float size_sum(uvec3 q_1, vec3 mean, uint lane_2, uint lanes_1) {
                     uint _e50 = j_1;
                     Sorted light_1 = _group_0_binding_6_cs[_e50];
                     uvec3 _e54 = unpack(light_1.cell);
-                    vec3 g_1 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
-                    vec3 wa_1 = mix((vec3(1.0) - g_1), g_1, equal(_e27, uvec3(1u)));
+                    vec3 g_3 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
+                    vec3 wa_1 = mix((vec3(1.0) - g_3), g_3, equal(_e27, uvec3(1u)));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
                     float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_1 - centre_1))));
+                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
@@ -294,27 +294,27 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
+void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) {
     vec3 variance = vec3(0.0);
     float size = 0.0;
-    bool local_5 = false;
+    bool local_4 = false;
     float _e7 = _group_0_binding_0_cs.h1_;
     uint _e11 = _group_0_binding_0_cs.level;
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / vec3(s_2.weight)) - (mean_1 * mean_1)), vec3(0.0)) * h) * h);
-        size = ((size_sum_1 / s_2.weight) * h);
+        size = ((size_sum_2 / s_2.weight) * h);
     }
     vec3 _e41 = _group_0_binding_0_cs.origin;
     vec3 position = (_e41 + ((vec3(q_2) + mean_1) * h));
     float luminance = dot(s_2.intensity, LUMINANCE);
     if ((luminance > 0.0)) {
         float _e55 = _group_0_binding_0_cs.threshold;
-        local_5 = (luminance >= _e55);
+        local_4 = (luminance >= _e55);
     } else {
-        local_5 = false;
+        local_4 = false;
     }
-    bool reported = local_5;
+    bool reported = local_4;
     uint _e62 = _group_0_binding_0_cs.light_base;
     _group_0_binding_8_cs[(_e62 + v_2)] = Light(position, (reported ? s_2.intensity : vec3(0.0)));
     uint _e73 = _group_0_binding_0_cs.light_base;
@@ -342,7 +342,7 @@ void main() {
     uvec3 _e24 = demorton3_(_e2);
     Sums _e27 = moment_sums(_e24, 0u, 1u);
     vec3 _e28 = centre(_e27);
-    float _e31 = size_sum(_e24, _e28, 0u, 1u);
+    float _e31 = size_sum_1(_e24, _e28, 0u, 1u);
     write_vertex(_e24, v_4, _e27, _e28, _e31);
     return;
 }

@@ -8,8 +8,9 @@
 //!    the vertices' numbers. The levels' vertex counts are read back (a few bytes) to place each
 //!    level's lights.
 //! 2. **Splat.** The lights gathered in the sorted order, then each vertex's light splatted from
-//!    the input lights of its eight cells — one invocation a vertex on the fine levels, one
-//!    workgroup a vertex (its lanes' sums added in a fixed tree) on the coarse ones.
+//!    the input lights of its eight cells — one invocation a vertex on the fine levels; on the
+//!    coarse ones, whose vertices gather many lights, each vertex's sums split over many
+//!    workgroups (each adding its lanes' sums in a fixed tree), then the parts added in order.
 //!
 //! [`GpuBuilder::update_intensities`] (same positions, new intensities: the animated fire)
 //! runs the splat alone; [`GpuBuilder::rebuild`] (lights that move, any count) both.
@@ -45,15 +46,19 @@ struct Step {
     light_base: u32,
     threshold: f32,
     count: u32,
-    _pad: [u32; 3],
+    parts: u32,
+    _pad: [u32; 2],
 }
 
 /// Threads of a workgroup of `build.wgsl` (its `WORKGROUP`).
 const WORKGROUP: u32 = 64;
 
-/// Levels with at most this many vertex slots splat one workgroup a vertex (`splat_wide`):
-/// their vertices gather many lights each.
+/// Levels with at most this many vertex slots split each vertex's sums over workgroups
+/// (`moment_parts`, …): their vertices gather many lights each.
 const WIDE_AT_MOST: u32 = 1 << 15;
+
+/// The workgroups a coarse level's splat takes: its slots times their parts.
+const PARTS_IN_ALL: u32 = 1 << 16;
 
 /// `build.wgsl`'s entry points, in [`kernels::BUILD`](crate::kernels::BUILD)'s order.
 #[derive(Clone, Copy, Debug)]
@@ -63,7 +68,10 @@ enum Kernel {
     GatherSorted,
     MarkVertices,
     Splat,
-    SplatWide,
+    MomentParts,
+    FinishMoments,
+    SizeParts,
+    FinishVertices,
 }
 
 /// A light of a level as the GPU built it, read back ([`GpuBuilder::read_level`]).
@@ -139,6 +147,8 @@ pub struct GpuBuilder {
     /// Where the scans' block sums go in `slots`.
     slot_scratch: u32,
     level_buffer: wgpu::Buffer,
+    /// The coarse levels' partial sums (`build.wgsl`'s `partials`).
+    partials: wgpu::Buffer,
     lights: LightBuffers,
     out: OutBuffers,
     /// The lights of the last build.
@@ -185,7 +195,7 @@ impl GpuBuilder {
                 mapped_at_creation: false,
             })
         };
-        let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 10);
+        let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 11);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lgh-gpu build.wgsl"),
             source: wgpu::ShaderSource::Wgsl(crate::kernels::BUILD.source().into()),
@@ -203,7 +213,14 @@ impl GpuBuilder {
             mapped_at_creation: false,
         });
         let copy = wgpu::BufferUsages::COPY_SRC;
+        let partials = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lgh-gpu partial sums"),
+            size: u64::from(PARTS_IN_ALL.max(WIDE_AT_MOST)) * 80,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         Ok(GpuBuilder {
+            partials,
             gpu: gpu.clone(),
             grid,
             alpha,
@@ -420,7 +437,8 @@ impl GpuBuilder {
             light_base: self.levels.get(level as usize).map_or(0, |l| l.first_light),
             threshold: if level == top { 0.0 } else { self.prune_below },
             count,
-            _pad: [0; 3],
+            parts: 1,
+            _pad: [0; 2],
         }
     }
 
@@ -441,12 +459,13 @@ impl GpuBuilder {
                 &self.out.lights,
                 &self.out.extras,
                 &l.sort.keys,
+                &self.partials,
             ],
         )
     }
 
-    /// Records `kernel` over `items` (one invocation each; one workgroup each for `SplatWide`)
-    /// with uniform `index`.
+    /// Records `kernel` over `items` (one invocation each; one workgroup each for the parts'
+    /// kernels) with uniform `index`.
     fn record(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
@@ -455,7 +474,7 @@ impl GpuBuilder {
         (kernel, index, items): (Kernel, u32, u32),
     ) {
         let groups = match kernel {
-            Kernel::SplatWide => items,
+            Kernel::MomentParts | Kernel::SizeParts => items,
             _ => items.div_ceil(WORKGROUP),
         };
         pass.set_pipeline(&self.pipelines[kernel as usize]);
@@ -628,13 +647,23 @@ impl GpuBuilder {
         let mut plan = vec![(Kernel::GatherSorted, 0, self.n)];
         for level in 1..=g.max_level() {
             let count = slots_a_side(g, level).pow(3);
-            let kernel = if count <= WIDE_AT_MOST {
-                Kernel::SplatWide
+            let index = steps.len() as u32;
+            if count <= WIDE_AT_MOST {
+                let parts = parts(count, self.n);
+                plan.extend([
+                    (Kernel::MomentParts, index, count * parts),
+                    (Kernel::FinishMoments, index, count),
+                    (Kernel::SizeParts, index, count * parts),
+                    (Kernel::FinishVertices, index, count),
+                ]);
+                steps.push(Step {
+                    parts,
+                    ..self.step(level, count)
+                });
             } else {
-                Kernel::Splat
-            };
-            plan.push((kernel, steps.len() as u32, count));
-            steps.push(self.step(level, count));
+                plan.push((Kernel::Splat, index, count));
+                steps.push(self.step(level, count));
+            }
         }
         let uniforms = Uniforms::new(device, &steps);
         let bind = self.bind(&uniforms);
@@ -664,6 +693,13 @@ impl GpuBuilder {
             }
         }
     }
+}
+
+/// The workgroups each of a coarse level's `slots` splits its sums over: one per 4096 of the
+/// `n` lights (a vertex may gather them all; each lane then sums at most 64 a cell), at most
+/// [`PARTS_IN_ALL`] for the level and 1024 a vertex.
+fn parts(slots: u32, n: u32) -> u32 {
+    n.div_ceil(4096).min(PARTS_IN_ALL / slots).clamp(1, 1024)
 }
 
 /// Level ℓ's vertex slots a side: `2^(bits − ℓ + 1)`.

@@ -23,11 +23,12 @@ struct Step {
     slot_offset: u32,
     light_base: u32,
     threshold: f32,
-    // Items of this dispatch (cells or vertex slots).
+    // Items of this dispatch (cells or vertex slots), and the workgroups each vertex slot's
+    // sums are split over (the coarse levels' splat).
     count: u32,
+    parts: u32,
     _pad0: u32,
     _pad1: u32,
-    _pad2: u32,
 }
 
 struct Light {
@@ -315,47 +316,113 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>,
     write_vertex(q, v, s, mean, size_sum(q, mean, 0u, 1u));
 }
 
-var<workgroup> partial: array<array<vec4<f32>, 3>, WORKGROUP>;
-var<workgroup> shared_mean: vec3<f32>;
+// The coarse levels, whose vertices gather many lights each: vertex slot m's work split over
+// `parts` workgroups, part g's lanes summing every (WORKGROUP·parts)-th light of each cell, its
+// lanes' sums added in a fixed tree and written to partials[m·parts + g]; the parts then added
+// in order by one invocation a vertex. Entries: [0] Σ w I and Σ v, [1] Σ v o, [2] Σ v o², [3]
+// the centre (part 0, once known), [4].x Σ v ‖o − centre‖.
+@group(0) @binding(11) var<storage, read_write> partials: array<array<vec4<f32>, 5>>;
 
-// The workgroup's partial sums added in a fixed tree into partial[0].
+var<workgroup> lane_sums: array<array<vec4<f32>, 3>, WORKGROUP>;
+
+// The workgroup's lane sums added in a fixed tree into lane_sums[0].
 fn reduce(lane: u32) {
     for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
         if lane < stride {
             for (var a = 0u; a < 3u; a++) {
-                partial[lane][a] += partial[lane + stride][a];
+                lane_sums[lane][a] += lane_sums[lane + stride][a];
             }
         }
         workgroupBarrier();
     }
 }
 
-// One workgroup a vertex slot: the coarse levels, whose vertices gather many lights. Each lane
-// sums every WORKGROUP-th light, then the lanes' sums are added in a fixed tree.
+// Part g of vertex slot m's moment sums (eqs. 1, 2, 4).
 @compute @workgroup_size(WORKGROUP)
-fn splat_wide(@builtin(local_invocation_index) lane: u32,
-              @builtin(workgroup_id) wg: vec3<u32>,
-              @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = wg.x + wg.y * groups.x;
+fn moment_parts(@builtin(local_invocation_index) lane: u32,
+                @builtin(workgroup_id) wg: vec3<u32>,
+                @builtin(num_workgroups) groups: vec3<u32>) {
+    let w = wg.x + wg.y * groups.x;
+    if w >= step.count * step.parts {
+        return;
+    }
+    let m = w / step.parts;
+    let g = w % step.parts;
+    let s = moment_sums(demorton3(m), g * WORKGROUP + lane, WORKGROUP * step.parts);
+    lane_sums[lane] = array<vec4<f32>, 3>(vec4<f32>(s.intensity, s.weight),
+                                          vec4<f32>(s.first, 0.0), vec4<f32>(s.second, 0.0));
+    workgroupBarrier();
+    reduce(lane);
+    if lane == 0u {
+        for (var a = 0u; a < 3u; a++) {
+            partials[w][a] = lane_sums[0][a];
+        }
+    }
+}
+
+// The parts' moment sums of vertex slot m added in order into part 0, and its centre.
+@compute @workgroup_size(WORKGROUP)
+fn finish_moments(@builtin(global_invocation_id) id: vec3<u32>,
+                  @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = flat(id, groups);
     if m >= step.count {
         return;
     }
-    let q = demorton3(m);
-    let s = moment_sums(q, lane, WORKGROUP);
-    partial[lane] = array<vec4<f32>, 3>(vec4<f32>(s.intensity, s.weight),
-                                        vec4<f32>(s.first, 0.0), vec4<f32>(s.second, 0.0));
+    let first = m * step.parts;
+    var total = partials[first];
+    for (var g = 1u; g < step.parts; g++) {
+        for (var a = 0u; a < 3u; a++) {
+            total[a] += partials[first + g][a];
+        }
+    }
+    for (var a = 0u; a < 3u; a++) {
+        partials[first][a] = total[a];
+    }
+    let s = Sums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
+    partials[first][3] = vec4<f32>(centre(s), 0.0);
+}
+
+// Part g of vertex slot m's sum of eq. (5).
+@compute @workgroup_size(WORKGROUP)
+fn size_parts(@builtin(local_invocation_index) lane: u32,
+              @builtin(workgroup_id) wg: vec3<u32>,
+              @builtin(num_workgroups) groups: vec3<u32>) {
+    let w = wg.x + wg.y * groups.x;
+    if w >= step.count * step.parts {
+        return;
+    }
+    let m = w / step.parts;
+    let g = w % step.parts;
+    let mean = partials[m * step.parts][3].xyz;
+    let sum = size_sum(demorton3(m), mean, g * WORKGROUP + lane, WORKGROUP * step.parts);
+    lane_sums[lane][0] = vec4<f32>(sum, 0.0, 0.0, 0.0);
+    lane_sums[lane][1] = vec4<f32>(0.0);
+    lane_sums[lane][2] = vec4<f32>(0.0);
     workgroupBarrier();
     reduce(lane);
-    let total = Sums(partial[0][0].xyz, partial[0][0].w, partial[0][1].xyz, partial[0][2].xyz);
     if lane == 0u {
-        shared_mean = centre(total);
+        partials[w][4] = lane_sums[0][0];
     }
-    let mean = workgroupUniformLoad(&shared_mean);
-    partial[lane][0] = vec4<f32>(size_sum(q, mean, lane, WORKGROUP), 0.0, 0.0, 0.0);
-    workgroupBarrier();
-    reduce(lane);
+}
+
+// Vertex slot m's light written from its parts' sums.
+@compute @workgroup_size(WORKGROUP)
+fn finish_vertices(@builtin(global_invocation_id) id: vec3<u32>,
+                   @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = flat(id, groups);
+    if m >= step.count {
+        return;
+    }
     let v = slots[step.slot_offset + m];
-    if lane == 0u && slots[step.slot_offset + m + 1u] != v {
-        write_vertex(q, v, total, mean, partial[0][0].x);
+    if slots[step.slot_offset + m + 1u] == v {
+        return;
     }
+    let first = m * step.parts;
+    var size_sum = 0.0;
+    for (var g = 0u; g < step.parts; g++) {
+        size_sum += partials[first + g][4].x;
+    }
+    let t = partials[first];
+    let s = Sums(t[0].xyz, t[0].w, t[1].xyz, t[2].xyz);
+    write_vertex(demorton3(m), v, s, t[3].xyz, size_sum);
 }

@@ -28,10 +28,11 @@ fn pcg(v: u32) -> u32 {
     return (word >> 22u) ^ word;
 }
 
-// The point's next uniform number in [0, 1).
+// The point's next uniform number in [0, 1): the high 24 bits of a linear congruential step
+// (seeded through PCG; one multiply-add a draw, as the walk draws K a light).
 fn next_uniform() -> f32 {
     rng = rng * 747796405u + 2891336453u;
-    return f32(pcg(rng) >> 8u) * (1.0 / 16777216.0);
+    return f32(rng >> 8u) * (1.0 / 16777216.0);
 }
 
 // Each reservoir keeps this light with probability w / (the weights so far).

@@ -59,7 +59,10 @@ pub const BUILD: Kernel = Kernel {
         "gather_sorted",
         "mark_vertices",
         "splat",
-        "splat_wide",
+        "moment_parts",
+        "finish_moments",
+        "size_parts",
+        "finish_vertices",
     ],
 };
 

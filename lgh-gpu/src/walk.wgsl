@@ -154,6 +154,14 @@ fn walk_level(level: Level, x: vec3<f32>, n: vec3<f32>) {
                 visit_range(level, start, end, x, n);
             } else {
                 for (var c = a.x; c <= b.x; c++) {
+                    // A cell whose box (widened by the margin) is beyond the reach: skipped.
+                    let low = level.origin + vec3<f32>(vec3<u32>(c, y, z)) * level.cell
+                        - vec3<f32>(level.margin);
+                    let high = low + vec3<f32>(level.cell + 2.0 * level.margin);
+                    let out = max(max(low - x, x - high), vec3<f32>(0.0));
+                    if dot(out, out) > level.outer2 {
+                        continue;
+                    }
                     let m = morton3(vec3<u32>(c, y, z));
                     let start = cell_start(level, level.first_cell + s * m);
                     let end = cell_start(level, level.first_cell + s * (m + 1u));

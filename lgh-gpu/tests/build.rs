@@ -150,6 +150,12 @@ fn levels_agree_with_lgh_core_on_clumped_lights() {
     levels_agree("clumped", &clumped_lights(3000, 2));
 }
 
+/// Over 4096 lights the coarse levels split each vertex's sums over several workgroups.
+#[test]
+fn levels_agree_with_lgh_core_when_vertices_split_their_sums() {
+    levels_agree("uniform, split", &uniform_cube(9000, 3));
+}
+
 #[test]
 fn levels_agree_with_lgh_core_on_an_explosion() {
     levels_agree("explosion", &explosion_shell(20));

@@ -10,9 +10,9 @@ struct Step {
     uint light_base;
     float threshold;
     uint count;
+    uint parts;
     uint _pad0_;
     uint _pad1_;
-    uint _pad2_;
 };
 
 struct Light {
@@ -59,12 +59,12 @@ RWByteAddressBuffer slots : register(u7);
 RWByteAddressBuffer out_ : register(u8);
 RWByteAddressBuffer extras : register(u9);
 RWByteAddressBuffer keys : register(u10);
-groupshared float4 partial[64][3];
-groupshared float3 shared_mean;
+RWByteAddressBuffer partials : register(u11);
+groupshared float4 lane_sums[64][3];
 
-uint flat(uint3 id_5, uint3 groups_6)
+uint flat(uint3 id_7, uint3 groups_9)
 {
-    return (id_5.x + ((id_5.y * groups_6.x) * WORKGROUP));
+    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v)
@@ -197,11 +197,11 @@ Sorted ConstructSorted(float3 arg0, float arg1, float3 arg2, uint arg3) {
     return ret;
 }
 
-Sums moment_sums(uint3 q, uint lane_1, uint lanes)
+Sums moment_sums(uint3 q, uint lane_2, uint lanes)
 {
     Sums s = ConstructSums((0.0).xxx, 0.0, (0.0).xxx, (0.0).xxx);
     uint k_2 = 0u;
-    bool local_3 = (bool)0;
+    bool local_2 = (bool)0;
     uint j = (uint)0;
 
     const uint _e12 = cells_a_side();
@@ -228,17 +228,17 @@ Sums moment_sums(uint3 q, uint lane_1, uint lanes)
             uint _e32 = k_2;
             const uint3 _e33 = corner(_e32);
             if (!(any((q < _e33)))) {
-                local_3 = any(((q - _e33) >= (_e12).xxx));
+                local_2 = any(((q - _e33) >= (_e12).xxx));
             } else {
-                local_3 = true;
+                local_2 = true;
             }
-            bool _e44 = local_3;
+            bool _e44 = local_2;
             if (_e44) {
                 continue;
             }
             const uint2 _e46 = cell_range((q - _e33));
             float3 at = float3(_e33);
-            j = (_e46.x + lane_1);
+            j = (_e46.x + lane_2);
             uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -258,11 +258,11 @@ Sums moment_sums(uint3 q, uint lane_1, uint lanes)
                     uint _e55 = j;
                     Sorted light = ConstructSorted(asfloat(sorted.Load3(_e55*32+0)), asfloat(sorted.Load(_e55*32+12)), asfloat(sorted.Load3(_e55*32+16)), asuint(sorted.Load(_e55*32+28)));
                     const uint3 _e59 = unpack(light.cell);
-                    float3 g = min(((float3((_e59 & (mask).xxx)) + light.frac_) * scale), (1.0).xxx);
-                    float3 wa = ((_e33 == (1u).xxx) ? g : ((1.0).xxx - g));
+                    float3 g_2 = min(((float3((_e59 & (mask).xxx)) + light.frac_) * scale), (1.0).xxx);
+                    float3 wa = ((_e33 == (1u).xxx) ? g_2 : ((1.0).xxx - g_2));
                     float w = ((wa.x * wa.y) * wa.z);
                     float v_3 = (w * light.luminance);
-                    float3 off = (g - at);
+                    float3 off = (g_2 - at);
                     float3 _e85 = s.intensity;
                     s.intensity = (_e85 + (w * light.intensity));
                     float _e90 = s.weight;
@@ -280,11 +280,11 @@ Sums moment_sums(uint3 q, uint lane_1, uint lanes)
     return sums;
 }
 
-float size_sum(uint3 q_1, float3 mean, uint lane_2, uint lanes_1)
+float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
 {
     float sum = 0.0;
     uint k_3 = 0u;
-    bool local_4 = (bool)0;
+    bool local_3 = (bool)0;
     uint j_1 = (uint)0;
 
     const uint _e6 = cells_a_side();
@@ -311,17 +311,17 @@ float size_sum(uint3 q_1, float3 mean, uint lane_2, uint lanes_1)
             uint _e26 = k_3;
             const uint3 _e27 = corner(_e26);
             if (!(any((q_1 < _e27)))) {
-                local_4 = any(((q_1 - _e27) >= (_e6).xxx));
+                local_3 = any(((q_1 - _e27) >= (_e6).xxx));
             } else {
-                local_4 = true;
+                local_3 = true;
             }
-            bool _e38 = local_4;
+            bool _e38 = local_3;
             if (_e38) {
                 continue;
             }
             const uint2 _e40 = cell_range((q_1 - _e27));
             float3 centre_1 = (float3(_e27) + mean);
-            j_1 = (_e40.x + lane_2);
+            j_1 = (_e40.x + lane_3);
             uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -341,11 +341,11 @@ float size_sum(uint3 q_1, float3 mean, uint lane_2, uint lanes_1)
                     uint _e50 = j_1;
                     Sorted light_1 = ConstructSorted(asfloat(sorted.Load3(_e50*32+0)), asfloat(sorted.Load(_e50*32+12)), asfloat(sorted.Load3(_e50*32+16)), asuint(sorted.Load(_e50*32+28)));
                     const uint3 _e54 = unpack(light_1.cell);
-                    float3 g_1 = min(((float3((_e54 & (mask_1).xxx)) + light_1.frac_) * scale_1), (1.0).xxx);
-                    float3 wa_1 = ((_e27 == (1u).xxx) ? g_1 : ((1.0).xxx - g_1));
+                    float3 g_3 = min(((float3((_e54 & (mask_1).xxx)) + light_1.frac_) * scale_1), (1.0).xxx);
+                    float3 wa_1 = ((_e27 == (1u).xxx) ? g_3 : ((1.0).xxx - g_3));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
                     float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_1 - centre_1))));
+                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
@@ -369,29 +369,29 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
+void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2)
 {
     float3 variance = (0.0).xxx;
     float size = 0.0;
-    bool local_5 = (bool)0;
+    bool local_4 = (bool)0;
 
     float _e7 = step_.h1_;
     uint _e11 = step_.level;
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / (s_2.weight).xxx) - (mean_1 * mean_1)), (0.0).xxx) * h) * h);
-        size = ((size_sum_1 / s_2.weight) * h);
+        size = ((size_sum_2 / s_2.weight) * h);
     }
     float3 _e41 = step_.origin;
     float3 position = (_e41 + ((float3(q_2) + mean_1) * h));
     float luminance = dot(s_2.intensity, LUMINANCE);
     if ((luminance > 0.0)) {
         float _e55 = step_.threshold;
-        local_5 = (luminance >= _e55);
+        local_4 = (luminance >= _e55);
     } else {
-        local_5 = false;
+        local_4 = false;
     }
-    bool reported = local_5;
+    bool reported = local_4;
     uint _e62 = step_.light_base;
     {
         Light _value2 = ConstructLight(position, (reported ? s_2.intensity : (0.0).xxx));
@@ -409,10 +409,10 @@ uint naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
 
-void reduce(uint lane_3)
+void reduce(uint lane_4)
 {
     uint stride = 32u;
-    uint a = (uint)0;
+    uint a_3 = (uint)0;
 
     uint2 loop_bound_4 = uint2(4294967295u, 4294967295u);
     bool loop_init_4 = true;
@@ -431,30 +431,30 @@ void reduce(uint lane_3)
         }
         {
             uint _e6 = stride;
-            if ((lane_3 < _e6)) {
-                a = 0u;
+            if ((lane_4 < _e6)) {
+                a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u, 4294967295u);
                 bool loop_init_5 = true;
                 while(true) {
                     if (all(loop_bound_5 == uint2(0u, 0u))) { break; }
                     loop_bound_5 -= uint2(loop_bound_5.y == 0u, 1u);
                     if (!loop_init_5) {
-                        uint _e27 = a;
-                        a = (_e27 + 1u);
+                        uint _e27 = a_3;
+                        a_3 = (_e27 + 1u);
                     }
                     loop_init_5 = false;
-                    uint _e10 = a;
+                    uint _e10 = a_3;
                     if ((_e10 < 3u)) {
                     } else {
                         break;
                     }
                     {
-                        uint _e15 = a;
-                        float4 _e17 = partial[min(uint(lane_3), 63u)][min(uint(_e15), 2u)];
+                        uint _e15 = a_3;
+                        float4 _e17 = lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)];
                         uint _e19 = stride;
-                        uint _e22 = a;
-                        float4 _e24 = partial[min(uint((lane_3 + _e19)), 63u)][min(uint(_e22), 2u)];
-                        partial[min(uint(lane_3), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
+                        uint _e22 = a_3;
+                        float4 _e24 = lane_sums[min(uint((lane_4 + _e19)), 63u)][min(uint(_e22), 2u)];
+                        lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
                     }
                 }
             }
@@ -464,63 +464,44 @@ void reduce(uint lane_3)
     return;
 }
 
-typedef float4 ret_Constructarray3_float4_[3];
-ret_Constructarray3_float4_ Constructarray3_float4_(float4 arg0, float4 arg1, float4 arg2) {
-    float4 ret[3] = { arg0, arg1, arg2 };
-    return ret;
+uint naga_mod(uint lhs, uint rhs) {
+    return lhs % (rhs == 0u ? 1u : rhs);
 }
 
 [numthreads(64, 1, 1)]
-void splat_wide(uint lane : SV_GroupIndex, uint3 wg : SV_GroupID, uint3 groups_5 : SV_GroupID)
+void size_parts(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 groups_7 : SV_GroupID)
 {
-    if (lane == 0) {
-        partial = (float4[64][3])0;
-        shared_mean = (float3)0;
+    if (lane_1 == 0) {
+        lane_sums = (float4[64][3])0;
     }
     GroupMemoryBarrierWithGroupSync();
-    bool local_2 = (bool)0;
-
-    uint m_1 = (wg.x + (wg.y * groups_5.x));
+    uint w_2 = (wg_1.x + (wg_1.y * groups_7.x));
     uint _e10 = step_.count;
-    if ((m_1 >= _e10)) {
+    uint _e13 = step_.parts;
+    if ((w_2 >= (_e10 * _e13))) {
         return;
     }
-    const uint3 _e12 = demorton3_(m_1);
-    const Sums _e14 = moment_sums(_e12, lane, WORKGROUP);
-    partial[min(uint(lane), 63u)] = Constructarray3_float4_(float4(_e14.intensity, _e14.weight), float4(_e14.first, 0.0), float4(_e14.second, 0.0));
+    uint _e18 = step_.parts;
+    uint m_1 = naga_div(w_2, _e18);
+    uint _e22 = step_.parts;
+    uint g_4 = naga_mod(w_2, _e22);
+    uint _e27 = step_.parts;
+    float4 _e31 = asfloat(partials.Load4(48+(m_1 * _e27)*80));
+    float3 mean_2 = _e31.xyz;
+    const uint3 _e33 = demorton3_(m_1);
+    uint _e40 = step_.parts;
+    const float _e42 = size_sum_1(_e33, mean_2, ((g_4 * WORKGROUP) + lane_1), (WORKGROUP * _e40));
+    lane_sums[min(uint(lane_1), 63u)][0] = float4(_e42, 0.0, 0.0, 0.0);
+    lane_sums[min(uint(lane_1), 63u)][1] = (0.0).xxxx;
+    lane_sums[min(uint(lane_1), 63u)][2] = (0.0).xxxx;
     GroupMemoryBarrierWithGroupSync();
-    reduce(lane);
-    float4 _e30 = partial[0][0];
-    float _e36 = partial[0][0].w;
-    float4 _e40 = partial[0][1];
-    float4 _e45 = partial[0][2];
-    Sums total = ConstructSums(_e30.xyz, _e36, _e40.xyz, _e45.xyz);
-    if ((lane == 0u)) {
-        const float3 _e51 = centre(total);
-        shared_mean = _e51;
-    }
-    GroupMemoryBarrierWithGroupSync();
-    float3 _e53 = shared_mean;
-    GroupMemoryBarrierWithGroupSync();
-    const float _e58 = size_sum(_e12, _e53, lane, WORKGROUP);
-    partial[min(uint(lane), 63u)][0] = float4(_e58, 0.0, 0.0, 0.0);
-    GroupMemoryBarrierWithGroupSync();
-    reduce(lane);
-    uint _e66 = step_.slot_offset;
-    uint v_4 = asuint(slots.Load((_e66 + m_1)*4));
-    if ((lane == 0u)) {
-        uint _e77 = step_.slot_offset;
-        uint _e82 = asuint(slots.Load(((_e77 + m_1) + 1u)*4));
-        local_2 = (_e82 != v_4);
-    } else {
-        local_2 = false;
-    }
-    bool _e85 = local_2;
-    if (_e85) {
-        float _e90 = partial[0][0].x;
-        write_vertex(_e12, v_4, total, _e53, _e90);
+    reduce(lane_1);
+    if ((lane_1 == 0u)) {
+        float4 _e68 = lane_sums[0][0];
+        partials.Store4(64+w_2*80, asuint(_e68));
         return;
     } else {
         return;
     }
 }
+

@@ -15,9 +15,9 @@ struct Step {
     uint light_base;
     float threshold;
     uint count;
+    uint parts;
     uint _pad0_;
     uint _pad1_;
-    uint _pad2_;
 };
 struct Light {
     vec3 position;
@@ -48,19 +48,13 @@ layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_4_cs[]; };
 
 layout(std430) buffer type_8_block_2Compute { Sorted _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_7_cs[]; };
+layout(std430) buffer type_14_block_3Compute { vec4 _group_0_binding_11_cs[][5]; };
 
-layout(std430) buffer type_9_block_4Compute { Light _group_0_binding_8_cs[]; };
-
-layout(std430) buffer type_4_block_5Compute { vec4 _group_0_binding_9_cs[]; };
-
-shared vec4 partial[64][3];
-
-shared vec3 shared_mean;
+shared vec4 lane_sums[64][3];
 
 
-uint flat_(uvec3 id_5, uvec3 groups_6) {
-    return (id_5.x + ((id_5.y * groups_6.x) * WORKGROUP));
+uint flat_(uvec3 id_7, uvec3 groups_9) {
+    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -151,10 +145,10 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
+Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
     Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
     uint k_2 = 0u;
-    bool local_3 = false;
+    bool local_2 = false;
     uint j = 0u;
     uint _e12 = cells_a_side();
     uint _e15 = _group_0_binding_0_cs.level;
@@ -177,17 +171,17 @@ Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
             uint _e32 = k_2;
             uvec3 _e33 = corner(_e32);
             if (!(any(lessThan(q, _e33)))) {
-                local_3 = any(greaterThanEqual((q - _e33), uvec3(_e12)));
+                local_2 = any(greaterThanEqual((q - _e33), uvec3(_e12)));
             } else {
-                local_3 = true;
+                local_2 = true;
             }
-            bool _e44 = local_3;
+            bool _e44 = local_2;
             if (_e44) {
                 continue;
             }
             uvec2 _e46 = cell_range((q - _e33));
             vec3 at = vec3(_e33);
-            j = (_e46.x + lane_1);
+            j = (_e46.x + lane_2);
             bool loop_init_1 = true;
             while(true) {
                 if (!loop_init_1) {
@@ -204,11 +198,11 @@ Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
                     uint _e55 = j;
                     Sorted light = _group_0_binding_6_cs[_e55];
                     uvec3 _e59 = unpack(light.cell);
-                    vec3 g = min(((vec3((_e59 & uvec3(mask))) + light.frac) * scale), vec3(1.0));
-                    vec3 wa = mix((vec3(1.0) - g), g, equal(_e33, uvec3(1u)));
+                    vec3 g_2 = min(((vec3((_e59 & uvec3(mask))) + light.frac) * scale), vec3(1.0));
+                    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(_e33, uvec3(1u)));
                     float w = ((wa.x * wa.y) * wa.z);
                     float v_3 = (w * light.luminance);
-                    vec3 off = (g - at);
+                    vec3 off = (g_2 - at);
                     vec3 _e85 = s.intensity;
                     s.intensity = (_e85 + (w * light.intensity));
                     float _e90 = s.weight;
@@ -225,10 +219,10 @@ Sums moment_sums(uvec3 q, uint lane_1, uint lanes) {
     return _e106;
 }
 
-float size_sum(uvec3 q_1, vec3 mean, uint lane_2, uint lanes_1) {
+float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
     float sum = 0.0;
     uint k_3 = 0u;
-    bool local_4 = false;
+    bool local_3 = false;
     uint j_1 = 0u;
     uint _e6 = cells_a_side();
     uint _e9 = _group_0_binding_0_cs.level;
@@ -251,17 +245,17 @@ float size_sum(uvec3 q_1, vec3 mean, uint lane_2, uint lanes_1) {
             uint _e26 = k_3;
             uvec3 _e27 = corner(_e26);
             if (!(any(lessThan(q_1, _e27)))) {
-                local_4 = any(greaterThanEqual((q_1 - _e27), uvec3(_e6)));
+                local_3 = any(greaterThanEqual((q_1 - _e27), uvec3(_e6)));
             } else {
-                local_4 = true;
+                local_3 = true;
             }
-            bool _e38 = local_4;
+            bool _e38 = local_3;
             if (_e38) {
                 continue;
             }
             uvec2 _e40 = cell_range((q_1 - _e27));
             vec3 centre_1 = (vec3(_e27) + mean);
-            j_1 = (_e40.x + lane_2);
+            j_1 = (_e40.x + lane_3);
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
@@ -278,11 +272,11 @@ float size_sum(uvec3 q_1, vec3 mean, uint lane_2, uint lanes_1) {
                     uint _e50 = j_1;
                     Sorted light_1 = _group_0_binding_6_cs[_e50];
                     uvec3 _e54 = unpack(light_1.cell);
-                    vec3 g_1 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
-                    vec3 wa_1 = mix((vec3(1.0) - g_1), g_1, equal(_e27, uvec3(1u)));
+                    vec3 g_3 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
+                    vec3 wa_1 = mix((vec3(1.0) - g_3), g_3, equal(_e27, uvec3(1u)));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
                     float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_1 - centre_1))));
+                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
@@ -298,39 +292,9 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
-    vec3 variance = vec3(0.0);
-    float size = 0.0;
-    bool local_5 = false;
-    float _e7 = _group_0_binding_0_cs.h1_;
-    uint _e11 = _group_0_binding_0_cs.level;
-    float h = (_e7 * float((1u << (_e11 - 1u))));
-    if ((s_2.weight > 0.0)) {
-        variance = ((max(((s_2.second / vec3(s_2.weight)) - (mean_1 * mean_1)), vec3(0.0)) * h) * h);
-        size = ((size_sum_1 / s_2.weight) * h);
-    }
-    vec3 _e41 = _group_0_binding_0_cs.origin;
-    vec3 position = (_e41 + ((vec3(q_2) + mean_1) * h));
-    float luminance = dot(s_2.intensity, LUMINANCE);
-    if ((luminance > 0.0)) {
-        float _e55 = _group_0_binding_0_cs.threshold;
-        local_5 = (luminance >= _e55);
-    } else {
-        local_5 = false;
-    }
-    bool reported = local_5;
-    uint _e62 = _group_0_binding_0_cs.light_base;
-    _group_0_binding_8_cs[(_e62 + v_2)] = Light(position, (reported ? s_2.intensity : vec3(0.0)));
-    uint _e73 = _group_0_binding_0_cs.light_base;
-    vec3 _e76 = variance;
-    float _e77 = size;
-    _group_0_binding_9_cs[(_e73 + v_2)] = vec4(_e76, _e77);
-    return;
-}
-
-void reduce(uint lane_3) {
+void reduce(uint lane_4) {
     uint stride = 32u;
-    uint a = 0u;
+    uint a_3 = 0u;
     bool loop_init_4 = true;
     while(true) {
         if (!loop_init_4) {
@@ -345,27 +309,27 @@ void reduce(uint lane_3) {
         }
         {
             uint _e6 = stride;
-            if ((lane_3 < _e6)) {
-                a = 0u;
+            if ((lane_4 < _e6)) {
+                a_3 = 0u;
                 bool loop_init_5 = true;
                 while(true) {
                     if (!loop_init_5) {
-                        uint _e27 = a;
-                        a = (_e27 + 1u);
+                        uint _e27 = a_3;
+                        a_3 = (_e27 + 1u);
                     }
                     loop_init_5 = false;
-                    uint _e10 = a;
+                    uint _e10 = a_3;
                     if ((_e10 < 3u)) {
                     } else {
                         break;
                     }
                     {
-                        uint _e15 = a;
-                        vec4 _e17 = partial[lane_3][_e15];
+                        uint _e15 = a_3;
+                        vec4 _e17 = lane_sums[lane_4][_e15];
                         uint _e19 = stride;
-                        uint _e22 = a;
-                        vec4 _e24 = partial[(lane_3 + _e19)][_e22];
-                        partial[lane_3][_e15] = (_e17 + _e24);
+                        uint _e22 = a_3;
+                        vec4 _e24 = lane_sums[(lane_4 + _e19)][_e22];
+                        lane_sums[lane_4][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -378,58 +342,38 @@ void reduce(uint lane_3) {
 
 void main() {
     if (gl_LocalInvocationID == uvec3(0u)) {
-        partial = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
-        shared_mean = vec3(0.0);
+        lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
     }
     memoryBarrierShared();
     barrier();
-    uint lane = gl_LocalInvocationIndex;
-    uvec3 wg = gl_WorkGroupID;
-    uvec3 groups_5 = gl_NumWorkGroups;
-    bool local_2 = false;
-    uint m_1 = (wg.x + (wg.y * groups_5.x));
+    uint lane_1 = gl_LocalInvocationIndex;
+    uvec3 wg_1 = gl_WorkGroupID;
+    uvec3 groups_7 = gl_NumWorkGroups;
+    uint w_2 = (wg_1.x + (wg_1.y * groups_7.x));
     uint _e10 = _group_0_binding_0_cs.count;
-    if ((m_1 >= _e10)) {
+    uint _e13 = _group_0_binding_0_cs.parts;
+    if ((w_2 >= (_e10 * _e13))) {
         return;
     }
-    uvec3 _e12 = demorton3_(m_1);
-    Sums _e14 = moment_sums(_e12, lane, WORKGROUP);
-    partial[lane] = vec4[3](vec4(_e14.intensity, _e14.weight), vec4(_e14.first, 0.0), vec4(_e14.second, 0.0));
+    uint _e18 = _group_0_binding_0_cs.parts;
+    uint m_1 = (w_2 / _e18);
+    uint _e22 = _group_0_binding_0_cs.parts;
+    uint g_4 = (w_2 % _e22);
+    uint _e27 = _group_0_binding_0_cs.parts;
+    vec4 _e31 = _group_0_binding_11_cs[(m_1 * _e27)][3];
+    vec3 mean_2 = _e31.xyz;
+    uvec3 _e33 = demorton3_(m_1);
+    uint _e40 = _group_0_binding_0_cs.parts;
+    float _e42 = size_sum_1(_e33, mean_2, ((g_4 * WORKGROUP) + lane_1), (WORKGROUP * _e40));
+    lane_sums[lane_1][0] = vec4(_e42, 0.0, 0.0, 0.0);
+    lane_sums[lane_1][1] = vec4(0.0);
+    lane_sums[lane_1][2] = vec4(0.0);
     memoryBarrierShared();
     barrier();
-    reduce(lane);
-    vec4 _e30 = partial[0][0];
-    float _e36 = partial[0][0].w;
-    vec4 _e40 = partial[0][1];
-    vec4 _e45 = partial[0][2];
-    Sums total = Sums(_e30.xyz, _e36, _e40.xyz, _e45.xyz);
-    if ((lane == 0u)) {
-        vec3 _e51 = centre(total);
-        shared_mean = _e51;
-    }
-    memoryBarrierShared();
-    barrier();
-    vec3 _e53 = shared_mean;
-    memoryBarrierShared();
-    barrier();
-    float _e58 = size_sum(_e12, _e53, lane, WORKGROUP);
-    partial[lane][0] = vec4(_e58, 0.0, 0.0, 0.0);
-    memoryBarrierShared();
-    barrier();
-    reduce(lane);
-    uint _e66 = _group_0_binding_0_cs.slot_offset;
-    uint v_4 = _group_0_binding_7_cs[(_e66 + m_1)];
-    if ((lane == 0u)) {
-        uint _e77 = _group_0_binding_0_cs.slot_offset;
-        uint _e82 = _group_0_binding_7_cs[((_e77 + m_1) + 1u)];
-        local_2 = (_e82 != v_4);
-    } else {
-        local_2 = false;
-    }
-    bool _e85 = local_2;
-    if (_e85) {
-        float _e90 = partial[0][0].x;
-        write_vertex(_e12, v_4, total, _e53, _e90);
+    reduce(lane_1);
+    if ((lane_1 == 0u)) {
+        vec4 _e68 = lane_sums[0][0];
+        _group_0_binding_11_cs[w_2][4] = _e68;
         return;
     } else {
         return;

@@ -1,0 +1,222 @@
+#version 430 core
+#extension GL_ARB_compute_shader : require
+#extension GL_ARB_shader_storage_buffer_object : require
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+
+struct Step {
+    vec3 origin;
+    float h1_;
+    uint n;
+    uint bits;
+    uint level;
+    uint top;
+    uint max_cell;
+    uint slot_offset;
+    uint light_base;
+    float threshold;
+    uint count;
+    uint parts;
+    uint _pad0_;
+    uint _pad1_;
+};
+struct Light {
+    vec3 position;
+    vec3 intensity;
+};
+struct Sorted {
+    vec3 frac;
+    float luminance;
+    vec3 intensity;
+    uint cell;
+};
+struct Located {
+    uvec3 cell;
+    vec3 frac;
+};
+struct Sums {
+    vec3 intensity;
+    float weight;
+    vec3 first;
+    vec3 second;
+};
+const uint WORKGROUP = 64u;
+const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
+
+layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
+
+layout(std430) buffer type_14_block_1Compute { vec4 _group_0_binding_11_cs[][5]; };
+
+
+uint flat_(uvec3 id_7, uvec3 groups_9) {
+    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+}
+
+uint spread3_(uint v) {
+    uint x = 0u;
+    x = (v & 1023u);
+    uint _e4 = x;
+    uint _e5 = x;
+    x = ((_e4 | (_e5 << 16u)) & 50331903u);
+    uint _e11 = x;
+    uint _e12 = x;
+    x = ((_e11 | (_e12 << 8u)) & 50393103u);
+    uint _e18 = x;
+    uint _e19 = x;
+    x = ((_e18 | (_e19 << 4u)) & 51130563u);
+    uint _e25 = x;
+    uint _e26 = x;
+    x = ((_e25 | (_e26 << 2u)) & 153391689u);
+    uint _e32 = x;
+    return _e32;
+}
+
+uint compact3_(uint v_1) {
+    uint x_1 = 0u;
+    x_1 = (v_1 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uint morton3_(uvec3 c) {
+    uint _e2 = spread3_(c.x);
+    uint _e4 = spread3_(c.y);
+    uint _e9 = spread3_(c.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
+}
+
+uint pack(uvec3 c_1) {
+    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
+}
+
+uvec3 unpack(uint c_2) {
+    return uvec3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
+}
+
+Located locate_light(vec3 p) {
+    vec3 _e3 = _group_0_binding_0_cs.origin;
+    float _e7 = _group_0_binding_0_cs.h1_;
+    vec3 t = ((p - _e3) / vec3(_e7));
+    uint _e15 = _group_0_binding_0_cs.max_cell;
+    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
+    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
+}
+
+uvec3 corner(uint k_1) {
+    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+}
+
+uint cells_a_side() {
+    uint _e3 = _group_0_binding_0_cs.bits;
+    uint _e6 = _group_0_binding_0_cs.level;
+    return (1u << (_e3 - (_e6 - 1u)));
+}
+
+vec3 centre(Sums s_1) {
+    if ((s_1.weight > 0.0)) {
+        return (s_1.first / vec3(s_1.weight));
+    }
+    return vec3(0.0);
+}
+
+void main() {
+    uvec3 id_5 = gl_GlobalInvocationID;
+    uvec3 groups_6 = gl_NumWorkGroups;
+    vec4 total[5] = vec4[5](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+    uint g = 1u;
+    uint a_1 = 0u;
+    uint a_2 = 0u;
+    uint _e2 = flat_(id_5, groups_6);
+    uint _e5 = _group_0_binding_0_cs.count;
+    if ((_e2 >= _e5)) {
+        return;
+    }
+    uint _e9 = _group_0_binding_0_cs.parts;
+    uint first = (_e2 * _e9);
+    vec4 _e13[5] = _group_0_binding_11_cs[first];
+    total = _e13;
+    bool loop_init = true;
+    while(true) {
+        if (!loop_init) {
+            uint _e42 = g;
+            g = (_e42 + 1u);
+        }
+        loop_init = false;
+        uint _e17 = g;
+        uint _e20 = _group_0_binding_0_cs.parts;
+        if ((_e17 < _e20)) {
+        } else {
+            break;
+        }
+        {
+            a_1 = 0u;
+            bool loop_init_1 = true;
+            while(true) {
+                if (!loop_init_1) {
+                    uint _e39 = a_1;
+                    a_1 = (_e39 + 1u);
+                }
+                loop_init_1 = false;
+                uint _e24 = a_1;
+                if ((_e24 < 3u)) {
+                } else {
+                    break;
+                }
+                {
+                    uint _e27 = a_1;
+                    vec4 _e29 = total[_e27];
+                    uint _e31 = g;
+                    uint _e34 = a_1;
+                    vec4 _e36 = _group_0_binding_11_cs[(first + _e31)][_e34];
+                    total[_e27] = (_e29 + _e36);
+                }
+            }
+        }
+    }
+    bool loop_init_2 = true;
+    while(true) {
+        if (!loop_init_2) {
+            uint _e57 = a_2;
+            a_2 = (_e57 + 1u);
+        }
+        loop_init_2 = false;
+        uint _e46 = a_2;
+        if ((_e46 < 3u)) {
+        } else {
+            break;
+        }
+        {
+            uint _e51 = a_2;
+            uint _e53 = a_2;
+            vec4 _e55 = total[_e53];
+            _group_0_binding_11_cs[first][_e51] = _e55;
+        }
+    }
+    vec4 _e60 = total[0];
+    float _e64 = total[0].w;
+    vec4 _e66 = total[1];
+    vec4 _e69 = total[2];
+    Sums s_3 = Sums(_e60.xyz, _e64, _e66.xyz, _e69.xyz);
+    vec3 _e75 = centre(s_3);
+    _group_0_binding_11_cs[first][3] = vec4(_e75, 0.0);
+    return;
+}
+

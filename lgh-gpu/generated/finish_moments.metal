@@ -1,0 +1,573 @@
+// language: metal2.4
+#include <metal_stdlib>
+#include <simd/simd.h>
+
+using metal::uint;
+
+struct _mslBufferSizes {
+    uint size1;
+    uint size2;
+    uint size3;
+    uint size4;
+    uint size5;
+    uint size6;
+    uint size7;
+    uint size8;
+    uint size9;
+    uint size10;
+    uint size11;
+};
+
+struct Step {
+    metal::packed_float3 origin;
+    float h1_;
+    uint n;
+    uint bits;
+    uint level;
+    uint top;
+    uint max_cell;
+    uint slot_offset;
+    uint light_base;
+    float threshold;
+    uint count;
+    uint parts;
+    uint _pad0_;
+    uint _pad1_;
+};
+struct Light {
+    metal::float3 position;
+    metal::float3 intensity;
+};
+struct Sorted {
+    metal::packed_float3 frac;
+    float luminance;
+    metal::packed_float3 intensity;
+    uint cell;
+};
+typedef metal::float4 type_4[1];
+typedef metal::atomic_uint type_6[1];
+typedef uint type_7[1];
+typedef Sorted type_8[1];
+typedef Light type_9[1];
+struct Located {
+    metal::uint3 cell;
+    metal::float3 frac;
+};
+struct Sums {
+    metal::packed_float3 intensity;
+    float weight;
+    metal::float3 first;
+    metal::float3 second;
+};
+struct type_13 {
+    metal::float4 inner[5];
+};
+typedef type_13 type_14[1];
+struct type_15 {
+    metal::float4 inner[3];
+};
+struct type_16 {
+    type_15 inner[64];
+};
+constant uint WORKGROUP = 64u;
+constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
+
+uint flat(
+    metal::uint3 id_7,
+    metal::uint3 groups_9
+) {
+    return id_7.x + ((id_7.y * groups_9.x) * WORKGROUP);
+}
+
+uint spread3_(
+    uint v
+) {
+    uint x = {};
+    x = v & 1023u;
+    uint _e4 = x;
+    uint _e5 = x;
+    x = (_e4 | (_e5 << 16u)) & 50331903u;
+    uint _e11 = x;
+    uint _e12 = x;
+    x = (_e11 | (_e12 << 8u)) & 50393103u;
+    uint _e18 = x;
+    uint _e19 = x;
+    x = (_e18 | (_e19 << 4u)) & 51130563u;
+    uint _e25 = x;
+    uint _e26 = x;
+    x = (_e25 | (_e26 << 2u)) & 153391689u;
+    uint _e32 = x;
+    return _e32;
+}
+
+uint compact3_(
+    uint v_1
+) {
+    uint x_1 = {};
+    x_1 = v_1 & 153391689u;
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = (_e4 | (_e5 >> 2u)) & 51130563u;
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = (_e11 | (_e12 >> 4u)) & 50393103u;
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = (_e18 | (_e19 >> 8u)) & 50331903u;
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = (_e25 | (_e26 >> 16u)) & 1023u;
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uint morton3_(
+    metal::uint3 c
+) {
+    uint _e2 = spread3_(c.x);
+    uint _e4 = spread3_(c.y);
+    uint _e9 = spread3_(c.z);
+    return (_e2 | (_e4 << 1u)) | (_e9 << 2u);
+}
+
+metal::uint3 demorton3_(
+    uint m
+) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_(m >> 1u);
+    uint _e7 = compact3_(m >> 2u);
+    return metal::uint3(_e1, _e4, _e7);
+}
+
+uint pack(
+    metal::uint3 c_1
+) {
+    return (c_1.x | (c_1.y << 10u)) | (c_1.z << 20u);
+}
+
+metal::uint3 unpack(
+    uint c_2
+) {
+    return metal::uint3(c_2 & 1023u, (c_2 >> 10u) & 1023u, c_2 >> 20u);
+}
+
+metal::uint3 naga_f2u32(metal::float3 value) {
+    return static_cast<metal::uint3>(metal::clamp(value, 0.0, 4294967000.0));
+}
+
+Located locate_light(
+    metal::float3 p,
+    constant Step& step
+) {
+    metal::float3 _e3 = step.origin;
+    float _e7 = step.h1_;
+    metal::float3 t = (p - _e3) / metal::float3(_e7);
+    uint _e15 = step.max_cell;
+    metal::float3 c_4 = metal::clamp(metal::floor(t), metal::float3(0.0), metal::float3(static_cast<float>(_e15)));
+    return Located {naga_f2u32(c_4), metal::clamp(t - c_4, metal::float3(0.0), metal::float3(1.0))};
+}
+
+metal::uint3 corner(
+    uint k_1
+) {
+    return metal::uint3(k_1 & 1u, (k_1 >> 1u) & 1u, k_1 >> 2u);
+}
+
+uint cells_a_side(
+    constant Step& step
+) {
+    uint _e3 = step.bits;
+    uint _e6 = step.level;
+    return 1u << (_e3 - (_e6 - 1u));
+}
+
+metal::uint2 cell_range(
+    metal::uint3 c_3,
+    constant Step& step,
+    device type_7 const& starts,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    uint _e4 = step.level;
+    uint shift = 3u * (_e4 - 1u);
+    uint _e8 = morton3_(c_3);
+    uint _e12 = starts[_e8 << shift];
+    uint _e18 = starts[(_e8 + 1u) << shift];
+    return metal::uint2(_e12, _e18);
+}
+
+Sums moment_sums(
+    metal::uint3 q,
+    uint lane_2,
+    uint lanes,
+    constant Step& step,
+    device type_7 const& starts,
+    device type_8 const& sorted,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    Sums s = Sums {metal::float3(0.0), 0.0, metal::float3(0.0), metal::float3(0.0)};
+    uint k_2 = 0u;
+    bool local_2 = {};
+    uint j = {};
+    uint _e12 = cells_a_side(step);
+    uint _e15 = step.level;
+    uint sub = _e15 - 1u;
+    uint mask = (1u << sub) - 1u;
+    float scale = 1.0 / static_cast<float>(1u << sub);
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            uint _e104 = k_2;
+            k_2 = _e104 + 1u;
+        }
+        loop_init = false;
+        uint _e29 = k_2;
+        if (_e29 < 8u) {
+        } else {
+            break;
+        }
+        {
+            uint _e32 = k_2;
+            metal::uint3 _e33 = corner(_e32);
+            if (!(metal::any(q < _e33))) {
+                local_2 = metal::any((q - _e33) >= metal::uint3(_e12));
+            } else {
+                local_2 = true;
+            }
+            bool _e44 = local_2;
+            if (_e44) {
+                continue;
+            }
+            metal::uint2 _e46 = cell_range(q - _e33, step, starts, _buffer_sizes);
+            metal::float3 at = static_cast<metal::float3>(_e33);
+            j = _e46.x + lane_2;
+            uint2 loop_bound_1 = uint2(4294967295u);
+            bool loop_init_1 = true;
+            while(true) {
+                if (metal::all(loop_bound_1 == uint2(0u))) { break; }
+                loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+                if (!loop_init_1) {
+                    uint _e101 = j;
+                    j = _e101 + lanes;
+                }
+                loop_init_1 = false;
+                uint _e51 = j;
+                if (_e51 < _e46.y) {
+                } else {
+                    break;
+                }
+                {
+                    uint _e55 = j;
+                    Sorted light = sorted[_e55];
+                    metal::uint3 _e59 = unpack(light.cell);
+                    metal::float3 g_2 = metal::min((static_cast<metal::float3>(_e59 & metal::uint3(mask)) + light.frac) * scale, metal::float3(1.0));
+                    metal::float3 wa = metal::select(metal::float3(1.0) - g_2, g_2, _e33 == metal::uint3(1u));
+                    float w = (wa.x * wa.y) * wa.z;
+                    float v_3 = w * light.luminance;
+                    metal::float3 off = g_2 - at;
+                    metal::float3 _e85 = s.intensity;
+                    s.intensity = _e85 + (w * light.intensity);
+                    float _e90 = s.weight;
+                    s.weight = _e90 + v_3;
+                    metal::float3 _e93 = s.first;
+                    s.first = _e93 + (v_3 * off);
+                    metal::float3 _e97 = s.second;
+                    s.second = _e97 + (v_3 * (off * off));
+                }
+            }
+        }
+    }
+    Sums _e106 = s;
+    return _e106;
+}
+
+float size_sum_1(
+    metal::uint3 q_1,
+    metal::float3 mean,
+    uint lane_3,
+    uint lanes_1,
+    constant Step& step,
+    device type_7 const& starts,
+    device type_8 const& sorted,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    float sum = 0.0;
+    uint k_3 = 0u;
+    bool local_3 = {};
+    uint j_1 = {};
+    uint _e6 = cells_a_side(step);
+    uint _e9 = step.level;
+    uint sub_1 = _e9 - 1u;
+    uint mask_1 = (1u << sub_1) - 1u;
+    float scale_1 = 1.0 / static_cast<float>(1u << sub_1);
+    uint2 loop_bound_2 = uint2(4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (metal::all(loop_bound_2 == uint2(0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e86 = k_3;
+            k_3 = _e86 + 1u;
+        }
+        loop_init_2 = false;
+        uint _e23 = k_3;
+        if (_e23 < 8u) {
+        } else {
+            break;
+        }
+        {
+            uint _e26 = k_3;
+            metal::uint3 _e27 = corner(_e26);
+            if (!(metal::any(q_1 < _e27))) {
+                local_3 = metal::any((q_1 - _e27) >= metal::uint3(_e6));
+            } else {
+                local_3 = true;
+            }
+            bool _e38 = local_3;
+            if (_e38) {
+                continue;
+            }
+            metal::uint2 _e40 = cell_range(q_1 - _e27, step, starts, _buffer_sizes);
+            metal::float3 centre_1 = static_cast<metal::float3>(_e27) + mean;
+            j_1 = _e40.x + lane_3;
+            uint2 loop_bound_3 = uint2(4294967295u);
+            bool loop_init_3 = true;
+            while(true) {
+                if (metal::all(loop_bound_3 == uint2(0u))) { break; }
+                loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+                if (!loop_init_3) {
+                    uint _e83 = j_1;
+                    j_1 = _e83 + lanes_1;
+                }
+                loop_init_3 = false;
+                uint _e46 = j_1;
+                if (_e46 < _e40.y) {
+                } else {
+                    break;
+                }
+                {
+                    uint _e50 = j_1;
+                    Sorted light_1 = sorted[_e50];
+                    metal::uint3 _e54 = unpack(light_1.cell);
+                    metal::float3 g_3 = metal::min((static_cast<metal::float3>(_e54 & metal::uint3(mask_1)) + light_1.frac) * scale_1, metal::float3(1.0));
+                    metal::float3 wa_1 = metal::select(metal::float3(1.0) - g_3, g_3, _e27 == metal::uint3(1u));
+                    float w_1 = (wa_1.x * wa_1.y) * wa_1.z;
+                    float _e76 = sum;
+                    sum = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
+                }
+            }
+        }
+    }
+    float _e88 = sum;
+    return _e88;
+}
+
+metal::float3 centre(
+    Sums s_1
+) {
+    if (s_1.weight > 0.0) {
+        return s_1.first / metal::float3(s_1.weight);
+    }
+    return metal::float3(0.0);
+}
+
+void write_vertex(
+    metal::uint3 q_2,
+    uint v_2,
+    Sums s_2,
+    metal::float3 mean_1,
+    float size_sum_2,
+    constant Step& step,
+    device type_9& out,
+    device type_4& extras,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    metal::float3 variance = metal::float3(0.0);
+    float size = 0.0;
+    bool local_4 = {};
+    float _e7 = step.h1_;
+    uint _e11 = step.level;
+    float h = _e7 * static_cast<float>(1u << (_e11 - 1u));
+    if (s_2.weight > 0.0) {
+        variance = (metal::max((s_2.second / metal::float3(s_2.weight)) - (mean_1 * mean_1), metal::float3(0.0)) * h) * h;
+        size = (size_sum_2 / s_2.weight) * h;
+    }
+    metal::float3 _e41 = step.origin;
+    metal::float3 position = _e41 + ((static_cast<metal::float3>(q_2) + mean_1) * h);
+    float luminance = metal::dot(s_2.intensity, LUMINANCE);
+    if (luminance > 0.0) {
+        float _e55 = step.threshold;
+        local_4 = luminance >= _e55;
+    } else {
+        local_4 = false;
+    }
+    bool reported = local_4;
+    uint _e62 = step.light_base;
+    out[_e62 + v_2] = Light {position, reported ? s_2.intensity : metal::float3(0.0)};
+    uint _e73 = step.light_base;
+    metal::float3 _e76 = variance;
+    float _e77 = size;
+    extras[_e73 + v_2] = metal::float4(_e76, _e77);
+    return;
+}
+
+uint naga_div(uint lhs, uint rhs) {
+    return lhs / metal::select(rhs, 1u, rhs == 0u);
+}
+
+void reduce(
+    uint lane_4,
+    threadgroup type_16& lane_sums
+) {
+    uint stride = 32u;
+    uint a_3 = {};
+    uint2 loop_bound_4 = uint2(4294967295u);
+    bool loop_init_4 = true;
+    while(true) {
+        if (metal::all(loop_bound_4 == uint2(0u))) { break; }
+        loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
+        if (!loop_init_4) {
+            uint _e29 = stride;
+            stride = naga_div(_e29, 2u);
+        }
+        loop_init_4 = false;
+        uint _e3 = stride;
+        if (_e3 > 0u) {
+        } else {
+            break;
+        }
+        {
+            uint _e6 = stride;
+            if (lane_4 < _e6) {
+                a_3 = 0u;
+                uint2 loop_bound_5 = uint2(4294967295u);
+                bool loop_init_5 = true;
+                while(true) {
+                    if (metal::all(loop_bound_5 == uint2(0u))) { break; }
+                    loop_bound_5 -= uint2(loop_bound_5.y == 0u, 1u);
+                    if (!loop_init_5) {
+                        uint _e27 = a_3;
+                        a_3 = _e27 + 1u;
+                    }
+                    loop_init_5 = false;
+                    uint _e10 = a_3;
+                    if (_e10 < 3u) {
+                    } else {
+                        break;
+                    }
+                    {
+                        uint _e15 = a_3;
+                        metal::float4 _e17 = lane_sums.inner[lane_4].inner[_e15];
+                        uint _e19 = stride;
+                        uint _e22 = a_3;
+                        metal::float4 _e24 = lane_sums.inner[lane_4 + _e19].inner[_e22];
+                        lane_sums.inner[lane_4].inner[_e15] = _e17 + _e24;
+                    }
+                }
+            }
+            metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+        }
+    }
+    return;
+}
+
+struct finish_momentsInput {
+};
+[[max_total_threads_per_threadgroup(64)]] kernel void finish_moments(
+  metal::uint3 id_5 [[thread_position_in_grid]]
+, metal::uint3 groups_6 [[threadgroups_per_grid]]
+, constant Step& step [[user(fake0)]]
+, device type_14& partials [[user(fake0)]]
+, constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
+) {
+    type_13 total = {};
+    uint g = 1u;
+    uint a_1 = {};
+    uint a_2 = 0u;
+    uint _e2 = flat(id_5, groups_6);
+    uint _e5 = step.count;
+    if (_e2 >= _e5) {
+        return;
+    }
+    uint _e9 = step.parts;
+    uint first = _e2 * _e9;
+    type_13 _e13 = partials[first];
+    total = _e13;
+    uint2 loop_bound_6 = uint2(4294967295u);
+    bool loop_init_6 = true;
+    while(true) {
+        if (metal::all(loop_bound_6 == uint2(0u))) { break; }
+        loop_bound_6 -= uint2(loop_bound_6.y == 0u, 1u);
+        if (!loop_init_6) {
+            uint _e42 = g;
+            g = _e42 + 1u;
+        }
+        loop_init_6 = false;
+        uint _e17 = g;
+        uint _e20 = step.parts;
+        if (_e17 < _e20) {
+        } else {
+            break;
+        }
+        {
+            a_1 = 0u;
+            uint2 loop_bound_7 = uint2(4294967295u);
+            bool loop_init_7 = true;
+            while(true) {
+                if (metal::all(loop_bound_7 == uint2(0u))) { break; }
+                loop_bound_7 -= uint2(loop_bound_7.y == 0u, 1u);
+                if (!loop_init_7) {
+                    uint _e39 = a_1;
+                    a_1 = _e39 + 1u;
+                }
+                loop_init_7 = false;
+                uint _e24 = a_1;
+                if (_e24 < 3u) {
+                } else {
+                    break;
+                }
+                {
+                    uint _e27 = a_1;
+                    metal::float4 _e29 = total.inner[_e27];
+                    uint _e31 = g;
+                    uint _e34 = a_1;
+                    metal::float4 _e36 = partials[first + _e31].inner[_e34];
+                    total.inner[_e27] = _e29 + _e36;
+                }
+            }
+        }
+    }
+    uint2 loop_bound_8 = uint2(4294967295u);
+    bool loop_init_8 = true;
+    while(true) {
+        if (metal::all(loop_bound_8 == uint2(0u))) { break; }
+        loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
+        if (!loop_init_8) {
+            uint _e57 = a_2;
+            a_2 = _e57 + 1u;
+        }
+        loop_init_8 = false;
+        uint _e46 = a_2;
+        if (_e46 < 3u) {
+        } else {
+            break;
+        }
+        {
+            uint _e51 = a_2;
+            uint _e53 = a_2;
+            metal::float4 _e55 = total.inner[_e53];
+            partials[first].inner[_e51] = _e55;
+        }
+    }
+    metal::float4 _e60 = total.inner[0];
+    float _e64 = total.inner[0].w;
+    metal::float4 _e66 = total.inner[1];
+    metal::float4 _e69 = total.inner[2];
+    Sums s_3 = Sums {_e60.xyz, _e64, _e66.xyz, _e69.xyz};
+    metal::float3 _e75 = centre(s_3);
+    partials[first].inner[3] = metal::float4(_e75, 0.0);
+    return;
+}
+
