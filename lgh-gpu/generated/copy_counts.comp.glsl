@@ -49,8 +49,8 @@ layout(std430) buffer type_6_block_1Compute { uint _group_0_binding_3_cs[]; };
 layout(std430) buffer type_7_block_2Compute { uint _group_0_binding_4_cs[]; };
 
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {

@@ -44,11 +44,17 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
 
-layout(std430) buffer type_14_block_1Compute { vec4 _group_0_binding_11_cs[][5]; };
+layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_7_cs[]; };
+
+layout(std430) buffer type_14_block_2Compute { vec4 _group_0_binding_11_cs[][5]; };
+
+shared vec4 lane_sums[64][3];
+
+shared uint occupied_slot;
 
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -137,86 +143,165 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void main() {
-    uvec3 id_5 = gl_GlobalInvocationID;
-    uvec3 groups_6 = gl_NumWorkGroups;
-    vec4 total[5] = vec4[5](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
-    uint g = 1u;
-    uint a_1 = 0u;
-    uint a_2 = 0u;
-    uint _e2 = flat_(id_5, groups_6);
-    uint _e5 = _group_0_binding_0_cs.count;
-    if ((_e2 >= _e5)) {
-        return;
+bool slot_is_occupied(uint m_1, uint lane_6) {
+    if ((lane_6 == 0u)) {
+        uint _e10 = _group_0_binding_0_cs.slot_offset;
+        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
+        uint _e19 = _group_0_binding_0_cs.slot_offset;
+        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
     }
-    uint _e9 = _group_0_binding_0_cs.parts;
-    uint first = (_e2 * _e9);
-    vec4 _e13[5] = _group_0_binding_11_cs[first];
-    total = _e13;
+    memoryBarrierShared();
+    barrier();
+    uint _e26 = occupied_slot;
+    memoryBarrierShared();
+    barrier();
+    return (_e26 == 1u);
+}
+
+void reduce(uint lane_7) {
+    uint stride = 32u;
+    uint a_3 = 0u;
     bool loop_init = true;
     while(true) {
         if (!loop_init) {
-            uint _e42 = g;
-            g = (_e42 + 1u);
+            uint _e29 = stride;
+            stride = (_e29 / 2u);
         }
         loop_init = false;
-        uint _e17 = g;
-        uint _e20 = _group_0_binding_0_cs.parts;
-        if ((_e17 < _e20)) {
+        uint _e3 = stride;
+        if ((_e3 > 0u)) {
+        } else {
+            break;
+        }
+        {
+            uint _e6 = stride;
+            if ((lane_7 < _e6)) {
+                a_3 = 0u;
+                bool loop_init_1 = true;
+                while(true) {
+                    if (!loop_init_1) {
+                        uint _e27 = a_3;
+                        a_3 = (_e27 + 1u);
+                    }
+                    loop_init_1 = false;
+                    uint _e10 = a_3;
+                    if ((_e10 < 3u)) {
+                    } else {
+                        break;
+                    }
+                    {
+                        uint _e15 = a_3;
+                        vec4 _e17 = lane_sums[lane_7][_e15];
+                        uint _e19 = stride;
+                        uint _e22 = a_3;
+                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
+                        lane_sums[lane_7][_e15] = (_e17 + _e24);
+                    }
+                }
+            }
+            memoryBarrierShared();
+            barrier();
+        }
+    }
+    return;
+}
+
+void main() {
+    if (gl_LocalInvocationID == uvec3(0u)) {
+        lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
+        occupied_slot = 0u;
+    }
+    memoryBarrierShared();
+    barrier();
+    uint lane_1 = gl_LocalInvocationIndex;
+    uvec3 wg_1 = gl_WorkGroupID;
+    uvec3 groups_6 = gl_NumWorkGroups;
+    vec4 sum[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+    uint g = 0u;
+    uint a_1 = 0u;
+    uint a_2 = 0u;
+    uint m_2 = (wg_1.x + (wg_1.y * groups_6.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    if ((m_2 >= _e10)) {
+        return;
+    }
+    bool _e12 = slot_is_occupied(m_2, lane_1);
+    if (!(_e12)) {
+        return;
+    }
+    uint _e16 = _group_0_binding_0_cs.parts;
+    uint first = (m_2 * _e16);
+    g = lane_1;
+    bool loop_init_2 = true;
+    while(true) {
+        if (!loop_init_2) {
+            uint _e51 = g;
+            g = (_e51 + WORKGROUP);
+        }
+        loop_init_2 = false;
+        uint _e27 = g;
+        uint _e30 = _group_0_binding_0_cs.parts;
+        if ((_e27 < _e30)) {
         } else {
             break;
         }
         {
             a_1 = 0u;
-            bool loop_init_1 = true;
+            bool loop_init_3 = true;
             while(true) {
-                if (!loop_init_1) {
-                    uint _e39 = a_1;
-                    a_1 = (_e39 + 1u);
+                if (!loop_init_3) {
+                    uint _e49 = a_1;
+                    a_1 = (_e49 + 1u);
                 }
-                loop_init_1 = false;
-                uint _e24 = a_1;
-                if ((_e24 < 3u)) {
+                loop_init_3 = false;
+                uint _e34 = a_1;
+                if ((_e34 < 3u)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e27 = a_1;
-                    vec4 _e29 = total[_e27];
-                    uint _e31 = g;
-                    uint _e34 = a_1;
-                    vec4 _e36 = _group_0_binding_11_cs[(first + _e31)][_e34];
-                    total[_e27] = (_e29 + _e36);
+                    uint _e37 = a_1;
+                    vec4 _e39 = sum[_e37];
+                    uint _e41 = g;
+                    uint _e44 = a_1;
+                    vec4 _e46 = _group_0_binding_11_cs[(first + _e41)][_e44];
+                    sum[_e37] = (_e39 + _e46);
                 }
             }
         }
     }
-    bool loop_init_2 = true;
-    while(true) {
-        if (!loop_init_2) {
-            uint _e57 = a_2;
-            a_2 = (_e57 + 1u);
+    vec4 _e56[3] = sum;
+    lane_sums[lane_1] = _e56;
+    memoryBarrierShared();
+    barrier();
+    reduce(lane_1);
+    if ((lane_1 == 0u)) {
+        vec4 total[3] = lane_sums[0];
+        bool loop_init_4 = true;
+        while(true) {
+            if (!loop_init_4) {
+                uint _e74 = a_2;
+                a_2 = (_e74 + 1u);
+            }
+            loop_init_4 = false;
+            uint _e64 = a_2;
+            if ((_e64 < 3u)) {
+            } else {
+                break;
+            }
+            {
+                uint _e69 = a_2;
+                uint _e71 = a_2;
+                _group_0_binding_11_cs[first][_e69] = total[_e71];
+            }
         }
-        loop_init_2 = false;
-        uint _e46 = a_2;
-        if ((_e46 < 3u)) {
-        } else {
-            break;
-        }
-        {
-            uint _e51 = a_2;
-            uint _e53 = a_2;
-            vec4 _e55 = total[_e53];
-            _group_0_binding_11_cs[first][_e51] = _e55;
-        }
+        Sums s_3 = Sums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
+        vec3 _e88 = centre(s_3);
+        _group_0_binding_11_cs[first][3] = vec4(_e88, 0.0);
+        return;
+    } else {
+        return;
     }
-    vec4 _e60 = total[0];
-    float _e64 = total[0].w;
-    vec4 _e66 = total[1];
-    vec4 _e69 = total[2];
-    Sums s_3 = Sums(_e60.xyz, _e64, _e66.xyz, _e69.xyz);
-    vec3 _e75 = centre(s_3);
-    _group_0_binding_11_cs[first][3] = vec4(_e75, 0.0);
-    return;
 }
 

@@ -61,10 +61,11 @@ RWByteAddressBuffer extras : register(u9);
 RWByteAddressBuffer keys : register(u10);
 RWByteAddressBuffer partials : register(u11);
 groupshared float4 lane_sums[64][3];
+groupshared uint occupied_slot;
 
-uint flat(uint3 id_7, uint3 groups_9)
+uint flat(uint3 id_5, uint3 groups_9)
 {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v)
@@ -197,7 +198,7 @@ Sorted ConstructSorted(float3 arg0, float arg1, float3 arg2, uint arg3) {
     return ret;
 }
 
-Sums moment_sums(uint3 q, uint lane_2, uint lanes)
+Sums moment_sums(uint3 q, uint lane_4, uint lanes)
 {
     Sums s = ConstructSums((0.0).xxx, 0.0, (0.0).xxx, (0.0).xxx);
     uint k_2 = 0u;
@@ -238,7 +239,7 @@ Sums moment_sums(uint3 q, uint lane_2, uint lanes)
             }
             const uint2 _e46 = cell_range((q - _e33));
             float3 at = float3(_e33);
-            j = (_e46.x + lane_2);
+            j = (_e46.x + lane_4);
             uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -280,9 +281,9 @@ Sums moment_sums(uint3 q, uint lane_2, uint lanes)
     return sums;
 }
 
-float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
+float size_sum(uint3 q_1, float3 mean, uint lane_5, uint lanes_1)
 {
-    float sum = 0.0;
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = (bool)0;
     uint j_1 = (uint)0;
@@ -321,7 +322,7 @@ float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
             }
             const uint2 _e40 = cell_range((q_1 - _e27));
             float3 centre_1 = (float3(_e27) + mean);
-            j_1 = (_e40.x + lane_3);
+            j_1 = (_e40.x + lane_5);
             uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -344,13 +345,13 @@ float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
                     float3 g_3 = min(((float3((_e54 & (mask_1).xxx)) + light_1.frac_) * scale_1), (1.0).xxx);
                     float3 wa_1 = ((_e27 == (1u).xxx) ? g_3 : ((1.0).xxx - g_3));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    float _e76 = sum_2;
+                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -369,7 +370,7 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2)
+void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
 {
     float3 variance = (0.0).xxx;
     float size = 0.0;
@@ -380,7 +381,7 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / (s_2.weight).xxx) - (mean_1 * mean_1)), (0.0).xxx) * h) * h);
-        size = ((size_sum_2 / s_2.weight) * h);
+        size = ((size_sum_1 / s_2.weight) * h);
     }
     float3 _e41 = step_.origin;
     float3 position = (_e41 + ((float3(q_2) + mean_1) * h));
@@ -405,11 +406,26 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2
     return;
 }
 
+bool slot_is_occupied(uint m_1, uint lane_6)
+{
+    if ((lane_6 == 0u)) {
+        uint _e10 = step_.slot_offset;
+        uint _e15 = asuint(slots.Load(((_e10 + m_1) + 1u)*4));
+        uint _e19 = step_.slot_offset;
+        uint _e22 = asuint(slots.Load((_e19 + m_1)*4));
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
+    }
+    GroupMemoryBarrierWithGroupSync();
+    uint _e26 = occupied_slot;
+    GroupMemoryBarrierWithGroupSync();
+    return (_e26 == 1u);
+}
+
 uint naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
 
-void reduce(uint lane_4)
+void reduce(uint lane_7)
 {
     uint stride = 32u;
     uint a_3 = (uint)0;
@@ -431,7 +447,7 @@ void reduce(uint lane_4)
         }
         {
             uint _e6 = stride;
-            if ((lane_4 < _e6)) {
+            if ((lane_7 < _e6)) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u, 4294967295u);
                 bool loop_init_5 = true;
@@ -450,11 +466,11 @@ void reduce(uint lane_4)
                     }
                     {
                         uint _e15 = a_3;
-                        float4 _e17 = lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)];
+                        float4 _e17 = lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        float4 _e24 = lane_sums[min(uint((lane_4 + _e19)), 63u)][min(uint(_e22), 2u)];
-                        lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
+                        float4 _e24 = lane_sums[min(uint((lane_7 + _e19)), 63u)][min(uint(_e22), 2u)];
+                        lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
                     }
                 }
             }
@@ -464,42 +480,50 @@ void reduce(uint lane_4)
     return;
 }
 
-typedef float4 ret_Constructarray5_float4_[5];
-ret_Constructarray5_float4_ Constructarray5_float4_(float4 arg0, float4 arg1, float4 arg2, float4 arg3, float4 arg4) {
-    float4 ret[5] = { arg0, arg1, arg2, arg3, arg4 };
+typedef float4 ret_Constructarray3_float4_[3];
+ret_Constructarray3_float4_ Constructarray3_float4_(float4 arg0, float4 arg1, float4 arg2) {
+    float4 ret[3] = { arg0, arg1, arg2 };
     return ret;
 }
 
 [numthreads(64, 1, 1)]
-void finish_moments(uint3 id_5 : SV_DispatchThreadID, uint3 groups_6 : SV_GroupID)
+void finish_moments(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 groups_6 : SV_GroupID)
 {
-    float4 total[5] = (float4[5])0;
-    uint g = 1u;
+    if (lane_1 == 0) {
+        lane_sums = (float4[64][3])0;
+        occupied_slot = (uint)0;
+    }
+    GroupMemoryBarrierWithGroupSync();
+    float4 sum[3] = Constructarray3_float4_((0.0).xxxx, (0.0).xxxx, (0.0).xxxx);
+    uint g = (uint)0;
     uint a_1 = (uint)0;
     uint a_2 = 0u;
 
-    const uint _e2 = flat(id_5, groups_6);
-    uint _e5 = step_.count;
-    if ((_e2 >= _e5)) {
+    uint m_2 = (wg_1.x + (wg_1.y * groups_6.x));
+    uint _e10 = step_.count;
+    if ((m_2 >= _e10)) {
         return;
     }
-    uint _e9 = step_.parts;
-    uint first = (_e2 * _e9);
-    float4 _e13[5] = Constructarray5_float4_(asfloat(partials.Load4(first*80+0)), asfloat(partials.Load4(first*80+16)), asfloat(partials.Load4(first*80+32)), asfloat(partials.Load4(first*80+48)), asfloat(partials.Load4(first*80+64)));
-    total = _e13;
+    const bool _e12 = slot_is_occupied(m_2, lane_1);
+    if (!(_e12)) {
+        return;
+    }
+    uint _e16 = step_.parts;
+    uint first = (m_2 * _e16);
+    g = lane_1;
     uint2 loop_bound_6 = uint2(4294967295u, 4294967295u);
     bool loop_init_6 = true;
     while(true) {
         if (all(loop_bound_6 == uint2(0u, 0u))) { break; }
         loop_bound_6 -= uint2(loop_bound_6.y == 0u, 1u);
         if (!loop_init_6) {
-            uint _e42 = g;
-            g = (_e42 + 1u);
+            uint _e51 = g;
+            g = (_e51 + WORKGROUP);
         }
         loop_init_6 = false;
-        uint _e17 = g;
-        uint _e20 = step_.parts;
-        if ((_e17 < _e20)) {
+        uint _e27 = g;
+        uint _e30 = step_.parts;
+        if ((_e27 < _e30)) {
         } else {
             break;
         }
@@ -511,55 +535,59 @@ void finish_moments(uint3 id_5 : SV_DispatchThreadID, uint3 groups_6 : SV_GroupI
                 if (all(loop_bound_7 == uint2(0u, 0u))) { break; }
                 loop_bound_7 -= uint2(loop_bound_7.y == 0u, 1u);
                 if (!loop_init_7) {
-                    uint _e39 = a_1;
-                    a_1 = (_e39 + 1u);
+                    uint _e49 = a_1;
+                    a_1 = (_e49 + 1u);
                 }
                 loop_init_7 = false;
-                uint _e24 = a_1;
-                if ((_e24 < 3u)) {
+                uint _e34 = a_1;
+                if ((_e34 < 3u)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e27 = a_1;
-                    float4 _e29 = total[min(uint(_e27), 4u)];
-                    uint _e31 = g;
-                    uint _e34 = a_1;
-                    float4 _e36 = asfloat(partials.Load4(_e34*16+(first + _e31)*80));
-                    total[min(uint(_e27), 4u)] = (_e29 + _e36);
+                    uint _e37 = a_1;
+                    float4 _e39 = sum[min(uint(_e37), 2u)];
+                    uint _e41 = g;
+                    uint _e44 = a_1;
+                    float4 _e46 = asfloat(partials.Load4(_e44*16+(first + _e41)*80));
+                    sum[min(uint(_e37), 2u)] = (_e39 + _e46);
                 }
             }
         }
     }
-    uint2 loop_bound_8 = uint2(4294967295u, 4294967295u);
-    bool loop_init_8 = true;
-    while(true) {
-        if (all(loop_bound_8 == uint2(0u, 0u))) { break; }
-        loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
-        if (!loop_init_8) {
-            uint _e57 = a_2;
-            a_2 = (_e57 + 1u);
+    float4 _e56[3] = sum;
+    lane_sums[min(uint(lane_1), 63u)] = _e56;
+    GroupMemoryBarrierWithGroupSync();
+    reduce(lane_1);
+    if ((lane_1 == 0u)) {
+        float4 total[3] = lane_sums[0];
+        uint2 loop_bound_8 = uint2(4294967295u, 4294967295u);
+        bool loop_init_8 = true;
+        while(true) {
+            if (all(loop_bound_8 == uint2(0u, 0u))) { break; }
+            loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
+            if (!loop_init_8) {
+                uint _e74 = a_2;
+                a_2 = (_e74 + 1u);
+            }
+            loop_init_8 = false;
+            uint _e64 = a_2;
+            if ((_e64 < 3u)) {
+            } else {
+                break;
+            }
+            {
+                uint _e69 = a_2;
+                uint _e71 = a_2;
+                partials.Store4(_e69*16+first*80, asuint(total[min(uint(_e71), 2u)]));
+            }
         }
-        loop_init_8 = false;
-        uint _e46 = a_2;
-        if ((_e46 < 3u)) {
-        } else {
-            break;
-        }
-        {
-            uint _e51 = a_2;
-            uint _e53 = a_2;
-            float4 _e55 = total[min(uint(_e53), 4u)];
-            partials.Store4(_e51*16+first*80, asuint(_e55));
-        }
+        Sums s_3 = ConstructSums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
+        const float3 _e88 = centre(s_3);
+        partials.Store4(48+first*80, asuint(float4(_e88, 0.0)));
+        return;
+    } else {
+        return;
     }
-    float4 _e60 = total[0];
-    float _e64 = total[0].w;
-    float4 _e66 = total[1];
-    float4 _e69 = total[2];
-    Sums s_3 = ConstructSums(_e60.xyz, _e64, _e66.xyz, _e69.xyz);
-    const float3 _e75 = centre(s_3);
-    partials.Store4(48+first*80, asuint(float4(_e75, 0.0)));
-    return;
 }
 

@@ -73,10 +73,10 @@ constant uint WORKGROUP = 64u;
 constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
 
 uint flat(
-    metal::uint3 id_7,
+    metal::uint3 id_5,
     metal::uint3 groups_9
 ) {
-    return id_7.x + ((id_7.y * groups_9.x) * WORKGROUP);
+    return id_5.x + ((id_5.y * groups_9.x) * WORKGROUP);
 }
 
 uint spread3_(
@@ -197,7 +197,7 @@ metal::uint2 cell_range(
 
 Sums moment_sums(
     metal::uint3 q,
-    uint lane_2,
+    uint lane_4,
     uint lanes,
     constant Step& step,
     device type_7 const& starts,
@@ -242,7 +242,7 @@ Sums moment_sums(
             }
             metal::uint2 _e46 = cell_range(q - _e33, step, starts, _buffer_sizes);
             metal::float3 at = static_cast<metal::float3>(_e33);
-            j = _e46.x + lane_2;
+            j = _e46.x + lane_4;
             uint2 loop_bound_1 = uint2(4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -283,17 +283,17 @@ Sums moment_sums(
     return _e106;
 }
 
-float size_sum_1(
+float size_sum(
     metal::uint3 q_1,
     metal::float3 mean,
-    uint lane_3,
+    uint lane_5,
     uint lanes_1,
     constant Step& step,
     device type_7 const& starts,
     device type_8 const& sorted,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    float sum = 0.0;
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = {};
     uint j_1 = {};
@@ -331,7 +331,7 @@ float size_sum_1(
             }
             metal::uint2 _e40 = cell_range(q_1 - _e27, step, starts, _buffer_sizes);
             metal::float3 centre_1 = static_cast<metal::float3>(_e27) + mean;
-            j_1 = _e40.x + lane_3;
+            j_1 = _e40.x + lane_5;
             uint2 loop_bound_3 = uint2(4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -354,13 +354,13 @@ float size_sum_1(
                     metal::float3 g_3 = metal::min((static_cast<metal::float3>(_e54 & metal::uint3(mask_1)) + light_1.frac) * scale_1, metal::float3(1.0));
                     metal::float3 wa_1 = metal::select(metal::float3(1.0) - g_3, g_3, _e27 == metal::uint3(1u));
                     float w_1 = (wa_1.x * wa_1.y) * wa_1.z;
-                    float _e76 = sum;
-                    sum = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
+                    float _e76 = sum_2;
+                    sum_2 = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -378,7 +378,7 @@ void write_vertex(
     uint v_2,
     Sums s_2,
     metal::float3 mean_1,
-    float size_sum_2,
+    float size_sum_1,
     constant Step& step,
     device type_9& out,
     device type_4& extras,
@@ -392,7 +392,7 @@ void write_vertex(
     float h = _e7 * static_cast<float>(1u << (_e11 - 1u));
     if (s_2.weight > 0.0) {
         variance = (metal::max((s_2.second / metal::float3(s_2.weight)) - (mean_1 * mean_1), metal::float3(0.0)) * h) * h;
-        size = (size_sum_2 / s_2.weight) * h;
+        size = (size_sum_1 / s_2.weight) * h;
     }
     metal::float3 _e41 = step.origin;
     metal::float3 position = _e41 + ((static_cast<metal::float3>(q_2) + mean_1) * h);
@@ -413,12 +413,33 @@ void write_vertex(
     return;
 }
 
+bool slot_is_occupied(
+    uint m_1,
+    uint lane_6,
+    constant Step& step,
+    device type_7 const& slots,
+    threadgroup uint& occupied_slot,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    if (lane_6 == 0u) {
+        uint _e10 = step.slot_offset;
+        uint _e15 = slots[(_e10 + m_1) + 1u];
+        uint _e19 = step.slot_offset;
+        uint _e22 = slots[_e19 + m_1];
+        occupied_slot = (_e15 != _e22) ? 1u : 0u;
+    }
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    uint unnamed = occupied_slot;
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    return unnamed == 1u;
+}
+
 uint naga_div(uint lhs, uint rhs) {
     return lhs / metal::select(rhs, 1u, rhs == 0u);
 }
 
 void reduce(
-    uint lane_4,
+    uint lane_7,
     threadgroup type_16& lane_sums
 ) {
     uint stride = 32u;
@@ -440,7 +461,7 @@ void reduce(
         }
         {
             uint _e6 = stride;
-            if (lane_4 < _e6) {
+            if (lane_7 < _e6) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u);
                 bool loop_init_5 = true;
@@ -459,11 +480,11 @@ void reduce(
                     }
                     {
                         uint _e15 = a_3;
-                        metal::float4 _e17 = lane_sums.inner[lane_4].inner[_e15];
+                        metal::float4 _e17 = lane_sums.inner[lane_7].inner[_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        metal::float4 _e24 = lane_sums.inner[lane_4 + _e19].inner[_e22];
-                        lane_sums.inner[lane_4].inner[_e15] = _e17 + _e24;
+                        metal::float4 _e24 = lane_sums.inner[lane_7 + _e19].inner[_e22];
+                        lane_sums.inner[lane_7].inner[_e15] = _e17 + _e24;
                     }
                 }
             }
@@ -476,38 +497,50 @@ void reduce(
 struct finish_momentsInput {
 };
 [[max_total_threads_per_threadgroup(64)]] kernel void finish_moments(
-  metal::uint3 id_5 [[thread_position_in_grid]]
+  uint lane_1 [[thread_index_in_threadgroup]]
+, metal::uint3 wg_1 [[threadgroup_position_in_grid]]
 , metal::uint3 groups_6 [[threadgroups_per_grid]]
 , constant Step& step [[user(fake0)]]
+, device type_7 const& slots [[user(fake0)]]
 , device type_14& partials [[user(fake0)]]
+, threadgroup type_16& lane_sums
+, threadgroup uint& occupied_slot
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
-    type_13 total = {};
-    uint g = 1u;
+    if (lane_1 == 0u) {
+        lane_sums = {};
+        occupied_slot = {};
+    }
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    type_15 sum = type_15 {{metal::float4(0.0), metal::float4(0.0), metal::float4(0.0)}};
+    uint g = {};
     uint a_1 = {};
     uint a_2 = 0u;
-    uint _e2 = flat(id_5, groups_6);
-    uint _e5 = step.count;
-    if (_e2 >= _e5) {
+    uint m_2 = wg_1.x + (wg_1.y * groups_6.x);
+    uint _e10 = step.count;
+    if (m_2 >= _e10) {
         return;
     }
-    uint _e9 = step.parts;
-    uint first = _e2 * _e9;
-    type_13 _e13 = partials[first];
-    total = _e13;
+    bool _e12 = slot_is_occupied(m_2, lane_1, step, slots, occupied_slot, _buffer_sizes);
+    if (!(_e12)) {
+        return;
+    }
+    uint _e16 = step.parts;
+    uint first = m_2 * _e16;
+    g = lane_1;
     uint2 loop_bound_6 = uint2(4294967295u);
     bool loop_init_6 = true;
     while(true) {
         if (metal::all(loop_bound_6 == uint2(0u))) { break; }
         loop_bound_6 -= uint2(loop_bound_6.y == 0u, 1u);
         if (!loop_init_6) {
-            uint _e42 = g;
-            g = _e42 + 1u;
+            uint _e51 = g;
+            g = _e51 + WORKGROUP;
         }
         loop_init_6 = false;
-        uint _e17 = g;
-        uint _e20 = step.parts;
-        if (_e17 < _e20) {
+        uint _e27 = g;
+        uint _e30 = step.parts;
+        if (_e27 < _e30) {
         } else {
             break;
         }
@@ -519,55 +552,59 @@ struct finish_momentsInput {
                 if (metal::all(loop_bound_7 == uint2(0u))) { break; }
                 loop_bound_7 -= uint2(loop_bound_7.y == 0u, 1u);
                 if (!loop_init_7) {
-                    uint _e39 = a_1;
-                    a_1 = _e39 + 1u;
+                    uint _e49 = a_1;
+                    a_1 = _e49 + 1u;
                 }
                 loop_init_7 = false;
-                uint _e24 = a_1;
-                if (_e24 < 3u) {
+                uint _e34 = a_1;
+                if (_e34 < 3u) {
                 } else {
                     break;
                 }
                 {
-                    uint _e27 = a_1;
-                    metal::float4 _e29 = total.inner[_e27];
-                    uint _e31 = g;
-                    uint _e34 = a_1;
-                    metal::float4 _e36 = partials[first + _e31].inner[_e34];
-                    total.inner[_e27] = _e29 + _e36;
+                    uint _e37 = a_1;
+                    metal::float4 _e39 = sum.inner[_e37];
+                    uint _e41 = g;
+                    uint _e44 = a_1;
+                    metal::float4 _e46 = partials[first + _e41].inner[_e44];
+                    sum.inner[_e37] = _e39 + _e46;
                 }
             }
         }
     }
-    uint2 loop_bound_8 = uint2(4294967295u);
-    bool loop_init_8 = true;
-    while(true) {
-        if (metal::all(loop_bound_8 == uint2(0u))) { break; }
-        loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
-        if (!loop_init_8) {
-            uint _e57 = a_2;
-            a_2 = _e57 + 1u;
+    type_15 _e56 = sum;
+    lane_sums.inner[lane_1] = _e56;
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    reduce(lane_1, lane_sums);
+    if (lane_1 == 0u) {
+        type_15 total = lane_sums.inner[0];
+        uint2 loop_bound_8 = uint2(4294967295u);
+        bool loop_init_8 = true;
+        while(true) {
+            if (metal::all(loop_bound_8 == uint2(0u))) { break; }
+            loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
+            if (!loop_init_8) {
+                uint _e74 = a_2;
+                a_2 = _e74 + 1u;
+            }
+            loop_init_8 = false;
+            uint _e64 = a_2;
+            if (_e64 < 3u) {
+            } else {
+                break;
+            }
+            {
+                uint _e69 = a_2;
+                uint _e71 = a_2;
+                partials[first].inner[_e69] = total.inner[_e71];
+            }
         }
-        loop_init_8 = false;
-        uint _e46 = a_2;
-        if (_e46 < 3u) {
-        } else {
-            break;
-        }
-        {
-            uint _e51 = a_2;
-            uint _e53 = a_2;
-            metal::float4 _e55 = total.inner[_e53];
-            partials[first].inner[_e51] = _e55;
-        }
+        Sums s_3 = Sums {total.inner[0].xyz, total.inner[0].w, total.inner[1].xyz, total.inner[2].xyz};
+        metal::float3 _e88 = centre(s_3);
+        partials[first].inner[3] = metal::float4(_e88, 0.0);
+        return;
+    } else {
+        return;
     }
-    metal::float4 _e60 = total.inner[0];
-    float _e64 = total.inner[0].w;
-    metal::float4 _e66 = total.inner[1];
-    metal::float4 _e69 = total.inner[2];
-    Sums s_3 = Sums {_e60.xyz, _e64, _e66.xyz, _e69.xyz};
-    metal::float3 _e75 = centre(s_3);
-    partials[first].inner[3] = metal::float4(_e75, 0.0);
-    return;
 }
 

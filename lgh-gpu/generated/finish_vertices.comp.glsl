@@ -52,9 +52,13 @@ layout(std430) buffer type_4_block_3Compute { vec4 _group_0_binding_9_cs[]; };
 
 layout(std430) buffer type_14_block_4Compute { vec4 _group_0_binding_11_cs[][5]; };
 
+shared vec4 lane_sums[64][3];
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+shared uint occupied_slot;
+
+
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -143,7 +147,7 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) {
+void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
     vec3 variance = vec3(0.0);
     float size = 0.0;
     bool local_4 = false;
@@ -152,7 +156,7 @@ void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) 
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / vec3(s_2.weight)) - (mean_1 * mean_1)), vec3(0.0)) * h) * h);
-        size = ((size_sum_2 / s_2.weight) * h);
+        size = ((size_sum_1 / s_2.weight) * h);
     }
     vec3 _e41 = _group_0_binding_0_cs.origin;
     vec3 position = (_e41 + ((vec3(q_2) + mean_1) * h));
@@ -173,50 +177,132 @@ void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) 
     return;
 }
 
-void main() {
-    uvec3 id_6 = gl_GlobalInvocationID;
-    uvec3 groups_8 = gl_NumWorkGroups;
-    float size_sum = 0.0;
-    uint g_1 = 0u;
-    uint _e2 = flat_(id_6, groups_8);
-    uint _e5 = _group_0_binding_0_cs.count;
-    if ((_e2 >= _e5)) {
-        return;
+bool slot_is_occupied(uint m_1, uint lane_6) {
+    if ((lane_6 == 0u)) {
+        uint _e10 = _group_0_binding_0_cs.slot_offset;
+        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
+        uint _e19 = _group_0_binding_0_cs.slot_offset;
+        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
     }
-    uint _e10 = _group_0_binding_0_cs.slot_offset;
-    uint v_3 = _group_0_binding_7_cs[(_e10 + _e2)];
-    uint _e17 = _group_0_binding_0_cs.slot_offset;
-    uint _e22 = _group_0_binding_7_cs[((_e17 + _e2) + 1u)];
-    if ((_e22 == v_3)) {
-        return;
-    }
-    uint _e26 = _group_0_binding_0_cs.parts;
-    uint first = (_e2 * _e26);
+    memoryBarrierShared();
+    barrier();
+    uint _e26 = occupied_slot;
+    memoryBarrierShared();
+    barrier();
+    return (_e26 == 1u);
+}
+
+void reduce(uint lane_7) {
+    uint stride = 32u;
+    uint a_3 = 0u;
     bool loop_init = true;
     while(true) {
         if (!loop_init) {
-            uint _e47 = g_1;
-            g_1 = (_e47 + 1u);
+            uint _e29 = stride;
+            stride = (_e29 / 2u);
         }
         loop_init = false;
-        uint _e32 = g_1;
-        uint _e35 = _group_0_binding_0_cs.parts;
-        if ((_e32 < _e35)) {
+        uint _e3 = stride;
+        if ((_e3 > 0u)) {
         } else {
             break;
         }
         {
-            float _e37 = size_sum;
-            uint _e39 = g_1;
-            float _e44 = _group_0_binding_11_cs[(first + _e39)][4].x;
-            size_sum = (_e37 + _e44);
+            uint _e6 = stride;
+            if ((lane_7 < _e6)) {
+                a_3 = 0u;
+                bool loop_init_1 = true;
+                while(true) {
+                    if (!loop_init_1) {
+                        uint _e27 = a_3;
+                        a_3 = (_e27 + 1u);
+                    }
+                    loop_init_1 = false;
+                    uint _e10 = a_3;
+                    if ((_e10 < 3u)) {
+                    } else {
+                        break;
+                    }
+                    {
+                        uint _e15 = a_3;
+                        vec4 _e17 = lane_sums[lane_7][_e15];
+                        uint _e19 = stride;
+                        uint _e22 = a_3;
+                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
+                        lane_sums[lane_7][_e15] = (_e17 + _e24);
+                    }
+                }
+            }
+            memoryBarrierShared();
+            barrier();
         }
     }
-    vec4 t_1[5] = _group_0_binding_11_cs[first];
-    Sums s_3 = Sums(t_1[0].xyz, t_1[0].w, t_1[1].xyz, t_1[2].xyz);
-    uvec3 _e61 = demorton3_(_e2);
-    float _e64 = size_sum;
-    write_vertex(_e61, v_3, s_3, t_1[3].xyz, _e64);
     return;
+}
+
+void main() {
+    if (gl_LocalInvocationID == uvec3(0u)) {
+        lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
+        occupied_slot = 0u;
+    }
+    memoryBarrierShared();
+    barrier();
+    uint lane_3 = gl_LocalInvocationIndex;
+    uvec3 wg_3 = gl_WorkGroupID;
+    uvec3 groups_8 = gl_NumWorkGroups;
+    float sum_1 = 0.0;
+    uint g_1 = 0u;
+    uint m_2 = (wg_3.x + (wg_3.y * groups_8.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    if ((m_2 >= _e10)) {
+        return;
+    }
+    bool _e12 = slot_is_occupied(m_2, lane_3);
+    if (!(_e12)) {
+        return;
+    }
+    uint _e16 = _group_0_binding_0_cs.parts;
+    uint first = (m_2 * _e16);
+    g_1 = lane_3;
+    bool loop_init_2 = true;
+    while(true) {
+        if (!loop_init_2) {
+            uint _e35 = g_1;
+            g_1 = (_e35 + WORKGROUP);
+        }
+        loop_init_2 = false;
+        uint _e21 = g_1;
+        uint _e24 = _group_0_binding_0_cs.parts;
+        if ((_e21 < _e24)) {
+        } else {
+            break;
+        }
+        {
+            float _e26 = sum_1;
+            uint _e28 = g_1;
+            float _e33 = _group_0_binding_11_cs[(first + _e28)][4].x;
+            sum_1 = (_e26 + _e33);
+        }
+    }
+    float _e41 = sum_1;
+    lane_sums[lane_3][0] = vec4(_e41, 0.0, 0.0, 0.0);
+    lane_sums[lane_3][1] = vec4(0.0);
+    lane_sums[lane_3][2] = vec4(0.0);
+    memoryBarrierShared();
+    barrier();
+    reduce(lane_3);
+    if ((lane_3 == 0u)) {
+        vec4 t_1[5] = _group_0_binding_11_cs[first];
+        Sums s_3 = Sums(t_1[0].xyz, t_1[0].w, t_1[1].xyz, t_1[2].xyz);
+        uvec3 _e70 = demorton3_(m_2);
+        uint _e74 = _group_0_binding_0_cs.slot_offset;
+        uint _e77 = _group_0_binding_7_cs[(_e74 + m_2)];
+        float _e84 = lane_sums[0][0].x;
+        write_vertex(_e70, _e77, s_3, t_1[3].xyz, _e84);
+        return;
+    } else {
+        return;
+    }
 }
 

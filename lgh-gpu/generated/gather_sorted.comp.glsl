@@ -57,8 +57,8 @@ layout(std430) buffer type_9_block_5Compute { Light _group_0_binding_8_cs[]; };
 layout(std430) buffer type_4_block_6Compute { vec4 _group_0_binding_9_cs[]; };
 
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -147,7 +147,7 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) {
+void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
     vec3 variance = vec3(0.0);
     float size = 0.0;
     bool local_4 = false;
@@ -156,7 +156,7 @@ void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) 
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / vec3(s_2.weight)) - (mean_1 * mean_1)), vec3(0.0)) * h) * h);
-        size = ((size_sum_2 / s_2.weight) * h);
+        size = ((size_sum_1 / s_2.weight) * h);
     }
     vec3 _e41 = _group_0_binding_0_cs.origin;
     vec3 position = (_e41 + ((vec3(q_2) + mean_1) * h));

@@ -53,8 +53,8 @@ layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_5_cs[]; };
 layout(std430) buffer type_7_block_4Compute { uint _group_0_binding_10_cs[]; };
 
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {

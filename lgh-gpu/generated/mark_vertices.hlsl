@@ -61,10 +61,11 @@ RWByteAddressBuffer extras : register(u9);
 RWByteAddressBuffer keys : register(u10);
 RWByteAddressBuffer partials : register(u11);
 groupshared float4 lane_sums[64][3];
+groupshared uint occupied_slot;
 
-uint flat(uint3 id_7, uint3 groups_9)
+uint flat(uint3 id_5, uint3 groups_9)
 {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v)
@@ -197,7 +198,7 @@ Sorted ConstructSorted(float3 arg0, float arg1, float3 arg2, uint arg3) {
     return ret;
 }
 
-Sums moment_sums(uint3 q, uint lane_2, uint lanes)
+Sums moment_sums(uint3 q, uint lane_4, uint lanes)
 {
     Sums s = ConstructSums((0.0).xxx, 0.0, (0.0).xxx, (0.0).xxx);
     uint k_2 = 0u;
@@ -238,7 +239,7 @@ Sums moment_sums(uint3 q, uint lane_2, uint lanes)
             }
             const uint2 _e46 = cell_range((q - _e33));
             float3 at = float3(_e33);
-            j = (_e46.x + lane_2);
+            j = (_e46.x + lane_4);
             uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -280,9 +281,9 @@ Sums moment_sums(uint3 q, uint lane_2, uint lanes)
     return sums;
 }
 
-float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
+float size_sum(uint3 q_1, float3 mean, uint lane_5, uint lanes_1)
 {
-    float sum = 0.0;
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = (bool)0;
     uint j_1 = (uint)0;
@@ -321,7 +322,7 @@ float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
             }
             const uint2 _e40 = cell_range((q_1 - _e27));
             float3 centre_1 = (float3(_e27) + mean);
-            j_1 = (_e40.x + lane_3);
+            j_1 = (_e40.x + lane_5);
             uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -344,13 +345,13 @@ float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
                     float3 g_3 = min(((float3((_e54 & (mask_1).xxx)) + light_1.frac_) * scale_1), (1.0).xxx);
                     float3 wa_1 = ((_e27 == (1u).xxx) ? g_3 : ((1.0).xxx - g_3));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    float _e76 = sum_2;
+                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -369,7 +370,7 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2)
+void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
 {
     float3 variance = (0.0).xxx;
     float size = 0.0;
@@ -380,7 +381,7 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / (s_2.weight).xxx) - (mean_1 * mean_1)), (0.0).xxx) * h) * h);
-        size = ((size_sum_2 / s_2.weight) * h);
+        size = ((size_sum_1 / s_2.weight) * h);
     }
     float3 _e41 = step_.origin;
     float3 position = (_e41 + ((float3(q_2) + mean_1) * h));
@@ -405,11 +406,26 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2
     return;
 }
 
+bool slot_is_occupied(uint m_1, uint lane_6)
+{
+    if ((lane_6 == 0u)) {
+        uint _e10 = step_.slot_offset;
+        uint _e15 = asuint(slots.Load(((_e10 + m_1) + 1u)*4));
+        uint _e19 = step_.slot_offset;
+        uint _e22 = asuint(slots.Load((_e19 + m_1)*4));
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
+    }
+    GroupMemoryBarrierWithGroupSync();
+    uint _e26 = occupied_slot;
+    GroupMemoryBarrierWithGroupSync();
+    return (_e26 == 1u);
+}
+
 uint naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
 
-void reduce(uint lane_4)
+void reduce(uint lane_7)
 {
     uint stride = 32u;
     uint a_3 = (uint)0;
@@ -431,7 +447,7 @@ void reduce(uint lane_4)
         }
         {
             uint _e6 = stride;
-            if ((lane_4 < _e6)) {
+            if ((lane_7 < _e6)) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u, 4294967295u);
                 bool loop_init_5 = true;
@@ -450,11 +466,11 @@ void reduce(uint lane_4)
                     }
                     {
                         uint _e15 = a_3;
-                        float4 _e17 = lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)];
+                        float4 _e17 = lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        float4 _e24 = lane_sums[min(uint((lane_4 + _e19)), 63u)][min(uint(_e22), 2u)];
-                        lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
+                        float4 _e24 = lane_sums[min(uint((lane_7 + _e19)), 63u)][min(uint(_e22), 2u)];
+                        lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
                     }
                 }
             }

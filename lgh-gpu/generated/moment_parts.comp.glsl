@@ -48,13 +48,17 @@ layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_4_cs[]; };
 
 layout(std430) buffer type_8_block_2Compute { Sorted _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_14_block_3Compute { vec4 _group_0_binding_11_cs[][5]; };
+layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_7_cs[]; };
+
+layout(std430) buffer type_14_block_4Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
+shared uint occupied_slot;
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -145,7 +149,7 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
+Sums moment_sums(uvec3 q, uint lane_4, uint lanes) {
     Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
     uint k_2 = 0u;
     bool local_2 = false;
@@ -181,7 +185,7 @@ Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
             }
             uvec2 _e46 = cell_range((q - _e33));
             vec3 at = vec3(_e33);
-            j = (_e46.x + lane_2);
+            j = (_e46.x + lane_4);
             bool loop_init_1 = true;
             while(true) {
                 if (!loop_init_1) {
@@ -219,8 +223,8 @@ Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
     return _e106;
 }
 
-float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
-    float sum = 0.0;
+float size_sum(uvec3 q_1, vec3 mean, uint lane_5, uint lanes_1) {
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = false;
     uint j_1 = 0u;
@@ -255,7 +259,7 @@ float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
             }
             uvec2 _e40 = cell_range((q_1 - _e27));
             vec3 centre_1 = (vec3(_e27) + mean);
-            j_1 = (_e40.x + lane_3);
+            j_1 = (_e40.x + lane_5);
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
@@ -275,13 +279,13 @@ float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
                     vec3 g_3 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
                     vec3 wa_1 = mix((vec3(1.0) - g_3), g_3, equal(_e27, uvec3(1u)));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    float _e76 = sum_2;
+                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -292,7 +296,23 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void reduce(uint lane_4) {
+bool slot_is_occupied(uint m_1, uint lane_6) {
+    if ((lane_6 == 0u)) {
+        uint _e10 = _group_0_binding_0_cs.slot_offset;
+        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
+        uint _e19 = _group_0_binding_0_cs.slot_offset;
+        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
+    }
+    memoryBarrierShared();
+    barrier();
+    uint _e26 = occupied_slot;
+    memoryBarrierShared();
+    barrier();
+    return (_e26 == 1u);
+}
+
+void reduce(uint lane_7) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init_4 = true;
@@ -309,7 +329,7 @@ void reduce(uint lane_4) {
         }
         {
             uint _e6 = stride;
-            if ((lane_4 < _e6)) {
+            if ((lane_7 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_5 = true;
                 while(true) {
@@ -325,11 +345,11 @@ void reduce(uint lane_4) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_4][_e15];
+                        vec4 _e17 = lane_sums[lane_7][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_4 + _e19)][_e22];
-                        lane_sums[lane_4][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
+                        lane_sums[lane_7][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -343,6 +363,7 @@ void reduce(uint lane_4) {
 void main() {
     if (gl_LocalInvocationID == uvec3(0u)) {
         lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
+        occupied_slot = 0u;
     }
     memoryBarrierShared();
     barrier();
@@ -357,13 +378,17 @@ void main() {
         return;
     }
     uint _e18 = _group_0_binding_0_cs.parts;
-    uint m_1 = (w_2 / _e18);
+    uint m_2 = (w_2 / _e18);
     uint _e22 = _group_0_binding_0_cs.parts;
     uint g_4 = (w_2 % _e22);
-    uvec3 _e24 = demorton3_(m_1);
-    uint _e31 = _group_0_binding_0_cs.parts;
-    Sums _e33 = moment_sums(_e24, ((g_4 * WORKGROUP) + lane), (WORKGROUP * _e31));
-    lane_sums[lane] = vec4[3](vec4(_e33.intensity, _e33.weight), vec4(_e33.first, 0.0), vec4(_e33.second, 0.0));
+    bool _e24 = slot_is_occupied(m_2, lane);
+    if (!(_e24)) {
+        return;
+    }
+    uvec3 _e26 = demorton3_(m_2);
+    uint _e33 = _group_0_binding_0_cs.parts;
+    Sums _e35 = moment_sums(_e26, ((g_4 * WORKGROUP) + lane), (WORKGROUP * _e33));
+    lane_sums[lane] = vec4[3](vec4(_e35.intensity, _e35.weight), vec4(_e35.first, 0.0), vec4(_e35.second, 0.0));
     memoryBarrierShared();
     barrier();
     reduce(lane);
@@ -371,20 +396,20 @@ void main() {
         bool loop_init_6 = true;
         while(true) {
             if (!loop_init_6) {
-                uint _e63 = a;
-                a = (_e63 + 1u);
+                uint _e65 = a;
+                a = (_e65 + 1u);
             }
             loop_init_6 = false;
-            uint _e50 = a;
-            if ((_e50 < 3u)) {
+            uint _e52 = a;
+            if ((_e52 < 3u)) {
             } else {
                 break;
             }
             {
-                uint _e55 = a;
-                uint _e59 = a;
-                vec4 _e61 = lane_sums[0][_e59];
-                _group_0_binding_11_cs[w_2][_e55] = _e61;
+                uint _e57 = a;
+                uint _e61 = a;
+                vec4 _e63 = lane_sums[0][_e61];
+                _group_0_binding_11_cs[w_2][_e57] = _e63;
             }
         }
         return;

@@ -73,10 +73,10 @@ constant uint WORKGROUP = 64u;
 constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
 
 uint flat(
-    metal::uint3 id_7,
+    metal::uint3 id_5,
     metal::uint3 groups_9
 ) {
-    return id_7.x + ((id_7.y * groups_9.x) * WORKGROUP);
+    return id_5.x + ((id_5.y * groups_9.x) * WORKGROUP);
 }
 
 uint spread3_(
@@ -197,7 +197,7 @@ metal::uint2 cell_range(
 
 Sums moment_sums(
     metal::uint3 q,
-    uint lane_2,
+    uint lane_4,
     uint lanes,
     constant Step& step,
     device type_7 const& starts,
@@ -242,7 +242,7 @@ Sums moment_sums(
             }
             metal::uint2 _e46 = cell_range(q - _e33, step, starts, _buffer_sizes);
             metal::float3 at = static_cast<metal::float3>(_e33);
-            j = _e46.x + lane_2;
+            j = _e46.x + lane_4;
             uint2 loop_bound_1 = uint2(4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -283,17 +283,17 @@ Sums moment_sums(
     return _e106;
 }
 
-float size_sum_1(
+float size_sum(
     metal::uint3 q_1,
     metal::float3 mean,
-    uint lane_3,
+    uint lane_5,
     uint lanes_1,
     constant Step& step,
     device type_7 const& starts,
     device type_8 const& sorted,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    float sum = 0.0;
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = {};
     uint j_1 = {};
@@ -331,7 +331,7 @@ float size_sum_1(
             }
             metal::uint2 _e40 = cell_range(q_1 - _e27, step, starts, _buffer_sizes);
             metal::float3 centre_1 = static_cast<metal::float3>(_e27) + mean;
-            j_1 = _e40.x + lane_3;
+            j_1 = _e40.x + lane_5;
             uint2 loop_bound_3 = uint2(4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -354,13 +354,13 @@ float size_sum_1(
                     metal::float3 g_3 = metal::min((static_cast<metal::float3>(_e54 & metal::uint3(mask_1)) + light_1.frac) * scale_1, metal::float3(1.0));
                     metal::float3 wa_1 = metal::select(metal::float3(1.0) - g_3, g_3, _e27 == metal::uint3(1u));
                     float w_1 = (wa_1.x * wa_1.y) * wa_1.z;
-                    float _e76 = sum;
-                    sum = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
+                    float _e76 = sum_2;
+                    sum_2 = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -378,7 +378,7 @@ void write_vertex(
     uint v_2,
     Sums s_2,
     metal::float3 mean_1,
-    float size_sum_2,
+    float size_sum_1,
     constant Step& step,
     device type_9& out,
     device type_4& extras,
@@ -392,7 +392,7 @@ void write_vertex(
     float h = _e7 * static_cast<float>(1u << (_e11 - 1u));
     if (s_2.weight > 0.0) {
         variance = (metal::max((s_2.second / metal::float3(s_2.weight)) - (mean_1 * mean_1), metal::float3(0.0)) * h) * h;
-        size = (size_sum_2 / s_2.weight) * h;
+        size = (size_sum_1 / s_2.weight) * h;
     }
     metal::float3 _e41 = step.origin;
     metal::float3 position = _e41 + ((static_cast<metal::float3>(q_2) + mean_1) * h);
@@ -413,12 +413,33 @@ void write_vertex(
     return;
 }
 
+bool slot_is_occupied(
+    uint m_1,
+    uint lane_6,
+    constant Step& step,
+    device type_7 const& slots,
+    threadgroup uint& occupied_slot,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    if (lane_6 == 0u) {
+        uint _e10 = step.slot_offset;
+        uint _e15 = slots[(_e10 + m_1) + 1u];
+        uint _e19 = step.slot_offset;
+        uint _e22 = slots[_e19 + m_1];
+        occupied_slot = (_e15 != _e22) ? 1u : 0u;
+    }
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    uint unnamed = occupied_slot;
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    return unnamed == 1u;
+}
+
 uint naga_div(uint lhs, uint rhs) {
     return lhs / metal::select(rhs, 1u, rhs == 0u);
 }
 
 void reduce(
-    uint lane_4,
+    uint lane_7,
     threadgroup type_16& lane_sums
 ) {
     uint stride = 32u;
@@ -440,7 +461,7 @@ void reduce(
         }
         {
             uint _e6 = stride;
-            if (lane_4 < _e6) {
+            if (lane_7 < _e6) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u);
                 bool loop_init_5 = true;
@@ -459,11 +480,11 @@ void reduce(
                     }
                     {
                         uint _e15 = a_3;
-                        metal::float4 _e17 = lane_sums.inner[lane_4].inner[_e15];
+                        metal::float4 _e17 = lane_sums.inner[lane_7].inner[_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        metal::float4 _e24 = lane_sums.inner[lane_4 + _e19].inner[_e22];
-                        lane_sums.inner[lane_4].inner[_e15] = _e17 + _e24;
+                        metal::float4 _e24 = lane_sums.inner[lane_7 + _e19].inner[_e22];
+                        lane_sums.inner[lane_7].inner[_e15] = _e17 + _e24;
                     }
                 }
             }
@@ -486,12 +507,15 @@ struct moment_partsInput {
 , constant Step& step [[user(fake0)]]
 , device type_7 const& starts [[user(fake0)]]
 , device type_8 const& sorted [[user(fake0)]]
+, device type_7 const& slots [[user(fake0)]]
 , device type_14& partials [[user(fake0)]]
 , threadgroup type_16& lane_sums
+, threadgroup uint& occupied_slot
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
     if (lane == 0u) {
         lane_sums = {};
+        occupied_slot = {};
     }
     metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
     uint a = 0u;
@@ -502,13 +526,17 @@ struct moment_partsInput {
         return;
     }
     uint _e18 = step.parts;
-    uint m_1 = naga_div(w_2, _e18);
+    uint m_2 = naga_div(w_2, _e18);
     uint _e22 = step.parts;
     uint g_4 = naga_mod(w_2, _e22);
-    metal::uint3 _e24 = demorton3_(m_1);
-    uint _e31 = step.parts;
-    Sums _e33 = moment_sums(_e24, (g_4 * WORKGROUP) + lane, WORKGROUP * _e31, step, starts, sorted, _buffer_sizes);
-    lane_sums.inner[lane] = type_15 {{metal::float4(_e33.intensity, _e33.weight), metal::float4(_e33.first, 0.0), metal::float4(_e33.second, 0.0)}};
+    bool _e24 = slot_is_occupied(m_2, lane, step, slots, occupied_slot, _buffer_sizes);
+    if (!(_e24)) {
+        return;
+    }
+    metal::uint3 _e26 = demorton3_(m_2);
+    uint _e33 = step.parts;
+    Sums _e35 = moment_sums(_e26, (g_4 * WORKGROUP) + lane, WORKGROUP * _e33, step, starts, sorted, _buffer_sizes);
+    lane_sums.inner[lane] = type_15 {{metal::float4(_e35.intensity, _e35.weight), metal::float4(_e35.first, 0.0), metal::float4(_e35.second, 0.0)}};
     metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
     reduce(lane, lane_sums);
     if (lane == 0u) {
@@ -518,20 +546,20 @@ struct moment_partsInput {
             if (metal::all(loop_bound_6 == uint2(0u))) { break; }
             loop_bound_6 -= uint2(loop_bound_6.y == 0u, 1u);
             if (!loop_init_6) {
-                uint _e63 = a;
-                a = _e63 + 1u;
+                uint _e65 = a;
+                a = _e65 + 1u;
             }
             loop_init_6 = false;
-            uint _e50 = a;
-            if (_e50 < 3u) {
+            uint _e52 = a;
+            if (_e52 < 3u) {
             } else {
                 break;
             }
             {
-                uint _e55 = a;
-                uint _e59 = a;
-                metal::float4 _e61 = lane_sums.inner[0].inner[_e59];
-                partials[w_2].inner[_e55] = _e61;
+                uint _e57 = a;
+                uint _e61 = a;
+                metal::float4 _e63 = lane_sums.inner[0].inner[_e61];
+                partials[w_2].inner[_e57] = _e63;
             }
         }
         return;

@@ -48,13 +48,17 @@ layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_4_cs[]; };
 
 layout(std430) buffer type_8_block_2Compute { Sorted _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_14_block_3Compute { vec4 _group_0_binding_11_cs[][5]; };
+layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_7_cs[]; };
+
+layout(std430) buffer type_14_block_4Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
+shared uint occupied_slot;
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -145,7 +149,7 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
+Sums moment_sums(uvec3 q, uint lane_4, uint lanes) {
     Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
     uint k_2 = 0u;
     bool local_2 = false;
@@ -181,7 +185,7 @@ Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
             }
             uvec2 _e46 = cell_range((q - _e33));
             vec3 at = vec3(_e33);
-            j = (_e46.x + lane_2);
+            j = (_e46.x + lane_4);
             bool loop_init_1 = true;
             while(true) {
                 if (!loop_init_1) {
@@ -219,8 +223,8 @@ Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
     return _e106;
 }
 
-float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
-    float sum = 0.0;
+float size_sum(uvec3 q_1, vec3 mean, uint lane_5, uint lanes_1) {
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = false;
     uint j_1 = 0u;
@@ -255,7 +259,7 @@ float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
             }
             uvec2 _e40 = cell_range((q_1 - _e27));
             vec3 centre_1 = (vec3(_e27) + mean);
-            j_1 = (_e40.x + lane_3);
+            j_1 = (_e40.x + lane_5);
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
@@ -275,13 +279,13 @@ float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
                     vec3 g_3 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
                     vec3 wa_1 = mix((vec3(1.0) - g_3), g_3, equal(_e27, uvec3(1u)));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    float _e76 = sum_2;
+                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -292,7 +296,23 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void reduce(uint lane_4) {
+bool slot_is_occupied(uint m_1, uint lane_6) {
+    if ((lane_6 == 0u)) {
+        uint _e10 = _group_0_binding_0_cs.slot_offset;
+        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
+        uint _e19 = _group_0_binding_0_cs.slot_offset;
+        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
+    }
+    memoryBarrierShared();
+    barrier();
+    uint _e26 = occupied_slot;
+    memoryBarrierShared();
+    barrier();
+    return (_e26 == 1u);
+}
+
+void reduce(uint lane_7) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init_4 = true;
@@ -309,7 +329,7 @@ void reduce(uint lane_4) {
         }
         {
             uint _e6 = stride;
-            if ((lane_4 < _e6)) {
+            if ((lane_7 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_5 = true;
                 while(true) {
@@ -325,11 +345,11 @@ void reduce(uint lane_4) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_4][_e15];
+                        vec4 _e17 = lane_sums[lane_7][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_4 + _e19)][_e22];
-                        lane_sums[lane_4][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
+                        lane_sums[lane_7][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -343,37 +363,42 @@ void reduce(uint lane_4) {
 void main() {
     if (gl_LocalInvocationID == uvec3(0u)) {
         lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
+        occupied_slot = 0u;
     }
     memoryBarrierShared();
     barrier();
-    uint lane_1 = gl_LocalInvocationIndex;
-    uvec3 wg_1 = gl_WorkGroupID;
+    uint lane_2 = gl_LocalInvocationIndex;
+    uvec3 wg_2 = gl_WorkGroupID;
     uvec3 groups_7 = gl_NumWorkGroups;
-    uint w_2 = (wg_1.x + (wg_1.y * groups_7.x));
+    uint w_2 = (wg_2.x + (wg_2.y * groups_7.x));
     uint _e10 = _group_0_binding_0_cs.count;
     uint _e13 = _group_0_binding_0_cs.parts;
     if ((w_2 >= (_e10 * _e13))) {
         return;
     }
     uint _e18 = _group_0_binding_0_cs.parts;
-    uint m_1 = (w_2 / _e18);
+    uint m_2 = (w_2 / _e18);
     uint _e22 = _group_0_binding_0_cs.parts;
     uint g_4 = (w_2 % _e22);
-    uint _e27 = _group_0_binding_0_cs.parts;
-    vec4 _e31 = _group_0_binding_11_cs[(m_1 * _e27)][3];
-    vec3 mean_2 = _e31.xyz;
-    uvec3 _e33 = demorton3_(m_1);
-    uint _e40 = _group_0_binding_0_cs.parts;
-    float _e42 = size_sum_1(_e33, mean_2, ((g_4 * WORKGROUP) + lane_1), (WORKGROUP * _e40));
-    lane_sums[lane_1][0] = vec4(_e42, 0.0, 0.0, 0.0);
-    lane_sums[lane_1][1] = vec4(0.0);
-    lane_sums[lane_1][2] = vec4(0.0);
+    bool _e24 = slot_is_occupied(m_2, lane_2);
+    if (!(_e24)) {
+        return;
+    }
+    uint _e29 = _group_0_binding_0_cs.parts;
+    vec4 _e33 = _group_0_binding_11_cs[(m_2 * _e29)][3];
+    vec3 mean_2 = _e33.xyz;
+    uvec3 _e35 = demorton3_(m_2);
+    uint _e42 = _group_0_binding_0_cs.parts;
+    float _e44 = size_sum(_e35, mean_2, ((g_4 * WORKGROUP) + lane_2), (WORKGROUP * _e42));
+    lane_sums[lane_2][0] = vec4(_e44, 0.0, 0.0, 0.0);
+    lane_sums[lane_2][1] = vec4(0.0);
+    lane_sums[lane_2][2] = vec4(0.0);
     memoryBarrierShared();
     barrier();
-    reduce(lane_1);
-    if ((lane_1 == 0u)) {
-        vec4 _e68 = lane_sums[0][0];
-        _group_0_binding_11_cs[w_2][4] = _e68;
+    reduce(lane_2);
+    if ((lane_2 == 0u)) {
+        vec4 _e70 = lane_sums[0][0];
+        _group_0_binding_11_cs[w_2][4] = _e70;
         return;
     } else {
         return;

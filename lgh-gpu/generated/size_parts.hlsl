@@ -61,10 +61,11 @@ RWByteAddressBuffer extras : register(u9);
 RWByteAddressBuffer keys : register(u10);
 RWByteAddressBuffer partials : register(u11);
 groupshared float4 lane_sums[64][3];
+groupshared uint occupied_slot;
 
-uint flat(uint3 id_7, uint3 groups_9)
+uint flat(uint3 id_5, uint3 groups_9)
 {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v)
@@ -197,7 +198,7 @@ Sorted ConstructSorted(float3 arg0, float arg1, float3 arg2, uint arg3) {
     return ret;
 }
 
-Sums moment_sums(uint3 q, uint lane_2, uint lanes)
+Sums moment_sums(uint3 q, uint lane_4, uint lanes)
 {
     Sums s = ConstructSums((0.0).xxx, 0.0, (0.0).xxx, (0.0).xxx);
     uint k_2 = 0u;
@@ -238,7 +239,7 @@ Sums moment_sums(uint3 q, uint lane_2, uint lanes)
             }
             const uint2 _e46 = cell_range((q - _e33));
             float3 at = float3(_e33);
-            j = (_e46.x + lane_2);
+            j = (_e46.x + lane_4);
             uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
             bool loop_init_1 = true;
             while(true) {
@@ -280,9 +281,9 @@ Sums moment_sums(uint3 q, uint lane_2, uint lanes)
     return sums;
 }
 
-float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
+float size_sum(uint3 q_1, float3 mean, uint lane_5, uint lanes_1)
 {
-    float sum = 0.0;
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = (bool)0;
     uint j_1 = (uint)0;
@@ -321,7 +322,7 @@ float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
             }
             const uint2 _e40 = cell_range((q_1 - _e27));
             float3 centre_1 = (float3(_e27) + mean);
-            j_1 = (_e40.x + lane_3);
+            j_1 = (_e40.x + lane_5);
             uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
             bool loop_init_3 = true;
             while(true) {
@@ -344,13 +345,13 @@ float size_sum_1(uint3 q_1, float3 mean, uint lane_3, uint lanes_1)
                     float3 g_3 = min(((float3((_e54 & (mask_1).xxx)) + light_1.frac_) * scale_1), (1.0).xxx);
                     float3 wa_1 = ((_e27 == (1u).xxx) ? g_3 : ((1.0).xxx - g_3));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    float _e76 = sum_2;
+                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -369,7 +370,7 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2)
+void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
 {
     float3 variance = (0.0).xxx;
     float size = 0.0;
@@ -380,7 +381,7 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / (s_2.weight).xxx) - (mean_1 * mean_1)), (0.0).xxx) * h) * h);
-        size = ((size_sum_2 / s_2.weight) * h);
+        size = ((size_sum_1 / s_2.weight) * h);
     }
     float3 _e41 = step_.origin;
     float3 position = (_e41 + ((float3(q_2) + mean_1) * h));
@@ -405,11 +406,26 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_2
     return;
 }
 
+bool slot_is_occupied(uint m_1, uint lane_6)
+{
+    if ((lane_6 == 0u)) {
+        uint _e10 = step_.slot_offset;
+        uint _e15 = asuint(slots.Load(((_e10 + m_1) + 1u)*4));
+        uint _e19 = step_.slot_offset;
+        uint _e22 = asuint(slots.Load((_e19 + m_1)*4));
+        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
+    }
+    GroupMemoryBarrierWithGroupSync();
+    uint _e26 = occupied_slot;
+    GroupMemoryBarrierWithGroupSync();
+    return (_e26 == 1u);
+}
+
 uint naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
 
-void reduce(uint lane_4)
+void reduce(uint lane_7)
 {
     uint stride = 32u;
     uint a_3 = (uint)0;
@@ -431,7 +447,7 @@ void reduce(uint lane_4)
         }
         {
             uint _e6 = stride;
-            if ((lane_4 < _e6)) {
+            if ((lane_7 < _e6)) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u, 4294967295u);
                 bool loop_init_5 = true;
@@ -450,11 +466,11 @@ void reduce(uint lane_4)
                     }
                     {
                         uint _e15 = a_3;
-                        float4 _e17 = lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)];
+                        float4 _e17 = lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        float4 _e24 = lane_sums[min(uint((lane_4 + _e19)), 63u)][min(uint(_e22), 2u)];
-                        lane_sums[min(uint(lane_4), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
+                        float4 _e24 = lane_sums[min(uint((lane_7 + _e19)), 63u)][min(uint(_e22), 2u)];
+                        lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
                     }
                 }
             }
@@ -469,36 +485,41 @@ uint naga_mod(uint lhs, uint rhs) {
 }
 
 [numthreads(64, 1, 1)]
-void size_parts(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 groups_7 : SV_GroupID)
+void size_parts(uint lane_2 : SV_GroupIndex, uint3 wg_2 : SV_GroupID, uint3 groups_7 : SV_GroupID)
 {
-    if (lane_1 == 0) {
+    if (lane_2 == 0) {
         lane_sums = (float4[64][3])0;
+        occupied_slot = (uint)0;
     }
     GroupMemoryBarrierWithGroupSync();
-    uint w_2 = (wg_1.x + (wg_1.y * groups_7.x));
+    uint w_2 = (wg_2.x + (wg_2.y * groups_7.x));
     uint _e10 = step_.count;
     uint _e13 = step_.parts;
     if ((w_2 >= (_e10 * _e13))) {
         return;
     }
     uint _e18 = step_.parts;
-    uint m_1 = naga_div(w_2, _e18);
+    uint m_2 = naga_div(w_2, _e18);
     uint _e22 = step_.parts;
     uint g_4 = naga_mod(w_2, _e22);
-    uint _e27 = step_.parts;
-    float4 _e31 = asfloat(partials.Load4(48+(m_1 * _e27)*80));
-    float3 mean_2 = _e31.xyz;
-    const uint3 _e33 = demorton3_(m_1);
-    uint _e40 = step_.parts;
-    const float _e42 = size_sum_1(_e33, mean_2, ((g_4 * WORKGROUP) + lane_1), (WORKGROUP * _e40));
-    lane_sums[min(uint(lane_1), 63u)][0] = float4(_e42, 0.0, 0.0, 0.0);
-    lane_sums[min(uint(lane_1), 63u)][1] = (0.0).xxxx;
-    lane_sums[min(uint(lane_1), 63u)][2] = (0.0).xxxx;
+    const bool _e24 = slot_is_occupied(m_2, lane_2);
+    if (!(_e24)) {
+        return;
+    }
+    uint _e29 = step_.parts;
+    float4 _e33 = asfloat(partials.Load4(48+(m_2 * _e29)*80));
+    float3 mean_2 = _e33.xyz;
+    const uint3 _e35 = demorton3_(m_2);
+    uint _e42 = step_.parts;
+    const float _e44 = size_sum(_e35, mean_2, ((g_4 * WORKGROUP) + lane_2), (WORKGROUP * _e42));
+    lane_sums[min(uint(lane_2), 63u)][0] = float4(_e44, 0.0, 0.0, 0.0);
+    lane_sums[min(uint(lane_2), 63u)][1] = (0.0).xxxx;
+    lane_sums[min(uint(lane_2), 63u)][2] = (0.0).xxxx;
     GroupMemoryBarrierWithGroupSync();
-    reduce(lane_1);
-    if ((lane_1 == 0u)) {
-        float4 _e68 = lane_sums[0][0];
-        partials.Store4(64+w_2*80, asuint(_e68));
+    reduce(lane_2);
+    if ((lane_2 == 0u)) {
+        float4 _e70 = lane_sums[0][0];
+        partials.Store4(64+w_2*80, asuint(_e70));
         return;
     } else {
         return;

@@ -55,8 +55,8 @@ layout(std430) buffer type_9_block_4Compute { Light _group_0_binding_8_cs[]; };
 layout(std430) buffer type_4_block_5Compute { vec4 _group_0_binding_9_cs[]; };
 
 
-uint flat_(uvec3 id_7, uvec3 groups_9) {
-    return (id_7.x + ((id_7.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint spread3_(uint v) {
@@ -147,7 +147,7 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
+Sums moment_sums(uvec3 q, uint lane_4, uint lanes) {
     Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
     uint k_2 = 0u;
     bool local_2 = false;
@@ -183,7 +183,7 @@ Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
             }
             uvec2 _e46 = cell_range((q - _e33));
             vec3 at = vec3(_e33);
-            j = (_e46.x + lane_2);
+            j = (_e46.x + lane_4);
             bool loop_init_1 = true;
             while(true) {
                 if (!loop_init_1) {
@@ -221,8 +221,8 @@ Sums moment_sums(uvec3 q, uint lane_2, uint lanes) {
     return _e106;
 }
 
-float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
-    float sum = 0.0;
+float size_sum(uvec3 q_1, vec3 mean, uint lane_5, uint lanes_1) {
+    float sum_2 = 0.0;
     uint k_3 = 0u;
     bool local_3 = false;
     uint j_1 = 0u;
@@ -257,7 +257,7 @@ float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
             }
             uvec2 _e40 = cell_range((q_1 - _e27));
             vec3 centre_1 = (vec3(_e27) + mean);
-            j_1 = (_e40.x + lane_3);
+            j_1 = (_e40.x + lane_5);
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
@@ -277,13 +277,13 @@ float size_sum_1(uvec3 q_1, vec3 mean, uint lane_3, uint lanes_1) {
                     vec3 g_3 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
                     vec3 wa_1 = mix((vec3(1.0) - g_3), g_3, equal(_e27, uvec3(1u)));
                     float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum;
-                    sum = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    float _e76 = sum_2;
+                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
                 }
             }
         }
     }
-    float _e88 = sum;
+    float _e88 = sum_2;
     return _e88;
 }
 
@@ -294,7 +294,7 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) {
+void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
     vec3 variance = vec3(0.0);
     float size = 0.0;
     bool local_4 = false;
@@ -303,7 +303,7 @@ void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_2) 
     float h = (_e7 * float((1u << (_e11 - 1u))));
     if ((s_2.weight > 0.0)) {
         variance = ((max(((s_2.second / vec3(s_2.weight)) - (mean_1 * mean_1)), vec3(0.0)) * h) * h);
-        size = ((size_sum_2 / s_2.weight) * h);
+        size = ((size_sum_1 / s_2.weight) * h);
     }
     vec3 _e41 = _group_0_binding_0_cs.origin;
     vec3 position = (_e41 + ((vec3(q_2) + mean_1) * h));
@@ -342,7 +342,7 @@ void main() {
     uvec3 _e24 = demorton3_(_e2);
     Sums _e27 = moment_sums(_e24, 0u, 1u);
     vec3 _e28 = centre(_e27);
-    float _e31 = size_sum_1(_e24, _e28, 0u, 1u);
+    float _e31 = size_sum(_e24, _e28, 0u, 1u);
     write_vertex(_e24, v_4, _e27, _e28, _e31);
     return;
 }

@@ -29,7 +29,7 @@ use crate::hierarchy::{blended, check_size, GpuHierarchy, QueryBuffers, QueryKer
 use crate::layout::{cell_order, GpuLight, LevelGrid};
 use crate::scan::{self, Scan};
 use crate::sort::RadixSort;
-use crate::timing::{GpuTiming, PassTimer};
+use crate::timing::{GpuTiming, PassTimer, SpanTimer};
 
 /// One dispatch's uniform (`build.wgsl`'s `Step`). 64 bytes.
 #[repr(C)]
@@ -53,12 +53,12 @@ struct Step {
 /// Threads of a workgroup of `build.wgsl` (its `WORKGROUP`).
 const WORKGROUP: u32 = 64;
 
-/// Levels with at most this many vertex slots split each vertex's sums over workgroups
-/// (`moment_parts`, …): their vertices gather many lights each.
-const WIDE_AT_MOST: u32 = 1 << 15;
+/// Levels with at most this many vertex slots may give each vertex workgroups of its own
+/// (`moment_parts`, …), where their vertices gather many lights each.
+const WIDE_AT_MOST: u32 = 1 << 18;
 
-/// The workgroups a coarse level's splat takes: its slots times their parts.
-const PARTS_IN_ALL: u32 = 1 << 16;
+/// The most workgroups a level's splat takes: its slots times their parts.
+const PARTS_IN_ALL: u32 = 1 << 18;
 
 /// `build.wgsl`'s entry points, in [`kernels::BUILD`](crate::kernels::BUILD)'s order.
 #[derive(Clone, Copy, Debug)]
@@ -155,6 +155,9 @@ pub struct GpuBuilder {
     n: u32,
     /// Each level's grid as the query reads it.
     levels: Vec<LevelGrid>,
+    /// Whether builds time each kernel, and the last build's times.
+    profiling: bool,
+    profile: std::sync::Mutex<Vec<(String, f64)>>,
 }
 
 impl GpuBuilder {
@@ -215,7 +218,7 @@ impl GpuBuilder {
         let copy = wgpu::BufferUsages::COPY_SRC;
         let partials = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("lgh-gpu partial sums"),
-            size: u64::from(PARTS_IN_ALL.max(WIDE_AT_MOST)) * 80,
+            size: u64::from(PARTS_IN_ALL) * 80,
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
@@ -238,6 +241,8 @@ impl GpuBuilder {
             out: out_buffers(device, 0),
             n: 0,
             levels: Vec::new(),
+            profiling: false,
+            profile: Default::default(),
             layout,
             pipelines,
         })
@@ -255,6 +260,43 @@ impl GpuBuilder {
         }
         self.prune_below = prune_below;
         Ok(self)
+    }
+
+    /// The builder timing each kernel of its builds (where the adapter has timestamps inside
+    /// passes), for [`profile`](Self::profile). Off by default: the timestamps cost a little.
+    #[must_use]
+    pub fn with_profiling(mut self, on: bool) -> GpuBuilder {
+        self.profiling = on;
+        self
+    }
+
+    /// Where the last build's or update's GPU time went: each kernel (or group of them) and
+    /// its milliseconds, in order; empty unless [`with_profiling`](Self::with_profiling) and
+    /// the adapter has timestamps inside passes.
+    #[must_use]
+    pub fn profile(&self) -> Vec<(String, f64)> {
+        self.profile.lock().map(|p| p.clone()).unwrap_or_default()
+    }
+
+    fn spans(&self) -> Option<SpanTimer> {
+        if self.profiling {
+            SpanTimer::new(&self.gpu, 128)
+        } else {
+            None
+        }
+    }
+
+    /// Keeps `spans`' times as the profile (after the topology's, unless `fresh`).
+    fn keep_profile(&self, spans: Option<SpanTimer>, fresh: bool) -> Result<(), GpuError> {
+        let Some(spans) = spans else { return Ok(()) };
+        let times = spans.milliseconds(&self.gpu)?;
+        if let Ok(mut profile) = self.profile.lock() {
+            if fresh {
+                profile.clear();
+            }
+            profile.extend(times);
+        }
+        Ok(())
     }
 
     /// Its grid.
@@ -313,7 +355,7 @@ impl GpuBuilder {
         let start = std::time::Instant::now();
         let (vertices, topology_ms) = self.topology()?;
         self.place_levels(&vertices)?;
-        let splat_ms = self.splat()?;
+        let splat_ms = self.splat(false)?;
         Ok(GpuTiming {
             kernel_ms: topology_ms.zip(splat_ms).map(|(a, b)| a + b),
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
@@ -340,7 +382,7 @@ impl GpuBuilder {
         self.gpu
             .queue()
             .write_buffer(&self.lights.intensities, 0, bytemuck::cast_slice(&rgb));
-        let kernel_ms = self.splat()?;
+        let kernel_ms = self.splat(true)?;
         Ok(GpuTiming {
             kernel_ms,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
@@ -474,7 +516,10 @@ impl GpuBuilder {
         (kernel, index, items): (Kernel, u32, u32),
     ) {
         let groups = match kernel {
-            Kernel::MomentParts | Kernel::SizeParts => items,
+            Kernel::MomentParts
+            | Kernel::SizeParts
+            | Kernel::FinishMoments
+            | Kernel::FinishVertices => items,
             _ => items.div_ceil(WORKGROUP),
         };
         pass.set_pipeline(&self.pipelines[kernel as usize]);
@@ -521,6 +566,7 @@ impl GpuBuilder {
         let bind_starts = self.scan.bind(device, &scan_uniforms, &self.starts);
         let bind_slots = self.scan.bind(device, &scan_uniforms, &self.slots);
         let timer = PassTimer::new(&self.gpu);
+        let mut spans = self.spans();
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -528,27 +574,28 @@ impl GpuBuilder {
                 timestamp_writes: timer.as_ref().map(PassTimer::writes),
             });
             let limits = device.limits();
-            self.record(&mut pass, &bind, &uniforms, (Kernel::Locate, 0, n));
-            self.record(&mut pass, &bind, &uniforms, (Kernel::CopyCounts, 0, cells));
-            self.scan.record(
-                &mut pass,
-                &bind_starts,
-                &scan_uniforms,
-                0,
-                &starts_scan,
-                &limits,
-            );
+            let spans = &mut spans;
+            timed(spans, &mut pass, "locate", |p| {
+                self.record(p, &bind, &uniforms, (Kernel::Locate, 0, n));
+                self.record(p, &bind, &uniforms, (Kernel::CopyCounts, 0, cells));
+            });
+            timed(spans, &mut pass, "scan the cells' counts", |p| {
+                self.scan
+                    .record(p, &bind_starts, &scan_uniforms, 0, &starts_scan, &limits);
+            });
             let key_bits = 3 * u32::from(g.bits);
-            self.lights
-                .sort
-                .record(device, &mut pass, &self.scan, n, key_bits);
+            timed(spans, &mut pass, "sort the lights by cell", |p| {
+                self.lights.sort.record(device, p, &self.scan, n, key_bits);
+            });
             let mut first = starts_scan.len() as u32;
             for (k, one) in slot_scans.iter().enumerate() {
                 let count = steps[k + 1].count;
                 let mark = (Kernel::MarkVertices, k as u32 + 1, count);
-                self.record(&mut pass, &bind, &uniforms, mark);
-                self.scan
-                    .record(&mut pass, &bind_slots, &scan_uniforms, first, one, &limits);
+                timed(spans, &mut pass, &format!("level {}: number the vertices", k + 1), |p| {
+                    self.record(p, &bind, &uniforms, mark);
+                    self.scan
+                        .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
+                });
                 first += one.len() as u32;
             }
         }
@@ -567,9 +614,13 @@ impl GpuBuilder {
         if let Some(t) = &timer {
             t.resolve(&mut encoder);
         }
+        if let Some(s) = &spans {
+            s.resolve(&mut encoder);
+        }
         self.gpu.queue().submit([encoder.finish()]);
         let vertices: Vec<u32> = self.gpu.read_back(&totals)?;
         let ms = timer.map(|t| t.milliseconds(&self.gpu)).transpose()?;
+        self.keep_profile(spans, true)?;
         Ok((vertices, ms))
     }
 
@@ -639,8 +690,9 @@ impl GpuBuilder {
         Ok(())
     }
 
-    /// Submission 2: the lights in the sorted order, then every level's splat.
-    fn splat(&self) -> Result<Option<f64>, GpuError> {
+    /// Submission 2: the lights in the sorted order, then every level's splat (its profile
+    /// `fresh`, or after the topology's).
+    fn splat(&self, fresh: bool) -> Result<Option<f64>, GpuError> {
         let device = self.gpu.device();
         let g = &self.grid;
         let mut steps = vec![self.step(0, self.n)];
@@ -648,8 +700,8 @@ impl GpuBuilder {
         for level in 1..=g.max_level() {
             let count = slots_a_side(g, level).pow(3);
             let index = steps.len() as u32;
-            if count <= WIDE_AT_MOST {
-                let parts = parts(count, self.n);
+            let vertices = self.levels[level as usize].light_count;
+            if let Some(parts) = parts(count, vertices, self.n) {
                 plan.extend([
                     (Kernel::MomentParts, index, count * parts),
                     (Kernel::FinishMoments, index, count),
@@ -668,6 +720,7 @@ impl GpuBuilder {
         let uniforms = Uniforms::new(device, &steps);
         let bind = self.bind(&uniforms);
         let timer = PassTimer::new(&self.gpu);
+        let mut spans = self.spans();
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -675,13 +728,20 @@ impl GpuBuilder {
                 timestamp_writes: timer.as_ref().map(PassTimer::writes),
             });
             for &p in &plan {
-                self.record(&mut pass, &bind, &uniforms, p);
+                let label = format!("level {}: {:?}", steps[p.1 as usize].level, p.0);
+                timed(&mut spans, &mut pass, &label, |pass| {
+                    self.record(pass, &bind, &uniforms, p);
+                });
             }
         }
         if let Some(t) = &timer {
             t.resolve(&mut encoder);
         }
+        if let Some(s) = &spans {
+            s.resolve(&mut encoder);
+        }
         self.gpu.queue().submit([encoder.finish()]);
+        self.keep_profile(spans, fresh)?;
         match timer {
             Some(t) => t.milliseconds(&self.gpu).map(Some),
             None => {
@@ -695,11 +755,31 @@ impl GpuBuilder {
     }
 }
 
-/// The workgroups each of a coarse level's `slots` splits its sums over: one per 4096 of the
-/// `n` lights (a vertex may gather them all; each lane then sums at most 64 a cell), at most
-/// [`PARTS_IN_ALL`] for the level and 1024 a vertex.
-fn parts(slots: u32, n: u32) -> u32 {
-    n.div_ceil(4096).min(PARTS_IN_ALL / slots).clamp(1, 1024)
+/// The workgroups each vertex of a level of `slots` slots and `vertices` vertices splits its
+/// sums over, where its vertices gather many of the `n` lights (each light counts at eight
+/// vertices): one per 1024 of four times their mean, at most [`PARTS_IN_ALL`] for the level and
+/// 1024 a vertex; `None` where one invocation a vertex does (a fine level, or few lights a
+/// vertex).
+fn parts(slots: u32, vertices: u32, n: u32) -> Option<u32> {
+    let mean = 8 * u64::from(n) / u64::from(vertices.max(1));
+    if slots > WIDE_AT_MOST || mean < 32 {
+        return None;
+    }
+    let parts = (4 * mean).div_ceil(1024).min(1024) as u32;
+    Some(parts.min(PARTS_IN_ALL / slots).max(1))
+}
+
+/// Records `record` into `pass`, timed as `label` where there is a span timer.
+fn timed(
+    spans: &mut Option<SpanTimer>,
+    pass: &mut wgpu::ComputePass<'_>,
+    label: &str,
+    record: impl FnOnce(&mut wgpu::ComputePass<'_>),
+) {
+    match spans {
+        Some(t) => t.span(pass, label.to_string(), record),
+        None => record(pass),
+    }
 }
 
 /// Level ℓ's vertex slots a side: `2^(bits − ℓ + 1)`.

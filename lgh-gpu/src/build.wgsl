@@ -324,6 +324,15 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>,
 @group(0) @binding(11) var<storage, read_write> partials: array<array<vec4<f32>, 5>>;
 
 var<workgroup> lane_sums: array<array<vec4<f32>, 3>, WORKGROUP>;
+var<workgroup> occupied_slot: u32;
+
+// Whether vertex slot m holds a vertex, the same answer for the whole workgroup.
+fn slot_is_occupied(m: u32, lane: u32) -> bool {
+    if lane == 0u {
+        occupied_slot = select(0u, 1u, slots[step.slot_offset + m + 1u] != slots[step.slot_offset + m]);
+    }
+    return workgroupUniformLoad(&occupied_slot) == 1u;
+}
 
 // The workgroup's lane sums added in a fixed tree into lane_sums[0].
 fn reduce(lane: u32) {
@@ -348,6 +357,9 @@ fn moment_parts(@builtin(local_invocation_index) lane: u32,
     }
     let m = w / step.parts;
     let g = w % step.parts;
+    if !slot_is_occupied(m, lane) {
+        return;
+    }
     let s = moment_sums(demorton3(m), g * WORKGROUP + lane, WORKGROUP * step.parts);
     lane_sums[lane] = array<vec4<f32>, 3>(vec4<f32>(s.intensity, s.weight),
                                           vec4<f32>(s.first, 0.0), vec4<f32>(s.second, 0.0));
@@ -360,26 +372,37 @@ fn moment_parts(@builtin(local_invocation_index) lane: u32,
     }
 }
 
-// The parts' moment sums of vertex slot m added in order into part 0, and its centre.
+// The parts' moment sums of vertex slot m added into part 0 (lane l adds parts l, l + 64, …,
+// then the lanes' sums in a fixed tree), and its centre.
 @compute @workgroup_size(WORKGROUP)
-fn finish_moments(@builtin(global_invocation_id) id: vec3<u32>,
+fn finish_moments(@builtin(local_invocation_index) lane: u32,
+                  @builtin(workgroup_id) wg: vec3<u32>,
                   @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = flat(id, groups);
+    let m = wg.x + wg.y * groups.x;
     if m >= step.count {
         return;
     }
+    if !slot_is_occupied(m, lane) {
+        return;
+    }
     let first = m * step.parts;
-    var total = partials[first];
-    for (var g = 1u; g < step.parts; g++) {
+    var sum = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    for (var g = lane; g < step.parts; g += WORKGROUP) {
         for (var a = 0u; a < 3u; a++) {
-            total[a] += partials[first + g][a];
+            sum[a] += partials[first + g][a];
         }
     }
-    for (var a = 0u; a < 3u; a++) {
-        partials[first][a] = total[a];
+    lane_sums[lane] = sum;
+    workgroupBarrier();
+    reduce(lane);
+    if lane == 0u {
+        let total = lane_sums[0];
+        for (var a = 0u; a < 3u; a++) {
+            partials[first][a] = total[a];
+        }
+        let s = Sums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
+        partials[first][3] = vec4<f32>(centre(s), 0.0);
     }
-    let s = Sums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
-    partials[first][3] = vec4<f32>(centre(s), 0.0);
 }
 
 // Part g of vertex slot m's sum of eq. (5).
@@ -393,6 +416,9 @@ fn size_parts(@builtin(local_invocation_index) lane: u32,
     }
     let m = w / step.parts;
     let g = w % step.parts;
+    if !slot_is_occupied(m, lane) {
+        return;
+    }
     let mean = partials[m * step.parts][3].xyz;
     let sum = size_sum(demorton3(m), mean, g * WORKGROUP + lane, WORKGROUP * step.parts);
     lane_sums[lane][0] = vec4<f32>(sum, 0.0, 0.0, 0.0);
@@ -405,24 +431,31 @@ fn size_parts(@builtin(local_invocation_index) lane: u32,
     }
 }
 
-// Vertex slot m's light written from its parts' sums.
+// Vertex slot m's light written from its parts' sums (added as in finish_moments).
 @compute @workgroup_size(WORKGROUP)
-fn finish_vertices(@builtin(global_invocation_id) id: vec3<u32>,
+fn finish_vertices(@builtin(local_invocation_index) lane: u32,
+                   @builtin(workgroup_id) wg: vec3<u32>,
                    @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = flat(id, groups);
+    let m = wg.x + wg.y * groups.x;
     if m >= step.count {
         return;
     }
-    let v = slots[step.slot_offset + m];
-    if slots[step.slot_offset + m + 1u] == v {
+    if !slot_is_occupied(m, lane) {
         return;
     }
     let first = m * step.parts;
-    var size_sum = 0.0;
-    for (var g = 0u; g < step.parts; g++) {
-        size_sum += partials[first + g][4].x;
+    var sum = 0.0;
+    for (var g = lane; g < step.parts; g += WORKGROUP) {
+        sum += partials[first + g][4].x;
     }
-    let t = partials[first];
-    let s = Sums(t[0].xyz, t[0].w, t[1].xyz, t[2].xyz);
-    write_vertex(demorton3(m), v, s, t[3].xyz, size_sum);
+    lane_sums[lane][0] = vec4<f32>(sum, 0.0, 0.0, 0.0);
+    lane_sums[lane][1] = vec4<f32>(0.0);
+    lane_sums[lane][2] = vec4<f32>(0.0);
+    workgroupBarrier();
+    reduce(lane);
+    if lane == 0u {
+        let t = partials[first];
+        let s = Sums(t[0].xyz, t[0].w, t[1].xyz, t[2].xyz);
+        write_vertex(demorton3(m), slots[step.slot_offset + m], s, t[3].xyz, lane_sums[0][0].x);
+    }
 }

@@ -33,7 +33,8 @@ impl Gpu {
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("lgh-gpu"),
             required_limits: adapter.limits(),
-            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            required_features: adapter.features()
+                & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES),
             ..Default::default()
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
