@@ -1,6 +1,6 @@
-//! The web page's ember swarm lit through `lgh-gpu`, headless, to a PNG: the hierarchy built by
-//! lgh-core, uploaded, and queried on the GPU at every pixel of the swarm's ground and spheres
-//! seen from above (eq. 1 with a Lambertian response, unshadowed).
+//! The web page's ember swarm lit through `lgh-gpu`, headless, to a PNG: the hierarchy built on
+//! the GPU from the embers (`GpuBuilder`), and queried there at every pixel of the swarm's
+//! ground and spheres seen from above (eq. 1 with a Lambertian response, unshadowed).
 //!
 //! `cargo run --release -p lgh-gpu --example gpu -- swarm.png [LIGHTS] [SIZE] [FRAME]`
 //! (100000 embers, 512², frame 12 by default). Any Vulkan, Metal or DX12 adapter; Mesa's
@@ -9,8 +9,8 @@
 use std::path::PathBuf;
 
 use lgh_core::glam::Vec3;
-use lgh_core::{GridSettings, LightingGridHierarchy, PointLight};
-use lgh_gpu::{Gpu, GpuHierarchy, ShadingPoint};
+use lgh_core::PointLight;
+use lgh_gpu::{Gpu, GpuBuilder, GpuGrid, ShadingPoint};
 use lgh_web::swarm;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -40,9 +40,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo))
         })
         .collect();
-    let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
     let gpu = Gpu::new()?;
-    let (radiance, timing) = GpuHierarchy::upload(&gpu, &lgh, 2.0)?.shade_timed(&points)?;
+    let mut builder = GpuBuilder::new(&gpu, GpuGrid::fitting(&lights)?, 2.0)?;
+    let build = builder.rebuild(&lights)?;
+    let (radiance, timing) = builder.hierarchy().shade_timed(&points)?;
     let pixels: Vec<Vec3> = radiance.into_iter().map(Vec3::from).collect();
     let mean = pixels
         .iter()
@@ -55,13 +56,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         pixels,
     };
     lgh_image::write_png(&out, &image, 0.18 / mean.max(f32::MIN_POSITIVE))?;
-    let kernel = timing
-        .kernel_ms
-        .map_or("no timestamps".into(), |ms| format!("{ms:.2} ms"));
+    let ms = |t: lgh_gpu::GpuTiming| {
+        t.kernel_ms
+            .map_or("no timestamps".into(), |ms| format!("{ms:.2} ms"))
+    };
     println!(
-        "{}: {count} embers at {size}² on {} (the query: {kernel})",
+        "{}: {count} embers at {size}² on {} (the build: {}, the query: {})",
         out.display(),
-        gpu.adapter().name
+        gpu.adapter().name,
+        ms(build),
+        ms(timing)
     );
     Ok(())
 }

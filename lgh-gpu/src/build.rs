@@ -17,7 +17,7 @@
 
 use std::sync::Arc;
 
-use bytemuck::{Pod, Zeroable};
+use bytemuck::Pod;
 use lgh_core::glam::Vec3;
 use lgh_core::{Blending, BuildError, PointLight};
 
@@ -26,29 +26,10 @@ use crate::dispatch::{self, Uniforms};
 use crate::error::GpuError;
 use crate::grid::GpuGrid;
 use crate::hierarchy::{blended, check_size, GpuHierarchy, QueryBuffers, QueryKernels};
-use crate::layout::{cell_order, GpuLight, LevelGrid};
+use crate::layout::{cell_order, BuildStep as Step, GpuLight, LevelGrid};
 use crate::scan::{self, Scan};
 use crate::sort::RadixSort;
 use crate::timing::{GpuTiming, PassTimer, SpanTimer};
-
-/// One dispatch's uniform (`build.wgsl`'s `Step`). 64 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct Step {
-    origin: [f32; 3],
-    h1: f32,
-    n: u32,
-    bits: u32,
-    level: u32,
-    top: u32,
-    max_cell: u32,
-    slot_offset: u32,
-    light_base: u32,
-    threshold: f32,
-    count: u32,
-    parts: u32,
-    _pad: [u32; 2],
-}
 
 /// Threads of a workgroup of `build.wgsl` (its `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -591,11 +572,16 @@ impl GpuBuilder {
             for (k, one) in slot_scans.iter().enumerate() {
                 let count = steps[k + 1].count;
                 let mark = (Kernel::MarkVertices, k as u32 + 1, count);
-                timed(spans, &mut pass, &format!("level {}: number the vertices", k + 1), |p| {
-                    self.record(p, &bind, &uniforms, mark);
-                    self.scan
-                        .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
-                });
+                timed(
+                    spans,
+                    &mut pass,
+                    &format!("level {}: number the vertices", k + 1),
+                    |p| {
+                        self.record(p, &bind, &uniforms, mark);
+                        self.scan
+                            .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
+                    },
+                );
                 first += one.len() as u32;
             }
         }

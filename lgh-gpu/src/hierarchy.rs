@@ -11,7 +11,7 @@ use crate::cells::Cells;
 use crate::context::Gpu;
 use crate::dispatch;
 use crate::error::GpuError;
-use crate::layout::{cell_order, GpuLight, LevelGrid, Params, ShadingPoint};
+use crate::layout::{cell_order, GpuLight, LevelGrid, ShadingPoint, WalkParams};
 use crate::timing::{GpuTiming, PassTimer};
 
 /// The most cells of one level's dense grid (64 MiB of cell starts).
@@ -350,7 +350,7 @@ impl GpuHierarchy {
         let limit = device.limits().max_storage_buffer_binding_size;
         check_size("the shading points", size_of_val(points), limit)?;
         check_size("the results", out_bytes as usize, limit)?;
-        let params = Params {
+        let params = WalkParams {
             levels: self.levels.len() as u32,
             points: points.len() as u32,
             h0: self.h0,

@@ -1,7 +1,7 @@
-//! The buffers' element types. Each is `#[repr(C)]` with the offsets of its WGSL struct in
-//! `walk.wgsl` and `build.wgsl` (a `vec3<f32>` is 16-byte aligned there, so each is padded to
-//! 16 bytes): an engine not on wgpu that dispatches the same kernels fills its buffers with
-//! these layouts.
+//! The buffers' element types and the kernels' uniforms: the contract for an engine not on
+//! wgpu that dispatches the same kernels (`generated/`). Each is `#[repr(C)]` with the offsets
+//! of its WGSL struct (a `vec3<f32>` is 16-byte aligned there, so each is padded to 16 bytes),
+//! and mirrored in C by `generated/lgh_gpu.h` (cbindgen; `tests/header.rs` keeps it current).
 
 use bytemuck::{Pod, Zeroable};
 use lgh_core::glam::Vec3;
@@ -110,10 +110,11 @@ pub struct LevelGrid {
     pub bank: u32,
 }
 
-/// The query's parameters (a uniform). 32 bytes.
+/// The walk's parameters (`walk.wgsl`'s `Params`, a uniform): the query's and the gather's.
+/// 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Params {
+pub struct WalkParams {
     /// Levels, 0 to the top.
     pub levels: u32,
     /// Shading points.
@@ -143,4 +144,78 @@ pub struct GatherSample {
     pub weight: [f32; 3],
     /// Padding.
     pub _pad1: f32,
+}
+
+/// A build dispatch's uniform (`build.wgsl`'s `Step`), at a dynamic offset. 64 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BuildStep {
+    /// The grid's origin (the low corner of level-1 cell 0).
+    pub origin: [f32; 3],
+    /// The level-1 spacing.
+    pub h1: f32,
+    /// Input lights.
+    pub n: u32,
+    /// Morton bits a side.
+    pub bits: u32,
+    /// This dispatch's level ℓ.
+    pub level: u32,
+    /// The top level.
+    pub top: u32,
+    /// The largest level-1 cell coordinate of a light.
+    pub max_cell: u32,
+    /// Where level ℓ's vertex slots begin in the slots buffer.
+    pub slot_offset: u32,
+    /// Where level ℓ's lights begin in the level lights buffer.
+    pub light_base: u32,
+    /// Level ℓ's weak-light threshold (0 on the top level).
+    pub threshold: f32,
+    /// Items of the dispatch (lights, cells or vertex slots).
+    pub count: u32,
+    /// Workgroups each vertex slot's sums are split over (the coarse levels' splat).
+    pub parts: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+
+/// An input light in the build's sorted order (`build.wgsl`'s `Sorted`). 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SortedLight {
+    /// Its place in its level-1 cell, in cell units.
+    pub frac: [f32; 3],
+    /// Its luminance.
+    pub luminance: f32,
+    /// Its RGB intensity.
+    pub intensity: [f32; 3],
+    /// Its level-1 cell, 10 bits an axis (x lowest).
+    pub cell: u32,
+}
+
+/// A scan dispatch's uniform (`scan.wgsl`'s `Step`). 16 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ScanStep {
+    /// Where the values begin in the buffer.
+    pub offset: u32,
+    /// How many.
+    pub count: u32,
+    /// Where the blocks' sums are written (or read back, scanned).
+    pub sums: u32,
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// A radix sort pass's uniform (`sort.wgsl`'s `Pass`). 16 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct SortPass {
+    /// Pairs.
+    pub count: u32,
+    /// The digit's shift.
+    pub shift: u32,
+    /// Tiles of 256 pairs.
+    pub tiles: u32,
+    /// Padding.
+    pub _pad: u32,
 }

@@ -3,26 +3,11 @@
 //! additions in a fixed tree, so the same bits on every run: the build's counting sort and
 //! vertex numbering rest on it (paper Sec. 5's "compacted by a prefix scan").
 
-use bytemuck::{Pod, Zeroable};
-
 use crate::dispatch::{self, Uniforms};
+pub use crate::layout::ScanStep as Step;
 
 /// Values a workgroup scans (`scan.wgsl`'s `BLOCK`).
 pub const BLOCK: u32 = 256;
-
-/// One dispatch's uniform (`scan.wgsl`'s `Step`). 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct Step {
-    /// Where the values begin in the buffer.
-    pub offset: u32,
-    /// How many.
-    pub count: u32,
-    /// Where the blocks' sums are written (or read back, scanned).
-    pub sums: u32,
-    /// Padding.
-    pub _pad: u32,
-}
 
 /// What one dispatch of a scan does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,24 +3,13 @@
 //! scatter in a fixed order, so the same pairs give the same bits on every run. The build
 //! sorts its lights by level-1 cell with it (paper Sec. 5: the GPU build sorts its lights).
 
-use bytemuck::{Pod, Zeroable};
-
 use crate::dispatch::{self, Uniforms};
+use crate::layout::SortPass as Pass;
 use crate::scan::{self, Scan};
 
 /// Pairs a workgroup sorts into place (`sort.wgsl`'s `TILE`).
 pub const TILE: u32 = 256;
 const RADIX: u32 = 256;
-
-/// One pass's uniform (`sort.wgsl`'s `Pass`). 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-struct Pass {
-    count: u32,
-    shift: u32,
-    tiles: u32,
-    _pad: u32,
-}
 
 /// The sort's kernels and its buffers for up to `capacity` pairs: the pairs are sorted from
 /// `keys`/`values` back into them (an even number of passes through a second pair of buffers).

@@ -92,7 +92,8 @@ impl SpanTimer {
     #[must_use]
     pub fn new(gpu: &Gpu, spans: u32) -> Option<SpanTimer> {
         let device = gpu.device();
-        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        let wanted =
+            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
         if !device.features().contains(wanted) {
             return None;
         }
