@@ -333,13 +333,13 @@ impl GpuBuilder {
             0,
             bytemuck::cast_slice(&intensities),
         );
-        let start = std::time::Instant::now();
+        let start = crate::timing::Stopwatch::start();
         let (vertices, topology_ms) = self.topology()?;
         self.place_levels(&vertices)?;
         let splat_ms = self.splat(false)?;
         Ok(GpuTiming {
             kernel_ms: topology_ms.zip(splat_ms).map(|(a, b)| a + b),
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            wall_ms: start.ms(),
         })
     }
 
@@ -359,14 +359,14 @@ impl GpuBuilder {
             check_intensity(index, i)?;
         }
         let rgb: Vec<[f32; 4]> = intensities.iter().map(|i| i.extend(0.0).into()).collect();
-        let start = std::time::Instant::now();
+        let start = crate::timing::Stopwatch::start();
         self.gpu
             .queue()
             .write_buffer(&self.lights.intensities, 0, bytemuck::cast_slice(&rgb));
         let kernel_ms = self.splat(true)?;
         Ok(GpuTiming {
             kernel_ms,
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            wall_ms: start.ms(),
         })
     }
 

@@ -18,6 +18,12 @@ impl Gpu {
     ///
     /// Errors with [`GpuError::NoAdapter`] (saying how to install lavapipe) where there is none.
     pub fn new() -> Result<Gpu, GpuError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    /// [`new`](Self::new) without blocking: in a browser (wasm32), the browser's WebGPU, where
+    /// nothing may block.
+    pub async fn new_async() -> Result<Gpu, GpuError> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::PRIMARY,
             flags: wgpu::InstanceFlags::empty(),
@@ -27,7 +33,9 @@ impl Gpu {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()
         };
-        let adapter = pollster::block_on(instance.request_adapter(&options))
+        let adapter = instance
+            .request_adapter(&options)
+            .await
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         // Timestamps where the adapter has them (`lgh bench gpu` times the kernels with them).
         let descriptor = wgpu::DeviceDescriptor {
@@ -37,7 +45,9 @@ impl Gpu {
                 & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES),
             ..Default::default()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
+        let (device, queue) = adapter
+            .request_device(&descriptor)
+            .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
         Ok(Gpu {
             device,
@@ -83,17 +93,25 @@ impl Gpu {
         &self,
         staging: &wgpu::Buffer,
     ) -> Result<Vec<T>, GpuError> {
+        pollster::block_on(self.read_back_async(staging))
+    }
+
+    /// [`read_back`](Self::read_back) without blocking: natively the device is polled until
+    /// the mapping is done; in a browser the mapping completes on the page's event loop while
+    /// this waits.
+    pub(crate) async fn read_back_async<T: bytemuck::Pod>(
+        &self,
+        staging: &wgpu::Buffer,
+    ) -> Result<Vec<T>, GpuError> {
         let slice = staging.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sender.send(r);
-        });
+        let mapped = Mapped::default();
+        let done = mapped.clone();
+        slice.map_async(wgpu::MapMode::Read, move |r| done.finish(r));
         self.device()
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Readback(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
+        mapped
+            .await
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         let values = {
             let view = slice
@@ -103,5 +121,43 @@ impl Gpu {
         };
         staging.unmap();
         Ok(values)
+    }
+}
+
+/// A buffer mapping's outcome, awaited: set by `map_async`'s callback, which wakes the task.
+#[derive(Clone, Default)]
+struct Mapped(std::sync::Arc<std::sync::Mutex<MappedState>>);
+
+#[derive(Default)]
+struct MappedState {
+    outcome: Option<Result<(), wgpu::BufferAsyncError>>,
+    waker: Option<std::task::Waker>,
+}
+
+impl Mapped {
+    fn finish(&self, outcome: Result<(), wgpu::BufferAsyncError>) {
+        let mut state = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        state.outcome = Some(outcome);
+        if let Some(waker) = state.waker.take() {
+            waker.wake();
+        }
+    }
+}
+
+impl std::future::Future for Mapped {
+    type Output = Result<(), wgpu::BufferAsyncError>;
+
+    fn poll(
+        self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<Self::Output> {
+        let mut state = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match state.outcome.take() {
+            Some(outcome) => std::task::Poll::Ready(outcome),
+            None => {
+                state.waker = Some(cx.waker().clone());
+                std::task::Poll::Pending
+            }
+        }
     }
 }

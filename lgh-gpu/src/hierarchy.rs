@@ -284,8 +284,28 @@ impl GpuHierarchy {
         Ok((radiance, timing))
     }
 
+    /// [`shade`](Self::shade) without blocking: in a browser (wasm32), where the results come
+    /// back on the page's event loop.
+    pub async fn shade_async(&self, points: &[ShadingPoint]) -> Result<Vec<[f32; 3]>, GpuError> {
+        let (rgba, _) = self
+            .walk_async::<[f32; 4]>(Walk::Shade, points, 1, 0)
+            .await?;
+        Ok(rgba.into_iter().map(|c| [c[0], c[1], c[2]]).collect())
+    }
+
     /// Runs `walk` at `points`, `per_point` outputs of `T` each, and reads them back.
     pub(crate) fn walk<T: bytemuck::Pod>(
+        &self,
+        walk: Walk,
+        points: &[ShadingPoint],
+        per_point: u32,
+        seed: u32,
+    ) -> Result<(Vec<T>, GpuTiming), GpuError> {
+        pollster::block_on(self.walk_async(walk, points, per_point, seed))
+    }
+
+    /// [`walk`](Self::walk) without blocking.
+    pub(crate) async fn walk_async<T: bytemuck::Pod>(
         &self,
         walk: Walk,
         points: &[ShadingPoint],
@@ -329,11 +349,14 @@ impl GpuHierarchy {
         if let Some(t) = &timer {
             t.resolve(&mut encoder);
         }
-        let start = std::time::Instant::now();
+        let start = crate::timing::Stopwatch::start();
         self.gpu.queue().submit([encoder.finish()]);
-        let values: Vec<T> = self.gpu.read_back(&staging)?;
-        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-        let kernel_ms = timer.map(|t| t.milliseconds(&self.gpu)).transpose()?;
+        let values: Vec<T> = self.gpu.read_back_async(&staging).await?;
+        let wall_ms = start.ms();
+        let kernel_ms = match timer {
+            Some(t) => Some(t.milliseconds_async(&self.gpu).await?),
+            None => None,
+        };
         Ok((values, GpuTiming { kernel_ms, wall_ms }))
     }
 

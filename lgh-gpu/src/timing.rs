@@ -59,7 +59,12 @@ impl PassTimer {
 
     /// The pass's milliseconds, once the commands were submitted.
     pub fn milliseconds(&self, gpu: &Gpu) -> Result<f64, GpuError> {
-        let ticks: Vec<u64> = gpu.read_back(&self.staging)?;
+        pollster::block_on(self.milliseconds_async(gpu))
+    }
+
+    /// [`milliseconds`](Self::milliseconds) without blocking.
+    pub async fn milliseconds_async(&self, gpu: &Gpu) -> Result<f64, GpuError> {
+        let ticks: Vec<u64> = gpu.read_back_async(&self.staging).await?;
         let period = f64::from(gpu.queue().get_timestamp_period());
         Ok(ticks[1].saturating_sub(ticks[0]) as f64 * period * 1e-6)
     }
@@ -71,7 +76,8 @@ impl PassTimer {
 pub struct GpuTiming {
     /// The kernel's milliseconds by timestamp queries; `None` where the device has none.
     pub kernel_ms: Option<f64>,
-    /// Milliseconds from the first submission to the results read back (a fence).
+    /// Milliseconds from the first submission to the results read back (a fence; NaN in a
+    /// browser, which has no clock for it).
     pub wall_ms: f64,
 }
 
@@ -162,5 +168,30 @@ impl SpanTimer {
                 (l, ms)
             })
             .collect())
+    }
+}
+
+/// Wall time from its start: `std::time::Instant` natively; in a browser (wasm32, which has no
+/// `Instant`) it reads NaN.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stopwatch {
+    #[cfg(not(target_arch = "wasm32"))]
+    start: std::time::Instant,
+}
+
+impl Stopwatch {
+    pub(crate) fn start() -> Stopwatch {
+        Stopwatch {
+            #[cfg(not(target_arch = "wasm32"))]
+            start: std::time::Instant::now(),
+        }
+    }
+
+    /// Milliseconds since the start (NaN in a browser).
+    pub(crate) fn ms(&self) -> f64 {
+        #[cfg(not(target_arch = "wasm32"))]
+        return self.start.elapsed().as_secs_f64() * 1e3;
+        #[cfg(target_arch = "wasm32")]
+        return f64::NAN;
     }
 }

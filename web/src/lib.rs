@@ -134,25 +134,7 @@ impl Renderer {
         size: usize,
         alpha: f32,
     ) -> Result<FrameStats, WebError> {
-        let range = |what, ok: bool, value: f64| {
-            if ok {
-                Ok(())
-            } else {
-                Err(WebError::OutOfRange { what, value })
-            }
-        };
-        range(
-            "light count",
-            (1..=MAX_LIGHTS).contains(&count),
-            count as f64,
-        )?;
-        range("image size", (1..=MAX_SIZE).contains(&size), size as f64)?;
-        range("frame", frame >= 0, f64::from(frame))?;
-        // α before the hierarchy changes, so that a bad one leaves everything as it was.
-        lgh_core::check_alpha(alpha)?;
-        let frame = frame % 48;
-        let moved = frame - frame % 4;
-        let update = self.light(count, frame, moved)?;
+        let update = self.light_frame(count, frame, size, alpha)?.0;
         let lgh = self.hierarchy.as_ref().expect("lit above");
         let blending = lgh.blending(alpha)?;
         let h0 = lgh.h0();
@@ -177,6 +159,49 @@ impl Renderer {
                 rgb[3 * (py * size + px)..][..3].copy_from_slice(&sum.to_array());
             }
         }
+        self.finish(rgb, count);
+        Ok(FrameStats {
+            update,
+            lights_shaded,
+        })
+    }
+
+    /// The hierarchy of frame `frame` of `count` embers, for an image `size` × `size` at
+    /// `alpha` ([`frame`](Self::frame)'s checks): built, rebuilt or updated in place as
+    /// [`frame`](Self::frame) would, for a renderer that shades it elsewhere (the page's
+    /// WebGPU path, `web/gpu`), which then hands its image to [`finish`](Self::finish).
+    pub fn light_frame(
+        &mut self,
+        count: usize,
+        frame: i32,
+        size: usize,
+        alpha: f32,
+    ) -> Result<(Update, &LightingGridHierarchy), WebError> {
+        let range = |what, ok: bool, value: f64| {
+            if ok {
+                Ok(())
+            } else {
+                Err(WebError::OutOfRange { what, value })
+            }
+        };
+        range(
+            "light count",
+            (1..=MAX_LIGHTS).contains(&count),
+            count as f64,
+        )?;
+        range("image size", (1..=MAX_SIZE).contains(&size), size as f64)?;
+        range("frame", frame >= 0, f64::from(frame))?;
+        // α before the hierarchy changes, so that a bad one leaves everything as it was.
+        lgh_core::check_alpha(alpha)?;
+        let frame = frame % 48;
+        let moved = frame - frame % 4;
+        let update = self.light(count, frame, moved)?;
+        Ok((update, self.hierarchy.as_ref().expect("lit above")))
+    }
+
+    /// Takes a frame's linear image of `count` embers (3 floats a pixel, row by row) as the
+    /// last frame's, tone-mapped as [`frame`](Self::frame)'s.
+    pub fn finish(&mut self, rgb: Vec<f32>, count: usize) {
         // The same brightness whatever the light count: each ember carries 1/count of the
         // swarm's 100,000-ember power.
         let exposure = 100_000.0 / count as f32;
@@ -188,10 +213,6 @@ impl Renderer {
             })
             .collect();
         self.rgb = rgb;
-        Ok(FrameStats {
-            update,
-            lights_shaded,
-        })
     }
 
     /// The hierarchy for `count` embers at `frame`, their positions from `moved`: built,

@@ -10,6 +10,11 @@
 //! and sets both), where it fails ([`lgh_tests::Piece`]). `LGH_WEB_BENCH=1` also times 10K and
 //! 100K lights at 256² in Chromium (the browser's frame times, to set against the native ones of
 //! `web/examples/frames.rs`).
+//!
+//! The page's WebGPU path (`web/gpu`: lgh-gpu's WGSL kernel in the browser) is tested the same
+//! way in Chromium's WebGPU on SwiftShader (`--enable-unsafe-webgpu --enable-unsafe-swiftshader
+//! --use-webgpu-adapter=swiftshader`), against the native CPU frames within the query's
+//! tolerance; it also needs `wasm-bindgen` (the CLI of Cargo.lock's wasm-bindgen version).
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -66,23 +71,59 @@ fn build_wasm() -> PathBuf {
     target.join("wasm32-unknown-unknown/wasm/lgh_web.wasm")
 }
 
+/// Builds `lgh_web_gpu.wasm` and binds it for the page (`wasm-bindgen --target web`) into a
+/// folder it returns, or `None` (after [`Piece::missing`]) without the `wasm-bindgen` CLI.
+fn build_gpu_package() -> Option<PathBuf> {
+    if !lgh_tests::runs("wasm-bindgen", &["--version"]) {
+        Piece::WasmTarget.missing(
+            "no wasm-bindgen CLI (cargo install wasm-bindgen-cli --version <Cargo.lock's wasm-bindgen>)",
+        );
+        return None;
+    }
+    let target = root().join("target/wasm-test");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let status = Command::new(cargo)
+        .current_dir(root())
+        .args(["build", "-p", "lgh-web-gpu", "--profile", "wasm"])
+        .args(["--target", "wasm32-unknown-unknown"])
+        .arg("--target-dir")
+        .arg(&target)
+        .status()
+        .expect("cargo");
+    assert!(status.success(), "building lgh_web_gpu.wasm failed");
+    let package = target.join("gpu-pkg");
+    let status = Command::new("wasm-bindgen")
+        .args(["--target", "web", "--no-typescript", "--out-dir"])
+        .arg(&package)
+        .arg(target.join("wasm32-unknown-unknown/wasm/lgh_web_gpu.wasm"))
+        .status()
+        .expect("wasm-bindgen");
+    assert!(status.success(), "wasm-bindgen failed");
+    Some(package)
+}
+
 /// Serves `web/` (and `wasm` as `lgh_web.wasm`) on a free port until the test ends; returns
 /// the port.
 fn serve(wasm: PathBuf) -> u16 {
+    serve_with(wasm, None)
+}
+
+/// [`serve`], with the WebGPU path's package as `gpu/pkg/` where there is one.
+fn serve_with(wasm: PathBuf, package: Option<PathBuf>) -> u16 {
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = listener.local_addr().unwrap().port();
     let web = root().join("web");
     std::thread::spawn(move || {
         for stream in listener.incoming().flatten() {
-            let (web, wasm) = (web.clone(), wasm.clone());
-            std::thread::spawn(move || answer(stream, &web, &wasm));
+            let (web, wasm, package) = (web.clone(), wasm.clone(), package.clone());
+            std::thread::spawn(move || answer(stream, &web, &wasm, package.as_deref()));
         }
     });
     port
 }
 
 /// One HTTP request for a static file.
-fn answer(mut stream: TcpStream, web: &Path, wasm: &Path) {
+fn answer(mut stream: TcpStream, web: &Path, wasm: &Path, package: Option<&Path>) {
     let mut line = String::new();
     let mut reader = BufReader::new(stream.try_clone().unwrap());
     if reader.read_line(&mut line).is_err() {
@@ -100,6 +141,14 @@ fn answer(mut stream: TcpStream, web: &Path, wasm: &Path) {
         "" | "index.html" => (web.join("index.html"), "text/html"),
         "main.js" => (web.join("main.js"), "text/javascript"),
         "lgh_web.wasm" => (wasm.to_path_buf(), "application/wasm"),
+        "gpu/pkg/lgh_web_gpu.js" => match package {
+            Some(p) => (p.join("lgh_web_gpu.js"), "text/javascript"),
+            None => (PathBuf::new(), ""),
+        },
+        "gpu/pkg/lgh_web_gpu_bg.wasm" => match package {
+            Some(p) => (p.join("lgh_web_gpu_bg.wasm"), "application/wasm"),
+            None => (PathBuf::new(), ""),
+        },
         _ => (PathBuf::new(), ""),
     };
     let reply = match std::fs::read(&file) {
@@ -205,6 +254,11 @@ impl Driver {
     /// chromedriver started and a headless Chromium session opened, or `None` (after
     /// [`Piece::missing`]) where they are not installed.
     fn start() -> Option<Self> {
+        Self::start_with(&["--disable-gpu"])
+    }
+
+    /// [`start`](Self::start), Chromium given `args` besides the headless ones.
+    fn start_with(args: &[&str]) -> Option<Self> {
         let driver = [
             "chromedriver",
             "/usr/bin/chromedriver",
@@ -252,11 +306,16 @@ impl Driver {
             );
             std::thread::sleep(Duration::from_millis(100));
         }
+        let chromium_args = [
+            &["--headless=new", "--no-sandbox", "--disable-dev-shm-usage"][..],
+            args,
+        ]
+        .concat();
         let capabilities = json!({ "capabilities": { "alwaysMatch": {
             "browserName": "chrome",
             "goog:chromeOptions": {
                 "binary": chromium,
-                "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"]
+                "args": chromium_args
             }
         }}});
         let session = webdriver(port, "POST", "/session", Some(&capabilities));
@@ -331,10 +390,11 @@ fn chromium_renders_the_native_frame_pixel_for_pixel() {
     // Frames 0–5: built, updated three times, rebuilt at 4, updated at 5.
     let (count, frames, size) = (20_000usize, 6, 64);
     let url = format!(
-        "http://127.0.0.1:{port}/index.html?test={frames}&lights={count}&size={size}&alpha=2"
+        "http://127.0.0.1:{port}/index.html?test={frames}&lights={count}&size={size}&alpha=2&backend=cpu"
     );
     let got = driver.result(&url);
     eprintln!("{}: frames in {} ms", got["user_agent"], got["ms"]);
+    assert_eq!(got["backend"], "cpu");
     let want = native(count, frames, size);
     assert_eq!(got["size"], size);
     let canvas = base64(got["canvas"].as_str().unwrap());
@@ -377,4 +437,50 @@ fn chromium_renders_the_native_frame_pixel_for_pixel() {
             );
         }
     }
+}
+
+/// The page's WebGPU path in Chromium's WebGPU on SwiftShader: the same frames as the native CPU
+/// path within the query's tolerance — both sum the same non-negative terms, at most `count`
+/// a pixel, in different orders: `(2N + 32)·u` of the pixel (lgh-gpu's `tests/shade.rs`).
+#[test]
+fn chromium_renders_the_native_frame_on_webgpu_within_the_tolerance() {
+    if !wasm_target_installed() {
+        return Piece::WasmTarget.missing("no wasm32-unknown-unknown target");
+    }
+    let Some(package) = build_gpu_package() else {
+        return;
+    };
+    let webgpu = [
+        "--enable-unsafe-webgpu",
+        "--enable-unsafe-swiftshader",
+        "--use-webgpu-adapter=swiftshader",
+    ];
+    let Some(driver) = Driver::start_with(&webgpu) else {
+        return;
+    };
+    let port = serve_with(build_wasm(), Some(package));
+    let (count, frames, size) = (2000usize, 6, 48);
+    let url = format!(
+        "http://127.0.0.1:{port}/index.html?test={frames}&lights={count}&size={size}&alpha=2&backend=webgpu"
+    );
+    let got = driver.result(&url);
+    eprintln!("WebGPU on {}: frames in {} ms", got["adapter"], got["ms"]);
+    assert_eq!(got["backend"], "webgpu");
+    let want = native(count, frames, size);
+    let floats: Vec<f32> = base64(got["rgb"].as_str().unwrap())
+        .chunks(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(floats.len(), want.rgb().len());
+    let bound = (2 * count + 32) as f32 / (1u32 << 24) as f32;
+    let mut worst = 0.0f32;
+    for (g, c) in floats.iter().zip(want.rgb()) {
+        let diff = (g - c).abs();
+        assert!(diff <= bound * c.abs(), "WebGPU {g} against the native {c}");
+        if *c > 0.0 {
+            worst = worst.max(diff / (bound * c));
+        }
+    }
+    assert!(want.rgb().iter().any(|&v| v > 0.0), "a lit frame");
+    eprintln!("WebGPU against native: largest difference {worst:.3} of the bound");
 }
