@@ -33,12 +33,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             PointLight::new(Vec3::from(p), Vec3::from(c))
         })
         .collect();
-    let points: Vec<ShadingPoint> = (0..size * size)
-        .map(|i| {
-            let (px, py) = ((i % size) as i32, (i / size) as i32);
-            let (p, n, albedo) = swarm::surface(px, py, size as i32);
-            ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo))
-        })
+    let points: Vec<ShadingPoint> = swarm::view(size as u32, size as u32)
+        .map(|(p, n, albedo)| ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo)))
         .collect();
     let gpu = Gpu::new()?;
     let mut builder = GpuBuilder::new(&gpu, GpuGrid::fitting(&lights)?, 2.0)?;

@@ -52,13 +52,8 @@ pub struct GpuBenchArgs {
 
 /// The swarm's G-buffer at `width × height`: the page's view, from above.
 fn g_buffer(width: u32, height: u32) -> Vec<ShadingPoint> {
-    let size = width.max(height) as i32;
-    (0..height as i32)
-        .flat_map(|py| (0..width as i32).map(move |px| (px, py)))
-        .map(|(px, py)| {
-            let (p, n, albedo) = swarm::surface(px, py, size);
-            ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo))
-        })
+    swarm::view(width, height)
+        .map(|(p, n, albedo)| ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo)))
         .collect()
 }
 

@@ -146,3 +146,19 @@ pub fn surface(px: i32, py: i32, size: i32) -> ([f32; 3], [f32; 3], [f32; 3]) {
     }
     best
 }
+
+/// What each pixel of a `width` × `height` image sees ([`surface`]), row by row from the top:
+/// the page's square view of side `max(width, height)`, of which a band where the image is not
+/// square.
+///
+/// ```
+/// use lgh_web::swarm::{surface, view};
+///
+/// let pixels: Vec<_> = view(4, 2).collect();
+/// assert_eq!(pixels.len(), 8);
+/// assert_eq!(pixels[5], surface(1, 1, 4));
+/// ```
+pub fn view(width: u32, height: u32) -> impl Iterator<Item = ([f32; 3], [f32; 3], [f32; 3])> {
+    let side = width.max(height) as i32;
+    (0..height as i32).flat_map(move |py| (0..width as i32).map(move |px| surface(px, py, side)))
+}

@@ -104,12 +104,8 @@ impl GpuFrames {
 /// The swarm's ground and spheres at `size` × `size`, seen from above, as shading points.
 #[must_use]
 pub fn g_buffer(size: usize) -> Vec<ShadingPoint> {
-    let side = size as i32;
-    (0..side * side)
-        .map(|i| {
-            let (p, n, albedo) = swarm::surface(i % side, i / side, side);
-            ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo))
-        })
+    swarm::view(size as u32, size as u32)
+        .map(|(p, n, albedo)| ShadingPoint::new(Vec3::from(p), Vec3::from(n), Vec3::from(albedo)))
         .collect()
 }
 
