@@ -39,6 +39,12 @@ struct Sums {
     vec3 first;
     vec3 second;
 };
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+};
 const uint WORKGROUP = 64u;
 const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
@@ -51,6 +57,23 @@ layout(std430) buffer type_7_block_2Compute { uint _group_0_binding_4_cs[]; };
 
 uint flat_(uvec3 id_5, uvec3 groups_9) {
     return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+}
+
+uint pack(uvec3 c) {
+    return ((c.x | (c.y << 10u)) | (c.z << 20u));
+}
+
+uvec3 unpack(uint c_1) {
+    return uvec3((c_1 & 1023u), ((c_1 >> 10u) & 1023u), (c_1 >> 20u));
+}
+
+Located locate_light(vec3 p) {
+    vec3 _e3 = _group_0_binding_0_cs.origin;
+    float _e7 = _group_0_binding_0_cs.h1_;
+    vec3 t = ((p - _e3) / vec3(_e7));
+    uint _e15 = _group_0_binding_0_cs.max_cell;
+    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
+    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
 }
 
 uint spread3_(uint v) {
@@ -72,6 +95,23 @@ uint spread3_(uint v) {
     return _e32;
 }
 
+uint morton3_(uvec3 c_2) {
+    uint _e2 = spread3_(c_2.x);
+    uint _e4 = spread3_(c_2.y);
+    uint _e9 = spread3_(c_2.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
+}
+
+uvec3 corner(uint k_1) {
+    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+}
+
+uint cells_a_side() {
+    uint _e3 = _group_0_binding_0_cs.bits;
+    uint _e6 = _group_0_binding_0_cs.level;
+    return (1u << (_e3 - (_e6 - 1u)));
+}
+
 uint compact3_(uint v_1) {
     uint x_1 = 0u;
     x_1 = (v_1 & 153391689u);
@@ -91,13 +131,6 @@ uint compact3_(uint v_1) {
     return _e32;
 }
 
-uint morton3_(uvec3 c) {
-    uint _e2 = spread3_(c.x);
-    uint _e4 = spread3_(c.y);
-    uint _e9 = spread3_(c.z);
-    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
-}
-
 uvec3 demorton3_(uint m) {
     uint _e1 = compact3_(m);
     uint _e4 = compact3_((m >> 1u));
@@ -105,31 +138,18 @@ uvec3 demorton3_(uint m) {
     return uvec3(_e1, _e4, _e7);
 }
 
-uint pack(uvec3 c_1) {
-    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
+vec3 place(Sorted light) {
+    uint _e3 = _group_0_binding_0_cs.level;
+    uint sub = (_e3 - 1u);
+    uvec3 mask = uvec3(((1u << sub) - 1u));
+    float scale = (1.0 / float((1u << sub)));
+    uvec3 _e17 = unpack(light.cell);
+    return min(((vec3((_e17 & mask)) + light.frac) * scale), vec3(1.0));
 }
 
-uvec3 unpack(uint c_2) {
-    return uvec3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
-}
-
-Located locate_light(vec3 p) {
-    vec3 _e3 = _group_0_binding_0_cs.origin;
-    float _e7 = _group_0_binding_0_cs.h1_;
-    vec3 t = ((p - _e3) / vec3(_e7));
-    uint _e15 = _group_0_binding_0_cs.max_cell;
-    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
-    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
-}
-
-uvec3 corner(uint k_1) {
-    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
-}
-
-uint cells_a_side() {
-    uint _e3 = _group_0_binding_0_cs.bits;
-    uint _e6 = _group_0_binding_0_cs.level;
-    return (1u << (_e3 - (_e6 - 1u)));
+float weight(vec3 g_2, uvec3 o) {
+    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(o, uvec3(1u)));
+    return ((wa.x * wa.y) * wa.z);
 }
 
 vec3 centre(Sums s_1) {

@@ -69,6 +69,13 @@ struct type_15 {
 struct type_16 {
     type_15 inner[64];
 };
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+    char _pad4[3];
+};
 constant uint WORKGROUP = 64u;
 constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
 
@@ -77,6 +84,34 @@ uint flat(
     metal::uint3 groups_9
 ) {
     return id_5.x + ((id_5.y * groups_9.x) * WORKGROUP);
+}
+
+uint pack(
+    metal::uint3 c
+) {
+    return (c.x | (c.y << 10u)) | (c.z << 20u);
+}
+
+metal::uint3 unpack(
+    uint c_1
+) {
+    return metal::uint3(c_1 & 1023u, (c_1 >> 10u) & 1023u, c_1 >> 20u);
+}
+
+metal::uint3 naga_f2u32(metal::float3 value) {
+    return static_cast<metal::uint3>(metal::clamp(value, 0.0, 4294967000.0));
+}
+
+Located locate_light(
+    metal::float3 p,
+    constant Step& step
+) {
+    metal::float3 _e3 = step.origin;
+    float _e7 = step.h1_;
+    metal::float3 t = (p - _e3) / metal::float3(_e7);
+    uint _e15 = step.max_cell;
+    metal::float3 c_4 = metal::clamp(metal::floor(t), metal::float3(0.0), metal::float3(static_cast<float>(_e15)));
+    return Located {naga_f2u32(c_4), metal::clamp(t - c_4, metal::float3(0.0), metal::float3(1.0))};
 }
 
 uint spread3_(
@@ -100,71 +135,13 @@ uint spread3_(
     return _e32;
 }
 
-uint compact3_(
-    uint v_1
-) {
-    uint x_1 = {};
-    x_1 = v_1 & 153391689u;
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = (_e4 | (_e5 >> 2u)) & 51130563u;
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = (_e11 | (_e12 >> 4u)) & 50393103u;
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = (_e18 | (_e19 >> 8u)) & 50331903u;
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = (_e25 | (_e26 >> 16u)) & 1023u;
-    uint _e32 = x_1;
-    return _e32;
-}
-
 uint morton3_(
-    metal::uint3 c
+    metal::uint3 c_2
 ) {
-    uint _e2 = spread3_(c.x);
-    uint _e4 = spread3_(c.y);
-    uint _e9 = spread3_(c.z);
+    uint _e2 = spread3_(c_2.x);
+    uint _e4 = spread3_(c_2.y);
+    uint _e9 = spread3_(c_2.z);
     return (_e2 | (_e4 << 1u)) | (_e9 << 2u);
-}
-
-metal::uint3 demorton3_(
-    uint m
-) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_(m >> 1u);
-    uint _e7 = compact3_(m >> 2u);
-    return metal::uint3(_e1, _e4, _e7);
-}
-
-uint pack(
-    metal::uint3 c_1
-) {
-    return (c_1.x | (c_1.y << 10u)) | (c_1.z << 20u);
-}
-
-metal::uint3 unpack(
-    uint c_2
-) {
-    return metal::uint3(c_2 & 1023u, (c_2 >> 10u) & 1023u, c_2 >> 20u);
-}
-
-metal::uint3 naga_f2u32(metal::float3 value) {
-    return static_cast<metal::uint3>(metal::clamp(value, 0.0, 4294967000.0));
-}
-
-Located locate_light(
-    metal::float3 p,
-    constant Step& step
-) {
-    metal::float3 _e3 = step.origin;
-    float _e7 = step.h1_;
-    metal::float3 t = (p - _e3) / metal::float3(_e7);
-    uint _e15 = step.max_cell;
-    metal::float3 c_4 = metal::clamp(metal::floor(t), metal::float3(0.0), metal::float3(static_cast<float>(_e15)));
-    return Located {naga_f2u32(c_4), metal::clamp(t - c_4, metal::float3(0.0), metal::float3(1.0))};
 }
 
 metal::uint3 corner(
@@ -195,8 +172,81 @@ metal::uint2 cell_range(
     return metal::uint2(_e12, _e18);
 }
 
-Sums moment_sums(
+uint compact3_(
+    uint v_1
+) {
+    uint x_1 = {};
+    x_1 = v_1 & 153391689u;
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = (_e4 | (_e5 >> 2u)) & 51130563u;
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = (_e11 | (_e12 >> 4u)) & 50393103u;
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = (_e18 | (_e19 >> 8u)) & 50331903u;
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = (_e25 | (_e26 >> 16u)) & 1023u;
+    uint _e32 = x_1;
+    return _e32;
+}
+
+metal::uint3 demorton3_(
+    uint m
+) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_(m >> 1u);
+    uint _e7 = compact3_(m >> 2u);
+    return metal::uint3(_e1, _e4, _e7);
+}
+
+metal::uint2 corner_cell(
     metal::uint3 q,
+    uint k_2,
+    constant Step& step,
+    device type_7 const& starts,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    bool local_2 = {};
+    metal::uint3 _e2 = corner(k_2);
+    if (!(metal::any(q < _e2))) {
+        uint _e9 = cells_a_side(step);
+        local_2 = metal::any((q - _e2) >= metal::uint3(_e9));
+    } else {
+        local_2 = true;
+    }
+    bool _e14 = local_2;
+    if (_e14) {
+        return metal::uint2(0u);
+    }
+    metal::uint2 _e18 = cell_range(q - _e2, step, starts, _buffer_sizes);
+    return _e18;
+}
+
+metal::float3 place(
+    Sorted light,
+    constant Step& step
+) {
+    uint _e3 = step.level;
+    uint sub = _e3 - 1u;
+    metal::uint3 mask = metal::uint3((1u << sub) - 1u);
+    float scale = 1.0 / static_cast<float>(1u << sub);
+    metal::uint3 _e17 = unpack(light.cell);
+    return metal::min((static_cast<metal::float3>(_e17 & mask) + light.frac) * scale, metal::float3(1.0));
+}
+
+float weight(
+    metal::float3 g_2,
+    metal::uint3 o
+) {
+    metal::float3 wa = metal::select(metal::float3(1.0) - g_2, g_2, o == metal::uint3(1u));
+    return (wa.x * wa.y) * wa.z;
+}
+
+Sums moment_sums(
+    metal::uint3 q_1,
     uint lane_4,
     uint lanes,
     constant Step& step,
@@ -205,86 +255,69 @@ Sums moment_sums(
     constant _mslBufferSizes& _buffer_sizes
 ) {
     Sums s = Sums {metal::float3(0.0), 0.0, metal::float3(0.0), metal::float3(0.0)};
-    uint k_2 = 0u;
-    bool local_2 = {};
+    uint k_3 = 0u;
     uint j = {};
-    uint _e12 = cells_a_side(step);
-    uint _e15 = step.level;
-    uint sub = _e15 - 1u;
-    uint mask = (1u << sub) - 1u;
-    float scale = 1.0 / static_cast<float>(1u << sub);
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
     while(true) {
         if (metal::all(loop_bound == uint2(0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e104 = k_2;
-            k_2 = _e104 + 1u;
+            uint _e57 = k_3;
+            k_3 = _e57 + 1u;
         }
         loop_init = false;
-        uint _e29 = k_2;
-        if (_e29 < 8u) {
+        uint _e14 = k_3;
+        if (_e14 < 8u) {
         } else {
             break;
         }
         {
-            uint _e32 = k_2;
-            metal::uint3 _e33 = corner(_e32);
-            if (!(metal::any(q < _e33))) {
-                local_2 = metal::any((q - _e33) >= metal::uint3(_e12));
-            } else {
-                local_2 = true;
-            }
-            bool _e44 = local_2;
-            if (_e44) {
-                continue;
-            }
-            metal::uint2 _e46 = cell_range(q - _e33, step, starts, _buffer_sizes);
-            metal::float3 at = static_cast<metal::float3>(_e33);
-            j = _e46.x + lane_4;
+            uint _e17 = k_3;
+            metal::uint2 _e18 = corner_cell(q_1, _e17, step, starts, _buffer_sizes);
+            uint _e19 = k_3;
+            metal::uint3 _e20 = corner(_e19);
+            j = _e18.x + lane_4;
             uint2 loop_bound_1 = uint2(4294967295u);
             bool loop_init_1 = true;
             while(true) {
                 if (metal::all(loop_bound_1 == uint2(0u))) { break; }
                 loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
                 if (!loop_init_1) {
-                    uint _e101 = j;
-                    j = _e101 + lanes;
+                    uint _e54 = j;
+                    j = _e54 + lanes;
                 }
                 loop_init_1 = false;
-                uint _e51 = j;
-                if (_e51 < _e46.y) {
+                uint _e24 = j;
+                if (_e24 < _e18.y) {
                 } else {
                     break;
                 }
                 {
-                    uint _e55 = j;
-                    Sorted light = sorted[_e55];
-                    metal::uint3 _e59 = unpack(light.cell);
-                    metal::float3 g_2 = metal::min((static_cast<metal::float3>(_e59 & metal::uint3(mask)) + light.frac) * scale, metal::float3(1.0));
-                    metal::float3 wa = metal::select(metal::float3(1.0) - g_2, g_2, _e33 == metal::uint3(1u));
-                    float w = (wa.x * wa.y) * wa.z;
-                    float v_3 = w * light.luminance;
-                    metal::float3 off = g_2 - at;
-                    metal::float3 _e85 = s.intensity;
-                    s.intensity = _e85 + (w * light.intensity);
-                    float _e90 = s.weight;
-                    s.weight = _e90 + v_3;
-                    metal::float3 _e93 = s.first;
-                    s.first = _e93 + (v_3 * off);
-                    metal::float3 _e97 = s.second;
-                    s.second = _e97 + (v_3 * (off * off));
+                    uint _e28 = j;
+                    Sorted light_1 = sorted[_e28];
+                    metal::float3 _e31 = place(light_1, step);
+                    float _e32 = weight(_e31, _e20);
+                    float v_3 = _e32 * light_1.luminance;
+                    metal::float3 off = _e31 - static_cast<metal::float3>(_e20);
+                    metal::float3 _e38 = s.intensity;
+                    s.intensity = _e38 + (_e32 * light_1.intensity);
+                    float _e43 = s.weight;
+                    s.weight = _e43 + v_3;
+                    metal::float3 _e46 = s.first;
+                    s.first = _e46 + (v_3 * off);
+                    metal::float3 _e50 = s.second;
+                    s.second = _e50 + (v_3 * (off * off));
                 }
             }
         }
     }
-    Sums _e106 = s;
-    return _e106;
+    Sums _e59 = s;
+    return _e59;
 }
 
 float size_sum(
-    metal::uint3 q_1,
+    metal::uint3 q_2,
     metal::float3 mean,
     uint lane_5,
     uint lanes_1,
@@ -294,74 +327,57 @@ float size_sum(
     constant _mslBufferSizes& _buffer_sizes
 ) {
     float sum_2 = 0.0;
-    uint k_3 = 0u;
-    bool local_3 = {};
+    uint k_4 = 0u;
     uint j_1 = {};
-    uint _e6 = cells_a_side(step);
-    uint _e9 = step.level;
-    uint sub_1 = _e9 - 1u;
-    uint mask_1 = (1u << sub_1) - 1u;
-    float scale_1 = 1.0 / static_cast<float>(1u << sub_1);
     uint2 loop_bound_2 = uint2(4294967295u);
     bool loop_init_2 = true;
     while(true) {
         if (metal::all(loop_bound_2 == uint2(0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            uint _e86 = k_3;
-            k_3 = _e86 + 1u;
+            uint _e39 = k_4;
+            k_4 = _e39 + 1u;
         }
         loop_init_2 = false;
-        uint _e23 = k_3;
-        if (_e23 < 8u) {
+        uint _e8 = k_4;
+        if (_e8 < 8u) {
         } else {
             break;
         }
         {
-            uint _e26 = k_3;
-            metal::uint3 _e27 = corner(_e26);
-            if (!(metal::any(q_1 < _e27))) {
-                local_3 = metal::any((q_1 - _e27) >= metal::uint3(_e6));
-            } else {
-                local_3 = true;
-            }
-            bool _e38 = local_3;
-            if (_e38) {
-                continue;
-            }
-            metal::uint2 _e40 = cell_range(q_1 - _e27, step, starts, _buffer_sizes);
-            metal::float3 centre_1 = static_cast<metal::float3>(_e27) + mean;
-            j_1 = _e40.x + lane_5;
+            uint _e11 = k_4;
+            metal::uint2 _e12 = corner_cell(q_2, _e11, step, starts, _buffer_sizes);
+            uint _e13 = k_4;
+            metal::uint3 _e14 = corner(_e13);
+            j_1 = _e12.x + lane_5;
             uint2 loop_bound_3 = uint2(4294967295u);
             bool loop_init_3 = true;
             while(true) {
                 if (metal::all(loop_bound_3 == uint2(0u))) { break; }
                 loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
                 if (!loop_init_3) {
-                    uint _e83 = j_1;
-                    j_1 = _e83 + lanes_1;
+                    uint _e36 = j_1;
+                    j_1 = _e36 + lanes_1;
                 }
                 loop_init_3 = false;
-                uint _e46 = j_1;
-                if (_e46 < _e40.y) {
+                uint _e18 = j_1;
+                if (_e18 < _e12.y) {
                 } else {
                     break;
                 }
                 {
-                    uint _e50 = j_1;
-                    Sorted light_1 = sorted[_e50];
-                    metal::uint3 _e54 = unpack(light_1.cell);
-                    metal::float3 g_3 = metal::min((static_cast<metal::float3>(_e54 & metal::uint3(mask_1)) + light_1.frac) * scale_1, metal::float3(1.0));
-                    metal::float3 wa_1 = metal::select(metal::float3(1.0) - g_3, g_3, _e27 == metal::uint3(1u));
-                    float w_1 = (wa_1.x * wa_1.y) * wa_1.z;
-                    float _e76 = sum_2;
-                    sum_2 = _e76 + ((w_1 * light_1.luminance) * metal::length(g_3 - centre_1));
+                    uint _e22 = j_1;
+                    Sorted light_2 = sorted[_e22];
+                    metal::float3 _e25 = place(light_2, step);
+                    float _e26 = sum_2;
+                    float _e27 = weight(_e25, _e14);
+                    sum_2 = _e26 + ((_e27 * light_2.luminance) * metal::length(_e25 - (static_cast<metal::float3>(_e14) + mean)));
                 }
             }
         }
     }
-    float _e88 = sum_2;
-    return _e88;
+    float _e41 = sum_2;
+    return _e41;
 }
 
 metal::float3 centre(
@@ -374,7 +390,7 @@ metal::float3 centre(
 }
 
 void write_vertex(
-    metal::uint3 q_2,
+    metal::uint3 q_3,
     uint v_2,
     Sums s_2,
     metal::float3 mean_1,
@@ -386,7 +402,7 @@ void write_vertex(
 ) {
     metal::float3 variance = metal::float3(0.0);
     float size = 0.0;
-    bool local_4 = {};
+    bool local_3 = {};
     float _e7 = step.h1_;
     uint _e11 = step.level;
     float h = _e7 * static_cast<float>(1u << (_e11 - 1u));
@@ -395,15 +411,15 @@ void write_vertex(
         size = (size_sum_1 / s_2.weight) * h;
     }
     metal::float3 _e41 = step.origin;
-    metal::float3 position = _e41 + ((static_cast<metal::float3>(q_2) + mean_1) * h);
+    metal::float3 position = _e41 + ((static_cast<metal::float3>(q_3) + mean_1) * h);
     float luminance = metal::dot(s_2.intensity, LUMINANCE);
     if (luminance > 0.0) {
         float _e55 = step.threshold;
-        local_4 = luminance >= _e55;
+        local_3 = luminance >= _e55;
     } else {
-        local_4 = false;
+        local_3 = false;
     }
-    bool reported = local_4;
+    bool reported = local_3;
     uint _e62 = step.light_base;
     out[_e62 + v_2] = Light {position, reported ? s_2.intensity : metal::float3(0.0)};
     uint _e73 = step.light_base;
@@ -438,8 +454,52 @@ uint naga_div(uint lhs, uint rhs) {
     return lhs / metal::select(rhs, 1u, rhs == 0u);
 }
 
-void reduce(
+uint naga_mod(uint lhs, uint rhs) {
+    return lhs % metal::select(rhs, 1u, rhs == 0u);
+}
+
+Part part(
     uint lane_7,
+    metal::uint3 wg_4,
+    metal::uint3 groups_10,
+    constant Step& step,
+    device type_7 const& slots,
+    threadgroup uint& occupied_slot,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    uint w = wg_4.x + (wg_4.y * groups_10.x);
+    uint _e10 = step.count;
+    uint _e13 = step.parts;
+    if (w >= (_e10 * _e13)) {
+        return Part {w, 0u, 0u, false};
+    }
+    uint _e22 = step.parts;
+    uint m_2 = naga_div(w, _e22);
+    uint _e26 = step.parts;
+    bool _e28 = slot_is_occupied(m_2, lane_7, step, slots, occupied_slot, _buffer_sizes);
+    return Part {w, m_2, naga_mod(w, _e26), _e28};
+}
+
+Part slot_of(
+    uint lane_8,
+    metal::uint3 wg_5,
+    metal::uint3 groups_11,
+    constant Step& step,
+    device type_7 const& slots,
+    threadgroup uint& occupied_slot,
+    constant _mslBufferSizes& _buffer_sizes
+) {
+    uint m_3 = wg_5.x + (wg_5.y * groups_11.x);
+    uint _e10 = step.count;
+    if (m_3 >= _e10) {
+        return Part {m_3, m_3, 0u, false};
+    }
+    bool _e16 = slot_is_occupied(m_3, lane_8, step, slots, occupied_slot, _buffer_sizes);
+    return Part {m_3, m_3, 0u, _e16};
+}
+
+void reduce(
+    uint lane_9,
     threadgroup type_16& lane_sums
 ) {
     uint stride = 32u;
@@ -461,7 +521,7 @@ void reduce(
         }
         {
             uint _e6 = stride;
-            if (lane_7 < _e6) {
+            if (lane_9 < _e6) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u);
                 bool loop_init_5 = true;
@@ -480,11 +540,11 @@ void reduce(
                     }
                     {
                         uint _e15 = a_3;
-                        metal::float4 _e17 = lane_sums.inner[lane_7].inner[_e15];
+                        metal::float4 _e17 = lane_sums.inner[lane_9].inner[_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        metal::float4 _e24 = lane_sums.inner[lane_7 + _e19].inner[_e22];
-                        lane_sums.inner[lane_7].inner[_e15] = _e17 + _e24;
+                        metal::float4 _e24 = lane_sums.inner[lane_9 + _e19].inner[_e22];
+                        lane_sums.inner[lane_9].inner[_e15] = _e17 + _e24;
                     }
                 }
             }

@@ -39,6 +39,12 @@ struct Sums {
     vec3 first;
     vec3 second;
 };
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+};
 const uint WORKGROUP = 64u;
 const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
@@ -55,6 +61,23 @@ shared uint occupied_slot;
 
 uint flat_(uvec3 id_5, uvec3 groups_9) {
     return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+}
+
+uint pack(uvec3 c) {
+    return ((c.x | (c.y << 10u)) | (c.z << 20u));
+}
+
+uvec3 unpack(uint c_1) {
+    return uvec3((c_1 & 1023u), ((c_1 >> 10u) & 1023u), (c_1 >> 20u));
+}
+
+Located locate_light(vec3 p) {
+    vec3 _e3 = _group_0_binding_0_cs.origin;
+    float _e7 = _group_0_binding_0_cs.h1_;
+    vec3 t = ((p - _e3) / vec3(_e7));
+    uint _e15 = _group_0_binding_0_cs.max_cell;
+    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
+    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
 }
 
 uint spread3_(uint v) {
@@ -76,6 +99,23 @@ uint spread3_(uint v) {
     return _e32;
 }
 
+uint morton3_(uvec3 c_2) {
+    uint _e2 = spread3_(c_2.x);
+    uint _e4 = spread3_(c_2.y);
+    uint _e9 = spread3_(c_2.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
+}
+
+uvec3 corner(uint k_1) {
+    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+}
+
+uint cells_a_side() {
+    uint _e3 = _group_0_binding_0_cs.bits;
+    uint _e6 = _group_0_binding_0_cs.level;
+    return (1u << (_e3 - (_e6 - 1u)));
+}
+
 uint compact3_(uint v_1) {
     uint x_1 = 0u;
     x_1 = (v_1 & 153391689u);
@@ -95,13 +135,6 @@ uint compact3_(uint v_1) {
     return _e32;
 }
 
-uint morton3_(uvec3 c) {
-    uint _e2 = spread3_(c.x);
-    uint _e4 = spread3_(c.y);
-    uint _e9 = spread3_(c.z);
-    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
-}
-
 uvec3 demorton3_(uint m) {
     uint _e1 = compact3_(m);
     uint _e4 = compact3_((m >> 1u));
@@ -109,31 +142,18 @@ uvec3 demorton3_(uint m) {
     return uvec3(_e1, _e4, _e7);
 }
 
-uint pack(uvec3 c_1) {
-    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
+vec3 place(Sorted light) {
+    uint _e3 = _group_0_binding_0_cs.level;
+    uint sub = (_e3 - 1u);
+    uvec3 mask = uvec3(((1u << sub) - 1u));
+    float scale = (1.0 / float((1u << sub)));
+    uvec3 _e17 = unpack(light.cell);
+    return min(((vec3((_e17 & mask)) + light.frac) * scale), vec3(1.0));
 }
 
-uvec3 unpack(uint c_2) {
-    return uvec3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
-}
-
-Located locate_light(vec3 p) {
-    vec3 _e3 = _group_0_binding_0_cs.origin;
-    float _e7 = _group_0_binding_0_cs.h1_;
-    vec3 t = ((p - _e3) / vec3(_e7));
-    uint _e15 = _group_0_binding_0_cs.max_cell;
-    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
-    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
-}
-
-uvec3 corner(uint k_1) {
-    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
-}
-
-uint cells_a_side() {
-    uint _e3 = _group_0_binding_0_cs.bits;
-    uint _e6 = _group_0_binding_0_cs.level;
-    return (1u << (_e3 - (_e6 - 1u)));
+float weight(vec3 g_2, uvec3 o) {
+    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(o, uvec3(1u)));
+    return ((wa.x * wa.y) * wa.z);
 }
 
 vec3 centre(Sums s_1) {
@@ -159,7 +179,31 @@ bool slot_is_occupied(uint m_1, uint lane_6) {
     return (_e26 == 1u);
 }
 
-void reduce(uint lane_7) {
+Part part(uint lane_7, uvec3 wg_4, uvec3 groups_10) {
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    uint _e13 = _group_0_binding_0_cs.parts;
+    if ((w >= (_e10 * _e13))) {
+        return Part(w, 0u, 0u, false);
+    }
+    uint _e22 = _group_0_binding_0_cs.parts;
+    uint m_2 = (w / _e22);
+    uint _e26 = _group_0_binding_0_cs.parts;
+    bool _e28 = slot_is_occupied(m_2, lane_7);
+    return Part(w, m_2, (w % _e26), _e28);
+}
+
+Part slot_of(uint lane_8, uvec3 wg_5, uvec3 groups_11) {
+    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    if ((m_3 >= _e10)) {
+        return Part(m_3, m_3, 0u, false);
+    }
+    bool _e16 = slot_is_occupied(m_3, lane_8);
+    return Part(m_3, m_3, 0u, _e16);
+}
+
+void reduce(uint lane_9) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init = true;
@@ -176,7 +220,7 @@ void reduce(uint lane_7) {
         }
         {
             uint _e6 = stride;
-            if ((lane_7 < _e6)) {
+            if ((lane_9 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_1 = true;
                 while(true) {
@@ -192,11 +236,11 @@ void reduce(uint lane_7) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_7][_e15];
+                        vec4 _e17 = lane_sums[lane_9][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
-                        lane_sums[lane_7][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_9 + _e19)][_e22];
+                        lane_sums[lane_9][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -221,28 +265,24 @@ void main() {
     uint g = 0u;
     uint a_1 = 0u;
     uint a_2 = 0u;
-    uint m_2 = (wg_1.x + (wg_1.y * groups_6.x));
-    uint _e10 = _group_0_binding_0_cs.count;
-    if ((m_2 >= _e10)) {
+    Part _e3 = slot_of(lane_1, wg_1, groups_6);
+    if (!(_e3.busy)) {
         return;
     }
-    bool _e12 = slot_is_occupied(m_2, lane_1);
-    if (!(_e12)) {
-        return;
-    }
-    uint _e16 = _group_0_binding_0_cs.parts;
-    uint first = (m_2 * _e16);
+    uint m_4 = _e3.m;
+    uint _e9 = _group_0_binding_0_cs.parts;
+    uint first = (m_4 * _e9);
     g = lane_1;
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e51 = g;
-            g = (_e51 + WORKGROUP);
+            uint _e44 = g;
+            g = (_e44 + WORKGROUP);
         }
         loop_init_2 = false;
-        uint _e27 = g;
-        uint _e30 = _group_0_binding_0_cs.parts;
-        if ((_e27 < _e30)) {
+        uint _e20 = g;
+        uint _e23 = _group_0_binding_0_cs.parts;
+        if ((_e20 < _e23)) {
         } else {
             break;
         }
@@ -251,28 +291,28 @@ void main() {
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
-                    uint _e49 = a_1;
-                    a_1 = (_e49 + 1u);
+                    uint _e42 = a_1;
+                    a_1 = (_e42 + 1u);
                 }
                 loop_init_3 = false;
-                uint _e34 = a_1;
-                if ((_e34 < 3u)) {
+                uint _e27 = a_1;
+                if ((_e27 < 3u)) {
                 } else {
                     break;
                 }
                 {
+                    uint _e30 = a_1;
+                    vec4 _e32 = sum[_e30];
+                    uint _e34 = g;
                     uint _e37 = a_1;
-                    vec4 _e39 = sum[_e37];
-                    uint _e41 = g;
-                    uint _e44 = a_1;
-                    vec4 _e46 = _group_0_binding_11_cs[(first + _e41)][_e44];
-                    sum[_e37] = (_e39 + _e46);
+                    vec4 _e39 = _group_0_binding_11_cs[(first + _e34)][_e37];
+                    sum[_e30] = (_e32 + _e39);
                 }
             }
         }
     }
-    vec4 _e56[3] = sum;
-    lane_sums[lane_1] = _e56;
+    vec4 _e49[3] = sum;
+    lane_sums[lane_1] = _e49;
     memoryBarrierShared();
     barrier();
     reduce(lane_1);
@@ -281,24 +321,24 @@ void main() {
         bool loop_init_4 = true;
         while(true) {
             if (!loop_init_4) {
-                uint _e74 = a_2;
-                a_2 = (_e74 + 1u);
+                uint _e67 = a_2;
+                a_2 = (_e67 + 1u);
             }
             loop_init_4 = false;
-            uint _e64 = a_2;
-            if ((_e64 < 3u)) {
+            uint _e57 = a_2;
+            if ((_e57 < 3u)) {
             } else {
                 break;
             }
             {
-                uint _e69 = a_2;
-                uint _e71 = a_2;
-                _group_0_binding_11_cs[first][_e69] = total[_e71];
+                uint _e62 = a_2;
+                uint _e64 = a_2;
+                _group_0_binding_11_cs[first][_e62] = total[_e64];
             }
         }
         Sums s_3 = Sums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
-        vec3 _e88 = centre(s_3);
-        _group_0_binding_11_cs[first][3] = vec4(_e88, 0.0);
+        vec3 _e81 = centre(s_3);
+        _group_0_binding_11_cs[first][3] = vec4(_e81, 0.0);
         return;
     } else {
         return;

@@ -45,6 +45,13 @@ struct Sums {
     int _end_pad_0;
 };
 
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+};
+
 static const uint WORKGROUP = 64u;
 static const float3 LUMINANCE = float3(0.2126, 0.7152, 0.0722);
 
@@ -68,72 +75,14 @@ uint flat(uint3 id_5, uint3 groups_9)
     return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
-uint spread3_(uint v)
+uint pack(uint3 c)
 {
-    uint x = (uint)0;
-
-    x = (v & 1023u);
-    uint _e4 = x;
-    uint _e5 = x;
-    x = ((_e4 | (_e5 << 16u)) & 50331903u);
-    uint _e11 = x;
-    uint _e12 = x;
-    x = ((_e11 | (_e12 << 8u)) & 50393103u);
-    uint _e18 = x;
-    uint _e19 = x;
-    x = ((_e18 | (_e19 << 4u)) & 51130563u);
-    uint _e25 = x;
-    uint _e26 = x;
-    x = ((_e25 | (_e26 << 2u)) & 153391689u);
-    uint _e32 = x;
-    return _e32;
+    return ((c.x | (c.y << 10u)) | (c.z << 20u));
 }
 
-uint compact3_(uint v_1)
+uint3 unpack(uint c_1)
 {
-    uint x_1 = (uint)0;
-
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uint morton3_(uint3 c)
-{
-    const uint _e2 = spread3_(c.x);
-    const uint _e4 = spread3_(c.y);
-    const uint _e9 = spread3_(c.z);
-    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
-}
-
-uint3 demorton3_(uint m)
-{
-    const uint _e1 = compact3_(m);
-    const uint _e4 = compact3_((m >> 1u));
-    const uint _e7 = compact3_((m >> 2u));
-    return uint3(_e1, _e4, _e7);
-}
-
-uint pack(uint3 c_1)
-{
-    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
-}
-
-uint3 unpack(uint c_2)
-{
-    return uint3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
+    return uint3((c_1 & 1023u), ((c_1 >> 10u) & 1023u), (c_1 >> 20u));
 }
 
 Located ConstructLocated(uint3 arg0, float3 arg1) {
@@ -158,6 +107,35 @@ Located locate_light(float3 p)
     return located;
 }
 
+uint spread3_(uint v)
+{
+    uint x = (uint)0;
+
+    x = (v & 1023u);
+    uint _e4 = x;
+    uint _e5 = x;
+    x = ((_e4 | (_e5 << 16u)) & 50331903u);
+    uint _e11 = x;
+    uint _e12 = x;
+    x = ((_e11 | (_e12 << 8u)) & 50393103u);
+    uint _e18 = x;
+    uint _e19 = x;
+    x = ((_e18 | (_e19 << 4u)) & 51130563u);
+    uint _e25 = x;
+    uint _e26 = x;
+    x = ((_e25 | (_e26 << 2u)) & 153391689u);
+    uint _e32 = x;
+    return _e32;
+}
+
+uint morton3_(uint3 c_2)
+{
+    const uint _e2 = spread3_(c_2.x);
+    const uint _e4 = spread3_(c_2.y);
+    const uint _e9 = spread3_(c_2.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
+}
+
 uint3 corner(uint k_1)
 {
     return uint3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
@@ -180,6 +158,70 @@ uint2 cell_range(uint3 c_3)
     return uint2(_e12, _e18);
 }
 
+uint compact3_(uint v_1)
+{
+    uint x_1 = (uint)0;
+
+    x_1 = (v_1 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uint3 demorton3_(uint m)
+{
+    const uint _e1 = compact3_(m);
+    const uint _e4 = compact3_((m >> 1u));
+    const uint _e7 = compact3_((m >> 2u));
+    return uint3(_e1, _e4, _e7);
+}
+
+uint2 corner_cell(uint3 q, uint k_2)
+{
+    bool local_2 = (bool)0;
+
+    const uint3 _e2 = corner(k_2);
+    if (!(any((q < _e2)))) {
+        const uint _e9 = cells_a_side();
+        local_2 = any(((q - _e2) >= (_e9).xxx));
+    } else {
+        local_2 = true;
+    }
+    bool _e14 = local_2;
+    if (_e14) {
+        return (0u).xx;
+    }
+    const uint2 _e18 = cell_range((q - _e2));
+    return _e18;
+}
+
+float3 place(Sorted light)
+{
+    uint _e3 = step_.level;
+    uint sub = (_e3 - 1u);
+    uint3 mask = (((1u << sub) - 1u)).xxx;
+    float scale = (1.0 / float((1u << sub)));
+    const uint3 _e17 = unpack(light.cell);
+    return min(((float3((_e17 & mask)) + light.frac_) * scale), (1.0).xxx);
+}
+
+float weight(float3 g_2, uint3 o)
+{
+    float3 wa = ((o == (1u).xxx) ? g_2 : ((1.0).xxx - g_2));
+    return ((wa.x * wa.y) * wa.z);
+}
+
 Sums ConstructSums(float3 arg0, float arg1, float3 arg2, float3 arg3) {
     Sums ret = (Sums)0;
     ret.intensity = arg0;
@@ -198,161 +240,127 @@ Sorted ConstructSorted(float3 arg0, float arg1, float3 arg2, uint arg3) {
     return ret;
 }
 
-Sums moment_sums(uint3 q, uint lane_4, uint lanes)
+Sums moment_sums(uint3 q_1, uint lane_4, uint lanes)
 {
     Sums s = ConstructSums((0.0).xxx, 0.0, (0.0).xxx, (0.0).xxx);
-    uint k_2 = 0u;
-    bool local_2 = (bool)0;
+    uint k_3 = 0u;
     uint j = (uint)0;
 
-    const uint _e12 = cells_a_side();
-    uint _e15 = step_.level;
-    uint sub = (_e15 - 1u);
-    uint mask = ((1u << sub) - 1u);
-    float scale = (1.0 / float((1u << sub)));
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
     while(true) {
         if (all(loop_bound == uint2(0u, 0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e104 = k_2;
-            k_2 = (_e104 + 1u);
+            uint _e57 = k_3;
+            k_3 = (_e57 + 1u);
         }
         loop_init = false;
-        uint _e29 = k_2;
-        if ((_e29 < 8u)) {
+        uint _e14 = k_3;
+        if ((_e14 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e32 = k_2;
-            const uint3 _e33 = corner(_e32);
-            if (!(any((q < _e33)))) {
-                local_2 = any(((q - _e33) >= (_e12).xxx));
-            } else {
-                local_2 = true;
-            }
-            bool _e44 = local_2;
-            if (_e44) {
-                continue;
-            }
-            const uint2 _e46 = cell_range((q - _e33));
-            float3 at = float3(_e33);
-            j = (_e46.x + lane_4);
+            uint _e17 = k_3;
+            const uint2 _e18 = corner_cell(q_1, _e17);
+            uint _e19 = k_3;
+            const uint3 _e20 = corner(_e19);
+            j = (_e18.x + lane_4);
             uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
             bool loop_init_1 = true;
             while(true) {
                 if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
                 loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
                 if (!loop_init_1) {
-                    uint _e101 = j;
-                    j = (_e101 + lanes);
+                    uint _e54 = j;
+                    j = (_e54 + lanes);
                 }
                 loop_init_1 = false;
-                uint _e51 = j;
-                if ((_e51 < _e46.y)) {
+                uint _e24 = j;
+                if ((_e24 < _e18.y)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e55 = j;
-                    Sorted light = ConstructSorted(asfloat(sorted.Load3(_e55*32+0)), asfloat(sorted.Load(_e55*32+12)), asfloat(sorted.Load3(_e55*32+16)), asuint(sorted.Load(_e55*32+28)));
-                    const uint3 _e59 = unpack(light.cell);
-                    float3 g_2 = min(((float3((_e59 & (mask).xxx)) + light.frac_) * scale), (1.0).xxx);
-                    float3 wa = ((_e33 == (1u).xxx) ? g_2 : ((1.0).xxx - g_2));
-                    float w = ((wa.x * wa.y) * wa.z);
-                    float v_3 = (w * light.luminance);
-                    float3 off = (g_2 - at);
-                    float3 _e85 = s.intensity;
-                    s.intensity = (_e85 + (w * light.intensity));
-                    float _e90 = s.weight;
-                    s.weight = (_e90 + v_3);
-                    float3 _e93 = s.first;
-                    s.first = (_e93 + (v_3 * off));
-                    float3 _e97 = s.second;
-                    s.second = (_e97 + (v_3 * (off * off)));
+                    uint _e28 = j;
+                    Sorted light_1 = ConstructSorted(asfloat(sorted.Load3(_e28*32+0)), asfloat(sorted.Load(_e28*32+12)), asfloat(sorted.Load3(_e28*32+16)), asuint(sorted.Load(_e28*32+28)));
+                    const float3 _e31 = place(light_1);
+                    const float _e32 = weight(_e31, _e20);
+                    float v_3 = (_e32 * light_1.luminance);
+                    float3 off = (_e31 - float3(_e20));
+                    float3 _e38 = s.intensity;
+                    s.intensity = (_e38 + (_e32 * light_1.intensity));
+                    float _e43 = s.weight;
+                    s.weight = (_e43 + v_3);
+                    float3 _e46 = s.first;
+                    s.first = (_e46 + (v_3 * off));
+                    float3 _e50 = s.second;
+                    s.second = (_e50 + (v_3 * (off * off)));
                 }
             }
         }
     }
-    Sums _e106 = s;
-    const Sums sums = _e106;
+    Sums _e59 = s;
+    const Sums sums = _e59;
     return sums;
 }
 
-float size_sum(uint3 q_1, float3 mean, uint lane_5, uint lanes_1)
+float size_sum(uint3 q_2, float3 mean, uint lane_5, uint lanes_1)
 {
     float sum_2 = 0.0;
-    uint k_3 = 0u;
-    bool local_3 = (bool)0;
+    uint k_4 = 0u;
     uint j_1 = (uint)0;
 
-    const uint _e6 = cells_a_side();
-    uint _e9 = step_.level;
-    uint sub_1 = (_e9 - 1u);
-    uint mask_1 = ((1u << sub_1) - 1u);
-    float scale_1 = (1.0 / float((1u << sub_1)));
     uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
     bool loop_init_2 = true;
     while(true) {
         if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            uint _e86 = k_3;
-            k_3 = (_e86 + 1u);
+            uint _e39 = k_4;
+            k_4 = (_e39 + 1u);
         }
         loop_init_2 = false;
-        uint _e23 = k_3;
-        if ((_e23 < 8u)) {
+        uint _e8 = k_4;
+        if ((_e8 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e26 = k_3;
-            const uint3 _e27 = corner(_e26);
-            if (!(any((q_1 < _e27)))) {
-                local_3 = any(((q_1 - _e27) >= (_e6).xxx));
-            } else {
-                local_3 = true;
-            }
-            bool _e38 = local_3;
-            if (_e38) {
-                continue;
-            }
-            const uint2 _e40 = cell_range((q_1 - _e27));
-            float3 centre_1 = (float3(_e27) + mean);
-            j_1 = (_e40.x + lane_5);
+            uint _e11 = k_4;
+            const uint2 _e12 = corner_cell(q_2, _e11);
+            uint _e13 = k_4;
+            const uint3 _e14 = corner(_e13);
+            j_1 = (_e12.x + lane_5);
             uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
             bool loop_init_3 = true;
             while(true) {
                 if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
                 loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
                 if (!loop_init_3) {
-                    uint _e83 = j_1;
-                    j_1 = (_e83 + lanes_1);
+                    uint _e36 = j_1;
+                    j_1 = (_e36 + lanes_1);
                 }
                 loop_init_3 = false;
-                uint _e46 = j_1;
-                if ((_e46 < _e40.y)) {
+                uint _e18 = j_1;
+                if ((_e18 < _e12.y)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e50 = j_1;
-                    Sorted light_1 = ConstructSorted(asfloat(sorted.Load3(_e50*32+0)), asfloat(sorted.Load(_e50*32+12)), asfloat(sorted.Load3(_e50*32+16)), asuint(sorted.Load(_e50*32+28)));
-                    const uint3 _e54 = unpack(light_1.cell);
-                    float3 g_3 = min(((float3((_e54 & (mask_1).xxx)) + light_1.frac_) * scale_1), (1.0).xxx);
-                    float3 wa_1 = ((_e27 == (1u).xxx) ? g_3 : ((1.0).xxx - g_3));
-                    float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum_2;
-                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    uint _e22 = j_1;
+                    Sorted light_2 = ConstructSorted(asfloat(sorted.Load3(_e22*32+0)), asfloat(sorted.Load(_e22*32+12)), asfloat(sorted.Load3(_e22*32+16)), asuint(sorted.Load(_e22*32+28)));
+                    const float3 _e25 = place(light_2);
+                    float _e26 = sum_2;
+                    const float _e27 = weight(_e25, _e14);
+                    sum_2 = (_e26 + ((_e27 * light_2.luminance) * length((_e25 - (float3(_e14) + mean)))));
                 }
             }
         }
     }
-    float _e88 = sum_2;
-    return _e88;
+    float _e41 = sum_2;
+    return _e41;
 }
 
 float3 centre(Sums s_1)
@@ -370,11 +378,11 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
+void write_vertex(uint3 q_3, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
 {
     float3 variance = (0.0).xxx;
     float size = 0.0;
-    bool local_4 = (bool)0;
+    bool local_3 = (bool)0;
 
     float _e7 = step_.h1_;
     uint _e11 = step_.level;
@@ -384,15 +392,15 @@ void write_vertex(uint3 q_2, uint v_2, Sums s_2, float3 mean_1, float size_sum_1
         size = ((size_sum_1 / s_2.weight) * h);
     }
     float3 _e41 = step_.origin;
-    float3 position = (_e41 + ((float3(q_2) + mean_1) * h));
+    float3 position = (_e41 + ((float3(q_3) + mean_1) * h));
     float luminance = dot(s_2.intensity, LUMINANCE);
     if ((luminance > 0.0)) {
         float _e55 = step_.threshold;
-        local_4 = (luminance >= _e55);
+        local_3 = (luminance >= _e55);
     } else {
-        local_4 = false;
+        local_3 = false;
     }
-    bool reported = local_4;
+    bool reported = local_3;
     uint _e62 = step_.light_base;
     {
         Light _value2 = ConstructLight(position, (reported ? s_2.intensity : (0.0).xxx));
@@ -425,7 +433,50 @@ uint naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
 
-void reduce(uint lane_7)
+uint naga_mod(uint lhs, uint rhs) {
+    return lhs % (rhs == 0u ? 1u : rhs);
+}
+
+Part ConstructPart(uint arg0, uint arg1, uint arg2, bool arg3) {
+    Part ret = (Part)0;
+    ret.w = arg0;
+    ret.m = arg1;
+    ret.g = arg2;
+    ret.busy = arg3;
+    return ret;
+}
+
+Part part(uint lane_7, uint3 wg_4, uint3 groups_10)
+{
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+    uint _e10 = step_.count;
+    uint _e13 = step_.parts;
+    if ((w >= (_e10 * _e13))) {
+        const Part part_1 = ConstructPart(w, 0u, 0u, false);
+        return part_1;
+    }
+    uint _e22 = step_.parts;
+    uint m_2 = naga_div(w, _e22);
+    uint _e26 = step_.parts;
+    const bool _e28 = slot_is_occupied(m_2, lane_7);
+    const Part part_2 = ConstructPart(w, m_2, naga_mod(w, _e26), _e28);
+    return part_2;
+}
+
+Part slot_of(uint lane_8, uint3 wg_5, uint3 groups_11)
+{
+    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
+    uint _e10 = step_.count;
+    if ((m_3 >= _e10)) {
+        const Part part_3 = ConstructPart(m_3, m_3, 0u, false);
+        return part_3;
+    }
+    const bool _e16 = slot_is_occupied(m_3, lane_8);
+    const Part part_4 = ConstructPart(m_3, m_3, 0u, _e16);
+    return part_4;
+}
+
+void reduce(uint lane_9)
 {
     uint stride = 32u;
     uint a_3 = (uint)0;
@@ -447,7 +498,7 @@ void reduce(uint lane_7)
         }
         {
             uint _e6 = stride;
-            if ((lane_7 < _e6)) {
+            if ((lane_9 < _e6)) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u, 4294967295u);
                 bool loop_init_5 = true;
@@ -466,11 +517,11 @@ void reduce(uint lane_7)
                     }
                     {
                         uint _e15 = a_3;
-                        float4 _e17 = lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)];
+                        float4 _e17 = lane_sums[min(uint(lane_9), 63u)][min(uint(_e15), 2u)];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        float4 _e24 = lane_sums[min(uint((lane_7 + _e19)), 63u)][min(uint(_e22), 2u)];
-                        lane_sums[min(uint(lane_7), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
+                        float4 _e24 = lane_sums[min(uint((lane_9 + _e19)), 63u)][min(uint(_e22), 2u)];
+                        lane_sums[min(uint(lane_9), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
                     }
                 }
             }
@@ -499,17 +550,13 @@ void finish_moments(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 
     uint a_1 = (uint)0;
     uint a_2 = 0u;
 
-    uint m_2 = (wg_1.x + (wg_1.y * groups_6.x));
-    uint _e10 = step_.count;
-    if ((m_2 >= _e10)) {
+    const Part _e3 = slot_of(lane_1, wg_1, groups_6);
+    if (!(_e3.busy)) {
         return;
     }
-    const bool _e12 = slot_is_occupied(m_2, lane_1);
-    if (!(_e12)) {
-        return;
-    }
-    uint _e16 = step_.parts;
-    uint first = (m_2 * _e16);
+    uint m_4 = _e3.m;
+    uint _e9 = step_.parts;
+    uint first = (m_4 * _e9);
     g = lane_1;
     uint2 loop_bound_6 = uint2(4294967295u, 4294967295u);
     bool loop_init_6 = true;
@@ -517,13 +564,13 @@ void finish_moments(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 
         if (all(loop_bound_6 == uint2(0u, 0u))) { break; }
         loop_bound_6 -= uint2(loop_bound_6.y == 0u, 1u);
         if (!loop_init_6) {
-            uint _e51 = g;
-            g = (_e51 + WORKGROUP);
+            uint _e44 = g;
+            g = (_e44 + WORKGROUP);
         }
         loop_init_6 = false;
-        uint _e27 = g;
-        uint _e30 = step_.parts;
-        if ((_e27 < _e30)) {
+        uint _e20 = g;
+        uint _e23 = step_.parts;
+        if ((_e20 < _e23)) {
         } else {
             break;
         }
@@ -535,28 +582,28 @@ void finish_moments(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 
                 if (all(loop_bound_7 == uint2(0u, 0u))) { break; }
                 loop_bound_7 -= uint2(loop_bound_7.y == 0u, 1u);
                 if (!loop_init_7) {
-                    uint _e49 = a_1;
-                    a_1 = (_e49 + 1u);
+                    uint _e42 = a_1;
+                    a_1 = (_e42 + 1u);
                 }
                 loop_init_7 = false;
-                uint _e34 = a_1;
-                if ((_e34 < 3u)) {
+                uint _e27 = a_1;
+                if ((_e27 < 3u)) {
                 } else {
                     break;
                 }
                 {
+                    uint _e30 = a_1;
+                    float4 _e32 = sum[min(uint(_e30), 2u)];
+                    uint _e34 = g;
                     uint _e37 = a_1;
-                    float4 _e39 = sum[min(uint(_e37), 2u)];
-                    uint _e41 = g;
-                    uint _e44 = a_1;
-                    float4 _e46 = asfloat(partials.Load4(_e44*16+(first + _e41)*80));
-                    sum[min(uint(_e37), 2u)] = (_e39 + _e46);
+                    float4 _e39 = asfloat(partials.Load4(_e37*16+(first + _e34)*80));
+                    sum[min(uint(_e30), 2u)] = (_e32 + _e39);
                 }
             }
         }
     }
-    float4 _e56[3] = sum;
-    lane_sums[min(uint(lane_1), 63u)] = _e56;
+    float4 _e49[3] = sum;
+    lane_sums[min(uint(lane_1), 63u)] = _e49;
     GroupMemoryBarrierWithGroupSync();
     reduce(lane_1);
     if ((lane_1 == 0u)) {
@@ -567,24 +614,24 @@ void finish_moments(uint lane_1 : SV_GroupIndex, uint3 wg_1 : SV_GroupID, uint3 
             if (all(loop_bound_8 == uint2(0u, 0u))) { break; }
             loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
             if (!loop_init_8) {
-                uint _e74 = a_2;
-                a_2 = (_e74 + 1u);
+                uint _e67 = a_2;
+                a_2 = (_e67 + 1u);
             }
             loop_init_8 = false;
-            uint _e64 = a_2;
-            if ((_e64 < 3u)) {
+            uint _e57 = a_2;
+            if ((_e57 < 3u)) {
             } else {
                 break;
             }
             {
-                uint _e69 = a_2;
-                uint _e71 = a_2;
-                partials.Store4(_e69*16+first*80, asuint(total[min(uint(_e71), 2u)]));
+                uint _e62 = a_2;
+                uint _e64 = a_2;
+                partials.Store4(_e62*16+first*80, asuint(total[min(uint(_e64), 2u)]));
             }
         }
         Sums s_3 = ConstructSums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
-        const float3 _e88 = centre(s_3);
-        partials.Store4(48+first*80, asuint(float4(_e88, 0.0)));
+        const float3 _e81 = centre(s_3);
+        partials.Store4(48+first*80, asuint(float4(_e81, 0.0)));
         return;
     } else {
         return;

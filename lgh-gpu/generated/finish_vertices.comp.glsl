@@ -39,6 +39,12 @@ struct Sums {
     vec3 first;
     vec3 second;
 };
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+};
 const uint WORKGROUP = 64u;
 const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
@@ -61,6 +67,23 @@ uint flat_(uvec3 id_5, uvec3 groups_9) {
     return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
+uint pack(uvec3 c) {
+    return ((c.x | (c.y << 10u)) | (c.z << 20u));
+}
+
+uvec3 unpack(uint c_1) {
+    return uvec3((c_1 & 1023u), ((c_1 >> 10u) & 1023u), (c_1 >> 20u));
+}
+
+Located locate_light(vec3 p) {
+    vec3 _e3 = _group_0_binding_0_cs.origin;
+    float _e7 = _group_0_binding_0_cs.h1_;
+    vec3 t = ((p - _e3) / vec3(_e7));
+    uint _e15 = _group_0_binding_0_cs.max_cell;
+    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
+    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
+}
+
 uint spread3_(uint v) {
     uint x = 0u;
     x = (v & 1023u);
@@ -78,6 +101,23 @@ uint spread3_(uint v) {
     x = ((_e25 | (_e26 << 2u)) & 153391689u);
     uint _e32 = x;
     return _e32;
+}
+
+uint morton3_(uvec3 c_2) {
+    uint _e2 = spread3_(c_2.x);
+    uint _e4 = spread3_(c_2.y);
+    uint _e9 = spread3_(c_2.z);
+    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
+}
+
+uvec3 corner(uint k_1) {
+    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+}
+
+uint cells_a_side() {
+    uint _e3 = _group_0_binding_0_cs.bits;
+    uint _e6 = _group_0_binding_0_cs.level;
+    return (1u << (_e3 - (_e6 - 1u)));
 }
 
 uint compact3_(uint v_1) {
@@ -99,13 +139,6 @@ uint compact3_(uint v_1) {
     return _e32;
 }
 
-uint morton3_(uvec3 c) {
-    uint _e2 = spread3_(c.x);
-    uint _e4 = spread3_(c.y);
-    uint _e9 = spread3_(c.z);
-    return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
-}
-
 uvec3 demorton3_(uint m) {
     uint _e1 = compact3_(m);
     uint _e4 = compact3_((m >> 1u));
@@ -113,31 +146,18 @@ uvec3 demorton3_(uint m) {
     return uvec3(_e1, _e4, _e7);
 }
 
-uint pack(uvec3 c_1) {
-    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
+vec3 place(Sorted light) {
+    uint _e3 = _group_0_binding_0_cs.level;
+    uint sub = (_e3 - 1u);
+    uvec3 mask = uvec3(((1u << sub) - 1u));
+    float scale = (1.0 / float((1u << sub)));
+    uvec3 _e17 = unpack(light.cell);
+    return min(((vec3((_e17 & mask)) + light.frac) * scale), vec3(1.0));
 }
 
-uvec3 unpack(uint c_2) {
-    return uvec3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
-}
-
-Located locate_light(vec3 p) {
-    vec3 _e3 = _group_0_binding_0_cs.origin;
-    float _e7 = _group_0_binding_0_cs.h1_;
-    vec3 t = ((p - _e3) / vec3(_e7));
-    uint _e15 = _group_0_binding_0_cs.max_cell;
-    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
-    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
-}
-
-uvec3 corner(uint k_1) {
-    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
-}
-
-uint cells_a_side() {
-    uint _e3 = _group_0_binding_0_cs.bits;
-    uint _e6 = _group_0_binding_0_cs.level;
-    return (1u << (_e3 - (_e6 - 1u)));
+float weight(vec3 g_2, uvec3 o) {
+    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(o, uvec3(1u)));
+    return ((wa.x * wa.y) * wa.z);
 }
 
 vec3 centre(Sums s_1) {
@@ -147,10 +167,10 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
+void write_vertex(uvec3 q_3, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) {
     vec3 variance = vec3(0.0);
     float size = 0.0;
-    bool local_4 = false;
+    bool local_3 = false;
     float _e7 = _group_0_binding_0_cs.h1_;
     uint _e11 = _group_0_binding_0_cs.level;
     float h = (_e7 * float((1u << (_e11 - 1u))));
@@ -159,15 +179,15 @@ void write_vertex(uvec3 q_2, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) 
         size = ((size_sum_1 / s_2.weight) * h);
     }
     vec3 _e41 = _group_0_binding_0_cs.origin;
-    vec3 position = (_e41 + ((vec3(q_2) + mean_1) * h));
+    vec3 position = (_e41 + ((vec3(q_3) + mean_1) * h));
     float luminance = dot(s_2.intensity, LUMINANCE);
     if ((luminance > 0.0)) {
         float _e55 = _group_0_binding_0_cs.threshold;
-        local_4 = (luminance >= _e55);
+        local_3 = (luminance >= _e55);
     } else {
-        local_4 = false;
+        local_3 = false;
     }
-    bool reported = local_4;
+    bool reported = local_3;
     uint _e62 = _group_0_binding_0_cs.light_base;
     _group_0_binding_8_cs[(_e62 + v_2)] = Light(position, (reported ? s_2.intensity : vec3(0.0)));
     uint _e73 = _group_0_binding_0_cs.light_base;
@@ -193,7 +213,31 @@ bool slot_is_occupied(uint m_1, uint lane_6) {
     return (_e26 == 1u);
 }
 
-void reduce(uint lane_7) {
+Part part(uint lane_7, uvec3 wg_4, uvec3 groups_10) {
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    uint _e13 = _group_0_binding_0_cs.parts;
+    if ((w >= (_e10 * _e13))) {
+        return Part(w, 0u, 0u, false);
+    }
+    uint _e22 = _group_0_binding_0_cs.parts;
+    uint m_2 = (w / _e22);
+    uint _e26 = _group_0_binding_0_cs.parts;
+    bool _e28 = slot_is_occupied(m_2, lane_7);
+    return Part(w, m_2, (w % _e26), _e28);
+}
+
+Part slot_of(uint lane_8, uvec3 wg_5, uvec3 groups_11) {
+    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    if ((m_3 >= _e10)) {
+        return Part(m_3, m_3, 0u, false);
+    }
+    bool _e16 = slot_is_occupied(m_3, lane_8);
+    return Part(m_3, m_3, 0u, _e16);
+}
+
+void reduce(uint lane_9) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init = true;
@@ -210,7 +254,7 @@ void reduce(uint lane_7) {
         }
         {
             uint _e6 = stride;
-            if ((lane_7 < _e6)) {
+            if ((lane_9 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_1 = true;
                 while(true) {
@@ -226,11 +270,11 @@ void reduce(uint lane_7) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_7][_e15];
+                        vec4 _e17 = lane_sums[lane_9][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
-                        lane_sums[lane_7][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_9 + _e19)][_e22];
+                        lane_sums[lane_9][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -253,40 +297,36 @@ void main() {
     uvec3 groups_8 = gl_NumWorkGroups;
     float sum_1 = 0.0;
     uint g_1 = 0u;
-    uint m_2 = (wg_3.x + (wg_3.y * groups_8.x));
-    uint _e10 = _group_0_binding_0_cs.count;
-    if ((m_2 >= _e10)) {
+    Part _e3 = slot_of(lane_3, wg_3, groups_8);
+    if (!(_e3.busy)) {
         return;
     }
-    bool _e12 = slot_is_occupied(m_2, lane_3);
-    if (!(_e12)) {
-        return;
-    }
-    uint _e16 = _group_0_binding_0_cs.parts;
-    uint first = (m_2 * _e16);
+    uint m_4 = _e3.m;
+    uint _e9 = _group_0_binding_0_cs.parts;
+    uint first = (m_4 * _e9);
     g_1 = lane_3;
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e35 = g_1;
-            g_1 = (_e35 + WORKGROUP);
+            uint _e28 = g_1;
+            g_1 = (_e28 + WORKGROUP);
         }
         loop_init_2 = false;
-        uint _e21 = g_1;
-        uint _e24 = _group_0_binding_0_cs.parts;
-        if ((_e21 < _e24)) {
+        uint _e14 = g_1;
+        uint _e17 = _group_0_binding_0_cs.parts;
+        if ((_e14 < _e17)) {
         } else {
             break;
         }
         {
-            float _e26 = sum_1;
-            uint _e28 = g_1;
-            float _e33 = _group_0_binding_11_cs[(first + _e28)][4].x;
-            sum_1 = (_e26 + _e33);
+            float _e19 = sum_1;
+            uint _e21 = g_1;
+            float _e26 = _group_0_binding_11_cs[(first + _e21)][4].x;
+            sum_1 = (_e19 + _e26);
         }
     }
-    float _e41 = sum_1;
-    lane_sums[lane_3][0] = vec4(_e41, 0.0, 0.0, 0.0);
+    float _e34 = sum_1;
+    lane_sums[lane_3][0] = vec4(_e34, 0.0, 0.0, 0.0);
     lane_sums[lane_3][1] = vec4(0.0);
     lane_sums[lane_3][2] = vec4(0.0);
     memoryBarrierShared();
@@ -295,11 +335,11 @@ void main() {
     if ((lane_3 == 0u)) {
         vec4 t_1[5] = _group_0_binding_11_cs[first];
         Sums s_3 = Sums(t_1[0].xyz, t_1[0].w, t_1[1].xyz, t_1[2].xyz);
-        uvec3 _e70 = demorton3_(m_2);
-        uint _e74 = _group_0_binding_0_cs.slot_offset;
-        uint _e77 = _group_0_binding_7_cs[(_e74 + m_2)];
-        float _e84 = lane_sums[0][0].x;
-        write_vertex(_e70, _e77, s_3, t_1[3].xyz, _e84);
+        uvec3 _e63 = demorton3_(m_4);
+        uint _e67 = _group_0_binding_0_cs.slot_offset;
+        uint _e70 = _group_0_binding_7_cs[(_e67 + m_4)];
+        float _e77 = lane_sums[0][0].x;
+        write_vertex(_e63, _e70, s_3, t_1[3].xyz, _e77);
         return;
     } else {
         return;

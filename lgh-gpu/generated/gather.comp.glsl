@@ -97,8 +97,8 @@ Light light_at(uint i) {
 vec3 contribution(Level level, Light light, vec3 x, vec3 n) {
     bool local = false;
     float cosine = 0.0;
-    vec3 v_2 = (light.position - x);
-    float d2_ = dot(v_2, v_2);
+    vec3 v_3 = (light.position - x);
+    float d2_ = dot(v_3, v_3);
     if ((d2_ > level.inner2_)) {
         local = (d2_ <= level.outer2_);
     } else {
@@ -112,7 +112,7 @@ vec3 contribution(Level level, Light light, vec3 x, vec3 n) {
     float _e21 = _group_0_binding_0_cs.h0_;
     float c_2 = max(d_1, _e21);
     if ((d_1 > 0.0)) {
-        cosine = max((dot(n, v_2) / d_1), 0.0);
+        cosine = max((dot(n, v_3) / d_1), 0.0);
     }
     float _e33 = blend(level.ramp, d_1);
     float _e38 = cosine;
@@ -353,8 +353,34 @@ uint point_index(uvec3 id_1, uvec3 groups_1) {
     return (id_1.x + ((id_1.y * groups_1.x) * WORKGROUP));
 }
 
-uint pcg(uint v_1) {
-    uint state = ((v_1 * 747796405u) + 2891336453u);
+uint compact3_(uint v_1) {
+    uint x_5 = 0u;
+    x_5 = (v_1 & 153391689u);
+    uint _e4 = x_5;
+    uint _e5 = x_5;
+    x_5 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_5;
+    uint _e12 = x_5;
+    x_5 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_5;
+    uint _e19 = x_5;
+    x_5 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_5;
+    uint _e26 = x_5;
+    x_5 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_5;
+    return _e32;
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
+}
+
+uint pcg(uint v_2) {
+    uint state = ((v_2 * 747796405u) + 2891336453u);
     uint word = (((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u);
     return ((word >> 22u) ^ word);
 }

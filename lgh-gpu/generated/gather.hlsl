@@ -104,8 +104,8 @@ float3 contribution(Level level, Light light, float3 x, float3 n)
     bool local = (bool)0;
     float cosine = 0.0;
 
-    float3 v_2 = (light.position - x);
-    float d2_ = dot(v_2, v_2);
+    float3 v_3 = (light.position - x);
+    float d2_ = dot(v_3, v_3);
     if ((d2_ > level.inner2_)) {
         local = (d2_ <= level.outer2_);
     } else {
@@ -119,7 +119,7 @@ float3 contribution(Level level, Light light, float3 x, float3 n)
     float _e21 = params.h0_;
     float c_2 = max(d_1, _e21);
     if ((d_1 > 0.0)) {
-        cosine = max((dot(n, v_2) / d_1), 0.0);
+        cosine = max((dot(n, v_3) / d_1), 0.0);
     }
     const float _e33 = blend(level.ramp, d_1);
     float _e38 = cosine;
@@ -414,9 +414,38 @@ uint point_index(uint3 id_1, uint3 groups_1)
     return (id_1.x + ((id_1.y * groups_1.x) * WORKGROUP));
 }
 
-uint pcg(uint v_1)
+uint compact3_(uint v_1)
 {
-    uint state = ((v_1 * 747796405u) + 2891336453u);
+    uint x_5 = (uint)0;
+
+    x_5 = (v_1 & 153391689u);
+    uint _e4 = x_5;
+    uint _e5 = x_5;
+    x_5 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_5;
+    uint _e12 = x_5;
+    x_5 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_5;
+    uint _e19 = x_5;
+    x_5 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_5;
+    uint _e26 = x_5;
+    x_5 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_5;
+    return _e32;
+}
+
+uint3 demorton3_(uint m)
+{
+    const uint _e1 = compact3_(m);
+    const uint _e4 = compact3_((m >> 1u));
+    const uint _e7 = compact3_((m >> 2u));
+    return uint3(_e1, _e4, _e7);
+}
+
+uint pcg(uint v_2)
+{
+    uint state = ((v_2 * 747796405u) + 2891336453u);
     uint word = (((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u);
     return ((word >> 22u) ^ word);
 }

@@ -107,8 +107,8 @@ metal::float3 contribution(
 ) {
     bool local = {};
     float cosine = 0.0;
-    metal::float3 v_2 = light.position - x;
-    float d2_ = metal::dot(v_2, v_2);
+    metal::float3 v_3 = light.position - x;
+    float d2_ = metal::dot(v_3, v_3);
     if (d2_ > level.inner2_) {
         local = d2_ <= level.outer2_;
     } else {
@@ -122,7 +122,7 @@ metal::float3 contribution(
     float _e21 = params.h0_;
     float c_2 = metal::max(d_1, _e21);
     if (d_1 > 0.0) {
-        cosine = metal::max(metal::dot(n, v_2) / d_1, 0.0);
+        cosine = metal::max(metal::dot(n, v_3) / d_1, 0.0);
     }
     float _e33 = blend(level.ramp, d_1);
     float _e38 = cosine;
@@ -455,10 +455,40 @@ uint point_index(
     return id_1.x + ((id_1.y * groups_1.x) * WORKGROUP);
 }
 
-uint pcg(
+uint compact3_(
     uint v_1
 ) {
-    uint state = (v_1 * 747796405u) + 2891336453u;
+    uint x_5 = {};
+    x_5 = v_1 & 153391689u;
+    uint _e4 = x_5;
+    uint _e5 = x_5;
+    x_5 = (_e4 | (_e5 >> 2u)) & 51130563u;
+    uint _e11 = x_5;
+    uint _e12 = x_5;
+    x_5 = (_e11 | (_e12 >> 4u)) & 50393103u;
+    uint _e18 = x_5;
+    uint _e19 = x_5;
+    x_5 = (_e18 | (_e19 >> 8u)) & 50331903u;
+    uint _e25 = x_5;
+    uint _e26 = x_5;
+    x_5 = (_e25 | (_e26 >> 16u)) & 1023u;
+    uint _e32 = x_5;
+    return _e32;
+}
+
+metal::uint3 demorton3_(
+    uint m
+) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_(m >> 1u);
+    uint _e7 = compact3_(m >> 2u);
+    return metal::uint3(_e1, _e4, _e7);
+}
+
+uint pcg(
+    uint v_2
+) {
+    uint state = (v_2 * 747796405u) + 2891336453u;
     uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
 }

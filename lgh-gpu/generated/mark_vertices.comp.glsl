@@ -39,6 +39,12 @@ struct Sums {
     vec3 first;
     vec3 second;
 };
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+};
 const uint WORKGROUP = 64u;
 const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
@@ -51,6 +57,23 @@ layout(std430) buffer type_7_block_2Compute { uint _group_0_binding_7_cs[]; };
 
 uint flat_(uvec3 id_5, uvec3 groups_9) {
     return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+}
+
+uint pack(uvec3 c) {
+    return ((c.x | (c.y << 10u)) | (c.z << 20u));
+}
+
+uvec3 unpack(uint c_1) {
+    return uvec3((c_1 & 1023u), ((c_1 >> 10u) & 1023u), (c_1 >> 20u));
+}
+
+Located locate_light(vec3 p) {
+    vec3 _e3 = _group_0_binding_0_cs.origin;
+    float _e7 = _group_0_binding_0_cs.h1_;
+    vec3 t = ((p - _e3) / vec3(_e7));
+    uint _e15 = _group_0_binding_0_cs.max_cell;
+    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
+    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
 }
 
 uint spread3_(uint v) {
@@ -72,54 +95,11 @@ uint spread3_(uint v) {
     return _e32;
 }
 
-uint compact3_(uint v_1) {
-    uint x_1 = 0u;
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uint morton3_(uvec3 c) {
-    uint _e2 = spread3_(c.x);
-    uint _e4 = spread3_(c.y);
-    uint _e9 = spread3_(c.z);
+uint morton3_(uvec3 c_2) {
+    uint _e2 = spread3_(c_2.x);
+    uint _e4 = spread3_(c_2.y);
+    uint _e9 = spread3_(c_2.z);
     return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
-}
-
-uvec3 demorton3_(uint m) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_((m >> 1u));
-    uint _e7 = compact3_((m >> 2u));
-    return uvec3(_e1, _e4, _e7);
-}
-
-uint pack(uvec3 c_1) {
-    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
-}
-
-uvec3 unpack(uint c_2) {
-    return uvec3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
-}
-
-Located locate_light(vec3 p) {
-    vec3 _e3 = _group_0_binding_0_cs.origin;
-    float _e7 = _group_0_binding_0_cs.h1_;
-    vec3 t = ((p - _e3) / vec3(_e7));
-    uint _e15 = _group_0_binding_0_cs.max_cell;
-    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
-    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
 }
 
 uvec3 corner(uint k_1) {
@@ -139,6 +119,63 @@ uvec2 cell_range(uvec3 c_3) {
     uint _e12 = _group_0_binding_4_cs[(_e8 << shift)];
     uint _e18 = _group_0_binding_4_cs[((_e8 + 1u) << shift)];
     return uvec2(_e12, _e18);
+}
+
+uint compact3_(uint v_1) {
+    uint x_1 = 0u;
+    x_1 = (v_1 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
+}
+
+uvec2 corner_cell(uvec3 q, uint k_2) {
+    bool local_2 = false;
+    uvec3 _e2 = corner(k_2);
+    if (!(any(lessThan(q, _e2)))) {
+        uint _e9 = cells_a_side();
+        local_2 = any(greaterThanEqual((q - _e2), uvec3(_e9)));
+    } else {
+        local_2 = true;
+    }
+    bool _e14 = local_2;
+    if (_e14) {
+        return uvec2(0u);
+    }
+    uvec2 _e18 = cell_range((q - _e2));
+    return _e18;
+}
+
+vec3 place(Sorted light) {
+    uint _e3 = _group_0_binding_0_cs.level;
+    uint sub = (_e3 - 1u);
+    uvec3 mask = uvec3(((1u << sub) - 1u));
+    float scale = (1.0 / float((1u << sub)));
+    uvec3 _e17 = unpack(light.cell);
+    return min(((vec3((_e17 & mask)) + light.frac) * scale), vec3(1.0));
+}
+
+float weight(vec3 g_2, uvec3 o) {
+    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(o, uvec3(1u)));
+    return ((wa.x * wa.y) * wa.z);
 }
 
 vec3 centre(Sums s_1) {

@@ -39,6 +39,12 @@ struct Sums {
     vec3 first;
     vec3 second;
 };
+struct Part {
+    uint w;
+    uint m;
+    uint g;
+    bool busy;
+};
 const uint WORKGROUP = 64u;
 const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
@@ -61,6 +67,23 @@ uint flat_(uvec3 id_5, uvec3 groups_9) {
     return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
+uint pack(uvec3 c) {
+    return ((c.x | (c.y << 10u)) | (c.z << 20u));
+}
+
+uvec3 unpack(uint c_1) {
+    return uvec3((c_1 & 1023u), ((c_1 >> 10u) & 1023u), (c_1 >> 20u));
+}
+
+Located locate_light(vec3 p) {
+    vec3 _e3 = _group_0_binding_0_cs.origin;
+    float _e7 = _group_0_binding_0_cs.h1_;
+    vec3 t = ((p - _e3) / vec3(_e7));
+    uint _e15 = _group_0_binding_0_cs.max_cell;
+    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
+    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
+}
+
 uint spread3_(uint v) {
     uint x = 0u;
     x = (v & 1023u);
@@ -80,54 +103,11 @@ uint spread3_(uint v) {
     return _e32;
 }
 
-uint compact3_(uint v_1) {
-    uint x_1 = 0u;
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uint morton3_(uvec3 c) {
-    uint _e2 = spread3_(c.x);
-    uint _e4 = spread3_(c.y);
-    uint _e9 = spread3_(c.z);
+uint morton3_(uvec3 c_2) {
+    uint _e2 = spread3_(c_2.x);
+    uint _e4 = spread3_(c_2.y);
+    uint _e9 = spread3_(c_2.z);
     return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
-}
-
-uvec3 demorton3_(uint m) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_((m >> 1u));
-    uint _e7 = compact3_((m >> 2u));
-    return uvec3(_e1, _e4, _e7);
-}
-
-uint pack(uvec3 c_1) {
-    return ((c_1.x | (c_1.y << 10u)) | (c_1.z << 20u));
-}
-
-uvec3 unpack(uint c_2) {
-    return uvec3((c_2 & 1023u), ((c_2 >> 10u) & 1023u), (c_2 >> 20u));
-}
-
-Located locate_light(vec3 p) {
-    vec3 _e3 = _group_0_binding_0_cs.origin;
-    float _e7 = _group_0_binding_0_cs.h1_;
-    vec3 t = ((p - _e3) / vec3(_e7));
-    uint _e15 = _group_0_binding_0_cs.max_cell;
-    vec3 c_4 = clamp(floor(t), vec3(0.0), vec3(float(_e15)));
-    return Located(uvec3(c_4), clamp((t - c_4), vec3(0.0), vec3(1.0)));
 }
 
 uvec3 corner(uint k_1) {
@@ -149,144 +129,167 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-Sums moment_sums(uvec3 q, uint lane_4, uint lanes) {
-    Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
-    uint k_2 = 0u;
+uint compact3_(uint v_1) {
+    uint x_1 = 0u;
+    x_1 = (v_1 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
+}
+
+uvec2 corner_cell(uvec3 q, uint k_2) {
     bool local_2 = false;
-    uint j = 0u;
-    uint _e12 = cells_a_side();
-    uint _e15 = _group_0_binding_0_cs.level;
-    uint sub = (_e15 - 1u);
-    uint mask = ((1u << sub) - 1u);
+    uvec3 _e2 = corner(k_2);
+    if (!(any(lessThan(q, _e2)))) {
+        uint _e9 = cells_a_side();
+        local_2 = any(greaterThanEqual((q - _e2), uvec3(_e9)));
+    } else {
+        local_2 = true;
+    }
+    bool _e14 = local_2;
+    if (_e14) {
+        return uvec2(0u);
+    }
+    uvec2 _e18 = cell_range((q - _e2));
+    return _e18;
+}
+
+vec3 place(Sorted light) {
+    uint _e3 = _group_0_binding_0_cs.level;
+    uint sub = (_e3 - 1u);
+    uvec3 mask = uvec3(((1u << sub) - 1u));
     float scale = (1.0 / float((1u << sub)));
+    uvec3 _e17 = unpack(light.cell);
+    return min(((vec3((_e17 & mask)) + light.frac) * scale), vec3(1.0));
+}
+
+float weight(vec3 g_2, uvec3 o) {
+    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(o, uvec3(1u)));
+    return ((wa.x * wa.y) * wa.z);
+}
+
+Sums moment_sums(uvec3 q_1, uint lane_4, uint lanes) {
+    Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
+    uint k_3 = 0u;
+    uint j = 0u;
     bool loop_init = true;
     while(true) {
         if (!loop_init) {
-            uint _e104 = k_2;
-            k_2 = (_e104 + 1u);
+            uint _e57 = k_3;
+            k_3 = (_e57 + 1u);
         }
         loop_init = false;
-        uint _e29 = k_2;
-        if ((_e29 < 8u)) {
+        uint _e14 = k_3;
+        if ((_e14 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e32 = k_2;
-            uvec3 _e33 = corner(_e32);
-            if (!(any(lessThan(q, _e33)))) {
-                local_2 = any(greaterThanEqual((q - _e33), uvec3(_e12)));
-            } else {
-                local_2 = true;
-            }
-            bool _e44 = local_2;
-            if (_e44) {
-                continue;
-            }
-            uvec2 _e46 = cell_range((q - _e33));
-            vec3 at = vec3(_e33);
-            j = (_e46.x + lane_4);
+            uint _e17 = k_3;
+            uvec2 _e18 = corner_cell(q_1, _e17);
+            uint _e19 = k_3;
+            uvec3 _e20 = corner(_e19);
+            j = (_e18.x + lane_4);
             bool loop_init_1 = true;
             while(true) {
                 if (!loop_init_1) {
-                    uint _e101 = j;
-                    j = (_e101 + lanes);
+                    uint _e54 = j;
+                    j = (_e54 + lanes);
                 }
                 loop_init_1 = false;
-                uint _e51 = j;
-                if ((_e51 < _e46.y)) {
+                uint _e24 = j;
+                if ((_e24 < _e18.y)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e55 = j;
-                    Sorted light = _group_0_binding_6_cs[_e55];
-                    uvec3 _e59 = unpack(light.cell);
-                    vec3 g_2 = min(((vec3((_e59 & uvec3(mask))) + light.frac) * scale), vec3(1.0));
-                    vec3 wa = mix((vec3(1.0) - g_2), g_2, equal(_e33, uvec3(1u)));
-                    float w = ((wa.x * wa.y) * wa.z);
-                    float v_3 = (w * light.luminance);
-                    vec3 off = (g_2 - at);
-                    vec3 _e85 = s.intensity;
-                    s.intensity = (_e85 + (w * light.intensity));
-                    float _e90 = s.weight;
-                    s.weight = (_e90 + v_3);
-                    vec3 _e93 = s.first;
-                    s.first = (_e93 + (v_3 * off));
-                    vec3 _e97 = s.second;
-                    s.second = (_e97 + (v_3 * (off * off)));
+                    uint _e28 = j;
+                    Sorted light_1 = _group_0_binding_6_cs[_e28];
+                    vec3 _e31 = place(light_1);
+                    float _e32 = weight(_e31, _e20);
+                    float v_3 = (_e32 * light_1.luminance);
+                    vec3 off = (_e31 - vec3(_e20));
+                    vec3 _e38 = s.intensity;
+                    s.intensity = (_e38 + (_e32 * light_1.intensity));
+                    float _e43 = s.weight;
+                    s.weight = (_e43 + v_3);
+                    vec3 _e46 = s.first;
+                    s.first = (_e46 + (v_3 * off));
+                    vec3 _e50 = s.second;
+                    s.second = (_e50 + (v_3 * (off * off)));
                 }
             }
         }
     }
-    Sums _e106 = s;
-    return _e106;
+    Sums _e59 = s;
+    return _e59;
 }
 
-float size_sum(uvec3 q_1, vec3 mean, uint lane_5, uint lanes_1) {
+float size_sum(uvec3 q_2, vec3 mean, uint lane_5, uint lanes_1) {
     float sum_2 = 0.0;
-    uint k_3 = 0u;
-    bool local_3 = false;
+    uint k_4 = 0u;
     uint j_1 = 0u;
-    uint _e6 = cells_a_side();
-    uint _e9 = _group_0_binding_0_cs.level;
-    uint sub_1 = (_e9 - 1u);
-    uint mask_1 = ((1u << sub_1) - 1u);
-    float scale_1 = (1.0 / float((1u << sub_1)));
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e86 = k_3;
-            k_3 = (_e86 + 1u);
+            uint _e39 = k_4;
+            k_4 = (_e39 + 1u);
         }
         loop_init_2 = false;
-        uint _e23 = k_3;
-        if ((_e23 < 8u)) {
+        uint _e8 = k_4;
+        if ((_e8 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e26 = k_3;
-            uvec3 _e27 = corner(_e26);
-            if (!(any(lessThan(q_1, _e27)))) {
-                local_3 = any(greaterThanEqual((q_1 - _e27), uvec3(_e6)));
-            } else {
-                local_3 = true;
-            }
-            bool _e38 = local_3;
-            if (_e38) {
-                continue;
-            }
-            uvec2 _e40 = cell_range((q_1 - _e27));
-            vec3 centre_1 = (vec3(_e27) + mean);
-            j_1 = (_e40.x + lane_5);
+            uint _e11 = k_4;
+            uvec2 _e12 = corner_cell(q_2, _e11);
+            uint _e13 = k_4;
+            uvec3 _e14 = corner(_e13);
+            j_1 = (_e12.x + lane_5);
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
-                    uint _e83 = j_1;
-                    j_1 = (_e83 + lanes_1);
+                    uint _e36 = j_1;
+                    j_1 = (_e36 + lanes_1);
                 }
                 loop_init_3 = false;
-                uint _e46 = j_1;
-                if ((_e46 < _e40.y)) {
+                uint _e18 = j_1;
+                if ((_e18 < _e12.y)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e50 = j_1;
-                    Sorted light_1 = _group_0_binding_6_cs[_e50];
-                    uvec3 _e54 = unpack(light_1.cell);
-                    vec3 g_3 = min(((vec3((_e54 & uvec3(mask_1))) + light_1.frac) * scale_1), vec3(1.0));
-                    vec3 wa_1 = mix((vec3(1.0) - g_3), g_3, equal(_e27, uvec3(1u)));
-                    float w_1 = ((wa_1.x * wa_1.y) * wa_1.z);
-                    float _e76 = sum_2;
-                    sum_2 = (_e76 + ((w_1 * light_1.luminance) * length((g_3 - centre_1))));
+                    uint _e22 = j_1;
+                    Sorted light_2 = _group_0_binding_6_cs[_e22];
+                    vec3 _e25 = place(light_2);
+                    float _e26 = sum_2;
+                    float _e27 = weight(_e25, _e14);
+                    sum_2 = (_e26 + ((_e27 * light_2.luminance) * length((_e25 - (vec3(_e14) + mean)))));
                 }
             }
         }
     }
-    float _e88 = sum_2;
-    return _e88;
+    float _e41 = sum_2;
+    return _e41;
 }
 
 vec3 centre(Sums s_1) {
@@ -312,7 +315,31 @@ bool slot_is_occupied(uint m_1, uint lane_6) {
     return (_e26 == 1u);
 }
 
-void reduce(uint lane_7) {
+Part part(uint lane_7, uvec3 wg_4, uvec3 groups_10) {
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    uint _e13 = _group_0_binding_0_cs.parts;
+    if ((w >= (_e10 * _e13))) {
+        return Part(w, 0u, 0u, false);
+    }
+    uint _e22 = _group_0_binding_0_cs.parts;
+    uint m_2 = (w / _e22);
+    uint _e26 = _group_0_binding_0_cs.parts;
+    bool _e28 = slot_is_occupied(m_2, lane_7);
+    return Part(w, m_2, (w % _e26), _e28);
+}
+
+Part slot_of(uint lane_8, uvec3 wg_5, uvec3 groups_11) {
+    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    if ((m_3 >= _e10)) {
+        return Part(m_3, m_3, 0u, false);
+    }
+    bool _e16 = slot_is_occupied(m_3, lane_8);
+    return Part(m_3, m_3, 0u, _e16);
+}
+
+void reduce(uint lane_9) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init_4 = true;
@@ -329,7 +356,7 @@ void reduce(uint lane_7) {
         }
         {
             uint _e6 = stride;
-            if ((lane_7 < _e6)) {
+            if ((lane_9 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_5 = true;
                 while(true) {
@@ -345,11 +372,11 @@ void reduce(uint lane_7) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_7][_e15];
+                        vec4 _e17 = lane_sums[lane_9][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_7 + _e19)][_e22];
-                        lane_sums[lane_7][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_9 + _e19)][_e22];
+                        lane_sums[lane_9][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -370,35 +397,25 @@ void main() {
     uint lane_2 = gl_LocalInvocationIndex;
     uvec3 wg_2 = gl_WorkGroupID;
     uvec3 groups_7 = gl_NumWorkGroups;
-    uint w_2 = (wg_2.x + (wg_2.y * groups_7.x));
-    uint _e10 = _group_0_binding_0_cs.count;
-    uint _e13 = _group_0_binding_0_cs.parts;
-    if ((w_2 >= (_e10 * _e13))) {
+    Part _e3 = part(lane_2, wg_2, groups_7);
+    if (!(_e3.busy)) {
         return;
     }
-    uint _e18 = _group_0_binding_0_cs.parts;
-    uint m_2 = (w_2 / _e18);
-    uint _e22 = _group_0_binding_0_cs.parts;
-    uint g_4 = (w_2 % _e22);
-    bool _e24 = slot_is_occupied(m_2, lane_2);
-    if (!(_e24)) {
-        return;
-    }
-    uint _e29 = _group_0_binding_0_cs.parts;
-    vec4 _e33 = _group_0_binding_11_cs[(m_2 * _e29)][3];
-    vec3 mean_2 = _e33.xyz;
-    uvec3 _e35 = demorton3_(m_2);
-    uint _e42 = _group_0_binding_0_cs.parts;
-    float _e44 = size_sum(_e35, mean_2, ((g_4 * WORKGROUP) + lane_2), (WORKGROUP * _e42));
-    lane_sums[lane_2][0] = vec4(_e44, 0.0, 0.0, 0.0);
+    uint _e10 = _group_0_binding_0_cs.parts;
+    vec4 _e14 = _group_0_binding_11_cs[(_e3.m * _e10)][3];
+    vec3 mean_2 = _e14.xyz;
+    uvec3 _e17 = demorton3_(_e3.m);
+    uint _e25 = _group_0_binding_0_cs.parts;
+    float _e27 = size_sum(_e17, mean_2, ((_e3.g * WORKGROUP) + lane_2), (WORKGROUP * _e25));
+    lane_sums[lane_2][0] = vec4(_e27, 0.0, 0.0, 0.0);
     lane_sums[lane_2][1] = vec4(0.0);
     lane_sums[lane_2][2] = vec4(0.0);
     memoryBarrierShared();
     barrier();
     reduce(lane_2);
     if ((lane_2 == 0u)) {
-        vec4 _e70 = lane_sums[0][0];
-        _group_0_binding_11_cs[w_2][4] = _e70;
+        vec4 _e54 = lane_sums[0][0];
+        _group_0_binding_11_cs[_e3.w][4] = _e54;
         return;
     } else {
         return;

@@ -546,45 +546,6 @@ impl GpuBuilder {
         let bind = self.bind(&uniforms);
         let bind_starts = self.scan.bind(device, &scan_uniforms, &self.starts);
         let bind_slots = self.scan.bind(device, &scan_uniforms, &self.slots);
-        let timer = PassTimer::new(&self.gpu);
-        let mut spans = self.spans();
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("lgh-gpu build: topology"),
-                timestamp_writes: timer.as_ref().map(PassTimer::writes),
-            });
-            let limits = device.limits();
-            let spans = &mut spans;
-            timed(spans, &mut pass, "locate", |p| {
-                self.record(p, &bind, &uniforms, (Kernel::Locate, 0, n));
-                self.record(p, &bind, &uniforms, (Kernel::CopyCounts, 0, cells));
-            });
-            timed(spans, &mut pass, "scan the cells' counts", |p| {
-                self.scan
-                    .record(p, &bind_starts, &scan_uniforms, 0, &starts_scan, &limits);
-            });
-            let key_bits = 3 * u32::from(g.bits);
-            timed(spans, &mut pass, "sort the lights by cell", |p| {
-                self.lights.sort.record(device, p, &self.scan, n, key_bits);
-            });
-            let mut first = starts_scan.len() as u32;
-            for (k, one) in slot_scans.iter().enumerate() {
-                let count = steps[k + 1].count;
-                let mark = (Kernel::MarkVertices, k as u32 + 1, count);
-                timed(
-                    spans,
-                    &mut pass,
-                    &format!("level {}: number the vertices", k + 1),
-                    |p| {
-                        self.record(p, &bind, &uniforms, mark);
-                        self.scan
-                            .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
-                    },
-                );
-                first += one.len() as u32;
-            }
-        }
         let levels = g.max_level() as u64;
         let totals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("lgh-gpu vertex counts"),
@@ -592,11 +553,69 @@ impl GpuBuilder {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        for level in 1..=g.max_level() {
-            let at = self.slot_offsets[level as usize - 1] + slots_a_side(g, level).pow(3);
-            let to = u64::from(level - 1) * 4;
-            encoder.copy_buffer_to_buffer(&self.slots, u64::from(at) * 4, &totals, to, 4);
+        let record = |pass: &mut wgpu::ComputePass<'_>, spans: &mut Option<SpanTimer>| {
+            let limits = device.limits();
+            timed(spans, pass, "locate", |p| {
+                self.record(p, &bind, &uniforms, (Kernel::Locate, 0, n));
+                self.record(p, &bind, &uniforms, (Kernel::CopyCounts, 0, cells));
+            });
+            timed(spans, pass, "scan the cells' counts", |p| {
+                self.scan
+                    .record(p, &bind_starts, &scan_uniforms, 0, &starts_scan, &limits);
+            });
+            let key_bits = 3 * u32::from(g.bits);
+            timed(spans, pass, "sort the lights by cell", |p| {
+                self.lights.sort.record(device, p, &self.scan, n, key_bits);
+            });
+            let mut first = starts_scan.len() as u32;
+            for (k, one) in slot_scans.iter().enumerate() {
+                let mark = (Kernel::MarkVertices, k as u32 + 1, steps[k + 1].count);
+                let label = format!("level {}: number the vertices", k + 1);
+                timed(spans, pass, &label, |p| {
+                    self.record(p, &bind, &uniforms, mark);
+                    self.scan
+                        .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
+                });
+                first += one.len() as u32;
+            }
+        };
+        // Each level's vertex count: the last entry of its scanned slots.
+        let copy_totals = |encoder: &mut wgpu::CommandEncoder| {
+            for level in 1..=g.max_level() {
+                let at = self.slot_offsets[level as usize - 1] + slots_a_side(g, level).pow(3);
+                let to = u64::from(level - 1) * 4;
+                encoder.copy_buffer_to_buffer(&self.slots, u64::from(at) * 4, &totals, to, 4);
+            }
+        };
+        let ms = self.run_pass("lgh-gpu build: topology", true, record, copy_totals)?;
+        let vertices: Vec<u32> = self.gpu.read_back(&totals)?;
+        Ok((vertices, ms))
+    }
+
+    /// Records one compute pass (`record` fills it, timing its spans where profiling), then
+    /// `after`, submits them and waits: the pass's milliseconds where the adapter has
+    /// timestamps. The spans' times become the profile (`fresh`) or are added to it.
+    fn run_pass(
+        &self,
+        label: &str,
+        fresh: bool,
+        record: impl FnOnce(&mut wgpu::ComputePass<'_>, &mut Option<SpanTimer>),
+        after: impl FnOnce(&mut wgpu::CommandEncoder),
+    ) -> Result<Option<f64>, GpuError> {
+        let timer = PassTimer::new(&self.gpu);
+        let mut spans = self.spans();
+        let mut encoder = self
+            .gpu
+            .device()
+            .create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: timer.as_ref().map(PassTimer::writes),
+            });
+            record(&mut pass, &mut spans);
         }
+        after(&mut encoder);
         if let Some(t) = &timer {
             t.resolve(&mut encoder);
         }
@@ -604,10 +623,18 @@ impl GpuBuilder {
             s.resolve(&mut encoder);
         }
         self.gpu.queue().submit([encoder.finish()]);
-        let vertices: Vec<u32> = self.gpu.read_back(&totals)?;
-        let ms = timer.map(|t| t.milliseconds(&self.gpu)).transpose()?;
-        self.keep_profile(spans, true)?;
-        Ok((vertices, ms))
+        let ms = match timer {
+            Some(t) => Some(t.milliseconds(&self.gpu)?),
+            None => {
+                self.gpu
+                    .device()
+                    .poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| GpuError::Readback(e.to_string()))?;
+                None
+            }
+        };
+        self.keep_profile(spans, fresh)?;
+        Ok(ms)
     }
 
     /// Each level's place in the lights and its grid as the query reads it; the lights'
@@ -705,39 +732,15 @@ impl GpuBuilder {
         }
         let uniforms = Uniforms::new(device, &steps);
         let bind = self.bind(&uniforms);
-        let timer = PassTimer::new(&self.gpu);
-        let mut spans = self.spans();
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("lgh-gpu build: splat"),
-                timestamp_writes: timer.as_ref().map(PassTimer::writes),
-            });
+        let record = |pass: &mut wgpu::ComputePass<'_>, spans: &mut Option<SpanTimer>| {
             for &p in &plan {
                 let label = format!("level {}: {:?}", steps[p.1 as usize].level, p.0);
-                timed(&mut spans, &mut pass, &label, |pass| {
+                timed(spans, pass, &label, |pass| {
                     self.record(pass, &bind, &uniforms, p);
                 });
             }
-        }
-        if let Some(t) = &timer {
-            t.resolve(&mut encoder);
-        }
-        if let Some(s) = &spans {
-            s.resolve(&mut encoder);
-        }
-        self.gpu.queue().submit([encoder.finish()]);
-        self.keep_profile(spans, fresh)?;
-        match timer {
-            Some(t) => t.milliseconds(&self.gpu).map(Some),
-            None => {
-                self.gpu
-                    .device()
-                    .poll(wgpu::PollType::wait_indefinitely())
-                    .map_err(|e| GpuError::Readback(e.to_string()))?;
-                Ok(None)
-            }
-        }
+        };
+        self.run_pass("lgh-gpu build: splat", fresh, record, |_| {})
     }
 }
 

@@ -65,32 +65,6 @@ fn flat(id: vec3<u32>, groups: vec3<u32>) -> u32 {
     return id.x + id.y * groups.x * WORKGROUP;
 }
 
-fn spread3(v: u32) -> u32 {
-    var x = v & 0x3ffu;
-    x = (x | (x << 16u)) & 0x030000ffu;
-    x = (x | (x << 8u)) & 0x0300f00fu;
-    x = (x | (x << 4u)) & 0x030c30c3u;
-    x = (x | (x << 2u)) & 0x09249249u;
-    return x;
-}
-
-fn compact3(v: u32) -> u32 {
-    var x = v & 0x09249249u;
-    x = (x | (x >> 2u)) & 0x030c30c3u;
-    x = (x | (x >> 4u)) & 0x0300f00fu;
-    x = (x | (x >> 8u)) & 0x030000ffu;
-    x = (x | (x >> 16u)) & 0x3ffu;
-    return x;
-}
-
-fn morton3(c: vec3<u32>) -> u32 {
-    return spread3(c.x) | (spread3(c.y) << 1u) | (spread3(c.z) << 2u);
-}
-
-fn demorton3(m: u32) -> vec3<u32> {
-    return vec3<u32>(compact3(m), compact3(m >> 1u), compact3(m >> 2u));
-}
-
 fn pack(c: vec3<u32>) -> u32 {
     return c.x | (c.y << 10u) | (c.z << 20u);
 }
@@ -215,28 +189,43 @@ struct Sums {
     second: vec3<f32>,
 }
 
+// The sorted lights of the cell of which vertex q is corner k; none where that cell is off
+// the grid.
+fn corner_cell(q: vec3<u32>, k: u32) -> vec2<u32> {
+    let o = corner(k);
+    if any(q < o) || any(q - o >= vec3<u32>(cells_a_side())) {
+        return vec2<u32>(0u);
+    }
+    return cell_range(q - o);
+}
+
+// A sorted light's place in its level-ℓ cell, in cell units, from its place in its level-1 cell
+// (lgh-core's splat_input).
+fn place(light: Sorted) -> vec3<f32> {
+    let sub = step.level - 1u;
+    let mask = vec3<u32>((1u << sub) - 1u);
+    let scale = 1.0 / f32(1u << sub);
+    return min((vec3<f32>(unpack(light.cell) & mask) + light.frac) * scale, vec3<f32>(1.0));
+}
+
+// Eq. (1)'s trilinear weight at corner o of a light at g in its cell.
+fn weight(g: vec3<f32>, o: vec3<u32>) -> f32 {
+    let wa = select(vec3<f32>(1.0) - g, g, o == vec3<u32>(1u));
+    return wa.x * wa.y * wa.z;
+}
+
 // Lights j ≡ lane (mod lanes) of each of vertex q's cells, cell by cell.
 fn moment_sums(q: vec3<u32>, lane: u32, lanes: u32) -> Sums {
     var s = Sums(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
-    let side = cells_a_side();
-    let sub = step.level - 1u;
-    let mask = (1u << sub) - 1u;
-    let scale = 1.0 / f32(1u << sub);
     for (var k = 0u; k < 8u; k++) {
+        let r = corner_cell(q, k);
         let o = corner(k);
-        if any(q < o) || any(q - o >= vec3<u32>(side)) {
-            continue;
-        }
-        let r = cell_range(q - o);
-        let at = vec3<f32>(o);
         for (var j = r.x + lane; j < r.y; j += lanes) {
             let light = sorted[j];
-            let g = min((vec3<f32>(unpack(light.cell) & vec3<u32>(mask)) + light.frac) * scale,
-                        vec3<f32>(1.0));
-            let wa = select(vec3<f32>(1.0) - g, g, o == vec3<u32>(1u));
-            let w = wa.x * wa.y * wa.z;
+            let g = place(light);
+            let w = weight(g, o);
             let v = w * light.luminance;
-            let off = g - at;
+            let off = g - vec3<f32>(o);
             s.intensity += w * light.intensity;
             s.weight += v;
             s.first += v * off;
@@ -249,24 +238,13 @@ fn moment_sums(q: vec3<u32>, lane: u32, lanes: u32) -> Sums {
 // Σ v ‖o − mean‖ of eq. (5) over the same lights.
 fn size_sum(q: vec3<u32>, mean: vec3<f32>, lane: u32, lanes: u32) -> f32 {
     var sum = 0.0;
-    let side = cells_a_side();
-    let sub = step.level - 1u;
-    let mask = (1u << sub) - 1u;
-    let scale = 1.0 / f32(1u << sub);
     for (var k = 0u; k < 8u; k++) {
+        let r = corner_cell(q, k);
         let o = corner(k);
-        if any(q < o) || any(q - o >= vec3<u32>(side)) {
-            continue;
-        }
-        let r = cell_range(q - o);
-        let centre = vec3<f32>(o) + mean;
         for (var j = r.x + lane; j < r.y; j += lanes) {
             let light = sorted[j];
-            let g = min((vec3<f32>(unpack(light.cell) & vec3<u32>(mask)) + light.frac) * scale,
-                        vec3<f32>(1.0));
-            let wa = select(vec3<f32>(1.0) - g, g, o == vec3<u32>(1u));
-            let w = wa.x * wa.y * wa.z;
-            sum += w * light.luminance * length(g - centre);
+            let g = place(light);
+            sum += weight(g, o) * light.luminance * length(g - (vec3<f32>(o) + mean));
         }
     }
     return sum;
@@ -334,6 +312,33 @@ fn slot_is_occupied(m: u32, lane: u32) -> bool {
     return workgroupUniformLoad(&occupied_slot) == 1u;
 }
 
+// Which vertex slot m and part g workgroup wg of a parts kernel works on, and whether it has
+// work (a vertex in the slot) — the same answer for the whole workgroup.
+struct Part {
+    w: u32,
+    m: u32,
+    g: u32,
+    busy: bool,
+}
+
+fn part(lane: u32, wg: vec3<u32>, groups: vec3<u32>) -> Part {
+    let w = wg.x + wg.y * groups.x;
+    if w >= step.count * step.parts {
+        return Part(w, 0u, 0u, false);
+    }
+    let m = w / step.parts;
+    return Part(w, m, w % step.parts, slot_is_occupied(m, lane));
+}
+
+// The vertex slot workgroup wg of a finishing kernel works on (one workgroup a slot).
+fn slot_of(lane: u32, wg: vec3<u32>, groups: vec3<u32>) -> Part {
+    let m = wg.x + wg.y * groups.x;
+    if m >= step.count {
+        return Part(m, m, 0u, false);
+    }
+    return Part(m, m, 0u, slot_is_occupied(m, lane));
+}
+
 // The workgroup's lane sums added in a fixed tree into lane_sums[0].
 fn reduce(lane: u32) {
     for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
@@ -351,23 +356,18 @@ fn reduce(lane: u32) {
 fn moment_parts(@builtin(local_invocation_index) lane: u32,
                 @builtin(workgroup_id) wg: vec3<u32>,
                 @builtin(num_workgroups) groups: vec3<u32>) {
-    let w = wg.x + wg.y * groups.x;
-    if w >= step.count * step.parts {
+    let p = part(lane, wg, groups);
+    if !p.busy {
         return;
     }
-    let m = w / step.parts;
-    let g = w % step.parts;
-    if !slot_is_occupied(m, lane) {
-        return;
-    }
-    let s = moment_sums(demorton3(m), g * WORKGROUP + lane, WORKGROUP * step.parts);
+    let s = moment_sums(demorton3(p.m), p.g * WORKGROUP + lane, WORKGROUP * step.parts);
     lane_sums[lane] = array<vec4<f32>, 3>(vec4<f32>(s.intensity, s.weight),
                                           vec4<f32>(s.first, 0.0), vec4<f32>(s.second, 0.0));
     workgroupBarrier();
     reduce(lane);
     if lane == 0u {
         for (var a = 0u; a < 3u; a++) {
-            partials[w][a] = lane_sums[0][a];
+            partials[p.w][a] = lane_sums[0][a];
         }
     }
 }
@@ -378,13 +378,11 @@ fn moment_parts(@builtin(local_invocation_index) lane: u32,
 fn finish_moments(@builtin(local_invocation_index) lane: u32,
                   @builtin(workgroup_id) wg: vec3<u32>,
                   @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = wg.x + wg.y * groups.x;
-    if m >= step.count {
+    let p = slot_of(lane, wg, groups);
+    if !p.busy {
         return;
     }
-    if !slot_is_occupied(m, lane) {
-        return;
-    }
+    let m = p.m;
     let first = m * step.parts;
     var sum = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     for (var g = lane; g < step.parts; g += WORKGROUP) {
@@ -410,24 +408,19 @@ fn finish_moments(@builtin(local_invocation_index) lane: u32,
 fn size_parts(@builtin(local_invocation_index) lane: u32,
               @builtin(workgroup_id) wg: vec3<u32>,
               @builtin(num_workgroups) groups: vec3<u32>) {
-    let w = wg.x + wg.y * groups.x;
-    if w >= step.count * step.parts {
+    let p = part(lane, wg, groups);
+    if !p.busy {
         return;
     }
-    let m = w / step.parts;
-    let g = w % step.parts;
-    if !slot_is_occupied(m, lane) {
-        return;
-    }
-    let mean = partials[m * step.parts][3].xyz;
-    let sum = size_sum(demorton3(m), mean, g * WORKGROUP + lane, WORKGROUP * step.parts);
+    let mean = partials[p.m * step.parts][3].xyz;
+    let sum = size_sum(demorton3(p.m), mean, p.g * WORKGROUP + lane, WORKGROUP * step.parts);
     lane_sums[lane][0] = vec4<f32>(sum, 0.0, 0.0, 0.0);
     lane_sums[lane][1] = vec4<f32>(0.0);
     lane_sums[lane][2] = vec4<f32>(0.0);
     workgroupBarrier();
     reduce(lane);
     if lane == 0u {
-        partials[w][4] = lane_sums[0][0];
+        partials[p.w][4] = lane_sums[0][0];
     }
 }
 
@@ -436,13 +429,11 @@ fn size_parts(@builtin(local_invocation_index) lane: u32,
 fn finish_vertices(@builtin(local_invocation_index) lane: u32,
                    @builtin(workgroup_id) wg: vec3<u32>,
                    @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = wg.x + wg.y * groups.x;
-    if m >= step.count {
+    let p = slot_of(lane, wg, groups);
+    if !p.busy {
         return;
     }
-    if !slot_is_occupied(m, lane) {
-        return;
-    }
+    let m = p.m;
     let first = m * step.parts;
     var sum = 0.0;
     for (var g = lane; g < step.parts; g += WORKGROUP) {

@@ -1,5 +1,5 @@
 //! The WGSL kernels, each a source made of the files it is written in: a kernel that walks the
-//! hierarchy is `walk.wgsl` followed by its own file. `tests/translations.rs` translates each
+//! hierarchy is `walk.wgsl` and `morton.wgsl` followed by its own file. `tests/translations.rs` translates each
 //! entry point for engines not on wgpu.
 
 /// One WGSL module and its entry points.
@@ -23,14 +23,22 @@ impl Kernel {
 /// Eq. (1)'s blended sum at shading points (`walk.wgsl` + `shade.wgsl`).
 pub const SHADE: Kernel = Kernel {
     name: "shade",
-    source: concat!(include_str!("walk.wgsl"), include_str!("shade.wgsl")),
+    source: concat!(
+        include_str!("walk.wgsl"),
+        include_str!("morton.wgsl"),
+        include_str!("shade.wgsl")
+    ),
     entries: &["shade"],
 };
 
 /// K lights a point drawn by their unshadowed light (`walk.wgsl` + `gather.wgsl`).
 pub const GATHER: Kernel = Kernel {
     name: "gather",
-    source: concat!(include_str!("walk.wgsl"), include_str!("gather.wgsl")),
+    source: concat!(
+        include_str!("walk.wgsl"),
+        include_str!("morton.wgsl"),
+        include_str!("gather.wgsl")
+    ),
     entries: &["gather"],
 };
 
@@ -52,7 +60,7 @@ pub const SORT: Kernel = Kernel {
 /// (`build.wgsl`).
 pub const BUILD: Kernel = Kernel {
     name: "build",
-    source: include_str!("build.wgsl"),
+    source: concat!(include_str!("build.wgsl"), include_str!("morton.wgsl")),
     entries: &[
         "locate",
         "copy_counts",

@@ -114,20 +114,6 @@ fn cell_start(level: Level, i: u32) -> u32 {
     return starts[i];
 }
 
-// The bits of v (< 2^10) spread to every third bit: one axis of a Morton code.
-fn spread3(v: u32) -> u32 {
-    var x = v & 0x3ffu;
-    x = (x | (x << 16u)) & 0x030000ffu;
-    x = (x | (x << 8u)) & 0x0300f00fu;
-    x = (x | (x << 4u)) & 0x030c30c3u;
-    x = (x | (x << 2u)) & 0x09249249u;
-    return x;
-}
-
-fn morton3(c: vec3<u32>) -> u32 {
-    return spread3(c.x) | (spread3(c.y) << 1u) | (spread3(c.z) << 2u);
-}
-
 // The lights of `level` within its reach of x: the cells that meet the ball (widened by how far
 // a light may lie outside its cell), or every light where the level has no cells (the top).
 fn walk_level(level: Level, x: vec3<f32>, n: vec3<f32>) {

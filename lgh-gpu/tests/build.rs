@@ -20,7 +20,7 @@ mod common;
 
 use std::collections::HashMap;
 
-use common::{g_buffer, gpu};
+use common::{flicker, g_buffer, gpu};
 use lgh_core::glam::Vec3;
 use lgh_core::testsets::{clumped_lights, explosion_shell, uniform_cube};
 use lgh_core::{luminance, LightingGridHierarchy, PointLight};
@@ -184,11 +184,7 @@ fn updates_and_rebuilds_give_the_bits_of_a_fresh_build() {
     };
     let mut builder = fresh(&lights);
     for frame in 1..4 {
-        let flicker: Vec<Vec3> = lights
-            .iter()
-            .enumerate()
-            .map(|(i, l)| l.intensity * (1.0 + 0.5 * ((i * frame) as f32).sin()))
-            .collect();
+        let flicker = flicker(&lights, frame);
         builder.update_intensities(&flicker).unwrap();
         let relit: Vec<PointLight> = lights
             .iter()

@@ -18,7 +18,7 @@
 use lgh_core::glam::Vec3;
 mod common;
 
-use common::{g_buffer, gpu};
+use common::{flicker, g_buffer, gpu};
 use lgh_core::testsets::{clumped_lights, explosion_shell, uniform_cube};
 use lgh_core::{falloff, GridSettings, LightingGridHierarchy, PointLight};
 use lgh_gpu::reference::response;
@@ -113,11 +113,7 @@ fn agrees_with_the_cpu_on_flickering_and_moving_lights() {
     let points = g_buffer(&lights, 500, 9);
     let mut lgh = LightingGridHierarchy::build(&lights, &GridSettings::default()).unwrap();
     for frame in 1..4 {
-        let flicker: Vec<Vec3> = lights
-            .iter()
-            .enumerate()
-            .map(|(i, l)| l.intensity * (1.0 + 0.5 * ((i * frame) as f32).sin()))
-            .collect();
+        let flicker = flicker(&lights, frame);
         lgh.update_intensities(&flicker).unwrap();
         agrees(gpu, &lgh, 2.0, &points);
         let moved: Vec<PointLight> = lights

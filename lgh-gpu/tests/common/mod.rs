@@ -1,4 +1,7 @@
-//! What the GPU tests share: the one device, or SKIPPED; a G-buffer over a light set.
+//! What the GPU tests share: the one device, or SKIPPED; a G-buffer over a light set; lights
+//! flickering. Each test binary uses some of them.
+
+#![allow(dead_code)]
 
 use std::sync::OnceLock;
 
@@ -38,5 +41,14 @@ pub fn g_buffer(lights: &[PointLight], n: usize, seed: u64) -> Vec<ShadingPoint>
             };
             ShadingPoint::new(p.position, p.normal.unwrap_or(Vec3::Z), albedo)
         })
+        .collect()
+}
+
+/// Frame `frame`'s intensities of `lights` flickering: each scaled by `1 + ½ sin(i·frame)`.
+pub fn flicker(lights: &[PointLight], frame: usize) -> Vec<Vec3> {
+    lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| l.intensity * (1.0 + 0.5 * ((i * frame) as f32).sin()))
         .collect()
 }
