@@ -64,8 +64,12 @@ fn unweighted(
 /// Builds `lights` on the GPU and on the CPU with the same placement and checks every level's
 /// every light within the derived bound; returns the largest difference over its bound.
 fn levels_agree(name: &str, lights: &[PointLight]) -> f64 {
+    levels_agree_on(name, lights, GpuGrid::fitting(lights).unwrap())
+}
+
+/// [`levels_agree`] on `grid`.
+fn levels_agree_on(name: &str, lights: &[PointLight], grid: GpuGrid) -> f64 {
     let Some(gpu) = gpu() else { return 0.0 };
-    let grid = GpuGrid::fitting(lights).unwrap();
     let mut builder = GpuBuilder::new(gpu, grid, 2.0).unwrap();
     builder.rebuild(lights).unwrap();
     let cpu = LightingGridHierarchy::build(lights, &grid.settings()).unwrap();
@@ -220,6 +224,31 @@ fn updates_and_rebuilds_give_the_bits_of_a_fresh_build() {
     }
 }
 
+/// The query through the GPU's build at `points` against lgh-core's query on `cpu`, within
+/// 1e-3 of each point; returns the largest relative difference.
+fn query_agrees(
+    name: &str,
+    builder: &GpuBuilder,
+    cpu: &LightingGridHierarchy,
+    alpha: f32,
+    points: &[lgh_gpu::ShadingPoint],
+) -> f32 {
+    let got = builder.hierarchy().shade(points).unwrap();
+    let blending = cpu.blending(alpha).unwrap();
+    let mut worst = 0.0f32;
+    for (p, g) in points.iter().zip(&got) {
+        let want = reference::shade(cpu, &blending, p).unwrap();
+        let diff = (Vec3::from(*g) - want).abs().max_element();
+        let scale = want.max_element().max(1e-30);
+        worst = worst.max(diff / scale);
+        assert!(
+            diff <= 1e-3 * scale,
+            "{name} α {alpha}: {g:?} against {want}"
+        );
+    }
+    worst
+}
+
 /// The query through the GPU's build against lgh-core's query on lgh-core's build: the build's
 /// differences (above) move each term by a relative ~1e-4 at most (a centre off by `2εκ h_ℓ`
 /// at a distance of at least `r_{ℓ−1} = α h_ℓ / 2`), so each point within 1e-3 of the CPU.
@@ -236,22 +265,44 @@ fn the_query_through_the_gpu_build_agrees_with_the_cpu() {
         for alpha in [1.0, 2.0, 4.0] {
             let mut builder = GpuBuilder::new(gpu, grid, alpha).unwrap();
             builder.rebuild(&lights).unwrap();
-            let got = builder.hierarchy().shade(&points).unwrap();
-            let blending = cpu.blending(alpha).unwrap();
-            let mut worst = 0.0f32;
-            for (p, g) in points.iter().zip(&got) {
-                let want = reference::shade(&cpu, &blending, p).unwrap();
-                let diff = (Vec3::from(*g) - want).abs().max_element();
-                let scale = want.max_element().max(1e-30);
-                worst = worst.max(diff / scale);
-                assert!(
-                    diff <= 1e-3 * scale,
-                    "{name} α {alpha}: {g:?} against {want}"
-                );
-            }
+            let worst = query_agrees(name, &builder, &cpu, alpha, &points);
             eprintln!("{name}, α = {alpha}: largest relative difference {worst:e}");
         }
     }
+}
+
+/// The same, frame after frame, for flickering lights (the GPU's and lgh-core's
+/// `update_intensities`) and moving ones (both rebuilt), on a grid that holds every frame.
+#[test]
+fn the_query_through_the_gpu_build_agrees_with_the_cpu_on_flickering_and_moving_lights() {
+    let Some(gpu) = gpu() else { return };
+    let lights = clumped_lights(2000, 8);
+    let step = Vec3::new(0.05, -0.03, 0.02);
+    let (lo, hi) = lgh_core::bounds(&lights);
+    let fitted = GpuGrid::fitting(&lights).unwrap();
+    let grid = GpuGrid::enclosing(lo - step.abs() * 4.0, hi + step.abs() * 4.0, fitted.h1).unwrap();
+    let points = g_buffer(&lights, 400, 9);
+    let mut builder = GpuBuilder::new(gpu, grid, 2.0).unwrap();
+    builder.rebuild(&lights).unwrap();
+    // The moving lights' own builder, rebuilt each frame (any count: a few fewer each frame).
+    let mut mover = GpuBuilder::new(gpu, grid, 2.0).unwrap();
+    let mut cpu = LightingGridHierarchy::build(&lights, &grid.settings()).unwrap();
+    let mut worst = 0.0f32;
+    for frame in 1..4 {
+        let flicker = flicker(&lights, frame);
+        builder.update_intensities(&flicker).unwrap();
+        cpu.update_intensities(&flicker).unwrap();
+        worst = worst.max(query_agrees("flickering", &builder, &cpu, 2.0, &points));
+        let moved: Vec<PointLight> = lights[..2000 - 100 * frame]
+            .iter()
+            .zip(&flicker)
+            .map(|(l, &i)| PointLight::new(l.position + step * frame as f32, i))
+            .collect();
+        mover.rebuild(&moved).unwrap();
+        let rebuilt = LightingGridHierarchy::build(&moved, &grid.settings()).unwrap();
+        worst = worst.max(query_agrees("moving", &mover, &rebuilt, 2.0, &points));
+    }
+    eprintln!("flickering and moving: largest relative difference {worst:e}");
 }
 
 proptest! {
