@@ -16,8 +16,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 struct Light {
     vec3 position;
@@ -41,7 +41,8 @@ struct Sums {
 };
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    uvec3 q;
     uint g;
     bool busy;
 };
@@ -55,8 +56,8 @@ layout(std430) buffer type_6_block_1Compute { uint _group_0_binding_3_cs[]; };
 layout(std430) buffer type_7_block_2Compute { uint _group_0_binding_4_cs[]; };
 
 
-uint flat_(uvec3 id_5, uvec3 groups_9) {
-    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_6, uvec3 groups_10) {
+    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {

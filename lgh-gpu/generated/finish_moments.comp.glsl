@@ -16,8 +16,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 struct Light {
     vec3 position;
@@ -41,7 +41,8 @@ struct Sums {
 };
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    uvec3 q;
     uint g;
     bool busy;
 };
@@ -50,17 +51,15 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
 
-layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_7_cs[]; };
+layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_12_cs[]; };
 
 layout(std430) buffer type_14_block_2Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
-shared uint occupied_slot;
 
-
-uint flat_(uvec3 id_5, uvec3 groups_9) {
-    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_6, uvec3 groups_10) {
+    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -163,47 +162,20 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-bool slot_is_occupied(uint m_1, uint lane_6) {
-    if ((lane_6 == 0u)) {
-        uint _e10 = _group_0_binding_0_cs.slot_offset;
-        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
-        uint _e19 = _group_0_binding_0_cs.slot_offset;
-        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
-        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
-    }
-    memoryBarrierShared();
-    barrier();
-    uint _e26 = occupied_slot;
-    memoryBarrierShared();
-    barrier();
-    return (_e26 == 1u);
-}
-
-Part part(uint lane_7, uvec3 wg_4, uvec3 groups_10) {
-    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+Part part(uvec3 wg_4, uvec3 groups_11, uint parts) {
+    uint w = (wg_4.x + (wg_4.y * groups_11.x));
     uint _e10 = _group_0_binding_0_cs.count;
-    uint _e13 = _group_0_binding_0_cs.parts;
-    if ((w >= (_e10 * _e13))) {
-        return Part(w, 0u, 0u, false);
+    if ((w >= (_e10 * parts))) {
+        return Part(w, 0u, uvec3(0u), 0u, false);
     }
-    uint _e22 = _group_0_binding_0_cs.parts;
-    uint m_2 = (w / _e22);
-    uint _e26 = _group_0_binding_0_cs.parts;
-    bool _e28 = slot_is_occupied(m_2, lane_7);
-    return Part(w, m_2, (w % _e26), _e28);
+    uint v_3 = (w / parts);
+    uint _e23 = _group_0_binding_0_cs.list_offset;
+    uint _e26 = _group_0_binding_12_cs[(_e23 + v_3)];
+    uvec3 _e27 = demorton3_(_e26);
+    return Part(w, v_3, _e27, (w % parts), true);
 }
 
-Part slot_of(uint lane_8, uvec3 wg_5, uvec3 groups_11) {
-    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
-    uint _e10 = _group_0_binding_0_cs.count;
-    if ((m_3 >= _e10)) {
-        return Part(m_3, m_3, 0u, false);
-    }
-    bool _e16 = slot_is_occupied(m_3, lane_8);
-    return Part(m_3, m_3, 0u, _e16);
-}
-
-void reduce(uint lane_9) {
+void reduce(uint lane_6) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init = true;
@@ -220,7 +192,7 @@ void reduce(uint lane_9) {
         }
         {
             uint _e6 = stride;
-            if ((lane_9 < _e6)) {
+            if ((lane_6 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_1 = true;
                 while(true) {
@@ -236,11 +208,11 @@ void reduce(uint lane_9) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_9][_e15];
+                        vec4 _e17 = lane_sums[lane_6][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_9 + _e19)][_e22];
-                        lane_sums[lane_9][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_6 + _e19)][_e22];
+                        lane_sums[lane_6][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -254,35 +226,33 @@ void reduce(uint lane_9) {
 void main() {
     if (gl_LocalInvocationID == uvec3(0u)) {
         lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
-        occupied_slot = 0u;
     }
     memoryBarrierShared();
     barrier();
     uint lane_1 = gl_LocalInvocationIndex;
     uvec3 wg_1 = gl_WorkGroupID;
-    uvec3 groups_6 = gl_NumWorkGroups;
+    uvec3 groups_7 = gl_NumWorkGroups;
     vec4 sum[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
     uint g = 0u;
     uint a_1 = 0u;
     uint a_2 = 0u;
-    Part _e3 = slot_of(lane_1, wg_1, groups_6);
-    if (!(_e3.busy)) {
+    Part _e4 = part(wg_1, groups_7, 1u);
+    if (!(_e4.busy)) {
         return;
     }
-    uint m_4 = _e3.m;
-    uint _e9 = _group_0_binding_0_cs.parts;
-    uint first = (m_4 * _e9);
+    uint _e10 = _group_0_binding_0_cs.parts;
+    uint first = (_e4.v * _e10);
     g = lane_1;
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e44 = g;
-            g = (_e44 + WORKGROUP);
+            uint _e45 = g;
+            g = (_e45 + WORKGROUP);
         }
         loop_init_2 = false;
-        uint _e20 = g;
-        uint _e23 = _group_0_binding_0_cs.parts;
-        if ((_e20 < _e23)) {
+        uint _e21 = g;
+        uint _e24 = _group_0_binding_0_cs.parts;
+        if ((_e21 < _e24)) {
         } else {
             break;
         }
@@ -291,28 +261,28 @@ void main() {
             bool loop_init_3 = true;
             while(true) {
                 if (!loop_init_3) {
-                    uint _e42 = a_1;
-                    a_1 = (_e42 + 1u);
+                    uint _e43 = a_1;
+                    a_1 = (_e43 + 1u);
                 }
                 loop_init_3 = false;
-                uint _e27 = a_1;
-                if ((_e27 < 3u)) {
+                uint _e28 = a_1;
+                if ((_e28 < 3u)) {
                 } else {
                     break;
                 }
                 {
-                    uint _e30 = a_1;
-                    vec4 _e32 = sum[_e30];
-                    uint _e34 = g;
-                    uint _e37 = a_1;
-                    vec4 _e39 = _group_0_binding_11_cs[(first + _e34)][_e37];
-                    sum[_e30] = (_e32 + _e39);
+                    uint _e31 = a_1;
+                    vec4 _e33 = sum[_e31];
+                    uint _e35 = g;
+                    uint _e38 = a_1;
+                    vec4 _e40 = _group_0_binding_11_cs[(first + _e35)][_e38];
+                    sum[_e31] = (_e33 + _e40);
                 }
             }
         }
     }
-    vec4 _e49[3] = sum;
-    lane_sums[lane_1] = _e49;
+    vec4 _e50[3] = sum;
+    lane_sums[lane_1] = _e50;
     memoryBarrierShared();
     barrier();
     reduce(lane_1);
@@ -321,24 +291,24 @@ void main() {
         bool loop_init_4 = true;
         while(true) {
             if (!loop_init_4) {
-                uint _e67 = a_2;
-                a_2 = (_e67 + 1u);
+                uint _e68 = a_2;
+                a_2 = (_e68 + 1u);
             }
             loop_init_4 = false;
-            uint _e57 = a_2;
-            if ((_e57 < 3u)) {
+            uint _e58 = a_2;
+            if ((_e58 < 3u)) {
             } else {
                 break;
             }
             {
-                uint _e62 = a_2;
-                uint _e64 = a_2;
-                _group_0_binding_11_cs[first][_e62] = total[_e64];
+                uint _e63 = a_2;
+                uint _e65 = a_2;
+                _group_0_binding_11_cs[first][_e63] = total[_e65];
             }
         }
         Sums s_3 = Sums(total[0].xyz, total[0].w, total[1].xyz, total[2].xyz);
-        vec3 _e81 = centre(s_3);
-        _group_0_binding_11_cs[first][3] = vec4(_e81, 0.0);
+        vec3 _e82 = centre(s_3);
+        _group_0_binding_11_cs[first][3] = vec4(_e82, 0.0);
         return;
     } else {
         return;

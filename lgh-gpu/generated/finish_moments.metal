@@ -16,6 +16,7 @@ struct _mslBufferSizes {
     uint size9;
     uint size10;
     uint size11;
+    uint size12;
 };
 
 struct Step {
@@ -31,8 +32,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 struct Light {
     metal::float3 position;
@@ -71,19 +72,21 @@ struct type_16 {
 };
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    char _pad2[8];
+    metal::packed_uint3 q;
     uint g;
     bool busy;
-    char _pad4[3];
+    char _pad5[15];
 };
 constant uint WORKGROUP = 64u;
 constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
 
 uint flat(
-    metal::uint3 id_5,
-    metal::uint3 groups_9
+    metal::uint3 id_6,
+    metal::uint3 groups_10
 ) {
-    return id_5.x + ((id_5.y * groups_9.x) * WORKGROUP);
+    return id_6.x + ((id_6.y * groups_10.x) * WORKGROUP);
 }
 
 uint pack(
@@ -429,27 +432,6 @@ void write_vertex(
     return;
 }
 
-bool slot_is_occupied(
-    uint m_1,
-    uint lane_6,
-    constant Step& step,
-    device type_7 const& slots,
-    threadgroup uint& occupied_slot,
-    constant _mslBufferSizes& _buffer_sizes
-) {
-    if (lane_6 == 0u) {
-        uint _e10 = step.slot_offset;
-        uint _e15 = slots[(_e10 + m_1) + 1u];
-        uint _e19 = step.slot_offset;
-        uint _e22 = slots[_e19 + m_1];
-        occupied_slot = (_e15 != _e22) ? 1u : 0u;
-    }
-    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
-    uint unnamed = occupied_slot;
-    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
-    return unnamed == 1u;
-}
-
 uint naga_div(uint lhs, uint rhs) {
     return lhs / metal::select(rhs, 1u, rhs == 0u);
 }
@@ -459,47 +441,27 @@ uint naga_mod(uint lhs, uint rhs) {
 }
 
 Part part(
-    uint lane_7,
     metal::uint3 wg_4,
-    metal::uint3 groups_10,
-    constant Step& step,
-    device type_7 const& slots,
-    threadgroup uint& occupied_slot,
-    constant _mslBufferSizes& _buffer_sizes
-) {
-    uint w = wg_4.x + (wg_4.y * groups_10.x);
-    uint _e10 = step.count;
-    uint _e13 = step.parts;
-    if (w >= (_e10 * _e13)) {
-        return Part {w, 0u, 0u, false};
-    }
-    uint _e22 = step.parts;
-    uint m_2 = naga_div(w, _e22);
-    uint _e26 = step.parts;
-    bool _e28 = slot_is_occupied(m_2, lane_7, step, slots, occupied_slot, _buffer_sizes);
-    return Part {w, m_2, naga_mod(w, _e26), _e28};
-}
-
-Part slot_of(
-    uint lane_8,
-    metal::uint3 wg_5,
     metal::uint3 groups_11,
+    uint parts,
     constant Step& step,
-    device type_7 const& slots,
-    threadgroup uint& occupied_slot,
+    device type_7 const& vertex_slots,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    uint m_3 = wg_5.x + (wg_5.y * groups_11.x);
+    uint w = wg_4.x + (wg_4.y * groups_11.x);
     uint _e10 = step.count;
-    if (m_3 >= _e10) {
-        return Part {m_3, m_3, 0u, false};
+    if (w >= (_e10 * parts)) {
+        return Part {w, 0u, {}, metal::uint3(0u), 0u, false};
     }
-    bool _e16 = slot_is_occupied(m_3, lane_8, step, slots, occupied_slot, _buffer_sizes);
-    return Part {m_3, m_3, 0u, _e16};
+    uint v_4 = naga_div(w, parts);
+    uint _e23 = step.list_offset;
+    uint _e26 = vertex_slots[_e23 + v_4];
+    metal::uint3 _e27 = demorton3_(_e26);
+    return Part {w, v_4, {}, _e27, naga_mod(w, parts), true};
 }
 
 void reduce(
-    uint lane_9,
+    uint lane_6,
     threadgroup type_16& lane_sums
 ) {
     uint stride = 32u;
@@ -521,7 +483,7 @@ void reduce(
         }
         {
             uint _e6 = stride;
-            if (lane_9 < _e6) {
+            if (lane_6 < _e6) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u);
                 bool loop_init_5 = true;
@@ -540,11 +502,11 @@ void reduce(
                     }
                     {
                         uint _e15 = a_3;
-                        metal::float4 _e17 = lane_sums.inner[lane_9].inner[_e15];
+                        metal::float4 _e17 = lane_sums.inner[lane_6].inner[_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        metal::float4 _e24 = lane_sums.inner[lane_9 + _e19].inner[_e22];
-                        lane_sums.inner[lane_9].inner[_e15] = _e17 + _e24;
+                        metal::float4 _e24 = lane_sums.inner[lane_6 + _e19].inner[_e22];
+                        lane_sums.inner[lane_6].inner[_e15] = _e17 + _e24;
                     }
                 }
             }
@@ -559,30 +521,27 @@ struct finish_momentsInput {
 [[max_total_threads_per_threadgroup(64)]] kernel void finish_moments(
   uint lane_1 [[thread_index_in_threadgroup]]
 , metal::uint3 wg_1 [[threadgroup_position_in_grid]]
-, metal::uint3 groups_6 [[threadgroups_per_grid]]
+, metal::uint3 groups_7 [[threadgroups_per_grid]]
 , constant Step& step [[user(fake0)]]
-, device type_7 const& slots [[user(fake0)]]
+, device type_7 const& vertex_slots [[user(fake0)]]
 , device type_14& partials [[user(fake0)]]
 , threadgroup type_16& lane_sums
-, threadgroup uint& occupied_slot
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
     if (lane_1 == 0u) {
         lane_sums = {};
-        occupied_slot = {};
     }
     metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
     type_15 sum = type_15 {{metal::float4(0.0), metal::float4(0.0), metal::float4(0.0)}};
     uint g = {};
     uint a_1 = {};
     uint a_2 = 0u;
-    Part _e3 = slot_of(lane_1, wg_1, groups_6, step, slots, occupied_slot, _buffer_sizes);
-    if (!(_e3.busy)) {
+    Part _e4 = part(wg_1, groups_7, 1u, step, vertex_slots, _buffer_sizes);
+    if (!(_e4.busy)) {
         return;
     }
-    uint m_4 = _e3.m;
-    uint _e9 = step.parts;
-    uint first = m_4 * _e9;
+    uint _e10 = step.parts;
+    uint first = _e4.v * _e10;
     g = lane_1;
     uint2 loop_bound_6 = uint2(4294967295u);
     bool loop_init_6 = true;
@@ -590,13 +549,13 @@ struct finish_momentsInput {
         if (metal::all(loop_bound_6 == uint2(0u))) { break; }
         loop_bound_6 -= uint2(loop_bound_6.y == 0u, 1u);
         if (!loop_init_6) {
-            uint _e44 = g;
-            g = _e44 + WORKGROUP;
+            uint _e45 = g;
+            g = _e45 + WORKGROUP;
         }
         loop_init_6 = false;
-        uint _e20 = g;
-        uint _e23 = step.parts;
-        if (_e20 < _e23) {
+        uint _e21 = g;
+        uint _e24 = step.parts;
+        if (_e21 < _e24) {
         } else {
             break;
         }
@@ -608,28 +567,28 @@ struct finish_momentsInput {
                 if (metal::all(loop_bound_7 == uint2(0u))) { break; }
                 loop_bound_7 -= uint2(loop_bound_7.y == 0u, 1u);
                 if (!loop_init_7) {
-                    uint _e42 = a_1;
-                    a_1 = _e42 + 1u;
+                    uint _e43 = a_1;
+                    a_1 = _e43 + 1u;
                 }
                 loop_init_7 = false;
-                uint _e27 = a_1;
-                if (_e27 < 3u) {
+                uint _e28 = a_1;
+                if (_e28 < 3u) {
                 } else {
                     break;
                 }
                 {
-                    uint _e30 = a_1;
-                    metal::float4 _e32 = sum.inner[_e30];
-                    uint _e34 = g;
-                    uint _e37 = a_1;
-                    metal::float4 _e39 = partials[first + _e34].inner[_e37];
-                    sum.inner[_e30] = _e32 + _e39;
+                    uint _e31 = a_1;
+                    metal::float4 _e33 = sum.inner[_e31];
+                    uint _e35 = g;
+                    uint _e38 = a_1;
+                    metal::float4 _e40 = partials[first + _e35].inner[_e38];
+                    sum.inner[_e31] = _e33 + _e40;
                 }
             }
         }
     }
-    type_15 _e49 = sum;
-    lane_sums.inner[lane_1] = _e49;
+    type_15 _e50 = sum;
+    lane_sums.inner[lane_1] = _e50;
     metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
     reduce(lane_1, lane_sums);
     if (lane_1 == 0u) {
@@ -640,24 +599,24 @@ struct finish_momentsInput {
             if (metal::all(loop_bound_8 == uint2(0u))) { break; }
             loop_bound_8 -= uint2(loop_bound_8.y == 0u, 1u);
             if (!loop_init_8) {
-                uint _e67 = a_2;
-                a_2 = _e67 + 1u;
+                uint _e68 = a_2;
+                a_2 = _e68 + 1u;
             }
             loop_init_8 = false;
-            uint _e57 = a_2;
-            if (_e57 < 3u) {
+            uint _e58 = a_2;
+            if (_e58 < 3u) {
             } else {
                 break;
             }
             {
-                uint _e62 = a_2;
-                uint _e64 = a_2;
-                partials[first].inner[_e62] = total.inner[_e64];
+                uint _e63 = a_2;
+                uint _e65 = a_2;
+                partials[first].inner[_e63] = total.inner[_e65];
             }
         }
         Sums s_3 = Sums {total.inner[0].xyz, total.inner[0].w, total.inner[1].xyz, total.inner[2].xyz};
-        metal::float3 _e81 = centre(s_3);
-        partials[first].inner[3] = metal::float4(_e81, 0.0);
+        metal::float3 _e82 = centre(s_3);
+        partials[first].inner[3] = metal::float4(_e82, 0.0);
         return;
     } else {
         return;

@@ -16,8 +16,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 struct Light {
     vec3 position;
@@ -41,7 +41,8 @@ struct Sums {
 };
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    uvec3 q;
     uint g;
     bool busy;
 };
@@ -50,21 +51,19 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
 
-layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_7_cs[]; };
+layout(std430) buffer type_9_block_1Compute { Light _group_0_binding_8_cs[]; };
 
-layout(std430) buffer type_9_block_2Compute { Light _group_0_binding_8_cs[]; };
+layout(std430) buffer type_4_block_2Compute { vec4 _group_0_binding_9_cs[]; };
 
-layout(std430) buffer type_4_block_3Compute { vec4 _group_0_binding_9_cs[]; };
+layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_12_cs[]; };
 
 layout(std430) buffer type_14_block_4Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
-shared uint occupied_slot;
 
-
-uint flat_(uvec3 id_5, uvec3 groups_9) {
-    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_6, uvec3 groups_10) {
+    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -197,47 +196,20 @@ void write_vertex(uvec3 q_3, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) 
     return;
 }
 
-bool slot_is_occupied(uint m_1, uint lane_6) {
-    if ((lane_6 == 0u)) {
-        uint _e10 = _group_0_binding_0_cs.slot_offset;
-        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
-        uint _e19 = _group_0_binding_0_cs.slot_offset;
-        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
-        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
-    }
-    memoryBarrierShared();
-    barrier();
-    uint _e26 = occupied_slot;
-    memoryBarrierShared();
-    barrier();
-    return (_e26 == 1u);
-}
-
-Part part(uint lane_7, uvec3 wg_4, uvec3 groups_10) {
-    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+Part part(uvec3 wg_4, uvec3 groups_11, uint parts) {
+    uint w = (wg_4.x + (wg_4.y * groups_11.x));
     uint _e10 = _group_0_binding_0_cs.count;
-    uint _e13 = _group_0_binding_0_cs.parts;
-    if ((w >= (_e10 * _e13))) {
-        return Part(w, 0u, 0u, false);
+    if ((w >= (_e10 * parts))) {
+        return Part(w, 0u, uvec3(0u), 0u, false);
     }
-    uint _e22 = _group_0_binding_0_cs.parts;
-    uint m_2 = (w / _e22);
-    uint _e26 = _group_0_binding_0_cs.parts;
-    bool _e28 = slot_is_occupied(m_2, lane_7);
-    return Part(w, m_2, (w % _e26), _e28);
+    uint v_3 = (w / parts);
+    uint _e23 = _group_0_binding_0_cs.list_offset;
+    uint _e26 = _group_0_binding_12_cs[(_e23 + v_3)];
+    uvec3 _e27 = demorton3_(_e26);
+    return Part(w, v_3, _e27, (w % parts), true);
 }
 
-Part slot_of(uint lane_8, uvec3 wg_5, uvec3 groups_11) {
-    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
-    uint _e10 = _group_0_binding_0_cs.count;
-    if ((m_3 >= _e10)) {
-        return Part(m_3, m_3, 0u, false);
-    }
-    bool _e16 = slot_is_occupied(m_3, lane_8);
-    return Part(m_3, m_3, 0u, _e16);
-}
-
-void reduce(uint lane_9) {
+void reduce(uint lane_6) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init = true;
@@ -254,7 +226,7 @@ void reduce(uint lane_9) {
         }
         {
             uint _e6 = stride;
-            if ((lane_9 < _e6)) {
+            if ((lane_6 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_1 = true;
                 while(true) {
@@ -270,11 +242,11 @@ void reduce(uint lane_9) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_9][_e15];
+                        vec4 _e17 = lane_sums[lane_6][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_9 + _e19)][_e22];
-                        lane_sums[lane_9][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_6 + _e19)][_e22];
+                        lane_sums[lane_6][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -288,45 +260,43 @@ void reduce(uint lane_9) {
 void main() {
     if (gl_LocalInvocationID == uvec3(0u)) {
         lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
-        occupied_slot = 0u;
     }
     memoryBarrierShared();
     barrier();
     uint lane_3 = gl_LocalInvocationIndex;
     uvec3 wg_3 = gl_WorkGroupID;
-    uvec3 groups_8 = gl_NumWorkGroups;
+    uvec3 groups_9 = gl_NumWorkGroups;
     float sum_1 = 0.0;
     uint g_1 = 0u;
-    Part _e3 = slot_of(lane_3, wg_3, groups_8);
-    if (!(_e3.busy)) {
+    Part _e4 = part(wg_3, groups_9, 1u);
+    if (!(_e4.busy)) {
         return;
     }
-    uint m_4 = _e3.m;
-    uint _e9 = _group_0_binding_0_cs.parts;
-    uint first = (m_4 * _e9);
+    uint _e10 = _group_0_binding_0_cs.parts;
+    uint first = (_e4.v * _e10);
     g_1 = lane_3;
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e28 = g_1;
-            g_1 = (_e28 + WORKGROUP);
+            uint _e29 = g_1;
+            g_1 = (_e29 + WORKGROUP);
         }
         loop_init_2 = false;
-        uint _e14 = g_1;
-        uint _e17 = _group_0_binding_0_cs.parts;
-        if ((_e14 < _e17)) {
+        uint _e15 = g_1;
+        uint _e18 = _group_0_binding_0_cs.parts;
+        if ((_e15 < _e18)) {
         } else {
             break;
         }
         {
-            float _e19 = sum_1;
-            uint _e21 = g_1;
-            float _e26 = _group_0_binding_11_cs[(first + _e21)][4].x;
-            sum_1 = (_e19 + _e26);
+            float _e20 = sum_1;
+            uint _e22 = g_1;
+            float _e27 = _group_0_binding_11_cs[(first + _e22)][4].x;
+            sum_1 = (_e20 + _e27);
         }
     }
-    float _e34 = sum_1;
-    lane_sums[lane_3][0] = vec4(_e34, 0.0, 0.0, 0.0);
+    float _e35 = sum_1;
+    lane_sums[lane_3][0] = vec4(_e35, 0.0, 0.0, 0.0);
     lane_sums[lane_3][1] = vec4(0.0);
     lane_sums[lane_3][2] = vec4(0.0);
     memoryBarrierShared();
@@ -335,11 +305,8 @@ void main() {
     if ((lane_3 == 0u)) {
         vec4 t_1[5] = _group_0_binding_11_cs[first];
         Sums s_3 = Sums(t_1[0].xyz, t_1[0].w, t_1[1].xyz, t_1[2].xyz);
-        uvec3 _e63 = demorton3_(m_4);
-        uint _e67 = _group_0_binding_0_cs.slot_offset;
-        uint _e70 = _group_0_binding_7_cs[(_e67 + m_4)];
-        float _e77 = lane_sums[0][0].x;
-        write_vertex(_e63, _e70, s_3, t_1[3].xyz, _e77);
+        float _e72 = lane_sums[0][0].x;
+        write_vertex(_e4.q, _e4.v, s_3, t_1[3].xyz, _e72);
         return;
     } else {
         return;

@@ -11,8 +11,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 
 struct Light {
@@ -47,9 +47,15 @@ struct Sums {
 
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    int _pad2_0;
+    int _pad2_1;
+    uint3 q;
     uint g;
     bool busy;
+    int _end_pad_0;
+    int _end_pad_1;
+    int _end_pad_2;
 };
 
 static const uint WORKGROUP = 64u;
@@ -66,13 +72,13 @@ RWByteAddressBuffer slots : register(u7);
 RWByteAddressBuffer out_ : register(u8);
 RWByteAddressBuffer extras : register(u9);
 RWByteAddressBuffer keys : register(u10);
+RWByteAddressBuffer vertex_slots : register(u12);
 RWByteAddressBuffer partials : register(u11);
 groupshared float4 lane_sums[64][3];
-groupshared uint occupied_slot;
 
-uint flat(uint3 id_5, uint3 groups_9)
+uint flat(uint3 id_6, uint3 groups_10)
 {
-    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
 }
 
 uint pack(uint3 c)
@@ -414,21 +420,6 @@ void write_vertex(uint3 q_3, uint v_2, Sums s_2, float3 mean_1, float size_sum_1
     return;
 }
 
-bool slot_is_occupied(uint m_1, uint lane_6)
-{
-    if ((lane_6 == 0u)) {
-        uint _e10 = step_.slot_offset;
-        uint _e15 = asuint(slots.Load(((_e10 + m_1) + 1u)*4));
-        uint _e19 = step_.slot_offset;
-        uint _e22 = asuint(slots.Load((_e19 + m_1)*4));
-        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
-    }
-    GroupMemoryBarrierWithGroupSync();
-    uint _e26 = occupied_slot;
-    GroupMemoryBarrierWithGroupSync();
-    return (_e26 == 1u);
-}
-
 uint naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
@@ -437,46 +428,33 @@ uint naga_mod(uint lhs, uint rhs) {
     return lhs % (rhs == 0u ? 1u : rhs);
 }
 
-Part ConstructPart(uint arg0, uint arg1, uint arg2, bool arg3) {
+Part ConstructPart(uint arg0, uint arg1, uint3 arg2, uint arg3, bool arg4) {
     Part ret = (Part)0;
     ret.w = arg0;
-    ret.m = arg1;
-    ret.g = arg2;
-    ret.busy = arg3;
+    ret.v = arg1;
+    ret.q = arg2;
+    ret.g = arg3;
+    ret.busy = arg4;
     return ret;
 }
 
-Part part(uint lane_7, uint3 wg_4, uint3 groups_10)
+Part part(uint3 wg_4, uint3 groups_11, uint parts)
 {
-    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+    uint w = (wg_4.x + (wg_4.y * groups_11.x));
     uint _e10 = step_.count;
-    uint _e13 = step_.parts;
-    if ((w >= (_e10 * _e13))) {
-        const Part part_1 = ConstructPart(w, 0u, 0u, false);
+    if ((w >= (_e10 * parts))) {
+        const Part part_1 = ConstructPart(w, 0u, (0u).xxx, 0u, false);
         return part_1;
     }
-    uint _e22 = step_.parts;
-    uint m_2 = naga_div(w, _e22);
-    uint _e26 = step_.parts;
-    const bool _e28 = slot_is_occupied(m_2, lane_7);
-    const Part part_2 = ConstructPart(w, m_2, naga_mod(w, _e26), _e28);
+    uint v_4 = naga_div(w, parts);
+    uint _e23 = step_.list_offset;
+    uint _e26 = asuint(vertex_slots.Load((_e23 + v_4)*4));
+    const uint3 _e27 = demorton3_(_e26);
+    const Part part_2 = ConstructPart(w, v_4, _e27, naga_mod(w, parts), true);
     return part_2;
 }
 
-Part slot_of(uint lane_8, uint3 wg_5, uint3 groups_11)
-{
-    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
-    uint _e10 = step_.count;
-    if ((m_3 >= _e10)) {
-        const Part part_3 = ConstructPart(m_3, m_3, 0u, false);
-        return part_3;
-    }
-    const bool _e16 = slot_is_occupied(m_3, lane_8);
-    const Part part_4 = ConstructPart(m_3, m_3, 0u, _e16);
-    return part_4;
-}
-
-void reduce(uint lane_9)
+void reduce(uint lane_6)
 {
     uint stride = 32u;
     uint a_3 = (uint)0;
@@ -498,7 +476,7 @@ void reduce(uint lane_9)
         }
         {
             uint _e6 = stride;
-            if ((lane_9 < _e6)) {
+            if ((lane_6 < _e6)) {
                 a_3 = 0u;
                 uint2 loop_bound_5 = uint2(4294967295u, 4294967295u);
                 bool loop_init_5 = true;
@@ -517,11 +495,11 @@ void reduce(uint lane_9)
                     }
                     {
                         uint _e15 = a_3;
-                        float4 _e17 = lane_sums[min(uint(lane_9), 63u)][min(uint(_e15), 2u)];
+                        float4 _e17 = lane_sums[min(uint(lane_6), 63u)][min(uint(_e15), 2u)];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        float4 _e24 = lane_sums[min(uint((lane_9 + _e19)), 63u)][min(uint(_e22), 2u)];
-                        lane_sums[min(uint(lane_9), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
+                        float4 _e24 = lane_sums[min(uint((lane_6 + _e19)), 63u)][min(uint(_e22), 2u)];
+                        lane_sums[min(uint(lane_6), 63u)][min(uint(_e15), 2u)] = (_e17 + _e24);
                     }
                 }
             }

@@ -138,12 +138,14 @@ typedef struct LghGpuBuildStep {
   uint32_t light_base;
   // Level ℓ's weak-light threshold (0 on the top level).
   float threshold;
-  // Items of the dispatch (lights, cells or vertex slots).
+  // Items of the dispatch (lights, cells, vertex slots or vertices).
   uint32_t count;
-  // Workgroups each vertex slot's sums are split over (the coarse levels' splat).
+  // Workgroups each vertex's sums are split over (the coarse levels' splat).
   uint32_t parts;
+  // Where level ℓ's vertices begin in the list of vertex slots.
+  uint32_t list_offset;
   // Padding.
-  uint32_t _pad[2];
+  uint32_t _pad;
 } LghGpuBuildStep;
 
 // An input light in the build's sorted order (`build.wgsl`'s `Sorted`). 32 bytes.

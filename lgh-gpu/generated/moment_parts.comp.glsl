@@ -16,8 +16,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 struct Light {
     vec3 position;
@@ -41,7 +41,8 @@ struct Sums {
 };
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    uvec3 q;
     uint g;
     bool busy;
 };
@@ -54,17 +55,15 @@ layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_4_cs[]; };
 
 layout(std430) buffer type_8_block_2Compute { Sorted _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_7_cs[]; };
+layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_12_cs[]; };
 
 layout(std430) buffer type_14_block_4Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
-shared uint occupied_slot;
 
-
-uint flat_(uvec3 id_5, uvec3 groups_9) {
-    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_6, uvec3 groups_10) {
+    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -299,47 +298,20 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-bool slot_is_occupied(uint m_1, uint lane_6) {
-    if ((lane_6 == 0u)) {
-        uint _e10 = _group_0_binding_0_cs.slot_offset;
-        uint _e15 = _group_0_binding_7_cs[((_e10 + m_1) + 1u)];
-        uint _e19 = _group_0_binding_0_cs.slot_offset;
-        uint _e22 = _group_0_binding_7_cs[(_e19 + m_1)];
-        occupied_slot = ((_e15 != _e22) ? 1u : 0u);
-    }
-    memoryBarrierShared();
-    barrier();
-    uint _e26 = occupied_slot;
-    memoryBarrierShared();
-    barrier();
-    return (_e26 == 1u);
-}
-
-Part part(uint lane_7, uvec3 wg_4, uvec3 groups_10) {
-    uint w = (wg_4.x + (wg_4.y * groups_10.x));
+Part part(uvec3 wg_4, uvec3 groups_11, uint parts) {
+    uint w = (wg_4.x + (wg_4.y * groups_11.x));
     uint _e10 = _group_0_binding_0_cs.count;
-    uint _e13 = _group_0_binding_0_cs.parts;
-    if ((w >= (_e10 * _e13))) {
-        return Part(w, 0u, 0u, false);
+    if ((w >= (_e10 * parts))) {
+        return Part(w, 0u, uvec3(0u), 0u, false);
     }
-    uint _e22 = _group_0_binding_0_cs.parts;
-    uint m_2 = (w / _e22);
-    uint _e26 = _group_0_binding_0_cs.parts;
-    bool _e28 = slot_is_occupied(m_2, lane_7);
-    return Part(w, m_2, (w % _e26), _e28);
+    uint v_4 = (w / parts);
+    uint _e23 = _group_0_binding_0_cs.list_offset;
+    uint _e26 = _group_0_binding_12_cs[(_e23 + v_4)];
+    uvec3 _e27 = demorton3_(_e26);
+    return Part(w, v_4, _e27, (w % parts), true);
 }
 
-Part slot_of(uint lane_8, uvec3 wg_5, uvec3 groups_11) {
-    uint m_3 = (wg_5.x + (wg_5.y * groups_11.x));
-    uint _e10 = _group_0_binding_0_cs.count;
-    if ((m_3 >= _e10)) {
-        return Part(m_3, m_3, 0u, false);
-    }
-    bool _e16 = slot_is_occupied(m_3, lane_8);
-    return Part(m_3, m_3, 0u, _e16);
-}
-
-void reduce(uint lane_9) {
+void reduce(uint lane_6) {
     uint stride = 32u;
     uint a_3 = 0u;
     bool loop_init_4 = true;
@@ -356,7 +328,7 @@ void reduce(uint lane_9) {
         }
         {
             uint _e6 = stride;
-            if ((lane_9 < _e6)) {
+            if ((lane_6 < _e6)) {
                 a_3 = 0u;
                 bool loop_init_5 = true;
                 while(true) {
@@ -372,11 +344,11 @@ void reduce(uint lane_9) {
                     }
                     {
                         uint _e15 = a_3;
-                        vec4 _e17 = lane_sums[lane_9][_e15];
+                        vec4 _e17 = lane_sums[lane_6][_e15];
                         uint _e19 = stride;
                         uint _e22 = a_3;
-                        vec4 _e24 = lane_sums[(lane_9 + _e19)][_e22];
-                        lane_sums[lane_9][_e15] = (_e17 + _e24);
+                        vec4 _e24 = lane_sums[(lane_6 + _e19)][_e22];
+                        lane_sums[lane_6][_e15] = (_e17 + _e24);
                     }
                 }
             }
@@ -390,22 +362,21 @@ void reduce(uint lane_9) {
 void main() {
     if (gl_LocalInvocationID == uvec3(0u)) {
         lane_sums = vec4[64][3](vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
-        occupied_slot = 0u;
     }
     memoryBarrierShared();
     barrier();
     uint lane = gl_LocalInvocationIndex;
     uvec3 wg = gl_WorkGroupID;
-    uvec3 groups_5 = gl_NumWorkGroups;
+    uvec3 groups_6 = gl_NumWorkGroups;
     uint a = 0u;
-    Part _e3 = part(lane, wg, groups_5);
-    if (!(_e3.busy)) {
+    uint _e5 = _group_0_binding_0_cs.parts;
+    Part _e6 = part(wg, groups_6, _e5);
+    if (!(_e6.busy)) {
         return;
     }
-    uvec3 _e7 = demorton3_(_e3.m);
-    uint _e15 = _group_0_binding_0_cs.parts;
-    Sums _e17 = moment_sums(_e7, ((_e3.g * WORKGROUP) + lane), (WORKGROUP * _e15));
-    lane_sums[lane] = vec4[3](vec4(_e17.intensity, _e17.weight), vec4(_e17.first, 0.0), vec4(_e17.second, 0.0));
+    uint _e17 = _group_0_binding_0_cs.parts;
+    Sums _e19 = moment_sums(_e6.q, ((_e6.g * WORKGROUP) + lane), (WORKGROUP * _e17));
+    lane_sums[lane] = vec4[3](vec4(_e19.intensity, _e19.weight), vec4(_e19.first, 0.0), vec4(_e19.second, 0.0));
     memoryBarrierShared();
     barrier();
     reduce(lane);
@@ -413,20 +384,20 @@ void main() {
         bool loop_init_6 = true;
         while(true) {
             if (!loop_init_6) {
-                uint _e48 = a;
-                a = (_e48 + 1u);
+                uint _e50 = a;
+                a = (_e50 + 1u);
             }
             loop_init_6 = false;
-            uint _e34 = a;
-            if ((_e34 < 3u)) {
+            uint _e36 = a;
+            if ((_e36 < 3u)) {
             } else {
                 break;
             }
             {
-                uint _e40 = a;
-                uint _e44 = a;
-                vec4 _e46 = lane_sums[0][_e44];
-                _group_0_binding_11_cs[_e3.w][_e40] = _e46;
+                uint _e42 = a;
+                uint _e46 = a;
+                vec4 _e48 = lane_sums[0][_e46];
+                _group_0_binding_11_cs[_e6.w][_e42] = _e48;
             }
         }
         return;

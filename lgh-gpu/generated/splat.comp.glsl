@@ -16,8 +16,8 @@ struct Step {
     float threshold;
     uint count;
     uint parts;
+    uint list_offset;
     uint _pad0_;
-    uint _pad1_;
 };
 struct Light {
     vec3 position;
@@ -41,7 +41,8 @@ struct Sums {
 };
 struct Part {
     uint w;
-    uint m;
+    uint v;
+    uvec3 q;
     uint g;
     bool busy;
 };
@@ -54,15 +55,15 @@ layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_4_cs[]; };
 
 layout(std430) buffer type_8_block_2Compute { Sorted _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_7_cs[]; };
+layout(std430) buffer type_9_block_3Compute { Light _group_0_binding_8_cs[]; };
 
-layout(std430) buffer type_9_block_4Compute { Light _group_0_binding_8_cs[]; };
+layout(std430) buffer type_4_block_4Compute { vec4 _group_0_binding_9_cs[]; };
 
-layout(std430) buffer type_4_block_5Compute { vec4 _group_0_binding_9_cs[]; };
+layout(std430) buffer type_7_block_5Compute { uint _group_0_binding_12_cs[]; };
 
 
-uint flat_(uvec3 id_5, uvec3 groups_9) {
-    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
+uint flat_(uvec3 id_6, uvec3 groups_10) {
+    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -327,26 +328,34 @@ void write_vertex(uvec3 q_3, uint v_2, Sums s_2, vec3 mean_1, float size_sum_1) 
     return;
 }
 
+Part part(uvec3 wg_4, uvec3 groups_11, uint parts) {
+    uint w = (wg_4.x + (wg_4.y * groups_11.x));
+    uint _e10 = _group_0_binding_0_cs.count;
+    if ((w >= (_e10 * parts))) {
+        return Part(w, 0u, uvec3(0u), 0u, false);
+    }
+    uint v_4 = (w / parts);
+    uint _e23 = _group_0_binding_0_cs.list_offset;
+    uint _e26 = _group_0_binding_12_cs[(_e23 + v_4)];
+    uvec3 _e27 = demorton3_(_e26);
+    return Part(w, v_4, _e27, (w % parts), true);
+}
+
 void main() {
-    uvec3 id_4 = gl_GlobalInvocationID;
-    uvec3 groups_4 = gl_NumWorkGroups;
-    uint _e2 = flat_(id_4, groups_4);
+    uvec3 id_5 = gl_GlobalInvocationID;
+    uvec3 groups_5 = gl_NumWorkGroups;
+    uint _e2 = flat_(id_5, groups_5);
     uint _e5 = _group_0_binding_0_cs.count;
     if ((_e2 >= _e5)) {
         return;
     }
-    uint _e10 = _group_0_binding_0_cs.slot_offset;
-    uint v_4 = _group_0_binding_7_cs[(_e10 + _e2)];
-    uint _e17 = _group_0_binding_0_cs.slot_offset;
-    uint _e22 = _group_0_binding_7_cs[((_e17 + _e2) + 1u)];
-    if ((_e22 == v_4)) {
-        return;
-    }
-    uvec3 _e24 = demorton3_(_e2);
-    Sums _e27 = moment_sums(_e24, 0u, 1u);
-    vec3 _e28 = centre(_e27);
-    float _e31 = size_sum(_e24, _e28, 0u, 1u);
-    write_vertex(_e24, v_4, _e27, _e28, _e31);
+    uint _e10 = _group_0_binding_0_cs.list_offset;
+    uint _e13 = _group_0_binding_12_cs[(_e10 + _e2)];
+    uvec3 _e14 = demorton3_(_e13);
+    Sums _e17 = moment_sums(_e14, 0u, 1u);
+    vec3 _e18 = centre(_e17);
+    float _e21 = size_sum(_e14, _e18, 0u, 1u);
+    write_vertex(_e14, _e2, _e17, _e18, _e21);
     return;
 }
 

@@ -34,11 +34,7 @@ use crate::timing::{GpuTiming, PassTimer, SpanTimer};
 /// Threads of a workgroup of `build.wgsl` (its `WORKGROUP`).
 const WORKGROUP: u32 = 64;
 
-/// Levels with at most this many vertex slots may give each vertex workgroups of its own
-/// (`moment_parts`, …), where their vertices gather many lights each.
-const WIDE_AT_MOST: u32 = 1 << 18;
-
-/// The most workgroups a level's splat takes: its slots times their parts.
+/// The most workgroups a level's splat takes: its vertices times their parts.
 const PARTS_IN_ALL: u32 = 1 << 18;
 
 /// `build.wgsl`'s entry points, in [`kernels::BUILD`](crate::kernels::BUILD)'s order.
@@ -53,6 +49,7 @@ enum Kernel {
     FinishMoments,
     SizeParts,
     FinishVertices,
+    ListVertices,
 }
 
 /// A light of a level as the GPU built it, read back ([`GpuBuilder::read_level`]).
@@ -70,7 +67,8 @@ pub struct BuiltLight {
     pub size: f32,
 }
 
-/// The lights' buffers, for up to `capacity` lights: their order by cell is the sort's values.
+/// The lights' buffers, for up to `capacity` lights: their order by cell is the sort's values;
+/// each level's vertices listed by slot, at most [`list_len`] of them in all.
 #[derive(Debug)]
 struct LightBuffers {
     capacity: u32,
@@ -78,6 +76,7 @@ struct LightBuffers {
     intensities: wgpu::Buffer,
     sort: RadixSort,
     sorted: wgpu::Buffer,
+    vertex_slots: wgpu::Buffer,
 }
 
 /// The levels' lights' buffers (the query's lights and their variances and sizes), for up to
@@ -179,7 +178,7 @@ impl GpuBuilder {
                 mapped_at_creation: false,
             })
         };
-        let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 11);
+        let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 12);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lgh-gpu build.wgsl"),
             source: wgpu::ShaderSource::Wgsl(crate::kernels::BUILD.source().into()),
@@ -218,7 +217,7 @@ impl GpuBuilder {
             slot_offsets,
             slot_scratch,
             level_buffer,
-            lights: light_buffers(device, 0),
+            lights: light_buffers(device, &grid, 0),
             out: out_buffers(device, 0),
             n: 0,
             levels: Vec::new(),
@@ -315,7 +314,7 @@ impl GpuBuilder {
             count: lights.len(),
         })?;
         if n > self.lights.capacity {
-            self.lights = light_buffers(self.gpu.device(), n);
+            self.lights = light_buffers(self.gpu.device(), &self.grid, n);
         }
         self.n = n;
         let positions: Vec<[f32; 4]> = lights
@@ -461,7 +460,8 @@ impl GpuBuilder {
             threshold: if level == top { 0.0 } else { self.prune_below },
             count,
             parts: 1,
-            _pad: [0; 2],
+            list_offset: list_offset(g, level.max(1), self.n),
+            _pad: 0,
         }
     }
 
@@ -483,6 +483,7 @@ impl GpuBuilder {
                 &self.out.extras,
                 &l.sort.keys,
                 &self.partials,
+                &l.vertex_slots,
             ],
         )
     }
@@ -569,12 +570,13 @@ impl GpuBuilder {
             });
             let mut first = starts_scan.len() as u32;
             for (k, one) in slot_scans.iter().enumerate() {
-                let mark = (Kernel::MarkVertices, k as u32 + 1, steps[k + 1].count);
+                let (index, count) = (k as u32 + 1, steps[k + 1].count);
                 let label = format!("level {}: number the vertices", k + 1);
                 timed(spans, pass, &label, |p| {
-                    self.record(p, &bind, &uniforms, mark);
+                    self.record(p, &bind, &uniforms, (Kernel::MarkVertices, index, count));
                     self.scan
                         .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
+                    self.record(p, &bind, &uniforms, (Kernel::ListVertices, index, count));
                 });
                 first += one.len() as u32;
             }
@@ -711,23 +713,22 @@ impl GpuBuilder {
         let mut steps = vec![self.step(0, self.n)];
         let mut plan = vec![(Kernel::GatherSorted, 0, self.n)];
         for level in 1..=g.max_level() {
-            let count = slots_a_side(g, level).pow(3);
             let index = steps.len() as u32;
             let vertices = self.levels[level as usize].light_count;
-            if let Some(parts) = parts(count, vertices, self.n) {
+            if let Some(parts) = parts(vertices, self.n) {
                 plan.extend([
-                    (Kernel::MomentParts, index, count * parts),
-                    (Kernel::FinishMoments, index, count),
-                    (Kernel::SizeParts, index, count * parts),
-                    (Kernel::FinishVertices, index, count),
+                    (Kernel::MomentParts, index, vertices * parts),
+                    (Kernel::FinishMoments, index, vertices),
+                    (Kernel::SizeParts, index, vertices * parts),
+                    (Kernel::FinishVertices, index, vertices),
                 ]);
                 steps.push(Step {
                     parts,
-                    ..self.step(level, count)
+                    ..self.step(level, vertices)
                 });
             } else {
-                plan.push((Kernel::Splat, index, count));
-                steps.push(self.step(level, count));
+                plan.push((Kernel::Splat, index, vertices));
+                steps.push(self.step(level, vertices));
             }
         }
         let uniforms = Uniforms::new(device, &steps);
@@ -744,18 +745,17 @@ impl GpuBuilder {
     }
 }
 
-/// The workgroups each vertex of a level of `slots` slots and `vertices` vertices splits its
-/// sums over, where its vertices gather many of the `n` lights (each light counts at eight
-/// vertices): one per 1024 of four times their mean, at most [`PARTS_IN_ALL`] for the level and
-/// 1024 a vertex; `None` where one invocation a vertex does (a fine level, or few lights a
-/// vertex).
-fn parts(slots: u32, vertices: u32, n: u32) -> Option<u32> {
+/// The workgroups each of a level's `vertices` splits its sums over, where they gather many of
+/// the `n` lights (each light counts at eight vertices): one per 1024 of four times their mean,
+/// at most [`PARTS_IN_ALL`] for the level and 1024 a vertex; `None` where one invocation a
+/// vertex does (few lights a vertex).
+fn parts(vertices: u32, n: u32) -> Option<u32> {
     let mean = 8 * u64::from(n) / u64::from(vertices.max(1));
-    if slots > WIDE_AT_MOST || mean < 32 {
+    if mean < 32 {
         return None;
     }
     let parts = (4 * mean).div_ceil(1024).min(1024) as u32;
-    Some(parts.min(PARTS_IN_ALL / slots).max(1))
+    Some(parts.min(PARTS_IN_ALL / vertices.max(1)).max(1))
 }
 
 /// Records `record` into `pass`, timed as `label` where there is a span timer.
@@ -769,6 +769,15 @@ fn timed(
         Some(t) => t.span(pass, label.to_string(), record),
         None => record(pass),
     }
+}
+
+/// Where level ℓ's vertices begin in the list of vertex slots for `n` lights: each level ≥ 1
+/// before it takes at most one entry a slot and eight a light (a light's cell has eight
+/// corners).
+fn list_offset(grid: &GpuGrid, level: u8, n: u32) -> u32 {
+    (1..level)
+        .map(|l| slots_a_side(grid, l).pow(3).min(n.saturating_mul(8)))
+        .fold(0u32, u32::saturating_add)
 }
 
 /// Level ℓ's vertex slots a side: `2^(bits − ℓ + 1)`.
@@ -799,10 +808,16 @@ fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
     })
 }
 
-fn light_buffers(device: &wgpu::Device, capacity: u32) -> LightBuffers {
+fn light_buffers(device: &wgpu::Device, grid: &GpuGrid, capacity: u32) -> LightBuffers {
     let n = u64::from(capacity);
+    let listed = list_offset(grid, grid.max_level() + 1, capacity);
     LightBuffers {
         capacity,
+        vertex_slots: storage(
+            device,
+            "lgh-gpu vertex slots by number",
+            u64::from(listed) * 4,
+        ),
         positions: storage(device, "lgh-gpu input positions", n * 16),
         intensities: storage(device, "lgh-gpu input intensities", n * 16),
         sort: RadixSort::new(device, capacity),

@@ -27,8 +27,9 @@ struct Step {
     // sums are split over (the coarse levels' splat).
     count: u32,
     parts: u32,
+    // Where level ℓ's vertices begin in `vertex_slots`.
+    list_offset: u32,
     _pad0: u32,
-    _pad1: u32,
 }
 
 struct Light {
@@ -56,6 +57,8 @@ struct Sorted {
 @group(0) @binding(8) var<storage, read_write> out: array<Light>;
 @group(0) @binding(9) var<storage, read_write> extras: array<vec4<f32>>;
 @group(0) @binding(10) var<storage, read_write> keys: array<u32>;
+// Each level's vertices, in their numbering: vertex v's slot (its Morton code).
+@group(0) @binding(12) var<storage, read_write> vertex_slots: array<u32>;
 
 const WORKGROUP: u32 = 64u;
 // Rec. 709 luminance, lgh-core's LUMINANCE_WEIGHTS.
@@ -180,6 +183,21 @@ fn mark_vertices(@builtin(global_invocation_id) id: vec3<u32>,
     }
 }
 
+// Each marked slot m of level ℓ listed under its vertex's number (the splats run over the
+// list, not over every slot).
+@compute @workgroup_size(WORKGROUP)
+fn list_vertices(@builtin(global_invocation_id) id: vec3<u32>,
+                 @builtin(num_workgroups) groups: vec3<u32>) {
+    let m = flat(id, groups);
+    if m >= step.count {
+        return;
+    }
+    let v = slots[step.slot_offset + m];
+    if slots[step.slot_offset + m + 1u] != v {
+        vertex_slots[step.list_offset + v] = m;
+    }
+}
+
 // A vertex's sums over the lights of its eight cells, offsets o from the vertex in cell units
 // and v = w·‖I‖ (lgh-core's MomentSums): Σ w I (eq. 1), Σ v, Σ v o (eq. 2), Σ v o² (eq. 4).
 struct Sums {
@@ -276,67 +294,46 @@ fn write_vertex(q: vec3<u32>, v: u32, s: Sums, mean: vec3<f32>, size_sum: f32) {
     extras[step.light_base + v] = vec4<f32>(variance, size);
 }
 
-// One invocation a vertex slot: the levels whose vertices gather a few lights.
+// One invocation a vertex: the levels whose vertices gather a few lights.
 @compute @workgroup_size(WORKGROUP)
 fn splat(@builtin(global_invocation_id) id: vec3<u32>,
          @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = flat(id, groups);
-    if m >= step.count {
+    let v = flat(id, groups);
+    if v >= step.count {
         return;
     }
-    let v = slots[step.slot_offset + m];
-    if slots[step.slot_offset + m + 1u] == v {
-        return;
-    }
-    let q = demorton3(m);
+    let q = demorton3(vertex_slots[step.list_offset + v]);
     let s = moment_sums(q, 0u, 1u);
     let mean = centre(s);
     write_vertex(q, v, s, mean, size_sum(q, mean, 0u, 1u));
 }
 
-// The coarse levels, whose vertices gather many lights each: vertex slot m's work split over
+// The coarse levels, whose vertices gather many lights each: vertex v's work split over
 // `parts` workgroups, part g's lanes summing every (WORKGROUP·parts)-th light of each cell, its
-// lanes' sums added in a fixed tree and written to partials[m·parts + g]; the parts then added
-// in order by one invocation a vertex. Entries: [0] Σ w I and Σ v, [1] Σ v o, [2] Σ v o², [3]
-// the centre (part 0, once known), [4].x Σ v ‖o − centre‖.
+// lanes' sums added in a fixed tree and written to partials[v·parts + g]; the parts then added
+// in a fixed order by a workgroup a vertex. Entries: [0] Σ w I and Σ v, [1] Σ v o, [2] Σ v o²,
+// [3] the centre (part 0, once known), [4].x Σ v ‖o − centre‖.
 @group(0) @binding(11) var<storage, read_write> partials: array<array<vec4<f32>, 5>>;
 
 var<workgroup> lane_sums: array<array<vec4<f32>, 3>, WORKGROUP>;
-var<workgroup> occupied_slot: u32;
 
-// Whether vertex slot m holds a vertex, the same answer for the whole workgroup.
-fn slot_is_occupied(m: u32, lane: u32) -> bool {
-    if lane == 0u {
-        occupied_slot = select(0u, 1u, slots[step.slot_offset + m + 1u] != slots[step.slot_offset + m]);
-    }
-    return workgroupUniformLoad(&occupied_slot) == 1u;
-}
-
-// Which vertex slot m and part g workgroup wg of a parts kernel works on, and whether it has
-// work (a vertex in the slot) — the same answer for the whole workgroup.
+// Which vertex v (at q) and part g workgroup wg of a parts kernel works on (w = v·parts + g),
+// or none past the level's vertices — the same answer for the whole workgroup.
 struct Part {
     w: u32,
-    m: u32,
+    v: u32,
+    q: vec3<u32>,
     g: u32,
     busy: bool,
 }
 
-fn part(lane: u32, wg: vec3<u32>, groups: vec3<u32>) -> Part {
+fn part(wg: vec3<u32>, groups: vec3<u32>, parts: u32) -> Part {
     let w = wg.x + wg.y * groups.x;
-    if w >= step.count * step.parts {
-        return Part(w, 0u, 0u, false);
+    if w >= step.count * parts {
+        return Part(w, 0u, vec3<u32>(0u), 0u, false);
     }
-    let m = w / step.parts;
-    return Part(w, m, w % step.parts, slot_is_occupied(m, lane));
-}
-
-// The vertex slot workgroup wg of a finishing kernel works on (one workgroup a slot).
-fn slot_of(lane: u32, wg: vec3<u32>, groups: vec3<u32>) -> Part {
-    let m = wg.x + wg.y * groups.x;
-    if m >= step.count {
-        return Part(m, m, 0u, false);
-    }
-    return Part(m, m, 0u, slot_is_occupied(m, lane));
+    let v = w / parts;
+    return Part(w, v, demorton3(vertex_slots[step.list_offset + v]), w % parts, true);
 }
 
 // The workgroup's lane sums added in a fixed tree into lane_sums[0].
@@ -351,16 +348,16 @@ fn reduce(lane: u32) {
     }
 }
 
-// Part g of vertex slot m's moment sums (eqs. 1, 2, 4).
+// Part g of vertex v's moment sums (eqs. 1, 2, 4).
 @compute @workgroup_size(WORKGROUP)
 fn moment_parts(@builtin(local_invocation_index) lane: u32,
                 @builtin(workgroup_id) wg: vec3<u32>,
                 @builtin(num_workgroups) groups: vec3<u32>) {
-    let p = part(lane, wg, groups);
+    let p = part(wg, groups, step.parts);
     if !p.busy {
         return;
     }
-    let s = moment_sums(demorton3(p.m), p.g * WORKGROUP + lane, WORKGROUP * step.parts);
+    let s = moment_sums(p.q, p.g * WORKGROUP + lane, WORKGROUP * step.parts);
     lane_sums[lane] = array<vec4<f32>, 3>(vec4<f32>(s.intensity, s.weight),
                                           vec4<f32>(s.first, 0.0), vec4<f32>(s.second, 0.0));
     workgroupBarrier();
@@ -372,18 +369,17 @@ fn moment_parts(@builtin(local_invocation_index) lane: u32,
     }
 }
 
-// The parts' moment sums of vertex slot m added into part 0 (lane l adds parts l, l + 64, …,
+// The parts' moment sums of vertex v added into part 0 (lane l adds parts l, l + 64, …,
 // then the lanes' sums in a fixed tree), and its centre.
 @compute @workgroup_size(WORKGROUP)
 fn finish_moments(@builtin(local_invocation_index) lane: u32,
                   @builtin(workgroup_id) wg: vec3<u32>,
                   @builtin(num_workgroups) groups: vec3<u32>) {
-    let p = slot_of(lane, wg, groups);
+    let p = part(wg, groups, 1u);
     if !p.busy {
         return;
     }
-    let m = p.m;
-    let first = m * step.parts;
+    let first = p.v * step.parts;
     var sum = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     for (var g = lane; g < step.parts; g += WORKGROUP) {
         for (var a = 0u; a < 3u; a++) {
@@ -403,17 +399,17 @@ fn finish_moments(@builtin(local_invocation_index) lane: u32,
     }
 }
 
-// Part g of vertex slot m's sum of eq. (5).
+// Part g of vertex v's sum of eq. (5).
 @compute @workgroup_size(WORKGROUP)
 fn size_parts(@builtin(local_invocation_index) lane: u32,
               @builtin(workgroup_id) wg: vec3<u32>,
               @builtin(num_workgroups) groups: vec3<u32>) {
-    let p = part(lane, wg, groups);
+    let p = part(wg, groups, step.parts);
     if !p.busy {
         return;
     }
-    let mean = partials[p.m * step.parts][3].xyz;
-    let sum = size_sum(demorton3(p.m), mean, p.g * WORKGROUP + lane, WORKGROUP * step.parts);
+    let mean = partials[p.v * step.parts][3].xyz;
+    let sum = size_sum(p.q, mean, p.g * WORKGROUP + lane, WORKGROUP * step.parts);
     lane_sums[lane][0] = vec4<f32>(sum, 0.0, 0.0, 0.0);
     lane_sums[lane][1] = vec4<f32>(0.0);
     lane_sums[lane][2] = vec4<f32>(0.0);
@@ -424,17 +420,16 @@ fn size_parts(@builtin(local_invocation_index) lane: u32,
     }
 }
 
-// Vertex slot m's light written from its parts' sums (added as in finish_moments).
+// Vertex v's light written from its parts' sums (added as in finish_moments).
 @compute @workgroup_size(WORKGROUP)
 fn finish_vertices(@builtin(local_invocation_index) lane: u32,
                    @builtin(workgroup_id) wg: vec3<u32>,
                    @builtin(num_workgroups) groups: vec3<u32>) {
-    let p = slot_of(lane, wg, groups);
+    let p = part(wg, groups, 1u);
     if !p.busy {
         return;
     }
-    let m = p.m;
-    let first = m * step.parts;
+    let first = p.v * step.parts;
     var sum = 0.0;
     for (var g = lane; g < step.parts; g += WORKGROUP) {
         sum += partials[first + g][4].x;
@@ -447,6 +442,6 @@ fn finish_vertices(@builtin(local_invocation_index) lane: u32,
     if lane == 0u {
         let t = partials[first];
         let s = Sums(t[0].xyz, t[0].w, t[1].xyz, t[2].xyz);
-        write_vertex(demorton3(m), slots[step.slot_offset + m], s, t[3].xyz, lane_sums[0][0].x);
+        write_vertex(p.q, p.v, s, t[3].xyz, lane_sums[0][0].x);
     }
 }

@@ -71,6 +71,7 @@ pub const BUILD: Kernel = Kernel {
         "finish_moments",
         "size_parts",
         "finish_vertices",
+        "list_vertices",
     ],
 };
 

@@ -170,12 +170,14 @@ pub struct BuildStep {
     pub light_base: u32,
     /// Level ℓ's weak-light threshold (0 on the top level).
     pub threshold: f32,
-    /// Items of the dispatch (lights, cells or vertex slots).
+    /// Items of the dispatch (lights, cells, vertex slots or vertices).
     pub count: u32,
-    /// Workgroups each vertex slot's sums are split over (the coarse levels' splat).
+    /// Workgroups each vertex's sums are split over (the coarse levels' splat).
     pub parts: u32,
+    /// Where level ℓ's vertices begin in the list of vertex slots.
+    pub list_offset: u32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 /// An input light in the build's sorted order (`build.wgsl`'s `Sorted`). 32 bytes.
