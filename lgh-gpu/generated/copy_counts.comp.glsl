@@ -51,13 +51,13 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
 
-layout(std430) buffer type_6_block_1Compute { uint _group_0_binding_3_cs[]; };
+layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_3_cs[]; };
 
-layout(std430) buffer type_7_block_2Compute { uint _group_0_binding_4_cs[]; };
+layout(std430) buffer type_8_block_2Compute { uint _group_0_binding_4_cs[]; };
 
 
-uint flat_(uvec3 id_6, uvec3 groups_10) {
-    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -103,40 +103,14 @@ uint morton3_(uvec3 c_2) {
     return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
 }
 
-uvec3 corner(uint k_1) {
-    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+uvec3 corner(uint k) {
+    return uvec3((k & 1u), ((k >> 1u) & 1u), (k >> 2u));
 }
 
 uint cells_a_side() {
     uint _e3 = _group_0_binding_0_cs.bits;
     uint _e6 = _group_0_binding_0_cs.level;
     return (1u << (_e3 - (_e6 - 1u)));
-}
-
-uint compact3_(uint v_1) {
-    uint x_1 = 0u;
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uvec3 demorton3_(uint m) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_((m >> 1u));
-    uint _e7 = compact3_((m >> 2u));
-    return uvec3(_e1, _e4, _e7);
 }
 
 vec3 place(Sorted light) {
@@ -158,6 +132,32 @@ vec3 centre(Sums s_1) {
         return (s_1.first / vec3(s_1.weight));
     }
     return vec3(0.0);
+}
+
+uint compact3_(uint v_2) {
+    uint x_1 = 0u;
+    x_1 = (v_2 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
 }
 
 void main() {

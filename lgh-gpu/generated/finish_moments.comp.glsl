@@ -51,15 +51,15 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
 
-layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_12_cs[]; };
+layout(std430) buffer type_8_block_1Compute { uint _group_0_binding_12_cs[]; };
 
 layout(std430) buffer type_14_block_2Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
 
-uint flat_(uvec3 id_6, uvec3 groups_10) {
-    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -105,40 +105,14 @@ uint morton3_(uvec3 c_2) {
     return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
 }
 
-uvec3 corner(uint k_1) {
-    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+uvec3 corner(uint k) {
+    return uvec3((k & 1u), ((k >> 1u) & 1u), (k >> 2u));
 }
 
 uint cells_a_side() {
     uint _e3 = _group_0_binding_0_cs.bits;
     uint _e6 = _group_0_binding_0_cs.level;
     return (1u << (_e3 - (_e6 - 1u)));
-}
-
-uint compact3_(uint v_1) {
-    uint x_1 = 0u;
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uvec3 demorton3_(uint m) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_((m >> 1u));
-    uint _e7 = compact3_((m >> 2u));
-    return uvec3(_e1, _e4, _e7);
 }
 
 vec3 place(Sorted light) {
@@ -162,8 +136,34 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-Part part(uvec3 wg_4, uvec3 groups_11, uint parts) {
-    uint w = (wg_4.x + (wg_4.y * groups_11.x));
+uint compact3_(uint v_2) {
+    uint x_1 = 0u;
+    x_1 = (v_2 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
+}
+
+Part part(uvec3 wg_4, uvec3 groups_10, uint parts) {
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
     uint _e10 = _group_0_binding_0_cs.count;
     if ((w >= (_e10 * parts))) {
         return Part(w, 0u, uvec3(0u), 0u, false);
@@ -231,12 +231,12 @@ void main() {
     barrier();
     uint lane_1 = gl_LocalInvocationIndex;
     uvec3 wg_1 = gl_WorkGroupID;
-    uvec3 groups_7 = gl_NumWorkGroups;
+    uvec3 groups_6 = gl_NumWorkGroups;
     vec4 sum[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
     uint g = 0u;
     uint a_1 = 0u;
     uint a_2 = 0u;
-    Part _e4 = part(wg_1, groups_7, 1u);
+    Part _e4 = part(wg_1, groups_6, 1u);
     if (!(_e4.busy)) {
         return;
     }

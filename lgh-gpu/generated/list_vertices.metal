@@ -45,11 +45,11 @@ struct Sorted {
     metal::packed_float3 intensity;
     uint cell;
 };
-typedef metal::float4 type_4[1];
-typedef metal::atomic_uint type_6[1];
-typedef uint type_7[1];
-typedef Sorted type_8[1];
-typedef Light type_9[1];
+typedef metal::float4 type_5[1];
+typedef metal::atomic_uint type_7[1];
+typedef uint type_8[1];
+typedef Sorted type_9[1];
+typedef Light type_10[1];
 struct Located {
     metal::uint3 cell;
     metal::float3 frac;
@@ -83,10 +83,10 @@ constant uint WORKGROUP = 64u;
 constant metal::float3 LUMINANCE = metal::float3(0.2126, 0.7152, 0.0722);
 
 uint flat(
-    metal::uint3 id_6,
-    metal::uint3 groups_10
+    metal::uint3 id_5,
+    metal::uint3 groups_9
 ) {
-    return id_6.x + ((id_6.y * groups_10.x) * WORKGROUP);
+    return id_5.x + ((id_5.y * groups_9.x) * WORKGROUP);
 }
 
 uint pack(
@@ -148,9 +148,9 @@ uint morton3_(
 }
 
 metal::uint3 corner(
-    uint k_1
+    uint k
 ) {
-    return metal::uint3(k_1 & 1u, (k_1 >> 1u) & 1u, k_1 >> 2u);
+    return metal::uint3(k & 1u, (k >> 1u) & 1u, k >> 2u);
 }
 
 uint cells_a_side(
@@ -164,7 +164,7 @@ uint cells_a_side(
 metal::uint2 cell_range(
     metal::uint3 c_3,
     constant Step& step,
-    device type_7 const& starts,
+    device type_8 const& starts,
     constant _mslBufferSizes& _buffer_sizes
 ) {
     uint _e4 = step.level;
@@ -175,52 +175,22 @@ metal::uint2 cell_range(
     return metal::uint2(_e12, _e18);
 }
 
-uint compact3_(
-    uint v_1
-) {
-    uint x_1 = {};
-    x_1 = v_1 & 153391689u;
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = (_e4 | (_e5 >> 2u)) & 51130563u;
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = (_e11 | (_e12 >> 4u)) & 50393103u;
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = (_e18 | (_e19 >> 8u)) & 50331903u;
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = (_e25 | (_e26 >> 16u)) & 1023u;
-    uint _e32 = x_1;
-    return _e32;
-}
-
-metal::uint3 demorton3_(
-    uint m
-) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_(m >> 1u);
-    uint _e7 = compact3_(m >> 2u);
-    return metal::uint3(_e1, _e4, _e7);
-}
-
 metal::uint2 corner_cell(
     metal::uint3 q,
-    uint k_2,
+    uint k_1,
     constant Step& step,
-    device type_7 const& starts,
+    device type_8 const& starts,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    bool local_2 = {};
-    metal::uint3 _e2 = corner(k_2);
+    bool local_1 = {};
+    metal::uint3 _e2 = corner(k_1);
     if (!(metal::any(q < _e2))) {
         uint _e9 = cells_a_side(step);
-        local_2 = metal::any((q - _e2) >= metal::uint3(_e9));
+        local_1 = metal::any((q - _e2) >= metal::uint3(_e9));
     } else {
-        local_2 = true;
+        local_1 = true;
     }
-    bool _e14 = local_2;
+    bool _e14 = local_1;
     if (_e14) {
         return metal::uint2(0u);
     }
@@ -253,12 +223,12 @@ Sums moment_sums(
     uint lane_4,
     uint lanes,
     constant Step& step,
-    device type_7 const& starts,
-    device type_8 const& sorted,
+    device type_8 const& starts,
+    device type_9 const& sorted,
     constant _mslBufferSizes& _buffer_sizes
 ) {
     Sums s = Sums {metal::float3(0.0), 0.0, metal::float3(0.0), metal::float3(0.0)};
-    uint k_3 = 0u;
+    uint k_2 = 0u;
     uint j = {};
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
@@ -266,19 +236,19 @@ Sums moment_sums(
         if (metal::all(loop_bound == uint2(0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e57 = k_3;
-            k_3 = _e57 + 1u;
+            uint _e57 = k_2;
+            k_2 = _e57 + 1u;
         }
         loop_init = false;
-        uint _e14 = k_3;
+        uint _e14 = k_2;
         if (_e14 < 8u) {
         } else {
             break;
         }
         {
-            uint _e17 = k_3;
+            uint _e17 = k_2;
             metal::uint2 _e18 = corner_cell(q_1, _e17, step, starts, _buffer_sizes);
-            uint _e19 = k_3;
+            uint _e19 = k_2;
             metal::uint3 _e20 = corner(_e19);
             j = _e18.x + lane_4;
             uint2 loop_bound_1 = uint2(4294967295u);
@@ -325,12 +295,12 @@ float size_sum(
     uint lane_5,
     uint lanes_1,
     constant Step& step,
-    device type_7 const& starts,
-    device type_8 const& sorted,
+    device type_8 const& starts,
+    device type_9 const& sorted,
     constant _mslBufferSizes& _buffer_sizes
 ) {
     float sum_2 = 0.0;
-    uint k_4 = 0u;
+    uint k_3 = 0u;
     uint j_1 = {};
     uint2 loop_bound_2 = uint2(4294967295u);
     bool loop_init_2 = true;
@@ -338,19 +308,19 @@ float size_sum(
         if (metal::all(loop_bound_2 == uint2(0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            uint _e39 = k_4;
-            k_4 = _e39 + 1u;
+            uint _e39 = k_3;
+            k_3 = _e39 + 1u;
         }
         loop_init_2 = false;
-        uint _e8 = k_4;
+        uint _e8 = k_3;
         if (_e8 < 8u) {
         } else {
             break;
         }
         {
-            uint _e11 = k_4;
+            uint _e11 = k_3;
             metal::uint2 _e12 = corner_cell(q_2, _e11, step, starts, _buffer_sizes);
-            uint _e13 = k_4;
+            uint _e13 = k_3;
             metal::uint3 _e14 = corner(_e13);
             j_1 = _e12.x + lane_5;
             uint2 loop_bound_3 = uint2(4294967295u);
@@ -394,18 +364,18 @@ metal::float3 centre(
 
 void write_vertex(
     metal::uint3 q_3,
-    uint v_2,
+    uint v_1,
     Sums s_2,
     metal::float3 mean_1,
     float size_sum_1,
     constant Step& step,
-    device type_9& out,
-    device type_4& extras,
+    device type_10& out,
+    device type_5& extras,
     constant _mslBufferSizes& _buffer_sizes
 ) {
     metal::float3 variance = metal::float3(0.0);
     float size = 0.0;
-    bool local_3 = {};
+    bool local_2 = {};
     float _e7 = step.h1_;
     uint _e11 = step.level;
     float h = _e7 * static_cast<float>(1u << (_e11 - 1u));
@@ -418,18 +388,48 @@ void write_vertex(
     float luminance = metal::dot(s_2.intensity, LUMINANCE);
     if (luminance > 0.0) {
         float _e55 = step.threshold;
-        local_3 = luminance >= _e55;
+        local_2 = luminance >= _e55;
     } else {
-        local_3 = false;
+        local_2 = false;
     }
-    bool reported = local_3;
+    bool reported = local_2;
     uint _e62 = step.light_base;
-    out[_e62 + v_2] = Light {position, reported ? s_2.intensity : metal::float3(0.0)};
+    out[_e62 + v_1] = Light {position, reported ? s_2.intensity : metal::float3(0.0)};
     uint _e73 = step.light_base;
     metal::float3 _e76 = variance;
     float _e77 = size;
-    extras[_e73 + v_2] = metal::float4(_e76, _e77);
+    extras[_e73 + v_1] = metal::float4(_e76, _e77);
     return;
+}
+
+uint compact3_(
+    uint v_2
+) {
+    uint x_1 = {};
+    x_1 = v_2 & 153391689u;
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = (_e4 | (_e5 >> 2u)) & 51130563u;
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = (_e11 | (_e12 >> 4u)) & 50393103u;
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = (_e18 | (_e19 >> 8u)) & 50331903u;
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = (_e25 | (_e26 >> 16u)) & 1023u;
+    uint _e32 = x_1;
+    return _e32;
+}
+
+metal::uint3 demorton3_(
+    uint m
+) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_(m >> 1u);
+    uint _e7 = compact3_(m >> 2u);
+    return metal::uint3(_e1, _e4, _e7);
 }
 
 uint naga_div(uint lhs, uint rhs) {
@@ -442,13 +442,13 @@ uint naga_mod(uint lhs, uint rhs) {
 
 Part part(
     metal::uint3 wg_4,
-    metal::uint3 groups_11,
+    metal::uint3 groups_10,
     uint parts,
     constant Step& step,
-    device type_7 const& vertex_slots,
+    device type_8 const& vertex_slots,
     constant _mslBufferSizes& _buffer_sizes
 ) {
-    uint w = wg_4.x + (wg_4.y * groups_11.x);
+    uint w = wg_4.x + (wg_4.y * groups_10.x);
     uint _e10 = step.count;
     if (w >= (_e10 * parts)) {
         return Part {w, 0u, {}, metal::uint3(0u), 0u, false};
@@ -519,14 +519,14 @@ void reduce(
 struct list_verticesInput {
 };
 [[max_total_threads_per_threadgroup(64)]] kernel void list_vertices(
-  metal::uint3 id_4 [[thread_position_in_grid]]
-, metal::uint3 groups_4 [[threadgroups_per_grid]]
+  metal::uint3 id_3 [[thread_position_in_grid]]
+, metal::uint3 groups_3 [[threadgroups_per_grid]]
 , constant Step& step [[user(fake0)]]
-, device type_7 const& slots [[user(fake0)]]
-, device type_7& vertex_slots [[user(fake0)]]
+, device type_8 const& slots [[user(fake0)]]
+, device type_8& vertex_slots [[user(fake0)]]
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
-    uint _e2 = flat(id_4, groups_4);
+    uint _e2 = flat(id_3, groups_3);
     uint _e5 = step.count;
     if (_e2 >= _e5) {
         return;

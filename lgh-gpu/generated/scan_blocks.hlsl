@@ -5,11 +5,14 @@ struct Step {
     uint _pad;
 };
 
-static const uint BLOCK = 256u;
+static const uint THREADS = 256u;
+static const uint ITEMS = 4u;
+static const uint BLOCK = 1024u;
 
 cbuffer step_ : register(b0) { Step step_; }
 RWByteAddressBuffer data : register(u1);
-groupshared uint shared_values[256];
+groupshared uint values[1024];
+groupshared uint totals[256];
 
 uint block_index(uint3 wg_2, uint3 groups_2)
 {
@@ -20,73 +23,172 @@ uint block_index(uint3 wg_2, uint3 groups_2)
 void scan_blocks(uint lane : SV_GroupIndex, uint3 wg : SV_GroupID, uint3 groups : SV_GroupID)
 {
     if (lane == 0) {
-        shared_values = (uint[256])0;
+        values = (uint[1024])0;
+        totals = (uint[256])0;
     }
     GroupMemoryBarrierWithGroupSync();
-    uint value = 0u;
+    uint i = 0u;
+    uint value = (uint)0;
+    uint run = 0u;
+    uint i_1 = 0u;
     uint d = 1u;
     uint add = (uint)0;
+    uint i_2 = 0u;
+    uint i_3 = 0u;
     bool local = (bool)0;
 
     const uint _e3 = block_index(wg, groups);
-    uint i = ((_e3 * BLOCK) + lane);
-    uint _e11 = step_.count;
-    if ((i < _e11)) {
-        uint _e16 = step_.offset;
-        uint _e19 = asuint(data.Load((_e16 + i)*4));
-        value = _e19;
-    }
-    uint _e22 = value;
-    shared_values[min(uint(lane), 255u)] = _e22;
-    GroupMemoryBarrierWithGroupSync();
+    uint first = (_e3 * BLOCK);
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
     while(true) {
         if (all(loop_bound == uint2(0u, 0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e42 = d;
-            d = (_e42 * 2u);
+            uint _e34 = i;
+            i = (_e34 + 1u);
         }
         loop_init = false;
-        uint _e25 = d;
-        if ((_e25 < BLOCK)) {
+        uint _e8 = i;
+        if ((_e8 < ITEMS)) {
+        } else {
+            break;
+        }
+        {
+            uint _e11 = i;
+            uint k = ((_e11 * THREADS) + lane);
+            value = 0u;
+            uint _e20 = step_.count;
+            if (((first + k) < _e20)) {
+                uint _e25 = step_.offset;
+                uint _e29 = asuint(data.Load(((_e25 + first) + k)*4));
+                value = _e29;
+            }
+            uint _e32 = value;
+            values[min(uint(k), 1023u)] = _e32;
+        }
+    }
+    GroupMemoryBarrierWithGroupSync();
+    uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
+    bool loop_init_1 = true;
+    while(true) {
+        if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            uint _e60 = i_1;
+            i_1 = (_e60 + 1u);
+        }
+        loop_init_1 = false;
+        uint _e40 = i_1;
+        if ((_e40 < ITEMS)) {
+        } else {
+            break;
+        }
+        {
+            uint _e46 = i_1;
+            uint value_1 = values[min(uint(((lane * ITEMS) + _e46)), 1023u)];
+            uint _e53 = i_1;
+            uint _e56 = run;
+            values[min(uint(((lane * ITEMS) + _e53)), 1023u)] = _e56;
+            uint _e57 = run;
+            run = (_e57 + value_1);
+        }
+    }
+    uint _e64 = run;
+    totals[min(uint(lane), 255u)] = _e64;
+    GroupMemoryBarrierWithGroupSync();
+    uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e84 = d;
+            d = (_e84 * 2u);
+        }
+        loop_init_2 = false;
+        uint _e67 = d;
+        if ((_e67 < THREADS)) {
         } else {
             break;
         }
         {
             add = 0u;
-            uint _e30 = d;
-            if ((lane >= _e30)) {
-                uint _e33 = d;
-                uint _e36 = shared_values[min(uint((lane - _e33)), 255u)];
-                add = _e36;
+            uint _e72 = d;
+            if ((lane >= _e72)) {
+                uint _e75 = d;
+                uint _e78 = totals[min(uint((lane - _e75)), 255u)];
+                add = _e78;
             }
             GroupMemoryBarrierWithGroupSync();
-            uint _e39 = shared_values[min(uint(lane), 255u)];
-            uint _e40 = add;
-            shared_values[min(uint(lane), 255u)] = (_e39 + _e40);
+            uint _e81 = totals[min(uint(lane), 255u)];
+            uint _e82 = add;
+            totals[min(uint(lane), 255u)] = (_e81 + _e82);
             GroupMemoryBarrierWithGroupSync();
         }
     }
-    uint _e47 = step_.count;
-    if ((i < _e47)) {
-        uint _e52 = step_.offset;
-        uint _e57 = shared_values[min(uint(lane), 255u)];
-        uint _e58 = value;
-        data.Store((_e52 + i)*4, asuint((_e57 - _e58)));
+    uint _e89 = totals[min(uint(lane), 255u)];
+    uint _e90 = run;
+    uint before = (_e89 - _e90);
+    uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e106 = i_2;
+            i_2 = (_e106 + 1u);
+        }
+        loop_init_3 = false;
+        uint _e94 = i_2;
+        if ((_e94 < ITEMS)) {
+        } else {
+            break;
+        }
+        {
+            uint _e100 = i_2;
+            uint _e103 = values[min(uint(((lane * ITEMS) + _e100)), 1023u)];
+            values[min(uint(((lane * ITEMS) + _e100)), 1023u)] = (_e103 + before);
+        }
+    }
+    GroupMemoryBarrierWithGroupSync();
+    uint2 loop_bound_4 = uint2(4294967295u, 4294967295u);
+    bool loop_init_4 = true;
+    while(true) {
+        if (all(loop_bound_4 == uint2(0u, 0u))) { break; }
+        loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
+        if (!loop_init_4) {
+            uint _e133 = i_3;
+            i_3 = (_e133 + 1u);
+        }
+        loop_init_4 = false;
+        uint _e110 = i_3;
+        if ((_e110 < ITEMS)) {
+        } else {
+            break;
+        }
+        {
+            uint _e113 = i_3;
+            uint k_1 = ((_e113 * THREADS) + lane);
+            uint _e120 = step_.count;
+            if (((first + k_1) < _e120)) {
+                uint _e125 = step_.offset;
+                uint _e131 = values[min(uint(k_1), 1023u)];
+                data.Store(((_e125 + first) + k_1)*4, asuint(_e131));
+            }
+        }
     }
     if ((lane == 255u)) {
-        uint _e68 = step_.count;
-        local = ((_e3 * BLOCK) < _e68);
+        uint _e141 = step_.count;
+        local = (first < _e141);
     } else {
         local = false;
     }
-    bool _e71 = local;
-    if (_e71) {
-        uint _e75 = step_.sums;
-        uint _e80 = shared_values[min(uint(lane), 255u)];
-        data.Store((_e75 + _e3)*4, asuint(_e80));
+    bool _e144 = local;
+    if (_e144) {
+        uint _e148 = step_.sums;
+        uint _e153 = totals[min(uint(lane), 255u)];
+        data.Store((_e148 + _e3)*4, asuint(_e153));
         return;
     } else {
         return;

@@ -16,9 +16,14 @@ struct Step {
 };
 typedef uint type_1[1];
 struct type_2 {
+    uint inner[1024];
+};
+struct type_3 {
     uint inner[256];
 };
-constant uint BLOCK = 256u;
+constant uint THREADS = 256u;
+constant uint ITEMS = 4u;
+constant uint BLOCK = 1024u;
 
 uint block_index(
     metal::uint3 wg_2,
@@ -35,76 +40,176 @@ struct scan_blocksInput {
 , metal::uint3 groups [[threadgroups_per_grid]]
 , constant Step& step [[user(fake0)]]
 , device type_1& data [[user(fake0)]]
-, threadgroup type_2& shared_values
+, threadgroup type_2& values
+, threadgroup type_3& totals
 , constant _mslBufferSizes& _buffer_sizes [[user(fake0)]]
 ) {
     if (lane == 0u) {
-        shared_values = {};
+        values = {};
+        totals = {};
     }
     metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
-    uint value = 0u;
+    uint i = 0u;
+    uint value = {};
+    uint run = 0u;
+    uint i_1 = 0u;
     uint d = 1u;
     uint add = {};
+    uint i_2 = 0u;
+    uint i_3 = 0u;
     bool local = {};
     uint _e3 = block_index(wg, groups);
-    uint i = (_e3 * BLOCK) + lane;
-    uint _e11 = step.count;
-    if (i < _e11) {
-        uint _e16 = step.offset;
-        uint _e19 = data[_e16 + i];
-        value = _e19;
-    }
-    uint _e22 = value;
-    shared_values.inner[lane] = _e22;
-    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    uint first = _e3 * BLOCK;
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
     while(true) {
         if (metal::all(loop_bound == uint2(0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e42 = d;
-            d = _e42 * 2u;
+            uint _e34 = i;
+            i = _e34 + 1u;
         }
         loop_init = false;
-        uint _e25 = d;
-        if (_e25 < BLOCK) {
+        uint _e8 = i;
+        if (_e8 < ITEMS) {
+        } else {
+            break;
+        }
+        {
+            uint _e11 = i;
+            uint k = (_e11 * THREADS) + lane;
+            value = 0u;
+            uint _e20 = step.count;
+            if ((first + k) < _e20) {
+                uint _e25 = step.offset;
+                uint _e29 = data[(_e25 + first) + k];
+                value = _e29;
+            }
+            uint _e32 = value;
+            values.inner[k] = _e32;
+        }
+    }
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    uint2 loop_bound_1 = uint2(4294967295u);
+    bool loop_init_1 = true;
+    while(true) {
+        if (metal::all(loop_bound_1 == uint2(0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            uint _e60 = i_1;
+            i_1 = _e60 + 1u;
+        }
+        loop_init_1 = false;
+        uint _e40 = i_1;
+        if (_e40 < ITEMS) {
+        } else {
+            break;
+        }
+        {
+            uint _e46 = i_1;
+            uint value_1 = values.inner[(lane * ITEMS) + _e46];
+            uint _e53 = i_1;
+            uint _e56 = run;
+            values.inner[(lane * ITEMS) + _e53] = _e56;
+            uint _e57 = run;
+            run = _e57 + value_1;
+        }
+    }
+    uint _e64 = run;
+    totals.inner[lane] = _e64;
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    uint2 loop_bound_2 = uint2(4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (metal::all(loop_bound_2 == uint2(0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e84 = d;
+            d = _e84 * 2u;
+        }
+        loop_init_2 = false;
+        uint _e67 = d;
+        if (_e67 < THREADS) {
         } else {
             break;
         }
         {
             add = 0u;
-            uint _e30 = d;
-            if (lane >= _e30) {
-                uint _e33 = d;
-                uint _e36 = shared_values.inner[lane - _e33];
-                add = _e36;
+            uint _e72 = d;
+            if (lane >= _e72) {
+                uint _e75 = d;
+                uint _e78 = totals.inner[lane - _e75];
+                add = _e78;
             }
             metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
-            uint _e39 = shared_values.inner[lane];
-            uint _e40 = add;
-            shared_values.inner[lane] = _e39 + _e40;
+            uint _e81 = totals.inner[lane];
+            uint _e82 = add;
+            totals.inner[lane] = _e81 + _e82;
             metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
         }
     }
-    uint _e47 = step.count;
-    if (i < _e47) {
-        uint _e52 = step.offset;
-        uint _e57 = shared_values.inner[lane];
-        uint _e58 = value;
-        data[_e52 + i] = _e57 - _e58;
+    uint _e89 = totals.inner[lane];
+    uint _e90 = run;
+    uint before = _e89 - _e90;
+    uint2 loop_bound_3 = uint2(4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (metal::all(loop_bound_3 == uint2(0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e106 = i_2;
+            i_2 = _e106 + 1u;
+        }
+        loop_init_3 = false;
+        uint _e94 = i_2;
+        if (_e94 < ITEMS) {
+        } else {
+            break;
+        }
+        {
+            uint _e100 = i_2;
+            uint _e103 = values.inner[(lane * ITEMS) + _e100];
+            values.inner[(lane * ITEMS) + _e100] = _e103 + before;
+        }
+    }
+    metal::threadgroup_barrier(metal::mem_flags::mem_threadgroup);
+    uint2 loop_bound_4 = uint2(4294967295u);
+    bool loop_init_4 = true;
+    while(true) {
+        if (metal::all(loop_bound_4 == uint2(0u))) { break; }
+        loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
+        if (!loop_init_4) {
+            uint _e133 = i_3;
+            i_3 = _e133 + 1u;
+        }
+        loop_init_4 = false;
+        uint _e110 = i_3;
+        if (_e110 < ITEMS) {
+        } else {
+            break;
+        }
+        {
+            uint _e113 = i_3;
+            uint k_1 = (_e113 * THREADS) + lane;
+            uint _e120 = step.count;
+            if ((first + k_1) < _e120) {
+                uint _e125 = step.offset;
+                uint _e131 = values.inner[k_1];
+                data[(_e125 + first) + k_1] = _e131;
+            }
+        }
     }
     if (lane == 255u) {
-        uint _e68 = step.count;
-        local = (_e3 * BLOCK) < _e68;
+        uint _e141 = step.count;
+        local = first < _e141;
     } else {
         local = false;
     }
-    bool _e71 = local;
-    if (_e71) {
-        uint _e75 = step.sums;
-        uint _e80 = shared_values.inner[lane];
-        data[_e75 + _e3] = _e80;
+    bool _e144 = local;
+    if (_e144) {
+        uint _e148 = step.sums;
+        uint _e153 = totals.inner[lane];
+        data[_e148 + _e3] = _e153;
         return;
     } else {
         return;

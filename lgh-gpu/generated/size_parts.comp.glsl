@@ -51,19 +51,19 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 layout(std140) uniform Step_block_0Compute { Step _group_0_binding_0_cs; };
 
-layout(std430) buffer type_7_block_1Compute { uint _group_0_binding_4_cs[]; };
+layout(std430) buffer type_8_block_1Compute { uint _group_0_binding_4_cs[]; };
 
-layout(std430) buffer type_8_block_2Compute { Sorted _group_0_binding_6_cs[]; };
+layout(std430) buffer type_9_block_2Compute { Sorted _group_0_binding_6_cs[]; };
 
-layout(std430) buffer type_7_block_3Compute { uint _group_0_binding_12_cs[]; };
+layout(std430) buffer type_8_block_3Compute { uint _group_0_binding_12_cs[]; };
 
 layout(std430) buffer type_14_block_4Compute { vec4 _group_0_binding_11_cs[][5]; };
 
 shared vec4 lane_sums[64][3];
 
 
-uint flat_(uvec3 id_6, uvec3 groups_10) {
-    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
+uint flat_(uvec3 id_5, uvec3 groups_9) {
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint pack(uvec3 c) {
@@ -109,8 +109,8 @@ uint morton3_(uvec3 c_2) {
     return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
 }
 
-uvec3 corner(uint k_1) {
-    return uvec3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+uvec3 corner(uint k) {
+    return uvec3((k & 1u), ((k >> 1u) & 1u), (k >> 2u));
 }
 
 uint cells_a_side() {
@@ -128,42 +128,16 @@ uvec2 cell_range(uvec3 c_3) {
     return uvec2(_e12, _e18);
 }
 
-uint compact3_(uint v_1) {
-    uint x_1 = 0u;
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uvec3 demorton3_(uint m) {
-    uint _e1 = compact3_(m);
-    uint _e4 = compact3_((m >> 1u));
-    uint _e7 = compact3_((m >> 2u));
-    return uvec3(_e1, _e4, _e7);
-}
-
-uvec2 corner_cell(uvec3 q, uint k_2) {
-    bool local_2 = false;
-    uvec3 _e2 = corner(k_2);
+uvec2 corner_cell(uvec3 q, uint k_1) {
+    bool local_1 = false;
+    uvec3 _e2 = corner(k_1);
     if (!(any(lessThan(q, _e2)))) {
         uint _e9 = cells_a_side();
-        local_2 = any(greaterThanEqual((q - _e2), uvec3(_e9)));
+        local_1 = any(greaterThanEqual((q - _e2), uvec3(_e9)));
     } else {
-        local_2 = true;
+        local_1 = true;
     }
-    bool _e14 = local_2;
+    bool _e14 = local_1;
     if (_e14) {
         return uvec2(0u);
     }
@@ -187,24 +161,24 @@ float weight(vec3 g_2, uvec3 o) {
 
 Sums moment_sums(uvec3 q_1, uint lane_4, uint lanes) {
     Sums s = Sums(vec3(0.0), 0.0, vec3(0.0), vec3(0.0));
-    uint k_3 = 0u;
+    uint k_2 = 0u;
     uint j = 0u;
     bool loop_init = true;
     while(true) {
         if (!loop_init) {
-            uint _e57 = k_3;
-            k_3 = (_e57 + 1u);
+            uint _e57 = k_2;
+            k_2 = (_e57 + 1u);
         }
         loop_init = false;
-        uint _e14 = k_3;
+        uint _e14 = k_2;
         if ((_e14 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e17 = k_3;
+            uint _e17 = k_2;
             uvec2 _e18 = corner_cell(q_1, _e17);
-            uint _e19 = k_3;
+            uint _e19 = k_2;
             uvec3 _e20 = corner(_e19);
             j = (_e18.x + lane_4);
             bool loop_init_1 = true;
@@ -244,24 +218,24 @@ Sums moment_sums(uvec3 q_1, uint lane_4, uint lanes) {
 
 float size_sum(uvec3 q_2, vec3 mean, uint lane_5, uint lanes_1) {
     float sum_2 = 0.0;
-    uint k_4 = 0u;
+    uint k_3 = 0u;
     uint j_1 = 0u;
     bool loop_init_2 = true;
     while(true) {
         if (!loop_init_2) {
-            uint _e39 = k_4;
-            k_4 = (_e39 + 1u);
+            uint _e39 = k_3;
+            k_3 = (_e39 + 1u);
         }
         loop_init_2 = false;
-        uint _e8 = k_4;
+        uint _e8 = k_3;
         if ((_e8 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e11 = k_4;
+            uint _e11 = k_3;
             uvec2 _e12 = corner_cell(q_2, _e11);
-            uint _e13 = k_4;
+            uint _e13 = k_3;
             uvec3 _e14 = corner(_e13);
             j_1 = (_e12.x + lane_5);
             bool loop_init_3 = true;
@@ -298,8 +272,34 @@ vec3 centre(Sums s_1) {
     return vec3(0.0);
 }
 
-Part part(uvec3 wg_4, uvec3 groups_11, uint parts) {
-    uint w = (wg_4.x + (wg_4.y * groups_11.x));
+uint compact3_(uint v_2) {
+    uint x_1 = 0u;
+    x_1 = (v_2 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uvec3 demorton3_(uint m) {
+    uint _e1 = compact3_(m);
+    uint _e4 = compact3_((m >> 1u));
+    uint _e7 = compact3_((m >> 2u));
+    return uvec3(_e1, _e4, _e7);
+}
+
+Part part(uvec3 wg_4, uvec3 groups_10, uint parts) {
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
     uint _e10 = _group_0_binding_0_cs.count;
     if ((w >= (_e10 * parts))) {
         return Part(w, 0u, uvec3(0u), 0u, false);
@@ -367,9 +367,9 @@ void main() {
     barrier();
     uint lane_2 = gl_LocalInvocationIndex;
     uvec3 wg_2 = gl_WorkGroupID;
-    uvec3 groups_8 = gl_NumWorkGroups;
+    uvec3 groups_7 = gl_NumWorkGroups;
     uint _e5 = _group_0_binding_0_cs.parts;
-    Part _e6 = part(wg_2, groups_8, _e5);
+    Part _e6 = part(wg_2, groups_7, _e5);
     if (!(_e6.busy)) {
         return;
     }

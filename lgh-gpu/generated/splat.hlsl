@@ -76,9 +76,9 @@ RWByteAddressBuffer vertex_slots : register(u12);
 RWByteAddressBuffer partials : register(u11);
 groupshared float4 lane_sums[64][3];
 
-uint flat(uint3 id_6, uint3 groups_10)
+uint flat(uint3 id_5, uint3 groups_9)
 {
-    return (id_6.x + ((id_6.y * groups_10.x) * WORKGROUP));
+    return (id_5.x + ((id_5.y * groups_9.x) * WORKGROUP));
 }
 
 uint pack(uint3 c)
@@ -142,9 +142,9 @@ uint morton3_(uint3 c_2)
     return ((_e2 | (_e4 << 1u)) | (_e9 << 2u));
 }
 
-uint3 corner(uint k_1)
+uint3 corner(uint k)
 {
-    return uint3((k_1 & 1u), ((k_1 >> 1u) & 1u), (k_1 >> 2u));
+    return uint3((k & 1u), ((k >> 1u) & 1u), (k >> 2u));
 }
 
 uint cells_a_side()
@@ -164,47 +164,18 @@ uint2 cell_range(uint3 c_3)
     return uint2(_e12, _e18);
 }
 
-uint compact3_(uint v_1)
+uint2 corner_cell(uint3 q, uint k_1)
 {
-    uint x_1 = (uint)0;
+    bool local_1 = (bool)0;
 
-    x_1 = (v_1 & 153391689u);
-    uint _e4 = x_1;
-    uint _e5 = x_1;
-    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
-    uint _e11 = x_1;
-    uint _e12 = x_1;
-    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
-    uint _e18 = x_1;
-    uint _e19 = x_1;
-    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
-    uint _e25 = x_1;
-    uint _e26 = x_1;
-    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
-    uint _e32 = x_1;
-    return _e32;
-}
-
-uint3 demorton3_(uint m)
-{
-    const uint _e1 = compact3_(m);
-    const uint _e4 = compact3_((m >> 1u));
-    const uint _e7 = compact3_((m >> 2u));
-    return uint3(_e1, _e4, _e7);
-}
-
-uint2 corner_cell(uint3 q, uint k_2)
-{
-    bool local_2 = (bool)0;
-
-    const uint3 _e2 = corner(k_2);
+    const uint3 _e2 = corner(k_1);
     if (!(any((q < _e2)))) {
         const uint _e9 = cells_a_side();
-        local_2 = any(((q - _e2) >= (_e9).xxx));
+        local_1 = any(((q - _e2) >= (_e9).xxx));
     } else {
-        local_2 = true;
+        local_1 = true;
     }
-    bool _e14 = local_2;
+    bool _e14 = local_1;
     if (_e14) {
         return (0u).xx;
     }
@@ -249,7 +220,7 @@ Sorted ConstructSorted(float3 arg0, float arg1, float3 arg2, uint arg3) {
 Sums moment_sums(uint3 q_1, uint lane_4, uint lanes)
 {
     Sums s = ConstructSums((0.0).xxx, 0.0, (0.0).xxx, (0.0).xxx);
-    uint k_3 = 0u;
+    uint k_2 = 0u;
     uint j = (uint)0;
 
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
@@ -258,19 +229,19 @@ Sums moment_sums(uint3 q_1, uint lane_4, uint lanes)
         if (all(loop_bound == uint2(0u, 0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e57 = k_3;
-            k_3 = (_e57 + 1u);
+            uint _e57 = k_2;
+            k_2 = (_e57 + 1u);
         }
         loop_init = false;
-        uint _e14 = k_3;
+        uint _e14 = k_2;
         if ((_e14 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e17 = k_3;
+            uint _e17 = k_2;
             const uint2 _e18 = corner_cell(q_1, _e17);
-            uint _e19 = k_3;
+            uint _e19 = k_2;
             const uint3 _e20 = corner(_e19);
             j = (_e18.x + lane_4);
             uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -315,7 +286,7 @@ Sums moment_sums(uint3 q_1, uint lane_4, uint lanes)
 float size_sum(uint3 q_2, float3 mean, uint lane_5, uint lanes_1)
 {
     float sum_2 = 0.0;
-    uint k_4 = 0u;
+    uint k_3 = 0u;
     uint j_1 = (uint)0;
 
     uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
@@ -324,19 +295,19 @@ float size_sum(uint3 q_2, float3 mean, uint lane_5, uint lanes_1)
         if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            uint _e39 = k_4;
-            k_4 = (_e39 + 1u);
+            uint _e39 = k_3;
+            k_3 = (_e39 + 1u);
         }
         loop_init_2 = false;
-        uint _e8 = k_4;
+        uint _e8 = k_3;
         if ((_e8 < 8u)) {
         } else {
             break;
         }
         {
-            uint _e11 = k_4;
+            uint _e11 = k_3;
             const uint2 _e12 = corner_cell(q_2, _e11);
-            uint _e13 = k_4;
+            uint _e13 = k_3;
             const uint3 _e14 = corner(_e13);
             j_1 = (_e12.x + lane_5);
             uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
@@ -384,11 +355,11 @@ Light ConstructLight(float3 arg0, float3 arg1) {
     return ret;
 }
 
-void write_vertex(uint3 q_3, uint v_2, Sums s_2, float3 mean_1, float size_sum_1)
+void write_vertex(uint3 q_3, uint v_1, Sums s_2, float3 mean_1, float size_sum_1)
 {
     float3 variance = (0.0).xxx;
     float size = 0.0;
-    bool local_3 = (bool)0;
+    bool local_2 = (bool)0;
 
     float _e7 = step_.h1_;
     uint _e11 = step_.level;
@@ -402,22 +373,51 @@ void write_vertex(uint3 q_3, uint v_2, Sums s_2, float3 mean_1, float size_sum_1
     float luminance = dot(s_2.intensity, LUMINANCE);
     if ((luminance > 0.0)) {
         float _e55 = step_.threshold;
-        local_3 = (luminance >= _e55);
+        local_2 = (luminance >= _e55);
     } else {
-        local_3 = false;
+        local_2 = false;
     }
-    bool reported = local_3;
+    bool reported = local_2;
     uint _e62 = step_.light_base;
     {
         Light _value2 = ConstructLight(position, (reported ? s_2.intensity : (0.0).xxx));
-        out_.Store3((_e62 + v_2)*32+0, asuint(_value2.position));
-        out_.Store3((_e62 + v_2)*32+16, asuint(_value2.intensity));
+        out_.Store3((_e62 + v_1)*32+0, asuint(_value2.position));
+        out_.Store3((_e62 + v_1)*32+16, asuint(_value2.intensity));
     }
     uint _e73 = step_.light_base;
     float3 _e76 = variance;
     float _e77 = size;
-    extras.Store4((_e73 + v_2)*16, asuint(float4(_e76, _e77)));
+    extras.Store4((_e73 + v_1)*16, asuint(float4(_e76, _e77)));
     return;
+}
+
+uint compact3_(uint v_2)
+{
+    uint x_1 = (uint)0;
+
+    x_1 = (v_2 & 153391689u);
+    uint _e4 = x_1;
+    uint _e5 = x_1;
+    x_1 = ((_e4 | (_e5 >> 2u)) & 51130563u);
+    uint _e11 = x_1;
+    uint _e12 = x_1;
+    x_1 = ((_e11 | (_e12 >> 4u)) & 50393103u);
+    uint _e18 = x_1;
+    uint _e19 = x_1;
+    x_1 = ((_e18 | (_e19 >> 8u)) & 50331903u);
+    uint _e25 = x_1;
+    uint _e26 = x_1;
+    x_1 = ((_e25 | (_e26 >> 16u)) & 1023u);
+    uint _e32 = x_1;
+    return _e32;
+}
+
+uint3 demorton3_(uint m)
+{
+    const uint _e1 = compact3_(m);
+    const uint _e4 = compact3_((m >> 1u));
+    const uint _e7 = compact3_((m >> 2u));
+    return uint3(_e1, _e4, _e7);
 }
 
 uint naga_div(uint lhs, uint rhs) {
@@ -438,9 +438,9 @@ Part ConstructPart(uint arg0, uint arg1, uint3 arg2, uint arg3, bool arg4) {
     return ret;
 }
 
-Part part(uint3 wg_4, uint3 groups_11, uint parts)
+Part part(uint3 wg_4, uint3 groups_10, uint parts)
 {
-    uint w = (wg_4.x + (wg_4.y * groups_11.x));
+    uint w = (wg_4.x + (wg_4.y * groups_10.x));
     uint _e10 = step_.count;
     if ((w >= (_e10 * parts))) {
         const Part part_1 = ConstructPart(w, 0u, (0u).xxx, 0u, false);
@@ -510,9 +510,9 @@ void reduce(uint lane_6)
 }
 
 [numthreads(64, 1, 1)]
-void splat(uint3 id_5 : SV_DispatchThreadID, uint3 groups_5 : SV_GroupID)
+void splat(uint3 id_4 : SV_DispatchThreadID, uint3 groups_4 : SV_GroupID)
 {
-    const uint _e2 = flat(id_5, groups_5);
+    const uint _e2 = flat(id_4, groups_4);
     uint _e5 = step_.count;
     if ((_e2 >= _e5)) {
         return;

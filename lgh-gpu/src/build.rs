@@ -37,19 +37,21 @@ const WORKGROUP: u32 = 64;
 /// The most workgroups a level's splat takes: its vertices times their parts.
 const PARTS_IN_ALL: u32 = 1 << 18;
 
-/// `build.wgsl`'s entry points, in [`kernels::BUILD`](crate::kernels::BUILD)'s order.
+/// The build's entry points: [`kernels::BUILD`](crate::kernels::BUILD)'s, then
+/// [`kernels::MARK`](crate::kernels::MARK)'s, in their order.
 #[derive(Clone, Copy, Debug)]
 enum Kernel {
     Locate,
     CopyCounts,
     GatherSorted,
-    MarkVertices,
     Splat,
     MomentParts,
     FinishMoments,
     SizeParts,
     FinishVertices,
     ListVertices,
+    ClearSlots,
+    MarkCorners,
 }
 
 /// A light of a level as the GPU built it, read back ([`GpuBuilder::read_level`]).
@@ -179,14 +181,20 @@ impl GpuBuilder {
             })
         };
         let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 12);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("lgh-gpu build.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(crate::kernels::BUILD.source().into()),
-        });
-        let pipelines = crate::kernels::BUILD
-            .entries
-            .iter()
-            .map(|entry| dispatch::pipeline(device, &layout, &module, entry))
+        // The build's entry points, then the marking's: the order of [`Kernel`].
+        let pipelines = [crate::kernels::BUILD, crate::kernels::MARK]
+            .into_iter()
+            .flat_map(|kernel| {
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(kernel.name),
+                    source: wgpu::ShaderSource::Wgsl(kernel.source().into()),
+                });
+                let layout = &layout;
+                kernel
+                    .entries
+                    .iter()
+                    .map(move |entry| dispatch::pipeline(device, layout, &module, entry))
+            })
             .collect();
         let levels = grid.max_level() as u64 + 1;
         let level_buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -573,7 +581,8 @@ impl GpuBuilder {
                 let (index, count) = (k as u32 + 1, steps[k + 1].count);
                 let label = format!("level {}: number the vertices", k + 1);
                 timed(spans, pass, &label, |p| {
-                    self.record(p, &bind, &uniforms, (Kernel::MarkVertices, index, count));
+                    self.record(p, &bind, &uniforms, (Kernel::ClearSlots, index, count + 1));
+                    self.record(p, &bind, &uniforms, (Kernel::MarkCorners, index, n));
                     self.scan
                         .record(p, &bind_slots, &scan_uniforms, first, one, &limits);
                     self.record(p, &bind, &uniforms, (Kernel::ListVertices, index, count));

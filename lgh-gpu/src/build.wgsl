@@ -7,31 +7,6 @@
 // Cells and vertices are numbered by Morton code on a grid of 2^bits level-1 cells a side, so a
 // level-ℓ cell is a contiguous run of level-1 cells: Morton(c) << 3(ℓ−1) onwards.
 
-struct Step {
-    // The grid: its origin and level-1 spacing.
-    origin: vec3<f32>,
-    h1: f32,
-    // Input lights; Morton bits a side; this level ℓ; the top level.
-    n: u32,
-    bits: u32,
-    level: u32,
-    top: u32,
-    // The largest level-1 cell coordinate (lights beyond are clamped into it); where this
-    // level's vertex slots begin in `slots`; where its lights begin in `out`; its weak-light
-    // threshold (0 on the top level).
-    max_cell: u32,
-    slot_offset: u32,
-    light_base: u32,
-    threshold: f32,
-    // Items of this dispatch (cells or vertex slots), and the workgroups each vertex slot's
-    // sums are split over (the coarse levels' splat).
-    count: u32,
-    parts: u32,
-    // Where level ℓ's vertices begin in `vertex_slots`.
-    list_offset: u32,
-    _pad0: u32,
-}
-
 struct Light {
     position: vec3<f32>,
     intensity: vec3<f32>,
@@ -46,7 +21,6 @@ struct Sorted {
     cell: u32,
 }
 
-@group(0) @binding(0) var<uniform> step: Step;
 @group(0) @binding(1) var<storage, read_write> positions: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> intensities: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read_write> counts: array<atomic<u32>>;
@@ -60,13 +34,9 @@ struct Sorted {
 // Each level's vertices, in their numbering: vertex v's slot (its Morton code).
 @group(0) @binding(12) var<storage, read_write> vertex_slots: array<u32>;
 
-const WORKGROUP: u32 = 64u;
 // Rec. 709 luminance, lgh-core's LUMINANCE_WEIGHTS.
 const LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
 
-fn flat(id: vec3<u32>, groups: vec3<u32>) -> u32 {
-    return id.x + id.y * groups.x * WORKGROUP;
-}
 
 fn pack(c: vec3<u32>) -> u32 {
     return c.x | (c.y << 10u) | (c.z << 20u);
@@ -153,34 +123,6 @@ fn cell_range(c: vec3<u32>) -> vec2<u32> {
     let shift = 3u * (step.level - 1u);
     let m = morton3(c);
     return vec2<u32>(starts[m << shift], starts[(m + 1u) << shift]);
-}
-
-// Vertex slot m of level ℓ marked 1 if a light lies in one of its eight cells ("levels are
-// sparse"), 0 otherwise; the scan then numbers the marked vertices.
-@compute @workgroup_size(WORKGROUP)
-fn mark_vertices(@builtin(global_invocation_id) id: vec3<u32>,
-                 @builtin(num_workgroups) groups: vec3<u32>) {
-    let m = flat(id, groups);
-    if m >= step.count {
-        return;
-    }
-    let q = demorton3(m);
-    let side = cells_a_side();
-    var occupied = 0u;
-    for (var k = 0u; k < 8u; k++) {
-        let o = corner(k);
-        if any(q < o) || any(q - o >= vec3<u32>(side)) {
-            continue;
-        }
-        let r = cell_range(q - o);
-        if r.y > r.x {
-            occupied = 1u;
-        }
-    }
-    slots[step.slot_offset + m] = occupied;
-    if m == 0u {
-        slots[step.slot_offset + step.count] = 0u;
-    }
 }
 
 // Each marked slot m of level ℓ listed under its vertex's number (the splats run over the

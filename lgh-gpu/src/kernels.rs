@@ -60,12 +60,15 @@ pub const SORT: Kernel = Kernel {
 /// (`build.wgsl`).
 pub const BUILD: Kernel = Kernel {
     name: "build",
-    source: concat!(include_str!("build.wgsl"), include_str!("morton.wgsl")),
+    source: concat!(
+        include_str!("step.wgsl"),
+        include_str!("build.wgsl"),
+        include_str!("morton.wgsl")
+    ),
     entries: &[
         "locate",
         "copy_counts",
         "gather_sorted",
-        "mark_vertices",
         "splat",
         "moment_parts",
         "finish_moments",
@@ -75,5 +78,16 @@ pub const BUILD: Kernel = Kernel {
     ],
 };
 
+/// Each level's vertices marked (`mark.wgsl`).
+pub const MARK: Kernel = Kernel {
+    name: "mark",
+    source: concat!(
+        include_str!("step.wgsl"),
+        include_str!("mark.wgsl"),
+        include_str!("morton.wgsl")
+    ),
+    entries: &["clear_slots", "mark_corners"],
+};
+
 /// Every kernel of the crate.
-pub const ALL: [Kernel; 5] = [SHADE, GATHER, SCAN, SORT, BUILD];
+pub const ALL: [Kernel; 6] = [SHADE, GATHER, SCAN, SORT, BUILD, MARK];

@@ -1,4 +1,4 @@
-//! An exclusive prefix sum of `u32`s in place on the GPU (`scan.wgsl`): blocks of 256 scanned
+//! An exclusive prefix sum of `u32`s in place on the GPU (`scan.wgsl`): blocks of 1024 scanned
 //! in workgroup memory, their sums scanned the same way (recursively), then added back. Integer
 //! additions in a fixed tree, so the same bits on every run: the build's counting sort and
 //! vertex numbering rest on it (paper Sec. 5's "compacted by a prefix scan").
@@ -7,7 +7,7 @@ use crate::dispatch::{self, Uniforms};
 pub use crate::layout::ScanStep as Step;
 
 /// Values a workgroup scans (`scan.wgsl`'s `BLOCK`).
-pub const BLOCK: u32 = 256;
+pub const BLOCK: u32 = 1024;
 
 /// What one dispatch of a scan does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -120,7 +120,7 @@ mod tests {
         };
         let device = gpu.device();
         let scan = Scan::new(device);
-        for count in [1u32, 255, 256, 257, 70_001] {
+        for count in [1u32, 255, 1024, 1025, 70_001, 2_100_000] {
             let values: Vec<u32> = (0..count)
                 .map(|i| i.wrapping_mul(2_654_435_761) >> 28)
                 .collect();

@@ -15,53 +15,81 @@ struct Step {
 @group(0) @binding(0) var<uniform> step: Step;
 @group(0) @binding(1) var<storage, read_write> data: array<u32>;
 
-const BLOCK: u32 = 256u;
-var<workgroup> shared_values: array<u32, BLOCK>;
+// Values a workgroup scans: THREADS invocations, ITEMS values each.
+const THREADS: u32 = 256u;
+const ITEMS: u32 = 4u;
+const BLOCK: u32 = 1024u;
+var<workgroup> values: array<u32, BLOCK>;
+var<workgroup> totals: array<u32, THREADS>;
 
 fn block_index(wg: vec3<u32>, groups: vec3<u32>) -> u32 {
     return wg.x + wg.y * groups.x;
 }
 
-// Each block of BLOCK values scanned (Hillis–Steele in workgroup memory: a fixed tree of
-// integer additions), its total written to data[sums + block].
-@compute @workgroup_size(BLOCK)
+// Each block of BLOCK values scanned — loaded into workgroup memory, each invocation's ITEMS
+// consecutive values summed in order, the invocations' totals scanned by Hillis–Steele (a fixed
+// tree of integer additions), the values written back — its total written to data[sums + block].
+@compute @workgroup_size(THREADS)
 fn scan_blocks(@builtin(local_invocation_index) lane: u32,
                @builtin(workgroup_id) wg: vec3<u32>,
                @builtin(num_workgroups) groups: vec3<u32>) {
     let block = block_index(wg, groups);
-    let i = block * BLOCK + lane;
-    var value = 0u;
-    if i < step.count {
-        value = data[step.offset + i];
+    let first = block * BLOCK;
+    for (var i = 0u; i < ITEMS; i++) {
+        let k = i * THREADS + lane;
+        var value = 0u;
+        if first + k < step.count {
+            value = data[step.offset + first + k];
+        }
+        values[k] = value;
     }
-    shared_values[lane] = value;
     workgroupBarrier();
-    for (var d = 1u; d < BLOCK; d *= 2u) {
+    var run = 0u;
+    for (var i = 0u; i < ITEMS; i++) {
+        let value = values[lane * ITEMS + i];
+        values[lane * ITEMS + i] = run;
+        run += value;
+    }
+    totals[lane] = run;
+    workgroupBarrier();
+    for (var d = 1u; d < THREADS; d *= 2u) {
         var add = 0u;
         if lane >= d {
-            add = shared_values[lane - d];
+            add = totals[lane - d];
         }
         workgroupBarrier();
-        shared_values[lane] += add;
+        totals[lane] += add;
         workgroupBarrier();
     }
-    // shared_values now holds the inclusive sums.
-    if i < step.count {
-        data[step.offset + i] = shared_values[lane] - value;
+    // totals now holds the inclusive sums: the invocations before this one add up to
+    // totals[lane] − run.
+    let before = totals[lane] - run;
+    for (var i = 0u; i < ITEMS; i++) {
+        values[lane * ITEMS + i] += before;
     }
-    if lane == BLOCK - 1u && block * BLOCK < step.count {
-        data[step.sums + block] = shared_values[lane];
+    workgroupBarrier();
+    for (var i = 0u; i < ITEMS; i++) {
+        let k = i * THREADS + lane;
+        if first + k < step.count {
+            data[step.offset + first + k] = values[k];
+        }
+    }
+    if lane == THREADS - 1u && first < step.count {
+        data[step.sums + block] = totals[lane];
     }
 }
 
 // Each value of block b raised by the scanned sum of the blocks before it.
-@compute @workgroup_size(BLOCK)
+@compute @workgroup_size(THREADS)
 fn add_sums(@builtin(local_invocation_index) lane: u32,
             @builtin(workgroup_id) wg: vec3<u32>,
             @builtin(num_workgroups) groups: vec3<u32>) {
     let block = block_index(wg, groups);
-    let i = block * BLOCK + lane;
-    if i < step.count {
-        data[step.offset + i] += data[step.sums + block];
+    let add = data[step.sums + block];
+    for (var i = 0u; i < ITEMS; i++) {
+        let k = block * BLOCK + i * THREADS + lane;
+        if k < step.count {
+            data[step.offset + k] += add;
+        }
     }
 }
