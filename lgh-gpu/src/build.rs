@@ -321,10 +321,7 @@ impl GpuBuilder {
         let n = u32::try_from(lights.len()).map_err(|_| BuildError::TooManyLights {
             count: lights.len(),
         })?;
-        if n > self.lights.capacity {
-            self.lights = light_buffers(self.gpu.device(), &self.grid, n);
-        }
-        self.n = n;
+        self.make_room(n);
         let positions: Vec<[f32; 4]> = lights
             .iter()
             .map(|l| l.position.extend(1.0).into())
@@ -340,6 +337,56 @@ impl GpuBuilder {
             0,
             bytemuck::cast_slice(&intensities),
         );
+        self.build_uploaded()
+    }
+
+    /// [`rebuild`](Self::rebuild) from `n` lights already on the GPU — an engine whose lights a
+    /// compute pass made: positions and intensities as `[f32; 4]` each (xyz; the fourth is
+    /// ignored) in the caller's buffers (`COPY_SRC` usage), copied into the builder's. Nothing
+    /// checks them on the CPU: a non-finite position or a negative intensity makes a hierarchy
+    /// as wrong as its input.
+    ///
+    /// Errors where a buffer holds fewer than `n` lights ([`GpuError::BufferTooSmall`]).
+    pub fn rebuild_from(
+        &mut self,
+        positions: &wgpu::Buffer,
+        intensities: &wgpu::Buffer,
+        n: u32,
+    ) -> Result<GpuTiming, GpuError> {
+        let needed = u64::from(n) * 16;
+        for (what, buffer) in [("positions", positions), ("intensities", intensities)] {
+            if buffer.size() < needed {
+                let bytes = buffer.size();
+                return Err(GpuError::BufferTooSmall {
+                    what,
+                    bytes,
+                    needed,
+                });
+            }
+        }
+        self.make_room(n);
+        let mut encoder = self
+            .gpu
+            .device()
+            .create_command_encoder(&Default::default());
+        if needed > 0 {
+            encoder.copy_buffer_to_buffer(positions, 0, &self.lights.positions, 0, needed);
+            encoder.copy_buffer_to_buffer(intensities, 0, &self.lights.intensities, 0, needed);
+        }
+        self.gpu.queue().submit([encoder.finish()]);
+        self.build_uploaded()
+    }
+
+    /// Room for `n` lights (the lights' buffers grown where they must), and `n` the count.
+    fn make_room(&mut self, n: u32) {
+        if n > self.lights.capacity {
+            self.lights = light_buffers(self.gpu.device(), &self.grid, n);
+        }
+        self.n = n;
+    }
+
+    /// Both submissions of a build of the lights in the builder's input buffers.
+    fn build_uploaded(&mut self) -> Result<GpuTiming, GpuError> {
         let start = crate::timing::Stopwatch::start();
         let (vertices, topology_ms) = self.topology()?;
         self.place_levels(&vertices)?;

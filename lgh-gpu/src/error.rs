@@ -40,6 +40,15 @@ pub enum GpuError {
     Readback(String),
     /// A grid whose box or spacing is not finite and positive.
     InvalidGrid,
+    /// A caller's buffer holds fewer elements than the call names.
+    BufferTooSmall {
+        /// What it holds.
+        what: &'static str,
+        /// Its bytes.
+        bytes: u64,
+        /// The bytes the call needs.
+        needed: u64,
+    },
     /// A light or intensity refused, as lgh-core's build refuses it.
     Build(lgh_core::BuildError),
     /// The gather draws 1 to [`MAX_K`](crate::gather::MAX_K) lights a point.
@@ -78,6 +87,14 @@ impl fmt::Display for GpuError {
                 "the GPU grid's box and level-1 spacing must be finite, the spacing positive"
             ),
             GpuError::Build(e) => write!(f, "{e}"),
+            GpuError::BufferTooSmall {
+                what,
+                bytes,
+                needed,
+            } => write!(
+                f,
+                "the buffer of {what} has {bytes} bytes; the call needs {needed}"
+            ),
             GpuError::InvalidK { k } => write!(
                 f,
                 "the gather draws 1 to {} lights a point, not {k}",

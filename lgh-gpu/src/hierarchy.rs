@@ -326,79 +326,15 @@ impl GpuHierarchy {
             return Ok((Vec::new(), timing));
         }
         let device = self.gpu.device();
-        let (pipeline, layout) = match walk {
-            Walk::Shade => &self.kernels.shade,
-            Walk::Gather => &self.kernels.gather,
-        };
-        let out_bytes = (points.len() * per_point as usize * size_of::<T>()) as u64;
-        let (bind_group, out, staging) = self.bind(layout, points, per_point, seed, out_bytes)?;
-        let timer = PassTimer::new(&self.gpu);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("lgh-gpu walk"),
-                timestamp_writes: timer.as_ref().map(PassTimer::writes),
-            });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            let groups = (points.len() as u32).div_ceil(WORKGROUP);
-            let (x, y) = dispatch::groups(groups, &device.limits());
-            pass.dispatch_workgroups(x, y, 1);
-        }
-        encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, out_bytes);
-        if let Some(t) = &timer {
-            t.resolve(&mut encoder);
-        }
-        let start = crate::timing::Stopwatch::start();
-        self.gpu.queue().submit([encoder.finish()]);
-        let values: Vec<T> = self.gpu.read_back_async(&staging).await?;
-        let wall_ms = start.ms();
-        let kernel_ms = match timer {
-            Some(t) => Some(t.milliseconds_async(&self.gpu).await?),
-            None => None,
-        };
-        Ok((values, GpuTiming { kernel_ms, wall_ms }))
-    }
-
-    /// The points' buffer, the output and its readback buffer, and the bind group of them all.
-    fn bind(
-        &self,
-        layout: &wgpu::BindGroupLayout,
-        points: &[ShadingPoint],
-        k: u32,
-        seed: u32,
-        out_bytes: u64,
-    ) -> Result<(wgpu::BindGroup, wgpu::Buffer, wgpu::Buffer), GpuError> {
-        let device = self.gpu.device();
         let limit = device.limits().max_storage_buffer_binding_size;
         check_size("the shading points", size_of_val(points), limit)?;
+        let out_bytes = (points.len() * per_point as usize * size_of::<T>()) as u64;
         check_size("the results", out_bytes as usize, limit)?;
-        let params = WalkParams {
-            levels: self.levels.len() as u32,
-            points: points.len() as u32,
-            h0: self.h0,
-            split: self.buffers.split,
-            k,
-            seed,
-            _pad: [0; 2],
-        };
-        let init = |label: &str, contents: &[u8], usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
-        };
-        let uniform = init(
-            "lgh-gpu params",
-            bytemuck::bytes_of(&params),
-            wgpu::BufferUsages::UNIFORM,
-        );
-        let point_buffer = init(
-            "lgh-gpu points",
-            bytemuck::cast_slice(points),
-            wgpu::BufferUsages::STORAGE,
-        );
+        let point_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("lgh-gpu points"),
+            contents: bytemuck::cast_slice(points),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let buffer = |label: &str, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -415,14 +351,146 @@ impl GpuHierarchy {
             "lgh-gpu readback",
             wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         );
+        let timer = PassTimer::new(&self.gpu);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let count = points.len() as u32;
+        self.record_walk(
+            &mut encoder,
+            walk,
+            (&point_buffer, &out, count),
+            per_point,
+            seed,
+            timer.as_ref(),
+        );
+        encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, out_bytes);
+        if let Some(t) = &timer {
+            t.resolve(&mut encoder);
+        }
+        let start = crate::timing::Stopwatch::start();
+        self.gpu.queue().submit([encoder.finish()]);
+        let values: Vec<T> = self.gpu.read_back_async(&staging).await?;
+        let wall_ms = start.ms();
+        let kernel_ms = match timer {
+            Some(t) => Some(t.milliseconds_async(&self.gpu).await?),
+            None => None,
+        };
+        Ok((values, GpuTiming { kernel_ms, wall_ms }))
+    }
+
+    /// Records the query into the caller's `encoder` — `count` shading points of `points`
+    /// ([`ShadingPoint`]s, 48 bytes each, `STORAGE` usage) to `radiance` (`[f32; 4]` each: RGB
+    /// and 0; `STORAGE`) — and reads nothing back: how an engine runs it every frame on its own
+    /// G-buffer. [`shade`](Self::shade) is this, with the upload and the readback.
+    ///
+    /// Errors where a buffer is smaller than `count` of its elements
+    /// ([`GpuError::BufferTooSmall`]) or larger than a binding may be.
+    pub fn record_shade(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        points: &wgpu::Buffer,
+        radiance: &wgpu::Buffer,
+        count: u32,
+    ) -> Result<(), GpuError> {
+        self.check_buffers((points, radiance, count), 16)?;
+        self.record_walk(encoder, Walk::Shade, (points, radiance, count), 1, 0, None);
+        Ok(())
+    }
+
+    /// Records the gather into the caller's `encoder`: for `count` points of `points`, `k`
+    /// [`GatherSample`](crate::GatherSample)s a point to `samples` (32 bytes each, point by
+    /// point), as [`gather`](Self::gather) draws them, nothing read back.
+    ///
+    /// Errors unless `1 ≤ k ≤ MAX_K`, and as [`record_shade`](Self::record_shade).
+    pub fn record_gather(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        points: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        count: u32,
+        (k, seed): (u32, u32),
+    ) -> Result<(), GpuError> {
+        if !(1..=crate::gather::MAX_K).contains(&k) {
+            return Err(GpuError::InvalidK { k });
+        }
+        self.check_buffers((points, samples, count), 32 * u64::from(k))?;
+        self.record_walk(
+            encoder,
+            Walk::Gather,
+            (points, samples, count),
+            k,
+            seed,
+            None,
+        );
+        Ok(())
+    }
+
+    /// Errors unless `points` holds `count` shading points and `out` `count` results of
+    /// `per_point` bytes, each within a binding's size.
+    fn check_buffers(
+        &self,
+        (points, out, count): (&wgpu::Buffer, &wgpu::Buffer, u32),
+        per_point: u64,
+    ) -> Result<(), GpuError> {
+        let limit = self.gpu.device().limits().max_storage_buffer_binding_size;
+        let n = u64::from(count);
+        for (what, buffer, needed) in [
+            (
+                "the shading points",
+                points,
+                n * size_of::<ShadingPoint>() as u64,
+            ),
+            ("the results", out, n * per_point),
+        ] {
+            if buffer.size() < needed {
+                return Err(GpuError::BufferTooSmall {
+                    what,
+                    bytes: buffer.size(),
+                    needed,
+                });
+            }
+            check_size(what, needed as usize, limit)?;
+        }
+        Ok(())
+    }
+
+    /// Records `walk` over `count` points of `points` into `out`, `per_point` results a point
+    /// (the gather's K), timed by `timer` where given.
+    fn record_walk(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        walk: Walk,
+        (points, out, count): (&wgpu::Buffer, &wgpu::Buffer, u32),
+        per_point: u32,
+        seed: u32,
+        timer: Option<&PassTimer>,
+    ) {
+        let device = self.gpu.device();
+        let (pipeline, layout) = match walk {
+            Walk::Shade => &self.kernels.shade,
+            Walk::Gather => &self.kernels.gather,
+        };
+        let params = WalkParams {
+            levels: self.levels.len() as u32,
+            points: count,
+            h0: self.h0,
+            split: self.buffers.split,
+            k: per_point,
+            seed,
+            _pad: [0; 2],
+        };
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("lgh-gpu params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
         let b = &self.buffers;
         let buffers = [
             &uniform,
             &b.levels,
             &b.starts,
             &b.lights,
-            &point_buffer,
-            &out,
+            points,
+            out,
             &b.lights_hi,
             &b.slots,
         ];
@@ -439,7 +507,14 @@ impl GpuHierarchy {
             layout,
             entries: &entries,
         });
-        Ok((bind_group, out, staging))
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("lgh-gpu walk"),
+            timestamp_writes: timer.map(PassTimer::writes),
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        let (x, y) = dispatch::groups(count.div_ceil(WORKGROUP), &device.limits());
+        pass.dispatch_workgroups(x, y, 1);
     }
 }
 

@@ -22,7 +22,10 @@
 //!   to their unshadowed light, weighted so that an engine's shadow rays to them give an
 //!   unbiased estimate of the sum.
 //!
-//! A hierarchy built by lgh-core can also be uploaded ([`GpuHierarchy::upload`]); in a browser
+//! An engine keeps its data on the GPU: [`GpuBuilder::rebuild_from`] builds from lights in its
+//! buffers, [`GpuHierarchy::record_shade`] and [`GpuHierarchy::record_gather`] record into its
+//! command encoder on its G-buffer, nothing read back. A hierarchy built by lgh-core can also be
+//! uploaded ([`GpuHierarchy::upload`]); in a browser
 //! (wasm32) wgpu runs on the browser's WebGPU ([`Gpu::new_async`],
 //! [`GpuHierarchy::shade_async`]; `web/gpu`).
 //!
