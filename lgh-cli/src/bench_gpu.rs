@@ -83,6 +83,74 @@ fn rel_rmse(gpu: &[Vec3], cpu: &[Vec3]) -> (f64, [f64; 3]) {
     (of(gpu, cpu), rgb)
 }
 
+/// The embers of the swarm's frame `frame`, each a point light.
+fn swarm_lights(count: usize, frame: i32) -> Vec<PointLight> {
+    (0..count)
+        .map(|i| {
+            let (p, c) = swarm::light(i, frame);
+            PointLight::new(Vec3::from(p), Vec3::from(c))
+        })
+        .collect()
+}
+
+/// The GPU's runs of each step, its image of the frame, and the rebuild's and the update's
+/// profiles (empty unless profiling).
+struct Runs {
+    rebuilds: Vec<GpuTiming>,
+    updates: Vec<GpuTiming>,
+    shades: Vec<GpuTiming>,
+    gathers: Vec<GpuTiming>,
+    image: Vec<Vec3>,
+    profile: (Profile, Profile),
+}
+
+/// Each kernel's label and milliseconds ([`GpuBuilder::profile`]).
+type Profile = Vec<(String, f64)>;
+
+/// Times `on_gpu` (built on `lights`) on the frame and the next one (`next`: the embers moved,
+/// a rebuild, or only their colours, an update), at `points`, the gather drawing `k`: two
+/// seconds of queries first (a GPU's clocks rise under load), then several runs of each.
+fn time_frames(
+    on_gpu: &mut GpuBuilder,
+    (lights, next): (&[PointLight], &[PointLight]),
+    points: &[ShadingPoint],
+    k: u32,
+) -> Result<Runs, crate::Error> {
+    let recoloured: Vec<Vec3> = next.iter().map(|l| l.intensity).collect();
+    let own: Vec<Vec3> = lights.iter().map(|l| l.intensity).collect();
+    let hierarchy = on_gpu.hierarchy();
+    let warm = Instant::now();
+    while warm.elapsed().as_secs_f64() < 2.0 {
+        hierarchy.shade_timed(points)?;
+    }
+    let (mut rebuilds, mut updates) = (Vec::new(), Vec::new());
+    for _ in 0..5 {
+        rebuilds.push(on_gpu.rebuild(next)?);
+        rebuilds.push(on_gpu.rebuild(lights)?);
+    }
+    let rebuild_profile = on_gpu.profile();
+    for _ in 0..5 {
+        updates.push(on_gpu.update_intensities(&recoloured)?);
+        updates.push(on_gpu.update_intensities(&own)?);
+    }
+    let update_profile = on_gpu.profile();
+    let hierarchy = on_gpu.hierarchy();
+    let (image, _) = hierarchy.shade_timed(points)?;
+    let (mut shades, mut gathers) = (Vec::new(), Vec::new());
+    for seed in 0..5 {
+        shades.push(hierarchy.shade_timed(points)?.1);
+        gathers.push(hierarchy.gather_timed(points, k, seed)?.1);
+    }
+    Ok(Runs {
+        rebuilds,
+        updates,
+        shades,
+        gathers,
+        image: image.into_iter().map(Vec3::from).collect(),
+        profile: (rebuild_profile, update_profile),
+    })
+}
+
 /// The best of `runs`: the kernels' milliseconds (timestamp queries, else the wall), the
 /// wall's, and which timer gave the first.
 fn best(runs: &[GpuTiming]) -> (f64, f64, &'static str) {
@@ -104,12 +172,7 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
         builder = builder.num_threads(t);
     }
     let pool = builder.build()?;
-    let lights: Vec<PointLight> = (0..args.lights)
-        .map(|i| {
-            let (p, c) = swarm::light(i, args.frame);
-            PointLight::new(Vec3::from(p), Vec3::from(c))
-        })
-        .collect();
+    let lights = swarm_lights(args.lights, args.frame);
     let points = g_buffer(args.width, args.height);
     let gpu = Gpu::new()?;
     let adapter = gpu.adapter();
@@ -132,41 +195,15 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
     let cpu_build_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut on_gpu = GpuBuilder::new(&gpu, grid, args.alpha)?.with_profiling(args.profile);
     let build = on_gpu.rebuild(&lights)?;
-    // The next frame: the embers moved (a rebuild), or only their colours (an update).
-    let next: Vec<PointLight> = (0..args.lights)
-        .map(|i| {
-            let (p, c) = swarm::light(i, args.frame + 1);
-            PointLight::new(Vec3::from(p), Vec3::from(c))
-        })
-        .collect();
-    let recoloured: Vec<Vec3> = next.iter().map(|l| l.intensity).collect();
-    let own: Vec<Vec3> = lights.iter().map(|l| l.intensity).collect();
-    // The GPU's clocks rise under load: two seconds of queries first, then the best of
-    // several runs of each.
-    let hierarchy = on_gpu.hierarchy();
-    let warm = Instant::now();
-    while warm.elapsed().as_secs_f64() < 2.0 {
-        hierarchy.shade_timed(&points)?;
-    }
-    let (mut rebuilds, mut updates) = (Vec::new(), Vec::new());
-    for _ in 0..5 {
-        rebuilds.push(on_gpu.rebuild(&next)?);
-        rebuilds.push(on_gpu.rebuild(&lights)?);
-    }
-    let rebuild_profile = on_gpu.profile();
-    for _ in 0..5 {
-        updates.push(on_gpu.update_intensities(&recoloured)?);
-        updates.push(on_gpu.update_intensities(&own)?);
-    }
-    let update_profile = on_gpu.profile();
-    let hierarchy = on_gpu.hierarchy();
-    let (gpu_image, _) = hierarchy.shade_timed(&points)?;
-    let gpu_image: Vec<Vec3> = gpu_image.into_iter().map(Vec3::from).collect();
-    let (mut shades, mut gathers) = (Vec::new(), Vec::new());
-    for seed in 0..5 {
-        shades.push(hierarchy.shade_timed(&points)?.1);
-        gathers.push(hierarchy.gather_timed(&points, args.k, seed)?.1);
-    }
+    let next = swarm_lights(args.lights, args.frame + 1);
+    let Runs {
+        rebuilds,
+        updates,
+        shades,
+        gathers,
+        image: gpu_image,
+        profile,
+    } = time_frames(&mut on_gpu, (&lights, &next), &points, args.k)?;
     let (shade_ms, shade_wall_ms, timer) = best(&shades);
     eprintln!(
         "lgh bench gpu: GPU shade {shade_ms:.2} ms; the CPU path on {} threads…",
@@ -206,7 +243,7 @@ pub fn run(args: &GpuBenchArgs) -> Result<(), crate::Error> {
     });
     let mut report = report;
     if args.profile {
-        report["profile"] = json!({ "rebuild": rebuild_profile, "update": update_profile });
+        report["profile"] = json!({ "rebuild": profile.0, "update": profile.1 });
     }
     let text = serde_json::to_string_pretty(&report)?;
     say!("{text}");

@@ -51,10 +51,12 @@ pub enum GpuError {
     },
     /// A light or intensity refused, as lgh-core's build refuses it.
     Build(lgh_core::BuildError),
-    /// The gather draws 1 to [`MAX_K`](crate::gather::MAX_K) lights a point.
+    /// The gather draws 1 to `most` lights a point (the gather's `MAX_K`).
     InvalidK {
         /// The draws asked for.
         k: u32,
+        /// The most it draws.
+        most: u32,
     },
 }
 
@@ -95,11 +97,9 @@ impl fmt::Display for GpuError {
                 f,
                 "the buffer of {what} has {bytes} bytes; the call needs {needed}"
             ),
-            GpuError::InvalidK { k } => write!(
-                f,
-                "the gather draws 1 to {} lights a point, not {k}",
-                crate::gather::MAX_K
-            ),
+            GpuError::InvalidK { k, most } => {
+                write!(f, "the gather draws 1 to {most} lights a point, not {k}")
+            }
         }
     }
 }

@@ -52,8 +52,36 @@ impl GpuHierarchy {
         seed: u32,
     ) -> Result<(Vec<GatherSample>, GpuTiming), GpuError> {
         if !(1..=MAX_K).contains(&k) {
-            return Err(GpuError::InvalidK { k });
+            return Err(GpuError::InvalidK { k, most: MAX_K });
         }
         self.walk(Walk::Gather, points, k, seed)
+    }
+
+    /// Records the gather into the caller's `encoder`: for `count` points of `points`, `k`
+    /// [`GatherSample`](crate::GatherSample)s a point to `samples` (32 bytes each, point by
+    /// point), as [`gather`](Self::gather) draws them, nothing read back.
+    ///
+    /// Errors unless `1 ≤ k ≤ MAX_K`, and as [`record_shade`](GpuHierarchy::record_shade).
+    pub fn record_gather(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        points: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        count: u32,
+        (k, seed): (u32, u32),
+    ) -> Result<(), GpuError> {
+        if !(1..=MAX_K).contains(&k) {
+            return Err(GpuError::InvalidK { k, most: MAX_K });
+        }
+        self.check_buffers((points, samples, count), 32 * u64::from(k))?;
+        self.record_walk(
+            encoder,
+            Walk::Gather,
+            (points, samples, count),
+            k,
+            seed,
+            None,
+        );
+        Ok(())
     }
 }

@@ -396,37 +396,9 @@ impl GpuHierarchy {
         Ok(())
     }
 
-    /// Records the gather into the caller's `encoder`: for `count` points of `points`, `k`
-    /// [`GatherSample`](crate::GatherSample)s a point to `samples` (32 bytes each, point by
-    /// point), as [`gather`](Self::gather) draws them, nothing read back.
-    ///
-    /// Errors unless `1 ≤ k ≤ MAX_K`, and as [`record_shade`](Self::record_shade).
-    pub fn record_gather(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        points: &wgpu::Buffer,
-        samples: &wgpu::Buffer,
-        count: u32,
-        (k, seed): (u32, u32),
-    ) -> Result<(), GpuError> {
-        if !(1..=crate::gather::MAX_K).contains(&k) {
-            return Err(GpuError::InvalidK { k });
-        }
-        self.check_buffers((points, samples, count), 32 * u64::from(k))?;
-        self.record_walk(
-            encoder,
-            Walk::Gather,
-            (points, samples, count),
-            k,
-            seed,
-            None,
-        );
-        Ok(())
-    }
-
     /// Errors unless `points` holds `count` shading points and `out` `count` results of
     /// `per_point` bytes, each within a binding's size.
-    fn check_buffers(
+    pub(crate) fn check_buffers(
         &self,
         (points, out, count): (&wgpu::Buffer, &wgpu::Buffer, u32),
         per_point: u64,
@@ -455,7 +427,7 @@ impl GpuHierarchy {
 
     /// Records `walk` over `count` points of `points` into `out`, `per_point` results a point
     /// (the gather's K), timed by `timer` where given.
-    fn record_walk(
+    pub(crate) fn record_walk(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         walk: Walk,

@@ -88,6 +88,6 @@ fn an_engines_buffers_give_the_bits_of_the_calls_that_copy() {
     ));
     assert!(matches!(
         hierarchy.record_gather(&mut encoder, &g, &samples, n, (0, 1)),
-        Err(GpuError::InvalidK { k: 0 })
+        Err(GpuError::InvalidK { k: 0, .. })
     ));
 }

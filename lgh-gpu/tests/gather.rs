@@ -89,11 +89,11 @@ fn the_same_seed_gives_the_same_bits_and_one_light_is_drawn_every_time() {
     assert_ne!(a, h.gather(&points, 3, 8).unwrap());
     assert!(matches!(
         h.gather(&points, 0, 1),
-        Err(GpuError::InvalidK { k: 0 })
+        Err(GpuError::InvalidK { k: 0, .. })
     ));
     assert!(matches!(
         h.gather(&points, 17, 1),
-        Err(GpuError::InvalidK { k: 17 })
+        Err(GpuError::InvalidK { k: 17, .. })
     ));
     // One light: every draw is it, and the draws add up to its light.
     let one = [PointLight::new(
