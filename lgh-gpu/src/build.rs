@@ -54,6 +54,42 @@ enum Kernel {
     MarkCorners,
 }
 
+impl Kernel {
+    /// Every kernel, in order.
+    const ALL: [Kernel; 11] = [
+        Kernel::Locate,
+        Kernel::CopyCounts,
+        Kernel::GatherSorted,
+        Kernel::Splat,
+        Kernel::MomentParts,
+        Kernel::FinishMoments,
+        Kernel::SizeParts,
+        Kernel::FinishVertices,
+        Kernel::ListVertices,
+        Kernel::ClearSlots,
+        Kernel::MarkCorners,
+    ];
+
+    /// The storage buffers the kernel binds (`build.wgsl`'s and `mark.wgsl`'s binding
+    /// numbers): 1 positions, 2 intensities, 3 counts, 4 starts, 5 order, 6 sorted, 7 slots,
+    /// 8 level lights, 9 extras, 10 keys, 11 partials, 12 vertex slots. At most 6, within
+    /// WebGPU's default of 8 a kernel.
+    fn bindings(self) -> &'static [u32] {
+        match self {
+            Kernel::Locate => &[1, 3, 5, 10],
+            Kernel::CopyCounts => &[3, 4],
+            Kernel::GatherSorted => &[1, 2, 5, 6, 8, 9],
+            Kernel::Splat => &[4, 6, 8, 9, 12],
+            Kernel::MomentParts | Kernel::SizeParts => &[4, 6, 11, 12],
+            Kernel::FinishMoments => &[11, 12],
+            Kernel::FinishVertices => &[8, 9, 11, 12],
+            Kernel::ListVertices => &[7, 12],
+            Kernel::ClearSlots => &[7],
+            Kernel::MarkCorners => &[7, 10],
+        }
+    }
+}
+
 /// A light of a level as the GPU built it, read back ([`GpuBuilder::read_level`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BuiltLight {
@@ -117,7 +153,8 @@ pub struct GpuBuilder {
     alpha: f32,
     prune_below: f32,
     blending: Blending,
-    layout: wgpu::BindGroupLayout,
+    /// Each kernel's layout and pipeline, in [`Kernel`]'s order.
+    layouts: Vec<wgpu::BindGroupLayout>,
     pipelines: Vec<wgpu::ComputePipeline>,
     scan: Scan,
     query: Arc<QueryKernels>,
@@ -180,21 +217,29 @@ impl GpuBuilder {
                 mapped_at_creation: false,
             })
         };
-        let layout = dispatch::layout(device, "lgh-gpu build", size_of::<Step>() as u64, 12);
-        // The build's entry points, then the marking's: the order of [`Kernel`].
-        let pipelines = [crate::kernels::BUILD, crate::kernels::MARK]
-            .into_iter()
-            .flat_map(|kernel| {
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(kernel.name),
-                    source: wgpu::ShaderSource::Wgsl(kernel.source().into()),
-                });
-                let layout = &layout;
-                kernel
-                    .entries
-                    .iter()
-                    .map(move |entry| dispatch::pipeline(device, layout, &module, entry))
+        let layouts: Vec<wgpu::BindGroupLayout> = Kernel::ALL
+            .iter()
+            .map(|k| {
+                let label = format!("lgh-gpu build: {k:?}");
+                dispatch::layout_of(device, &label, size_of::<Step>() as u64, k.bindings())
             })
+            .collect();
+        // The build's entry points, then the marking's: the order of [`Kernel`].
+        let entries: Vec<(wgpu::ShaderModule, &str)> =
+            [crate::kernels::BUILD, crate::kernels::MARK]
+                .into_iter()
+                .flat_map(|kernel| {
+                    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some(kernel.name),
+                        source: wgpu::ShaderSource::Wgsl(kernel.source().into()),
+                    });
+                    kernel.entries.iter().map(move |&e| (module.clone(), e))
+                })
+                .collect();
+        let pipelines = entries
+            .iter()
+            .zip(&layouts)
+            .map(|((module, entry), layout)| dispatch::pipeline(device, layout, module, entry))
             .collect();
         let levels = grid.max_level() as u64 + 1;
         let level_buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -231,7 +276,7 @@ impl GpuBuilder {
             levels: Vec::new(),
             profiling: false,
             profile: Default::default(),
-            layout,
+            layouts,
             pipelines,
         })
     }
@@ -520,27 +565,35 @@ impl GpuBuilder {
         }
     }
 
-    fn bind(&self, uniforms: &Uniforms) -> wgpu::BindGroup {
+    /// Each kernel's bind group of `uniforms` and the buffers it binds, in [`Kernel`]'s order.
+    fn bind(&self, uniforms: &Uniforms) -> Vec<wgpu::BindGroup> {
         let l = &self.lights;
-        dispatch::bind(
-            self.gpu.device(),
-            &self.layout,
-            uniforms,
-            &[
-                &l.positions,
-                &l.intensities,
-                &self.counts,
-                &self.starts,
-                &l.sort.values,
-                &l.sorted,
-                &self.slots,
-                &self.out.lights,
-                &self.out.extras,
-                &l.sort.keys,
-                &self.partials,
-                &l.vertex_slots,
-            ],
-        )
+        let buffers = [
+            &l.positions,
+            &l.intensities,
+            &self.counts,
+            &self.starts,
+            &l.sort.values,
+            &l.sorted,
+            &self.slots,
+            &self.out.lights,
+            &self.out.extras,
+            &l.sort.keys,
+            &self.partials,
+            &l.vertex_slots,
+        ];
+        Kernel::ALL
+            .iter()
+            .zip(&self.layouts)
+            .map(|(k, layout)| {
+                let storage: Vec<(u32, &wgpu::Buffer)> = k
+                    .bindings()
+                    .iter()
+                    .map(|&b| (b, buffers[b as usize - 1]))
+                    .collect();
+                dispatch::bind_of(self.gpu.device(), layout, uniforms, &storage)
+            })
+            .collect()
     }
 
     /// Records `kernel` over `items` (one invocation each; one workgroup each for the parts'
@@ -548,7 +601,7 @@ impl GpuBuilder {
     fn record(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
-        bind: &wgpu::BindGroup,
+        binds: &[wgpu::BindGroup],
         uniforms: &Uniforms,
         (kernel, index, items): (Kernel, u32, u32),
     ) {
@@ -560,7 +613,7 @@ impl GpuBuilder {
             _ => items.div_ceil(WORKGROUP),
         };
         pass.set_pipeline(&self.pipelines[kernel as usize]);
-        pass.set_bind_group(0, bind, &[uniforms.offset(index)]);
+        pass.set_bind_group(0, &binds[kernel as usize], &[uniforms.offset(index)]);
         let (x, y) = dispatch::groups(groups, &self.gpu.device().limits());
         pass.dispatch_workgroups(x, y, 1);
     }

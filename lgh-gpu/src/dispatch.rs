@@ -56,6 +56,19 @@ pub fn layout(
     uniform_size: u64,
     storage: u32,
 ) -> wgpu::BindGroupLayout {
+    let bindings: Vec<u32> = (1..=storage).collect();
+    layout_of(device, label, uniform_size, &bindings)
+}
+
+/// [`layout`] with read-write storage buffers at the given `bindings` only: each kernel binds
+/// no more than it uses (WebGPU allows 8 storage buffers a kernel by default).
+#[must_use]
+pub fn layout_of(
+    device: &wgpu::Device,
+    label: &str,
+    uniform_size: u64,
+    bindings: &[u32],
+) -> wgpu::BindGroupLayout {
     let mut entries = vec![wgpu::BindGroupLayoutEntry {
         binding: 0,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -66,7 +79,7 @@ pub fn layout(
         },
         count: None,
     }];
-    entries.extend((1..=storage).map(|binding| wgpu::BindGroupLayoutEntry {
+    entries.extend(bindings.iter().map(|&binding| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
@@ -113,6 +126,18 @@ pub fn bind(
     uniforms: &Uniforms,
     storage: &[&wgpu::Buffer],
 ) -> wgpu::BindGroup {
+    let numbered: Vec<(u32, &wgpu::Buffer)> = (1..).zip(storage.iter().copied()).collect();
+    bind_of(device, layout, uniforms, &numbered)
+}
+
+/// [`bind`] with each storage buffer at its binding.
+#[must_use]
+pub fn bind_of(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    uniforms: &Uniforms,
+    storage: &[(u32, &wgpu::Buffer)],
+) -> wgpu::BindGroup {
     let mut entries = vec![wgpu::BindGroupEntry {
         binding: 0,
         resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -121,15 +146,10 @@ pub fn bind(
             size: wgpu::BufferSize::new(uniforms.size),
         }),
     }];
-    entries.extend(
-        storage
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32 + 1,
-                resource: b.as_entire_binding(),
-            }),
-    );
+    entries.extend(storage.iter().map(|&(binding, b)| wgpu::BindGroupEntry {
+        binding,
+        resource: b.as_entire_binding(),
+    }));
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout,

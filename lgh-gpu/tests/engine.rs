@@ -91,3 +91,34 @@ fn an_engines_buffers_give_the_bits_of_the_calls_that_copy() {
         Err(GpuError::InvalidK { k: 0, .. })
     ));
 }
+
+/// An engine's device made with wgpu's default limits — WebGPU's: 8 storage buffers a kernel —
+/// runs every kernel: each binds only what it uses. The same bits as on the tests' device (the
+/// adapter's own limits).
+#[test]
+fn a_device_with_webgpus_default_limits_runs_every_kernel() {
+    let Some(gpu) = gpu() else { return };
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::PRIMARY,
+        flags: wgpu::InstanceFlags::empty(),
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapter = pollster::block_on(instance.request_adapter(&Default::default())).unwrap();
+    let descriptor = wgpu::DeviceDescriptor {
+        required_limits: wgpu::Limits::default(),
+        ..Default::default()
+    };
+    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).unwrap();
+    assert_eq!(device.limits().max_storage_buffers_per_shader_stage, 8);
+    let engine = lgh_gpu::Gpu::from_device(device, queue, adapter.get_info());
+    let lights = clumped_lights(1200, 23);
+    let grid = GpuGrid::fitting(&lights).unwrap();
+    let points = g_buffer(&lights, 200, 24);
+    let run = |gpu: &lgh_gpu::Gpu| {
+        let mut b = GpuBuilder::new(gpu, grid, 2.0).unwrap();
+        b.rebuild(&lights).unwrap();
+        let h = b.hierarchy();
+        (h.shade(&points).unwrap(), h.gather(&points, 2, 9).unwrap())
+    };
+    assert_eq!(run(&engine), run(gpu));
+}

@@ -4,8 +4,8 @@
 //! and updates ([`lgh_web::Renderer::light_frame`]). The image is tone-mapped as the CPU path's
 //! ([`lgh_web::Renderer::finish`]), so the page shows either the same way.
 //!
-//! The build stays on the CPU here: a browser's WebGPU allows 8 storage buffers a kernel
-//! (`maxStorageBuffersPerShaderStage`), and lgh-gpu's build kernels bind 11.
+//! The build stays on the CPU here: lgh-gpu's build waits for a readback between its two
+//! submissions, and a page may not wait (lgh-gpu has no asynchronous build yet).
 //!
 //! Natively the same [`GpuFrames`] runs on any wgpu adapter (lavapipe in CI): its test holds it
 //! to the CPU path's frames within the query's tolerance.
