@@ -58,7 +58,7 @@ impl GpuHierarchy {
     }
 
     /// Records the gather into the caller's `encoder`: for `count` points of `points`, `k`
-    /// [`GatherSample`](crate::GatherSample)s a point to `samples` (32 bytes each, point by
+    /// [`GatherSample`]s a point to `samples` (32 bytes each, point by
     /// point), as [`gather`](Self::gather) draws them, nothing read back.
     ///
     /// Errors unless `1 ≤ k ≤ MAX_K`, and as [`record_shade`](GpuHierarchy::record_shade).
