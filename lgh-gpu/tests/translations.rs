@@ -127,3 +127,70 @@ fn translating_twice_gives_the_same_bytes() {
         translate(wgsl, "moment_parts")
     );
 }
+
+/// The committed SPIR-V and GLSL pass Khronos' own validators — `spirv-val` for Vulkan 1.1 and
+/// `glslangValidator` for GLSL 4.30 compute — beyond naga's validation of the WGSL. Without
+/// them (`apt-get install spirv-tools glslang-tools`) SKIPPED, unless required
+/// (`lgh_tests::Piece::ShaderTools`).
+#[test]
+fn the_translations_pass_khronos_validators() {
+    use std::process::Command;
+    let tools = ["spirv-val", "glslangValidator"];
+    if let Some(missing) = tools.iter().find(|t| !lgh_tests::runs(t, &["--version"])) {
+        return lgh_tests::Piece::ShaderTools.missing(&format!("no {missing}"));
+    }
+    let generated = crate_dir().join("generated");
+    let valid = |file: &Path| -> Result<(), String> {
+        let name = file.file_name().unwrap().to_string_lossy().to_string();
+        let out = if name.ends_with(".spv") {
+            Command::new("spirv-val")
+                .args(["--target-env", "vulkan1.1"])
+                .arg(file)
+                .output()
+        } else {
+            Command::new("glslangValidator")
+                .args(["-S", "comp"])
+                .arg(file)
+                .output()
+        }
+        .unwrap();
+        if out.status.success() {
+            Ok(())
+        } else {
+            Err(format!(
+                "{name}: {}{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            ))
+        }
+    };
+    let mut checked = 0;
+    for kernel in lgh_gpu::kernels::ALL {
+        for entry in kernel.entries {
+            for ext in ["spv", "comp.glsl"] {
+                valid(&generated.join(format!("{entry}.{ext}"))).unwrap();
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(
+        checked,
+        2 * lgh_gpu::kernels::ALL
+            .iter()
+            .map(|k| k.entries.len())
+            .sum::<usize>()
+    );
+    // The validators do refuse: a SPIR-V module cut short, a GLSL kernel with a type error.
+    let dir = std::env::temp_dir().join(format!("lgh-gpu-validators-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let spv = std::fs::read(generated.join("shade.spv")).unwrap();
+    std::fs::write(dir.join("cut.spv"), &spv[..spv.len() / 2]).unwrap();
+    std::fs::write(
+        dir.join("bad.comp.glsl"),
+        "#version 430 core\nlayout(local_size_x = 1) in;\nvoid main() { float x = vec3(1.0); }\n",
+    )
+    .unwrap();
+    assert!(valid(&dir.join("cut.spv")).is_err());
+    assert!(valid(&dir.join("bad.comp.glsl")).is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -110,11 +110,14 @@ pub enum Piece {
     /// A GPU adapter for wgpu — Vulkan, Metal or DX12; without a GPU, Mesa's software Vulkan
     /// (lavapipe): lgh-gpu's tests (`lgh-gpu/tests/`).
     Gpu,
+    /// Khronos' `spirv-val` and `glslangValidator`: the generated SPIR-V and GLSL of lgh-gpu's
+    /// kernels validated by their own tools (`lgh-gpu/tests/translations.rs`).
+    ShaderTools,
 }
 
 impl Piece {
     /// Every piece, in the order the README lists them.
-    pub const ALL: [Piece; 9] = [
+    pub const ALL: [Piece; 10] = [
         Piece::Data,
         Piece::Browser,
         Piece::WasmTarget,
@@ -124,6 +127,7 @@ impl Piece {
         Piece::Tmpfs,
         Piece::Avx2,
         Piece::Gpu,
+        Piece::ShaderTools,
     ];
 
     /// The piece's place in [`ALL`](Self::ALL): a match over every variant, so a new piece
@@ -147,6 +151,7 @@ impl Piece {
             Piece::Tmpfs => 6,
             Piece::Avx2 => 7,
             Piece::Gpu => 8,
+            Piece::ShaderTools => 9,
         }
     }
 
@@ -179,6 +184,7 @@ impl Piece {
             Piece::OpenVdb => "LGH_REQUIRE_OPENVDB",
             Piece::Slurm => "LGH_REQUIRE_SLURM",
             Piece::Gpu => "LGH_REQUIRE_GPU",
+            Piece::ShaderTools => "LGH_REQUIRE_SHADER_TOOLS",
         }
     }
 
@@ -202,6 +208,7 @@ impl Piece {
             Piece::OpenVdb => "apt-get install python3-openvdb libopenvdb-tools",
             Piece::Slurm => "apt-get install slurm-wlm munge, and run the tests as root",
             Piece::Gpu => "a GPU with its Vulkan driver, or apt-get install mesa-vulkan-drivers",
+            Piece::ShaderTools => "apt-get install spirv-tools glslang-tools",
         }
     }
 
