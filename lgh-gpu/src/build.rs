@@ -26,13 +26,16 @@ use crate::dispatch::{self, Uniforms};
 use crate::error::GpuError;
 use crate::grid::GpuGrid;
 use crate::hierarchy::{blended, check_size, GpuHierarchy, QueryBuffers, QueryKernels};
-use crate::layout::{cell_order, BuildStep as Step, GpuLight, LevelGrid};
+use crate::layout::{cell_order, BuildStep as Step, GpuLight, LevelGrid, SortedLight};
 use crate::scan::{self, Scan};
 use crate::sort::RadixSort;
 use crate::timing::{GpuTiming, PassTimer, SpanTimer};
 
 /// Threads of a workgroup of `build.wgsl` (its `WORKGROUP`).
 const WORKGROUP: u32 = 64;
+
+/// Bytes of an input light's position or intensity: `[f32; 4]`, xyz and one unused.
+const INPUT_BYTES: u64 = 16;
 
 /// The most workgroups a level's splat takes: its vertices times their parts.
 const PARTS_IN_ALL: u32 = 1 << 18;
@@ -398,7 +401,7 @@ impl GpuBuilder {
         intensities: &wgpu::Buffer,
         n: u32,
     ) -> Result<GpuTiming, GpuError> {
-        let needed = u64::from(n) * 16;
+        let needed = u64::from(n) * INPUT_BYTES;
         for (what, buffer) in [("positions", positions), ("intensities", intensities)] {
             if buffer.size() < needed {
                 let bytes = buffer.size();
@@ -927,10 +930,14 @@ fn light_buffers(device: &wgpu::Device, grid: &GpuGrid, capacity: u32) -> LightB
             "lgh-gpu vertex slots by number",
             u64::from(listed) * 4,
         ),
-        positions: storage(device, "lgh-gpu input positions", n * 16),
-        intensities: storage(device, "lgh-gpu input intensities", n * 16),
+        positions: storage(device, "lgh-gpu input positions", n * INPUT_BYTES),
+        intensities: storage(device, "lgh-gpu input intensities", n * INPUT_BYTES),
         sort: RadixSort::new(device, capacity),
-        sorted: storage(device, "lgh-gpu sorted lights", n * 32),
+        sorted: storage(
+            device,
+            "lgh-gpu sorted lights",
+            n * size_of::<SortedLight>() as u64,
+        ),
     }
 }
 
@@ -938,7 +945,11 @@ fn out_buffers(device: &wgpu::Device, capacity: u32) -> OutBuffers {
     let n = u64::from(capacity);
     OutBuffers {
         capacity,
-        lights: storage(device, "lgh-gpu level lights", n * 32),
+        lights: storage(
+            device,
+            "lgh-gpu level lights",
+            n * size_of::<GpuLight>() as u64,
+        ),
         extras: storage(device, "lgh-gpu level variances and sizes", n * 16),
     }
 }

@@ -64,12 +64,8 @@ fn unweighted(
 /// Builds `lights` on the GPU and on the CPU with the same placement and checks every level's
 /// every light within the derived bound; returns the largest difference over its bound.
 fn levels_agree(name: &str, lights: &[PointLight]) -> f64 {
-    levels_agree_on(name, lights, GpuGrid::fitting(lights).unwrap())
-}
-
-/// [`levels_agree`] on `grid`.
-fn levels_agree_on(name: &str, lights: &[PointLight], grid: GpuGrid) -> f64 {
     let Some(gpu) = gpu() else { return 0.0 };
+    let grid = GpuGrid::fitting(lights).unwrap();
     let mut builder = GpuBuilder::new(gpu, grid, 2.0).unwrap();
     builder.rebuild(lights).unwrap();
     let cpu = LightingGridHierarchy::build(lights, &grid.settings()).unwrap();
@@ -102,7 +98,7 @@ fn levels_agree_on(name: &str, lights: &[PointLight], grid: GpuGrid) -> f64 {
             let (s, s_lum, n) = sums[&vertex];
             let eps = 3.0 * delta + 2.0 * (n as f64 + 8.0) * U;
             let kappa = if w.luminance > 0.0 {
-                (s_lum as f64 / (w.luminance as f64 * 0.999)).max(1.0)
+                (s_lum as f64 / w.luminance as f64).max(1.0)
             } else {
                 1.0
             };
