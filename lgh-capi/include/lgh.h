@@ -129,8 +129,9 @@ const char *lgh_last_error(void);
 enum LghStatus lgh_settings_default(struct LghSettings *out);
 
 // Builds a hierarchy over `count` point lights: `positions` and `intensities` hold `3 * count`
-// floats each (x, y, z; r, g, b), intensities finite and non-negative. `settings` may be NULL
-// for the defaults. On success `*out` is the new hierarchy, to be freed with
+// floats each (x, y, z; r, g, b), intensities finite with a non-negative luminance (a channel
+// may be negative: a colour outside Rec. 709's gamut, as Blender's blackbody below about 1900 K).
+// `settings` may be NULL for the defaults. On success `*out` is the new hierarchy, to be freed with
 // [`lgh_hierarchy_destroy`]; on failure `*out` is NULL.
 //
 // # Safety

@@ -432,8 +432,9 @@ pub unsafe extern "C" fn lgh_settings_default(out: *mut LghSettings) -> LghStatu
 }
 
 /// Builds a hierarchy over `count` point lights: `positions` and `intensities` hold `3 * count`
-/// floats each (x, y, z; r, g, b), intensities finite and non-negative. `settings` may be NULL
-/// for the defaults. On success `*out` is the new hierarchy, to be freed with
+/// floats each (x, y, z; r, g, b), intensities finite with a non-negative luminance (a channel
+/// may be negative: a colour outside Rec. 709's gamut, as Blender's blackbody below about 1900 K).
+/// `settings` may be NULL for the defaults. On success `*out` is the new hierarchy, to be freed with
 /// [`lgh_hierarchy_destroy`]; on failure `*out` is NULL.
 ///
 /// # Safety

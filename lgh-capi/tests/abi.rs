@@ -256,13 +256,25 @@ fn null_and_out_of_range_arguments_get_an_error_never_a_crash() {
             "names the light: {}",
             last_error()
         );
+        // Light 1 with a negative luminance (a negative channel alone is a colour outside
+        // Rec. 709's gamut, which the hierarchy takes).
         let mut neg = i.clone();
-        neg[5] = -1.0;
+        neg[3..6].copy_from_slice(&[0.0, -1.0, 0.0]);
         expect(
             lgh_hierarchy_create(p.as_ptr(), neg.as_ptr(), 512, null(), &mut out),
             Bad,
             "lgh_hierarchy_create",
         );
+        let mut out_of_gamut = i.clone();
+        out_of_gamut[5] = -0.01;
+        let mut taken = null_mut();
+        assert_eq!(
+            lgh_hierarchy_create(p.as_ptr(), out_of_gamut.as_ptr(), 512, null(), &mut taken),
+            LghStatus::Ok,
+            "{}",
+            last_error()
+        );
+        lgh_hierarchy_destroy(taken);
         let too_many = lgh_core::MAX_LIGHTS + 1;
         expect(
             lgh_hierarchy_create(p.as_ptr(), i.as_ptr(), too_many, null(), &mut out),

@@ -12,7 +12,10 @@ pub struct CompareArgs {
     /// The reference (linear OpenEXR of the same size).
     pub reference: PathBuf,
     /// Print JSON: {"rel_rmse", "max_abs", "mean_abs"} (luminance; rel_rmse is null when the
-    /// reference is black), and each pixel's relative error against `--point-bound`:
+    /// reference is black), the same channel by channel, "rel_rmse_rgb" (each channel's RMSE
+    /// over the reference's mean of it) and "mean_ratio_rgb" (each channel's mean over the
+    /// reference's; null for a channel whose reference mean is not above 0), "mean_rgb" and
+    /// "reference_mean_rgb" (the means, which may be negative), and each pixel's relative error against `--point-bound`:
     /// "max_point_error", "point_error_p99", "points_over_bound" (as `lgh bench gi` reports
     /// them; null when the reference is black).
     #[arg(long)]
@@ -72,12 +75,18 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
     // Relative to a black reference, an error means nothing: JSON null, and said in words.
     let black = stats.mean_reference <= 0.0;
     let points = lgh_image::point_errors(&a, &r, args.point_bound).filter(|_| !black);
+    // Same sizes, not empty: compare() said so.
+    let rgb = lgh_image::compare_rgb(&a, &r).ok_or("the images differ in size")?;
     if args.json {
         let rel = if black { None } else { Some(stats.rel_rmse) };
         say!(
             "{}",
             json!({
                 "rel_rmse": rel,
+                "rel_rmse_rgb": rgb.rel_rmse,
+                "mean_ratio_rgb": rgb.mean_ratio,
+                "mean_rgb": rgb.mean,
+                "reference_mean_rgb": rgb.mean_reference,
                 "max_abs": stats.max_abs,
                 "mean_abs": stats.mean_abs,
                 "max_point_error": points.map(|p| p.max),
@@ -103,12 +112,25 @@ pub fn run(args: &CompareArgs) -> Result<(), crate::Error> {
                 100.0 * p.max
             )
         });
+        // Errors as they are, means as signed differences from the reference's.
+        let percent = |v: Option<f64>, off: f64| {
+            v.map_or("–".into(), |v| {
+                if off == 0.0 {
+                    format!("{:.2}", 100.0 * v)
+                } else {
+                    format!("{:+.2}", 100.0 * (v - off))
+                }
+            })
+        };
+        let channels = |v: [Option<f64>; 3], off: f64| v.map(|c| percent(c, off)).join(", ");
         say!(
-            "relative RMSE {:.4}%, max abs {:.4e}, mean abs {:.4e} (luminance; mean of the reference {:.4e}){points}; difference: {}",
+            "relative RMSE {:.4}%, max abs {:.4e}, mean abs {:.4e} (luminance; mean of the reference {:.4e}){points}; red, green, blue: relative RMSE {}%, mean {}% against the reference's; difference: {}",
             100.0 * stats.rel_rmse,
             stats.max_abs,
             stats.mean_abs,
             stats.mean_reference,
+            channels(rgb.rel_rmse, 0.0),
+            channels(rgb.mean_ratio, 1.0),
             diff.display()
         );
     }

@@ -81,7 +81,9 @@ pub enum InterpolationArg {
 /// How emission follows the temperature grid (`--emission-model`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ModelArg {
-    /// Blender's Principled Volume: blackbody intensity × flame × 10⁻⁶ σT⁴/π × colour(T).
+    /// Blender's Principled Volume: blackbody intensity × flame × 10⁻⁶ σT⁴/π × colour(T), the
+    /// colour Cycles' volumes emit (below about 1900 K a negative blue, as Cycles keeps it; the
+    /// EXR keeps it, the PNG clamps at display).
     Blender,
     /// Planck's law through CIE 1931, times --emission-scale.
     Planck,

@@ -864,6 +864,37 @@ fn compare_reports_the_error_and_writes_a_difference_map() {
     assert!((v["points_over_bound"].as_f64().unwrap() - 1.0 / 32.0).abs() < 1e-12);
     let v = lgh_json(&args(&["--json", "--point-bound", "0.6"]));
     assert_eq!(v["points_over_bound"].as_f64(), Some(0.0));
+    // Channel by channel: the same grey error in each, so the same figures.
+    for c in 0..3 {
+        let rel = v["rel_rmse_rgb"][c].as_f64().unwrap();
+        assert!((rel - (4.0f64 / 32.0).sqrt() / 16.5).abs() < 1e-6, "{v}");
+        let ratio = v["mean_ratio_rgb"][c].as_f64().unwrap();
+        assert!((ratio - (16.5 + 2.0 / 32.0) / 16.5).abs() < 1e-6, "{v}");
+    }
+    // A colour off in blue alone, which luminance hides: blue 10% high where the reference
+    // has a negative blue in one pixel (kept by the EXR, as Cycles' cool flames have).
+    let mut blue = r.clone();
+    for p in &mut blue.pixels {
+        p.z *= 1.1;
+    }
+    r.pixels[0].z = -0.5;
+    blue.pixels[0].z = -0.55;
+    let (pb, pr2) = (dir.path().join("b.exr"), dir.path().join("r2.exr"));
+    lgh_image::write_exr(&pb, &blue, &[]).unwrap();
+    lgh_image::write_exr(&pr2, &r, &[]).unwrap();
+    assert_eq!(lgh_image::read_exr(&pr2).unwrap().pixels[0].z, -0.5);
+    let v = lgh_json(&[
+        "compare",
+        pb.to_str().unwrap(),
+        pr2.to_str().unwrap(),
+        "--json",
+    ]);
+    let ratio = |c: usize| v["mean_ratio_rgb"][c].as_f64().unwrap();
+    assert_eq!((ratio(0), ratio(1)), (1.0, 1.0), "{v}");
+    assert!((ratio(2) - 1.1).abs() < 1e-6, "{v}");
+    let mean = |key: &str, c: usize| v[key][c].as_f64().unwrap();
+    assert!((mean("mean_rgb", 2) / mean("reference_mean_rgb", 2) - 1.1).abs() < 1e-6);
+    assert!(v["rel_rmse"].as_f64().unwrap() < 0.01, "{v}");
     // A bad bound is refused before anything is written.
     let refused = dir.path().join("refused-diff.png");
     let mut bad = args(&["--point-bound", "0", "--diff"]);

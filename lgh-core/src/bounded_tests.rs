@@ -380,7 +380,8 @@ fn every_backend_rejects_bad_lights_alike() {
 
     let good = PointLight::new(Vec3::ONE, Vec3::ONE);
     let nan = PointLight::new(Vec3::new(1.0, f32::NAN, 0.0), Vec3::ONE);
-    let negative = PointLight::new(Vec3::ZERO, Vec3::new(0.5, 1.0, -1e-3));
+    // A negative luminance: no backend takes it.
+    let negative = PointLight::new(Vec3::ZERO, Vec3::new(0.5, -1.0, 0.0));
     for (lights, want) in [
         (
             [good, good, nan],
@@ -411,4 +412,19 @@ fn every_backend_rejects_bad_lights_alike() {
             assert_eq!(got.as_ref(), Some(&want), "{name}");
         }
     }
+    // A colour outside Rec. 709's gamut (Cycles' blackbody at 1500 K): the backends linear in
+    // each light take it, the two whose bounds assume non-negative channels refuse it.
+    let out_of_gamut = PointLight::new(Vec3::ZERO, Vec3::new(3.264, 0.434, -0.064));
+    let lights = [good, out_of_gamut];
+    let refused = Some(BuildError::NegativeChannel { index: 1 });
+    assert!(LightingGridHierarchy::build(&lights, &GridSettings::default()).is_ok());
+    assert!(BruteForce::new(&lights).is_ok());
+    assert_eq!(
+        LightOctree::build(&lights, &OctreeSettings::default()).err(),
+        refused
+    );
+    assert_eq!(
+        LightTree::build(&lights, Representative::Brightest).err(),
+        refused
+    );
 }

@@ -10,7 +10,7 @@ use alloc::vec::Vec;
 use glam::{DVec3, Vec3};
 
 use crate::error::{BuildError, QueryError};
-use crate::light::{validate_lights, PointLight};
+use crate::light::{validate_lights, Channels, PointLight};
 use crate::many_lights::{Illumination, LightSample, Lobe, ManyLights, Shader, ShadingPoint};
 
 /// Every input light, every time: the exact answer of the same light model, and the baseline.
@@ -49,7 +49,7 @@ impl BruteForce {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(lights: &[PointLight]) -> Result<Self, BuildError> {
-        validate_lights(lights)?;
+        validate_lights(lights, Channels::OutOfGamut)?;
         let mut bf = BruteForce::default();
         for l in lights {
             bf.x.push(l.position.x);

@@ -14,8 +14,14 @@ pub enum BuildError {
         /** Index of the offending light. */
         index: usize,
     },
-    /// Light `index` has a NaN, infinite or negative intensity channel.
+    /// Light `index` has a NaN or infinite intensity channel, or a negative luminance.
     InvalidIntensity {
+        /** Index of the offending light. */
+        index: usize,
+    },
+    /// Light `index` has a negative channel (a colour outside Rec. 709's gamut), which this
+    /// backend does not take ([`Channels::NonNegative`](crate::Channels)).
+    NegativeChannel {
         /** Index of the offending light. */
         index: usize,
     },
@@ -84,7 +90,11 @@ impl fmt::Display for BuildError {
             }
             BuildError::InvalidIntensity { index } => write!(
                 f,
-                "light {index} has a non-finite or negative intensity (intensities are W/sr, ≥ 0)"
+                "light {index} has a non-finite intensity or a negative luminance (intensities are W/sr, their luminance ≥ 0)"
+            ),
+            BuildError::NegativeChannel { index } => write!(
+                f,
+                "light {index} has a negative colour channel, which the light octree and Lightcuts do not take (their bounds assume channels ≥ 0); the hierarchy and brute force do"
             ),
             BuildError::InvalidSpacing { h1 } => write!(
                 f,

@@ -100,7 +100,9 @@ pub use error::{BuildError, QueryError, MAX_LIGHTS};
 pub use glam;
 pub use grid::{bounds, Clustering, GridSettings, LevelSource, LightPosition};
 pub use hierarchy::{LghBackend, LightingGridHierarchy, Reaching};
-pub use light::{luminance, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS};
+pub use light::{
+    luminance, validate_intensity, Channels, GridLight, LevelLights, PointLight, LUMINANCE_WEIGHTS,
+};
 pub use lightcuts::{LightTree, LightcutsBackend, LightcutsSettings, Representative};
 pub use many_lights::{
     probe, Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,

@@ -28,7 +28,10 @@ pub fn luminance(rgb: Vec3) -> f32 {
 pub struct PointLight {
     /// Position `p0_j`.
     pub position: Vec3,
-    /// RGB radiant intensity `I0_j` in W/sr; every channel finite and ≥ 0.
+    /// RGB radiant intensity `I0_j` in W/sr: every channel finite, the luminance ≥ 0. A channel
+    /// may be negative — a colour outside Rec. 709's gamut, as Blender's blackbody below about
+    /// 1900 K — for the hierarchy, brute force and Ward's method;
+    /// the light octree and Lightcuts take non-negative channels only ([`Channels`]).
     pub intensity: Vec3,
 }
 
@@ -52,17 +55,36 @@ impl PointLight {
     }
 }
 
+/// Which RGB intensities a backend takes ([`validate_intensity`]).
+///
+/// The hierarchy and brute force are linear in each light's intensity, so a colour outside Rec.
+/// 709's gamut — a negative channel, as Blender's blackbody gives below about 1900 K and Cycles
+/// keeps in its volumes' emission — adds exactly what it should wherever the luminance that
+/// weighs the lights (eq. 2's `‖I‖`) stays non-negative; Ward's method, over brute force's
+/// lights, ranks them by their largest channel in magnitude. A light of luminance 0 adds nothing
+/// in the hierarchy (eq. 2 weighs it by 0) whatever its channels. The light octree's error
+/// bounds and Lightcuts' representative ratios are bounds on non-negative channels, so those two
+/// refuse them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Channels {
+    /// Finite channels whose luminance is ≥ 0; a channel may be negative (the hierarchy, brute
+    /// force and so Ward's method, the GPU build).
+    OutOfGamut,
+    /// Finite channels, each ≥ 0 (the light octree, Lightcuts).
+    NonNegative,
+}
+
 /// The one validation of a light set, shared by every backend (the hierarchy, brute force — and so
 /// Ward's method —, the light octree and Lightcuts): at most [`MAX_LIGHTS`] lights
-/// ([`check_count`]), finite positions, finite non-negative intensities; the first offending light,
-/// in order, is reported.
-pub(crate) fn validate_lights(lights: &[PointLight]) -> Result<(), BuildError> {
+/// ([`check_count`]), finite positions, intensities as `channels` says; the first offending
+/// light, in order, is reported.
+pub(crate) fn validate_lights(lights: &[PointLight], channels: Channels) -> Result<(), BuildError> {
     check_count(lights.len())?;
     for (index, l) in lights.iter().enumerate() {
         if !l.position.is_finite() {
             return Err(BuildError::NonFinitePosition { index });
         }
-        validate_intensity(index, l.intensity)?;
+        validate_intensity(index, l.intensity, channels)?;
     }
     Ok(())
 }
@@ -75,11 +97,32 @@ pub(crate) fn check_count(count: usize) -> Result<(), BuildError> {
     Ok(())
 }
 
-/// [`BuildError::InvalidIntensity`] for light `index` if a channel of `i` is NaN, infinite or
-/// negative.
-pub(crate) fn validate_intensity(index: usize, i: Vec3) -> Result<(), BuildError> {
-    if !i.is_finite() || i.min_element() < 0.0 {
+/// Checks light `index`'s intensity `i`: [`BuildError::InvalidIntensity`] where a channel is NaN
+/// or infinite or the luminance is negative, and [`BuildError::NegativeChannel`] where
+/// `channels` is [`Channels::NonNegative`] and a channel is below 0.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_core::{validate_intensity, BuildError, Channels};
+///
+/// let blackbody_1500k = Vec3::new(3.264, 0.434, -0.064); // Cycles' colour: blue below 0
+/// assert_eq!(validate_intensity(0, blackbody_1500k, Channels::OutOfGamut), Ok(()));
+/// assert_eq!(
+///     validate_intensity(0, blackbody_1500k, Channels::NonNegative),
+///     Err(BuildError::NegativeChannel { index: 0 })
+/// );
+/// let dark = Vec3::new(0.1, -1.0, 0.0); // negative luminance
+/// assert_eq!(
+///     validate_intensity(7, dark, Channels::OutOfGamut),
+///     Err(BuildError::InvalidIntensity { index: 7 })
+/// );
+/// ```
+pub fn validate_intensity(index: usize, i: Vec3, channels: Channels) -> Result<(), BuildError> {
+    if !i.is_finite() || luminance(i) < 0.0 {
         return Err(BuildError::InvalidIntensity { index });
+    }
+    if channels == Channels::NonNegative && i.min_element() < 0.0 {
+        return Err(BuildError::NegativeChannel { index });
     }
     Ok(())
 }
@@ -577,19 +620,30 @@ mod tests {
         let nan = PointLight::new(Vec3::new(0.0, f32::NAN, 0.0), Vec3::ONE);
         let negative = PointLight::new(Vec3::ZERO, Vec3::new(1.0, -1.0, 0.0));
         let infinite = PointLight::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0));
-        assert_eq!(validate_lights(&[]), Ok(()));
-        assert_eq!(validate_lights(&[good, good]), Ok(()));
+        let out_of_gamut = PointLight::new(Vec3::ZERO, Vec3::new(5.41, -0.2, -0.08));
+        for channels in [Channels::OutOfGamut, Channels::NonNegative] {
+            assert_eq!(validate_lights(&[], channels), Ok(()));
+            assert_eq!(validate_lights(&[good, good], channels), Ok(()));
+            assert_eq!(
+                validate_lights(&[good, negative, nan], channels),
+                Err(BuildError::InvalidIntensity { index: 1 })
+            );
+            assert_eq!(
+                validate_lights(&[good, nan, negative], channels),
+                Err(BuildError::NonFinitePosition { index: 1 })
+            );
+            assert_eq!(
+                validate_lights(&[good, good, infinite], channels),
+                Err(BuildError::InvalidIntensity { index: 2 })
+            );
+        }
         assert_eq!(
-            validate_lights(&[good, negative, nan]),
-            Err(BuildError::InvalidIntensity { index: 1 })
+            validate_lights(&[good, out_of_gamut], Channels::OutOfGamut),
+            Ok(())
         );
         assert_eq!(
-            validate_lights(&[good, nan, negative]),
-            Err(BuildError::NonFinitePosition { index: 1 })
-        );
-        assert_eq!(
-            validate_lights(&[good, good, infinite]),
-            Err(BuildError::InvalidIntensity { index: 2 })
+            validate_lights(&[good, out_of_gamut], Channels::NonNegative),
+            Err(BuildError::NegativeChannel { index: 1 })
         );
     }
 }

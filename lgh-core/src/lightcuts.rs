@@ -32,7 +32,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::error::{BuildError, QueryError};
-use crate::light::{validate_lights, PointLight};
+use crate::light::{validate_lights, Channels, PointLight};
 use crate::many_lights::{
     Illumination, LightSample, Lobe, ManyLights, Material, Shader, ShadingPoint,
 };
@@ -123,7 +123,7 @@ impl LightTree {
         lights: &[PointLight],
         representative: Representative,
     ) -> Result<Self, BuildError> {
-        validate_lights(lights)?;
+        validate_lights(lights, Channels::NonNegative)?;
         let mut order: Vec<u32> = (0..lights.len() as u32).collect();
         let mut nodes: Vec<Cluster> = Vec::with_capacity(2 * lights.len());
         let mut ranges: Vec<(usize, usize)> = Vec::with_capacity(2 * lights.len());

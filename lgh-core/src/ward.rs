@@ -99,12 +99,13 @@ impl ManyLights for WardBackend<'_> {
     ) -> Result<Illumination, QueryError> {
         let x = QueryError::check_point(point.position)?;
         let n = self.lights.len();
-        // Potential contributions, keyed by each light's largest channel.
+        // Potential contributions, keyed by each light's largest channel in magnitude (a
+        // colour outside Rec. 709's gamut has a negative one; for others, the largest).
         let potential: Vec<Ranked<Vec3>> = (0..n)
             .map(|i| {
                 let (position, intensity) = self.lights.light(i);
                 let value = reflected(point, position, intensity, Lobe::All);
-                Ranked::new(value.max_element(), i as u32, value)
+                Ranked::new(value.abs().max_element(), i as u32, value)
             })
             .collect();
         let mut left: f64 = potential.iter().map(|p| f64::from(p.key())).sum();

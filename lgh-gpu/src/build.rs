@@ -19,7 +19,7 @@ use std::sync::Arc;
 
 use bytemuck::Pod;
 use lgh_core::glam::Vec3;
-use lgh_core::{Blending, BuildError, PointLight};
+use lgh_core::{Blending, BuildError, Channels, PointLight};
 
 use crate::context::Gpu;
 use crate::dispatch::{self, Uniforms};
@@ -357,8 +357,8 @@ impl GpuBuilder {
     /// submissions. Lights outside the grid's box are clamped into its boundary cells (as
     /// lgh-core clamps to its grid), so points far outside the box may miss them.
     ///
-    /// Errors on a non-finite position or a non-finite or negative intensity (lgh-core's
-    /// [`BuildError`]s), or where the levels' lights exceed the device's binding size.
+    /// Errors on a non-finite position, a non-finite intensity or one with a negative luminance
+    /// (lgh-core's [`BuildError`]s; a negative channel alone is taken, as lgh-core's), or where the levels' lights exceed the device's binding size.
     pub fn rebuild(&mut self, lights: &[PointLight]) -> Result<GpuTiming, GpuError> {
         for (index, l) in lights.iter().enumerate() {
             if !l.position.is_finite() {
@@ -391,7 +391,7 @@ impl GpuBuilder {
     /// [`rebuild`](Self::rebuild) from `n` lights already on the GPU — an engine whose lights a
     /// compute pass made: positions and intensities as `[f32; 4]` each (xyz; the fourth is
     /// ignored) in the caller's buffers (`COPY_SRC` usage), copied into the builder's. Nothing
-    /// checks them on the CPU: a non-finite position or a negative intensity makes a hierarchy
+    /// checks them on the CPU: a non-finite position or a negative luminance makes a hierarchy
     /// as wrong as its input.
     ///
     /// Errors where a buffer holds fewer than `n` lights ([`GpuError::BufferTooSmall`]).
@@ -448,7 +448,7 @@ impl GpuBuilder {
     /// New intensities for the lights of the last [`rebuild`](Self::rebuild), same positions:
     /// the splat alone, the topology kept. Gives the same bits as a rebuild with them.
     ///
-    /// Errors unless `intensities` has one per light, each finite and ≥ 0.
+    /// Errors unless `intensities` has one per light, each finite with a luminance ≥ 0.
     pub fn update_intensities(&mut self, intensities: &[Vec3]) -> Result<GpuTiming, GpuError> {
         if intensities.len() != self.n as usize {
             return Err(BuildError::LengthMismatch {
@@ -903,10 +903,11 @@ fn demorton(m: u32) -> [u32; 3] {
 }
 
 fn check_intensity(index: usize, i: Vec3) -> Result<(), GpuError> {
-    if !i.is_finite() || i.min_element() < 0.0 {
-        return Err(BuildError::InvalidIntensity { index }.into());
-    }
-    Ok(())
+    Ok(lgh_core::validate_intensity(
+        index,
+        i,
+        Channels::OutOfGamut,
+    )?)
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {

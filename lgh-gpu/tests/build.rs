@@ -336,8 +336,10 @@ fn bad_lights_are_refused_and_nothing_is_lost() {
     let mut bad = lights.clone();
     bad[7].position.y = f32::NAN;
     assert!(matches!(builder.rebuild(&bad), Err(GpuError::Build(_))));
+    // A negative luminance (a negative channel alone is a colour outside Rec. 709's gamut,
+    // which the build takes, as lgh-core's).
     let mut dim = vec![Vec3::ONE; 50];
-    dim[3].x = -1.0;
+    dim[3] = Vec3::new(0.0, -1.0, 0.0);
     assert!(matches!(
         builder.update_intensities(&dim),
         Err(GpuError::Build(_))
@@ -356,6 +358,9 @@ fn bad_lights_are_refused_and_nothing_is_lost() {
         Err(GpuError::Query(_))
     ));
     assert!(GpuGrid::enclosing(Vec3::ZERO, Vec3::splat(f32::INFINITY), 1.0).is_err());
+    let mut out_of_gamut = vec![Vec3::ONE; 50];
+    out_of_gamut[3] = Vec3::new(3.264, 0.434, -0.064);
+    builder.update_intensities(&out_of_gamut).unwrap();
     // No lights: every point dark.
     builder.rebuild(&[]).unwrap();
     let dark = builder.hierarchy().shade(&g_buffer(&lights, 5, 1)).unwrap();

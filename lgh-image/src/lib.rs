@@ -45,8 +45,8 @@ pub use files::{hold_writes, read_limited, write_atomic, WritesHeld, MAX_INPUT_B
 pub use image::{check_image_size, first_non_finite, Image};
 pub use limits::MAX_IMAGE_SIDE;
 pub use metrics::{
-    compare, difference_png, error_8bit, flicker, point_errors, quantize_8bit, Error8Bit,
-    PointErrors,
+    compare, compare_rgb, difference_png, error_8bit, flicker, point_errors, quantize_8bit,
+    ChannelStats, Error8Bit, PointErrors,
 };
 pub use png_file::{write_png, write_png_with};
 pub use tone::{

@@ -1,5 +1,6 @@
 //! Image comparisons on luminance (ARCHITECTURE.md, "Measuring"): relative RMSE and absolute
-//! errors ([`compare`]), the flicker of a sequence ([`flicker`]), the error an 8-bit display
+//! errors ([`compare`]), the same channel by channel with the ratio of the channels' means
+//! ([`compare_rgb`]: a colour off in one channel hides in the luminance), the flicker of a sequence ([`flicker`]), the error an 8-bit display
 //! shows (Paquette et al. §5.1, [`error_8bit`]) and a false-colour map of the error
 //! ([`difference_png`]).
 
@@ -36,6 +37,70 @@ pub fn compare(a: &Image, r: &Image) -> Option<ErrorStats> {
         return None;
     }
     ErrorStats::compare(&a.pixels, &r.pixels)
+}
+
+/// An image against a reference channel by channel ([`compare_rgb`]): red, green and blue each
+/// compared on its own, where luminance would hide a colour off in one channel (a fire's blue
+/// 10% high moves its luminance by under 1%).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChannelStats {
+    /// Each channel's RMSE over the reference's mean of that channel; `None` for a channel
+    /// whose reference mean is not above 0.
+    pub rel_rmse: [Option<f64>; 3],
+    /// Each channel's mean over the reference's mean of it; `None` as above.
+    pub mean_ratio: [Option<f64>; 3],
+    /// The image's mean of each channel.
+    pub mean: [f64; 3],
+    /// The reference's mean of each channel (a channel's mean may be negative: Cycles' cool
+    /// flames take blue from an image).
+    pub mean_reference: [f64; 3],
+}
+
+/// Compares `a` against the reference `r` channel by channel ([`ChannelStats`]). `None` if
+/// their sizes differ or they are empty.
+///
+/// ```
+/// use lgh_core::glam::Vec3;
+/// use lgh_image::{compare_rgb, Image};
+///
+/// let mut r = Image::new(2, 1);
+/// r.pixels.fill(Vec3::new(1.0, 0.5, 0.0));
+/// let mut a = r.clone();
+/// a.pixels[0].z = 0.1; // blue where the reference has none
+/// a.pixels[1].y = 0.6;
+/// let s = compare_rgb(&a, &r).unwrap();
+/// assert_eq!(s.mean_ratio[0], Some(1.0));
+/// assert!((s.mean_ratio[1].unwrap() - 1.1).abs() < 1e-6); // mean 0.55 against 0.5
+/// // One pixel of two off by 0.1: RMSE √(0.01 / 2) over a mean of 0.5.
+/// assert!((s.rel_rmse[1].unwrap() - 0.005f64.sqrt() / 0.5).abs() < 1e-6);
+/// assert_eq!((s.rel_rmse[2], s.mean_ratio[2]), (None, None)); // a black channel
+/// ```
+#[must_use]
+pub fn compare_rgb(a: &Image, r: &Image) -> Option<ChannelStats> {
+    if (a.width, a.height) != (r.width, r.height) || r.pixels.is_empty() {
+        return None;
+    }
+    let mut out = ChannelStats {
+        rel_rmse: [None; 3],
+        mean_ratio: [None; 3],
+        mean: [0.0; 3],
+        mean_reference: [0.0; 3],
+    };
+    let n = r.pixels.len() as f64;
+    for c in 0..3 {
+        let channel =
+            |i: &Image| -> Vec<f64> { i.pixels.iter().map(|p| f64::from(p[c])).collect() };
+        let (ca, cr) = (channel(a), channel(r));
+        let stats = ErrorStats::compare_luminance(ca.iter().copied(), cr.iter().copied())?;
+        let mean = stats.mean_reference;
+        out.mean_reference[c] = mean;
+        out.mean[c] = ca.iter().sum::<f64>() / n;
+        if mean > 0.0 {
+            out.rel_rmse[c] = Some(stats.rel_rmse);
+            out.mean_ratio[c] = Some(out.mean[c] / mean);
+        }
+    }
+    Some(out)
 }
 
 /// Per-pixel errors of an image against a reference ([`point_errors`]), over the pixels the

@@ -10,18 +10,8 @@
 //! in [`DenseGrid`]; the world is +Y up, as the procedural volumes are) and
 //! `OUT_PREFIX.density.f32`, `OUT_PREFIX.temperature.f32` (kelvin), x fastest, then y, then z.
 
-use std::io::Write;
-
-use lgh_volume::grid::DenseGrid;
+use lgh_volume::export::write_raw_grids;
 use lgh_volume::procedural;
-
-fn write_raw(path: &str, grid: &DenseGrid) -> std::io::Result<()> {
-    let mut bytes = Vec::with_capacity(grid.data.len() * 4);
-    for v in &grid.data {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    std::fs::File::create(path)?.write_all(&bytes)
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -38,19 +28,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "ball" => procedural::ball(res, 0.5, 2500.0),
         other => return Err(format!("unknown volume {other:?}").into()),
     };
-    let d = &volume.density;
-    let meta = serde_json::json!({
-        "kind": kind,
-        "time": time,
-        "dims": d.dims,
-        "voxel_size": d.voxel_size,
-        "origin": [d.origin.x, d.origin.y, d.origin.z],
-        "up": "y",
-        "grids": ["density", "temperature"],
-    });
-    std::fs::write(format!("{out}.json"), serde_json::to_string_pretty(&meta)?)?;
-    write_raw(&format!("{out}.density.f32"), &volume.density)?;
-    write_raw(&format!("{out}.temperature.f32"), &volume.temperature)?;
-    eprintln!("wrote {out}.json and its two grids ({:?} voxels)", d.dims);
+    let time = time.to_string();
+    write_raw_grids(
+        &volume,
+        std::path::Path::new(out),
+        &[("kind", kind), ("time", &time)],
+    )?;
+    eprintln!(
+        "wrote {out}.json and its two grids ({:?} voxels)",
+        volume.density.dims
+    );
     Ok(())
 }

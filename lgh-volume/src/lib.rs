@@ -5,10 +5,11 @@
 //!
 //! - [`vdb`]: a pure-Rust reader of OpenVDB files as Blender and Houdini write them, checked
 //!   against the official library; [`cache`] places a cache's frames on one grid (Blender's
-//!   adaptive-domain offset) with Blender's grid names; [`grid`]: the dense grids.
+//!   adaptive-domain offset) with Blender's grid names; [`grid`]: the dense grids; [`export`]: a
+//!   volume's grids as raw files for `tools/cycles/write_vdb.py`.
 //! - [`medium`]: one frame's density and temperature ([`Volume`]) and how they absorb, scatter
 //!   and emit ([`Medium`]: Planck's or Blender's emission; [`blender_blackbody`]: Cycles'
-//!   Blackbody node, measured); [`procedural`](mod@procedural): the embedded
+//!   blackbody colour as its volumes emit it, measured); [`procedural`](mod@procedural): the embedded
 //!   explosions ([`explosion`], the demo's, and the older [`procedural`](fn@procedural)).
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
 //!   per-frame intensities ([`voxel_light`]: what a voxel light emits, its cell's emission); [`method`]: the many-lights method that shades them ([`Method`]:
@@ -64,6 +65,7 @@ pub mod blender_blackbody;
 pub mod cache;
 pub mod camera;
 pub mod error;
+pub mod export;
 pub mod frame;
 pub mod grid;
 pub mod lighting;

@@ -49,7 +49,8 @@
 //! multiplies level 0's unshadowed light `U(x)`, summed exactly there, by
 //! `Σ_v w_v Ŝ_v / Σ_v w_v U_v`: a mean of level 0's
 //! transmittances weighted by their light, `Ŝ_v` extrapolated along the shadow's gradient as
-//! below. The near field stays exact, and the shadow rays — most of level 0's cost at a
+//! below (a channel whose light is negative at a corner — Blender's blackbody below about
+//! 1900 K — is no such mean, and takes the luminance's ratio instead). The near field stays exact, and the shadow rays — most of level 0's cost at a
 //! sample — are cast at the vertices only. Without shadows the ratio is exactly 1 and the
 //! image that of level 0 shaded at every sample. Flicker from level 0 up: −11% on the dev fire
 //! and +0.6% on the procedural sequence against the uncached render (−11% and −4% from level
@@ -86,7 +87,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use lgh_core::glam::Vec3;
+use lgh_core::glam::{BVec3, Vec3};
 use lgh_core::{LghBackend, LightingGridHierarchy, QueryError, ISOTROPIC_PHASE};
 
 use crate::method::FrameBackend;
@@ -1027,15 +1028,20 @@ fn interpolate(corners: &[Corner; 8], sigma_t: f32, blend: Blend) -> Vec3 {
     }
     let floor = linear * 1e-3;
     let mut log = Vec3::ZERO;
+    // Channels where a corner's light is negative (Blender's blackbody below about 1900 K: a cool
+    // flame's light has a blue below 0) have no logarithm: they take the linear blend.
+    let mut negative = BVec3::FALSE;
     for (e, c) in estimates.iter().zip(corners) {
         if c.weight > 0.0 {
             log += Vec3::from((*e + floor).to_array().map(f32::ln)) * c.weight;
+            negative |= e.cmplt(Vec3::ZERO);
         }
     }
     let out = Vec3::from(log.to_array().map(f32::exp)) - floor;
     // Where every corner is black, so is the sample (ln 0 = −∞, e^−∞ = 0, 0 − 0 = 0 — or NaN
     // from −∞ · 0 weights, which this rules out).
-    Vec3::select(linear.cmpgt(Vec3::ZERO), out.max(Vec3::ZERO), Vec3::ZERO)
+    let geometric = Vec3::select(linear.cmpgt(Vec3::ZERO), out.max(Vec3::ZERO), Vec3::ZERO);
+    Vec3::select(negative, linear, geometric)
 }
 
 /// Level 0's shadowing at a sample of extinction `sigma_t` from the `corners` of a ratio grid
@@ -1043,9 +1049,15 @@ fn interpolate(corners: &[Corner; 8], sigma_t: f32, blend: Blend) -> Vec3 {
 #[must_use]
 fn ratio(corners: &[Corner; 8], sigma_t: f32) -> Option<Vec3> {
     let (mut shadowed, mut unshadowed) = (Vec3::ZERO, Vec3::ZERO);
+    // Channels where a corner's light is negative (Blender's blackbody below about 1900 K):
+    // their sums mix both signs and may nearly cancel, so their quotient means nothing; they
+    // take the luminance's shadowing, as a channel without light does.
+    let mut mixed = BVec3::FALSE;
     for c in corners.iter().filter(|c| c.weight > 0.0) {
-        shadowed += extrapolated(c, sigma_t) * c.weight;
-        unshadowed += c.level0.unshadowed * c.weight;
+        let (s, u) = (extrapolated(c, sigma_t), c.level0.unshadowed);
+        shadowed += s * c.weight;
+        unshadowed += u * c.weight;
+        mixed |= s.cmplt(Vec3::ZERO) | u.cmplt(Vec3::ZERO);
     }
     let grey = lgh_core::luminance(unshadowed);
     if grey <= 0.0 {
@@ -1053,7 +1065,7 @@ fn ratio(corners: &[Corner; 8], sigma_t: f32) -> Option<Vec3> {
     }
     let grey = lgh_core::luminance(shadowed) / grey;
     let r = Vec3::select(
-        unshadowed.cmpgt(Vec3::ZERO),
+        unshadowed.cmpgt(Vec3::ZERO) & !mixed,
         shadowed / unshadowed,
         Vec3::splat(grey),
     );
@@ -1306,6 +1318,32 @@ mod tests {
             Blend::Geometric,
         );
         assert!((b - 8.0 * a).abs().max_element() < 1e-5 * b.x, "{a} {b}");
+    }
+
+    /// A channel negative at a corner (a cool flame's blue, Blender's blackbody) is blended
+    /// linearly, as the logarithm cannot; the other channels keep the geometric blend's bits.
+    #[test]
+    fn a_negative_channel_is_blended_linearly() {
+        let light = |p: Vec3| Vertex {
+            light: Vec3::new(1.0 + p.x, 0.5 + p.y, if p.z > 0.5 { 0.2 } else { -0.1 }),
+            direction: Vec3::ZERO,
+            sigma_t: 0.0,
+        };
+        let positive = |p: Vec3| Vertex {
+            light: light(p).light.with_z(1.0),
+            ..light(p)
+        };
+        let x = Vec3::new(0.3, 0.6, 0.25);
+        let got = interpolate(&cell(x, Vec3::ZERO, light), 0.0, Blend::Geometric);
+        let linear = interpolate(&cell(x, Vec3::ZERO, light), 0.0, Blend::Linear);
+        let geometric = interpolate(&cell(x, Vec3::ZERO, positive), 0.0, Blend::Geometric);
+        assert_eq!(got.z, linear.z);
+        assert!(
+            (linear.z - (0.25 * 0.2 - 0.75 * 0.1)).abs() < 1e-6,
+            "{linear}"
+        );
+        assert_eq!((got.x, got.y), (geometric.x, geometric.y));
+        assert_ne!(got.x, linear.x);
     }
 
     #[test]

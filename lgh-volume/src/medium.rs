@@ -185,9 +185,9 @@ pub enum EmissionModel {
     /// (luminance = CIE Y), times `k_e` (1 / length).
     #[default]
     Planck,
-    /// Blender's Principled Volume: `j = k_e · 10⁻⁶ σ T⁴ / π · c(T)`, where `c(T)` is the
-    /// colour of Cycles' Blackbody node (luminance about 1; measured:
-    /// [`crate::blender_blackbody`]) and `k_e` is Blender's blackbody intensity
+    /// Blender's Principled Volume: `j = k_e · 10⁻⁶ σ T⁴ / π · c(T)`, where `c(T)` is
+    /// Cycles' blackbody colour as its volumes emit it (luminance about 1, a channel negative
+    /// below about 1900 K; measured: [`crate::blender_blackbody`]) and `k_e` is Blender's blackbody intensity
     /// (times the flame grid, see [`Volume::flame`]). Blender mixes `1 → T⁴` by that intensity;
     /// the constant term (`10⁻⁶ σ / π ≈ 2·10⁻¹⁴`) is dropped.
     Blender,
@@ -327,8 +327,10 @@ impl Medium {
     }
 
     /// Emission `j(T)` for the temperature grid's `value`, in W / (m³ sr) (zero at or below
-    /// `T_min`): finite and non-negative for every `value` (a property test over the whole `f32`
-    /// range, below); what does not fit an `f32` is held at [`MAX_EMISSION`].
+    /// `T_min`): finite with a non-negative luminance for every `value` (a property test over
+    /// the whole `f32` range, below); what does not fit an `f32` is held at [`MAX_EMISSION`].
+    /// Blender's model keeps its blackbody's negative channels below about 1900 K, as Cycles'
+    /// volumes do ([`crate::blender_blackbody`]).
     #[must_use]
     pub fn emission_at(&self, value: f32) -> Vec3 {
         if !self.emits(value) || self.emission == 0.0 {
@@ -340,8 +342,8 @@ impl Medium {
                 saturate(saturate(self.table.radiance(kelvin)) * self.emission)
             }
             EmissionModel::Blender => {
-                // c(T), Blender's Blackbody node as measured (held below 800 K and above
-                // 40000 K, as the node is below 800 K).
+                // c(T), Cycles' blackbody colour as measured (held below 800 K and above
+                // 40000 K, as Cycles holds it below 800 K).
                 let c = crate::blender_blackbody::colour(kelvin);
                 // k_e 10⁻⁶ σ T⁴ / π in f64: T⁴ overflows an f32 above 1.4·10⁹ K.
                 let t2 = f64::from(kelvin).powi(2);
@@ -404,14 +406,20 @@ mod tests {
 
     /// The cold voxels of the issue-16 report: `--min-temperature 100` with the Blender model
     /// wrote NaN pixels (a colour normalised by a luminance that underflows). Now a cold voxel
-    /// emits a tiny amount of the gamut's red, continuous with the hotter voxels' colour.
+    /// emits a tiny amount of 800 K's colour (red, less a little green and blue, as Cycles),
+    /// continuous with the hotter voxels' colour.
     #[test]
     fn cold_voxels_emit_a_little_finite_red() {
         let m = medium(EmissionModel::Blender, 1.0, 0.0);
+        let red = crate::blender_blackbody::colour(800.0);
         for kelvin in [0.01, 1.0, 50.0, 100.0, 149.0, 300.0, 599.0] {
             let j = m.emission_at(kelvin);
             assert!(j.is_finite() && j.x > 0.0, "{kelvin} K: {j}");
-            assert_eq!((j.y, j.z), (0.0, 0.0), "{kelvin} K: {j}");
+            let ratio = j / j.x;
+            assert!(
+                (ratio - red / red.x).abs().max_element() < 1e-6,
+                "{kelvin} K: {j}"
+            );
         }
         // Continuous across the held colour's edge (800 K, as Blender's node), and T⁴ below it.
         let (a, b) = (m.emission_at(799.999), m.emission_at(800.001));
@@ -425,7 +433,9 @@ mod tests {
 
     proptest! {
         /// No temperature an `f32` can hold, no emission scale the CLI accepts, no model: the
-        /// emission is finite and non-negative, and zero at or below `T_min`.
+        /// emission is finite with a non-negative luminance (Planck's: every channel ≥ 0;
+        /// Blender's may have a negative channel, as Cycles' volumes do), and zero at or below
+        /// `T_min`.
         #[test]
         fn emission_is_finite_over_the_whole_temperature_range(
             bits in any::<u32>(),
@@ -437,7 +447,7 @@ mod tests {
             let model = if blender { EmissionModel::Blender } else { EmissionModel::Planck };
             let m = medium(model, emission, min_temperature);
             let j = m.emission_at(value);
-            prop_assert!(j.is_finite() && j.min_element() >= 0.0, "{value} K: {j}");
+            prop_assert!(physical(j, model), "{value} K: {j}");
             if value.partial_cmp(&min_temperature) != Some(std::cmp::Ordering::Greater) {
                 prop_assert_eq!(j, Vec3::ZERO);
             }
@@ -451,7 +461,20 @@ mod tests {
         ) {
             let model = if blender { EmissionModel::Blender } else { EmissionModel::Planck };
             let j = medium(model, 1.0, 0.0).emission_at(10f32.powf(log_kelvin));
-            prop_assert!(j.is_finite() && j.min_element() >= 0.0, "{j}");
+            prop_assert!(physical(j, model), "{j}");
         }
+    }
+
+    /// Finite, with a luminance ≥ 0; for Planck's model every channel ≥ 0, for Blender's no
+    /// channel below −0.21 times the luminance (its blackbody's most negative: green at 800 K,
+    /// −0.203) — both up to the smallest normal f32, as a cold voxel's emission is subnormal and
+    /// rounds each channel on its own (10⁻⁷ K: red 2·10⁻⁴⁴, green −10⁻⁴⁵).
+    fn physical(j: Vec3, model: EmissionModel) -> bool {
+        let y = lgh_core::luminance(j);
+        let least = match model {
+            EmissionModel::Planck => 0.0,
+            EmissionModel::Blender => -0.21 * y - f32::MIN_POSITIVE,
+        };
+        j.is_finite() && y >= -f32::MIN_POSITIVE && j.min_element() >= least
     }
 }

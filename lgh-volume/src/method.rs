@@ -28,7 +28,10 @@ pub enum Method {
     /// Every light `S0` that shines: the exact answer of the same light model.
     Brute,
     /// Lightcuts (Walter et al. 2005, the paper's Fig. 10 rival) over a light tree of the
-    /// frame's lights, shadows ray-marched.
+    /// frame's lights, shadows ray-marched. Its bounds and representatives need non-negative
+    /// channels ([`lgh_core::Channels`]), so the negative channels of Blender's blackbody below
+    /// about 1900 K are clamped to 0 for it: its colours are the clamped blackbody's, not
+    /// Cycles' (the hierarchy and brute force keep them).
     Lightcuts {
         /// ε and the largest cut (Walter's 2% and 1000 by default).
         settings: LightcutsSettings,
@@ -150,7 +153,14 @@ impl Method {
                 settings,
                 representative,
             } => {
-                let tree = LightTree::build(&lit(), representative)?;
+                // Clamped: see the variant's docs.
+                let clamped: Vec<PointLight> = lit()
+                    .into_iter()
+                    .map(|l| {
+                        PointLight::new(l.position, l.intensity.max(lgh_core::glam::Vec3::ZERO))
+                    })
+                    .collect();
+                let tree = LightTree::build(&clamped, representative)?;
                 // Checked once here; the backend is remade per query from the tree it owns.
                 LightcutsBackend::new(&tree, settings)?;
                 Prepared::Lightcuts(Box::new(tree), settings)
@@ -239,6 +249,36 @@ impl ManyLights for FrameBackend<'_> {
             FrameBackend::Lightcuts(tree, settings) => {
                 LightcutsBackend::new(tree, *settings)?.illuminate(point, shader)
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medium::{EmissionModel, Medium};
+    use crate::procedural;
+
+    /// Blender's blackbody below about 1900 K has a negative blue, which the hierarchy and brute
+    /// force keep and Lightcuts, whose bounds need channels ≥ 0, is given clamped: every method
+    /// prepares on such a fire.
+    #[test]
+    fn every_method_prepares_on_a_fire_with_a_negative_blue() {
+        let volume = procedural::ball(12, 0.5, 1500.0);
+        let medium = Medium::new(1.0, 1.0, 1.0, 0.0)
+            .unwrap()
+            .with_model(EmissionModel::Blender);
+        let lights = ExplosionLights::new(&[&volume], &medium).unwrap();
+        assert!(
+            lights.lights().iter().any(|l| l.intensity.z < 0.0),
+            "the test needs lights with a negative blue"
+        );
+        for method in [
+            Method::Lgh { alpha: 2.0 },
+            Method::Brute,
+            Method::lightcuts(7),
+        ] {
+            method.prepare(&lights).unwrap();
         }
     }
 }

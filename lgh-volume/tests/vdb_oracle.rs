@@ -33,30 +33,6 @@ fn fire_frames() -> Option<Vec<PathBuf>> {
     Some(files)
 }
 
-/// Whether the official library is here: `/usr/bin/python3` imports `pyopenvdb` and `numpy`,
-/// and `vdb_print` runs. Without it, [`Piece::missing`](lgh_tests::Piece::missing) has said so.
-fn openvdb() -> bool {
-    let imports = Command::new("/usr/bin/python3")
-        .args(["-c", "import pyopenvdb, numpy"])
-        .output();
-    let missing = match imports {
-        Err(e) => format!("no /usr/bin/python3 ({e})"),
-        Ok(o) if !o.status.success() => format!(
-            "/usr/bin/python3 cannot import pyopenvdb and numpy: {}",
-            // The exception, the traceback's last line.
-            String::from_utf8_lossy(&o.stderr)
-                .trim()
-                .lines()
-                .last()
-                .unwrap_or("")
-        ),
-        Ok(_) if !lgh_tests::runs("vdb_print", &["-version"]) => "no vdb_print".to_string(),
-        Ok(_) => return true,
-    };
-    lgh_tests::Piece::OpenVdb.missing(&missing);
-    false
-}
-
 fn oracle(path: &Path) -> Result<Value, String> {
     let out = Command::new("/usr/bin/python3")
         .arg(workspace().join("tests/oracle/vdb_stats.py"))
@@ -87,7 +63,7 @@ fn every_fire_frame_matches_the_official_library() {
     let Some(files) = fire_frames() else {
         return;
     };
-    if !openvdb() {
+    if !lgh_tests::openvdb() {
         return;
     }
     for path in &files {
@@ -172,7 +148,7 @@ fn truncated_or_corrupted_files_are_errors_not_crashes() {
 /// with its value (OpenVDB's placement: voxel `i`'s value at the transform of `i`).
 #[test]
 fn the_cycles_comparison_writer_round_trips_through_openvdb() {
-    if !openvdb() {
+    if !lgh_tests::openvdb() {
         return;
     }
     let v = lgh_volume::procedural::explosion(32, 0.5).unwrap();
@@ -230,7 +206,7 @@ fn the_cycles_comparison_writer_round_trips_through_openvdb() {
 /// grid each voxel's largest channel; a flame grid named with it is refused, saying why.
 #[test]
 fn a_vec3_emission_grid_is_read_as_rgb() {
-    if !openvdb() {
+    if !lgh_tests::openvdb() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -57,6 +57,17 @@ pub fn cornell_box() -> Option<PathBuf> {
 /// minus the emission-only image `e`. The emission is computed identically by both renders, so
 /// leaving it in would only dilute the error of what the lights approximate.
 pub fn scatter_rel_rmse(a: &lgh_image::Image, r: &lgh_image::Image, e: &lgh_image::Image) -> f64 {
+    scatter_errors(a, r, e).0
+}
+
+/// [`scatter_rel_rmse`] and the same channel by channel (each channel's RMSE over the
+/// reference's mean of it, `lgh compare`'s `rel_rmse_rgb`; `None` for a channel the reference's
+/// scattered light does not have).
+pub fn scatter_errors(
+    a: &lgh_image::Image,
+    r: &lgh_image::Image,
+    e: &lgh_image::Image,
+) -> (f64, [Option<f64>; 3]) {
     let sub = |x: &lgh_image::Image| lgh_image::Image {
         pixels: x
             .pixels
@@ -66,9 +77,10 @@ pub fn scatter_rel_rmse(a: &lgh_image::Image, r: &lgh_image::Image, e: &lgh_imag
             .collect(),
         ..x.clone()
     };
-    lgh_image::compare(&sub(a), &sub(r))
-        .expect("images of one size")
-        .rel_rmse
+    let (a, r) = (sub(a), sub(r));
+    let luminance = lgh_image::compare(&a, &r).expect("images of one size");
+    let channels = lgh_image::compare_rgb(&a, &r).expect("images of one size");
+    (luminance.rel_rmse, channels.rel_rmse)
 }
 
 /// The README's library examples (lgh-core, lgh-volume, lgh-vpl), compiled and run as doctests
@@ -240,6 +252,32 @@ impl Piece {
 /// The variable that requires every piece but those a machine may lack by nature
 /// ([`Piece::by_nature`]): `.ci/run` sets it.
 pub const REQUIRE_ALL: &str = "LGH_REQUIRE_ALL";
+
+/// Whether the official OpenVDB library is here: `/usr/bin/python3` imports `pyopenvdb` and
+/// `numpy`, and `vdb_print` runs. Without it, [`Piece::OpenVdb`]'s
+/// [`missing`](Piece::missing) has said so (a failure where it is required).
+#[must_use]
+pub fn openvdb() -> bool {
+    let imports = std::process::Command::new("/usr/bin/python3")
+        .args(["-c", "import pyopenvdb, numpy"])
+        .output();
+    let missing = match imports {
+        Err(e) => format!("no /usr/bin/python3 ({e})"),
+        Ok(o) if !o.status.success() => format!(
+            "/usr/bin/python3 cannot import pyopenvdb and numpy: {}",
+            // The exception, the traceback's last line.
+            String::from_utf8_lossy(&o.stderr)
+                .trim()
+                .lines()
+                .last()
+                .unwrap_or("")
+        ),
+        Ok(_) if !runs("vdb_print", &["-version"]) => "no vdb_print".to_string(),
+        Ok(_) => return true,
+    };
+    Piece::OpenVdb.missing(&missing);
+    false
+}
 
 /// Whether `program` runs (`program args` exits, whatever its status).
 #[must_use]

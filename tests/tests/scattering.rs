@@ -144,6 +144,13 @@ fn multiple_scattering_approaches_the_path_tracer() {
         let increment = rel_rmse(&minus(&multi, &single), &minus(&ptn, &pt1));
         let mean_ratio = mean_luminance(&multi) / mean_luminance(&ptn);
         let single_ratio = mean_luminance(&single) / mean_luminance(&pt1);
+        // Channel by channel too (reported: the path tracer's noise is measured on luminance).
+        let rgb = lgh_image::compare_rgb(&multi, &ptn).unwrap();
+        eprintln!(
+            "{method:?} {shadows:?}: depth {n} vs path tracer, red, green, blue: relRMSE {:?}, \
+             mean ratio {:?}",
+            rgb.rel_rmse, rgb.mean_ratio
+        );
         eprintln!(
             "{method:?} {shadows:?} {:?}: single scattering vs path tracer(1): relRMSE {offset:.4} \
              (noise {noise1:.4}), mean ratio {single_ratio:.4}; depth {n} vs path tracer({}): relRMSE {error:.4} (noise {noisen:.4}), \

@@ -118,7 +118,9 @@ LGH = os.path.join(ROOT, "target/release/lgh")
 
 
 def rel_rmse(img, ref):
-    """(relative RMSE of luminance by `lgh compare`, the project's one metric; mean ratio)."""
+    """(relative RMSE of luminance by `lgh compare`, the project's one metric; mean ratio; the
+    same channel by channel: {"rel_rmse_rgb", "mean_ratio_rgb"} as `lgh compare --json` gives
+    them)."""
     diff = img + ".diff.png"
     out = subprocess.run([LGH, "compare", "--json", "--diff", diff, img, ref],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -126,7 +128,15 @@ def rel_rmse(img, ref):
         sys.exit(f"lgh compare {img} {ref}: {out.stderr.strip()}")
     os.remove(diff)
     a, b = luminance(read_exr(img)), luminance(read_exr(ref))
-    return float(json.loads(out.stdout)["rel_rmse"]), float(np.mean(a) / np.mean(b))
+    j = json.loads(out.stdout)
+    rgb = {k: j[k] for k in ("rel_rmse_rgb", "mean_ratio_rgb", "mean_rgb", "reference_mean_rgb")}
+    return float(j["rel_rmse"]), float(np.mean(a) / np.mean(b)), rgb
+
+
+def channels(values, off=0.0, scale=100.0):
+    """Three channels' figures as "r / g / b" (a missing channel as –)."""
+    return " / ".join("–" if v is None else f"{scale * (v - off):+.1f}" if off else
+                      f"{scale * v:.1f}" for v in values)
 
 
 def run_cpu(cmd, **kw):
@@ -331,9 +341,9 @@ def main():
         ladder = []
         for spp in [int(s) for s in a.ladder.split(",")]:
             c = r.cycles(name, vdb, scene, spp, 0, 128, 128)
-            e, mean = rel_rmse(c["out"], ref)
+            e, mean, rgb = rel_rmse(c["out"], ref)
             ladder.append({"spp": spp, "cpu_s": c["cpu_s"], "wall_s": c["wall_s"], "error": e,
-                           "mean_ratio": mean})
+                           "mean_ratio": mean, **rgb})
         noise = fit_noise(ladder, n_ref)
         c0, c1 = fit_cpu(ladder)
         ref_noise = math.sqrt(noise / n_ref)
@@ -344,14 +354,14 @@ def main():
         rows = []
         for setting in a.settings.split(","):
             q = r.lgh(name, vdb, scene, setting, 128, 128)
-            e, mean = rel_rmse(q["out"], ref)
+            e, mean, rgb = rel_rmse(q["out"], ref)
             true_e = math.sqrt(max(e * e - noise / n_ref, 0.0))
             n_star = noise / true_e ** 2 if true_e > 0 else float("inf")
             cyc_cpu = c0 + c1 * n_star
             row = {"setting": setting, "cpu_s": q["cpu_s"], "wall_s": q["wall_s"],
                    "error": e, "error_vs_truth": true_e, "mean_ratio": mean,
                    "cycles_spp_at_equal_error": n_star, "cycles_cpu_s_at_equal_error": cyc_cpu,
-                   "speedup_128": cyc_cpu / q["cpu_s"]}
+                   "speedup_128": cyc_cpu / q["cpu_s"], **rgb}
             if hd is not None and setting in a.hd_settings.split(","):
                 h = r.lgh(name, vdb, scene, setting, 1280, 720)
                 hd_cpu = hd[0] + hd[1] * n_star
@@ -377,16 +387,20 @@ def main():
         print(f"\n### {s['scene']} (reference: {s['reference_spp']} spp, noise "
               f"{100 * s['reference_noise']:.2f}%)\n")
         print("| renderer | CPU-s 128² | error vs reference | error vs truth | mean / reference |"
+              " R / G / B error (%) | R / G / B mean vs reference (%) |"
               " Cycles spp at equal error | Cycles CPU-s | speed-up 128² | speed-up 720p |")
-        print("|---|---|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         for l in s["ladder"]:
             true_e = math.sqrt(s["cycles_noise_per_spp"] / l["spp"])
             print(f"| Cycles {l['spp']} spp | {l['cpu_s']:.1f} | {100 * l['error']:.2f}% | "
-                  f"{100 * true_e:.2f}% | {l['mean_ratio']:.3f} | | | | |")
+                  f"{100 * true_e:.2f}% | {l['mean_ratio']:.3f} | "
+                  f"{channels(l['rel_rmse_rgb'])} | {channels(l['mean_ratio_rgb'], 1.0)} |"
+                  " | | | |")
         for row in s["lgh"]:
             hd = f"{row['speedup_720p']:.1f}×" if "speedup_720p" in row else "—"
             print(f"| lgh {row['setting']} | {row['cpu_s']:.1f} | {100 * row['error']:.2f}% | "
                   f"{100 * row['error_vs_truth']:.2f}% | {row['mean_ratio']:.3f} | "
+                  f"{channels(row['rel_rmse_rgb'])} | {channels(row['mean_ratio_rgb'], 1.0)} | "
                   f"{row['cycles_spp_at_equal_error']:.0f} | "
                   f"{row['cycles_cpu_s_at_equal_error']:.1f} | {row['speedup_128']:.2f}× | {hd} |")
 

@@ -12,7 +12,8 @@ use crate::error::BuildError;
 use crate::grid::{self, GridSettings, LevelSource, Placement};
 use crate::level::{self, SplatInput, Topology};
 use crate::light::{
-    luminance, validate_intensity, validate_lights, GridLight, LevelKind, LevelLights, PointLight,
+    luminance, validate_intensity, validate_lights, Channels, GridLight, LevelKind, LevelLights,
+    PointLight,
 };
 use crate::math::floor64;
 use crate::morton;
@@ -83,8 +84,9 @@ fn par_map<J: Send, T: Send, F: Fn(J) -> T + Sync + Send>(jobs: Vec<J>, f: F) ->
 impl LightingGridHierarchy {
     /// Builds the hierarchy over `lights` with the given settings.
     ///
-    /// Errors on non-finite positions, non-finite or negative intensities, invalid settings, or a
-    /// grid too fine for the lights' extent. An empty light set gives an empty hierarchy whose
+    /// Errors on non-finite positions, non-finite intensities or ones with a negative luminance
+    /// (a negative channel alone is taken: [`Channels`]), invalid settings, or a grid too fine
+    /// for the lights' extent. An empty light set gives an empty hierarchy whose
     /// queries report nothing.
     ///
     /// ```
@@ -110,7 +112,7 @@ impl LightingGridHierarchy {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn build(lights: &[PointLight], settings: &GridSettings) -> Result<Self, BuildError> {
-        validate_lights(lights)?;
+        validate_lights(lights, Channels::OutOfGamut)?;
         if !(settings.prune_below.is_finite() && settings.prune_below >= 0.0) {
             return Err(BuildError::InvalidThreshold {
                 threshold: settings.prune_below,
@@ -392,7 +394,7 @@ impl LightingGridHierarchy {
             });
         }
         for (i, &v) in intensities.iter().enumerate() {
-            validate_intensity(i, v)?;
+            validate_intensity(i, v, Channels::OutOfGamut)?;
         }
         if n == 0 {
             return Ok(());

@@ -17,7 +17,7 @@ use alloc::vec::Vec;
 use glam::Vec3;
 
 use crate::error::BuildError;
-use crate::light::{validate_lights, PointLight};
+use crate::light::{validate_lights, Channels, PointLight};
 
 mod bounds;
 mod shading;
@@ -127,7 +127,7 @@ impl LightOctree {
                 max: MAX_OCTREE_DEPTH,
             });
         }
-        validate_lights(lights)?;
+        validate_lights(lights, Channels::NonNegative)?;
         let mut tree = LightOctree {
             lights: lights.to_vec(),
             nodes: Vec::new(),
@@ -405,6 +405,11 @@ mod tests {
         assert_eq!(
             LightOctree::build(&negative, &s),
             Err(BuildError::InvalidIntensity { index: 0 })
+        );
+        let out_of_gamut = [PointLight::new(Vec3::ZERO, Vec3::new(1.0, -0.1, 0.0))];
+        assert_eq!(
+            LightOctree::build(&out_of_gamut, &s),
+            Err(BuildError::NegativeChannel { index: 0 })
         );
         for bad in [
             OctreeSettings {
