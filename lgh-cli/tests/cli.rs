@@ -578,6 +578,12 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
     ] {
         assert_refused(work.path(), &bad, "--scatter-stop");
     }
+    for bad in [
+        vec!["demo", "--scatter-depth", "auto", "--scatter-skip=-0.1"],
+        vec!["demo", "--scatter-depth", "4", "--scatter-skip", "1"],
+    ] {
+        assert_refused(work.path(), &bad, "--scatter-skip");
+    }
     assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
 
     // As many depths as the stopping rule wants: the header says where it stopped, each
@@ -587,7 +593,8 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
     let o = small_demo(&out, (16, 10), &["--scatter-depth", "auto"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let get = header(&out);
-    assert_eq!(get("lgh:scatter_stop"), "0.01");
+    assert_eq!(get("lgh:scatter_stop"), "0.002");
+    assert_eq!(get("lgh:scatter_skip"), "0.01");
     let depth: usize = get("lgh:scatter_depth").parse().unwrap();
     assert!((1..16).contains(&depth), "{depth}");
     assert_eq!(get("lgh:scatter_depth_powers").split(',').count(), depth);
@@ -745,12 +752,14 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
         header(&out)
     };
     // Defaults: Blender's Principled Volume emits at every temperature, and its images scatter
-    // many times: the marcher scatters until a depth adds less than 1% — here none, since the
-    // dev fire's thin smoke scatters about 0.3% of the light its flames emit, which the pass's
-    // pilot predicts from a sample of the voxels before any depth.
+    // many times: the marcher scatters until the next depth would add less than 0.2% — here
+    // none, since the dev fire's thin smoke scatters about 0.3% of the light its flames emit,
+    // below the 1% skipping share, which the pass's pilot predicts from a sample of the voxels
+    // before any depth.
     let get = render(&[]);
     assert_eq!(get("lgh:min_temperature"), "0");
-    assert_eq!(get("lgh:scatter_stop"), "0.01");
+    assert_eq!(get("lgh:scatter_stop"), "0.002");
+    assert_eq!(get("lgh:scatter_skip"), "0.01");
     // Coarse lights shadowed as the volume lights they stand for (lgh demo keeps raymarch).
     assert_eq!(get("lgh:shadows"), "volumes");
     // The emission of the interpolated temperature (Cycles 3.x) unless asked otherwise.
@@ -761,9 +770,12 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert_eq!(get("lgh:scatter_depth"), "0");
     let share: f64 = get("lgh:scatter_skipped_share").parse().unwrap();
     assert!(share > 0.0 && share < 0.01, "{share}");
-    // Asked for a share below the fire's, it scatters.
-    let get = render(&["--scatter-stop", "0.0001"]);
+    // Asked for a skipping share below the fire's, it scatters; the stopping share alone does
+    // not decide that.
+    let get = render(&["--scatter-skip", "0.0001"]);
     assert!(get("lgh:scatter_depth").parse::<usize>().unwrap() >= 1);
+    let get = render(&["--scatter-stop", "0.0001"]);
+    assert_eq!(get("lgh:scatter_depth"), "0");
     // Planck's model keeps its 800 K; a depth given is kept; the path tracer scatters by
     // --max-scatter, not by depths.
     let get = render(&[

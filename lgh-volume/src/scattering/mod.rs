@@ -143,7 +143,7 @@ pub struct Scattered {
 }
 
 /// A pass whose first depth was skipped by its pilot: the smoke scatters too little of the
-/// emitted light to matter under the stopping share (`--scatter-depth auto`; see
+/// emitted light to matter under the skipping share (`--scatter-depth auto`; see
 /// [`Scattered::skipped`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Skipped {
@@ -265,7 +265,8 @@ impl Scattered {
         &self.merged
     }
 
-    /// Whether the pass was skipped: under a stopping share (`--scatter-depth auto`), depth 1's
+    /// Whether the pass was skipped: under a skipping share
+    /// ([`scatter_skip`](MarchSettings::scatter_skip), `--scatter-depth auto`), depth 1's
     /// power is first predicted from a sample of the voxels, and the pass stops before any
     /// depth if it is below the share of the emitted light. The lights are then the emission
     /// lights as they are, and the image the single-scattering one, bit for bit.
@@ -280,7 +281,8 @@ impl Scattered {
     /// let auto = MarchSettings {
     ///     shadows: Shadows::None,
     ///     scatter_depth: 16,
-    ///     scatter_stop: 0.01,
+    ///     scatter_stop: 0.002,
+    ///     scatter_skip: 0.01,
     ///     ..Default::default()
     /// };
     /// // Smoke that only absorbs (albedo 0) scatters nothing: no depth is computed.

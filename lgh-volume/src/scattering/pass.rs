@@ -179,7 +179,8 @@ struct DepthLoop<'a> {
 impl DepthLoop<'_> {
     /// Depths `1..=n` (`n + 1` with the grid) into `depths`, each lit by the one before
     /// (`scattered` takes each depth's intensities), stopping early by the stopping share's
-    /// rule ([`stop_after`]). `Some` if the first depth's pilot skipped the pass: what it
+    /// rule ([`stop_after`]). `Some` if the first depth's pilot (under a skipping share)
+    /// skipped the pass: what it
     /// found, and the emission lights' shading it made.
     fn run(
         &self,
@@ -197,9 +198,10 @@ impl DepthLoop<'_> {
             } else {
                 (&*scattered, self.later)
             };
-            // The first depth under a stopping share has a pilot: skipped, if it cannot matter.
-            let pilot = (k == 1 && stop > 0.0).then(|| Pilot {
-                share: stop,
+            // The first depth under a skipping share has a pilot: skipped, if it cannot matter.
+            let skip = self.settings.scatter_skip;
+            let pilot = (k == 1 && skip > 0.0).then(|| Pilot {
+                share: skip,
                 emitted: depths.powers[0],
             });
             let (stats, shadow_seconds) = match pass.run(source, &mut next, pilot)? {

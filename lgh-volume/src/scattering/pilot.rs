@@ -1,4 +1,4 @@
-//! The pilot of a pass's first depth under a stopping share (`--scatter-depth auto`): depth 1's
+//! The pilot of a pass's first depth under a skipping share (`--scatter-depth auto`): depth 1's
 //! power predicted from a sample of the voxels, and the whole pass (paper Sec. 5) skipped when
 //! the smoke scatters too little of the emitted light to matter.
 
@@ -6,7 +6,9 @@
 /// ([`Scattered::skipped`](super::Scattered::skipped)).
 pub const PILOT_VOXELS: usize = 4096;
 
-/// The pilot of a pass's first depth under a stopping share (`--scatter-depth auto`): before
+/// The pilot of a pass's first depth under a skipping share
+/// ([`MarchSettings::scatter_skip`](crate::render::MarchSettings::scatter_skip),
+/// `--scatter-depth auto`): before
 /// the depth-1 fluence is computed at every smoky voxel, it is computed at every `m`-th of
 /// them (in index order, `m` the smallest that keeps the sample to [`PILOT_VOXELS`]), and the
 /// depth's power is predicted as the sample's times `n / sample`. Depth 1 — and so every depth —
@@ -52,11 +54,12 @@ mod tests {
         // The ball at 32³: 8,744 smoky voxels, so the pilot samples every 3rd (2,915).
         let volume = blob(32);
         let lgh = Method::Lgh { alpha: 2.0 };
-        let frame = |medium: &Medium, depth, stop| {
+        let frame = |medium: &Medium, depth, stop, skip| {
             let emission = ExplosionLights::new(&[&volume], medium).unwrap();
             let settings = MarchSettings {
                 scatter_depth: depth,
                 scatter_stop: stop,
+                scatter_skip: skip,
                 ..Default::default()
             };
             let render = crate::FrameRender::new(&emission, lgh, &volume, medium, &settings, &());
@@ -71,20 +74,26 @@ mod tests {
         };
         // Thin, nearly black smoke: depth 1 would add well under 1% of the emitted light.
         let thin = Medium::new(1.0, 0.02, 1e-4, 1000.0).unwrap();
-        let (image, skipped, _) = frame(&thin, 16, 0.01);
+        let (image, skipped, _) = frame(&thin, 16, 0.01, 0.01);
         let skipped = skipped.expect("the pilot skips the pass");
         assert!(skipped.predicted > 0.0 && skipped.predicted < 0.01 * skipped.emitted);
         assert_eq!((skipped.sampled, skipped.voxels), (2915, 8744));
         // The image is the single-scattering one, bit for bit.
-        let (single, none, _) = frame(&thin, 0, 0.0);
+        let (single, none, _) = frame(&thin, 0, 0.0, 0.0);
         assert!(none.is_none());
         assert_eq!(image, single);
+        // The skipping share alone decides: without it the stopping share computes depth 1, and
+        // a share that the prediction passes keeps the pass.
+        let (_, none, power) = frame(&thin, 16, 0.01, 0.0);
+        assert!(none.is_none() && power.is_some());
+        let (_, none, _) = frame(&thin, 16, 0.01, 0.1 * skipped.share() as f32);
+        assert!(none.is_none());
         // The prediction against the depth computed at every voxel, from a systematic sample of
         // a third of them. 2%: a uniformly random sample of 2,915 voxels whose powers spread
         // with a coefficient of variation of 1 errs by 1/√2915 = 1.85% (one standard
         // deviation); a systematic sample of a smooth field does better (measured: 0.26%).
-        let (_, _, exact) = frame(&thin, 1, 0.0);
-        let (_, by_pilot, _) = frame(&thin, 16, 0.999);
+        let (_, _, exact) = frame(&thin, 1, 0.0, 0.0);
+        let (_, by_pilot, _) = frame(&thin, 16, 0.999, 0.999);
         let (exact, predicted) = (exact.unwrap(), by_pilot.unwrap().predicted);
         assert!(
             (predicted / exact - 1.0).abs() < 0.02,
@@ -92,8 +101,8 @@ mod tests {
         );
         // Smoke that scatters goes on, and its first depth is the full pass's, bit for bit.
         let grey = Medium::new(1.0, 4.0, 1e-4, 1000.0).unwrap();
-        let (_, skipped, auto) = frame(&grey, 16, 0.01);
-        let (_, _, full) = frame(&grey, 1, 0.0);
+        let (_, skipped, auto) = frame(&grey, 16, 0.01, 0.01);
+        let (_, _, full) = frame(&grey, 1, 0.0, 0.0);
         assert!(skipped.is_none());
         assert_eq!(auto.map(f64::to_bits), full.map(f64::to_bits));
     }
