@@ -14,7 +14,7 @@ fn root() -> PathBuf {
 }
 
 /// The library crates, whose structure is checked.
-const CRATES: [&str; 9] = [
+const CRATES: [&str; 10] = [
     "lgh-core",
     "lgh-image",
     "lgh-volume",
@@ -24,9 +24,11 @@ const CRATES: [&str; 9] = [
     "lgh-capi",
     "lgh-gpu",
     "web",
+    "lgh-py",
 ];
 
-/// Every `.rs` file below `dir`.
+/// Every `.rs` file below `dir`, outside build folders (lgh-py, its own workspace, builds into
+/// `lgh-py/target`).
 fn rust_files(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
@@ -34,7 +36,9 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
         for e in std::fs::read_dir(&d).unwrap() {
             let p = e.unwrap().path();
             if p.is_dir() {
-                stack.push(p);
+                if p.file_name().is_some_and(|n| n != "target") {
+                    stack.push(p);
+                }
             } else if p.extension().is_some_and(|x| x == "rs") {
                 out.push(p);
             }
@@ -543,6 +547,33 @@ fn ci_runs_every_ignored_test() {
         if !ci.lines().any(|l| l.contains(&run)) {
             problems.push(format!("{}: .ci/run has no `{run}`", f.display()));
         }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// A crate that is its own workspace (lgh-py: PyO3's build needs a Python, so maturin builds
+/// it) is out of reach of the workspace's `cargo fmt --all` and `cargo clippy --workspace`:
+/// `.ci/run` lints it by its manifest, and runs the Python package's tests.
+#[test]
+fn ci_lints_every_crate_outside_the_workspace() {
+    let ci = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let mut problems = Vec::new();
+    for krate in CRATES {
+        let manifest = std::fs::read_to_string(root().join(krate).join("Cargo.toml")).unwrap();
+        if !manifest.lines().any(|l| l.trim() == "[workspace]") {
+            continue;
+        }
+        for lint in [
+            format!("cargo fmt --manifest-path {krate}/Cargo.toml -- --check"),
+            format!("cargo clippy --manifest-path {krate}/Cargo.toml --all-targets -- -D warnings"),
+        ] {
+            if !ci.contains(&lint) {
+                problems.push(format!(".ci/run has no `{lint}`"));
+            }
+        }
+    }
+    if !ci.contains("-m pytest -q lgh-py/tests") {
+        problems.push(".ci/run does not run lgh-py's pytest suite".to_string());
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }

@@ -1,0 +1,61 @@
+"""Type stubs of the native module ``lgh._lgh`` (re-exported by ``lgh``)."""
+from typing import Callable, Optional, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class RenderError(Exception):
+    """An error of the library that is not a bad argument (``ValueError``) or a missing file
+    (``FileNotFoundError``); its message is the library's."""
+
+class Gathered(TypedDict):
+    """The lights one point sees, one row a light (``Hierarchy.gather``)."""
+
+    position: npt.NDArray[np.float32]  # (k, 3)
+    intensity: npt.NDArray[np.float32]  # (k, 3), the blending weight applied
+    variance: npt.NDArray[np.float32]  # (k, 3)
+    weight: npt.NDArray[np.float32]  # (k,)
+    distance: npt.NDArray[np.float32]  # (k,)
+    size: npt.NDArray[np.float32]  # (k,)
+    level: npt.NDArray[np.uint8]  # (k,)
+    index: npt.NDArray[np.uint32]  # (k,)
+
+class Hierarchy:
+    """The Lighting Grid Hierarchy (Yuksel & Yuksel 2017) over point lights."""
+
+    def __init__(
+        self,
+        positions: npt.ArrayLike,
+        intensities: npt.ArrayLike,
+        *,
+        alpha: float = 2.0,
+        h1: Optional[float] = None,
+        origin: Optional[npt.ArrayLike] = None,
+        max_level: Optional[int] = None,
+        prune_below: float = 0.0,
+    ) -> None: ...
+    def probe(
+        self,
+        points: npt.ArrayLike,
+        *,
+        progress: Optional[Callable[[int, int], object]] = None,
+    ) -> npt.NDArray[np.float32]:
+        """The unshadowed light-probe value at each point: an (n, 3) float32 array."""
+    def gather(self, point: npt.ArrayLike) -> Gathered:
+        """The lights ``point`` sees at every level, with their blending weights."""
+    def update_intensities(self, intensities: npt.ArrayLike) -> None:
+        """New intensities at the same positions, as many as the lights."""
+    def rebuild(self, positions: npt.ArrayLike, intensities: npt.ArrayLike) -> None:
+        """Rebuilds over new lights (any count) with the same settings."""
+    alpha: float
+    @property
+    def h1(self) -> float: ...
+    @property
+    def h0(self) -> float: ...
+    @property
+    def max_level(self) -> int: ...
+    @property
+    def origin(self) -> tuple[float, float, float]: ...
+    def __len__(self) -> int: ...

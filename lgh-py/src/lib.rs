@@ -1,0 +1,24 @@
+//! The native half of the Python package `lgh` (`lgh._lgh`): the Lighting Grid Hierarchy of
+//! Yuksel & Yuksel 2017 over numpy arrays, for pipelines, DCC tools and notebooks.
+//!
+//! One concept a module: [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
+//! (2), (4), (5) and the blended query of eq. (3)); [`arrays`] moves numpy arrays in and out
+//! without a Python call per element; [`errors`] maps the library's errors to Python's
+//! exceptions; [`work`] runs long work in chunks with the GIL released, stopping on Ctrl-C and
+//! reporting progress between chunks.
+
+use pyo3::prelude::*;
+
+mod arrays;
+mod errors;
+mod hierarchy;
+mod work;
+
+/// The module `lgh._lgh`; `lgh/__init__.py` re-exports it.
+#[pymodule]
+fn _lgh(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<hierarchy::Hierarchy>()?;
+    m.add("RenderError", m.py().get_type::<errors::RenderError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
