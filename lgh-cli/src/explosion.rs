@@ -349,10 +349,12 @@ struct Setup {
 impl Setup {
     /// Checks every flag, then that each of `inputs` is a file, then makes the medium (its
     /// blackbody table is the first work): a bad flag or path is said at once.
-    fn new(args: &ExplosionArgs, inputs: &[PathBuf]) -> Result<Self, crate::Error> {
+    fn new(args: &ExplosionArgs, inputs: &[PathBuf], sink: &Sink) -> Result<Self, crate::Error> {
         crate::check_alpha(args.alpha)?;
         lgh_volume::render::check_image_size(args.width, args.height)?;
-        output::check_out(args.out()?)?;
+        if let Sink::Files = sink {
+            output::check_out(args.out()?)?;
+        }
         let march = args.march.settings(EXPLOSION_DEFAULTS, &args.scatter())?;
         if args.backend == BackendArg::Pathtrace && args.scene.is_some() {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
@@ -478,6 +480,65 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     if let Some(path) = &args.manifest {
         return run_task(args, matches, path);
     }
+    run_into(args, matches, Sink::Files)
+}
+
+/// Where the frames go: `--out`'s files (the command), or memory ([`render_in_memory`]).
+enum Sink<'a> {
+    Files,
+    Memory(&'a mut Vec<FrameImage>),
+}
+
+/// A frame rendered into memory: the image `lgh explosion` writes to its EXR.
+#[derive(Clone, Debug)]
+pub struct FrameImage {
+    /// The frame's number (`--frames`), or `None` for the one file `--vdb`.
+    pub frame: Option<u32>,
+    /// The image: linear RGB, the EXR's pixels.
+    pub image: lgh_image::Image,
+}
+
+/// The flags of files, which a render into memory has none of.
+const FILE_FLAGS: [&str; 4] = ["out", "prepare", "manifest", "resume"];
+
+/// `lgh explosion` with the command line `args` (after `lgh explosion`, without `--out`),
+/// every frame rendered into memory instead of files: the same settings, defaults, checks and
+/// images as the command, bit for bit (`lgh-py`'s tests hold them to it), and nothing printed
+/// but the progress bars (none with `--quiet`) and warnings. A bad flag is a [`Usage`](crate::Usage)
+/// error with the parser's message.
+pub fn render_in_memory<I, T>(args: I) -> Result<Vec<FrameImage>, crate::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    use clap::{Args, FromArgMatches};
+    let command = ExplosionArgs::augment_args(clap::Command::new("lgh explosion"))
+        .no_binary_name(true)
+        .mut_arg("out", |a| {
+            a.required_unless_present(clap::builder::Resettable::<clap::Id>::Reset)
+        });
+    let matches = command
+        .try_get_matches_from(args)
+        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
+    if let Some(arg) = given_flags(&matches, &[])
+        .iter()
+        .find(|a| FILE_FLAGS.contains(&a.get_id().as_str()))
+    {
+        return Err(crate::usage(format!(
+            "--{}: a render into memory writes no files",
+            arg.get_long().unwrap_or("?")
+        )));
+    }
+    let args = ExplosionArgs::from_arg_matches(&matches)
+        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
+    let mut images = Vec::new();
+    run_into(&args, &matches, Sink::Memory(&mut images))?;
+    Ok(images)
+}
+
+/// One pass over the frames for what they share (written as a manifest with `--prepare`),
+/// then every frame into `sink`.
+fn run_into(args: &ExplosionArgs, matches: &ArgMatches, sink: Sink) -> Result<(), crate::Error> {
     if args.prepare.is_some() && args.resume {
         return Err(crate::usage(
             "--resume is for rendering: --prepare renders nothing",
@@ -493,7 +554,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
             Some(f) => cache::frame_path(vdb, *f),
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let setup = Setup::new(args, &paths)?;
+    let setup = Setup::new(args, &paths, &sink)?;
     // The room is read (and its files hashed for the manifest) before any frame.
     let room = args.scene.as_deref().map(Room::load).transpose()?;
     let t = Instant::now();
@@ -538,6 +599,7 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
         room,
         kept: Some((n - 1, pass.kept)),
         load_s: Some(load_s),
+        sink,
     };
     frames.render(0..n)
 }
@@ -635,7 +697,7 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
     let mut full = replay(&manifest)?;
     full.quiet = args.quiet;
     full.resume = args.resume;
-    let setup = Setup::new(&full, &[])?;
+    let setup = Setup::new(&full, &[], &Sink::Files)?;
     let which = match (&args.frames, manifest.range()) {
         (None, _) => 0..manifest.files.len(),
         (Some(s), Some((first, last))) => {
@@ -674,6 +736,7 @@ fn run_task(args: &ExplosionArgs, matches: &ArgMatches, path: &Path) -> Result<(
         room,
         kept: None,
         load_s: None,
+        sink: Sink::Files,
     };
     frames.render(which)
 }
@@ -714,6 +777,8 @@ struct Frames<'a> {
     kept: Option<(usize, Rc<Volume>)>,
     /// Seconds the pass over the frames took (`None`: a farm task, which read the manifest).
     load_s: Option<f64>,
+    /// Where the frames go.
+    sink: Sink<'a>,
 }
 
 impl Frames<'_> {
@@ -730,6 +795,13 @@ impl Frames<'_> {
             0.5 * (lo + hi),
             self.seq.voxel_size(),
         );
+        if let Sink::Memory(_) = self.sink {
+            for n in which {
+                let volume = self.volume(n)?;
+                self.render_frame(n, &volume, (&camera, &march), None)?;
+            }
+            return Ok(());
+        }
         self.announce(which.len())?;
         let digest = self.manifest.digest();
         for n in which {
@@ -739,7 +811,7 @@ impl Frames<'_> {
                 continue;
             }
             let volume = self.volume(n)?;
-            self.render_frame(n, &volume, (&camera, &march), &out)?;
+            self.render_frame(n, &volume, (&camera, &march), Some(&out))?;
         }
         Ok(())
     }
@@ -821,13 +893,14 @@ impl Frames<'_> {
         Ok(lights.lit())
     }
 
-    /// Renders frame `n` (`volume`) to `out` and says what it did.
+    /// Renders frame `n` (`volume`) to `out` and says what it did (`None`: into the sink's
+    /// memory, silently).
     fn render_frame(
         &mut self,
         n: usize,
         volume: &Volume,
         (camera, march): (&Camera, &MarchSettings),
-        out: &Path,
+        out: Option<&Path>,
     ) -> Result<(), crate::Error> {
         let (args, setup) = (self.args, self.setup);
         let file = &self.manifest.files[n];
@@ -862,6 +935,15 @@ impl Frames<'_> {
                 (rendered, Some((frame, shares)))
             }
             _ => (self.path_trace(volume, camera, &bars)?, None),
+        };
+        let (Some(out), Sink::Files) = (out, &mut self.sink) else {
+            if let Sink::Memory(images) = &mut self.sink {
+                images.push(FrameImage {
+                    frame: file.frame,
+                    image: rendered.image,
+                });
+            }
+            return Ok(());
         };
         let png = rendered.write(out, march, args.backend.name(), extra)?;
         let mut work = rendered.stats.map_or(String::new(), |st| {

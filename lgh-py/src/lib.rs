@@ -1,7 +1,8 @@
 //! The native half of the Python package `lgh` (`lgh._lgh`): the Lighting Grid Hierarchy of
 //! Yuksel & Yuksel 2017 over numpy arrays, for pipelines, DCC tools and notebooks.
 //!
-//! One concept a module: [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
+//! One concept a module: [`explosion`] renders a simulation cache as `lgh explosion` does;
+//! [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
 //! (2), (4), (5) and the blended query of eq. (3)); [`arrays`] moves numpy arrays in and out
 //! without a Python call per element; [`errors`] maps the library's errors to Python's
 //! exceptions; [`work`] runs long work in chunks with the GIL released, stopping on Ctrl-C and
@@ -11,6 +12,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod errors;
+mod explosion;
 mod hierarchy;
 mod work;
 
@@ -18,6 +20,7 @@ mod work;
 #[pymodule]
 fn _lgh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<hierarchy::Hierarchy>()?;
+    m.add_function(wrap_pyfunction!(explosion::render_explosion, m)?)?;
     m.add("RenderError", m.py().get_type::<errors::RenderError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -1,4 +1,5 @@
 """Type stubs of the native module ``lgh._lgh`` (re-exported by ``lgh``)."""
+import os
 from typing import Callable, Optional, TypedDict
 
 import numpy as np
@@ -9,6 +10,13 @@ __version__: str
 class RenderError(Exception):
     """An error of the library that is not a bad argument (``ValueError``) or a missing file
     (``FileNotFoundError``); its message is the library's."""
+
+def render_explosion(
+    vdb: str | os.PathLike[str], **settings: object
+) -> npt.NDArray[np.float32] | dict[int, npt.NDArray[np.float32]]:
+    """``lgh explosion --vdb VDB`` with ``settings`` (``name=value`` is ``--name value``),
+    rendered into memory: an (h, w, 3) float32 array, or with ``frames="A..B"`` a dict of them
+    by frame number."""
 
 class Gathered(TypedDict):
     """The lights one point sees, one row a light (``Hierarchy.gather``)."""

@@ -1,0 +1,75 @@
+"""``lgh.render_explosion`` against ``lgh explosion``: the same settings give the same image, bit
+for bit (both run lgh-cli's code; Python's renders into memory instead of an EXR), on the dev
+fire's frame 56; and every bad input is one exception with the command's message.
+
+Needs the shared data (``../shared/data``) and the `lgh` binary: skipped with a message without
+them, a failure where ``LGH_REQUIRE_ALL`` is set (``.ci/run``).
+"""
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import lgh
+from test_against_the_cli import ROOT, lgh_binary
+
+FIRE = ROOT.parent / "shared" / "data" / "volumes" / "blender_fire_pesichra" / "data"
+
+
+def fire_frame(n):
+    path = FIRE / f"fluid_data_{n:04d}.vdb"
+    if path.is_file():
+        return path
+    if os.environ.get("LGH_REQUIRE_ALL"):
+        pytest.fail(f"no {path} (the shared data)")
+    pytest.skip(f"SKIPPED: no {path} (the shared data, ../shared/data)")
+
+
+def read_exr(path):
+    import OpenEXR
+
+    with OpenEXR.File(str(path)) as f:
+        channels = f.channels()
+        if "RGB" in channels:
+            return np.asarray(channels["RGB"].pixels, dtype=np.float32)
+        return np.stack([channels[c].pixels for c in "RGB"], axis=-1).astype(np.float32)
+
+
+def test_the_image_is_the_commands_bit_for_bit(tmp_path):
+    binary, vdb = lgh_binary(), fire_frame(56)
+    settings = dict(width=40, height=24, pixel_samples=1, scatter_depth="auto", albedo=0.7)
+    flags = ["--width", "40", "--height", "24", "--pixel-samples", "1", "--scatter-depth",
+             "auto", "--albedo", "0.7"]
+    out = tmp_path / "fire.exr"
+    subprocess.run([str(binary), "explosion", "--vdb", str(vdb), "--out", str(out), "--quiet",
+                    *flags], check=True, capture_output=True)
+    want = read_exr(out)
+    got = lgh.render_explosion(vdb, **settings)
+    assert got.dtype == np.float32 and got.shape == (24, 40, 3)
+    assert np.any(got > 0)
+    np.testing.assert_array_equal(got, want)
+    # A camera as a tuple is the command's comma-separated one.
+    cam = (0.53, -2.16, 0.455, 0.53, 0.34, 0.455, 40)
+    a = lgh.render_explosion(vdb, camera=cam, width=16, height=16, scatter_depth=0)
+    b = lgh.render_explosion(vdb, camera=",".join(map(str, cam)), width=16, height=16,
+                             scatter_depth=0)
+    np.testing.assert_array_equal(a, b)
+
+
+def test_bad_input_is_one_exception_with_the_commands_message(tmp_path):
+    vdb = fire_frame(56)
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        lgh.render_explosion(tmp_path / "missing.vdb")
+    with pytest.raises(ValueError, match="--no-such-setting"):
+        lgh.render_explosion(vdb, no_such_setting=1)
+    with pytest.raises(ValueError, match="--out: a render into memory writes no files"):
+        lgh.render_explosion(vdb, out=str(tmp_path / "x.exr"))
+    with pytest.raises(ValueError, match="--scatter-depth"):
+        lgh.render_explosion(vdb, scatter_depth="often")
+    with pytest.raises(lgh.RenderError, match="--albedo 2 must be in 0..=1"):
+        lgh.render_explosion(vdb, albedo=2)
+    with pytest.raises(lgh.RenderError, match="no grid named 'no_such_grid'"):
+        lgh.render_explosion(vdb, emission_grid="no_such_grid", width=8, height=8)
+    assert not any(tmp_path.iterdir())
