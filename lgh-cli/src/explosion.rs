@@ -536,6 +536,70 @@ where
     Ok(images)
 }
 
+/// A setting of `lgh explosion` that a render into memory takes: what the Python package's
+/// `render_explosion` takes as a keyword argument, its stubs and docstring list.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Setting {
+    /// The flag's long name (`scatter-depth`).
+    pub flag: String,
+    /// Whether it takes a value (`--albedo 0.7`) or is a switch (`--no-domain-offset`).
+    pub takes_value: bool,
+    /// Its default as the command shows it, if it has one.
+    pub default: Option<String>,
+    /// The values it accepts, where they are a fixed list.
+    pub choices: Vec<String>,
+    /// The help's first sentence.
+    pub help: String,
+}
+
+/// Every setting a render into memory takes ([`render_in_memory`]): the flags of `lgh
+/// explosion` but `--vdb` and the flags of files, in the command's order.
+#[must_use]
+pub fn settings() -> Vec<Setting> {
+    let command = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
+    command
+        .get_arguments()
+        .filter(|a| {
+            let id = a.get_id().as_str();
+            id != "vdb" && !FILE_FLAGS.contains(&id)
+        })
+        .filter_map(|a| {
+            let flag = a.get_long()?.to_string();
+            let takes_value = a.get_action().takes_values();
+            let default = a
+                .get_default_values()
+                .iter()
+                .map(|v| v.to_string_lossy().into_owned())
+                .reduce(|a, b| format!("{a},{b}"));
+            let choices = a
+                .get_possible_values()
+                .iter()
+                .map(|v| v.get_name().to_string())
+                .collect();
+            let help = a.get_help().map(ToString::to_string).unwrap_or_default();
+            Some(Setting {
+                flag,
+                takes_value,
+                default,
+                choices,
+                help: first_sentence(&help).to_string(),
+            })
+        })
+        .collect()
+}
+
+/// `text`'s first sentence, without its full stop: up to the first `. ` before a capital that
+/// does not end an abbreviation (`e.g.`, `Sec.`, `eq.`).
+fn first_sentence(text: &str) -> &str {
+    const ABBREVIATIONS: [&str; 6] = ["e.g", "i.e", "Sec", "eq", "Eq", "Fig"];
+    let end = text.match_indices(". ").map(|(i, _)| i).find(|&i| {
+        let next = text[i + 2..].chars().next();
+        let word = text[..i].rsplit([' ', '(']).next().unwrap_or_default();
+        next.is_some_and(|c| c.is_uppercase() || c == '`') && !ABBREVIATIONS.contains(&word)
+    });
+    end.map_or(text, |i| &text[..i]).trim_end_matches('.')
+}
+
 /// One pass over the frames for what they share (written as a manifest with `--prepare`),
 /// then every frame into `sink`.
 fn run_into(args: &ExplosionArgs, matches: &ArgMatches, sink: Sink) -> Result<(), crate::Error> {
@@ -1057,5 +1121,14 @@ mod tests {
             frame_out(Path::new("a/b.exr"), Some(7)),
             Path::new("a/b_0007.exr")
         );
+        assert_eq!(
+            first_sentence("Frames (e.g. 50..56). One each."),
+            "Frames (e.g. 50..56)"
+        );
+        assert_eq!(
+            first_sentence("Pruning (paper Sec. 6.3). More."),
+            "Pruning (paper Sec. 6.3)"
+        );
+        assert_eq!(first_sentence("No stop at all"), "No stop at all");
     }
 }

@@ -64,6 +64,27 @@ fn array<'py>(py: Python<'py>, image: &lgh_image::Image) -> PyResult<Bound<'py, 
         .into_any())
 }
 
+/// Every setting ``render_explosion`` takes, in ``lgh explosion``'s order: a list of
+/// ``(name, takes_value, default, choices, help)``, ``name`` the keyword (the flag with
+/// underscores), ``default`` the command's (``None`` where it has none), ``choices`` the
+/// accepted values where they are a fixed list, ``help`` the help's first sentence.
+#[pyfunction]
+pub fn explosion_settings() -> Vec<(String, bool, Option<String>, Vec<String>, String)> {
+    lgh_cli::explosion::settings()
+        .into_iter()
+        .map(|s| {
+            let default = s.default.filter(|_| s.takes_value);
+            (
+                s.flag.replace('-', "_"),
+                s.takes_value,
+                default,
+                s.choices,
+                s.help,
+            )
+        })
+        .collect()
+}
+
 /// Renders an OpenVDB simulation cache lit by its own fire, as ``lgh explosion --vdb VDB``
 /// with ``settings`` does, into memory: an ``(h, w, 3)`` float32 array of linear RGB (the
 /// command's EXR), or with ``frames="A..B"`` a dict of them by frame number. Every setting of

@@ -21,6 +21,7 @@ mod work;
 fn _lgh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<hierarchy::Hierarchy>()?;
     m.add_function(wrap_pyfunction!(explosion::render_explosion, m)?)?;
+    m.add_function(wrap_pyfunction!(explosion::explosion_settings, m)?)?;
     m.add("RenderError", m.py().get_type::<errors::RenderError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -10,6 +10,24 @@ into an ``(h, w, 3)`` array. ``Hierarchy`` takes numpy arrays (any array-like of
 and returns them; errors are Python exceptions carrying the library's message: ``ValueError``
 for a bad argument, ``lgh.RenderError`` for the rest.
 """
-from ._lgh import Hierarchy, RenderError, __version__, render_explosion
+from . import _lgh
+from ._lgh import Hierarchy, RenderError, __version__, explosion_settings
 
-__all__ = ["Hierarchy", "RenderError", "__version__", "render_explosion"]
+__all__ = ["Hierarchy", "RenderError", "__version__", "explosion_settings", "render_explosion"]
+
+
+def render_explosion(vdb, **settings):
+    return _lgh.render_explosion(vdb, **settings)
+
+
+def _settings_doc():
+    """The keyword arguments of ``render_explosion``, from the command's own flags."""
+    lines = ["", "Settings (keyword arguments; the command's defaults):", ""]
+    for name, takes_value, default, choices, help in explosion_settings():
+        value = "True" if not takes_value else ("|".join(choices) or "value")
+        shown = f", default {default}" if default is not None else ""
+        lines.append(f"- ``{name}={value}``{shown}: {help}.")
+    return "\n".join(lines)
+
+
+render_explosion.__doc__ = (_lgh.render_explosion.__doc__ or "") + "\n" + _settings_doc()
