@@ -64,12 +64,15 @@ fn array<'py>(py: Python<'py>, image: &lgh_image::Image) -> PyResult<Bound<'py, 
         .into_any())
 }
 
+/// A setting as Python sees it: `(name, takes_value, default, choices, help)`.
+type SettingRow = (String, bool, Option<String>, Vec<String>, String);
+
 /// Every setting ``render_explosion`` takes, in ``lgh explosion``'s order: a list of
 /// ``(name, takes_value, default, choices, help)``, ``name`` the keyword (the flag with
 /// underscores), ``default`` the command's (``None`` where it has none), ``choices`` the
 /// accepted values where they are a fixed list, ``help`` the help's first sentence.
 #[pyfunction]
-pub fn explosion_settings() -> Vec<(String, bool, Option<String>, Vec<String>, String)> {
+pub fn explosion_settings() -> Vec<SettingRow> {
     lgh_cli::explosion::settings()
         .into_iter()
         .map(|s| {
