@@ -2,6 +2,7 @@
 //! its own fire (the paper's Sec. 5 and 6), with every setting of the command a keyword
 //! argument at the command's default, the same checks and the same image, bit for bit.
 
+use std::ffi::OsString;
 use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArrayMethods};
@@ -11,7 +12,8 @@ use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 
 use crate::errors::RenderError;
 
-/// The command line of `settings`: `name=value` is `--name value` (underscores as dashes),
+/// The command line of `settings`: `name=value` is `--name=value` (underscores as dashes; the
+/// `=` form, so that a value may start with `-`),
 /// `True` the flag alone, `False` and `None` nothing, a tuple or list its items joined by
 /// commas (`camera=(0, -4, 0, 0, 0, 0, 40)`).
 fn command_line(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
@@ -39,8 +41,7 @@ fn command_line(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
         } else {
             v.str()?.to_string()
         };
-        argv.push(flag);
-        argv.push(value);
+        argv.push(format!("{flag}={value}"));
     }
     Ok(argv)
 }
@@ -93,8 +94,9 @@ pub fn explosion_settings() -> Vec<SettingRow> {
 /// command's EXR), or with ``frames="A..B"`` a dict of them by frame number. Every setting of
 /// ``lgh explosion`` is a keyword argument (``lgh explosion --help``: ``--scatter-depth auto``
 /// is ``scatter_depth="auto"``, ``--no-domain-offset`` is ``no_domain_offset=True``), at the
-/// command's default where not given. A missing file is ``FileNotFoundError``, a flag or value
-/// the parser refuses ``ValueError``, any other error ``lgh.RenderError``. Progress bars are
+/// command's default where not given. A missing ``vdb`` is ``FileNotFoundError``, a flag or
+/// value the parser refuses ``ValueError``, any other error (a value the command refuses after
+/// parsing, such as ``albedo=2``; a missing frame of ``frames``) ``lgh.RenderError``. Progress bars are
 /// off unless ``quiet=False``. The GIL is released while it renders.
 #[pyfunction]
 #[pyo3(signature = (vdb, **settings))]
@@ -104,21 +106,24 @@ pub fn render_explosion<'py>(
     settings: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let frames = match settings {
-        Some(s) => s.get_item("frames")?.is_some_and(|f| !f.is_none()),
+        Some(s) => match s.get_item("frames")? {
+            Some(f) => f.is_truthy()?,
+            None => false,
+        },
         None => false,
     };
-    if !frames && !vdb.is_file() {
+    if !frames && !vdb.exists() {
         return Err(PyFileNotFoundError::new_err(format!(
             "{}: no such file",
             vdb.display()
         )));
     }
-    let mut argv = vec!["--vdb".to_string(), vdb.display().to_string()];
+    let mut argv: Vec<OsString> = vec!["--vdb".into(), vdb.into_os_string()];
     let given = command_line(settings)?;
     if !settings.is_some_and(|s| s.contains("quiet").unwrap_or(false)) {
-        argv.push("--quiet".to_string());
+        argv.push("--quiet".into());
     }
-    argv.extend(given);
+    argv.extend(given.into_iter().map(OsString::from));
     let images = py
         .detach(|| lgh_cli::explosion::render_in_memory(&argv))
         .map_err(|e| exception(&e))?;

@@ -122,9 +122,11 @@ impl Hierarchy {
         points: &Bound<'py, PyAny>,
         progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        // A copy: the caller's own array (already C-contiguous float32) could be written by
+        // another Python thread while the GIL is released.
         let points = arrays::rows(points, "points")?;
-        let points = points.readonly();
-        let points = arrays::triples(points.as_slice()?);
+        let points: Vec<[f32; 3]> = arrays::triples(points.readonly().as_slice()?).to_vec();
+        let points = points.as_slice();
         let backend = LghBackend::new(&self.lgh, self.alpha).map_err(errors::query)?;
         let h0 = self.lgh.h0();
         let out = arrays::zeros(py, points.len());

@@ -577,3 +577,53 @@ fn ci_lints_every_crate_outside_the_workspace() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// `(name, version)` of every package in a `Cargo.lock`.
+fn locked(path: &Path) -> Vec<(String, String)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = Vec::new();
+    let mut name = None;
+    for line in text.lines() {
+        if let Some(n) = line.strip_prefix("name = ") {
+            name = Some(n.trim_matches('"').to_string());
+        } else if let (Some(v), Some(n)) = (line.strip_prefix("version = "), name.take()) {
+            out.push((n, v.trim_matches('"').to_string()));
+        }
+    }
+    out
+}
+
+/// The part of a version that Cargo keeps compatible: the major, or `0.minor`.
+fn semver_line(version: &str) -> String {
+    let mut parts = version.split('.');
+    match (parts.next(), parts.next()) {
+        (Some("0"), Some(minor)) => format!("0.{minor}"),
+        (Some(major), _) => major.to_string(),
+        _ => version.to_string(),
+    }
+}
+
+/// lgh-py, its own workspace, has its own `Cargo.lock`; the Python package is held to the
+/// command's images bit for bit, so it must build the shared crates from the same sources: every
+/// package it locks that the root also locks in the same compatible line, at the same version
+/// (start from the root's lockfile: `cp Cargo.lock lgh-py/ && cargo build --manifest-path
+/// lgh-py/Cargo.toml`).
+#[test]
+fn the_python_package_locks_the_roots_versions() {
+    let root_lock = locked(&root().join("Cargo.lock"));
+    let mut problems = Vec::new();
+    for (name, version) in locked(&root().join("lgh-py/Cargo.lock")) {
+        let line = semver_line(&version);
+        for (_, other) in root_lock
+            .iter()
+            .filter(|(n, v)| *n == name && semver_line(v) == line)
+        {
+            if *other != version {
+                problems.push(format!("{name}: lgh-py locks {version}, the root {other}"));
+            }
+        }
+    }
+    assert_eq!(semver_line("0.34.2"), "0.34");
+    assert_eq!(semver_line("2.1.3"), "2");
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}

@@ -18,6 +18,9 @@ def render_explosion(
     rendered into memory: an (h, w, 3) float32 array, or with ``frames="A..B"`` a dict of them
     by frame number."""
 
+def explosion_settings() -> list[tuple[str, bool, Optional[str], list[str], str]]:
+    """Every setting ``render_explosion`` takes: ``(name, takes_value, default, choices, help)``."""
+
 class Gathered(TypedDict):
     """The lights one point sees, one row a light (``Hierarchy.gather``)."""
 
