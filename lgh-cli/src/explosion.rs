@@ -360,7 +360,7 @@ impl Setup {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }
         if let Some(p) = &args.scene {
-            crate::check_file(p).map_err(|e| format!("--scene {e}"))?;
+            crate::check_file(p).map_err(|e| crate::MissingFile(format!("--scene {e}")))?;
         }
         if args.backend == BackendArg::Pathtrace && args.scatter().depth() > 0 {
             return Err(
@@ -511,26 +511,7 @@ where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
 {
-    use clap::{Args, FromArgMatches};
-    let command = ExplosionArgs::augment_args(clap::Command::new("lgh explosion"))
-        .no_binary_name(true)
-        .mut_arg("out", |a| {
-            a.required_unless_present(clap::builder::Resettable::<clap::Id>::Reset)
-        });
-    let matches = command
-        .try_get_matches_from(args)
-        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
-    if let Some(arg) = given_flags(&matches, &[])
-        .iter()
-        .find(|a| FILE_FLAGS.contains(&a.get_id().as_str()))
-    {
-        return Err(crate::usage(format!(
-            "--{}: a render into memory writes no files",
-            arg.get_long().unwrap_or("?")
-        )));
-    }
-    let args = ExplosionArgs::from_arg_matches(&matches)
-        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
+    let (args, matches) = parse_in_memory(args)?;
     let mut images = Vec::new();
     run_into(&args, &matches, Sink::Memory(&mut images))?;
     Ok(images)
@@ -600,6 +581,63 @@ fn first_sentence(text: &str) -> &str {
     end.map_or(text, |i| &text[..i]).trim_end_matches('.')
 }
 
+/// The command line `args` of [`render_in_memory`], parsed; the flags of files refused.
+fn parse_in_memory<I, T>(args: I) -> Result<(ExplosionArgs, ArgMatches), crate::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    use clap::{Args, FromArgMatches};
+    let command = ExplosionArgs::augment_args(clap::Command::new("lgh explosion"))
+        .no_binary_name(true)
+        .mut_arg("out", |a| {
+            a.required_unless_present(clap::builder::Resettable::<clap::Id>::Reset)
+        });
+    let matches = command
+        .try_get_matches_from(args)
+        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
+    let file_flag = given_flags(&matches, &[])
+        .into_iter()
+        .find(|a| FILE_FLAGS.contains(&a.get_id().as_str()));
+    if let Some(arg) = file_flag {
+        return Err(crate::usage(format!(
+            "--{}: a render into memory writes no files",
+            arg.get_long().unwrap_or("?")
+        )));
+    }
+    let args = ExplosionArgs::from_arg_matches(&matches)
+        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
+    Ok((args, matches))
+}
+
+/// Checks the command line `args` of [`render_in_memory`] as it would before any work — the
+/// parser's refusals ([`Usage`](crate::Usage)), then every setting and the input files
+/// ([`MissingFile`](crate::MissingFile)) — without reading a frame: an error here is the
+/// caller's, one from the render after it the work's.
+pub fn check_in_memory<I, T>(args: I) -> Result<(), crate::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let (args, _) = parse_in_memory(args)?;
+    let paths = input_paths(&args)?;
+    let mut none = Vec::new();
+    Setup::new(&args, &paths, &Sink::Memory(&mut none)).map(|_| ())
+}
+
+/// The frames' files of `args`: `--vdb`, or with `--frames` each frame's beside it.
+fn input_paths(args: &ExplosionArgs) -> Result<Vec<PathBuf>, crate::Error> {
+    let frames = args.frame_numbers()?;
+    let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
+    frames
+        .iter()
+        .map(|f| match f {
+            None => Ok(vdb.to_path_buf()),
+            Some(f) => Ok(cache::frame_path(vdb, *f)?),
+        })
+        .collect()
+}
+
 /// One pass over the frames for what they share (written as a manifest with `--prepare`),
 /// then every frame into `sink`.
 fn run_into(args: &ExplosionArgs, matches: &ArgMatches, sink: Sink) -> Result<(), crate::Error> {
@@ -610,14 +648,7 @@ fn run_into(args: &ExplosionArgs, matches: &ArgMatches, sink: Sink) -> Result<()
     }
     // Every flag, then the frames' files: a wrong one is said before any work.
     let frames = args.frame_numbers()?;
-    let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
-    let paths = frames
-        .iter()
-        .map(|f| match f {
-            None => Ok(vdb.to_path_buf()),
-            Some(f) => cache::frame_path(vdb, *f),
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let paths = input_paths(args)?;
     let setup = Setup::new(args, &paths, &sink)?;
     // The room is read (and its files hashed for the manifest) before any frame.
     let room = args.scene.as_deref().map(Room::load).transpose()?;

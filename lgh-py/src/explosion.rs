@@ -46,14 +46,25 @@ fn command_line(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
     Ok(argv)
 }
 
-/// The library's error as a Python exception: a bad flag or value the parser refused is a
-/// `ValueError`, anything else `lgh.RenderError`, each with the command's one-line message.
-fn exception(e: &lgh_cli::Error) -> PyErr {
+/// When an error came: while the settings and files were checked, before any work (the
+/// caller's: `ValueError`), or during the render (`lgh.RenderError`).
+#[derive(Clone, Copy)]
+enum Stage {
+    Check,
+    Render,
+}
+
+/// The library's error as a Python exception with the command's one-line message: a missing
+/// input file is `FileNotFoundError`; a refused flag or setting `ValueError`; anything the
+/// render met `lgh.RenderError`.
+fn exception(e: &lgh_cli::Error, stage: Stage) -> PyErr {
     let message = lgh_cli::describe(e.as_ref());
-    if e.downcast_ref::<lgh_cli::Usage>().is_some() {
-        PyValueError::new_err(message)
-    } else {
-        RenderError::new_err(message)
+    if e.downcast_ref::<lgh_cli::MissingFile>().is_some() {
+        return PyFileNotFoundError::new_err(message);
+    }
+    match (stage, e.downcast_ref::<lgh_cli::Usage>()) {
+        (Stage::Check, _) | (_, Some(_)) => PyValueError::new_err(message),
+        (Stage::Render, None) => RenderError::new_err(message),
     }
 }
 
@@ -94,9 +105,10 @@ pub fn explosion_settings() -> Vec<SettingRow> {
 /// command's EXR), or with ``frames="A..B"`` a dict of them by frame number. Every setting of
 /// ``lgh explosion`` is a keyword argument (``lgh explosion --help``: ``--scatter-depth auto``
 /// is ``scatter_depth="auto"``, ``--no-domain-offset`` is ``no_domain_offset=True``), at the
-/// command's default where not given. A missing ``vdb`` is ``FileNotFoundError``, a flag or
-/// value the parser refuses ``ValueError``, any other error (a value the command refuses after
-/// parsing, such as ``albedo=2``; a missing frame of ``frames``) ``lgh.RenderError``. Progress bars are
+/// command's default where not given. A missing input file (``vdb``, a frame of ``frames``,
+/// ``scene``) is ``FileNotFoundError``, a flag or setting the command refuses before any work
+/// (``albedo=2``) ``ValueError``, an error of the render itself (a grid the file lacks)
+/// ``lgh.RenderError``. Progress bars are
 /// off unless ``quiet=False``. The GIL is released while it renders.
 #[pyfunction]
 #[pyo3(signature = (vdb, **settings))]
@@ -112,21 +124,16 @@ pub fn render_explosion<'py>(
         },
         None => false,
     };
-    if !frames && !vdb.exists() {
-        return Err(PyFileNotFoundError::new_err(format!(
-            "{}: no such file",
-            vdb.display()
-        )));
-    }
     let mut argv: Vec<OsString> = vec!["--vdb".into(), vdb.into_os_string()];
     let given = command_line(settings)?;
     if !settings.is_some_and(|s| s.contains("quiet").unwrap_or(false)) {
         argv.push("--quiet".into());
     }
     argv.extend(given.into_iter().map(OsString::from));
+    lgh_cli::explosion::check_in_memory(&argv).map_err(|e| exception(&e, Stage::Check))?;
     let images = py
         .detach(|| lgh_cli::explosion::render_in_memory(&argv))
-        .map_err(|e| exception(&e))?;
+        .map_err(|e| exception(&e, Stage::Render))?;
     if !frames {
         let one = images
             .first()

@@ -68,8 +68,16 @@ def test_bad_input_is_one_exception_with_the_commands_message(tmp_path):
         lgh.render_explosion(vdb, out=str(tmp_path / "x.exr"))
     with pytest.raises(ValueError, match="--scatter-depth"):
         lgh.render_explosion(vdb, scatter_depth="often")
-    with pytest.raises(lgh.RenderError, match="--albedo 2 must be in 0..=1"):
+    with pytest.raises(ValueError, match="--albedo 2 must be in 0..=1"):
         lgh.render_explosion(vdb, albedo=2)
+    with pytest.raises(ValueError, match="--camera"):
+        lgh.render_explosion(vdb, camera=(0, 0, 5, 0, 0))
+    with pytest.raises(FileNotFoundError, match="is a folder"):
+        lgh.render_explosion(tmp_path)
+    with pytest.raises(FileNotFoundError, match="fluid_data_0057.vdb: no such file"):
+        lgh.render_explosion(vdb, frames="56..57")
+    with pytest.raises(FileNotFoundError, match="--scene"):
+        lgh.render_explosion(vdb, scene=tmp_path / "room.obj")
     with pytest.raises(lgh.RenderError, match="no grid named 'no_such_grid'"):
         lgh.render_explosion(vdb, emission_grid="no_such_grid", width=8, height=8)
     assert not any(tmp_path.iterdir())
