@@ -483,10 +483,14 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     run_into(args, matches, Sink::Files)
 }
 
-/// Where the frames go: `--out`'s files (the command), or memory ([`render_in_memory`]).
+/// Where the frames go: `--out`'s files (the command), or memory ([`render_in_memory`]), with
+/// the progress reported to the caller (`None`: the command's bars, unless `--quiet`).
 enum Sink<'a> {
     Files,
-    Memory(&'a mut Vec<FrameImage>),
+    Memory(
+        &'a mut Vec<FrameImage>,
+        Option<&'a dyn lgh_volume::Progress>,
+    ),
 }
 
 /// A frame rendered into memory: the image `lgh explosion` writes to its EXR.
@@ -511,9 +515,22 @@ where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
 {
+    render_in_memory_with(args, None)
+}
+
+/// [`render_in_memory`], reporting each frame's progress (its scattering, shadow maps and
+/// image: [`lgh_volume::Progress`]) to `progress` instead of the command's bars.
+pub fn render_in_memory_with<I, T>(
+    args: I,
+    progress: Option<&dyn lgh_volume::Progress>,
+) -> Result<Vec<FrameImage>, crate::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
     let (args, matches) = parse_in_memory(args)?;
     let mut images = Vec::new();
-    run_into(&args, &matches, Sink::Memory(&mut images))?;
+    run_into(&args, &matches, Sink::Memory(&mut images, progress))?;
     Ok(images)
 }
 
@@ -622,7 +639,7 @@ where
     let (args, _) = parse_in_memory(args)?;
     let paths = input_paths(&args)?;
     let mut none = Vec::new();
-    Setup::new(&args, &paths, &Sink::Memory(&mut none)).map(|_| ())
+    Setup::new(&args, &paths, &Sink::Memory(&mut none, None)).map(|_| ())
 }
 
 /// The frames' files of `args`: `--vdb`, or with `--frames` each frame's beside it.
@@ -890,7 +907,7 @@ impl Frames<'_> {
             0.5 * (lo + hi),
             self.seq.voxel_size(),
         );
-        if let Sink::Memory(_) = self.sink {
+        if let Sink::Memory(..) = self.sink {
             for n in which {
                 let volume = self.volume(n)?;
                 self.render_frame(n, &volume, (&camera, &march), None)?;
@@ -1015,24 +1032,28 @@ impl Frames<'_> {
             .frame
             .map_or("rendering".to_string(), |f| format!("frame {f}"));
         let bars = Bars::new(args.quiet).with_render_label(label);
+        let progress: &dyn lgh_volume::Progress = match self.sink {
+            Sink::Memory(_, Some(p)) => p,
+            _ => &bars,
+        };
         let method = args.backend.method(args.alpha, file.frame);
         let (rendered, frame) = match (&self.lights, method) {
             (Some(lights), Some(method)) => {
                 let medium = &setup.medium;
-                let mut frame = FrameRender::new(lights, method, volume, medium, march, &bars)?;
+                let mut frame = FrameRender::new(lights, method, volume, medium, march, progress)?;
                 if let Some(room) = &self.room {
                     frame = frame.with_surfaces(room);
                 }
-                let shares = output::shares(&args.scatter(), &frame, camera, &bars)?;
-                let rendered = Rendered::of(&frame, camera, &bars)?;
+                let shares = output::shares(&args.scatter(), &frame, camera, progress)?;
+                let rendered = Rendered::of(&frame, camera, progress)?;
                 // After the render: the lighting cache's vertices are those it filled.
                 extra.extend(output::frame_header(&frame, shares.as_ref()));
                 (rendered, Some((frame, shares)))
             }
-            _ => (self.path_trace(volume, camera, &bars)?, None),
+            _ => (self.path_trace(volume, camera, progress)?, None),
         };
         let (Some(out), Sink::Files) = (out, &mut self.sink) else {
-            if let Sink::Memory(images) = &mut self.sink {
+            if let Sink::Memory(images, _) = &mut self.sink {
                 images.push(FrameImage {
                     frame: file.frame,
                     image: rendered.image,
@@ -1077,7 +1098,7 @@ impl Frames<'_> {
         &self,
         volume: &Volume,
         camera: &Camera,
-        bars: &Bars,
+        progress: &dyn lgh_volume::Progress,
     ) -> Result<Rendered, crate::Error> {
         let settings = PathSettings {
             spp: self.args.spp,
@@ -1086,11 +1107,11 @@ impl Frames<'_> {
         };
         Rendered::timed(|| {
             let rows = camera.height() as u64;
-            lgh_volume::Progress::begin(bars, lgh_volume::Phase::Render, rows);
+            lgh_volume::Progress::begin(progress, lgh_volume::Phase::Render, rows);
             let image = pathtrace::render(volume, &self.setup.medium, camera, &settings, &|r| {
-                lgh_volume::Progress::advance(bars, r as u64)
+                lgh_volume::Progress::advance(progress, r as u64)
             });
-            lgh_volume::Progress::end(bars, lgh_volume::Phase::Render);
+            lgh_volume::Progress::end(progress, lgh_volume::Phase::Render);
             Ok((image?, None))
         })
     }

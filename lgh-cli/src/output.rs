@@ -14,8 +14,6 @@ use lgh_volume::scattering::{self, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
 use lgh_volume::{FrameRender, Shadows};
 
-use crate::progress::Bars;
-
 /// How lights are shadowed (`--shadows`): [`Shadows`]' choices by their command-line names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ShadowsArg {
@@ -821,12 +819,12 @@ pub fn shares(
     args: &ScatterArgs,
     frame: &FrameRender,
     camera: &Camera,
-    bars: &Bars,
+    progress: &dyn lgh_volume::Progress,
 ) -> Result<Option<Shares>, crate::Error> {
     if !args.scatter_shares {
         return Ok(None);
     }
-    Ok(frame.scatter_shares(camera, bars)?)
+    Ok(frame.scatter_shares(camera, progress)?)
 }
 
 /// The cube maps' default memory: 8 GiB, or 3/4 of the memory available now if less (read
@@ -917,9 +915,13 @@ pub struct Rendered {
 
 impl Rendered {
     /// Renders `frame` through `camera`, with `bars`' progress.
-    pub fn of(frame: &FrameRender, camera: &Camera, bars: &Bars) -> Result<Self, crate::Error> {
+    pub fn of(
+        frame: &FrameRender,
+        camera: &Camera,
+        progress: &dyn lgh_volume::Progress,
+    ) -> Result<Self, crate::Error> {
         Rendered::timed(|| {
-            let (image, stats) = frame.render(camera, bars)?;
+            let (image, stats) = frame.render(camera, progress)?;
             Ok((image, Some(stats)))
         })
     }

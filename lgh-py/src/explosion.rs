@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 
 use crate::errors::RenderError;
+use crate::progress::Callback;
 
 /// The command line of `settings`: `name=value` is `--name=value` (underscores as dashes; the
 /// `=` form, so that a value may start with `-`),
@@ -109,12 +110,15 @@ pub fn explosion_settings() -> Vec<SettingRow> {
 /// ``scene``) is ``FileNotFoundError``, a flag or setting the command refuses before any work
 /// (``albedo=2``) ``ValueError``, an error of the render itself (a grid the file lacks)
 /// ``lgh.RenderError``. Progress bars are
-/// off unless ``quiet=False``. The GIL is released while it renders.
+/// off unless ``quiet=False``; ``progress(phase, done, total)``, if given, is called instead
+/// as each frame's scattering, shadow maps and image go (at most every 0.1 s; an exception it
+/// raises is raised when the render returns). The GIL is released while it renders.
 #[pyfunction]
-#[pyo3(signature = (vdb, **settings))]
+#[pyo3(signature = (vdb, *, progress = None, **settings))]
 pub fn render_explosion<'py>(
     py: Python<'py>,
     vdb: PathBuf,
+    progress: Option<&Bound<'py, PyAny>>,
     settings: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let frames = match settings {
@@ -131,9 +135,14 @@ pub fn render_explosion<'py>(
     }
     argv.extend(given.into_iter().map(OsString::from));
     lgh_cli::explosion::check_in_memory(&argv).map_err(|e| exception(&e, Stage::Check))?;
+    let callback = progress.map(|p| Callback::new(p.clone().unbind()));
+    let reporter = callback.as_ref().map(|c| c as &dyn lgh_volume::Progress);
     let images = py
-        .detach(|| lgh_cli::explosion::render_in_memory(&argv))
+        .detach(|| lgh_cli::explosion::render_in_memory_with(&argv, reporter))
         .map_err(|e| exception(&e, Stage::Render))?;
+    if let Some(e) = callback.and_then(|c| c.take_error()) {
+        return Err(e);
+    }
     if !frames {
         let one = images
             .first()

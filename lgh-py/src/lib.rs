@@ -4,7 +4,8 @@
 //! One concept a module: [`explosion`] renders a simulation cache as `lgh explosion` does;
 //! [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
 //! (2), (4), (5) and the blended query of eq. (3)); [`arrays`] moves numpy arrays in and out
-//! without a Python call per element; [`errors`] maps the library's errors to Python's
+//! without a Python call per element; [`progress`] reports the library's progress to a Python
+//! callback; [`errors`] maps the library's errors to Python's
 //! exceptions; [`work`] runs long work in chunks with the GIL released, stopping on Ctrl-C and
 //! reporting progress between chunks.
 
@@ -14,6 +15,7 @@ mod arrays;
 mod errors;
 mod explosion;
 mod hierarchy;
+mod progress;
 mod work;
 
 /// The module `lgh._lgh`; `lgh/__init__.py` re-exports it.

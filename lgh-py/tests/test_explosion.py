@@ -81,3 +81,21 @@ def test_bad_input_is_one_exception_with_the_commands_message(tmp_path):
     with pytest.raises(lgh.RenderError, match="no grid named 'no_such_grid'"):
         lgh.render_explosion(vdb, emission_grid="no_such_grid", width=8, height=8)
     assert not any(tmp_path.iterdir())
+
+
+def test_progress_is_reported_by_phase_and_changes_nothing():
+    vdb = fire_frame(56)
+    settings = dict(width=24, height=16, scatter_depth=0)
+    calls = []
+    image = lgh.render_explosion(vdb, progress=lambda *a: calls.append(a), **settings)
+    rendering = [c for c in calls if c[0] == "rendering"]
+    assert rendering[0][1] == 0 and rendering[-1][1:] == (16, 16), calls  # rows of the image
+    assert all(0 <= done <= total for _, done, total in calls)
+    np.testing.assert_array_equal(image, lgh.render_explosion(vdb, **settings))
+
+    def refuse(phase, done, total):
+        raise RuntimeError(f"stopped in {phase}")
+
+    # The render does not stop for it, but the exception is what the call raises.
+    with pytest.raises(RuntimeError, match="stopped in"):
+        lgh.render_explosion(vdb, progress=refuse, **settings)

@@ -1,7 +1,7 @@
 """Stubs of the package ``lgh``; written by ``lgh-py/stubs.py`` from `lgh explosion`'s
 flags: do not edit by hand."""
 import os
-from typing import Literal, Sequence
+from typing import Callable, Literal, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -16,6 +16,7 @@ _Value = str | int | float | Sequence[str | int | float] | os.PathLike[str]
 def render_explosion(
     vdb: str | os.PathLike[str],
     *,
+    progress: Callable[[str, int, int], object] | None = ...,
     frames: _Value | None = ...,  # Frames to render, `A..B` inclusive (e.g. 50..56): one image each, `OUT_NNNN.exr`
     emission_grid: _Value | None = ...,  # The grid emission follows (Blender: temperature; or flame, heat) (default temperature)
     density_grid: _Value | None = ...,  # Smoke density grid (default density)
