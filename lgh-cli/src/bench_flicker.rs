@@ -331,7 +331,7 @@ fn frames(args: &FlickerArgs) -> Result<(String, Vec<Volume>, Medium, Up), crate
                 .map(|f| cache::frame_path(vdb, f))
                 .collect::<Result<Vec<_>, _>>()?;
             for p in &paths {
-                crate::check_file(p)?;
+                crate::files::check_file(p)?;
             }
             if paths.len() < 2 {
                 return Err("--frames: flicker needs at least 2 frames".into());

@@ -360,7 +360,8 @@ impl Setup {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }
         if let Some(p) = &args.scene {
-            crate::check_file(p).map_err(|e| crate::MissingFile(format!("--scene {e}")))?;
+            crate::files::check_file(p)
+                .map_err(|e| crate::files::MissingFile(format!("--scene {e}")))?;
         }
         if args.backend == BackendArg::Pathtrace && args.scatter().depth() > 0 {
             return Err(
@@ -383,7 +384,7 @@ impl Setup {
             .map(|c| parse_camera(c, up.vector(), args.width, args.height))
             .transpose()?;
         for p in inputs {
-            crate::check_file(p)?;
+            crate::files::check_file(p)?;
         }
         let sigma_t = args.density_scale;
         let model = match args.emission_model {
@@ -629,7 +630,7 @@ where
 
 /// Checks the command line `args` of [`render_in_memory`] as it would before any work — the
 /// parser's refusals ([`Usage`](crate::Usage)), then every setting and the input files
-/// ([`MissingFile`](crate::MissingFile)) — without reading a frame: an error here is the
+/// ([`MissingFile`](crate::files::MissingFile)) — without reading a frame: an error here is the
 /// caller's, one from the render after it the work's.
 pub fn check_in_memory<I, T>(args: I) -> Result<(), crate::Error>
 where

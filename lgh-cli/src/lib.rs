@@ -1,7 +1,8 @@
 //! `lgh`: the command-line tool of the lighting grid hierarchy, as a library: the binary
-//! (`main.rs`) parses the command line and calls [`dispatch`]. One module is public:
+//! (`main.rs`) parses the command line and calls [`dispatch`]. Two modules are public:
 //! [`explosion`], whose [`render_in_memory`](explosion::render_in_memory) is `lgh explosion`
-//! rendering into memory, for the Python package.
+//! rendering into memory, for the Python package; and [`files`], the input files' checks, whose
+//! [`MissingFile`] tells a missing file from a refused setting.
 //!
 //! Thin by design: it parses arguments, shows progress and writes files; the work is in the
 //! library crates. Errors print as one line on stderr with a non-zero exit ([`exit_code`]).
@@ -26,6 +27,7 @@ mod compare;
 mod dark;
 mod demo;
 pub mod explosion;
+pub mod files;
 mod gi;
 mod hints;
 mod inspect;
@@ -37,6 +39,8 @@ mod progress;
 mod room;
 
 use clap::Subcommand;
+
+pub use files::MissingFile;
 
 /// Lighting with millions of point lights through the Lighting Grid Hierarchy.
 #[derive(Debug, clap::Parser)]
@@ -129,35 +133,6 @@ pub(crate) fn say(line: std::fmt::Arguments<'_>) -> Result<(), crate::Error> {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
         Err(e) => Err(format!("cannot write to stdout: {e}").into()),
-    }
-}
-
-/// An input file that is not there (or is a folder): its own type, so that a caller can tell it
-/// from a refused setting (the Python package raises `FileNotFoundError` for it).
-#[derive(Debug)]
-pub struct MissingFile(pub String);
-
-impl std::fmt::Display for MissingFile {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for MissingFile {}
-
-/// Checks that an input file is there, and is a file (a folder says so), before any work: a
-/// [`MissingFile`] if not.
-pub(crate) fn check_file(path: &std::path::Path) -> Result<(), crate::Error> {
-    if path.is_file() {
-        Ok(())
-    } else if path.is_dir() {
-        let message = format!("{}: is a folder, not a file", path.display());
-        Err(Box::new(MissingFile(message)))
-    } else {
-        Err(Box::new(MissingFile(format!(
-            "{}: no such file",
-            path.display()
-        ))))
     }
 }
 
