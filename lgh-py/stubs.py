@@ -43,6 +43,7 @@ def stubs():
         "    vdb: str | os.PathLike[str],",
         "    *,",
         "    progress: Callable[[str, int, int], object] | None = ...,",
+        "    threads: int | None = ...,",
         *params,
         ") -> npt.NDArray[np.float32] | dict[int, npt.NDArray[np.float32]]:",
         '    """`lgh explosion --vdb VDB` with the settings given, rendered into memory."""',

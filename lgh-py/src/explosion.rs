@@ -112,15 +112,27 @@ pub fn explosion_settings() -> Vec<SettingRow> {
 /// ``lgh.RenderError``. Progress bars are
 /// off unless ``quiet=False``; ``progress(phase, done, total)``, if given, is called instead
 /// as each frame's scattering, shadow maps and image go (at most every 0.1 s; an exception it
-/// raises is raised when the render returns). The GIL is released while it renders.
+/// raises is raised when the render returns). ``threads`` (default: every core; the command's
+/// ``--threads``) changes nothing in the image. The GIL is released while it renders.
 #[pyfunction]
-#[pyo3(signature = (vdb, *, progress = None, **settings))]
+#[pyo3(signature = (vdb, *, progress = None, threads = None, **settings))]
 pub fn render_explosion<'py>(
     py: Python<'py>,
     vdb: PathBuf,
     progress: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
     settings: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let pool = match threads {
+        Some(0) => return Err(PyValueError::new_err("threads must be at least 1")),
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| RenderError::new_err(format!("cannot start {n} threads: {e}")))?,
+        ),
+        None => None,
+    };
     let frames = match settings {
         Some(s) => match s.get_item("frames")? {
             Some(f) => f.is_truthy()?,
@@ -137,8 +149,12 @@ pub fn render_explosion<'py>(
     lgh_cli::explosion::check_in_memory(&argv).map_err(|e| exception(&e, Stage::Check))?;
     let callback = progress.map(|p| Callback::new(p.clone().unbind()));
     let reporter = callback.as_ref().map(|c| c as &dyn lgh_volume::Progress);
+    let render = || lgh_cli::explosion::render_in_memory_with(&argv, reporter);
     let images = py
-        .detach(|| lgh_cli::explosion::render_in_memory_with(&argv, reporter))
+        .detach(|| match &pool {
+            Some(pool) => pool.install(render),
+            None => render(),
+        })
         .map_err(|e| exception(&e, Stage::Render))?;
     if let Some(e) = callback.and_then(|c| c.take_error()) {
         return Err(e);

@@ -92,6 +92,10 @@ def test_progress_is_reported_by_phase_and_changes_nothing():
     assert rendering[0][1] == 0 and rendering[-1][1:] == (16, 16), calls  # rows of the image
     assert all(0 <= done <= total for _, done, total in calls)
     np.testing.assert_array_equal(image, lgh.render_explosion(vdb, **settings))
+    # Nor does the number of threads (the library's determinism, through Python).
+    np.testing.assert_array_equal(image, lgh.render_explosion(vdb, threads=1, **settings))
+    with pytest.raises(ValueError, match="threads must be at least 1"):
+        lgh.render_explosion(vdb, threads=0, **settings)
 
     def refuse(phase, done, total):
         raise RuntimeError(f"stopped in {phase}")

@@ -28,6 +28,6 @@ def test_every_setting_is_a_keyword_and_in_the_docstring():
     assert defaults["emission_grid"] == "temperature" and defaults["no_domain_offset"] is None
     tree = ast.parse(stubs.STUB.read_text())
     fn = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "render_explosion")
-    assert [a.arg for a in fn.args.kwonlyargs] == ["progress"] + names
+    assert [a.arg for a in fn.args.kwonlyargs] == ["progress", "threads"] + names
     for name in names:
         assert f"``{name}=" in lgh.render_explosion.__doc__, name

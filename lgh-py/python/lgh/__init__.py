@@ -16,8 +16,8 @@ from ._lgh import Hierarchy, RenderError, __version__, explosion_settings
 __all__ = ["Hierarchy", "RenderError", "__version__", "explosion_settings", "render_explosion"]
 
 
-def render_explosion(vdb, *, progress=None, **settings):
-    return _lgh.render_explosion(vdb, progress=progress, **settings)
+def render_explosion(vdb, *, progress=None, threads=None, **settings):
+    return _lgh.render_explosion(vdb, progress=progress, threads=threads, **settings)
 
 
 def _settings_doc():

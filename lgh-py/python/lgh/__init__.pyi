@@ -17,6 +17,7 @@ def render_explosion(
     vdb: str | os.PathLike[str],
     *,
     progress: Callable[[str, int, int], object] | None = ...,
+    threads: int | None = ...,
     frames: _Value | None = ...,  # Frames to render, `A..B` inclusive (e.g. 50..56): one image each, `OUT_NNNN.exr`
     emission_grid: _Value | None = ...,  # The grid emission follows (Blender: temperature; or flame, heat) (default temperature)
     density_grid: _Value | None = ...,  # Smoke density grid (default density)
