@@ -481,7 +481,63 @@ pub fn run(args: &ExplosionArgs, matches: &ArgMatches) -> Result<(), crate::Erro
     if let Some(path) = &args.manifest {
         return run_task(args, matches, path);
     }
-    run_into(args, matches, Sink::Files)
+    let prepared = Prepared::new(args, &Sink::Files)?;
+    run_into(args, matches, prepared, Sink::Files)
+}
+
+/// What every render checks before any work: the frames asked for, their files, and the
+/// settings made ready ([`Setup`]).
+struct Prepared {
+    frames: Vec<Option<u32>>,
+    paths: Vec<PathBuf>,
+    setup: Setup,
+}
+
+impl Prepared {
+    /// Every flag, then the frames' files: a wrong one is said before any work.
+    fn new(args: &ExplosionArgs, sink: &Sink) -> Result<Self, crate::Error> {
+        if args.prepare.is_some() && args.resume {
+            return Err(crate::usage(
+                "--resume is for rendering: --prepare renders nothing",
+            ));
+        }
+        let frames = args.frame_numbers()?;
+        let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
+        let paths = frames
+            .iter()
+            .map(|f| match f {
+                None => Ok(vdb.to_path_buf()),
+                Some(f) => cache::frame_path(vdb, *f),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let setup = Setup::new(args, &paths, sink)?;
+        Ok(Prepared {
+            frames,
+            paths,
+            setup,
+        })
+    }
+}
+
+/// Why a render into memory ([`render_in_memory`]) failed: its command line, settings or input
+/// files were refused before any work (the caller's to mend), or the render itself failed.
+#[derive(Debug)]
+pub enum InMemoryError {
+    /// Refused before any work: a flag the parser refused ([`Usage`](crate::Usage)), a setting,
+    /// a missing input file ([`MissingFile`](crate::files::MissingFile)).
+    Refused(crate::Error),
+    /// The render's own error (a grid the file lacks, a frame that cannot be read).
+    Failed(crate::Error),
+}
+
+impl InMemoryError {
+    /// The error, whichever its stage.
+    #[must_use]
+    pub fn error(&self) -> &crate::Error {
+        match self {
+            InMemoryError::Refused(e) | InMemoryError::Failed(e) => e,
+        }
+    }
 }
 
 /// Where the frames go: `--out`'s files (the command), or memory ([`render_in_memory`]), with
@@ -511,7 +567,7 @@ const FILE_FLAGS: [&str; 4] = ["out", "prepare", "manifest", "resume"];
 /// images as the command, bit for bit (`lgh-py`'s tests hold them to it), and nothing printed
 /// but the progress bars (none with `--quiet`) and warnings. A bad flag is a [`Usage`](crate::Usage)
 /// error with the parser's message.
-pub fn render_in_memory<I, T>(args: I) -> Result<Vec<FrameImage>, crate::Error>
+pub fn render_in_memory<I, T>(args: I) -> Result<Vec<FrameImage>, InMemoryError>
 where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
@@ -524,14 +580,16 @@ where
 pub fn render_in_memory_with<I, T>(
     args: I,
     progress: Option<&dyn lgh_volume::Progress>,
-) -> Result<Vec<FrameImage>, crate::Error>
+) -> Result<Vec<FrameImage>, InMemoryError>
 where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
 {
-    let (args, matches) = parse_in_memory(args)?;
+    let (args, matches) = parse_in_memory(args).map_err(InMemoryError::Refused)?;
     let mut images = Vec::new();
-    run_into(&args, &matches, Sink::Memory(&mut images, progress))?;
+    let sink = Sink::Memory(&mut images, progress);
+    let prepared = Prepared::new(&args, &sink).map_err(InMemoryError::Refused)?;
+    run_into(&args, &matches, prepared, sink).map_err(InMemoryError::Failed)?;
     Ok(images)
 }
 
@@ -628,46 +686,19 @@ where
     Ok((args, matches))
 }
 
-/// Checks the command line `args` of [`render_in_memory`] as it would before any work — the
-/// parser's refusals ([`Usage`](crate::Usage)), then every setting and the input files
-/// ([`MissingFile`](crate::files::MissingFile)) — without reading a frame: an error here is the
-/// caller's, one from the render after it the work's.
-pub fn check_in_memory<I, T>(args: I) -> Result<(), crate::Error>
-where
-    I: IntoIterator<Item = T>,
-    T: Into<std::ffi::OsString> + Clone,
-{
-    let (args, _) = parse_in_memory(args)?;
-    let paths = input_paths(&args)?;
-    let mut none = Vec::new();
-    Setup::new(&args, &paths, &Sink::Memory(&mut none, None)).map(|_| ())
-}
-
-/// The frames' files of `args`: `--vdb`, or with `--frames` each frame's beside it.
-fn input_paths(args: &ExplosionArgs) -> Result<Vec<PathBuf>, crate::Error> {
-    let frames = args.frame_numbers()?;
-    let vdb = args.vdb.as_deref().ok_or("--vdb is required")?;
-    frames
-        .iter()
-        .map(|f| match f {
-            None => Ok(vdb.to_path_buf()),
-            Some(f) => Ok(cache::frame_path(vdb, *f)?),
-        })
-        .collect()
-}
-
 /// One pass over the frames for what they share (written as a manifest with `--prepare`),
 /// then every frame into `sink`.
-fn run_into(args: &ExplosionArgs, matches: &ArgMatches, sink: Sink) -> Result<(), crate::Error> {
-    if args.prepare.is_some() && args.resume {
-        return Err(crate::usage(
-            "--resume is for rendering: --prepare renders nothing",
-        ));
-    }
-    // Every flag, then the frames' files: a wrong one is said before any work.
-    let frames = args.frame_numbers()?;
-    let paths = input_paths(args)?;
-    let setup = Setup::new(args, &paths, &sink)?;
+fn run_into(
+    args: &ExplosionArgs,
+    matches: &ArgMatches,
+    prepared: Prepared,
+    sink: Sink,
+) -> Result<(), crate::Error> {
+    let Prepared {
+        frames,
+        paths,
+        setup,
+    } = prepared;
     // The room is read (and its files hashed for the manifest) before any frame.
     let room = args.scene.as_deref().map(Room::load).transpose()?;
     let t = Instant::now();

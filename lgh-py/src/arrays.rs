@@ -52,7 +52,8 @@ pub fn triples(s: &[f32]) -> &[[f32; 3]] {
     rows
 }
 
-/// `len` as the shape's first axis, checked against `want`.
+/// `a`'s rows (its shape's first axis), checked to be `want`: else a `ValueError` saying
+/// "`name` has n rows, `what` want".
 pub fn check_len(
     a: &Bound<'_, PyArray2<f32>>,
     want: usize,

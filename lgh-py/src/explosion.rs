@@ -10,6 +10,8 @@ use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 
+use lgh_cli::explosion::InMemoryError;
+
 use crate::errors::RenderError;
 use crate::progress::Callback;
 
@@ -47,25 +49,17 @@ fn command_line(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
     Ok(argv)
 }
 
-/// When an error came: while the settings and files were checked, before any work (the
-/// caller's: `ValueError`), or during the render (`lgh.RenderError`).
-#[derive(Clone, Copy)]
-enum Stage {
-    Check,
-    Render,
-}
-
 /// The library's error as a Python exception with the command's one-line message: a missing
-/// input file is `FileNotFoundError`; a refused flag or setting `ValueError`; anything the
-/// render met `lgh.RenderError`.
-fn exception(e: &lgh_cli::Error, stage: Stage) -> PyErr {
-    let message = lgh_cli::describe(e.as_ref());
-    if e.downcast_ref::<lgh_cli::MissingFile>().is_some() {
+/// input file is `FileNotFoundError`; a flag or setting refused before any work `ValueError`;
+/// an error of the render itself `lgh.RenderError`.
+fn exception(e: &InMemoryError) -> PyErr {
+    let message = lgh_cli::describe(e.error().as_ref());
+    if e.error().downcast_ref::<lgh_cli::MissingFile>().is_some() {
         return PyFileNotFoundError::new_err(message);
     }
-    match (stage, e.downcast_ref::<lgh_cli::Usage>()) {
-        (Stage::Check, _) | (_, Some(_)) => PyValueError::new_err(message),
-        (Stage::Render, None) => RenderError::new_err(message),
+    match e {
+        InMemoryError::Refused(_) => PyValueError::new_err(message),
+        InMemoryError::Failed(_) => RenderError::new_err(message),
     }
 }
 
@@ -146,7 +140,6 @@ pub fn render_explosion<'py>(
         argv.push("--quiet".into());
     }
     argv.extend(given.into_iter().map(OsString::from));
-    lgh_cli::explosion::check_in_memory(&argv).map_err(|e| exception(&e, Stage::Check))?;
     let callback = progress.map(|p| Callback::new(p.clone().unbind()));
     let reporter = callback.as_ref().map(|c| c as &dyn lgh_volume::Progress);
     let render = || lgh_cli::explosion::render_in_memory_with(&argv, reporter);
@@ -155,7 +148,7 @@ pub fn render_explosion<'py>(
             Some(pool) => pool.install(render),
             None => render(),
         })
-        .map_err(|e| exception(&e, Stage::Render))?;
+        .map_err(|e| exception(&e))?;
     if let Some(e) = callback.and_then(|c| c.take_error()) {
         return Err(e);
     }

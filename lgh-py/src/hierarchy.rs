@@ -6,7 +6,7 @@
 
 use lgh_core::glam::Vec3;
 use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, PointLight};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -42,8 +42,7 @@ fn lights(
 ) -> PyResult<Vec<PointLight>> {
     let p = arrays::rows(positions, "positions")?;
     let i = arrays::rows(intensities, "intensities")?;
-    let n = p.readonly().as_slice()?.len() / 3;
-    arrays::check_len(&i, n, "intensities", "positions has")?;
+    arrays::check_len(&i, p.shape()[0], "intensities", "positions has")?;
     let (p, i) = (p.readonly(), i.readonly());
     let lights = arrays::triples(p.as_slice()?)
         .iter()
