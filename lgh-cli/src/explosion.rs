@@ -183,6 +183,15 @@ pub struct ExplosionArgs {
     /// framed on the smoke of all frames, seen from the front).
     #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
+    /// With --camera: the camera's up direction `UX,UY,UZ` (default: the world's up, --up). Any
+    /// roll about the view axis: Blender's camera is its object's -Z view with +Y up.
+    #[arg(long, allow_hyphen_values = true, requires = "camera")]
+    pub camera_up: Option<String>,
+    /// Lens shift `SX,SY`: the image plane moved right and up by these fractions of the image's
+    /// larger side, the view direction kept (Blender's camera Shift X and Y with sensor fit Auto)
+    /// [default: 0,0]
+    #[arg(long, allow_hyphen_values = true)]
+    pub camera_shift: Option<String>,
     /// Opaque surfaces around the smoke: an OBJ scene (with its MTL; diffuse albedo, Phong's
     /// `kd`) in the cache's world units, lit by the fire through the smoke and shadowed by
     /// itself (the paper's explosions in a box). Not with --backend pathtrace.
@@ -221,20 +230,53 @@ pub(crate) fn parse_frames(s: &str) -> Result<(u32, u32), crate::Error> {
     Ok((a, b))
 }
 
+/// Comma-separated numbers of the flag `--flag`, as many as `counts` allows; `form` names them
+/// in the error.
+fn parse_numbers(
+    flag: &str,
+    s: &str,
+    form: &str,
+    counts: &[usize],
+) -> Result<Vec<f32>, crate::Error> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{flag} {s}: expected {form} numbers"))?;
+    if !counts.contains(&v.len()) {
+        let n = counts.iter().map(usize::to_string).collect::<Vec<_>>();
+        return Err(format!(
+            "--{flag} {s}: expected {} numbers ({form}), got {}",
+            n.join(" or "),
+            v.len()
+        )
+        .into());
+    }
+    Ok(v)
+}
+
+/// `--camera-up UX,UY,UZ`.
+fn parse_camera_up(s: &str) -> Result<Vec3, crate::Error> {
+    let v = parse_numbers("camera-up", s, "UX,UY,UZ", &[3])?;
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+/// `--camera-shift SX,SY`: finite fractions of the image's larger side.
+fn parse_camera_shift(s: &str) -> Result<[f32; 2], crate::Error> {
+    let v = parse_numbers("camera-shift", s, "SX,SY", &[2])?;
+    if !(v[0].is_finite() && v[1].is_finite()) {
+        return Err(format!("--camera-shift {s}: the shift must be finite").into());
+    }
+    Ok([v[0], v[1]])
+}
+
 pub(crate) fn parse_camera(
     s: &str,
     up: Vec3,
     width: usize,
     height: usize,
 ) -> Result<Camera, crate::Error> {
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("--camera {s}: expected EX,EY,EZ,TX,TY,TZ[,FOV] numbers"))?;
-    if !(v.len() == 6 || v.len() == 7) {
-        return Err(format!("--camera {s}: expected 6 or 7 numbers, got {}", v.len()).into());
-    }
+    let v = parse_numbers("camera", s, "EX,EY,EZ,TX,TY,TZ[,FOV]", &[6, 7])?;
     let fov = v.get(6).copied().unwrap_or(40.0);
     Ok(Camera::look_at(
         Vec3::new(v[0], v[1], v[2]),
@@ -342,8 +384,10 @@ struct Setup {
     medium: Medium,
     names: GridNames,
     up: Up,
-    /// `--camera`, parsed (`None`: framed on the smoke).
+    /// `--camera`, parsed, with `--camera-up` and `--camera-shift` (`None`: framed on the smoke).
     camera: Option<Camera>,
+    /// `--camera-shift`, for the camera framed on the smoke.
+    shift: [f32; 2],
 }
 
 impl Setup {
@@ -378,10 +422,18 @@ impl Setup {
             UpArg::Z => Up::Z,
         };
         // Checked before any work (and before a manifest keeps it for every task).
+        let camera_up = args.camera_up.as_deref().map(parse_camera_up).transpose()?;
+        let shift = args.camera_shift.as_deref().map(parse_camera_shift);
+        let shift = shift.transpose()?.unwrap_or([0.0; 2]);
         let camera = args
             .camera
             .as_ref()
-            .map(|c| parse_camera(c, up.vector(), args.width, args.height))
+            .map(|c| {
+                let up = camera_up.unwrap_or(up.vector());
+                Ok::<_, crate::Error>(
+                    parse_camera(c, up, args.width, args.height)?.with_shift(shift)?,
+                )
+            })
             .transpose()?;
         for p in inputs {
             crate::files::check_file(p)?;
@@ -419,6 +471,7 @@ impl Setup {
             names,
             up,
             camera,
+            shift,
         })
     }
 }
@@ -967,7 +1020,7 @@ impl Frames<'_> {
             None => {
                 let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
                 let (w, h) = (self.args.width, self.args.height);
-                Camera::frame_up(lo, hi, w, h, self.setup.up)?
+                Camera::frame_up(lo, hi, w, h, self.setup.up)?.with_shift(self.setup.shift)?
             }
         })
     }
@@ -1201,6 +1254,29 @@ mod tests {
         assert!(parse_camera("0,0,5,0,0,0,30", Vec3::Y, 8, 8).is_ok());
         assert!(parse_camera("0,0,5,0,0", Vec3::Y, 8, 8).is_err());
         assert!(parse_camera("0,0,0,0,0,0", Vec3::Y, 8, 8).is_err());
+        // A rolled camera: its up direction given.
+        assert_eq!(parse_camera_up("1, 0,0").unwrap(), Vec3::X);
+        let e = parse_camera_up("1,0").unwrap_err().to_string();
+        assert_eq!(e, "--camera-up 1,0: expected 3 numbers (UX,UY,UZ), got 2");
+        assert_eq!(parse_camera_shift("0.25,-0.5").unwrap(), [0.25, -0.5]);
+        let e = parse_camera_shift("0,inf").unwrap_err().to_string();
+        assert_eq!(e, "--camera-shift 0,inf: the shift must be finite");
+        assert!(parse_camera_shift("a,b")
+            .unwrap_err()
+            .to_string()
+            .contains("SX,SY"));
+        // The up direction needs a camera to turn: the framed one picks its own.
+        let e = parse_in_memory(["--vdb", "f.vdb", "--camera-up", "0,0,1"]).unwrap_err();
+        assert!(e.to_string().contains("--camera <CAMERA>"), "{e}");
+        let given = [
+            "--vdb",
+            "f.vdb",
+            "--camera",
+            "0,-4,0,0,0,0",
+            "--camera-up",
+            "1,0,1",
+        ];
+        assert!(parse_in_memory(given).is_ok());
         assert_eq!(
             frame_out(Path::new("a/b.exr"), Some(7)),
             Path::new("a/b_0007.exr")

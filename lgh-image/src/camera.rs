@@ -21,6 +21,8 @@ pub enum CameraError {
     UpAlongView,
     /// The vertical field of view (degrees) is not in (0, 180).
     FieldOfView(f32),
+    /// The lens shift (fractions of the image's larger side) has a NaN or infinite coordinate.
+    Shift([f32; 2]),
     /// The image size is outside 1 to [`MAX_IMAGE_SIDE`](crate::MAX_IMAGE_SIDE) pixels per side
     /// (the [`ImageError::Size`] of [`check_image_size`](crate::check_image_size)).
     ImageSize {
@@ -46,6 +48,9 @@ impl fmt::Display for CameraError {
                 f,
                 "camera: vertical field of view {fov}° must be in (0, 180) degrees"
             ),
+            CameraError::Shift([x, y]) => {
+                write!(f, "camera: lens shift ({x}, {y}) must be finite")
+            }
             // The message of the image-size check, which is the rule.
             &CameraError::ImageSize { width, height } => {
                 write!(f, "camera: {}", ImageError::Size { width, height })
@@ -56,7 +61,9 @@ impl fmt::Display for CameraError {
 
 impl std::error::Error for CameraError {}
 
-/// A pinhole camera with a vertical field of view and square pixels; image rows top first.
+/// A pinhole camera with a vertical field of view and square pixels; image rows top first. Its
+/// image plane may be shifted off the view axis ([`with_shift`](Pinhole::with_shift), a camera's
+/// lens shift).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pinhole {
     eye: Vec3,
@@ -64,6 +71,8 @@ pub struct Pinhole {
     right: Vec3,
     up: Vec3,
     tan_half_fov: f32,
+    /// The lens shift on the image plane at distance 1, along `right` and `up` (zero: none).
+    shift: [f32; 2],
     width: usize,
     height: usize,
 }
@@ -126,8 +135,42 @@ impl Pinhole {
             right,
             up: right.cross(forward),
             tan_half_fov,
+            shift: [0.0; 2],
             width,
             height,
+        })
+    }
+
+    /// This camera with its image plane shifted off the view axis by `shift` = (x, y) times the
+    /// image's larger side, x right and y up: a lens shift, as Blender's camera has it (Shift X
+    /// and Y with the sensor fit `Auto`). The eye and the view direction stay; the image shows
+    /// what a larger image would show beside the unshifted one — vertical lines stay vertical,
+    /// as an architectural camera keeps them. `[0.0, 0.0]` is the unshifted camera, to the bit.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_image::{CameraError, Pinhole};
+    ///
+    /// // 90° vertically on a 4×2 image: the image plane at distance 1 is 4 wide, 2 high.
+    /// let camera = Pinhole::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 4, 2)?;
+    /// // Shifted by half its width to the right, the image's left edge looks straight ahead.
+    /// let shifted = camera.with_shift([0.5, 0.0])?;
+    /// let d = shifted.direction(0.0, 1.0);
+    /// assert!((d - Vec3::NEG_Z).length() < 1e-6, "{d}");
+    /// assert_eq!(camera.with_shift([0.0, 0.0])?, camera);
+    /// let e = camera.with_shift([0.0, f32::INFINITY]).unwrap_err();
+    /// assert_eq!(e, CameraError::Shift([0.0, f32::INFINITY]));
+    /// # Ok::<(), CameraError>(())
+    /// ```
+    pub fn with_shift(self, shift: [f32; 2]) -> Result<Pinhole, CameraError> {
+        if !(shift[0].is_finite() && shift[1].is_finite()) {
+            return Err(CameraError::Shift(shift));
+        }
+        let aspect = self.width as f32 / self.height as f32;
+        let side = 2.0 * self.tan_half_fov * aspect.max(1.0);
+        Ok(Pinhole {
+            shift: [shift[0] * side, shift[1] * side],
+            ..self
         })
     }
 
@@ -156,8 +199,9 @@ impl Pinhole {
     pub fn direction(&self, x: f32, y: f32) -> Vec3 {
         // The renderers' images depend on this exact arithmetic: keep the order of operations.
         let aspect = self.width as f32 / self.height as f32;
-        let u = (2.0 * x / self.width as f32 - 1.0) * self.tan_half_fov * aspect;
-        let v = (1.0 - 2.0 * y / self.height as f32) * self.tan_half_fov;
+        // Adding a zero shift changes no bit: u and v are never -0.0 (1.0 - 1.0 is +0.0).
+        let u = (2.0 * x / self.width as f32 - 1.0) * self.tan_half_fov * aspect + self.shift[0];
+        let v = (1.0 - 2.0 * y / self.height as f32) * self.tan_half_fov + self.shift[1];
         (self.forward + u * self.right + v * self.up).normalize()
     }
 
@@ -207,6 +251,59 @@ mod tests {
             let want = want.normalize();
             assert!((d - want).length() < 1e-6, "({x}, {y}): {d} vs {want}");
         }
+    }
+
+    #[test]
+    fn an_unshifted_camera_gives_the_former_arithmetics_bits() {
+        // The direction before lens shift existed, as the committed images were made with it.
+        let former = |c: &Pinhole, x: f32, y: f32| {
+            let aspect = c.width as f32 / c.height as f32;
+            let u = (2.0 * x / c.width as f32 - 1.0) * c.tan_half_fov * aspect;
+            let v = (1.0 - 2.0 * y / c.height as f32) * c.tan_half_fov;
+            (c.forward + u * c.right + v * c.up).normalize()
+        };
+        let c = Pinhole::new(Vec3::new(-7.1, 3.3, 2.9), Vec3::ZERO, Vec3::Z, 75.5, 17, 31).unwrap();
+        for c in [c, c.with_shift([0.0, 0.0]).unwrap()] {
+            for py in 0..=2 * c.height() {
+                for px in 0..=2 * c.width() {
+                    let (x, y) = (0.5 * px as f32, 0.5 * py as f32);
+                    assert_eq!(
+                        c.direction(x, y).to_array().map(f32::to_bits),
+                        former(&c, x, y).to_array().map(f32::to_bits),
+                        "({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_lens_shift_moves_the_image_plane_by_fractions_of_the_larger_side() {
+        // 90° vertically: the image plane at distance 1 is 2 high, 2·aspect wide.
+        for (w, h) in [(4, 2), (2, 4)] {
+            let c = Pinhole::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, w, h).unwrap();
+            let larger = 2.0 * (w as f32 / h as f32).max(1.0);
+            for shift in [[0.25, 0.0], [0.0, -0.5], [0.1, 0.3]] {
+                let s = c.with_shift(shift).unwrap();
+                for (x, y) in [(0.0, 0.0), (1.0, 1.5), (w as f32, h as f32)] {
+                    let plane = c.direction(x, y) / -c.direction(x, y).z;
+                    let want = plane + Vec3::new(shift[0], shift[1], 0.0) * larger;
+                    let d = s.direction(x, y);
+                    assert!(
+                        (d - want.normalize()).length() < 1e-6,
+                        "{w}x{h} {shift:?} ({x}, {y})"
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            Pinhole::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 4, 2)
+                .unwrap()
+                .with_shift([f32::NAN, 0.0])
+                .map_err(|e| e.to_string())
+                .unwrap_err(),
+            "camera: lens shift (NaN, 0) must be finite"
+        );
     }
 
     #[test]
