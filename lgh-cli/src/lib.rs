@@ -41,6 +41,7 @@ mod room;
 use clap::Subcommand;
 
 pub use files::MissingFile;
+pub use progress::Bars;
 
 /// Lighting with millions of point lights through the Lighting Grid Hierarchy.
 #[derive(Debug, clap::Parser)]

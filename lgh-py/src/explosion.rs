@@ -13,7 +13,7 @@ use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 use lgh_cli::explosion::InMemoryError;
 
 use crate::errors::RenderError;
-use crate::progress::Callback;
+use crate::progress::{watched, Watch};
 
 /// The command line of `settings`: `name=value` is `--name=value` (underscores as dashes; the
 /// `=` form, so that a value may start with `-`),
@@ -105,8 +105,9 @@ pub fn explosion_settings() -> Vec<SettingRow> {
 /// (``albedo=2``) ``ValueError``, an error of the render itself (a grid the file lacks)
 /// ``lgh.RenderError``. Progress bars are
 /// off unless ``quiet=False``; ``progress(phase, done, total)``, if given, is called instead
-/// as each frame's scattering, shadow maps and image go (at most every 0.1 s; an exception it
-/// raises is raised when the render returns). ``threads`` (default: every core; the command's
+/// as each frame's scattering, shadow maps and image go (at most every 0.1 s); an exception it
+/// raises stops the render within a row (or a light, or a chunk of voxels) and is raised, as
+/// Ctrl-C (``KeyboardInterrupt``) is. ``threads`` (default: every core; the command's
 /// ``--threads``) changes nothing in the image. The GIL is released while it renders.
 #[pyfunction]
 #[pyo3(signature = (vdb, *, progress = None, threads = None, **settings))]
@@ -140,18 +141,16 @@ pub fn render_explosion<'py>(
         argv.push("--quiet".into());
     }
     argv.extend(given.into_iter().map(OsString::from));
-    let callback = progress.map(|p| Callback::new(p.clone().unbind()));
-    let reporter = callback.as_ref().map(|c| c as &dyn lgh_volume::Progress);
-    let render = || lgh_cli::explosion::render_in_memory_with(&argv, reporter);
-    let images = py
-        .detach(|| match &pool {
+    let bars = !argv.iter().any(|a| a == "--quiet");
+    let watch = Watch::new(progress.map(|p| p.clone().unbind()), bars);
+    let images = watched(py, &watch, |watch| {
+        let render = || lgh_cli::explosion::render_in_memory_with(&argv, Some(watch));
+        match &pool {
             Some(pool) => pool.install(render),
             None => render(),
-        })
-        .map_err(|e| exception(&e))?;
-    if let Some(e) = callback.and_then(|c| c.take_error()) {
-        return Err(e);
-    }
+        }
+    })?
+    .map_err(|e| exception(&e))?;
     if !frames {
         let one = images
             .first()

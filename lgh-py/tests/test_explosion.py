@@ -97,9 +97,41 @@ def test_progress_is_reported_by_phase_and_changes_nothing():
     with pytest.raises(ValueError, match="threads must be at least 1"):
         lgh.render_explosion(vdb, threads=0, **settings)
 
-    def refuse(phase, done, total):
-        raise RuntimeError(f"stopped in {phase}")
 
-    # The render does not stop for it, but the exception is what the call raises.
-    with pytest.raises(RuntimeError, match="stopped in"):
+
+def test_an_exception_in_the_callback_or_ctrl_c_stops_the_render():
+    """A stop asked for in the first row ends the render long before its rows are done: the
+    callback's exception (or ``KeyboardInterrupt``) is what the call raises, and the next
+    render is whole and the same as ever."""
+    vdb = fire_frame(56)
+    settings = dict(width=64, height=256, scatter_depth=0, pixel_samples=2)
+    whole = lgh.render_explosion(vdb, **settings)
+    rows = []
+
+    def refuse(phase, done, total):
+        if phase == "rendering":
+            rows.append(done)
+            if done > 0:
+                raise RuntimeError(f"stopped in {phase}")
+
+    with pytest.raises(RuntimeError, match="stopped in rendering"):
         lgh.render_explosion(vdb, progress=refuse, **settings)
+    # The rows done before the stop was seen: the reports come every 0.1 s, and after the
+    # first one each worker stops at its next row.
+    assert rows and max(rows) < 256, rows
+
+    import _thread
+    import threading
+    import time
+
+    seen = []
+
+    def watch(phase, done, total):
+        if phase == "rendering" and not seen:
+            seen.append(time.monotonic())
+            threading.Timer(0.05, _thread.interrupt_main).start()
+
+    with pytest.raises(KeyboardInterrupt):
+        lgh.render_explosion(vdb, progress=watch, **settings)
+    assert seen, "the render never began"
+    np.testing.assert_array_equal(lgh.render_explosion(vdb, **settings), whole)
