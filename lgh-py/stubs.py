@@ -36,6 +36,7 @@ def stubs():
         "from ._lgh import RenderError as RenderError",
         "from ._lgh import __version__ as __version__",
         "from ._lgh import explosion_settings as explosion_settings",
+        "from ._lgh import write_procedural as write_procedural",
         "",
         "_Value = str | int | float | Sequence[str | int | float] | os.PathLike[str]",
         "",

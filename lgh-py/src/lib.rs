@@ -5,7 +5,7 @@
 //! [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
 //! (2), (4), (5) and the blended query of eq. (3)); [`arrays`] moves numpy arrays in and out
 //! without a Python call per element; [`progress`] reports the library's progress to a Python
-//! callback; [`errors`] maps the library's errors to Python's
+//! callback; [`procedural`] writes lgh's procedural volumes for OpenVDB tools; [`errors`] maps the library's errors to Python's
 //! exceptions; [`work`] runs long work in chunks with the GIL released, stopping on Ctrl-C and
 //! reporting progress between chunks.
 
@@ -15,6 +15,7 @@ mod arrays;
 mod errors;
 mod explosion;
 mod hierarchy;
+mod procedural;
 mod progress;
 mod work;
 
@@ -24,6 +25,7 @@ fn _lgh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<hierarchy::Hierarchy>()?;
     m.add_function(wrap_pyfunction!(explosion::render_explosion, m)?)?;
     m.add_function(wrap_pyfunction!(explosion::explosion_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(procedural::write_procedural, m)?)?;
     m.add("RenderError", m.py().get_type::<errors::RenderError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -11,9 +11,12 @@ and returns them; errors are Python exceptions carrying the library's message: `
 for a bad argument, ``lgh.RenderError`` for the rest.
 """
 from . import _lgh
-from ._lgh import Hierarchy, RenderError, __version__, explosion_settings
+from ._lgh import Hierarchy, RenderError, __version__, explosion_settings, write_procedural
 
-__all__ = ["Hierarchy", "RenderError", "__version__", "explosion_settings", "render_explosion"]
+__all__ = [
+    "Hierarchy", "RenderError", "__version__", "explosion_settings", "render_explosion",
+    "write_procedural",
+]
 
 
 def render_explosion(vdb, *, progress=None, threads=None, **settings):

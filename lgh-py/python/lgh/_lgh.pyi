@@ -1,6 +1,6 @@
 """Type stubs of the native module ``lgh._lgh`` (re-exported by ``lgh``)."""
 import os
-from typing import Callable, Optional, TypedDict
+from typing import Callable, Literal, Optional, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -70,3 +70,12 @@ class Hierarchy:
     @property
     def origin(self) -> tuple[float, float, float]: ...
     def __len__(self) -> int: ...
+
+def write_procedural(
+    kind: Literal["fireball", "explosion", "ball"],
+    resolution: int,
+    time: float,
+    prefix: str | os.PathLike[str],
+) -> None:
+    """lgh's procedural volume as raw grids ``PREFIX.json``, ``PREFIX.density.f32``,
+    ``PREFIX.temperature.f32`` (``tools/cycles/write_vdb.py`` makes an OpenVDB file of them)."""

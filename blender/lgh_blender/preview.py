@@ -1,0 +1,183 @@
+"""The viewport's progressive preview: the scene as the viewport sees it, first at a quarter of
+the viewport's resolution (a sixteenth of its pixels), then at full resolution, each drawn as
+soon as it is done; a change of the view, the frame or a setting restarts it, and the render it
+replaces stops within a row.
+
+The renders run on a worker thread (``lgh`` releases the GIL while it works); ``view_draw``
+draws the newest finished image and asks for another draw while a finer one is coming.
+:class:`Progressive` holds that logic without Blender's drawing, so that it can be tested in
+background mode, where there is no viewport.
+"""
+import math
+import threading
+
+from . import camera
+from .errors import Refused
+from .scene import job
+
+#: The preview's passes: the divisor of the viewport's width and height.
+PASSES = (4, 1)
+
+
+def viewport_camera(view_matrix, window_matrix, width, height, local=None):
+    """``lgh``'s camera settings for a viewport: its view matrix (world to view) and its
+    perspective projection (``window_matrix``), ``width × height`` pixels. ``None`` for an
+    orthographic view, which LGH does not render."""
+    p = window_matrix
+    if abs(p[3][3]) > 0.5:
+        return None
+    tan_v = 1.0 / p[1][1]
+    fov = math.degrees(2.0 * math.atan(tan_v))
+    larger = 2.0 * tan_v * max(width / height, 1.0)
+    shift = ((p[0][2] / p[0][0]) / larger, (p[1][2] / p[1][1]) / larger)
+    eye, forward, up = camera.view(view_matrix.inverted())
+    if local is not None:
+        rot, move = local
+        eye, forward, up = rot @ eye + move, (rot @ forward).normalized(), (rot @ up).normalized()
+    out = {"width": width, "height": height, "camera": (*eye, *(eye + forward), fov),
+           "camera_up": tuple(up)}
+    if shift != (0.0, 0.0):
+        out["camera_shift"] = shift
+    return out
+
+
+class Progressive:
+    """Renders ``job`` (a :class:`~.scene.Job`) at each of :data:`PASSES` in turn on a worker
+    thread, keeping the newest image; :meth:`restart` with a new job stops the current one.
+    ``render(job, progress)`` renders (``lgh.render_explosion`` through the engine)."""
+
+    def __init__(self, render):
+        self._render = render
+        self._lock = threading.Lock()
+        self._generation = 0
+        self._thread = None
+        self.image = None
+        self.passes_done = 0
+        self.error = None
+
+    def restart(self, the_job):
+        """Starts over with ``the_job``; the running render stops at its next report."""
+        with self._lock:
+            self._generation += 1
+            generation = self._generation
+            self.passes_done, self.error = 0, None
+        thread = threading.Thread(target=self._run, args=(the_job, generation), daemon=True)
+        self._thread = thread
+        thread.start()
+
+    def stop(self):
+        """Stops the running render (the engine is freed)."""
+        with self._lock:
+            self._generation += 1
+
+    def busy(self):
+        """Whether a finer image is still coming."""
+        return self._thread is not None and self._thread.is_alive()
+
+    def wait(self):
+        """Waits for the passes of the current job (tests)."""
+        if self._thread is not None:
+            self._thread.join()
+
+    def _run(self, the_job, generation):
+        def progress(phase, done, total):
+            if self._generation != generation:
+                raise _Superseded()
+
+        for divisor in PASSES:
+            settings = dict(the_job.settings)
+            settings["width"] = max(1, settings["width"] // divisor)
+            settings["height"] = max(1, settings["height"] // divisor)
+            scaled = the_job.with_settings(settings)
+            try:
+                image = self._render(scaled, progress)
+            except _Superseded:
+                return
+            except Exception as e:  # shown in the viewport instead of an image
+                with self._lock:
+                    if self._generation == generation:
+                        self.error = str(e)
+                return
+            with self._lock:
+                if self._generation != generation:
+                    return
+                self.image = image
+                self.passes_done += 1
+
+
+class _Superseded(Exception):
+    """A newer view asked for another preview."""
+
+
+def _state(engine):
+    state = getattr(engine, "_lgh_preview", None)
+    if state is None:
+        from .engine import render_job
+
+        state = {"progressive": Progressive(lambda j, p: render_job(j, p)), "key": None,
+                 "job": None, "texture": None, "drawn": None}
+        engine._lgh_preview = state
+    return state
+
+
+def update(engine, context, depsgraph):
+    """``view_update``: the scene changed (a setting, the frame): read it again."""
+    state = _state(engine)
+    try:
+        state["job"] = job(depsgraph)
+        state["error"] = None
+    except Refused as e:
+        state["job"], state["error"] = None, str(e)
+    state["key"] = None  # restart at the next draw
+
+
+def draw(engine, context, depsgraph):
+    """``view_draw``: restart the preview if the view changed, draw the newest image."""
+    state = _state(engine)
+    region, rv3d = context.region, context.region_data
+    if state["job"] is None and state.get("error") is None:
+        update(engine, context, depsgraph)
+    the_job = state["job"]
+    if the_job is None:
+        return
+    key = (tuple(map(tuple, rv3d.view_matrix)), tuple(map(tuple, rv3d.window_matrix)),
+           region.width, region.height, id(the_job))
+    progressive = state["progressive"]
+    if key != state["key"]:
+        state["key"] = key
+        view = viewport_camera(rv3d.view_matrix, rv3d.window_matrix, region.width,
+                               region.height, the_job.local)
+        if view is None:
+            progressive.stop()
+            return
+        settings = {k: v for k, v in the_job.settings.items() if k != "camera_shift"}
+        settings.update(view)
+        progressive.restart(the_job.with_settings(settings))
+    image = progressive.image
+    if image is not None:
+        _blit(engine, context, state, image)
+    if progressive.busy():
+        engine.tag_redraw()
+
+
+def _blit(engine, context, state, image):
+    """Draws ``image`` (rows from the top) over the viewport, through Blender's colour
+    management (``bind_display_space_shader``)."""
+    import gpu
+    import numpy as np
+    from gpu_extras.presets import draw_texture_2d
+
+    if state["drawn"] is not image:
+        h, w, _ = image.shape
+        rgba = np.ones((h, w, 4), dtype=np.float32)
+        rgba[:, :, :3] = image[::-1]
+        buffer = gpu.types.Buffer("FLOAT", w * h * 4, rgba.ravel())
+        state["texture"] = gpu.types.GPUTexture((w, h), format="RGBA16F", data=buffer)
+        state["drawn"] = image
+    region = context.region
+    scene = context.scene
+    gpu.state.blend_set("ALPHA_PREMULT")
+    engine.bind_display_space_shader(scene)
+    draw_texture_2d(state["texture"], (0, 0), region.width, region.height)
+    engine.unbind_display_space_shader()
+    gpu.state.blend_set("NONE")

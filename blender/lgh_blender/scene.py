@@ -1,0 +1,317 @@
+"""A Blender scene as one ``lgh explosion`` render: the VDB file of the frame, every setting (the
+keyword arguments of ``lgh.render_explosion``), and the notes — what the scene asks for that
+LGH does not render, each named once for Blender's report. Never a silently different image:
+what is read here is rendered as Cycles renders it, what is not is named, and what cannot be
+rendered at all is refused (:class:`~.errors.Refused`).
+
+What is read:
+
+- the scene camera (:mod:`.camera`) and the render's resolution;
+- the first OpenVDB Volume object (by name) visible to the render, its file for the current
+  frame (``grids.frame_filepath``) and its placement: translation, rotation and a uniform
+  scale, undone by moving the camera into the volume's own space (a scale ``s`` multiplies the
+  extinction and the emission per unit of the file's length by ``s``: the same image);
+- its material's Principled Volume (Cycles' ``svm_node_principled_volume``): with density
+  ``d``, scattering colour ``c`` and absorption colour ``a``, Cycles' extinction is
+  ``d (c + (1 - c)(1 - sqrt(a)))`` per unit of the density attribute and its albedo
+  ``c / (c + (1 - c)(1 - sqrt(a)))``: lgh's ``density_scale`` and ``albedo`` (grey colours; a
+  coloured one is named and its mean used); the blackbody intensity (times a grey tint, or
+  the attribute linked to it: lgh's flame grid), the temperature and its attribute; an
+  attribute linked to the emission colour as an RGB emission grid times the emission strength;
+- Blender 4.x/5.x's interpolation of each attribute on its own (``emission_interpolation``).
+"""
+import math
+import os
+
+import bpy
+
+from . import camera
+from .errors import Refused
+
+#: Object types that are no part of the render's image (a camera is the view, an empty nothing).
+SILENT = {"CAMERA", "EMPTY", "LIGHT_PROBE", "SPEAKER", "ARMATURE", "LATTICE"}
+
+
+class Job:
+    """One render: ``vdb``, the file; ``settings``, ``lgh.render_explosion``'s keyword
+    arguments; ``notes``, what is not rendered, one sentence each; ``local``, the map from the
+    world into the volume's own space (``None``: the identity), for other cameras."""
+
+    def __init__(self, vdb, settings, notes, local=None):
+        self.vdb = vdb
+        self.settings = settings
+        self.notes = notes
+        self.local = local
+
+    def with_settings(self, settings):
+        """This job with other settings."""
+        return Job(self.vdb, settings, self.notes, self.local)
+
+    def __repr__(self):
+        return f"Job({self.vdb!r}, {self.settings!r}, {self.notes!r})"
+
+
+def grey(rgb):
+    """Whether an RGB colour is grey (its channels equal to 1e-6)."""
+    return max(rgb) - min(rgb) <= 1e-6
+
+
+class Shader:
+    """A Principled Volume node's inputs, each its own value unless an attribute drives it;
+    anything else linked to an input is named in ``notes``."""
+
+    def __init__(self, node, material, notes):
+        self.node, self.material, self.notes = node, material, notes
+
+    def linked(self, name):
+        """The node linked to input ``name``, or ``None``."""
+        socket = self.node.inputs[name]
+        return socket.links[0].from_node if socket.is_linked and socket.links else None
+
+    def attribute(self, name):
+        """The attribute (by name) an Attribute node feeding input ``name`` reads, else ``None``
+        (any other node is named: the input's own value is used)."""
+        node = self.linked(name)
+        if node is None:
+            return None
+        if node.type == "ATTRIBUTE" and node.attribute_type == "GEOMETRY" and node.attribute_name:
+            return node.attribute_name
+        self.notes.append(
+            f"material '{self.material}': the {node.bl_label} node driving the Principled "
+            f"Volume's {name} (its own value is used)")
+        return None
+
+    def value(self, name):
+        """The input's own value: a float, or an RGB tuple."""
+        v = self.node.inputs[name].default_value
+        return tuple(v)[:3] if hasattr(v, "__len__") else float(v)
+
+    def text(self, name):
+        """A string input (an attribute's name)."""
+        return self.node.inputs[name].default_value
+
+
+def colour(shader, name):
+    """A colour input as one number: the value if grey, else its mean, named."""
+    rgb = shader.value(name)
+    if shader.attribute(name) is not None:
+        shader.notes.append(f"material '{shader.material}': an attribute driving the "
+                            f"Principled Volume's {name} (its own value is used)")
+    if not grey(rgb):
+        shader.notes.append(
+            f"material '{shader.material}': the coloured {name} "
+            f"({rgb[0]:.3g}, {rgb[1]:.3g}, {rgb[2]:.3g}): lgh's medium is grey, its mean is used")
+    return sum(rgb) / 3.0
+
+
+def volume_shader(obj):
+    """The Principled Volume of ``obj``'s first material, with the material's name."""
+    material = obj.material_slots[0].material if obj.material_slots else None
+    if material is None:
+        raise Refused(f"volume '{obj.name}' has no material: give it one with a Principled "
+                      "Volume shader")
+    if bpy.app.version < (5, 0, 0) and not material.use_nodes:
+        raise Refused(f"material '{material.name}' of '{obj.name}' uses no nodes: LGH renders "
+                      "the Principled Volume shader")
+    outputs = [n for n in material.node_tree.nodes
+               if n.type == "OUTPUT_MATERIAL" and n.target in ("ALL", "CYCLES")]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    volume = active[0].inputs["Volume"] if active else None
+    if volume is None or not volume.is_linked:
+        raise Refused(f"material '{material.name}' of '{obj.name}' has no volume shader: "
+                      "link a Principled Volume to the Material Output's Volume")
+    node = volume.links[0].from_node
+    if node.type != "PRINCIPLED_VOLUME":
+        raise Refused(f"material '{material.name}' of '{obj.name}': its volume shader is a "
+                      f"{node.bl_label}, LGH renders the Principled Volume")
+    return node, material.name, active[0]
+
+
+def medium(obj, scale, grids, notes):
+    """The settings of ``obj``'s Principled Volume, ``scale`` the uniform scale of its
+    placement, ``grids`` the names of its file's grids."""
+    node, material, output = volume_shader(obj)
+    if output.inputs["Surface"].is_linked:
+        notes.append(f"material '{material}': the surface shader (LGH renders the volume)")
+    sh = Shader(node, material, notes)
+    out = {}
+
+    # Density: Density x the density attribute.
+    if sh.attribute("Density") is not None:
+        notes.append(f"material '{material}': an attribute linked to the Density (the "
+                     "Density Attribute is read)")
+    density_attr = sh.text("Density Attribute")
+    if not density_attr:
+        raise Refused(f"material '{material}': the Principled Volume has no Density "
+                      "Attribute: LGH renders smoke from a density grid")
+    if density_attr not in grids:
+        raise Refused(f"volume '{obj.name}' has no grid '{density_attr}', the Density "
+                      f"Attribute of material '{material}' (its grids: {', '.join(grids)})")
+    d = sh.value("Density")
+    c = colour(sh, "Color")
+    a = colour(sh, "Absorption Color")
+    if sh.text("Color Attribute"):
+        notes.append(f"material '{material}': the Color Attribute "
+                     f"'{sh.text('Color Attribute')}' (lgh's medium is grey)")
+    absorption = max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(a, 0.0)), 0.0)
+    extinction = max(c, 0.0) + absorption
+    out["density_grid"] = density_attr
+    out["density_scale"] = d * extinction * scale
+    out["albedo"] = min(max(c, 0.0) / extinction, 1.0) if extinction > 0.0 else 0.0
+    if sh.value("Anisotropy") != 0.0:
+        notes.append(f"material '{material}': the anisotropy {sh.value('Anisotropy'):g} (lgh "
+                     "scatters isotropically)")
+
+    # Emission: the blackbody, or an RGB emission attribute.
+    blackbody = sh.value("Blackbody Intensity")
+    flame = sh.attribute("Blackbody Intensity")
+    tint = sh.value("Blackbody Tint") if "Blackbody Tint" in node.inputs else (1.0, 1.0, 1.0)
+    emission_rgb = sh.attribute("Emission Color")
+    strength = sh.value("Emission Strength")
+    if sh.attribute("Emission Strength") is not None:
+        notes.append(f"material '{material}': an attribute linked to the Emission Strength")
+    if emission_rgb is not None and strength != 0.0:
+        if emission_rgb not in grids:
+            raise Refused(f"volume '{obj.name}' has no grid '{emission_rgb}', the attribute "
+                          f"of material '{material}''s Emission Color")
+        out["emission_grid"] = emission_rgb
+        out["emission_scale"] = strength * scale
+        out["flame_grid"] = "none"
+        if blackbody != 0.0 or flame is not None:
+            notes.append(f"material '{material}': the blackbody emission beside the Emission "
+                         "Color's attribute (lgh renders one emission)")
+        return out
+    if strength != 0.0:
+        notes.append(f"material '{material}': the Emission Strength {strength:g} with a "
+                     "constant Emission Color (lgh's light is the grids' emission)")
+    temperature_attr = sh.text("Temperature Attribute")
+    if sh.attribute("Temperature") is not None:
+        notes.append(f"material '{material}': an attribute linked to the Temperature")
+    if not grey(tint):
+        notes.append(f"material '{material}': the coloured Blackbody Tint (its mean is used)")
+    tint = sum(tint) / 3.0
+    if flame is not None:
+        if flame not in grids:
+            raise Refused(f"volume '{obj.name}' has no grid '{flame}', the attribute of "
+                          f"material '{material}''s Blackbody Intensity")
+        out["flame_grid"], intensity = flame, 1.0
+    else:
+        out["flame_grid"], intensity = "none", blackbody
+    if intensity * tint != 0.0:
+        if not temperature_attr:
+            raise Refused(f"material '{material}': a blackbody emission without a "
+                          "Temperature Attribute: LGH's lights are a temperature grid's voxels")
+        if temperature_attr not in grids:
+            raise Refused(f"volume '{obj.name}' has no grid '{temperature_attr}', the "
+                          f"Temperature Attribute of material '{material}' (its grids: "
+                          f"{', '.join(grids)})")
+        out["emission_grid"] = temperature_attr
+    out["emission_model"] = "blender"
+    out["temperature_scale"] = sh.value("Temperature")
+    out["emission_scale"] = intensity * tint * scale
+    return out
+
+
+def placement(obj):
+    """``(scale, local)`` of a volume object's world matrix: its uniform scale and the inverse
+    of its rigid part ``(rotation, translation)`` (``None`` for the identity). A non-uniform
+    scale, a shear or a mirror is refused."""
+    m = obj.matrix_world
+    rot_scale = m.to_3x3()
+    scales = [rot_scale.col[i].length for i in range(3)]
+    s = scales[0]
+    if s <= 0.0 or any(abs(x - s) > 1e-5 * s for x in scales):
+        raise Refused(f"volume '{obj.name}' has a non-uniform scale "
+                      f"({', '.join(f'{x:g}' for x in scales)}): LGH renders volumes scaled "
+                      "alike on every axis (apply the scale to the file, or make it uniform)")
+    rot = rot_scale * (1.0 / s)
+    if abs(rot.determinant() - 1.0) > 1e-4 or any(
+            abs(rot.col[i].dot(rot.col[j])) > 1e-4 for i in range(3) for j in range(i)):
+        raise Refused(f"volume '{obj.name}' is sheared or mirrored: LGH renders volumes "
+                      "translated, rotated and uniformly scaled")
+    if m == m.Identity(4):
+        return 1.0, None
+    inverse = m.inverted()
+    return s, (inverse.to_3x3(), inverse.translation.copy())
+
+
+def world_notes(scene, notes):
+    """The world's light, which LGH does not render: named unless black."""
+    world = scene.world
+    if world is None:
+        return
+    colour, strength = tuple(world.color), 1.0
+    if bpy.app.version >= (5, 0, 0) or world.use_nodes:
+        tree = world.node_tree
+        outputs = [n for n in tree.nodes if n.type == "OUTPUT_WORLD"] if tree else []
+        active = [n for n in outputs if n.is_active_output] or outputs
+        surface = active[0].inputs["Surface"] if active else None
+        if surface is None or not surface.is_linked:
+            return
+        node = surface.links[0].from_node
+        if node.type != "BACKGROUND" or node.inputs["Color"].is_linked:
+            notes.append(f"the world '{world.name}' ({node.bl_label}): its light on the smoke "
+                         "and the background (LGH renders a black world)")
+            return
+        colour, strength = tuple(node.inputs["Color"].default_value)[:3], \
+            node.inputs["Strength"].default_value
+    if max(colour) * strength > 0.0:
+        notes.append(f"the world's colour ({colour[0]:.3g}, {colour[1]:.3g}, {colour[2]:.3g}) "
+                     f"x {strength:g}: its light on the smoke and the background (LGH renders "
+                     "a black world)")
+
+
+def job(depsgraph):
+    """The render of ``depsgraph``'s scene at its current frame (see the module's text)."""
+    scene = depsgraph.scene
+    if scene.camera is None:
+        raise Refused("the scene has no camera (Scene > Camera)")
+    notes = []
+    volumes = []
+    for obj in depsgraph.objects:
+        if obj.type == "VOLUME":
+            volumes.append(obj)
+        elif obj.type == "LIGHT":
+            notes.append(f"the lamp '{obj.name}' (the fire is LGH's only light)")
+        elif obj.type == "MESH" and any(m.type == "FLUID" for m in obj.modifiers):
+            notes.append(f"the fluid object '{obj.name}' (LGH renders OpenVDB Volume objects; "
+                         "import the domain's cache as a Volume)")
+        elif obj.type not in SILENT:
+            notes.append(f"the {obj.type.lower()} '{obj.name}' (LGH renders a volume)")
+    if not volumes:
+        raise Refused("no Volume object to render: add one (Add > Volume > Import OpenVDB)")
+    volumes.sort(key=lambda o: o.name)
+    obj = volumes[0]
+    for other in volumes[1:]:
+        notes.append(f"the volume '{other.name}' (LGH renders one volume, '{obj.name}')")
+    data = obj.data
+    data.grids.load()
+    path = bpy.path.abspath(data.grids.frame_filepath or data.filepath)
+    if not path:
+        raise Refused(f"volume '{obj.name}' has no file (Volume > OpenVDB File)")
+    if not os.path.isfile(path):
+        raise Refused(f"volume '{obj.name}': {path}: no such file (frame {scene.frame_current})")
+    if data.grids.error_message:
+        raise Refused(f"volume '{obj.name}': {data.grids.error_message} ({path})")
+    grids = [g.name for g in data.grids]
+    if any(m.show_render for m in obj.modifiers):
+        notes.append(f"the modifiers of '{obj.name}' (LGH renders its file)")
+    scale, local = placement(obj)
+    settings = camera.settings(scene, scene.camera, local)
+    r = scene.render
+    if r.use_border:
+        notes.append("the render region (LGH renders the whole image)")
+    if r.use_motion_blur:
+        notes.append("motion blur")
+    if scene.camera.data.dof.use_dof:
+        notes.append(f"the depth of field of camera '{scene.camera.name}' (LGH's camera is a "
+                     "pinhole)")
+    settings.update(medium(obj, scale, grids, notes))
+    world_notes(scene, notes)
+    settings.update({
+        "up": "z",
+        "no_domain_offset": True,
+        "emission_interpolation": "attributes" if bpy.app.version >= (4, 0, 0) else "temperature",
+        "allow_dark": True,
+    })
+    return Job(path, settings, notes, local)
