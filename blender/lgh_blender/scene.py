@@ -297,14 +297,15 @@ def job(depsgraph):
     if any(m.show_render for m in obj.modifiers):
         notes.append(f"the modifiers of '{obj.name}' (LGH renders its file)")
     scale, local = placement(obj)
-    settings = camera.settings(scene, scene.camera, local)
+    view = scene.camera.evaluated_get(depsgraph)
+    settings = camera.settings(scene, view, local)
     r = scene.render
     if r.use_border:
         notes.append("the render region (LGH renders the whole image)")
     if r.use_motion_blur:
         notes.append("motion blur")
-    if scene.camera.data.dof.use_dof:
-        notes.append(f"the depth of field of camera '{scene.camera.name}' (LGH's camera is a "
+    if view.data.dof.use_dof:
+        notes.append(f"the depth of field of camera '{view.name}' (LGH's camera is a "
                      "pinhole)")
     settings.update(medium(obj, scale, grids, notes))
     world_notes(scene, notes)

@@ -10,6 +10,7 @@ from ._lgh import Hierarchy as Hierarchy
 from ._lgh import RenderError as RenderError
 from ._lgh import __version__ as __version__
 from ._lgh import explosion_settings as explosion_settings
+from ._lgh import write_procedural as write_procedural
 
 _Value = str | int | float | Sequence[str | int | float] | os.PathLike[str]
 
@@ -60,6 +61,8 @@ def render_explosion(
     width: _Value | None = ...,  # Image width in pixels (default 640)
     height: _Value | None = ...,  # Image height in pixels (default 360)
     camera: _Value | None = ...,  # Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (eye, target, vertical field of view in degrees; default: framed on the smoke of all frames, seen from the front)
+    camera_up: _Value | None = ...,  # With --camera: the camera's up direction `UX,UY,UZ` (default: the world's up, --up)
+    camera_shift: _Value | None = ...,  # Lens shift `SX,SY`: the image plane moved right and up by these fractions of the image's larger side, the view direction kept (Blender's camera Shift X and Y
     scene: _Value | None = ...,  # Opaque surfaces around the smoke: an OBJ scene (with its MTL; diffuse albedo, Phong's `kd`) in the cache's world units, lit by the fire through the smoke and shadowe
     up: Literal['y', 'z'] | None = ...,  # The world's up axis (Blender: z) (default z)
     allow_dark: bool | None = ...,  # Render even when no frame has a light
