@@ -60,6 +60,7 @@ def test_a_quarter_resolution_first_then_full_and_a_new_view_restarts(fireball):
     p.restart(the_job)
     p.wait()
     assert sizes == [(16, 10), (64, 40)] and p.passes_done == 2 and p.error is None
+    # The last pass is the final render's image.
     np.testing.assert_array_equal(p.image, engine.render_job(the_job))
 
     # A new view while the first pass renders: the old render stops at its next report and
