@@ -2,7 +2,7 @@
 bpy) rendered by the add-on's engine LGH and by Cycles 5.2.3 in the same scene, side by side
 with one tone map (``tools/cycles/compare.py``'s ``figure``), each labelled with its time.
 
-    python blender/picture.py [--width 320 --height 180] [--spp 256] [--out docs/blender/fire56-lgh-cycles.png]
+    python blender/picture.py [--width 320 --height 180] [--spp 1024] [--fov 20] [--out docs/blender/fire56-lgh-cycles.png]
 
 Cycles renders as ``tools/cycles/render_cycles.py`` does (CPU, 128 volume bounces, no denoiser,
 no adaptive sampling, a one-pixel box filter) at ``--spp`` samples: a picture, not the equal-error
@@ -28,7 +28,8 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--width", type=int, default=320)
     p.add_argument("--height", type=int, default=180)
-    p.add_argument("--spp", type=int, default=256)
+    p.add_argument("--spp", type=int, default=1024)
+    p.add_argument("--fov", type=float, default=20.0)
     p.add_argument("--out", default=str(ROOT / "docs" / "blender" / "fire56-lgh-cycles.png"))
     a = p.parse_args()
     os.environ.pop("LGH_REQUIRE_ALL", None)
@@ -42,7 +43,9 @@ def main():
     if not vdb.is_file():
         sys.exit(f"picture.py: no {vdb} (the shared data)")
     lgh_blender.register()
-    scene, _ = scenes.build(vdb, width=a.width, height=a.height, **scenes.DEV_FIRE)
+    # The study's scene, the field of view narrowed to the fire.
+    scene, _ = scenes.build(vdb, width=a.width, height=a.height,
+                            **dict(scenes.DEV_FIRE, fov=a.fov))
     with tempfile.TemporaryDirectory() as d:
         d = pathlib.Path(d)
         t = time.perf_counter()
