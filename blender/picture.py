@@ -25,6 +25,9 @@ sys.path.insert(0, str(ROOT / "tools" / "cycles"))
 
 
 def main():
+    # Blender prints to the process's standard output ("Saved: ..."): keep it for the JSON.
+    json_out = os.fdopen(os.dup(1), "w")
+    os.dup2(2, 1)
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--width", type=int, default=320)
     p.add_argument("--height", type=int, default=180)
@@ -73,7 +76,7 @@ def main():
     print(json.dumps({"width": a.width, "height": a.height, "spp": a.spp,
                       "lgh_s": round(lgh_s, 2), "cycles_s": round(cycles_s, 1),
                       "rel_rmse": round(scenes.rel_rmse(lgh_image, cycles_image), 4),
-                      "out": str(out)}))
+                      "out": str(out)}), file=json_out)
 
 
 if __name__ == "__main__":
