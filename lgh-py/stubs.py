@@ -1,5 +1,6 @@
-"""Writes ``python/lgh/__init__.pyi``: the package's stubs, with ``render_explosion``'s keyword
-arguments made from ``lgh explosion``'s own flags (``lgh._lgh.explosion_settings()``), so that
+"""Writes ``python/lgh/__init__.pyi``: the package's stubs, with ``render_explosion``'s and
+``render_gi``'s keyword arguments made from ``lgh explosion``'s and ``lgh gi``'s own flags
+(``lgh._lgh.explosion_settings()``, ``gi_settings()``), so that
 an editor completes and checks them. ``tests/test_stubs.py`` fails when the committed file is
 not what this writes.
 
@@ -10,11 +11,10 @@ import pathlib
 STUB = pathlib.Path(__file__).resolve().parent / "python" / "lgh" / "__init__.pyi"
 
 
-def stubs():
-    from lgh._lgh import explosion_settings
-
-    params = []
-    for name, takes_value, default, choices, help in explosion_settings():
+def params(settings):
+    """One stub line a setting: its keyword, type and the help's first sentence."""
+    out = []
+    for name, takes_value, default, choices, help in settings:
         if not takes_value:
             kind = "bool"
         elif choices:
@@ -22,10 +22,16 @@ def stubs():
         else:
             kind = "_Value"
         shown = f" (default {default})" if default is not None else ""
-        params.append(f"    {name}: {kind} | None = ...,  # {help}{shown}"[:200].rstrip())
+        out.append(f"    {name}: {kind} | None = ...,  # {help}{shown}"[:200].rstrip())
+    return out
+
+
+def stubs():
+    from lgh._lgh import explosion_settings, gi_settings
+
     lines = [
         '"""Stubs of the package ``lgh``; written by ``lgh-py/stubs.py`` from `lgh explosion`\'s',
-        'flags: do not edit by hand."""',
+        'and `lgh gi`\'s flags: do not edit by hand."""',
         "import os",
         "from typing import Callable, Literal, Sequence",
         "",
@@ -36,6 +42,7 @@ def stubs():
         "from ._lgh import RenderError as RenderError",
         "from ._lgh import __version__ as __version__",
         "from ._lgh import explosion_settings as explosion_settings",
+        "from ._lgh import gi_settings as gi_settings",
         "from ._lgh import write_procedural as write_procedural",
         "",
         "_Value = str | int | float | Sequence[str | int | float] | os.PathLike[str]",
@@ -45,9 +52,18 @@ def stubs():
         "    *,",
         "    progress: Callable[[str, int, int], object] | None = ...,",
         "    threads: int | None = ...,",
-        *params,
+        *params(explosion_settings()),
         ") -> npt.NDArray[np.float32] | dict[int, npt.NDArray[np.float32]]:",
         '    """`lgh explosion --vdb VDB` with the settings given, rendered into memory."""',
+        "",
+        "def render_gi(",
+        "    obj: str | os.PathLike[str],",
+        "    *,",
+        "    progress: Callable[[str, int, int], object] | None = ...,",
+        "    threads: int | None = ...,",
+        *params(gi_settings()),
+        ") -> npt.NDArray[np.float32]:",
+        '    """`lgh gi --obj OBJ` with the settings given, rendered into memory."""',
         "",
     ]
     return "\n".join(lines)

@@ -312,15 +312,7 @@ const NOT_SETTINGS: [&str; 6] = ["vdb", "frames", "prepare", "manifest", "resume
 
 /// `lgh explosion`'s flags given on the command line (not defaulted), except `except`.
 fn given_flags(matches: &ArgMatches, except: &[&str]) -> Vec<clap::Arg> {
-    let cmd = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
-    cmd.get_arguments()
-        .filter(|a| {
-            let id = a.get_id().as_str();
-            !except.contains(&id)
-                && matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine)
-        })
-        .cloned()
-        .collect()
+    crate::memory::given_flags::<ExplosionArgs>(matches, except)
 }
 
 /// The flags given on the command line (by long name, values as given; paths made absolute),
@@ -572,26 +564,7 @@ impl Prepared {
     }
 }
 
-/// Why a render into memory ([`render_in_memory`]) failed: its command line, settings or input
-/// files were refused before any work (the caller's to mend), or the render itself failed.
-#[derive(Debug)]
-pub enum InMemoryError {
-    /// Refused before any work: a flag the parser refused ([`Usage`](crate::Usage)), a setting,
-    /// a missing input file ([`MissingFile`](crate::files::MissingFile)).
-    Refused(crate::Error),
-    /// The render's own error (a grid the file lacks, a frame that cannot be read).
-    Failed(crate::Error),
-}
-
-impl InMemoryError {
-    /// The error, whichever its stage.
-    #[must_use]
-    pub fn error(&self) -> &crate::Error {
-        match self {
-            InMemoryError::Refused(e) | InMemoryError::Failed(e) => e,
-        }
-    }
-}
+pub use crate::memory::{InMemoryError, Setting};
 
 /// Where the frames go: `--out`'s files (the command), or memory ([`render_in_memory`]), with
 /// the progress reported to the caller (`None`: the command's bars, unless `--quiet`).
@@ -646,68 +619,11 @@ where
     Ok(images)
 }
 
-/// A setting of `lgh explosion` that a render into memory takes: what the Python package's
-/// `render_explosion` takes as a keyword argument, its stubs and docstring list.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Setting {
-    /// The flag's long name (`scatter-depth`).
-    pub flag: String,
-    /// Whether it takes a value (`--albedo 0.7`) or is a switch (`--no-domain-offset`).
-    pub takes_value: bool,
-    /// Its default as the command shows it, if it has one.
-    pub default: Option<String>,
-    /// The values it accepts, where they are a fixed list.
-    pub choices: Vec<String>,
-    /// The help's first sentence.
-    pub help: String,
-}
-
 /// Every setting a render into memory takes ([`render_in_memory`]): the flags of `lgh
 /// explosion` but `--vdb` and the flags of files, in the command's order.
 #[must_use]
 pub fn settings() -> Vec<Setting> {
-    let command = <ExplosionArgs as clap::Args>::augment_args(clap::Command::new("explosion"));
-    command
-        .get_arguments()
-        .filter(|a| {
-            let id = a.get_id().as_str();
-            id != "vdb" && !FILE_FLAGS.contains(&id)
-        })
-        .filter_map(|a| {
-            let flag = a.get_long()?.to_string();
-            let takes_value = a.get_action().takes_values();
-            let default = a
-                .get_default_values()
-                .iter()
-                .map(|v| v.to_string_lossy().into_owned())
-                .reduce(|a, b| format!("{a},{b}"));
-            let choices = a
-                .get_possible_values()
-                .iter()
-                .map(|v| v.get_name().to_string())
-                .collect();
-            let help = a.get_help().map(ToString::to_string).unwrap_or_default();
-            Some(Setting {
-                flag,
-                takes_value,
-                default,
-                choices,
-                help: first_sentence(&help).to_string(),
-            })
-        })
-        .collect()
-}
-
-/// `text`'s first sentence, without its full stop: up to the first `. ` before a capital that
-/// does not end an abbreviation (`e.g.`, `Sec.`, `eq.`).
-fn first_sentence(text: &str) -> &str {
-    const ABBREVIATIONS: [&str; 6] = ["e.g", "i.e", "Sec", "eq", "Eq", "Fig"];
-    let end = text.match_indices(". ").map(|(i, _)| i).find(|&i| {
-        let next = text[i + 2..].chars().next();
-        let word = text[..i].rsplit([' ', '(']).next().unwrap_or_default();
-        next.is_some_and(|c| c.is_uppercase() || c == '`') && !ABBREVIATIONS.contains(&word)
-    });
-    end.map_or(text, |i| &text[..i]).trim_end_matches('.')
+    crate::memory::settings::<ExplosionArgs>("vdb", &FILE_FLAGS)
 }
 
 /// The command line `args` of [`render_in_memory`], parsed; the flags of files refused.
@@ -716,27 +632,7 @@ where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
 {
-    use clap::{Args, FromArgMatches};
-    let command = ExplosionArgs::augment_args(clap::Command::new("lgh explosion"))
-        .no_binary_name(true)
-        .mut_arg("out", |a| {
-            a.required_unless_present(clap::builder::Resettable::<clap::Id>::Reset)
-        });
-    let matches = command
-        .try_get_matches_from(args)
-        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
-    let file_flag = given_flags(&matches, &[])
-        .into_iter()
-        .find(|a| FILE_FLAGS.contains(&a.get_id().as_str()));
-    if let Some(arg) = file_flag {
-        return Err(crate::usage(format!(
-            "--{}: a render into memory writes no files",
-            arg.get_long().unwrap_or("?")
-        )));
-    }
-    let args = ExplosionArgs::from_arg_matches(&matches)
-        .map_err(|e| crate::usage(e.render().to_string().trim().to_string()))?;
-    Ok((args, matches))
+    crate::memory::parse::<ExplosionArgs, _, _>("lgh explosion", args, &FILE_FLAGS)
 }
 
 /// One pass over the frames for what they share (written as a manifest with `--prepare`),
@@ -1281,14 +1177,5 @@ mod tests {
             frame_out(Path::new("a/b.exr"), Some(7)),
             Path::new("a/b_0007.exr")
         );
-        assert_eq!(
-            first_sentence("Frames (e.g. 50..56). One each."),
-            "Frames (e.g. 50..56)"
-        );
-        assert_eq!(
-            first_sentence("Pruning (paper Sec. 6.3). More."),
-            "Pruning (paper Sec. 6.3)"
-        );
-        assert_eq!(first_sentence("No stop at all"), "No stop at all");
     }
 }

@@ -18,6 +18,7 @@ use lgh_vpl::vpl::{VplError, VplSettings};
 use lgh_vpl::{Camera, Mesh};
 use serde_json::json;
 
+use crate::memory::{InMemoryError, Setting};
 use crate::output;
 use crate::progress::Bars;
 
@@ -305,8 +306,8 @@ pub struct GiArgs {
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub area_strata: u32,
     /// Output image (linear OpenEXR); a tone-mapped PNG is written beside it.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required = true)]
+    pub out: Option<PathBuf>,
 }
 
 /// Arguments of `lgh bench gi`.
@@ -452,15 +453,11 @@ impl SceneArgs {
         })
     }
 
-    /// Checks the image size, the lights and the camera, then reads the scene, traces its VPLs
-    /// and builds what `methods` need, for a `width × height` image from `--camera` or the
-    /// front view.
-    fn prepare(
+    /// `--light` and `--camera` parsed for a `width × height` image (checked before any work).
+    fn lights_and_camera(
         &self,
-        settings: &GiSettings,
         (width, height): (usize, usize),
-        methods: &[GiMethod],
-    ) -> Result<(GiScene, Camera), crate::Error> {
+    ) -> Result<(Vec<PrimaryLight>, Option<Camera>), crate::Error> {
         lgh_image::check_image_size(width, height)?;
         let given: Vec<PrimaryLight> = self
             .lights
@@ -474,6 +471,19 @@ impl SceneArgs {
             Some(s) => Some(crate::explosion::parse_camera(s, Vec3::Y, width, height)?),
             None => None,
         };
+        Ok((given, camera))
+    }
+
+    /// Checks the image size, the lights and the camera, then reads the scene, traces its VPLs
+    /// and builds what `methods` need, for a `width × height` image from `--camera` or the
+    /// front view.
+    fn prepare(
+        &self,
+        settings: &GiSettings,
+        (width, height): (usize, usize),
+        methods: &[GiMethod],
+    ) -> Result<(GiScene, Camera), crate::Error> {
+        let (given, camera) = self.lights_and_camera((width, height))?;
         let options = lgh_vpl::ObjOptions {
             missing_textures: self.missing_textures.into(),
             normals: self.normals.into(),
@@ -674,28 +684,16 @@ fn unhonoured(mesh: &Mesh) -> String {
 
 /// Runs `lgh gi`.
 pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
-    crate::check_alpha(args.alpha)?;
-    output::check_out(&args.out)?;
+    let out = args.out.as_deref().ok_or("--out is required")?;
+    output::check_out(out)?;
+    let (settings, method) = args.checked()?;
     let s = &args.scene;
-    let direct = if args.no_direct {
-        DirectLight::Off
-    } else {
-        DirectLight::Stratified {
-            area_strata: args.area_strata,
-        }
-    };
-    let (settings, lightcuts) = s.settings(direct)?;
-    let method = match args.backend {
-        GiBackend::Lgh => GiMethod::Lgh { alpha: args.alpha },
-        GiBackend::Brute => GiMethod::Brute,
-        GiBackend::Lightcuts => lightcuts,
-    };
-    let t = Instant::now();
-    let (scene, camera) = s.prepare(&settings, (s.width, s.height), &[method])?;
-    let prepare_s = t.elapsed().as_secs_f64();
-    let r = scene
-        .render(method, &camera, &Bars::new(s.quiet))
-        .map_err(flag_error)?;
+    let Rendered {
+        scene,
+        camera,
+        r,
+        prepare_s,
+    } = args.render(&settings, method, &Bars::new(s.quiet))?;
     let mut header = s.header(&scene);
     header.push(("render_seconds", format!("{:.3}", r.seconds)));
     header.push(("direct", (!args.no_direct).to_string()));
@@ -709,7 +707,7 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
         header.push(("aggregation", aggregation.to_string()));
     }
     let attrs = output::header_attributes(method.name(), &header);
-    let png = output::write_exr_png(&args.out, &r.rendered.image, &attrs, None)?;
+    let png = output::write_exr_png(out, &r.rendered.image, &attrs, None)?;
     if let Some(hint) = dark_hint(
         scene.scene(),
         &camera,
@@ -736,10 +734,126 @@ pub fn run(args: &GiArgs) -> Result<(), crate::Error> {
                 d.seconds, d.max_rays_per_point
             ),
         },
-        args.out.display(),
+        out.display(),
         png.display()
     );
     Ok(())
+}
+
+/// A render of `lgh gi`: the scene prepared, its camera, the render and the preparation's
+/// seconds.
+struct Rendered {
+    scene: GiScene,
+    camera: Camera,
+    r: lgh_vpl::gi::GiRender,
+    prepare_s: f64,
+}
+
+impl GiArgs {
+    /// The flags checked before any work: the settings and the method.
+    fn checked(&self) -> Result<(GiSettings, GiMethod), crate::Error> {
+        crate::check_alpha(self.alpha)?;
+        let s = &self.scene;
+        let direct = if self.no_direct {
+            DirectLight::Off
+        } else {
+            DirectLight::Stratified {
+                area_strata: self.area_strata,
+            }
+        };
+        let (settings, lightcuts) = s.settings(direct)?;
+        let method = match self.backend {
+            GiBackend::Lgh => GiMethod::Lgh { alpha: self.alpha },
+            GiBackend::Brute => GiMethod::Brute,
+            GiBackend::Lightcuts => lightcuts,
+        };
+        Ok((settings, method))
+    }
+
+    /// Prepares the scene (lights, VPLs, the hierarchy) and renders it with `method`.
+    fn render(
+        &self,
+        settings: &GiSettings,
+        method: GiMethod,
+        progress: &dyn lgh_vpl::gi::GiProgress,
+    ) -> Result<Rendered, crate::Error> {
+        let s = &self.scene;
+        let t = Instant::now();
+        let (scene, camera) = s.prepare(settings, (s.width, s.height), &[method])?;
+        let prepare_s = t.elapsed().as_secs_f64();
+        let r = scene
+            .render(method, &camera, &Forward(progress))
+            .map_err(flag_error)?;
+        Ok(Rendered {
+            scene,
+            camera,
+            r,
+            prepare_s,
+        })
+    }
+}
+
+/// Progress given as a trait object, to the library's `&impl GiProgress`.
+struct Forward<'a>(&'a dyn lgh_vpl::gi::GiProgress);
+
+impl lgh_vpl::gi::GiProgress for Forward<'_> {
+    fn begin(&self, phase: lgh_vpl::gi::GiPhase, rows: u64) {
+        self.0.begin(phase, rows);
+    }
+    fn advance(&self, rows: u64) {
+        self.0.advance(rows);
+    }
+    fn end(&self, phase: lgh_vpl::gi::GiPhase) {
+        self.0.end(phase);
+    }
+}
+
+/// The flags of files, which a render into memory has none of.
+const FILE_FLAGS: [&str; 1] = ["out"];
+
+/// `lgh gi` with the command line `args` (after `lgh gi`, without `--out`) rendered into
+/// memory: the image the command writes to its EXR, bit for bit, with the same settings,
+/// defaults and checks; nothing printed but the progress bars (none with `--quiet`, or with
+/// `progress` given, which hears them instead) and warnings. Flags, settings and a missing
+/// `--obj` are refused before any work ([`InMemoryError::Refused`]).
+pub fn render_in_memory_with<I, T>(
+    args: I,
+    progress: Option<&dyn lgh_vpl::gi::GiProgress>,
+) -> Result<lgh_image::Image, InMemoryError>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let refused = InMemoryError::Refused;
+    let (args, _) =
+        crate::memory::parse::<GiArgs, _, _>("lgh gi", args, &FILE_FLAGS).map_err(refused)?;
+    let (settings, method) = args.checked().map_err(refused)?;
+    let s = &args.scene;
+    crate::files::check_file(&s.obj)
+        .map_err(|e| crate::files::MissingFile(format!("--obj {e}")))
+        .map_err(|e| refused(e.into()))?;
+    s.lights_and_camera((s.width, s.height)).map_err(refused)?;
+    let bars = Bars::new(s.quiet);
+    let progress = progress.unwrap_or(&bars);
+    let rendered = args
+        .render(&settings, method, progress)
+        .map_err(InMemoryError::Failed)?;
+    if let Some(hint) = dark_hint(
+        rendered.scene.scene(),
+        &rendered.camera,
+        &rendered.r.rendered.image,
+        s.camera.is_none(),
+    ) {
+        eprintln!("lgh gi: warning: {hint}");
+    }
+    Ok(rendered.r.rendered.image)
+}
+
+/// Every setting a render into memory of `lgh gi` takes ([`render_in_memory_with`]): its flags
+/// but `--obj` and `--out`, in the command's order.
+#[must_use]
+pub fn settings() -> Vec<Setting> {
+    crate::memory::settings::<GiArgs>("obj", &FILE_FLAGS)
 }
 
 /// The most pixels with any light that an image may have and be called black: 1%.

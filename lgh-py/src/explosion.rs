@@ -2,77 +2,13 @@
 //! its own fire (the paper's Sec. 5 and 6), with every setting of the command a keyword
 //! argument at the command's default, the same checks and the same image, bit for bit.
 
-use std::ffi::OsString;
 use std::path::PathBuf;
 
-use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
+use pyo3::types::PyDict;
 
-use lgh_cli::explosion::InMemoryError;
-
+use crate::command::{array, rows, run, SettingRow};
 use crate::errors::RenderError;
-use crate::progress::{watched, Watch};
-
-/// The command line of `settings`: `name=value` is `--name=value` (underscores as dashes; the
-/// `=` form, so that a value may start with `-`),
-/// `True` the flag alone, `False` and `None` nothing, a tuple or list its items joined by
-/// commas (`camera=(0, -4, 0, 0, 0, 0, 40)`).
-fn command_line(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
-    let mut argv = Vec::new();
-    let Some(settings) = settings else {
-        return Ok(argv);
-    };
-    for (k, v) in settings.iter() {
-        let flag = format!("--{}", k.extract::<String>()?.replace('_', "-"));
-        if v.is_none() {
-            continue;
-        }
-        if let Ok(b) = v.cast::<PyBool>() {
-            if b.is_true() {
-                argv.push(flag);
-            }
-            continue;
-        }
-        let value = if v.is_instance_of::<PyTuple>() || v.is_instance_of::<PyList>() {
-            let items: Vec<String> = v
-                .try_iter()?
-                .map(|x| x.and_then(|x| x.str().map(|s| s.to_string())))
-                .collect::<PyResult<_>>()?;
-            items.join(",")
-        } else {
-            v.str()?.to_string()
-        };
-        argv.push(format!("{flag}={value}"));
-    }
-    Ok(argv)
-}
-
-/// The library's error as a Python exception with the command's one-line message: a missing
-/// input file is `FileNotFoundError`; a flag or setting refused before any work `ValueError`;
-/// an error of the render itself `lgh.RenderError`.
-fn exception(e: &InMemoryError) -> PyErr {
-    let message = lgh_cli::describe(e.error().as_ref());
-    if e.error().downcast_ref::<lgh_cli::MissingFile>().is_some() {
-        return PyFileNotFoundError::new_err(message);
-    }
-    match e {
-        InMemoryError::Refused(_) => PyValueError::new_err(message),
-        InMemoryError::Failed(_) => RenderError::new_err(message),
-    }
-}
-
-/// ``image`` as an ``(h, w, 3)`` float32 array, rows from the top.
-fn array<'py>(py: Python<'py>, image: &lgh_image::Image) -> PyResult<Bound<'py, PyAny>> {
-    let flat: Vec<f32> = image.pixels.iter().flat_map(|p| p.to_array()).collect();
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([image.height, image.width, 3])?
-        .into_any())
-}
-
-/// A setting as Python sees it: `(name, takes_value, default, choices, help)`.
-type SettingRow = (String, bool, Option<String>, Vec<String>, String);
 
 /// Every setting ``render_explosion`` takes, in ``lgh explosion``'s order: a list of
 /// ``(name, takes_value, default, choices, help)``, ``name`` the keyword (the flag with
@@ -80,19 +16,7 @@ type SettingRow = (String, bool, Option<String>, Vec<String>, String);
 /// accepted values where they are a fixed list, ``help`` the help's first sentence.
 #[pyfunction]
 pub fn explosion_settings() -> Vec<SettingRow> {
-    lgh_cli::explosion::settings()
-        .into_iter()
-        .map(|s| {
-            let default = s.default.filter(|_| s.takes_value);
-            (
-                s.flag.replace('-', "_"),
-                s.takes_value,
-                default,
-                s.choices,
-                s.help,
-            )
-        })
-        .collect()
+    rows(lgh_cli::explosion::settings())
 }
 
 /// Renders an OpenVDB simulation cache lit by its own fire, as ``lgh explosion --vdb VDB``
@@ -118,16 +42,6 @@ pub fn render_explosion<'py>(
     threads: Option<usize>,
     settings: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let pool = match threads {
-        Some(0) => return Err(PyValueError::new_err("threads must be at least 1")),
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| RenderError::new_err(format!("cannot start {n} threads: {e}")))?,
-        ),
-        None => None,
-    };
     let frames = match settings {
         Some(s) => match s.get_item("frames")? {
             Some(f) => f.is_truthy()?,
@@ -135,22 +49,10 @@ pub fn render_explosion<'py>(
         },
         None => false,
     };
-    let mut argv: Vec<OsString> = vec!["--vdb".into(), vdb.into_os_string()];
-    let given = command_line(settings)?;
-    if !settings.is_some_and(|s| s.contains("quiet").unwrap_or(false)) {
-        argv.push("--quiet".into());
-    }
-    argv.extend(given.into_iter().map(OsString::from));
-    let bars = !argv.iter().any(|a| a == "--quiet");
-    let watch = Watch::new(progress.map(|p| p.clone().unbind()), bars);
-    let images = watched(py, &watch, |watch| {
-        let render = || lgh_cli::explosion::render_in_memory_with(&argv, Some(watch));
-        match &pool {
-            Some(pool) => pool.install(render),
-            None => render(),
-        }
-    })?
-    .map_err(|e| exception(&e))?;
+    let input = ["--vdb".into(), vdb.into_os_string()];
+    let images = run(py, input, progress, threads, settings, |argv, watch| {
+        lgh_cli::explosion::render_in_memory_with(argv, Some(watch))
+    })?;
     if !frames {
         let one = images
             .first()

@@ -36,8 +36,8 @@ pub struct Watch {
     callback: Option<Py<PyAny>>,
     /// The command's progress bars on stderr, where asked for instead of a callback.
     bars: Option<lgh_cli::Bars>,
-    /// The current phase and its total.
-    phase: Mutex<(Phase, u64)>,
+    /// The current phase's label and its total.
+    phase: Mutex<(&'static str, u64)>,
     done: AtomicU64,
     last: Mutex<Instant>,
     /// Set once the render is to stop: the next report unwinds.
@@ -52,7 +52,7 @@ impl Watch {
         Watch {
             bars: (bars && callback.is_none()).then(|| lgh_cli::Bars::new(false)),
             callback,
-            phase: Mutex::new((Phase::Render, 0)),
+            phase: Mutex::new((Phase::Render.label(), 0)),
             done: AtomicU64::new(0),
             last: Mutex::new(Instant::now()),
             stop: AtomicBool::new(false),
@@ -98,45 +98,82 @@ impl Watch {
         }
         // No lock is held across the call: the callback may let the GIL go to another worker
         // thread that reports meanwhile.
-        let result = Python::attach(|py| callback.call1(py, (phase.label(), done, total)));
+        let result = Python::attach(|py| callback.call1(py, (phase, done, total)));
         if let Err(e) = result {
             self.stop_for(e);
         }
     }
 }
 
-impl Progress for Watch {
-    fn begin(&self, phase: Phase, total: u64) {
+impl Watch {
+    /// A phase labelled `label` begins with `total` steps.
+    fn begin_labelled(&self, label: &'static str, total: u64) {
         self.stop_here();
         if let Ok(mut p) = self.phase.lock() {
-            *p = (phase, total);
+            *p = (label, total);
         }
         self.done.store(0, Ordering::Relaxed);
-        if let Some(bars) = &self.bars {
-            bars.begin(phase, total);
-        }
         self.report(true);
         self.stop_here();
     }
 
-    fn advance(&self, steps: u64) {
+    /// `steps` more steps of the current phase are done.
+    fn advance_steps(&self, steps: u64) {
         self.stop_here();
         self.done.fetch_add(steps, Ordering::Relaxed);
         if let Some(bars) = &self.bars {
-            bars.advance(steps);
+            Progress::advance(bars, steps);
         }
         self.report(false);
         self.stop_here();
     }
 
-    fn end(&self, phase: Phase) {
-        if let Some(bars) = &self.bars {
-            bars.end(phase);
-        }
-        // A phase also ends while its work unwinds: report, never unwind again here.
+    /// The phase has ended (also while its work unwinds: report, never unwind again here).
+    fn end_phase(&self) {
         if !self.stop.load(Ordering::SeqCst) {
             self.report(true);
         }
+    }
+}
+
+impl Progress for Watch {
+    fn begin(&self, phase: Phase, total: u64) {
+        if let Some(bars) = &self.bars {
+            Progress::begin(bars, phase, total);
+        }
+        self.begin_labelled(phase.label(), total);
+    }
+
+    fn advance(&self, steps: u64) {
+        self.advance_steps(steps);
+    }
+
+    fn end(&self, phase: Phase) {
+        if let Some(bars) = &self.bars {
+            Progress::end(bars, phase);
+        }
+        self.end_phase();
+    }
+}
+
+/// The GI render's progress: its phases' labels, the same reports and the same stops.
+impl lgh_vpl::gi::GiProgress for Watch {
+    fn begin(&self, phase: lgh_vpl::gi::GiPhase, rows: u64) {
+        if let Some(bars) = &self.bars {
+            lgh_vpl::gi::GiProgress::begin(bars, phase, rows);
+        }
+        self.begin_labelled(phase.label(), rows);
+    }
+
+    fn advance(&self, rows: u64) {
+        self.advance_steps(rows);
+    }
+
+    fn end(&self, phase: lgh_vpl::gi::GiPhase) {
+        if let Some(bars) = &self.bars {
+            lgh_vpl::gi::GiProgress::end(bars, phase);
+        }
+        self.end_phase();
     }
 }
 

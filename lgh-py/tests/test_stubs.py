@@ -31,3 +31,16 @@ def test_every_setting_is_a_keyword_and_in_the_docstring():
     assert [a.arg for a in fn.args.kwonlyargs] == ["progress", "threads"] + names
     for name in names:
         assert f"``{name}=" in lgh.render_explosion.__doc__, name
+
+
+def test_every_gi_setting_is_a_keyword_and_in_the_docstring():
+    settings = lgh.gi_settings()
+    names = [s[0] for s in settings]
+    assert {"light", "vpls", "bounces", "alpha", "backend", "camera", "width", "no_direct",
+            "quiet"} <= set(names)
+    assert not {"out", "obj"} & set(names)
+    tree = ast.parse(stubs.STUB.read_text())
+    fn = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "render_gi")
+    assert [a.arg for a in fn.args.kwonlyargs] == ["progress", "threads"] + names
+    for name in names:
+        assert f"``{name}=" in lgh.render_gi.__doc__, name

@@ -6,16 +6,18 @@
     >>> light = h.probe(rng.random((1_000, 3)) + [0.0, 0.0, 2.0])   # (1000, 3) float32
 
 ``render_explosion(vdb, **settings)`` renders a simulation cache as ``lgh explosion`` does,
-into an ``(h, w, 3)`` array. ``Hierarchy`` takes numpy arrays (any array-like of shape ``(n, 3)``, converted to float32 once)
+into an ``(h, w, 3)`` array; ``render_gi(obj, **settings)`` an OBJ scene as ``lgh gi`` does. ``Hierarchy`` takes numpy arrays (any array-like of shape ``(n, 3)``, converted to float32 once)
 and returns them; errors are Python exceptions carrying the library's message: ``ValueError``
 for a bad argument, ``lgh.RenderError`` for the rest.
 """
 from . import _lgh
-from ._lgh import Hierarchy, RenderError, __version__, explosion_settings, write_procedural
+from ._lgh import (
+    Hierarchy, RenderError, __version__, explosion_settings, gi_settings, write_procedural,
+)
 
 __all__ = [
-    "Hierarchy", "RenderError", "__version__", "explosion_settings", "render_explosion",
-    "write_procedural",
+    "Hierarchy", "RenderError", "__version__", "explosion_settings", "gi_settings",
+    "render_explosion", "render_gi", "write_procedural",
 ]
 
 
@@ -23,14 +25,20 @@ def render_explosion(vdb, *, progress=None, threads=None, **settings):
     return _lgh.render_explosion(vdb, progress=progress, threads=threads, **settings)
 
 
-def _settings_doc():
-    """The keyword arguments of ``render_explosion``, from the command's own flags."""
+def render_gi(obj, *, progress=None, threads=None, **settings):
+    return _lgh.render_gi(obj, progress=progress, threads=threads, **settings)
+
+
+def _settings_doc(settings):
+    """The keyword arguments of a render, from the command's own flags."""
     lines = ["", "Settings (keyword arguments; the command's defaults):", ""]
-    for name, takes_value, default, choices, help in explosion_settings():
+    for name, takes_value, default, choices, help in settings:
         value = "True" if not takes_value else ("|".join(choices) or "value")
         shown = f", default {default}" if default is not None else ""
         lines.append(f"- ``{name}={value}``{shown}: {help}.")
     return "\n".join(lines)
 
 
-render_explosion.__doc__ = (_lgh.render_explosion.__doc__ or "") + "\n" + _settings_doc()
+render_explosion.__doc__ = (
+    (_lgh.render_explosion.__doc__ or "") + "\n" + _settings_doc(explosion_settings()))
+render_gi.__doc__ = (_lgh.render_gi.__doc__ or "") + "\n" + _settings_doc(gi_settings())

@@ -1,5 +1,5 @@
 """Stubs of the package ``lgh``; written by ``lgh-py/stubs.py`` from `lgh explosion`'s
-flags: do not edit by hand."""
+and `lgh gi`'s flags: do not edit by hand."""
 import os
 from typing import Callable, Literal, Sequence
 
@@ -10,6 +10,7 @@ from ._lgh import Hierarchy as Hierarchy
 from ._lgh import RenderError as RenderError
 from ._lgh import __version__ as __version__
 from ._lgh import explosion_settings as explosion_settings
+from ._lgh import gi_settings as gi_settings
 from ._lgh import write_procedural as write_procedural
 
 _Value = str | int | float | Sequence[str | int | float] | os.PathLike[str]
@@ -69,3 +70,37 @@ def render_explosion(
     quiet: bool | None = ...,  # Don't show progress
 ) -> npt.NDArray[np.float32] | dict[int, npt.NDArray[np.float32]]:
     """`lgh explosion --vdb VDB` with the settings given, rendered into memory."""
+
+def render_gi(
+    obj: str | os.PathLike[str],
+    *,
+    progress: Callable[[str, int, int], object] | None = ...,
+    threads: int | None = ...,
+    missing_textures: Literal['error', 'grey'] | None = ...,  # What a missing texture file does: `error` (naming it) or `grey` (its material's colour is grey, 0.5, and a warning names it) (default er
+    normals: Literal['vertex', 'face'] | None = ...,  # Which normals shade a face: `vertex`, the OBJ's `vn` interpolated (the face's normal where a face names none), or `face`, every face its own nor
+    light: _Value | None = ...,  # A primary light, repeatable: `point:X,Y,Z,R,G,B`, `spot:X,Y,Z,DX,DY,DZ,ANGLE,R,G,B` or `sun:DX,DY,DZ,R,G,B` (intensities in W/sr, the sun's irradiance in W/m²)
+    vpls: _Value | None = ...,  # VPLs to trace (at least; whole light paths are kept) (default 100000)
+    bounces: _Value | None = ...,  # Surfaces a light path may meet, each one depositing a VPL (default 3)
+    seed: _Value | None = ...,  # Seed of the light paths (default 1)
+    shadow_samples: _Value | None = ...,  # Shadow samples k of a coarse light (on average with `--sample-allocation adaptive` or `intensity`)
+    coarse_shadows: Literal['gaussian', 'representatives'] | None = ...,  # How a coarse light's k shadow samples are placed: `representatives` (k of the VPLs it stands for, beyond the paper; `docs/gi
+    sample_allocation: Literal['uniform', 'intensity', 'adaptive'] | None = ...,  # How `--coarse-shadows representatives` shares the samples among coarse lights: `adaptive`, per shading point in prop
+    max_shadow_samples: _Value | None = ...,  # The most representatives one coarse light gets, 1 to 64 (`adaptive`: rounded down to a power of two; default 32; `intensity`: default 16; refused where
+    no_shadows: bool | None = ...,  # No shadow rays: every VPL reaches every point it faces
+    aggregation: Literal['buckets', 'isotropic'] | None = ...,  # How the hierarchy aggregates the VPLs: `isotropic`, the paper's one hierarchy of isotropic points, or `buckets`, one hierarchy per dom
+    lightcuts_error: _Value | None = ...,  # Lightcuts' relative error ε (Walter et al.'s 2%), for `--backend lightcuts` and `lgh bench gi --lightcuts` (default 0.02)
+    width: _Value | None = ...,  # Image width in pixels (default 640)
+    height: _Value | None = ...,  # Image height in pixels (default 360)
+    camera: _Value | None = ...,  # Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (default: straight along −z at the scene's box, y up, its front face filling a 40° vertical field of view)
+    specular_depth: _Value | None = ...,  # The most mirrors and glass surfaces (MTL `illum` 3–9) a camera or light path follows by reflection and refraction, 0 to 32; a path's branch carrying under 1
+    lobe_error: _Value | None = ...,  # Backend lgh, with the default coarse shading (`--coarse-shadows representatives`, `--sample-allocation adaptive`): at a Phong point whose lobe is too sharp for
+    point_error: _Value | None = ...,  # Backend lgh, with the default coarse shading: the bound on each shading point's error (0.1 is 10% of its light)
+    blend_at: Literal['representative', 'centre'] | None = ...,  # Backend lgh, with the default coarse shading: where a coarse light's blending weight B_ℓ is taken
+    candidates: _Value | None = ...,  # Backend lgh, with the default coarse shading: the representatives each shadow ray of a coarse light chooses among: 1, 2, 4, 8 or 16
+    quiet: bool | None = ...,  # Don't show progress
+    alpha: _Value | None = ...,  # The paper's α (backend lgh) (default 4)
+    backend: Literal['lgh', 'brute', 'lightcuts'] | None = ...,  # Many-lights method (default lgh)
+    no_direct: bool | None = ...,  # Only the VPLs' indirect light (what `lgh bench gi` compares): no direct light from the primary lights, no emitters seen
+    area_strata: _Value | None = ...,  # Strata per side of an area light's direct-light pattern: N² shadow rays per emissive triangle and shading point, a pattern fixed per surface point (no flicker)
+) -> npt.NDArray[np.float32]:
+    """`lgh gi --obj OBJ` with the settings given, rendered into memory."""

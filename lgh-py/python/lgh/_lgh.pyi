@@ -79,3 +79,12 @@ def write_procedural(
 ) -> None:
     """lgh's procedural volume as raw grids ``PREFIX.json``, ``PREFIX.density.f32``,
     ``PREFIX.temperature.f32`` (``tools/cycles/write_vdb.py`` makes an OpenVDB file of them)."""
+
+def render_gi(
+    obj: str | os.PathLike[str], **settings: object
+) -> npt.NDArray[np.float32]:
+    """``lgh gi --obj OBJ`` with ``settings``, rendered into memory: an (h, w, 3) float32
+    array."""
+
+def gi_settings() -> list[tuple[str, bool, str | None, list[str], str]]:
+    """Every setting of ``render_gi``: ``(name, takes_value, default, choices, help)``."""
