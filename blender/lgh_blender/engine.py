@@ -9,7 +9,7 @@ import numpy as np
 
 import bpy
 
-from . import preview
+from . import preview, room
 from .errors import Refused
 from .scene import job
 
@@ -73,8 +73,6 @@ class LGHRenderEngine(bpy.types.RenderEngine):
         except Refused as e:
             self.say("ERROR", f"LGH: {e}")
             return
-        for note in the_job.notes:
-            self.say("WARNING", f"LGH does not render {note}")
         r = scene.render
         threads = r.threads if r.threads_mode == "FIXED" else None
         phases = {"scattering": 0.0, "shadow maps": 0.1, "rendering": 0.2, "scatter shares": 0.9}
@@ -89,13 +87,18 @@ class LGHRenderEngine(bpy.types.RenderEngine):
 
         import lgh
 
-        try:
-            image = render_job(the_job, progress, threads)
-        except _Stopped:
-            return
-        except (ValueError, FileNotFoundError, lgh.RenderError) as e:
-            self.say("ERROR", f"LGH: {e}")
-            return
+        with room.Room(depsgraph, the_job.meshes, the_job.local, the_job.notes) as walls:
+            for note in dict.fromkeys(the_job.notes):
+                self.say("WARNING", f"LGH does not render {note}")
+            if walls is not None:
+                the_job = the_job.with_settings(dict(the_job.settings, scene=walls))
+            try:
+                image = render_job(the_job, progress, threads)
+            except _Stopped:
+                return
+            except (ValueError, FileNotFoundError, lgh.RenderError) as e:
+                self.say("ERROR", f"LGH: {e}")
+                return
         h, w, _ = image.shape
         result = self.begin_result(0, 0, w, h)
         result.layers[0].passes["Combined"].rect.foreach_set(result_pixels(image))

@@ -13,7 +13,7 @@ background mode, where there is no viewport.
 import math
 import threading
 
-from . import camera
+from . import camera, room
 from .errors import Refused
 from .scene import job
 
@@ -131,10 +131,19 @@ def update(engine, context, depsgraph):
     """``view_update``: the scene changed (a setting, the frame): read it again."""
     state = _state(engine)
     try:
-        state["job"] = job(depsgraph)
+        the_job = job(depsgraph)
         state["error"] = None
     except Refused as e:
         state["job"], state["error"] = None, str(e)
+        state["key"] = None
+        return
+    walls = room.Room(depsgraph, the_job.meshes, the_job.local, the_job.notes)
+    path = walls.__enter__()
+    if path is not None:
+        the_job = the_job.with_settings(dict(the_job.settings, scene=path))
+        # The files live as long as the jobs that name them (a render may still read them).
+        the_job.keep = walls
+    state["job"] = the_job
     state["key"] = None  # restart at the next draw
 
 

@@ -18,7 +18,8 @@ What is read:
   coloured one is named and its mean used); the blackbody intensity (times a grey tint, or
   the attribute linked to it: lgh's flame grid), the temperature and its attribute; an
   attribute linked to the emission colour as an RGB emission grid times the emission strength;
-- Blender 4.x/5.x's interpolation of each attribute on its own (``emission_interpolation``).
+- Blender 4.x/5.x's interpolation of each attribute on its own (``emission_interpolation``);
+- the visible meshes, as the room the fire lights (:mod:`.room`).
 """
 import math
 import os
@@ -37,15 +38,21 @@ class Job:
     arguments; ``notes``, what is not rendered, one sentence each; ``local``, the map from the
     world into the volume's own space (``None``: the identity), for other cameras."""
 
-    def __init__(self, vdb, settings, notes, local=None):
+    def __init__(self, vdb, settings, notes, local=None, meshes=()):
         self.vdb = vdb
         self.settings = settings
         self.notes = notes
         self.local = local
+        #: The mesh objects of the room the fire lights (:mod:`.room` writes them).
+        self.meshes = list(meshes)
+        #: What must live as long as the job: the room's files of a preview.
+        self.keep = None
 
     def with_settings(self, settings):
         """This job with other settings."""
-        return Job(self.vdb, settings, self.notes, self.local)
+        other = Job(self.vdb, settings, self.notes, self.local, self.meshes)
+        other.keep = self.keep
+        return other
 
     def __repr__(self):
         return f"Job({self.vdb!r}, {self.settings!r}, {self.notes!r})"
@@ -267,7 +274,7 @@ def job(depsgraph):
     if scene.camera is None:
         raise Refused("the scene has no camera (Scene > Camera)")
     notes = []
-    volumes = []
+    volumes, meshes = [], []
     for obj in depsgraph.objects:
         if obj.type == "VOLUME":
             volumes.append(obj)
@@ -276,6 +283,8 @@ def job(depsgraph):
         elif obj.type == "MESH" and any(m.type == "FLUID" for m in obj.modifiers):
             notes.append(f"the fluid object '{obj.name}' (LGH renders OpenVDB Volume objects; "
                          "import the domain's cache as a Volume)")
+        elif obj.type == "MESH":
+            meshes.append(obj)
         elif obj.type not in SILENT:
             notes.append(f"the {obj.type.lower()} '{obj.name}' (LGH renders a volume)")
     if not volumes:
@@ -315,4 +324,4 @@ def job(depsgraph):
         "emission_interpolation": "attributes" if bpy.app.version >= (4, 0, 0) else "temperature",
         "allow_dark": True,
     })
-    return Job(path, settings, notes, local)
+    return Job(path, settings, notes, local, sorted(meshes, key=lambda o: o.name))

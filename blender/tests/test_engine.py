@@ -226,6 +226,51 @@ def test_roll_shift_and_a_moved_volume_are_the_same_image_in_the_volumes_space(f
     assert rel_rmse(image, want) <= 1e-5, rel_rmse(image, want)
 
 
+def test_a_mesh_is_the_room_the_fire_lights(fireball, tmp_path):
+    """A floor under the fire, turned with the volume: the command's image with the same floor
+    written by hand as an OBJ in the file's space (the volume moved up by 1 and turned 90°
+    about Z: the floor at z = -1.2 in the world is at z = -2.2 in the file), its Principled
+    BSDF's base colour as Kd."""
+    scene, _ = build(fireball, eye=(0.0, -5.0, 1.0), rotation=(80.0, 0.0, 0.0),
+                     location=(0.0, 0.0, 1.0), volume_rotation=(0.0, 0.0, 90.0))
+    bpy.ops.mesh.primitive_plane_add(size=6.0, location=(0.0, 0.0, -1.2))
+    floor = bpy.data.materials.new("floor")
+    if bpy.app.version < (5, 0, 0):
+        floor.use_nodes = True
+    bsdf = floor.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.6, 0.5, 0.4, 1.0)
+    bsdf.inputs["Specular IOR Level"].default_value = 0.0
+    bpy.context.object.data.materials.append(floor)
+    image, report = render(tmp_path)
+    assert report == [], report
+    (tmp_path / "floor.mtl").write_text("newmtl floor\nKd 0.6 0.5 0.4\n")
+    # The plane's corners in the world, turned by -90° about Z and moved down by 1.
+    corners = [(-3, -3), (3, -3), (3, 3), (-3, 3)]
+    obj = ["mtllib floor.mtl", "usemtl floor"]
+    obj += [f"v {y} {-x} -2.2" for x, y in corners] + ["f 1 2 3", "f 1 3 4"]
+    (tmp_path / "floor.obj").write_text("\n".join(obj) + "\n")
+    cam = scene.camera.matrix_world
+    m = bpy.data.objects["fire"].matrix_world.inverted()
+    eye = m @ cam.translation
+    forward = (m.to_3x3() @ -cam.to_3x3().col[2]).normalized()
+    up = (m.to_3x3() @ cam.to_3x3().col[1]).normalized()
+    flags = ["--width", "48", "--height", "32",
+             "--camera", ",".join(f"{v:.9g}" for v in (*eye, *(eye + forward),
+                                                       fov_y(50.0, 48, 32))),
+             "--camera-up", ",".join(f"{v:.9g}" for v in up),
+             "--scene", str(tmp_path / "floor.obj"), "--density-scale", "4", "--albedo", "0.7",
+             "--temperature-scale", "1", "--flame-grid", "none",
+             "--emission-interpolation", "attributes", "--no-domain-offset", "--allow-dark"]
+    want = cli(tmp_path, fireball, flags)
+    floor_only = cli(tmp_path, fireball, [f for f in flags if f not in ("--scene",
+                                          str(tmp_path / "floor.obj"))], "no-floor")
+    # The floor lit by the fire fills the image's lower rows, dark without it.
+    lit, dark = float(np.mean(want[-8:])), float(np.mean(floor_only[-8:]))
+    print(f"floor rows {lit:.3g} vs {dark:.3g}")
+    assert lit > 2 * dark, ("the floor is not in the picture", lit, dark)
+    assert rel_rmse(image, want) <= 1e-5, rel_rmse(image, want)
+
+
 def test_what_lgh_does_not_render_is_named_once_in_the_report(fireball, tmp_path):
     scene, pv = build(fireball, inputs={"Anisotropy": 0.3, "Color": (0.9, 0.5, 0.5, 1.0),
                                         "Emission Strength": 2.0})
@@ -236,6 +281,11 @@ def test_what_lgh_does_not_render_is_named_once_in_the_report(fireball, tmp_path
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     scene.collection.objects.link(lamp)
     bpy.ops.mesh.primitive_cube_add(location=(5.0, 5.0, 0.0))
+    shiny = bpy.data.materials.new("shiny")
+    if bpy.app.version < (5, 0, 0):
+        shiny.use_nodes = True
+    shiny.node_tree.nodes["Principled BSDF"].inputs["Metallic"].default_value = 1.0
+    bpy.context.object.data.materials.append(shiny)
     scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.2, 0.3, 1)
     vol2 = bpy.data.objects.new("fire2", bpy.data.volumes.new("fire2"))
@@ -246,8 +296,8 @@ def test_what_lgh_does_not_render_is_named_once_in_the_report(fireball, tmp_path
     text = "\n".join(m for _, m in report)
     for named in ["anisotropy 0.3", "coloured Color", "Emission Strength 2",
                   "Noise Texture node driving the Principled Volume's Temperature",
-                  "depth of field", "lamp 'lamp'", "mesh 'Cube'", "world's colour",
-                  "volume 'fire2'"]:
+                  "depth of field", "lamp 'lamp'", "metallic and specular part of material "
+                  "'shiny'", "world's colour", "volume 'fire2'"]:
         assert named in text, f"{named!r} not in the report:\n{text}"
     assert all(level == "WARNING" for level, _ in report)
     assert len(set(report)) == len(report), "a note said twice"
