@@ -619,6 +619,94 @@ where
     Ok(images)
 }
 
+/// A frame made ready to render from many cameras: what [`FrameRender`] borrows, owned — the
+/// frame, its lights set to its intensities, the medium, `--scene`'s room — and the settings
+/// it is made with: [`FrameParts::render`] after [`FrameParts::frame_render`] once, or the
+/// Python package's `FrameRender`, which holds both.
+pub struct FrameParts {
+    /// The frame.
+    pub volume: Volume,
+    /// Its lights, at its intensities.
+    pub lights: ExplosionLights,
+    /// The medium.
+    pub medium: Medium,
+    room: Option<Room>,
+    /// The settings, resolved for [`camera`](Self::camera) where they depend on a camera
+    /// (`--pixel-samples auto`, `--cache-level auto`).
+    pub march: MarchSettings,
+    /// The many-lights method.
+    pub method: Method,
+    /// The camera of the command line (`--camera`, or the framing of the smoke).
+    pub camera: Camera,
+    up: Up,
+}
+
+impl FrameParts {
+    /// The frame's render: its scattering pass and shadows made (what `progress` hears), ready
+    /// for any camera.
+    pub fn frame_render<'a>(
+        &'a self,
+        progress: &dyn lgh_volume::Progress,
+    ) -> Result<FrameRender<'a>, crate::Error> {
+        let frame = FrameRender::new(
+            &self.lights,
+            self.method,
+            &self.volume,
+            &self.medium,
+            &self.march,
+            progress,
+        )?;
+        Ok(match &self.room {
+            Some(room) => frame.with_surfaces(room),
+            None => frame,
+        })
+    }
+
+    /// A camera as `lgh explosion`'s flags give it: `camera` (`EX,EY,EZ,TX,TY,TZ[,FOV]`),
+    /// `up` (`--camera-up`; default: the world's up), `shift` (`--camera-shift`), a
+    /// `width × height` image; errors say which flag is wrong.
+    pub fn camera_of(
+        &self,
+        camera: &str,
+        up: Option<&str>,
+        shift: Option<&str>,
+        (width, height): (usize, usize),
+    ) -> Result<Camera, crate::Error> {
+        let up = up.map(parse_camera_up).transpose()?;
+        let shift = shift.map(parse_camera_shift).transpose()?;
+        let camera = parse_camera(camera, up.unwrap_or(self.up.vector()), width, height)?;
+        Ok(camera.with_shift(shift.unwrap_or([0.0; 2]))?)
+    }
+}
+
+/// `lgh explosion --vdb VDB` with the command line `args` made ready to render from many
+/// cameras ([`FrameParts`]): the same checks as [`render_in_memory`], one file (no `--frames`),
+/// the ray marcher (not `--backend pathtrace`). The camera of `args` resolves the settings
+/// that depend on a camera; its render is [`render_in_memory`]'s image, bit for bit.
+pub fn prepare_in_memory<I, T>(args: I) -> Result<FrameParts, InMemoryError>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let (args, matches) = parse_in_memory(args).map_err(InMemoryError::Refused)?;
+    if args.frames.is_some() {
+        let e = "--frames: a prepared frame is one file (--vdb)";
+        return Err(InMemoryError::Refused(crate::usage(e)));
+    }
+    if args.backend == BackendArg::Pathtrace || args.scatter.scatter_shares {
+        let e = "--backend pathtrace and --scatter-shares render no prepared frame";
+        return Err(InMemoryError::Refused(crate::usage(e)));
+    }
+    let mut images = Vec::new();
+    let sink = Sink::Memory(&mut images, None);
+    let prepared = Prepared::new(&args, &sink).map_err(InMemoryError::Refused)?;
+    over_frames(&args, &matches, prepared, sink, |frames, _| {
+        frames.into_parts().map(Some)
+    })
+    .map_err(InMemoryError::Failed)?
+    .ok_or_else(|| InMemoryError::Refused("--prepare: a prepared frame writes no manifest".into()))
+}
+
 /// Every setting a render into memory takes ([`render_in_memory`]): the flags of `lgh
 /// explosion` but `--vdb` and the flags of files, in the command's order.
 #[must_use]
@@ -643,6 +731,18 @@ fn run_into(
     prepared: Prepared,
     sink: Sink,
 ) -> Result<(), crate::Error> {
+    over_frames(args, matches, prepared, sink, |frames, n| frames.render(0..n))
+}
+
+/// One pass over the frames for what they share (written as a manifest with `--prepare`,
+/// which ends here), then `finish(frames, count)`.
+fn over_frames<T: Default>(
+    args: &ExplosionArgs,
+    matches: &ArgMatches,
+    prepared: Prepared,
+    sink: Sink,
+    finish: impl FnOnce(Frames<'_>, usize) -> Result<T, crate::Error>,
+) -> Result<T, crate::Error> {
     let Prepared {
         frames,
         paths,
@@ -681,7 +781,8 @@ fn run_into(
     }
     let load_s = t.elapsed().as_secs_f64();
     if let Some(path) = &args.prepare {
-        return write_manifest(&manifest, path, load_s);
+        write_manifest(&manifest, path, load_s)?;
+        return Ok(T::default());
     }
     let frames = Frames {
         args,
@@ -694,7 +795,7 @@ fn run_into(
         load_s: Some(load_s),
         sink,
     };
-    frames.render(0..n)
+    finish(frames, n)
 }
 
 /// What the pass over a sequence's frames found.
@@ -878,16 +979,7 @@ impl Frames<'_> {
     /// Renders the frames `which` (indices into the manifest's files).
     fn render(mut self, which: std::ops::Range<usize>) -> Result<(), crate::Error> {
         let camera = self.camera()?;
-        // The rays a pixel side and the cache's first level, from the image's and the voxels'
-        // sizes with `auto` (the defaults): one resolution for the whole sequence.
-        let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
-        let march = self.args.march.for_camera(
-            self.setup.march,
-            PixelSamplesArg::Auto,
-            &camera,
-            0.5 * (lo + hi),
-            self.seq.voxel_size(),
-        );
+        let march = self.march_for(&camera);
         if let Sink::Memory(..) = self.sink {
             for n in which {
                 let volume = self.volume(n)?;
@@ -907,6 +999,45 @@ impl Frames<'_> {
             self.render_frame(n, &volume, (&camera, &march), Some(&out))?;
         }
         Ok(())
+    }
+
+    /// The settings for `camera`: the rays a pixel side and the cache's first level, from the
+    /// image's and the voxels' sizes with `auto` (the defaults): one resolution for the whole
+    /// sequence.
+    fn march_for(&self, camera: &Camera) -> MarchSettings {
+        let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
+        self.args.march.for_camera(
+            self.setup.march,
+            PixelSamplesArg::Auto,
+            camera,
+            0.5 * (lo + hi),
+            self.seq.voxel_size(),
+        )
+    }
+
+    /// The first frame made ready to render from any camera ([`prepare_in_memory`]).
+    fn into_parts(mut self) -> Result<FrameParts, crate::Error> {
+        let camera = self.camera()?;
+        let march = self.march_for(&camera);
+        let volume = self.volume(0)?;
+        self.lights_for(&volume)?;
+        let lights = self.lights.take().ok_or("the path tracer prepares no frame")?;
+        let volume = Rc::try_unwrap(volume).map_err(|_| "the frame is still shared")?;
+        let method = self
+            .args
+            .backend
+            .method(self.args.alpha, self.manifest.files[0].frame)
+            .ok_or("the path tracer prepares no frame")?;
+        Ok(FrameParts {
+            volume,
+            lights,
+            medium: self.setup.medium.clone(),
+            room: self.room.take(),
+            march,
+            method,
+            camera,
+            up: self.setup.up,
+        })
     }
 
     /// `--camera`, or the framing of the smoke of every frame.
