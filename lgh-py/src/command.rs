@@ -36,26 +36,43 @@ pub fn command_line(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String
             }
             continue;
         }
-        if v.is_instance_of::<PyTuple>() || v.is_instance_of::<PyList>() {
-            let items: Vec<Bound<'_, PyAny>> = v.try_iter()?.collect::<PyResult<_>>()?;
-            if !items.is_empty() && items.iter().all(|x| x.is_instance_of::<PyString>()) {
-                // Strings: the flag repeated, one value each (`light=["point:…", "sun:…"]`).
-                for x in items {
-                    argv.push(format!("{flag}={}", x.str()?));
-                }
-            } else {
-                // Numbers: one value, comma-separated (`camera=(0, -4, 0, 0, 0, 0, 40)`).
-                let items: Vec<String> = items
-                    .iter()
-                    .map(|x| x.str().map(|s| s.to_string()))
-                    .collect::<PyResult<_>>()?;
-                argv.push(format!("{flag}={}", items.join(",")));
-            }
-            continue;
+        if let Some(strings) = strings(&v)? {
+            // Strings: the flag repeated, one value each (`light=["point:…", "sun:…"]`).
+            argv.extend(strings.into_iter().map(|x| format!("{flag}={x}")));
+        } else {
+            argv.push(format!("{flag}={}", value_text(&v)?));
         }
-        argv.push(format!("{flag}={}", v.str()?));
     }
     Ok(argv)
+}
+
+/// A list or tuple of strings, each as it is (`None`: another value).
+fn strings(v: &Bound<'_, PyAny>) -> PyResult<Option<Vec<String>>> {
+    if !(v.is_instance_of::<PyTuple>() || v.is_instance_of::<PyList>()) {
+        return Ok(None);
+    }
+    let items: Vec<Bound<'_, PyAny>> = v.try_iter()?.collect::<PyResult<_>>()?;
+    if items.is_empty() || !items.iter().all(|x| x.is_instance_of::<PyString>()) {
+        return Ok(None);
+    }
+    items
+        .iter()
+        .map(|x| Ok(x.str()?.to_string()))
+        .collect::<PyResult<_>>()
+        .map(Some)
+}
+
+/// A setting's value as the command line writes it: a tuple or list its items joined by
+/// commas (`camera=(0, -4, 0, 0, 0, 0, 40)` is `0,-4,0,0,0,0,40`), anything else its `str`.
+pub fn value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
+    if v.is_instance_of::<PyTuple>() || v.is_instance_of::<PyList>() {
+        let items: Vec<String> = v
+            .try_iter()?
+            .map(|x| x.and_then(|x| x.str().map(|s| s.to_string())))
+            .collect::<PyResult<_>>()?;
+        return Ok(items.join(","));
+    }
+    Ok(v.str()?.to_string())
 }
 
 /// The library's error as a Python exception with the command's one-line message: a missing
@@ -113,7 +130,36 @@ pub fn run<T: Send>(
     settings: Option<&Bound<'_, PyDict>>,
     render: impl Fn(&[OsString], &Watch) -> Result<T, InMemoryError> + Sync,
 ) -> PyResult<T> {
-    let pool = match threads {
+    let mut argv: Vec<OsString> = input.into();
+    let given = command_line(settings)?;
+    if !settings.is_some_and(|s| s.contains("quiet").unwrap_or(false)) {
+        argv.push("--quiet".into());
+    }
+    argv.extend(given.into_iter().map(OsString::from));
+    let bars = !argv.iter().any(|a| a == "--quiet");
+    on_pool(py, threads, progress, bars, |watch| render(&argv, watch))?.map_err(|e| exception(&e))
+}
+
+/// Runs `work(watch)` on `threads` threads (default: the global pool), watched for Ctrl-C
+/// and reported to `progress` (or the command's bars if `bars`).
+pub fn on_pool<T: Send>(
+    py: Python<'_>,
+    threads: Option<usize>,
+    progress: Option<&Bound<'_, PyAny>>,
+    bars: bool,
+    work: impl Fn(&Watch) -> T + Sync,
+) -> PyResult<T> {
+    let pool = pool(threads)?;
+    let watch = Watch::new(progress.map(|p| p.clone().unbind()), bars);
+    watched(py, &watch, |watch| match &pool {
+        Some(pool) => pool.install(|| work(watch)),
+        None => work(watch),
+    })
+}
+
+/// A pool of `threads` threads (`None`: the global pool); 0 is a `ValueError`.
+fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+    Ok(match threads {
         Some(0) => return Err(PyValueError::new_err("threads must be at least 1")),
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
@@ -122,21 +168,5 @@ pub fn run<T: Send>(
                 .map_err(|e| RenderError::new_err(format!("cannot start {n} threads: {e}")))?,
         ),
         None => None,
-    };
-    let mut argv: Vec<OsString> = input.into();
-    let given = command_line(settings)?;
-    if !settings.is_some_and(|s| s.contains("quiet").unwrap_or(false)) {
-        argv.push("--quiet".into());
-    }
-    argv.extend(given.into_iter().map(OsString::from));
-    let bars = !argv.iter().any(|a| a == "--quiet");
-    let watch = Watch::new(progress.map(|p| p.clone().unbind()), bars);
-    watched(py, &watch, |watch| {
-        let render = || render(&argv, watch);
-        match &pool {
-            Some(pool) => pool.install(render),
-            None => render(),
-        }
-    })?
-    .map_err(|e| exception(&e))
+    })
 }

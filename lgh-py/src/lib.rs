@@ -3,6 +3,7 @@
 //!
 //! One concept a module: [`explosion`] renders a simulation cache as `lgh explosion` does,
 //! [`gi`] an OBJ scene's global illumination as `lgh gi` does, both through [`command`];
+//! [`frame`] prepares a frame once and renders it from many cameras;
 //! [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
 //! (2), (4), (5) and the blended query of eq. (3)); [`arrays`] moves numpy arrays in and out
 //! without a Python call per element; [`progress`] reports the library's progress to a Python
@@ -16,6 +17,7 @@ mod arrays;
 mod command;
 mod errors;
 mod explosion;
+mod frame;
 mod gi;
 mod hierarchy;
 mod procedural;
@@ -26,6 +28,7 @@ mod work;
 #[pymodule]
 fn _lgh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<hierarchy::Hierarchy>()?;
+    m.add_class::<frame::FrameRender>()?;
     m.add_function(wrap_pyfunction!(explosion::render_explosion, m)?)?;
     m.add_function(wrap_pyfunction!(explosion::explosion_settings, m)?)?;
     m.add_function(wrap_pyfunction!(procedural::write_procedural, m)?)?;

@@ -12,11 +12,11 @@ for a bad argument, ``lgh.RenderError`` for the rest.
 """
 from . import _lgh
 from ._lgh import (
-    Hierarchy, RenderError, __version__, explosion_settings, gi_settings, write_procedural,
+    FrameRender, Hierarchy, RenderError, __version__, explosion_settings, gi_settings, write_procedural,
 )
 
 __all__ = [
-    "Hierarchy", "RenderError", "__version__", "explosion_settings", "gi_settings",
+    "FrameRender", "Hierarchy", "RenderError", "__version__", "explosion_settings", "gi_settings",
     "render_explosion", "render_gi", "write_procedural",
 ]
 

@@ -6,6 +6,7 @@ from typing import Callable, Literal, Sequence
 import numpy as np
 import numpy.typing as npt
 
+from ._lgh import FrameRender as FrameRender
 from ._lgh import Hierarchy as Hierarchy
 from ._lgh import RenderError as RenderError
 from ._lgh import __version__ as __version__

@@ -1,6 +1,6 @@
 """Type stubs of the native module ``lgh._lgh`` (re-exported by ``lgh``)."""
 import os
-from typing import Callable, Literal, Optional, TypedDict
+from typing import Callable, Literal, Optional, Sequence, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -88,3 +88,30 @@ def render_gi(
 
 def gi_settings() -> list[tuple[str, bool, str | None, list[str], str]]:
     """Every setting of ``render_gi``: ``(name, takes_value, default, choices, help)``."""
+
+class FrameRender:
+    """A frame of a simulation cache made ready once (read, lights, scattering, shadows) and
+    rendered from many cameras; ``settings`` as ``render_explosion``'s (one file)."""
+    def __init__(
+        self,
+        vdb: str | os.PathLike[str],
+        *,
+        progress: Optional[Callable[[str, int, int], object]] = None,
+        threads: Optional[int] = None,
+        **settings: object,
+    ) -> None: ...
+    def render(
+        self,
+        camera: Optional[str | Sequence[float]] = None,
+        *,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        camera_up: Optional[str | Sequence[float]] = None,
+        camera_shift: Optional[str | Sequence[float]] = None,
+        progress: Optional[Callable[[str, int, int], object]] = None,
+    ) -> npt.NDArray[np.float32]:
+        """The image of ``camera`` (none: the prepared camera): (h, w, 3) float32."""
+    @property
+    def size(self) -> tuple[int, int]: ...
+    @property
+    def lights(self) -> int: ...
