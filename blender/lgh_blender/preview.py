@@ -3,7 +3,8 @@ the viewport's resolution (a sixteenth of its pixels) with single scattering, on
 and a lighting cache 8 voxels apart — under a second for the dev fire's frame 56 at 640×360 on
 two cores —, then at full resolution and full quality (the final render's settings), each
 drawn as soon as it is done; a change of the view, the frame or a setting restarts it, and the
-render it replaces stops within a row.
+render it replaces stops within a row. Each pass's frame is made ready once
+(:class:`Prepared`, ``lgh.FrameRender``) and a new view renders only its camera's rays.
 
 The renders run on a worker thread (``lgh`` releases the GIL while it works); ``view_draw``
 draws the newest finished image and asks for another draw while a finer one is coming.
@@ -116,13 +117,45 @@ class _Superseded(Exception):
     """A newer view asked for another preview."""
 
 
+#: The settings that place the view: what a prepared frame renders anew for each view.
+VIEW = ("camera", "camera_up", "camera_shift", "width", "height")
+
+
+class Prepared:
+    """The preview's frames made ready once (``lgh.FrameRender``: the frame read, its lights,
+    scattering and shadows) for each pass's settings, and rendered from every view after: a
+    change of the view costs its camera's rays only; a change of the scene (another job's
+    settings) prepares again. ``render(job, progress)`` is :class:`Progressive`'s render."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._frames = {}
+        self.prepared = 0
+
+    def render(self, the_job, progress):
+        import lgh
+
+        settings = the_job.settings
+        key = (the_job.vdb, repr(sorted((k, v) for k, v in settings.items() if k not in VIEW)))
+        with self._lock:  # a superseded preparation stops at its next report
+            frame = self._frames.get(key)
+            if frame is None:
+                frame = lgh.FrameRender(the_job.vdb, progress=progress, **settings)
+                # Two passes' settings, nothing older: a scene change drops the old frames.
+                if len(self._frames) >= len(PASSES):
+                    self._frames.clear()
+                self._frames[key] = frame
+                self.prepared += 1
+        view = {k: settings[k] for k in VIEW if k in settings}
+        return frame.render(view.pop("camera"), progress=progress, **view)
+
+
 def _state(engine):
     state = getattr(engine, "_lgh_preview", None)
     if state is None:
-        from .engine import render_job
-
-        state = {"progressive": Progressive(lambda j, p: render_job(j, p)), "key": None,
-                 "job": None, "texture": None, "drawn": None}
+        prepared = Prepared()
+        state = {"progressive": Progressive(prepared.render), "prepared": prepared,
+                 "key": None, "job": None, "texture": None, "drawn": None}
         engine._lgh_preview = state
     return state
 

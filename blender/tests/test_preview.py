@@ -100,3 +100,31 @@ def test_a_bad_view_is_an_error_not_an_image(fireball):
     p.restart(bad)
     p.wait()
     assert p.image is None and "eye is at the target" in p.error
+
+
+def test_a_new_view_renders_the_prepared_frames_again(fireball):
+    """Each pass's frame is prepared once: a second view renders both passes from the frames
+    the first view prepared, and its image is that prepared frame's render of the new view."""
+    import lgh
+    from lgh_blender import preview
+    from lgh_blender.scene import job
+
+    build(fireball, width=64, height=40)
+    first = job(bpy.context.evaluated_depsgraph_get())
+    second = first.with_settings(dict(first.settings, camera=(1, -5, 0.5, 0, 0, 0, 30)))
+    prepared = preview.Prepared()
+    p = preview.Progressive(prepared.render)
+    p.restart(first)
+    p.wait()
+    assert prepared.prepared == 2 and p.passes_done == 2
+    p.restart(second)
+    p.wait()
+    assert prepared.prepared == 2 and p.passes_done == 2 and p.error is None
+    frame = lgh.FrameRender(first.vdb, **first.settings)
+    view = {k: second.settings[k] for k in ("camera_up", "width", "height")}
+    np.testing.assert_array_equal(p.image, frame.render(second.settings["camera"], **view))
+    # Another scene's settings prepare again.
+    third = first.with_settings(dict(first.settings, density_scale=2.0))
+    p.restart(third)
+    p.wait()
+    assert prepared.prepared == 4

@@ -731,7 +731,9 @@ fn run_into(
     prepared: Prepared,
     sink: Sink,
 ) -> Result<(), crate::Error> {
-    over_frames(args, matches, prepared, sink, |frames, n| frames.render(0..n))
+    over_frames(args, matches, prepared, sink, |frames, n| {
+        frames.render(0..n)
+    })
 }
 
 /// One pass over the frames for what they share (written as a manifest with `--prepare`,
@@ -1021,7 +1023,10 @@ impl Frames<'_> {
         let march = self.march_for(&camera);
         let volume = self.volume(0)?;
         self.lights_for(&volume)?;
-        let lights = self.lights.take().ok_or("the path tracer prepares no frame")?;
+        let lights = self
+            .lights
+            .take()
+            .ok_or("the path tracer prepares no frame")?;
         let volume = Rc::try_unwrap(volume).map_err(|_| "the frame is still shared")?;
         let method = self
             .args
