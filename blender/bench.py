@@ -46,16 +46,11 @@ def main():
     os.environ.pop("LGH_REQUIRE_ALL", None)
 
     import bpy
-    import lgh_blender
-    import test_engine as scenes
+    import scenes
     from lgh_blender import engine, preview
     from lgh_blender.scene import job
 
-    vdb = scenes.FIRE / "fluid_data_0056.vdb"
-    if not vdb.is_file():
-        sys.exit(f"bench.py: no {vdb} (the shared data)")
-    lgh_blender.register()
-    scene, _ = scenes.build(vdb, width=a.width, height=a.height, **scenes.DEV_FIRE)
+    scene, _ = scenes.dev_fire_scene(a.width, a.height)
     # The preview first: the process's first render (the blackbody table not yet built).
     the_job = job(bpy.context.evaluated_depsgraph_get())
     w, h = (int(x) for x in a.preview.split("x"))

@@ -39,16 +39,10 @@ def main():
 
     import bpy
     import compare
-    import lgh_blender
-    import test_engine as scenes
+    import scenes
 
-    vdb = scenes.FIRE / "fluid_data_0056.vdb"
-    if not vdb.is_file():
-        sys.exit(f"picture.py: no {vdb} (the shared data)")
-    lgh_blender.register()
     # The study's scene, the field of view narrowed to the fire.
-    scene, _ = scenes.build(vdb, width=a.width, height=a.height,
-                            **dict(scenes.DEV_FIRE, fov=a.fov))
+    scene, _ = scenes.dev_fire_scene(a.width, a.height, fov=a.fov)
     with tempfile.TemporaryDirectory() as d:
         d = pathlib.Path(d)
         t = time.perf_counter()

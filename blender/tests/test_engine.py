@@ -9,173 +9,12 @@ data's. Without bpy, the `lgh` binary, python3-openvdb or the shared data each t
 with a message, a failure where ``LGH_REQUIRE_ALL`` is set (``.ci/run``).
 """
 import math
-import os
-import pathlib
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "blender"))
-
-
-def missing(what, how):
-    if os.environ.get("LGH_REQUIRE_ALL"):
-        pytest.fail(f"no {what} ({how})")
-    pytest.skip(f"SKIPPED: no {what} ({how})")
-
-
-try:
-    import bpy
-    from mathutils import Euler, Matrix, Vector
-except ImportError:
-    bpy = None
-
-import lgh
-
-FIRE = ROOT.parent / "shared" / "data" / "volumes" / "blender_fire_pesichra" / "data"
-
-
-@pytest.fixture(scope="module", autouse=True)
-def engine():
-    if bpy is None:
-        missing("bpy", "pip install bpy==5.2.3 under Python 3.13")
-    import lgh_blender
-
-    lgh_blender.register()
-    yield
-    lgh_blender.unregister()
-
-
-def lgh_binary():
-    named = os.environ.get("LGH_BIN")
-    candidates = [pathlib.Path(named)] if named else [
-        ROOT / "target" / "release" / "lgh", ROOT / "target" / "debug" / "lgh"]
-    for c in candidates:
-        if c.is_file():
-            return c
-    missing(f"lgh binary at {candidates}", "cargo build -p lgh-cli")
-
-
-@pytest.fixture(scope="module")
-def fireball(tmp_path_factory):
-    python = pathlib.Path("/usr/bin/python3")
-    ok = python.is_file() and subprocess.run([str(python), "-c", "import pyopenvdb"],
-                                             capture_output=True).returncode == 0
-    if not ok:
-        missing("python3-openvdb", "apt-get install python3-openvdb")
-    prefix = tmp_path_factory.mktemp("fireball") / "fireball"
-    lgh.write_procedural("fireball", 32, 1.0, prefix)
-    subprocess.run([str(python), str(ROOT / "tools" / "cycles" / "write_vdb.py"), str(prefix)],
-                   check=True, capture_output=True)
-    return prefix.with_suffix(".vdb")
-
-
-def read_exr(path):
-    import OpenEXR
-
-    with OpenEXR.File(str(path)) as f:
-        channels = f.channels()
-        if "RGBA" in channels:
-            return np.asarray(channels["RGBA"].pixels, dtype=np.float32)[:, :, :3]
-        if "RGB" in channels:
-            return np.asarray(channels["RGB"].pixels, dtype=np.float32)
-        return np.stack([channels[c].pixels for c in "RGB"], axis=-1).astype(np.float32)
-
-
-def rel_rmse(a, b):
-    return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
-
-
-def build(vdb, *, width=48, height=32, eye=(0.0, -4.0, 0.0), rotation=(90.0, 0.0, 0.0),
-          lens=50.0, fov=None, shift=(0.0, 0.0), inputs=None, location=(0.0, 0.0, 0.0),
-          volume_rotation=(0.0, 0.0, 0.0), scale=1.0, flame=None):
-    """A new scene: the volume ``vdb`` with a Principled Volume (``inputs`` set on it; the
-    attribute ``flame`` linked to its Blackbody Intensity if given), a perspective camera at
-    ``eye`` turned by ``rotation`` (XYZ Euler, degrees) with ``lens`` (or the vertical field of
-    view ``fov``, degrees), a black world, the LGH engine."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    vol = bpy.data.volumes.new("fire")
-    vol.filepath = str(vdb)
-    obj = bpy.data.objects.new("fire", vol)
-    obj.location = location
-    obj.rotation_euler = Euler([math.radians(a) for a in volume_rotation])
-    obj.scale = (scale, scale, scale)
-    scene.collection.objects.link(obj)
-    mat = bpy.data.materials.new("fire")
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    for n in list(nodes):
-        nodes.remove(n)
-    out = nodes.new("ShaderNodeOutputMaterial")
-    pv = nodes.new("ShaderNodeVolumePrincipled")
-    settings = {"Density": 4.0, "Color": (0.7, 0.7, 0.7, 1.0),
-                "Absorption Color": (0.0, 0.0, 0.0, 1.0), "Blackbody Intensity": 1.0,
-                "Temperature": 1.0}
-    settings.update(inputs or {})
-    for k, v in settings.items():
-        pv.inputs[k].default_value = v
-    mat.node_tree.links.new(pv.outputs["Volume"], out.inputs["Volume"])
-    if flame is not None:
-        attr = nodes.new("ShaderNodeAttribute")
-        attr.attribute_name = flame
-        mat.node_tree.links.new(attr.outputs["Fac"], pv.inputs["Blackbody Intensity"])
-    vol.materials.append(mat)
-    world = bpy.data.worlds.new("black")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    for node in world.node_tree.nodes:
-        if node.type == "BACKGROUND":
-            node.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-            node.inputs["Strength"].default_value = 0.0
-    scene.world = world
-    cam = bpy.data.cameras.new("camera")
-    cam.lens, cam.shift_x, cam.shift_y = lens, shift[0], shift[1]
-    if fov is not None:
-        cam.sensor_fit, cam.angle = "VERTICAL", math.radians(fov)
-    cam_obj = bpy.data.objects.new("camera", cam)
-    cam_obj.location = eye
-    cam_obj.rotation_euler = Euler([math.radians(a) for a in rotation])
-    scene.collection.objects.link(cam_obj)
-    scene.camera = cam_obj
-    r = scene.render
-    r.engine = "LGH"
-    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
-    r.image_settings.file_format = "OPEN_EXR"
-    r.image_settings.color_depth = "32"
-    return scene, pv
-
-
-def render(tmp_path, name="f12"):
-    """F12 (``render.render(write_still=True)``): the EXR's pixels, or ``None`` if no image
-    was written; the engine's report."""
-    from lgh_blender import engine
-
-    out = tmp_path / f"{name}.exr"
-    bpy.context.scene.render.filepath = str(out)
-    try:
-        bpy.ops.render.render(write_still=True)
-    except RuntimeError:
-        pass
-    return (read_exr(out) if out.is_file() else None), list(engine.last_report)
-
-
-def cli(tmp_path, vdb, flags, name="cli"):
-    out = tmp_path / f"{name}.exr"
-    subprocess.run([str(lgh_binary()), "explosion", "--vdb", str(vdb), "--out", str(out),
-                    "--quiet", *flags], check=True, capture_output=True)
-    return read_exr(out)
-
-
-def fov_y(lens, width, height, sensor=36.0):
-    """The vertical field of view of Blender's default sensor fit (Auto: the sensor width spans
-    the larger side), by hand."""
-    t = sensor / (2.0 * lens)
-    return math.degrees(2.0 * math.atan(t * height / width if width > height else t))
+from scenes import (DEV_FIRE, bpy, build, cli, cycles, dev_fire, fov_y, rel_rmse,
+                    render)
 
 
 def test_a_volume_object_renders_as_lgh_explosion_with_the_same_flags(fireball, tmp_path):
@@ -325,20 +164,6 @@ def test_bad_input_is_one_error_and_no_image(fireball, tmp_path, case):
     assert not list(tmp_path.glob("*.exr"))
 
 
-#: The dev fire as the Cycles comparison renders it (tools/cycles/compare.py's fire56): density
-#: 4, albedo 0.7, the flame attribute as the blackbody intensity, 1000 K per unit temperature,
-#: seen from the front with a 40° vertical field of view.
-DEV_FIRE = dict(eye=(0.53, -2.16, 0.455), rotation=(90.0, 0.0, 0.0), fov=40.0, flame="flame",
-                inputs={"Density": 4.0, "Temperature": 1000.0})
-
-
-def dev_fire():
-    vdb = FIRE / "fluid_data_0056.vdb"
-    if not vdb.is_file():
-        missing(vdb, "the shared data, ../shared/data")
-    return vdb
-
-
 def test_the_dev_fire_through_the_add_on_is_the_commands_image(tmp_path):
     vdb = dev_fire()
     build(vdb, width=64, height=36, **DEV_FIRE)
@@ -351,22 +176,6 @@ def test_the_dev_fire_through_the_add_on_is_the_commands_image(tmp_path):
     want = cli(tmp_path, vdb, flags)
     assert np.mean(want) > 0
     assert rel_rmse(image, want) <= 1e-5, rel_rmse(image, want)
-
-
-def cycles(tmp_path, samples, name, seed=1):
-    """The current scene rendered by Cycles on the CPU: ``samples`` per pixel, no denoiser, no
-    adaptive sampling, a one-pixel box filter (as ``tools/cycles/render_cycles.py``)."""
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    cy = scene.cycles
-    cy.device, cy.samples, cy.seed = "CPU", samples, seed
-    cy.use_adaptive_sampling = cy.use_denoising = False
-    cy.max_bounces = cy.volume_bounces = 0
-    cy.pixel_filter_type, cy.filter_width = "BOX", 1.0
-    scene.render.threads_mode, scene.render.threads = "FIXED", 2
-    image, _ = render(tmp_path, name)
-    scene.render.engine = "LGH"
-    return image
 
 
 def test_the_cameras_roll_and_shift_are_cycles(fireball, tmp_path):

@@ -17,16 +17,9 @@ import zipfile
 
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "blender"))
+from scenes import ROOT, missing
 
-import pack  # noqa: E402
-
-
-def missing(what, how):
-    if os.environ.get("LGH_REQUIRE_ALL"):
-        pytest.fail(f"no {what} ({how})")
-    pytest.skip(f"SKIPPED: no {what} ({how})")
+import pack  # noqa: E402  (blender/, on the path by scenes)
 
 
 def wheel():

@@ -8,18 +8,7 @@ import threading
 import numpy as np
 import pytest
 
-from test_engine import build, bpy, fireball, missing  # noqa: F401  (fixtures)
-
-
-@pytest.fixture(scope="module", autouse=True)
-def engine():
-    if bpy is None:
-        missing("bpy", "pip install bpy==5.2.3 under Python 3.13")
-    import lgh_blender
-
-    lgh_blender.register()
-    yield
-    lgh_blender.unregister()
+from scenes import build, bpy
 
 
 def test_the_viewport_through_the_camera_is_the_cameras_render(fireball):
