@@ -621,8 +621,9 @@ where
 
 /// A frame made ready to render from many cameras: what [`FrameRender`] borrows, owned — the
 /// frame, its lights set to its intensities, the medium, `--scene`'s room — and the settings
-/// it is made with: [`FrameParts::render`] after [`FrameParts::frame_render`] once, or the
-/// Python package's `FrameRender`, which holds both.
+/// it is made with. [`FrameParts::frame_render`] makes the frame render once (its scattering
+/// and shadows), whose `render` then takes any camera ([`FrameParts::camera_of`]); the Python
+/// package's `FrameRender` holds both.
 pub struct FrameParts {
     /// The frame.
     pub volume: Volume,

@@ -70,30 +70,26 @@ impl FrameRender {
         Ok(FrameRender { ready, threads })
     }
 
-    /// Renders ``camera`` (``EX,EY,EZ,TX,TY,TZ[,FOV]`` as a string or a sequence), turned by
-    /// ``camera_up`` and shifted by ``camera_shift`` (``--camera-up``, ``--camera-shift``), at
-    /// ``width × height`` (default: the prepared camera's size); with no ``camera``, the
-    /// prepared one. An ``(h, w, 3)`` float32 array of linear RGB.
-    #[pyo3(signature = (camera = None, *, width = None, height = None, camera_up = None,
-                        camera_shift = None, progress = None))]
-    #[allow(clippy::too_many_arguments)]
+    /// Renders ``camera`` (``EX,EY,EZ,TX,TY,TZ[,FOV]`` as a string or a sequence), with the
+    /// keywords ``width``, ``height`` (default: the prepared camera's size), ``camera_up`` and
+    /// ``camera_shift`` (``--camera-up``, ``--camera-shift``); with no ``camera``, the prepared
+    /// one. An ``(h, w, 3)`` float32 array of linear RGB.
+    #[pyo3(signature = (camera = None, *, progress = None, **view))]
     fn render<'py>(
         &self,
         py: Python<'py>,
         camera: Option<&Bound<'py, PyAny>>,
-        width: Option<usize>,
-        height: Option<usize>,
-        camera_up: Option<&Bound<'py, PyAny>>,
-        camera_shift: Option<&Bound<'py, PyAny>>,
         progress: Option<&Bound<'py, PyAny>>,
+        view: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let parts = self.ready.borrow_owner();
+        let view = View::of(view)?;
         let size = (
-            width.unwrap_or(parts.camera.width()),
-            height.unwrap_or(parts.camera.height()),
+            view.width.unwrap_or(parts.camera.width()),
+            view.height.unwrap_or(parts.camera.height()),
         );
-        let view = match camera {
-            None if camera_up.is_some() || camera_shift.is_some() => {
+        let camera = match camera {
+            None if view.up.is_some() || view.shift.is_some() => {
                 return Err(PyValueError::new_err(
                     "camera_up and camera_shift turn and shift a camera: give camera too",
                 ))
@@ -105,16 +101,17 @@ impl FrameRender {
                 ))
             }
             None => parts.camera,
-            Some(c) => {
-                let text = |v: Option<&Bound<'py, PyAny>>| v.map(value_text).transpose();
-                let (up, shift) = (text(camera_up)?, text(camera_shift)?);
-                parts
-                    .camera_of(&value_text(c)?, up.as_deref(), shift.as_deref(), size)
-                    .map_err(|e| PyValueError::new_err(lgh_cli::describe(e.as_ref())))?
-            }
+            Some(c) => parts
+                .camera_of(
+                    &value_text(c)?,
+                    view.up.as_deref(),
+                    view.shift.as_deref(),
+                    size,
+                )
+                .map_err(|e| PyValueError::new_err(lgh_cli::describe(e.as_ref())))?,
         };
         let image = on_pool(py, self.threads, progress, false, |watch| {
-            self.ready.borrow_dependent().render(&view, watch)
+            self.ready.borrow_dependent().render(&camera, watch)
         })?
         .map_err(|e| RenderError::new_err(e.to_string()))?;
         array(py, &image.0)
@@ -131,5 +128,43 @@ impl FrameRender {
     #[getter]
     fn lights(&self) -> usize {
         self.ready.borrow_owner().lights.lit()
+    }
+}
+
+/// The keywords of ``FrameRender.render`` beside the camera.
+#[derive(Default)]
+struct View {
+    width: Option<usize>,
+    height: Option<usize>,
+    /// ``camera_up`` and ``camera_shift`` as the command line writes them.
+    up: Option<String>,
+    shift: Option<String>,
+}
+
+impl View {
+    /// The keywords of `view`; any other is a `ValueError`.
+    fn of(view: Option<&Bound<'_, PyDict>>) -> PyResult<View> {
+        let mut out = View::default();
+        let Some(view) = view else {
+            return Ok(out);
+        };
+        for (k, v) in view.iter() {
+            if v.is_none() {
+                continue;
+            }
+            match k.extract::<String>()?.as_str() {
+                "width" => out.width = Some(v.extract()?),
+                "height" => out.height = Some(v.extract()?),
+                "camera_up" => out.up = Some(value_text(&v)?),
+                "camera_shift" => out.shift = Some(value_text(&v)?),
+                other => {
+                    return Err(PyValueError::new_err(format!(
+                        "render() takes camera, width, height, camera_up, camera_shift and \
+                         progress, not {other}"
+                    )))
+                }
+            }
+        }
+        Ok(out)
     }
 }

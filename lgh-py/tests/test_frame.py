@@ -52,5 +52,7 @@ def test_bad_arguments_are_value_errors(tmp_path):
         frame.render(camera_up=(0, 0, 1))
     with pytest.raises(ValueError, match="--camera"):
         frame.render((0, 0, 5))
+    with pytest.raises(ValueError, match="not camera_roll"):
+        frame.render(FRONT, camera_roll=30)
     with pytest.raises(ValueError, match="eye is at the target"):
         frame.render((0, 0, 0, 0, 0, 0))
