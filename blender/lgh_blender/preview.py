@@ -188,6 +188,7 @@ def draw(engine, context, depsgraph):
         update(engine, context, depsgraph)
     the_job = state["job"]
     if the_job is None:
+        _say(context, f"LGH: {state.get('error')}")
         return
     key = (tuple(map(tuple, rv3d.view_matrix)), tuple(map(tuple, rv3d.window_matrix)),
            region.width, region.height, id(the_job))
@@ -198,15 +199,33 @@ def draw(engine, context, depsgraph):
                                region.height, the_job.local)
         if view is None:
             progressive.stop()
-            return
-        settings = {k: v for k, v in the_job.settings.items() if k != "camera_shift"}
-        settings.update(view)
-        progressive.restart(the_job.with_settings(settings))
+            state["ortho"] = True
+        else:
+            state["ortho"] = False
+            settings = {k: v for k, v in the_job.settings.items() if k != "camera_shift"}
+            settings.update(view)
+            progressive.restart(the_job.with_settings(settings))
+    if state.get("ortho"):
+        _say(context, "LGH previews perspective views only")
+        return
     image = progressive.image
     if image is not None:
         _blit(engine, context, state, image)
+    if progressive.error is not None:
+        _say(context, f"LGH: {progressive.error}")
     if progressive.busy():
         engine.tag_redraw()
+
+
+def _say(context, text):
+    """Writes ``text`` at the viewport's lower left corner (an error instead of an image)."""
+    import blf
+
+    font = 0
+    blf.size(font, 13.0)
+    blf.color(font, 1.0, 1.0, 1.0, 1.0)
+    blf.position(font, 12.0, 12.0, 0.0)
+    blf.draw(font, text)
 
 
 def _blit(engine, context, state, image):
