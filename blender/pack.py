@@ -49,13 +49,16 @@ def pack(out_dir, wheel):
     out_dir.mkdir(parents=True, exist_ok=True)
     out = out_dir / f"lgh-{version}-linux-x64.zip"
     partial = out.with_suffix(".zip.part")
-    with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as z:
-        for f in sorted(ADDON.rglob("*")):
-            if f.is_file() and "__pycache__" not in f.parts and f.name != "blender_manifest.toml":
-                z.write(f, f.relative_to(ADDON).as_posix())
-        z.writestr("blender_manifest.toml", manifest_with(wheel.name))
-        z.write(wheel, f"wheels/{wheel.name}")
-    partial.replace(out)  # whole or not at all
+    try:
+        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as z:
+            # The add-on's Python files and its manifest: nothing else that lies in the folder.
+            for f in sorted(ADDON.glob("*.py")):
+                z.write(f, f.name)
+            z.writestr("blender_manifest.toml", manifest_with(wheel.name))
+            z.write(wheel, f"wheels/{wheel.name}")
+        partial.replace(out)  # whole or not at all
+    finally:
+        partial.unlink(missing_ok=True)
     return out
 
 

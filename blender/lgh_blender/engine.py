@@ -32,6 +32,19 @@ def result_pixels(image):
     return rgba.reshape(-1)
 
 
+def region(render, image):
+    """The render region of ``render`` (Output > Render Region) cut from the whole ``image``
+    (rows from the top); the whole image without one. Blender's region is ``border × size``,
+    truncated (``disprect``), y from the bottom."""
+    if not render.use_border:
+        return image
+    h, w, _ = image.shape
+    x0, x1 = int(render.border_min_x * w), int(render.border_max_x * w)
+    y0, y1 = int(render.border_min_y * h), int(render.border_max_y * h)
+    # Rows from the top: the region's rows from the bottom are h - y1 .. h - y0.
+    return image[h - y1:h - y0, x0:x1]
+
+
 def render_job(the_job, progress=None, threads=None):
     """``lgh.render_explosion`` of a :class:`~.scene.Job` (``threads``: Blender's fixed thread
     count, else every core)."""
@@ -99,10 +112,20 @@ class LGHRenderEngine(bpy.types.RenderEngine):
             except (ValueError, FileNotFoundError, lgh.RenderError) as e:
                 self.say("ERROR", f"LGH: {e}")
                 return
+        image = region(scene.render, image)
         h, w, _ = image.shape
+        # The result's coordinates are the region's own (0, 0: its lower left corner).
         result = self.begin_result(0, 0, w, h)
-        result.layers[0].passes["Combined"].rect.foreach_set(result_pixels(image))
-        self.end_result(result)
+        try:
+            result.layers[0].passes["Combined"].rect.foreach_set(result_pixels(image))
+        finally:
+            self.end_result(result)
+
+    def __del__(self):
+        # The viewport's engine is freed: its preview stops at its next report.
+        state = getattr(self, "_lgh_preview", None)
+        if state is not None:
+            state["progressive"].stop()
 
     def view_update(self, context, depsgraph):
         preview.update(self, context, depsgraph)

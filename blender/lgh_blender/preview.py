@@ -15,7 +15,6 @@ import math
 import threading
 
 from . import camera, room
-from .errors import Refused
 from .scene import job
 
 #: The preview's passes: the divisor of the viewport's width and height, and the settings that
@@ -136,7 +135,11 @@ class Prepared:
         import lgh
 
         settings = the_job.settings
-        key = (the_job.vdb, repr(sorted((k, v) for k, v in settings.items() if k not in VIEW)))
+        # The room by its content, not by the path its files were written to this time.
+        keyed = {k: v for k, v in settings.items() if k not in VIEW}
+        if "scene" in keyed:
+            keyed["scene"] = room.digest(keyed["scene"])
+        key = (the_job.vdb, repr(sorted(keyed.items())))
         with self._lock:  # a superseded preparation stops at its next report
             frame = self._frames.get(key)
             if frame is None:
@@ -164,11 +167,12 @@ def update(engine, context, depsgraph):
     """``view_update``: the scene changed (a setting, the frame): read it again."""
     state = _state(engine)
     try:
-        the_job = job(depsgraph)
+        the_job = job(depsgraph, view_only=True)
         state["error"] = None
-    except Refused as e:
+    except Exception as e:  # a refusal, or a fault: said in the viewport, never raised
         state["job"], state["error"] = None, str(e)
         state["key"] = None
+        state["progressive"].stop()
         return
     walls = room.Room(depsgraph, the_job.meshes, the_job.local, the_job.notes)
     path = walls.__enter__()
@@ -208,12 +212,15 @@ def draw(engine, context, depsgraph):
     if state.get("ortho"):
         _say(context, "LGH previews perspective views only")
         return
+    # Whether a finer image is coming, asked first: an image stored after this is drawn at the
+    # redraw it asks for.
+    busy = progressive.busy()
     image = progressive.image
     if image is not None:
         _blit(engine, context, state, image)
     if progressive.error is not None:
         _say(context, f"LGH: {progressive.error}")
-    if progressive.busy():
+    if busy:
         engine.tag_redraw()
 
 

@@ -74,7 +74,9 @@ def write(depsgraph, meshes, local, folder, notes):
                 lines.append(f"v {p.x:.9g} {p.y:.9g} {p.z:.9g}")
             current = None
             for t in mesh.loop_triangles:
-                slot = obj.material_slots[t.material_index] if obj.material_slots else None
+                # An index past the last slot takes the last, as Cycles clamps it.
+                slots = obj.material_slots
+                slot = slots[min(t.material_index, len(slots) - 1)] if slots else None
                 material = slot.material if slot is not None else None
                 key = material.name if material is not None else "__default"
                 if key not in materials:
@@ -97,6 +99,17 @@ def write(depsgraph, meshes, local, folder, notes):
     with open(obj_path, "w") as f:
         f.write("\n".join(lines) + "\n")
     return obj_path
+
+
+def digest(obj_path):
+    """The SHA-256 of a room's OBJ and MTL (what the render reads of it)."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for path in (obj_path, os.path.join(os.path.dirname(obj_path), "room.mtl")):
+        with open(path, "rb") as f:
+            h.update(f.read())
+    return h.hexdigest()
 
 
 class Room:

@@ -268,13 +268,21 @@ def world_notes(scene, notes):
                      "a black world)")
 
 
-def job(depsgraph):
-    """The render of ``depsgraph``'s scene at its current frame (see the module's text)."""
+def job(depsgraph, view_only=False):
+    """The render of ``depsgraph``'s scene at its current frame (see the module's text).
+    ``view_only``: for the viewport, whose view replaces the scene camera (which may then be
+    missing or orthographic): no camera settings."""
     scene = depsgraph.scene
-    if scene.camera is None:
+    if scene.camera is None and not view_only:
         raise Refused("the scene has no camera (Scene > Camera)")
     notes = []
     volumes, meshes = [], []
+    instanced = sorted({i.object.name for i in depsgraph.object_instances
+                        if i.is_instance and i.object.type in ("VOLUME", "MESH", "LIGHT")})
+    if instanced:
+        notes.append(f"the instanced objects {', '.join(repr(n) for n in instanced[:5])}"
+                     f"{' and more' if len(instanced) > 5 else ''} (LGH renders objects "
+                     "themselves, not their instances)")
     for obj in depsgraph.objects:
         if obj.type == "VOLUME":
             volumes.append(obj)
@@ -295,7 +303,7 @@ def job(depsgraph):
         notes.append(f"the volume '{other.name}' (LGH renders one volume, '{obj.name}')")
     data = obj.data
     data.grids.load()
-    path = bpy.path.abspath(data.grids.frame_filepath or data.filepath)
+    path = bpy.path.abspath(data.grids.frame_filepath or data.filepath, library=data.library)
     if not path:
         raise Refused(f"volume '{obj.name}' has no file (Volume > OpenVDB File)")
     if not os.path.isfile(path):
@@ -306,16 +314,17 @@ def job(depsgraph):
     if any(m.show_render for m in obj.modifiers):
         notes.append(f"the modifiers of '{obj.name}' (LGH renders its file)")
     scale, local = placement(obj)
-    view = scene.camera.evaluated_get(depsgraph)
-    settings = camera.settings(scene, view, local)
     r = scene.render
-    if r.use_border:
-        notes.append("the render region (LGH renders the whole image)")
+    if view_only:
+        settings = {}
+    else:
+        view = scene.camera.evaluated_get(depsgraph)
+        settings = camera.settings(scene, view, local)
+        if view.data.dof.use_dof:
+            notes.append(f"the depth of field of camera '{view.name}' (LGH's camera is a "
+                         "pinhole)")
     if r.use_motion_blur:
         notes.append("motion blur")
-    if view.data.dof.use_dof:
-        notes.append(f"the depth of field of camera '{view.name}' (LGH's camera is a "
-                     "pinhole)")
     settings.update(medium(obj, scale, grids, notes))
     world_notes(scene, notes)
     settings.update({

@@ -199,3 +199,43 @@ def test_the_cameras_roll_and_shift_are_cycles(fireball, tmp_path):
     wrong = rel_rmse(flipped, reference)
     print(f"lgh vs Cycles {error:.4f}, Cycles noise {noise:.4f}, flipped shift {wrong:.4f}")
     assert error <= 1.25 * noise and wrong > 4 * error, (error, noise, wrong)
+
+
+@pytest.mark.parametrize("crop", [True, False])
+def test_a_render_region_is_that_region_of_the_whole_image(fireball, tmp_path, crop):
+    scene, _ = build(fireball)
+    whole, _ = render(tmp_path, "whole")
+    r = scene.render
+    r.use_border, r.use_crop_to_border = True, crop
+    r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.1, 0.6
+    part, report = render(tmp_path, f"region-{crop}")
+    assert report == [], report
+    # Blender's region: border × size, truncated; y from the bottom (rows 32 - 19 .. 32 - 3).
+    x0, x1, y0, y1 = 12, 36, 3, 19
+    window = whole[32 - y1:32 - y0, x0:x1]
+    if crop:
+        np.testing.assert_array_equal(part, window)
+    else:
+        # Uncropped, the image is whole-sized and black outside the region.
+        np.testing.assert_array_equal(part[32 - y1:32 - y0, x0:x1], window)
+        outside = part.copy()
+        outside[32 - y1:32 - y0, x0:x1] = 0
+        assert not outside.any()
+
+
+def test_faces_past_the_last_slot_and_instances(fireball, tmp_path):
+    """A face whose material index is past the last slot takes the last (as Cycles clamps it);
+    a collection instance is named, not silently left out."""
+    scene, _ = build(fireball)
+    bpy.ops.mesh.primitive_cube_add(location=(0.0, 3.0, 0.0))
+    cube = bpy.context.object
+    cube.data.materials.append(bpy.data.materials.new("only"))
+    cube.data.polygons[0].material_index = 2
+    group = bpy.data.collections.new("group")
+    group.objects.link(bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT")))
+    instance = bpy.data.objects.new("instancer", None)
+    instance.instance_type, instance.instance_collection = "COLLECTION", group
+    scene.collection.objects.link(instance)
+    image, report = render(tmp_path)
+    assert image is not None, report
+    assert any("instanced objects 'lamp'" in m for _, m in report), report
