@@ -75,17 +75,19 @@ def settings(scene, camera_object, local=None):
     width, height = resolution(r)
     fov, shift = projection(cam.sensor_fit, cam.sensor_width, cam.sensor_height, cam.lens,
                             (cam.shift_x, cam.shift_y), width, height)
-    eye, forward, up = view(camera_object.matrix_world)
+    return flags(view(camera_object.matrix_world), fov, shift, (width, height), local)
+
+
+def flags(eye_forward_up, fov, shift, size, local=None):
+    """The camera settings of a view ``(eye, forward, up)`` in the world, its vertical field of
+    view (degrees), lens shift (fractions of the larger side) and image ``size``, moved by
+    ``local`` (``(rotation_3x3, translation)``: the world into the volume's own space)."""
+    eye, forward, up = eye_forward_up
     if local is not None:
         rot, move = local
         eye, forward, up = rot @ eye + move, (rot @ forward).normalized(), (rot @ up).normalized()
-    target = eye + forward
-    out = {
-        "width": width,
-        "height": height,
-        "camera": (*eye, *target, fov),
-        "camera_up": tuple(up),
-    }
+    out = {"width": size[0], "height": size[1], "camera": (*eye, *(eye + forward), fov),
+           "camera_up": tuple(up)}
     if shift != (0.0, 0.0):
         out["camera_shift"] = shift
     return out

@@ -5,12 +5,11 @@ the image is the render result. What the scene asks for that LGH does not render
 Blender's report, once each; what it cannot render at all is the report's one error, and no
 image is written.
 """
-import numpy as np
-
 import bpy
 
 from . import preview, room
 from .errors import Refused
+from .pixels import rgba_rows_up
 from .scene import job
 
 
@@ -21,15 +20,6 @@ last_report = []
 
 class _Stopped(Exception):
     """Esc pressed: the render stops within a row."""
-
-
-def result_pixels(image):
-    """``lgh``'s ``(h, w, 3)`` image, rows from the top, as Blender's ``Combined`` pass: RGBA
-    rows from the bottom, alpha 1 (the world is opaque black), flattened."""
-    h, w, _ = image.shape
-    rgba = np.ones((h, w, 4), dtype=np.float32)
-    rgba[:, :, :3] = image[::-1]
-    return rgba.reshape(-1)
 
 
 def region(render, image):
@@ -117,7 +107,7 @@ class LGHRenderEngine(bpy.types.RenderEngine):
         # The result's coordinates are the region's own (0, 0: its lower left corner).
         result = self.begin_result(0, 0, w, h)
         try:
-            result.layers[0].passes["Combined"].rect.foreach_set(result_pixels(image))
+            result.layers[0].passes["Combined"].rect.foreach_set(rgba_rows_up(image))
         finally:
             self.end_result(result)
 

@@ -15,6 +15,7 @@ import math
 import threading
 
 from . import camera, room
+from .pixels import rgba_rows_up
 from .scene import job
 
 #: The preview's passes: the divisor of the viewport's width and height, and the settings that
@@ -37,15 +38,7 @@ def viewport_camera(view_matrix, window_matrix, width, height, local=None):
     fov = math.degrees(2.0 * math.atan(tan_v))
     larger = 2.0 * tan_v * max(width / height, 1.0)
     shift = ((p[0][2] / p[0][0]) / larger, (p[1][2] / p[1][1]) / larger)
-    eye, forward, up = camera.view(view_matrix.inverted())
-    if local is not None:
-        rot, move = local
-        eye, forward, up = rot @ eye + move, (rot @ forward).normalized(), (rot @ up).normalized()
-    out = {"width": width, "height": height, "camera": (*eye, *(eye + forward), fov),
-           "camera_up": tuple(up)}
-    if shift != (0.0, 0.0):
-        out["camera_shift"] = shift
-    return out
+    return camera.flags(camera.view(view_matrix.inverted()), fov, shift, (width, height), local)
 
 
 class Progressive:
@@ -239,14 +232,11 @@ def _blit(engine, context, state, image):
     """Draws ``image`` (rows from the top) over the viewport, through Blender's colour
     management (``bind_display_space_shader``)."""
     import gpu
-    import numpy as np
     from gpu_extras.presets import draw_texture_2d
 
     if state["drawn"] is not image:
         h, w, _ = image.shape
-        rgba = np.ones((h, w, 4), dtype=np.float32)
-        rgba[:, :, :3] = image[::-1]
-        buffer = gpu.types.Buffer("FLOAT", w * h * 4, rgba.ravel())
+        buffer = gpu.types.Buffer("FLOAT", w * h * 4, rgba_rows_up(image))
         state["texture"] = gpu.types.GPUTexture((w, h), format="RGBA16F", data=buffer)
         state["drawn"] = image
     region = context.region

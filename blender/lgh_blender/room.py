@@ -12,21 +12,18 @@ without a material is Blender's default grey, 0.8.
 import os
 import tempfile
 
+from .nodes import linked_to_output
+
 #: Blender's colour of a surface without a material, or with a shader LGH does not read.
 DEFAULT_GREY = 0.8
 
 
 def surface_colour(material, notes):
     """The diffuse colour of ``material`` (``None``: none), naming what is not rendered."""
-    if material is None or material.node_tree is None:
+    tree = material.node_tree if material is not None else None
+    node = linked_to_output(tree, "OUTPUT_MATERIAL", "Surface")
+    if node is None:
         return (DEFAULT_GREY,) * 3
-    outputs = [n for n in material.node_tree.nodes
-               if n.type == "OUTPUT_MATERIAL" and n.target in ("ALL", "CYCLES")]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    surface = active[0].inputs["Surface"] if active else None
-    if surface is None or not surface.is_linked:
-        return (DEFAULT_GREY,) * 3
-    node = surface.links[0].from_node
     if node.type not in ("BSDF_PRINCIPLED", "BSDF_DIFFUSE"):
         notes.append(f"the {node.bl_label} of material '{material.name}' (LGH's room is "
                      f"diffuse: grey {DEFAULT_GREY} is used)")

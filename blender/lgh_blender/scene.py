@@ -28,6 +28,7 @@ import bpy
 
 from . import camera
 from .errors import Refused
+from .nodes import linked_to_output
 
 #: Object types that are no part of the render's image (a camera is the view, an empty nothing).
 SILENT = {"CAMERA", "EMPTY", "LIGHT_PROBE", "SPEAKER", "ARMATURE", "LATTICE"}
@@ -112,7 +113,8 @@ def colour(shader, name):
 
 
 def volume_shader(obj):
-    """The Principled Volume of ``obj``'s first material, with the material's name."""
+    """The Principled Volume of ``obj``'s first material, with the material's name and node
+    tree."""
     material = obj.material_slots[0].material if obj.material_slots else None
     if material is None:
         raise Refused(f"volume '{obj.name}' has no material: give it one with a Principled "
@@ -120,25 +122,21 @@ def volume_shader(obj):
     if bpy.app.version < (5, 0, 0) and not material.use_nodes:
         raise Refused(f"material '{material.name}' of '{obj.name}' uses no nodes: LGH renders "
                       "the Principled Volume shader")
-    outputs = [n for n in material.node_tree.nodes
-               if n.type == "OUTPUT_MATERIAL" and n.target in ("ALL", "CYCLES")]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    volume = active[0].inputs["Volume"] if active else None
-    if volume is None or not volume.is_linked:
+    node = linked_to_output(material.node_tree, "OUTPUT_MATERIAL", "Volume")
+    if node is None:
         raise Refused(f"material '{material.name}' of '{obj.name}' has no volume shader: "
                       "link a Principled Volume to the Material Output's Volume")
-    node = volume.links[0].from_node
     if node.type != "PRINCIPLED_VOLUME":
         raise Refused(f"material '{material.name}' of '{obj.name}': its volume shader is a "
                       f"{node.bl_label}, LGH renders the Principled Volume")
-    return node, material.name, active[0]
+    return node, material.name, material.node_tree
 
 
 def medium(obj, scale, grids, notes):
     """The settings of ``obj``'s Principled Volume, ``scale`` the uniform scale of its
     placement, ``grids`` the names of its file's grids."""
-    node, material, output = volume_shader(obj)
-    if output.inputs["Surface"].is_linked:
+    node, material, tree = volume_shader(obj)
+    if linked_to_output(tree, "OUTPUT_MATERIAL", "Surface") is not None:
         notes.append(f"material '{material}': the surface shader (LGH renders the volume)")
     sh = Shader(node, material, notes)
     out = {}
@@ -249,13 +247,9 @@ def world_notes(scene, notes):
         return
     colour, strength = tuple(world.color), 1.0
     if bpy.app.version >= (5, 0, 0) or world.use_nodes:
-        tree = world.node_tree
-        outputs = [n for n in tree.nodes if n.type == "OUTPUT_WORLD"] if tree else []
-        active = [n for n in outputs if n.is_active_output] or outputs
-        surface = active[0].inputs["Surface"] if active else None
-        if surface is None or not surface.is_linked:
+        node = linked_to_output(world.node_tree, "OUTPUT_WORLD", "Surface")
+        if node is None:
             return
-        node = surface.links[0].from_node
         if node.type != "BACKGROUND" or node.inputs["Color"].is_linked:
             notes.append(f"the world '{world.name}' ({node.bl_label}): its light on the smoke "
                          "and the background (LGH renders a black world)")

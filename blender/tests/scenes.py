@@ -174,17 +174,31 @@ def dev_fire():
     return vdb
 
 
-def cycles(tmp_path, samples, name, seed=1):
-    """The current scene rendered by Cycles on the CPU: ``samples`` per pixel, no denoiser, no
-    adaptive sampling, a one-pixel box filter (as ``tools/cycles/render_cycles.py``)."""
-    scene = bpy.context.scene
+def use_cycles(scene, samples, seed=1, bounces=0, threads=None):
+    """``scene`` set to render with Cycles as ``tools/cycles/render_cycles.py`` does: on the
+    CPU, ``samples`` a pixel, no denoiser, no adaptive sampling, no clamping, a one-pixel box
+    filter, ``bounces`` volume bounces (none of the other kinds; 128 through transparent
+    surfaces), ``threads`` (all: ``None``)."""
     scene.render.engine = "CYCLES"
     cy = scene.cycles
     cy.device, cy.samples, cy.seed = "CPU", samples, seed
     cy.use_adaptive_sampling = cy.use_denoising = False
-    cy.max_bounces = cy.volume_bounces = 0
+    cy.max_bounces = cy.volume_bounces = bounces
+    cy.transparent_max_bounces = 128
+    cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 0
+    cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
     cy.pixel_filter_type, cy.filter_width = "BOX", 1.0
-    scene.render.threads_mode, scene.render.threads = "FIXED", 2
+    if threads is None:
+        scene.render.threads_mode = "AUTO"
+    else:
+        scene.render.threads_mode, scene.render.threads = "FIXED", threads
+
+
+def cycles(tmp_path, samples, name, seed=1):
+    """The current scene rendered by Cycles (:func:`use_cycles`, single scattering, 2 threads),
+    then set back to LGH."""
+    scene = bpy.context.scene
+    use_cycles(scene, samples, seed, bounces=0, threads=2)
     image, _ = render(tmp_path, name)
     scene.render.engine = "LGH"
     return image
