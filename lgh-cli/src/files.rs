@@ -5,13 +5,7 @@
 #[derive(Debug)]
 pub struct MissingFile(pub String);
 
-impl std::fmt::Display for MissingFile {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for MissingFile {}
+message_error!(MissingFile);
 
 /// Checks that an input file is there, and is a file (a folder says so), before any work: a
 /// [`MissingFile`] if not.

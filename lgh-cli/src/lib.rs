@@ -20,6 +20,19 @@ macro_rules! say {
     };
 }
 
+/// An error type that is its message: `Display` writes the message, `Error` has no source.
+macro_rules! message_error {
+    ($name:ident) => {
+        impl std::fmt::Display for $name {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(&self.0)
+            }
+        }
+
+        impl std::error::Error for $name {}
+    };
+}
+
 mod bench;
 mod bench_explosion;
 mod bench_flicker;
@@ -117,13 +130,7 @@ pub type Error = Box<dyn std::error::Error + Send + Sync>;
 #[derive(Debug)]
 pub struct Usage(pub String);
 
-impl std::fmt::Display for Usage {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Usage {}
+message_error!(Usage);
 
 /// A [`Usage`] error.
 pub(crate) fn usage(message: impl Into<String>) -> Error {
