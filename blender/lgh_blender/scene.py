@@ -7,8 +7,9 @@ rendered at all is refused (:class:`~.errors.Refused`).
 What is read:
 
 - the scene camera (:mod:`.camera`) and the render's resolution;
-- the first OpenVDB Volume object (by name) visible to the render, its file for the current
-  frame (``grids.frame_filepath``) and its placement: translation, rotation and a uniform
+- the first volume (by name) visible to the render — an OpenVDB Volume object, its file for
+  the current frame (``grids.frame_filepath``), or a Mantaflow gas domain, its cache's file
+  for the frame (:mod:`.domain`) — and its placement: translation, rotation and a uniform
   scale, undone by moving the camera into the volume's own space (a scale ``s`` multiplies the
   extinction and the emission per unit of the file's length by ``s``: the same image);
 - its material's Principled Volume (Cycles' ``svm_node_principled_volume``): with density
@@ -26,9 +27,13 @@ import os
 
 import bpy
 
-from . import camera
+from . import camera, domain
 from .errors import Refused
 from .nodes import linked_to_output
+
+#: How far apart a fluid domain's cells may be from cubes in the world: named up to it, refused
+#: beyond (Blender rounds each side's count of cells).
+CELL_TOLERANCE = 0.02
 
 #: Object types that are no part of the render's image (a camera is the view, an empty nothing).
 SILENT = {"CAMERA", "EMPTY", "LIGHT_PROBE", "SPEAKER", "ARMATURE", "LATTICE"}
@@ -132,9 +137,9 @@ def volume_shader(obj):
     return node, material.name, material.node_tree
 
 
-def medium(obj, scale, grids, notes):
+def medium(obj, scale, source, notes):
     """The settings of ``obj``'s Principled Volume, ``scale`` the uniform scale of its
-    placement, ``grids`` the names of its file's grids."""
+    placement, ``source`` its file (:class:`~.domain.Source`: the grid of each attribute)."""
     node, material, tree = volume_shader(obj)
     if linked_to_output(tree, "OUTPUT_MATERIAL", "Surface") is not None:
         notes.append(f"material '{material}': the surface shader (LGH renders the volume)")
@@ -149,9 +154,7 @@ def medium(obj, scale, grids, notes):
     if not density_attr:
         raise Refused(f"material '{material}': the Principled Volume has no Density "
                       "Attribute: LGH renders smoke from a density grid")
-    if density_attr not in grids:
-        raise Refused(f"volume '{obj.name}' has no grid '{density_attr}', the Density "
-                      f"Attribute of material '{material}' (its grids: {', '.join(grids)})")
+    density_grid = source.grid(density_attr, material, "Density Attribute")
     d = sh.value("Density")
     c = colour(sh, "Color")
     a = colour(sh, "Absorption Color")
@@ -160,7 +163,7 @@ def medium(obj, scale, grids, notes):
                      f"'{sh.text('Color Attribute')}' (lgh's medium is grey)")
     absorption = max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(a, 0.0)), 0.0)
     extinction = max(c, 0.0) + absorption
-    out["density_grid"] = density_attr
+    out["density_grid"] = density_grid
     out["density_scale"] = d * extinction * scale
     out["albedo"] = min(max(c, 0.0) / extinction, 1.0) if extinction > 0.0 else 0.0
     if sh.value("Anisotropy") != 0.0:
@@ -176,10 +179,7 @@ def medium(obj, scale, grids, notes):
     if sh.attribute("Emission Strength") is not None:
         notes.append(f"material '{material}': an attribute linked to the Emission Strength")
     if emission_rgb is not None and strength != 0.0:
-        if emission_rgb not in grids:
-            raise Refused(f"volume '{obj.name}' has no grid '{emission_rgb}', the attribute "
-                          f"of material '{material}''s Emission Color")
-        out["emission_grid"] = emission_rgb
+        out["emission_grid"] = source.grid(emission_rgb, material, "Emission Color")
         out["emission_scale"] = strength * scale
         out["flame_grid"] = "none"
         if blackbody != 0.0 or flame is not None:
@@ -196,43 +196,48 @@ def medium(obj, scale, grids, notes):
         notes.append(f"material '{material}': the coloured Blackbody Tint (its mean is used)")
     tint = sum(tint) / 3.0
     if flame is not None:
-        if flame not in grids:
-            raise Refused(f"volume '{obj.name}' has no grid '{flame}', the attribute of "
-                          f"material '{material}''s Blackbody Intensity")
-        out["flame_grid"], intensity = flame, 1.0
+        out["flame_grid"] = source.grid(flame, material, "Blackbody Intensity")
+        intensity = 1.0
     else:
         out["flame_grid"], intensity = "none", blackbody
     if intensity * tint != 0.0:
         if not temperature_attr:
             raise Refused(f"material '{material}': a blackbody emission without a "
                           "Temperature Attribute: LGH's lights are a temperature grid's voxels")
-        if temperature_attr not in grids:
-            raise Refused(f"volume '{obj.name}' has no grid '{temperature_attr}', the "
-                          f"Temperature Attribute of material '{material}' (its grids: "
-                          f"{', '.join(grids)})")
-        out["emission_grid"] = temperature_attr
+        out["emission_grid"], extra = source.temperature(temperature_attr, material)
+        out.update(extra)
     out["emission_model"] = "blender"
     out["temperature_scale"] = sh.value("Temperature")
     out["emission_scale"] = intensity * tint * scale
     return out
 
 
-def placement(obj):
-    """``(scale, local)`` of a volume object's world matrix: its uniform scale and the inverse
-    of its rigid part ``(rotation, translation)`` (``None`` for the identity). A non-uniform
-    scale, a shear or a mirror is refused."""
-    m = obj.matrix_world
+def placement(source, notes):
+    """``(scale, local)`` of a :class:`~.domain.Source`'s matrix (its file's space to the
+    world): its uniform scale and its inverse (``None`` for the identity). A volume's
+    non-uniform scale, shear or mirror is refused; a domain's cells that are not cubes in the
+    world to 1e-5 (Blender rounds each side's count of cells) are named up to
+    ``CELL_TOLERANCE`` apart and refused beyond."""
+    m = source.matrix
     rot_scale = m.to_3x3()
     scales = [rot_scale.col[i].length for i in range(3)]
-    s = scales[0]
-    if s <= 0.0 or any(abs(x - s) > 1e-5 * s for x in scales):
-        raise Refused(f"volume '{obj.name}' has a non-uniform scale "
-                      f"({', '.join(f'{x:g}' for x in scales)}): LGH renders volumes scaled "
-                      "alike on every axis (apply the scale to the file, or make it uniform)")
+    s = sum(scales) / 3.0
+    spread = (max(scales) - min(scales)) / s if s > 0.0 else math.inf
+    sides = ", ".join(f"{x:.6g}" for x in scales)
+    if spread > 1e-5 and (source.exact or spread > CELL_TOLERANCE):
+        if source.exact:
+            raise Refused(f"{source.name} has a non-uniform scale ({sides}): LGH renders "
+                          "volumes scaled alike on every axis (apply the scale to the file, or "
+                          "make it uniform)")
+        raise Refused(f"{source.name}: its cells are not cubes in the world ({sides}): LGH's "
+                      "voxels are cubes (scale the domain alike on every axis)")
+    if spread > 1e-5:
+        notes.append(f"{source.name}: its cells are {100 * spread:.2g}% from cubes in the world "
+                     f"({sides}): LGH's voxels are cubes, the smoke is stretched by as much")
     rot = rot_scale * (1.0 / s)
-    if abs(rot.determinant() - 1.0) > 1e-4 or any(
+    if abs(rot.determinant() - 1.0) > 3 * spread + 1e-4 or any(
             abs(rot.col[i].dot(rot.col[j])) > 1e-4 for i in range(3) for j in range(i)):
-        raise Refused(f"volume '{obj.name}' is sheared or mirrored: LGH renders volumes "
+        raise Refused(f"{source.name} is sheared or mirrored: LGH renders volumes "
                       "translated, rotated and uniformly scaled")
     if m == m.Identity(4):
         return 1.0, None
@@ -270,6 +275,7 @@ def job(depsgraph, view_only=False):
     if scene.camera is None and not view_only:
         raise Refused("the scene has no camera (Scene > Camera)")
     notes = []
+    final = depsgraph.mode == "RENDER"
     volumes, meshes = [], []
     instanced = sorted({i.object.name for i in depsgraph.object_instances
                         if i.is_instance and i.object.type in ("VOLUME", "MESH", "LIGHT")})
@@ -282,32 +288,32 @@ def job(depsgraph, view_only=False):
             volumes.append(obj)
         elif obj.type == "LIGHT":
             notes.append(f"the lamp '{obj.name}' (the fire is LGH's only light)")
-        elif obj.type == "MESH" and any(m.type == "FLUID" for m in obj.modifiers):
-            notes.append(f"the fluid object '{obj.name}' (LGH renders OpenVDB Volume objects; "
-                         "import the domain's cache as a Volume)")
+        elif obj.type == "MESH" and domain.gas_domain(obj, final) is not None:
+            volumes.append(obj)
+        elif obj.type == "MESH" and domain.fluid(obj) is not None:
+            notes.append(f"the fluid object '{obj.name}' (LGH renders gas domains and OpenVDB "
+                         "Volume objects)")
         elif obj.type == "MESH":
             meshes.append(obj)
         elif obj.type not in SILENT:
             notes.append(f"the {obj.type.lower()} '{obj.name}' (LGH renders a volume)")
     if not volumes:
-        raise Refused("no Volume object to render: add one (Add > Volume > Import OpenVDB)")
+        raise Refused("no volume to render: add a Volume object (Add > Volume > Import "
+                      "OpenVDB) or a smoke/fire domain baked to OpenVDB")
     volumes.sort(key=lambda o: o.name)
     obj = volumes[0]
     for other in volumes[1:]:
         notes.append(f"the volume '{other.name}' (LGH renders one volume, '{obj.name}')")
-    data = obj.data
-    data.grids.load()
-    path = bpy.path.abspath(data.grids.frame_filepath or data.filepath, library=data.library)
-    if not path:
-        raise Refused(f"volume '{obj.name}' has no file (Volume > OpenVDB File)")
-    if not os.path.isfile(path):
-        raise Refused(f"volume '{obj.name}': {path}: no such file (frame {scene.frame_current})")
-    if data.grids.error_message:
-        raise Refused(f"volume '{obj.name}': {data.grids.error_message} ({path})")
-    grids = [g.name for g in data.grids]
-    if any(m.show_render for m in obj.modifiers):
+    ds = domain.gas_domain(obj, final) if obj.type == "MESH" else None
+    if ds is None:
+        source = volume_source(obj, scene.frame_current)
+    else:
+        source = domain.source(obj, ds, scene.frame_current, lgh_inspect)
+        # The fluid modifier makes the domain's box; others before or after it change nothing
+        # that Cycles draws of the smoke but its own mesh's surface, not rendered here.
+    if any(m.show_render and m.type != "FLUID" for m in obj.modifiers):
         notes.append(f"the modifiers of '{obj.name}' (LGH renders its file)")
-    scale, local = placement(obj)
+    scale, local = placement(source, notes)
     r = scene.render
     if view_only:
         settings = {}
@@ -319,12 +325,37 @@ def job(depsgraph, view_only=False):
                          "pinhole)")
     if r.use_motion_blur:
         notes.append("motion blur")
-    settings.update(medium(obj, scale, grids, notes))
+    settings.update(medium(obj, scale, source, notes))
     world_notes(scene, notes)
+    settings.update(source.settings)
     settings.update({
         "up": "z",
-        "no_domain_offset": True,
         "emission_interpolation": "attributes" if bpy.app.version >= (4, 0, 0) else "temperature",
         "allow_dark": True,
     })
-    return Job(path, settings, notes, local, sorted(meshes, key=lambda o: o.name))
+    return Job(source.path, settings, notes, local, sorted(meshes, key=lambda o: o.name))
+
+
+def lgh_inspect(path):
+    """``lgh.inspect``: the grids of an OpenVDB file (imported here, as the engine imports
+    lgh: the add-on registers without it)."""
+    import lgh
+
+    return lgh.inspect(path)
+
+
+def volume_source(obj, frame):
+    """The :class:`~.domain.Source` of Volume object ``obj`` at ``frame``: its file as Blender
+    resolves it, each grid an attribute of its own name, placed by the object's matrix."""
+    data = obj.data
+    data.grids.load()
+    path = bpy.path.abspath(data.grids.frame_filepath or data.filepath, library=data.library)
+    if not path:
+        raise Refused(f"volume '{obj.name}' has no file (Volume > OpenVDB File)")
+    if not os.path.isfile(path):
+        raise Refused(f"volume '{obj.name}': {path}: no such file (frame {frame})")
+    if data.grids.error_message:
+        raise Refused(f"volume '{obj.name}': {data.grids.error_message} ({path})")
+    grids = {g.name: (g.name, {}) for g in data.grids}
+    return domain.Source(f"volume '{obj.name}'", path, grids, obj.matrix_world, True,
+                         {"no_domain_offset": True})

@@ -25,8 +25,9 @@ def missing(what, how):
 try:
     import bpy
     from mathutils import Euler, Matrix, Vector
+    from shading import principled  # noqa: F401 (the tests' and the scripts' one)
 except ImportError:
-    bpy = None
+    bpy = principled = None
 
 import lgh
 
@@ -73,26 +74,14 @@ def build(vdb, *, width=48, height=32, eye=(0.0, -4.0, 0.0), rotation=(90.0, 0.0
     obj.rotation_euler = Euler([math.radians(a) for a in volume_rotation])
     obj.scale = (scale, scale, scale)
     scene.collection.objects.link(obj)
-    mat = bpy.data.materials.new("fire")
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    for n in list(nodes):
-        nodes.remove(n)
-    out = nodes.new("ShaderNodeOutputMaterial")
-    pv = nodes.new("ShaderNodeVolumePrincipled")
-    settings = {"Density": 4.0, "Color": (0.7, 0.7, 0.7, 1.0),
-                "Absorption Color": (0.0, 0.0, 0.0, 1.0), "Blackbody Intensity": 1.0,
-                "Temperature": 1.0}
-    settings.update(inputs or {})
-    for k, v in settings.items():
-        pv.inputs[k].default_value = v
-    mat.node_tree.links.new(pv.outputs["Volume"], out.inputs["Volume"])
-    if flame is not None:
-        attr = nodes.new("ShaderNodeAttribute")
-        attr.attribute_name = flame
-        mat.node_tree.links.new(attr.outputs["Fac"], pv.inputs["Blackbody Intensity"])
-    vol.materials.append(mat)
+    pv = principled(vol, inputs, flame)
+    view(scene, width, height, eye, rotation, lens, fov, shift)
+    return scene, pv
+
+
+def view(scene, width, height, eye, rotation, lens=50.0, fov=None, shift=(0.0, 0.0)):
+    """``scene`` seen by a new perspective camera (:func:`build`'s), in a black world, through
+    the LGH engine into a ``width × height`` EXR."""
     world = bpy.data.worlds.new("black")
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
@@ -115,7 +104,6 @@ def build(vdb, *, width=48, height=32, eye=(0.0, -4.0, 0.0), rotation=(90.0, 0.0
     r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
     r.image_settings.file_format = "OPEN_EXR"
     r.image_settings.color_depth = "32"
-    return scene, pv
 
 
 def render(tmp_path, name="f12"):

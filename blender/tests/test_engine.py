@@ -145,7 +145,7 @@ def test_what_lgh_does_not_render_is_named_once_in_the_report(fireball, tmp_path
 @pytest.mark.parametrize("case", ["ortho", "missing", "no grid", "no material", "shear"])
 def test_bad_input_is_one_error_and_no_image(fireball, tmp_path, case):
     scene, pv = build(fireball)
-    want = {"ortho": "orthographic", "missing": "no such file", "no grid": "no grid 'heat'",
+    want = {"ortho": "orthographic", "missing": "no such file", "no grid": "no attribute 'heat'",
             "no material": "has no material", "shear": "non-uniform scale"}[case]
     if case == "ortho":
         scene.camera.data.type = "ORTHO"

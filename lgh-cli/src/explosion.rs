@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use lgh_core::glam::Vec3;
 use lgh_core::{LightcutsSettings, Representative};
-use lgh_volume::cache::{self, GridNames};
+use lgh_volume::cache::{self, EmissionValues, GridNames};
 use lgh_volume::medium::{grow_framing, EmissionInterpolation, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
@@ -139,6 +139,14 @@ pub struct ExplosionArgs {
     /// Kelvin per unit of the emission grid (Blender's Principled Volume temperature: 1000).
     #[arg(long, default_value_t = 1000.0)]
     pub temperature_scale: f32,
+    /// `IGNITION,MAX`: the emission grid is a Blender fluid domain's `flame` (0..1), read as
+    /// Cycles reads the domain's `temperature` attribute: `IGNITION + flame × (MAX − IGNITION)`
+    /// where the flame exceeds 0.01, else 0, then × --temperature-scale. IGNITION and MAX are
+    /// the domain's Fire > Ignition and Maximum temperature (Blender's defaults: 1.5,3). A
+    /// domain's cache as Cycles renders it: `--emission-grid flame --flame-grid none
+    /// --flame-temperature 1.5,3`.
+    #[arg(long)]
+    pub flame_temperature: Option<String>,
     /// Blender's blackbody intensity (model blender) or k_e (model planck).
     #[arg(long, default_value_t = 1.0)]
     pub emission_scale: f32,
@@ -268,6 +276,18 @@ fn parse_camera_shift(s: &str) -> Result<[f32; 2], crate::Error> {
         return Err(format!("--camera-shift {s}: the shift must be finite").into());
     }
     Ok([v[0], v[1]])
+}
+
+/// `--flame-temperature IGNITION,MAX`: finite.
+fn parse_flame_temperature(s: &str) -> Result<EmissionValues, crate::Error> {
+    let v = parse_numbers("flame-temperature", s, "IGNITION,MAX", &[2])?;
+    if !(v[0].is_finite() && v[1].is_finite()) {
+        return Err(format!("--flame-temperature {s}: the temperatures must be finite").into());
+    }
+    Ok(EmissionValues::BlenderFlame {
+        ignition: v[0],
+        max_temperature: v[1],
+    })
 }
 
 pub(crate) fn parse_camera(
@@ -456,6 +476,10 @@ impl Setup {
                 Some(name) => Some(name.to_string()),
             },
             flame_required: args.flame_grid.is_some(),
+            emission_values: match args.flame_temperature.as_deref() {
+                None => EmissionValues::AsWritten,
+                Some(s) => parse_flame_temperature(s)?,
+            },
         };
         Ok(Setup {
             march,
@@ -1256,6 +1280,9 @@ impl Frames<'_> {
             ("density_scale", args.density_scale.to_string()),
             ("albedo", args.albedo.to_string()),
         ];
+        if let Some(t) = &args.flame_temperature {
+            extra.push(("flame_temperature", t.clone()));
+        }
         if let Some(p) = &args.scene {
             extra.push(("scene", p.display().to_string()));
         }
@@ -1292,6 +1319,21 @@ mod tests {
         let e = parse_camera_up("1,0").unwrap_err().to_string();
         assert_eq!(e, "--camera-up 1,0: expected 3 numbers (UX,UY,UZ), got 2");
         assert_eq!(parse_camera_shift("0.25,-0.5").unwrap(), [0.25, -0.5]);
+        assert_eq!(
+            parse_flame_temperature("1.5,3").unwrap(),
+            EmissionValues::BlenderFlame {
+                ignition: 1.5,
+                max_temperature: 3.0
+            }
+        );
+        assert!(parse_flame_temperature("1.5")
+            .unwrap_err()
+            .to_string()
+            .contains("IGNITION,MAX"));
+        assert!(parse_flame_temperature("nan,3")
+            .unwrap_err()
+            .to_string()
+            .contains("finite"));
         let e = parse_camera_shift("0,inf").unwrap_err().to_string();
         assert_eq!(e, "--camera-shift 0,inf: the shift must be finite");
         assert!(parse_camera_shift("a,b")

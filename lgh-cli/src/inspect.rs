@@ -25,14 +25,24 @@ fn number(v: f64) -> Value {
     }
 }
 
-/// Runs `lgh inspect`.
-pub fn run(args: &InspectArgs) -> Result<(), crate::Error> {
-    let file = vdb::read(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
-    let stats: Vec<vdb::GridStats> = file.grids.iter().map(|g| g.stats()).collect();
-    let grids: Vec<Value> = file
-        .grids
+/// What `lgh inspect --json` prints of the OpenVDB file `path`: `{"grids": [...]}` (see
+/// [`InspectArgs::json`]). A missing file is a [`MissingFile`](crate::files::MissingFile).
+pub fn report(path: &std::path::Path) -> Result<Value, crate::Error> {
+    crate::files::check_file(path)?;
+    let file = vdb::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(json!({ "grids": grids_json(&file, &stats(&file)) }))
+}
+
+/// Each grid's statistics.
+fn stats(file: &vdb::VdbFile) -> Vec<vdb::GridStats> {
+    file.grids.iter().map(|g| g.stats()).collect()
+}
+
+/// The `grids` of [`report`].
+fn grids_json(file: &vdb::VdbFile, stats: &[vdb::GridStats]) -> Vec<Value> {
+    file.grids
         .iter()
-        .zip(&stats)
+        .zip(stats)
         .map(|(g, s)| {
             let (lo, hi) = s
                 .bbox
@@ -49,7 +59,14 @@ pub fn run(args: &InspectArgs) -> Result<(), crate::Error> {
                 "sum": number(s.sum),
             })
         })
-        .collect();
+        .collect()
+}
+
+/// Runs `lgh inspect`.
+pub fn run(args: &InspectArgs) -> Result<(), crate::Error> {
+    let file = vdb::read(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
+    let stats = stats(&file);
+    let grids = grids_json(&file, &stats);
     if args.json {
         say!("{}", json!({ "grids": grids }));
         return Ok(());

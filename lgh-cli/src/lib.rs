@@ -1,11 +1,13 @@
 //! `lgh`: the command-line tool of the lighting grid hierarchy, as a library: the binary
-//! (`main.rs`) parses the command line and calls [`dispatch`]. Four modules are public, for the
+//! (`main.rs`) parses the command line and calls [`dispatch`]. Five modules are public, for the
 //! Python package: [`explosion`], whose [`render_in_memory`](explosion::render_in_memory) is
 //! `lgh explosion` rendering into memory and [`prepare_in_memory`](explosion::prepare_in_memory)
 //! a frame made ready for many cameras; [`gi`], whose
 //! [`render_in_memory_with`](gi::render_in_memory_with) is `lgh gi`'s; [`memory`], what the
-//! renders into memory share (their settings, their parse, the error's stage); and [`files`],
-//! the input files' checks, whose [`MissingFile`] tells a missing file from a refused setting.
+//! renders into memory share (their settings, their parse, the error's stage); [`inspect`],
+//! whose [`report`](inspect::report) is `lgh inspect --json`'s record of an OpenVDB file's
+//! grids; and [`files`], the input files' checks, whose [`MissingFile`] tells a missing file
+//! from a refused setting.
 //!
 //! Thin by design: it parses arguments, shows progress and writes files; the work is in the
 //! library crates. Errors print as one line on stderr with a non-zero exit ([`exit_code`]).
@@ -46,7 +48,7 @@ pub mod explosion;
 pub mod files;
 pub mod gi;
 mod hints;
-mod inspect;
+pub mod inspect;
 mod manifest;
 pub mod memory;
 mod output;

@@ -7,7 +7,7 @@
 //! [`hierarchy`] is the paper's hierarchy (Sec. 3: the build of eqs. (1),
 //! (2), (4), (5) and the blended query of eq. (3)); [`arrays`] moves numpy arrays in and out
 //! without a Python call per element; [`progress`] reports the library's progress to a Python
-//! callback; [`procedural`] writes lgh's procedural volumes for OpenVDB tools; [`errors`] maps the library's errors to Python's
+//! callback; [`inspect`] lists an OpenVDB file's grids; [`procedural`] writes lgh's procedural volumes for OpenVDB tools; [`errors`] maps the library's errors to Python's
 //! exceptions; [`work`] runs long work in chunks with the GIL released, stopping on Ctrl-C and
 //! reporting progress between chunks.
 
@@ -20,6 +20,7 @@ mod explosion;
 mod frame;
 mod gi;
 mod hierarchy;
+mod inspect;
 mod procedural;
 mod progress;
 mod work;
@@ -32,6 +33,7 @@ fn _lgh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(explosion::render_explosion, m)?)?;
     m.add_function(wrap_pyfunction!(explosion::explosion_settings, m)?)?;
     m.add_function(wrap_pyfunction!(procedural::write_procedural, m)?)?;
+    m.add_function(wrap_pyfunction!(inspect::inspect, m)?)?;
     m.add_function(wrap_pyfunction!(gi::render_gi, m)?)?;
     m.add_function(wrap_pyfunction!(gi::gi_settings, m)?)?;
     m.add("RenderError", m.py().get_type::<errors::RenderError>())?;

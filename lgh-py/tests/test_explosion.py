@@ -5,6 +5,7 @@ fire's frame 56; and every bad input is one exception with the command's message
 Needs the shared data (``../shared/data``) and the `lgh` binary: skipped with a message without
 them, a failure where ``LGH_REQUIRE_ALL`` is set (``.ci/run``).
 """
+import json
 import os
 import pathlib
 import subprocess
@@ -81,6 +82,21 @@ def test_bad_input_is_one_exception_with_the_commands_message(tmp_path):
     with pytest.raises(lgh.RenderError, match="no grid named 'no_such_grid'"):
         lgh.render_explosion(vdb, emission_grid="no_such_grid", width=8, height=8)
     assert not any(tmp_path.iterdir())
+
+
+def test_inspect_lists_the_grids_as_the_command_does(tmp_path):
+    binary, vdb = lgh_binary(), fire_frame(56)
+    out = subprocess.run([str(binary), "inspect", "--json", str(vdb)], check=True,
+                         capture_output=True, text=True).stdout
+    got = lgh.inspect(vdb)
+    assert got == json.loads(out)
+    names = [g["name"] for g in got["grids"]]
+    assert {"density", "flame", "temperature"} <= set(names), names
+    with pytest.raises(FileNotFoundError, match="missing.vdb"):
+        lgh.inspect(tmp_path / "missing.vdb")
+    (tmp_path / "text.vdb").write_text("not a volume")
+    with pytest.raises(lgh.RenderError, match="text.vdb"):
+        lgh.inspect(tmp_path / "text.vdb")
 
 
 def test_progress_is_reported_by_phase_and_changes_nothing():

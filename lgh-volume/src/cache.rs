@@ -19,7 +19,7 @@ use crate::vdb;
 pub use crate::grid::MAX_DENSE_VOXELS as MAX_VOXELS;
 
 /// Which grids of the files hold what.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct GridNames {
     /// Smoke density (Blender: `density`).
     pub density: String,
@@ -30,6 +30,56 @@ pub struct GridNames {
     pub flame: Option<String>,
     /// Whether a missing `flame` grid is an error (it is when the user named it).
     pub flame_required: bool,
+    /// How the emission grid's values become the temperature grid's.
+    pub emission_values: EmissionValues,
+}
+
+/// How a scalar emission grid's values become [`Volume::temperature`]'s.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum EmissionValues {
+    /// As written.
+    #[default]
+    AsWritten,
+    /// A Blender fluid domain's `flame` (0..1), read as Cycles reads the domain's `temperature`
+    /// attribute (Blender's `rna_FluidModifier_temperature_grid_get`): `ignition + flame ×
+    /// (max_temperature − ignition)` where `flame > 0.01`, else 0. The two are the domain's
+    /// Fire > Ignition and Maximum temperature settings (Blender's defaults: 1.5 and 3), in
+    /// units of the Principled Volume's Temperature (the medium's temperature scale).
+    ///
+    /// ```
+    /// use lgh_volume::cache::EmissionValues;
+    ///
+    /// let domain = EmissionValues::BlenderFlame { ignition: 1.5, max_temperature: 3.0 };
+    /// assert_eq!(domain.value(0.5), 2.25);
+    /// assert_eq!(domain.value(0.01), 0.0); // no flame: no temperature
+    /// assert_eq!(EmissionValues::AsWritten.value(0.01), 0.01);
+    /// ```
+    BlenderFlame {
+        /// The temperature of the least flame.
+        ignition: f32,
+        /// The temperature of a whole flame (`flame` = 1).
+        max_temperature: f32,
+    },
+}
+
+impl EmissionValues {
+    /// The temperature grid's value for the emission grid's `v`.
+    #[must_use]
+    pub fn value(self, v: f32) -> f32 {
+        match self {
+            EmissionValues::AsWritten => v,
+            EmissionValues::BlenderFlame {
+                ignition,
+                max_temperature,
+            } => {
+                if v > 0.01 {
+                    ignition + v * (max_temperature - ignition)
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
 }
 
 impl Default for GridNames {
@@ -40,6 +90,7 @@ impl Default for GridNames {
             emission: "temperature".into(),
             flame: Some("flame".into()),
             flame_required: false,
+            emission_values: EmissionValues::AsWritten,
         }
     }
 }
@@ -241,6 +292,12 @@ impl RawFrame {
             Some(_) if rgb => None,
             flame => flame,
         };
+        if rgb && names.emission_values != EmissionValues::AsWritten {
+            return Err(ReadError::TemperatureOfColour {
+                path: path.to_path_buf(),
+                emission: names.emission.clone(),
+            });
+        }
         let offset = match blender_config_path(path)
             .filter(|c| placement == Placement::BlenderDomain && c.is_file())
         {
@@ -544,9 +601,17 @@ impl Sequence {
             let colour = [channel(0)?, channel(1)?, channel(2)?];
             return Ok(Volume::coloured(density, colour));
         }
+        let mut temperature = place(emission)?;
+        if self.names.emission_values != EmissionValues::AsWritten {
+            let values = self.names.emission_values;
+            temperature
+                .data
+                .iter_mut()
+                .for_each(|v| *v = values.value(*v));
+        }
         Ok(Volume {
             density,
-            temperature: place(emission)?,
+            temperature,
             flame: raw.flame().map(place).transpose()?,
             colour: None,
         })

@@ -273,3 +273,48 @@ fn a_streamed_sequence_renders_as_one_loaded_at_once() {
     assert!(seq.frame(7).is_err());
     assert!(ExplosionLights::from_frames((0..8).map(|i| seq.frame(i)), &m).is_err());
 }
+
+/// A Blender domain's temperature made from the flame (`EmissionValues::BlenderFlame`) is, voxel
+/// for voxel, Cycles' `ignition + flame × (max − ignition)` where the flame exceeds 0.01 and 0
+/// elsewhere, of the flame grid as written, on the same grid.
+#[test]
+fn a_domains_temperature_is_made_of_its_flame_voxel_for_voxel() {
+    use lgh_volume::cache::EmissionValues;
+    let Some(path) = fire_frame(56) else { return };
+    let read = |emission_values| {
+        let names = GridNames {
+            emission: "flame".into(),
+            flame: None,
+            emission_values,
+            ..GridNames::default()
+        };
+        cache::load(
+            std::slice::from_ref(&path),
+            &names,
+            Placement::BlenderDomain,
+        )
+        .unwrap()
+        .remove(0)
+    };
+    let (ignition, max_temperature) = (1.2_f32, 2.8_f32);
+    let flame = read(EmissionValues::AsWritten).temperature;
+    let made = read(EmissionValues::BlenderFlame {
+        ignition,
+        max_temperature,
+    })
+    .temperature;
+    assert_eq!((made.dims, made.origin), (flame.dims, flame.origin));
+    let (mut cut, mut hot) = (0, 0);
+    for (&f, &t) in flame.data.iter().zip(&made.data) {
+        if f > 0.01 {
+            assert_eq!(t, ignition + f * (max_temperature - ignition));
+            hot += 1;
+        } else {
+            assert_eq!(t, 0.0);
+            cut += usize::from(f > 0.0);
+        }
+    }
+    eprintln!("{hot} hot voxels, {cut} cut by 0.01");
+    // The cut matters on this frame: faint flame is no temperature.
+    assert!(hot > 1000 && cut > 100, "{hot} hot voxels, {cut} cut");
+}

@@ -277,8 +277,18 @@ vdb.write(sys.argv[1], grids=[d, e, f])
     let named = lgh_volume::cache::GridNames {
         flame: Some("flame".into()),
         flame_required: true,
+        ..names.clone()
+    };
+    let err = lgh_volume::cache::load(std::slice::from_ref(&path), &named, placement).unwrap_err();
+    assert!(err.to_string().contains("RGB (vec3) emission"), "{err}");
+    // Nor is an RGB emission a flame to make a temperature of.
+    let made = lgh_volume::cache::GridNames {
+        emission_values: lgh_volume::cache::EmissionValues::BlenderFlame {
+            ignition: 1.5,
+            max_temperature: 3.0,
+        },
         ..names
     };
-    let err = lgh_volume::cache::load(&[path], &named, placement).unwrap_err();
-    assert!(err.to_string().contains("RGB (vec3) emission"), "{err}");
+    let err = lgh_volume::cache::load(&[path], &made, placement).unwrap_err();
+    assert!(err.to_string().contains("no flame to read"), "{err}");
 }

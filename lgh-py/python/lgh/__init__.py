@@ -6,18 +6,20 @@
     >>> light = h.probe(rng.random((1_000, 3)) + [0.0, 0.0, 2.0])   # (1000, 3) float32
 
 ``render_explosion(vdb, **settings)`` renders a simulation cache as ``lgh explosion`` does,
-into an ``(h, w, 3)`` array; ``render_gi(obj, **settings)`` an OBJ scene as ``lgh gi`` does. ``Hierarchy`` takes numpy arrays (any array-like of shape ``(n, 3)``, converted to float32 once)
+into an ``(h, w, 3)`` array; ``render_gi(obj, **settings)`` an OBJ scene as ``lgh gi`` does;
+``inspect(vdb)`` lists an OpenVDB file's grids as ``lgh inspect --json`` does. ``Hierarchy`` takes numpy arrays (any array-like of shape ``(n, 3)``, converted to float32 once)
 and returns them; errors are Python exceptions carrying the library's message: ``ValueError``
 for a bad argument, ``lgh.RenderError`` for the rest.
 """
 from . import _lgh
 from ._lgh import (
-    FrameRender, Hierarchy, RenderError, __version__, explosion_settings, gi_settings, write_procedural,
+    FrameRender, Hierarchy, RenderError, __version__, explosion_settings, gi_settings, inspect,
+    write_procedural,
 )
 
 __all__ = [
     "FrameRender", "Hierarchy", "RenderError", "__version__", "explosion_settings", "gi_settings",
-    "render_explosion", "render_gi", "write_procedural",
+    "inspect", "render_explosion", "render_gi", "write_procedural",
 ]
 
 

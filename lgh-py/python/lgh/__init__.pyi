@@ -28,6 +28,7 @@ def render_explosion(
     emission_model: Literal['blender', 'planck'] | None = ...,  # Emission model (default blender)
     emission_interpolation: Literal['temperature', 'attributes'] | None = ...,  # How the emission between voxel centres follows the grids: `temperature`, the emission of the interpolated temperature
     temperature_scale: _Value | None = ...,  # Kelvin per unit of the emission grid (Blender's Principled Volume temperature: 1000) (default 1000)
+    flame_temperature: _Value | None = ...,  # `IGNITION,MAX`: the emission grid is a Blender fluid domain's `flame` (0..1), read as Cycles reads the domain's `temperature` attribute: `IGNITION + flam
     emission_scale: _Value | None = ...,  # Blender's blackbody intensity (model blender) or k_e (model planck) (default 1)
     min_temperature: _Value | None = ...,  # No emission at or below this temperature (kelvin): the lights are the hotter voxels [default: 0 with --emission-model blender, whose Principled Volume emit
     density_scale: _Value | None = ...,  # Extinction per unit density (Blender's Principled Volume density) (default 1)

@@ -80,6 +80,11 @@ def write_procedural(
     """lgh's procedural volume as raw grids ``PREFIX.json``, ``PREFIX.density.f32``,
     ``PREFIX.temperature.f32`` (``tools/cycles/write_vdb.py`` makes an OpenVDB file of them)."""
 
+def inspect(vdb: str | os.PathLike[str]) -> dict[str, list[dict[str, object]]]:
+    """The grids of an OpenVDB file as ``lgh inspect --json`` prints them: ``{"grids": [{"name",
+    "value_type", "voxel_size", "active_voxels", "bbox_min", "bbox_max", "min", "max", "sum"},
+    ...]}``."""
+
 def render_gi(
     obj: str | os.PathLike[str], **settings: object
 ) -> npt.NDArray[np.float32]:

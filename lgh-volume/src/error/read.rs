@@ -63,6 +63,14 @@ pub enum ReadError {
         /// The vec3 emission grid.
         emission: String,
     },
+    /// The emission grid's values were to be read as a temperature
+    /// ([`EmissionValues`](crate::cache::EmissionValues)), but the grid is an RGB emission.
+    TemperatureOfColour {
+        /// The file.
+        path: PathBuf,
+        /// The vec3 emission grid.
+        emission: String,
+    },
     /// A grid is not scalar (density, flame), or the emission neither scalar nor vec3.
     NotScalar {
         /// The file.
@@ -155,6 +163,12 @@ impl fmt::Display for ReadError {
                 "{}: '{emission}' is an RGB (vec3) emission grid, read as it is; the flame grid \
                  '{flame}' scales a blackbody emission and cannot scale it: name no flame grid \
                  (GridNames::flame None)",
+                path.display()
+            ),
+            E::TemperatureOfColour { path, emission } => write!(
+                f,
+                "{}: '{emission}' is an RGB (vec3) emission grid, read as it is; it has no \
+                 flame to read as a Blender domain's temperature (EmissionValues::AsWritten)",
                 path.display()
             ),
             E::NotScalar {
