@@ -20,6 +20,8 @@ What is read:
   the attribute linked to it: lgh's flame grid), the temperature and its attribute; an
   attribute linked to the emission colour as an RGB emission grid times the emission strength;
 - Blender 4.x/5.x's interpolation of each attribute on its own (``emission_interpolation``);
+- the world's constant colour as the background (``background``; its light on the smoke is
+  named);
 - the visible meshes, as the room the fire lights (:mod:`.room`).
 """
 import math
@@ -245,26 +247,33 @@ def placement(source, notes):
     return s, (inverse.to_3x3(), inverse.translation.copy())
 
 
-def world_notes(scene, notes):
-    """The world's light, which LGH does not render: named unless black."""
-    world = scene.world
-    if world is None:
-        return
-    colour, strength = tuple(world.color), 1.0
-    if bpy.app.version >= (5, 0, 0) or world.use_nodes:
-        node = linked_to_output(world.node_tree, "OUTPUT_WORLD", "Surface")
+def world(scene, notes):
+    """The world as LGH renders it: its constant colour × strength seen behind the smoke
+    (``background``; ``None`` when black, or with *Film > Transparent*, which Blender shows
+    as alpha). Its light on the smoke, which LGH does not render, is named; so is a world that
+    is not one colour (a texture, a sky), rendered black."""
+    w = scene.world
+    if w is None:
+        return None
+    colour, strength = tuple(w.color), 1.0
+    if bpy.app.version >= (5, 0, 0) or w.use_nodes:
+        node = linked_to_output(w.node_tree, "OUTPUT_WORLD", "Surface")
         if node is None:
-            return
-        if node.type != "BACKGROUND" or node.inputs["Color"].is_linked:
-            notes.append(f"the world '{world.name}' ({node.bl_label}): its light on the smoke "
-                         "and the background (LGH renders a black world)")
-            return
+            return None
+        if node.type != "BACKGROUND" or node.inputs["Color"].is_linked or \
+                node.inputs["Strength"].is_linked:
+            notes.append(f"the world '{w.name}' ({node.bl_label}): not one colour, LGH renders "
+                         "a black world")
+            return None
         colour, strength = tuple(node.inputs["Color"].default_value)[:3], \
             node.inputs["Strength"].default_value
-    if max(colour) * strength > 0.0:
-        notes.append(f"the world's colour ({colour[0]:.3g}, {colour[1]:.3g}, {colour[2]:.3g}) "
-                     f"x {strength:g}: its light on the smoke and the background (LGH renders "
-                     "a black world)")
+    radiance = tuple(c * strength for c in colour)
+    if max(radiance) <= 0.0:
+        return None
+    notes.append(f"the world's light on the smoke (its colour ({colour[0]:.3g}, {colour[1]:.3g}, "
+                 f"{colour[2]:.3g}) x {strength:g} is the background; LGH's only light is the "
+                 "fire)")
+    return None if scene.render.film_transparent else radiance
 
 
 def job(depsgraph, view_only=False):
@@ -326,7 +335,9 @@ def job(depsgraph, view_only=False):
     if r.use_motion_blur:
         notes.append("motion blur")
     settings.update(medium(obj, scale, source, notes))
-    world_notes(scene, notes)
+    background = world(scene, notes)
+    if background is not None:
+        settings["background"] = background
     settings.update(source.settings)
     settings.update({
         "up": "z",

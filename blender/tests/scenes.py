@@ -192,8 +192,6 @@ def cycles(tmp_path, samples, name, seed=1):
     return image
 
 
-
-
 def dev_fire_scene(width, height, **overrides):
     """The engine registered and :data:`DEV_FIRE` built at ``width × height`` (``overrides``
     replace its settings), for ``blender/bench.py`` and ``blender/picture.py``: the scene and

@@ -22,18 +22,21 @@ def test_a_volume_object_renders_as_lgh_explosion_with_the_same_flags(fireball, 
     image, report = render(tmp_path)
     assert report == [], report
     assert image is not None and image.shape == (32, 48, 3)
-    # The same scene said to the command by hand: the camera at (0, -4, 0) looking along +Y
-    # with Z up; Cycles' Principled Volume of density 4, colour 0.7, black absorption:
-    # extinction 4 per unit density, albedo 0.7; blackbody intensity 1 from `temperature`
-    # times 1 kelvin; no flame; Blender 5's interpolation of each attribute.
-    flags = ["--width", "48", "--height", "32",
-             "--camera", f"0,-4,0,0,0,0,{fov_y(50.0, 48, 32)}", "--density-scale", "4",
-             "--albedo", "0.7", "--temperature-scale", "1", "--emission-scale", "1",
-             "--flame-grid", "none", "--emission-interpolation", "attributes",
-             "--no-domain-offset", "--allow-dark"]
-    want = cli(tmp_path, fireball, flags)
+    want = cli(tmp_path, fireball, front(0.7))
     assert np.mean(want) > 0
     assert rel_rmse(image, want) <= 1e-5, rel_rmse(image, want)
+
+
+def front(albedo, *more):
+    """:func:`build`'s default scene said to the command by hand: the camera at (0, -4, 0)
+    looking along +Y with Z up; Cycles' Principled Volume of density 4, black absorption and
+    colour ``albedo``: extinction 4 per unit density, that albedo; blackbody intensity 1 from
+    `temperature` times 1 kelvin; no flame; Blender 5's interpolation of each attribute."""
+    return ["--width", "48", "--height", "32",
+            "--camera", f"0,-4,0,0,0,0,{fov_y(50.0, 48, 32)}", "--density-scale", "4",
+            "--albedo", str(albedo), "--temperature-scale", "1", "--emission-scale", "1",
+            "--flame-grid", "none", "--emission-interpolation", "attributes",
+            "--no-domain-offset", "--allow-dark", *more]
 
 
 def test_roll_shift_and_a_moved_volume_are_the_same_image_in_the_volumes_space(fireball,
@@ -136,7 +139,7 @@ def test_what_lgh_does_not_render_is_named_once_in_the_report(fireball, tmp_path
     for named in ["anisotropy 0.3", "coloured Color", "Emission Strength 2",
                   "Noise Texture node driving the Principled Volume's Temperature",
                   "depth of field", "lamp 'lamp'", "metallic and specular part of material "
-                  "'shiny'", "world's colour", "volume 'fire2'"]:
+                  "'shiny'", "world's light on the smoke", "volume 'fire2'"]:
         assert named in text, f"{named!r} not in the report:\n{text}"
     assert all(level == "WARNING" for level, _ in report)
     assert len(set(report)) == len(report), "a note said twice"
@@ -200,6 +203,31 @@ def test_the_cameras_roll_and_shift_are_cycles(fireball, tmp_path):
     per_channel = [rel_rmse(lgh_image[..., c], reference[..., c]) for c in range(3)]
     print(f"lgh vs Cycles {error:.4f} (R/G/B {per_channel[0]:.4f}/{per_channel[1]:.4f}/"
           f"{per_channel[2]:.4f}), Cycles noise {noise:.4f}, flipped shift {wrong:.4f}")
+    assert error <= 1.25 * noise and wrong > 4 * error, (error, noise, wrong)
+
+
+def test_the_worlds_colour_is_the_background_cycles_sees(fireball, tmp_path):
+    """A world of one colour (0.1, 0.2, 0.4) × 1.5 behind smoke that does not scatter (albedo 0:
+    the world lights nothing Cycles would show): ``--background 0.15,0.3,0.6``, and Cycles' image
+    within its noise at 64 samples (as the camera test above); with *Film > Transparent* no
+    background, several times further off."""
+    scene, _ = build(fireball, inputs={"Color": (0.0, 0.0, 0.0, 1.0)})
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.1, 0.2, 0.4, 1.0)
+    bg.inputs["Strength"].default_value = 1.5
+    image, report = render(tmp_path, "lgh")
+    assert [m for _, m in report] == [
+        "LGH does not render the world's light on the smoke (its colour (0.1, 0.2, 0.4) x 1.5 is the background; "
+        "LGH's only light is the fire)"], report
+    want = cli(tmp_path, fireball, front(0, "--background", "0.15,0.3,0.6"))
+    assert rel_rmse(image, want) <= 1e-5, rel_rmse(image, want)
+    reference = cycles(tmp_path, 64, "cycles", seed=1)
+    noise = rel_rmse(cycles(tmp_path, 64, "cycles2", seed=2), reference) / math.sqrt(2.0)
+    error = rel_rmse(image, reference)
+    scene.render.film_transparent = True
+    black, _ = render(tmp_path, "transparent")
+    wrong = rel_rmse(black, reference)
+    print(f"lgh vs Cycles {error:.4f}, Cycles noise {noise:.4f}, no background {wrong:.4f}")
     assert error <= 1.25 * noise and wrong > 4 * error, (error, noise, wrong)
 
 

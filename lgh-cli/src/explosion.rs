@@ -200,6 +200,12 @@ pub struct ExplosionArgs {
     /// [default: 0,0]
     #[arg(long, allow_hyphen_values = true)]
     pub camera_shift: Option<String>,
+    /// The world's constant radiance `R,G,B` (linear) seen behind the smoke, through it:
+    /// Blender's world colour × strength. The ray marcher shows it and lights nothing with it;
+    /// with --backend pathtrace it is the environment, which also lights the smoke [default:
+    /// black]
+    #[arg(long)]
+    pub background: Option<String>,
     /// Opaque surfaces around the smoke: an OBJ scene (with its MTL; diffuse albedo, Phong's
     /// `kd`) in the cache's world units, lit by the fire through the smoke and shadowed by
     /// itself (the paper's explosions in a box). Not with --backend pathtrace.
@@ -276,6 +282,12 @@ fn parse_camera_shift(s: &str) -> Result<[f32; 2], crate::Error> {
         return Err(format!("--camera-shift {s}: the shift must be finite").into());
     }
     Ok([v[0], v[1]])
+}
+
+/// `--background R,G,B`.
+fn parse_background(s: &str) -> Result<Vec3, crate::Error> {
+    let v = parse_numbers("background", s, "R,G,B", &[3])?;
+    Ok(Vec3::new(v[0], v[1], v[2]))
 }
 
 /// `--flame-temperature IGNITION,MAX`: finite.
@@ -411,7 +423,11 @@ impl Setup {
         if let Sink::Files = sink {
             output::check_out(args.out()?)?;
         }
-        let march = args.march.settings(EXPLOSION_DEFAULTS, &args.scatter())?;
+        let mut march = args.march.settings(EXPLOSION_DEFAULTS, &args.scatter())?;
+        if let Some(b) = &args.background {
+            march.background = parse_background(b)?;
+            march.check()?;
+        }
         if args.backend == BackendArg::Pathtrace && args.scene.is_some() {
             return Err("--scene is the ray marcher's: the path tracer has no surfaces".into());
         }
@@ -1245,6 +1261,7 @@ impl Frames<'_> {
         let settings = PathSettings {
             spp: self.args.spp,
             max_scatter: self.args.max_scatter,
+            environment: self.setup.march.background,
             ..Default::default()
         };
         Rendered::timed(|| {
@@ -1282,6 +1299,9 @@ impl Frames<'_> {
         ];
         if let Some(t) = &args.flame_temperature {
             extra.push(("flame_temperature", t.clone()));
+        }
+        if let Some(b) = &args.background {
+            extra.push(("background", b.clone()));
         }
         if let Some(p) = &args.scene {
             extra.push(("scene", p.display().to_string()));
@@ -1330,6 +1350,14 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("IGNITION,MAX"));
+        assert_eq!(
+            parse_background("0.1,0.2,0.3").unwrap(),
+            Vec3::new(0.1, 0.2, 0.3)
+        );
+        assert!(parse_background("1,2")
+            .unwrap_err()
+            .to_string()
+            .contains("R,G,B"));
         assert!(parse_flame_temperature("nan,3")
             .unwrap_err()
             .to_string()

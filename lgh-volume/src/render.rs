@@ -220,7 +220,7 @@ impl<'a> Marcher<'a> {
                 let lights = lit.surface.or(lights).map(|l| (l, s));
                 self.shade_surface(lights, origin + dir * hit.t, hit, stats, scratch)
             }
-            None => Ok(Vec3::ZERO),
+            None => Ok(settings.background),
         };
         let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
             return surface(stats, scratch);
@@ -279,7 +279,9 @@ impl<'a> Marcher<'a> {
                 break;
             }
         }
-        if hit.is_some() && trans >= settings.min_transmittance {
+        if trans >= settings.min_transmittance
+            && (hit.is_some() || settings.background != Vec3::ZERO)
+        {
             radiance += trans * surface(stats, scratch)?;
         }
         Ok(radiance)
@@ -543,6 +545,48 @@ mod tests {
             let want = j / sigma * (1.0 - (-2.0 * sigma).exp());
             assert_slab(got, want, j, sigma);
         }
+    }
+
+    #[test]
+    fn the_background_is_seen_through_the_slab_and_around_it() {
+        // L = j / σ (1 − e^{−σ ℓ}) + e^{−σ ℓ} · background through the slab (ℓ = 2), the
+        // background itself past it, and an image without it the same without that term.
+        let v = slab_volume(2000.0);
+        let background = Vec3::new(0.5, 1.0, 2.0);
+        let march = |m: &Medium, origin: Vec3, background: Vec3| {
+            let s = MarchSettings {
+                background,
+                ..Default::default()
+            };
+            Marcher::new(&v, m, &s)
+                .unwrap()
+                .march_with::<BruteForce>(
+                    Lit::lights(None),
+                    origin,
+                    -Vec3::Z,
+                    &mut RenderStats::default(),
+                    &mut LightScratch::default(),
+                )
+                .unwrap()
+        };
+        for sigma in [0.1f32, 1.0, 4.0] {
+            let m = Medium::new(sigma, 0.0, 1e-3, 500.0).unwrap();
+            let j = m.emission_at(2000.0);
+            let through = march(&m, Vec3::new(0.0, 0.0, 5.0), background);
+            let t = (-2.0 * sigma).exp();
+            let want = j / sigma * (1.0 - t) + t * background;
+            assert_slab(through, want, j + sigma * background, sigma);
+            let black = march(&m, Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
+            assert_eq!(black, through_the_middle(&v, &m));
+            // Past the slab's side: the background alone, exactly.
+            assert_eq!(march(&m, Vec3::new(9.0, 0.0, 5.0), background), background);
+        }
+        let bad = MarchSettings {
+            background: Vec3::new(0.0, f32::NAN, 0.0),
+            ..Default::default()
+        };
+        let err = bad.check().unwrap_err().to_string();
+        assert!(err.contains("background radiance"), "{err}");
     }
 
     #[test]

@@ -2,6 +2,8 @@
 //! cube maps are traced, and how many depths of scattered light (paper Sec. 5) come first —
 //! checked before any work.
 
+use lgh_core::glam::Vec3;
+
 use crate::error::{check_setting, RenderError};
 use crate::lighting_cache::LightingCacheSettings;
 use crate::method::Method;
@@ -142,6 +144,11 @@ pub struct MarchSettings {
     /// i.e. a one-pixel box filter (Cycles' "Box" filter of width 1), without noise. 1 (the
     /// default) is the pixel's centre. At most [`MAX_PIXEL_SAMPLES`].
     pub pixel_samples: usize,
+    /// Radiance (linear RGB) seen where a camera ray leaves the scene without meeting a
+    /// surface, times the ray's transmittance through the smoke: a constant world behind the
+    /// volume (Blender's world colour × strength). It lights nothing. Black by default; a ray
+    /// cut off below [`min_transmittance`](Self::min_transmittance) sees none of it.
+    pub background: Vec3,
 }
 
 impl MarchSettings {
@@ -189,6 +196,11 @@ impl MarchSettings {
             self.scatter_skip,
             "must be a share in [0, 1)",
         )?;
+        if !(self.background.is_finite() && self.background.min_element() >= 0.0) {
+            return Err(RenderError::InvalidBackground {
+                radiance: self.background,
+            });
+        }
         if !(1..=MAX_PIXEL_SAMPLES).contains(&self.pixel_samples) {
             return Err(RenderError::InvalidCount {
                 name: "pixel samples",
@@ -259,6 +271,7 @@ impl Default for MarchSettings {
             scatter_skip: 0.0,
             lighting_cache: LightingCacheSettings::default(),
             pixel_samples: 1,
+            background: Vec3::ZERO,
         }
     }
 }

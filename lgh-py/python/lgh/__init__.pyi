@@ -66,6 +66,7 @@ def render_explosion(
     camera: _Value | None = ...,  # Camera `EX,EY,EZ,TX,TY,TZ[,FOV]` (eye, target, vertical field of view in degrees; default: framed on the smoke of all frames, seen from the front)
     camera_up: _Value | None = ...,  # With --camera: the camera's up direction `UX,UY,UZ` (default: the world's up, --up)
     camera_shift: _Value | None = ...,  # Lens shift `SX,SY`: the image plane moved right and up by these fractions of the image's larger side, the view direction kept (Blender's camera Shift X and Y
+    background: _Value | None = ...,  # The world's constant radiance `R,G,B` (linear) seen behind the smoke, through it: Blender's world colour × strength
     scene: _Value | None = ...,  # Opaque surfaces around the smoke: an OBJ scene (with its MTL; diffuse albedo, Phong's `kd`) in the cache's world units, lit by the fire through the smoke and shadowe
     up: Literal['y', 'z'] | None = ...,  # The world's up axis (Blender: z) (default z)
     allow_dark: bool | None = ...,  # Render even when no frame has a light

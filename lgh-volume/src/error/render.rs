@@ -38,6 +38,11 @@ pub enum RenderError {
         /// The rejected radiance.
         radiance: Vec3,
     },
+    /// A march's background radiance is negative or not finite.
+    InvalidBackground {
+        /// The rejected radiance.
+        radiance: Vec3,
+    },
     /// No frames were given to make lights of.
     NoFrames,
     /// A frame's flame grid does not lie on its temperature grid (frame index if known).
@@ -140,6 +145,10 @@ impl fmt::Display for RenderError {
             E::InvalidEnvironment { radiance } => write!(
                 f,
                 "path tracer: environment radiance {radiance} must be finite and ≥ 0"
+            ),
+            E::InvalidBackground { radiance } => write!(
+                f,
+                "march settings: background radiance {radiance} must be finite and ≥ 0"
             ),
             E::NoFrames => write!(f, "no frames given"),
             E::FlameOffGrid { frame: Some(i) } => write!(
