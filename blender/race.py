@@ -1,0 +1,120 @@
+"""The add-on against Cycles 5.2.3 in the same .blend, at equal error (the method of
+``tools/cycles/compare.py``): for each scene, one bpy scene — the procedural volume as a Volume
+object (``lgh.write_procedural``, ``tools/cycles/write_vdb.py``), density 4, colour 0.7, black
+absorption, blackbody from a kelvin temperature grid, a black world, the camera at (0, −4, 0)
+looking at the origin with a 40° vertical field, 128×128 — rendered by F12 with the engine LGH
+and with Cycles (CPU, 128 volume bounces, no denoiser, a one-pixel box filter): a converged
+reference (``--ref-seeds`` × ``--ref-spp``), a ladder of sample counts, LGH once warm (a first
+F12 of the scene before the timed one). Errors are relative RMSE of luminance (``lgh compare``);
+Cycles' noise ``a`` (its error² ≈ a (1/n + 1/N)) is fitted over the ladder, LGH's error against
+the truth is ``sqrt(e² − a/N)``, Cycles reaches it at ``n* = a / e_truth²`` samples, whose
+CPU-seconds come from a line fitted to the ladder's. CPU-seconds are the process's (user +
+system) over each F12.
+
+    target/py313/bin/python blender/race.py [--scenes fireball64,explosion128] [--ref-spp 4096]
+
+Prints JSON, one record per scene. Needs bpy 5.2.3, ``lgh``, Debian's python3-openvdb and the
+release ``lgh`` (``lgh compare``). About half an hour on 2 cores.
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import resource
+import subprocess
+import sys
+import tempfile
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE / "tests"))
+sys.path.insert(0, str(ROOT / "tools" / "cycles"))
+
+#: tools/cycles/compare.py's procedural scenes.
+SCENES = {"fireball64": ("fireball", 64), "explosion128": ("explosion", 128)}
+
+
+def cpu():
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+def timed_render(scenes, folder, name):
+    """F12 into ``folder/name.exr``: the file and the CPU-seconds it took."""
+    start = cpu()
+    image, report = scenes.render(folder, name)
+    if image is None:
+        sys.exit(f"race.py: {name}: no image ({report})")
+    return folder / f"{name}.exr", cpu() - start
+
+
+def main():
+    json_out = os.fdopen(os.dup(1), "w")  # Blender prints to standard output
+    os.dup2(2, 1)
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--scenes", default=",".join(SCENES))
+    p.add_argument("--size", type=int, default=128)
+    p.add_argument("--ref-spp", type=int, default=4096)
+    p.add_argument("--ref-seeds", type=int, default=2)
+    p.add_argument("--ladder", default="16,64,256,1024")
+    a = p.parse_args()
+    os.environ.pop("LGH_REQUIRE_ALL", None)
+
+    import compare
+    import lgh_blender
+    import numpy as np
+    import scenes
+
+    lgh_blender.register()
+    results = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in a.scenes.split(","):
+            kind, res = SCENES[name]
+            d = pathlib.Path(tmp) / name
+            d.mkdir()
+            prefix = d / "volume"
+            scenes.lgh.write_procedural(kind, res, 0.5, prefix)
+            subprocess.run(["/usr/bin/python3", str(ROOT / "tools" / "cycles" / "write_vdb.py"),
+                            str(prefix)], check=True, capture_output=True)
+            scene, _ = scenes.build(prefix.with_suffix(".vdb"), width=a.size, height=a.size,
+                                    eye=(0.0, -4.0, 0.0), rotation=(90.0, 0.0, 0.0), fov=40.0)
+            scenes.render(d, "warm")
+            lgh_exr, lgh_cpu = timed_render(scenes, d, "lgh")
+            scenes.use_cycles(scene, a.ref_spp, bounces=128)
+            seeds = []
+            for seed in range(1, a.ref_seeds + 1):
+                scene.cycles.seed = seed
+                seeds.append(compare.read_exr(str(timed_render(scenes, d, f"ref{seed}")[0])))
+            n_ref = a.ref_spp * a.ref_seeds
+            ref = str(d / "reference.exr")
+            compare.write_exr(ref, np.mean(seeds, axis=0))
+            ladder = []
+            for spp in (int(s) for s in a.ladder.split(",")):
+                scene.cycles.samples, scene.cycles.seed = spp, 100 + spp
+                exr, cpu_s = timed_render(scenes, d, f"cycles{spp}")
+                ladder.append({"spp": spp, "cpu_s": cpu_s,
+                               "error": compare.rel_rmse(str(exr), ref)[0]})
+            noise = compare.fit_noise(ladder, n_ref)
+            c0, c1 = compare.fit_cpu(ladder)
+            e, mean_ratio, rgb = compare.rel_rmse(str(lgh_exr), ref)
+            truth2 = e * e - noise / n_ref
+            record = {"lgh_cpu_s": lgh_cpu, "lgh_error": e, "lgh_mean_ratio": mean_ratio,
+                      "lgh_rel_rmse_rgb": rgb["rel_rmse_rgb"], "reference_spp": n_ref,
+                      "cycles_noise_a": noise, "ladder": ladder}
+            if truth2 > 0.0:
+                n_star = noise / truth2
+                record.update({"lgh_error_truth": math.sqrt(truth2), "cycles_spp": n_star,
+                               "cycles_cpu_s": c0 + c1 * n_star,
+                               "speedup": (c0 + c1 * n_star) / lgh_cpu})
+            results[name] = record
+            print(name, json.dumps(record), file=sys.stderr)
+    json.dump(results, json_out, indent=1)
+    json_out.write("\n")
+    json_out.flush()
+    os._exit(0)
+
+
+if __name__ == "__main__":
+    main()
