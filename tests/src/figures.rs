@@ -443,9 +443,10 @@ struct Measured {
 /// HEAD, when the working tree has no change but to the pages and the figures.
 fn clean_head(root: &Path) -> Result<String, String> {
     let dirty = git(root, &["status", "--porcelain", "--untracked-files=no"])?;
+    // `XY PATH` a line; `git` trims the output, so the first line may have lost a blank X.
     let changed: Vec<&str> = dirty
         .lines()
-        .map(|l| l[3..].trim())
+        .filter_map(|l| l.trim_start().split_once(' ').map(|(_, p)| p.trim()))
         .filter(|p| !(p.ends_with(".md") || *p == FIGURES))
         .collect();
     if !changed.is_empty() {
