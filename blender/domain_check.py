@@ -1,6 +1,6 @@
 """The add-on's reading of a Mantaflow gas domain against the Blender that can bake one: Debian's
 Blender 3.4.1 bakes a small fire (a 2-unit cube domain, 24 cells a side, an icosphere flowing
-fire and smoke; plain, with Noise ×2, adaptive) to OpenVDB and renders the domain with Cycles
+fire and smoke; plain, with Noise ×2, adaptive, adaptive with Noise) to OpenVDB and renders the domain with Cycles
 (1,024 samples, emission and absorption only, a one-pixel box filter, 64×48); then
 
 - ``made_vs_domain``: Cycles 3.4.1's image of a Volume object holding the temperature
@@ -32,9 +32,11 @@ HERE = pathlib.Path(__file__).resolve().parent
 #: (too new for Blender 3.4.1's OpenColorIO).
 ENVIRONMENT = dict(os.environ)
 BLENDER = "/usr/bin/blender"
-#: Each domain's flags and the frame rendered: the adaptive domain's frame 2 sits at cell
-#: (1, 1, 0) of the whole domain (its config file's offset).
-CASES = {"base": ([], 6), "noise": (["--noise"], 6), "adaptive": (["--adaptive"], 2)}
+#: Each domain's flags and the frame rendered: the adaptive domain's frame 2 starts at cell
+#: (1, 1, 0) of the whole domain, the adaptive domain with Noise's frame 1 at (2, 2, 0) (their
+#: config files' offsets; a noise cell is half a base cell).
+CASES = {"base": ([], 6), "noise": (["--noise"], 6), "adaptive": (["--adaptive"], 2),
+         "adaptive_noise": (["--adaptive", "--noise"], 1)}
 #: The domain: a 2-unit cube at LOCATION, 24 cells a side, baked to frame FRAMES.
 LOCATION, RESOLUTION, FRAMES = (0.3, 0.2, 1.0), 24, 6
 CAMERA = dict(location=(0.3, -4.0, 0.6), rotation=(88.0, 0.0, 3.0), fov=35.0)
@@ -250,9 +252,10 @@ def main():
                 blender("cycles", str(d), str(d / f"cycles{seed}.exr"), str(seed), str(frame))
             suffix = "_noise" if "--noise" in flags else ""
             offset = res_min(d / "config" / f"config_{frame:04d}.uni")
+            upres = 2 if "--noise" in flags else 1  # the noise grid's cells of a base cell
             subprocess.run(["/usr/bin/python3", "-c", MADE, str(data /
                             f"fluid_{data.name}_{frame:04d}.vdb"), str(d / "made.vdb"), suffix,
-                            *map(str, offset)], check=True)
+                            *(str(c * upres) for c in offset)], check=True)
             cell = 2.0 / (RESOLUTION * (2 if "--noise" in flags else 1))
             voxel = lgh.inspect(d / "made.vdb")["grids"][0]["voxel_size"][0]
             blender("made", str(d), str(d / "made.exr"), "1", str(frame), str(cell / voxel))

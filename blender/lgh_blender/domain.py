@@ -18,11 +18,13 @@ Placement. Blender sizes a domain's cells from its mesh's box and the object's o
 (``BKE_fluid``'s ``fluid_modifier_init``): the world's longest side gets Resolution Divisions
 cells, each other side ``max(round(side × divisions / longest), 4)``. Cycles draws the dense grid
 over the mesh's box, voxel ``i`` centred at ``box_min + (i + 1/2) × cell`` in the object's space
-(the file puts voxel ``i`` at ``i × voxel_size``, and an adaptive domain's frame at its offset in
-``CACHE/config/config_NNNN.uni``, which ``lgh explosion`` reads). Measured on a domain baked by
+(the file puts voxel ``i`` at ``i × voxel_size``; an adaptive domain's frame starts at its
+box's corner, ``res_min`` in ``CACHE/config/config_NNNN.uni``, in cells of the base grid — times
+the Noise scale for the noise grids). Measured on a domain baked by
 Blender 3.4.1: its Cycles image and that of a Volume object holding the made temperature placed
 so are the same image to 0.13% (Cycles' noise).
 """
+import gzip
 import os
 
 import bpy
@@ -105,10 +107,6 @@ def cache_file(obj, ds, frame):
         raise Refused(f"{name}: its cache is in the {ds.cache_data_format.title()} format: LGH "
                       "reads OpenVDB (Physics > Fluid > Cache > Format Volumes: OpenVDB, then "
                       "bake again)")
-    if ds.use_noise and ds.use_adaptive_domain:
-        raise Refused(f"{name}: an adaptive domain with Noise: LGH does not yet place the "
-                      "noise grids of an adaptive domain's frames (turn Adaptive Domain off and "
-                      "bake again)")
     number = frame - getattr(ds, "cache_frame_offset", 0)
     directory = bpy.path.abspath(ds.cache_directory, library=obj.library)
     kind = ("noise", "fluid_noise") if ds.use_noise else ("data", "fluid_data")
@@ -118,6 +116,27 @@ def cache_file(obj, ds, frame):
                       "Cache > Bake Data" + (" and Bake Noise" if ds.use_noise else "") +
                       ", Format Volumes OpenVDB)")
     return path
+
+
+def frame_offset(obj, ds, path):
+    """Where the frame of ``path`` starts in the domain's base grid (``res_min``, read from its
+    ``config/config_NNNN.uni``: gzip of a 204-byte record ending in ``C01``, three int32 at byte
+    160); ``(0, 0, 0)`` without the file (a domain that is not adaptive)."""
+    name = os.path.basename(path)
+    config = os.path.join(os.path.dirname(os.path.dirname(path)), "config",
+                          "config_" + name.rsplit("_", 1)[1].split(".")[0] + ".uni")
+    if not ds.use_adaptive_domain and not os.path.isfile(config):
+        return (0, 0, 0)
+    try:
+        with gzip.open(config) as f:
+            raw = f.read()
+    except OSError as e:
+        raise Refused(f"fluid domain '{obj.name}': {config}: {e} (an adaptive domain's frame "
+                      "offset)") from None
+    if len(raw) != 204 or raw[200:204] != b"C01\0":
+        raise Refused(f"fluid domain '{obj.name}': {config} is not a Blender fluid config")
+    return tuple(int.from_bytes(raw[160 + 4 * k:164 + 4 * k], "little", signed=True)
+                 for k in range(3))
 
 
 def source(obj, ds, frame, inspect):
@@ -139,8 +158,12 @@ def source(obj, ds, frame, inspect):
         attributes["heat"] = ("temperature", {})
     lo, cell = cells(obj, ds)
     voxel = density["voxel_size"][0]
-    # File position p is voxel p / voxel; its centre in the object: lo + (p / voxel + 1/2) cell.
-    place = Matrix.Translation(lo + 0.5 * cell) @ Matrix.Diagonal(
+    upres = ds.noise_scale if ds.use_noise else 1
+    start = [c * upres + 0.5 for c in frame_offset(obj, ds, path)]
+    # File position p is voxel p / voxel of the frame; its centre in the object:
+    # lo + (start + p / voxel) cell, start the frame's corner in cells plus a half.
+    corner = lo + Vector([start[k] * cell[k] for k in range(3)])
+    place = Matrix.Translation(corner) @ Matrix.Diagonal(
         [cell[k] / voxel for k in range(3)] + [1.0])
     return Source(f"fluid domain '{obj.name}'", path, attributes, obj.matrix_world @ place,
-                  False, {"no_domain_offset": False})
+                  False, {"no_domain_offset": True})

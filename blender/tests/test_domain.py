@@ -128,7 +128,8 @@ def test_the_domains_attributes_are_its_grids(domain):
     settings = domain_job().settings
     assert (settings["emission_grid"], settings["flame_temperature"]) == \
         ("flame", (pytest.approx(IGNITION), pytest.approx(MAX_TEMPERATURE)))
-    assert settings["flame_grid"] == "none" and settings["no_domain_offset"] is False
+    # The add-on places an adaptive domain's frame itself (frame_offset): lgh reads no config.
+    assert settings["flame_grid"] == "none" and settings["no_domain_offset"] is True
     # heat is the file's `temperature`, read as it is.
     pv.inputs["Temperature Attribute"].default_value = "heat"
     settings = domain_job().settings
@@ -186,6 +187,29 @@ def test_noise_and_a_frame_offset_name_their_files(cache):
     ds.use_noise = True
     with pytest.raises(Refused, match=r"noise/fluid_noise_0001.vdb\): bake it .* Bake Noise"):
         cache_file(obj, ds, 10)
+
+
+
+def test_an_adaptive_frames_corner_is_its_config_files(tmp_path):
+    """``res_min`` of ``config/config_NNNN.uni`` (gzip of 204 bytes ending in ``C01``, three
+    int32 at byte 160), as Blender writes it; none without the file; a damaged one refused."""
+    import gzip
+    import struct
+    from types import SimpleNamespace
+
+    from lgh_blender.domain import frame_offset
+
+    obj, ds = SimpleNamespace(name="domain"), SimpleNamespace(use_adaptive_domain=False)
+    vdb = tmp_path / "data" / "fluid_data_0007.vdb"
+    assert frame_offset(obj, ds, str(vdb)) == (0, 0, 0)
+    (tmp_path / "config").mkdir()
+    config = tmp_path / "config" / "config_0007.uni"
+    record = bytearray(204)
+    record[160:172] = struct.pack("<3i", 2, 1, 0)
+    record[200:204] = b"C01\0"
+    config.write_bytes(gzip.compress(bytes(record)))
     ds.use_adaptive_domain = True
-    with pytest.raises(Refused, match="an adaptive domain with Noise"):
-        cache_file(obj, ds, 10)
+    assert frame_offset(obj, ds, str(vdb)) == (2, 1, 0)
+    config.write_bytes(gzip.compress(bytes(record[:100])))
+    with pytest.raises(Refused, match="not a Blender fluid config"):
+        frame_offset(obj, ds, str(vdb))
