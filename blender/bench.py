@@ -4,13 +4,13 @@ comparison's scene, tools/cycles/compare.py's fire56, built in bpy) rendered
 - by F12 through the engine ``LGH`` (``render.render``, the scene read, the image handed to
   Blender) and by ``lgh.render_explosion`` with the job's settings in the same process: the
   add-on's overhead, ``f12.overhead`` = F12's time / the library's - 1 (each the best of
-  ``--repeat``);
+  ``--repeat``, the two run in turn so that a drift of the machine's speed falls on both);
 - in the viewport's progressive preview at ``--preview`` (640×360), run first (the process's
   first render, as a viewport's is): the seconds from the start to the first
   (quarter-resolution) image and to the full-quality one, and the same after the
   view turns (``view_first_s``, ``view_full_s``: the prepared frames render the new view).
 
-    python blender/bench.py [--width 320 --height 180] [--preview 640x360] [--repeat 2]
+    python blender/bench.py [--width 320 --height 180] [--preview 640x360] [--repeat 3]
 
 Needs bpy (5.2.3 under Python 3.13), the ``lgh`` package and the shared data.
 """
@@ -27,13 +27,15 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE / "tests"))
 
 
-def best(f, repeat):
-    times = []
+def best_in_turn(fs, repeat):
+    """The best seconds of each of ``fs``, run in turn ``repeat`` times."""
+    times = [[] for _ in fs]
     for _ in range(repeat):
-        t = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t)
-    return min(times)
+        for f, ts in zip(fs, times):
+            t = time.perf_counter()
+            f()
+            ts.append(time.perf_counter() - t)
+    return [min(ts) for ts in times]
 
 
 def main():
@@ -41,7 +43,7 @@ def main():
     p.add_argument("--width", type=int, default=320)
     p.add_argument("--height", type=int, default=180)
     p.add_argument("--preview", default="640x360")
-    p.add_argument("--repeat", type=int, default=2)
+    p.add_argument("--repeat", type=int, default=3)
     a = p.parse_args()
     os.environ.pop("LGH_REQUIRE_ALL", None)
 
@@ -83,8 +85,7 @@ def main():
             if any(level == "ERROR" for level, _ in engine.last_report):
                 sys.exit(f"bench.py: {engine.last_report}")
 
-        f12_s = best(f12, a.repeat)
-    library_s = best(lambda: engine.render_job(the_job), a.repeat)
+        f12_s, library_s = best_in_turn([f12, lambda: engine.render_job(the_job)], a.repeat)
 
     print(json.dumps({
         "scene": "fire56", "threads": os.cpu_count(),
