@@ -32,10 +32,6 @@ from mathutils import Matrix, Vector
 
 from .errors import Refused
 
-#: Cycles' flame below which a domain's temperature is 0 (``rna_FluidModifier_temperature_grid_get``).
-FLAME_CUT = 0.01
-
-
 def fluid(obj):
     """The Fluid modifier of a mesh object, or ``None``."""
     return next((m for m in obj.modifiers if m.type == "FLUID"), None)
