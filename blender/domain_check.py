@@ -17,7 +17,6 @@ Needs /usr/bin/blender (3.4.1), bpy 5.2.3, ``lgh`` and Debian's python3-openvdb.
 runs inside Blender 3.4.1 (``blender -b --python blender/domain_check.py -- MODE ...``).
 """
 import contextlib
-import gzip
 import json
 import math
 import os
@@ -26,6 +25,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from types import SimpleNamespace
 
 HERE = pathlib.Path(__file__).resolve().parent
 #: The environment before bpy 5.2.3 is imported, which points OCIO at its own configuration
@@ -165,6 +165,7 @@ def in_bpy(directory, frame, flags, out):
     import numpy as np
 
     import lgh
+    from lgh_blender.domain import frame_offset
     from lgh_blender.scene import job
 
     # The domain's Fluid modifier is off in the viewport, so that bpy 5.2.3's Mantaflow, which
@@ -210,15 +211,11 @@ vdb.write(dst, grids=out)
 """
 
 
-def res_min(config):
-    """An adaptive domain's frame offset: ``res_min`` in ``config_NNNN.uni``."""
-    raw = gzip.decompress(pathlib.Path(config).read_bytes())
-    return [int.from_bytes(raw[160 + 4 * k:164 + 4 * k], "little", signed=True) for k in range(3)]
-
-
 def blender(*args):
+    """Blender 3.4.1 running this file with ``args``, in the domain's folder (``args[1]``):
+    Mantaflow writes its noise tile, ``waveletNoiseTile.bin``, into the working directory."""
     return subprocess.run([BLENDER, "-b", "--factory-startup", "--python", __file__, "--", *args],
-                          capture_output=True, text=True, env=ENVIRONMENT)
+                          capture_output=True, text=True, env=ENVIRONMENT, cwd=args[1])
 
 
 def main():
@@ -251,7 +248,9 @@ def main():
             for seed in (1, 2):
                 blender("cycles", str(d), str(d / f"cycles{seed}.exr"), str(seed), str(frame))
             suffix = "_noise" if "--noise" in flags else ""
-            offset = res_min(d / "config" / f"config_{frame:04d}.uni")
+            offset = frame_offset(SimpleNamespace(name=case),
+                                  SimpleNamespace(use_adaptive_domain="--adaptive" in flags),
+                                  str(d / "data" / f"fluid_data_{frame:04d}.vdb"))
             upres = 2 if "--noise" in flags else 1  # the noise grid's cells of a base cell
             subprocess.run(["/usr/bin/python3", "-c", MADE, str(data /
                             f"fluid_{data.name}_{frame:04d}.vdb"), str(d / "made.vdb"), suffix,
@@ -260,7 +259,7 @@ def main():
             voxel = lgh.inspect(d / "made.vdb")["grids"][0]["voxel_size"][0]
             blender("made", str(d), str(d / "made.exr"), "1", str(frame), str(cell / voxel))
             got = subprocess.run([sys.executable, __file__, "bpy", str(d), str(d / "lgh.npy"),
-                                  str(frame), *flags], capture_output=True, text=True)
+                                  str(frame), *flags], capture_output=True, text=True, cwd=d)
             if got.returncode != 0:
                 sys.exit(f"domain_check.py: the add-on's job failed:\n{got.stderr[-2000:]}")
             c1, c2 = read_exr(d / "cycles1.exr"), read_exr(d / "cycles2.exr")

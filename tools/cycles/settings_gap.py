@@ -1,13 +1,14 @@
 """How far lgh's default image of a procedural scene is from lgh's own finest — what a quality
 setting could still buy — on ``blender/race.py``'s scene (the same volume, medium and camera
-at 128×128, Blender 5's interpolation): relative RMSE of luminance of the default image, and of
-4×4 rays a pixel alone, against 4×4 rays a pixel, half-voxel steps, no lighting cache and
-scattering depths down to 0.1%.
+at 128×128, Blender 5's interpolation): the error of the default image, and of 4×4 rays a pixel
+alone, against 4×4 rays a pixel, half-voxel steps, no lighting cache and scattering depths down
+to 0.1% — by ``lgh compare``, the race's measure (RMSE of luminance over the reference's mean),
+and each channel's (``*_rgb``).
 
     target/py313/bin/python tools/cycles/settings_gap.py [--scene explosion] [--resolution 128]
 
-Prints JSON. Needs the ``lgh`` package and Debian's python3-openvdb. About 5 minutes on 2 cores
-for the explosion (the finest image is most of it).
+Prints JSON. Needs the ``lgh`` package, the release ``lgh`` and Debian's python3-openvdb. About 5
+minutes on 2 cores for the explosion (the finest image is most of it).
 """
 import argparse
 import json
@@ -16,19 +17,12 @@ import subprocess
 import sys
 import tempfile
 
-import numpy as np
-
 import lgh
 
 HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import compare  # noqa: E402 (tools/cycles' one measure: lgh compare)
 FINEST = {"pixel_samples": 4, "step": 0.5, "lighting_cache": "none", "scatter_stop": 0.001}
-
-
-def rel_rmse(a, b):
-    """Relative RMSE of luminance (Rec. 709), as ``lgh compare``."""
-    w = np.array([0.2126, 0.7152, 0.0722])
-    la, lb = a @ w, b @ w
-    return float(np.sqrt(np.mean((la - lb) ** 2)) / np.sqrt(np.mean(lb ** 2)))
 
 
 def main():
@@ -46,13 +40,18 @@ def main():
                         emission_interpolation="attributes", no_domain_offset=True,
                         allow_dark=True)
 
-        def render(**more):
-            return lgh.render_explosion(prefix.with_suffix(".vdb"), **settings, **more)
+        def render(name, **more):
+            path = str(pathlib.Path(d) / f"{name}.exr")
+            compare.write_exr(path, lgh.render_explosion(prefix.with_suffix(".vdb"), **settings,
+                                                         **more))
+            return path
 
-        finest = render(**FINEST)
-        out = {"scene": a.scene, "resolution": a.resolution, "finest": FINEST,
-               "default_vs_finest": rel_rmse(render(), finest),
-               "pixel_samples_4_vs_finest": rel_rmse(render(pixel_samples=4), finest)}
+        finest = render("finest", **FINEST)
+        out = {"scene": a.scene, "resolution": a.resolution, "finest": FINEST}
+        for name, more in (("default", {}), ("pixel_samples_4", {"pixel_samples": 4})):
+            error, _, rgb = compare.rel_rmse(render(name, **more), finest)
+            out[f"{name}_vs_finest"] = error
+            out[f"{name}_vs_finest_rgb"] = rgb["rel_rmse_rgb"]
     json.dump(out, sys.stdout)
     print()
 
