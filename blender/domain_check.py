@@ -165,7 +165,6 @@ def in_bpy(directory, frame, flags, out):
     import numpy as np
 
     import lgh
-    from lgh_blender.domain import frame_offset
     from lgh_blender.scene import job
 
     # The domain's Fluid modifier is off in the viewport, so that bpy 5.2.3's Mantaflow, which
@@ -228,6 +227,7 @@ def main():
     from scenes import read_exr, rel_rmse
 
     import lgh
+    from lgh_blender.domain import frame_offset
 
     results = {}
     keep = os.environ.get("LGH_DOMAIN_CHECK_DIR")  # to look at the images after
