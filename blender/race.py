@@ -5,13 +5,17 @@ absorption, blackbody from a kelvin temperature grid, a black world, the camera 
 looking at the origin with a 40° vertical field, 128×128 — rendered by F12 with the engine LGH
 and with Cycles (CPU, 128 volume bounces, no denoiser, a one-pixel box filter): a converged
 reference (``--ref-seeds`` × ``--ref-spp``), a ladder of sample counts, LGH once warm (a first
-F12 of the scene before the timed one). Errors are relative RMSE of luminance (``lgh compare``);
+F12 of the scene before the timed one) for each of the engine's Sampling settings asked for
+(``--sampling``: ``auto`` or ``PIXELS/SPACING``, the pixel samples and the scatter spacing
+fixed, either part ``auto``; the first keyed by the scene's name, the others by
+``NAME_pPIXELSsSPACING``). Errors are relative RMSE of luminance (``lgh compare``);
 Cycles' noise ``a`` (its error² ≈ a (1/n + 1/N)) is fitted over the ladder, LGH's error against
 the truth is ``sqrt(e² − a/N)``, Cycles reaches it at ``n* = a / e_truth²`` samples, whose
 CPU-seconds come from a line fitted to the ladder's. CPU-seconds are the process's (user +
 system) over each F12.
 
     target/py313/bin/python blender/race.py [--scenes fireball64,explosion128] [--ref-spp 4096]
+        [--sampling auto,4/2]
 
 Prints JSON, one record per scene. Needs bpy 5.2.3, ``lgh``, Debian's python3-openvdb and the
 release ``lgh`` (``lgh compare``). About half an hour on 2 cores.
@@ -50,6 +54,29 @@ def timed_render(scenes, folder, name):
     return folder / f"{name}.exr", cpu() - start
 
 
+def sampling(text):
+    """``--sampling``'s entries: ``(key suffix, {"pixel_samples": n or None, "scatter_spacing":
+    n or None})``, ``None`` for Auto."""
+    out = []
+    for entry in text.split(","):
+        parts = ["auto", "auto"] if entry == "auto" else entry.split("/")
+        if len(parts) != 2 or not all(p == "auto" or p.isdigit() for p in parts):
+            sys.exit(f"race.py: --sampling {entry!r}: auto or PIXELS/SPACING (numbers or auto)")
+        fixed = [None if p == "auto" else int(p) for p in parts]
+        suffix = "" if fixed == [None, None] else f"_p{parts[0]}s{parts[1]}"
+        out.append((suffix, {"pixel_samples": fixed[0], "scatter_spacing": fixed[1]}))
+    return out
+
+
+def set_sampling(scene, chosen):
+    """The engine's Sampling settings (``scene.lgh``) as ``chosen`` says."""
+    s = scene.lgh
+    for grid, name in (("pixel_sampling", "pixel_samples"), ("scatter_grid", "scatter_spacing")):
+        setattr(s, grid, "AUTO" if chosen[name] is None else "FIXED")
+        if chosen[name] is not None:
+            setattr(s, name, chosen[name])
+
+
 def main():
     json_out = os.fdopen(os.dup(1), "w")  # Blender prints to standard output
     os.dup2(2, 1)
@@ -59,6 +86,8 @@ def main():
     p.add_argument("--ref-spp", type=int, default=4096)
     p.add_argument("--ref-seeds", type=int, default=2)
     p.add_argument("--ladder", default="16,64,256,1024")
+    p.add_argument("--sampling", default="auto", type=sampling,
+                   help="the engine's Sampling settings to race: auto or PIXELS/SPACING, ...")
     a = p.parse_args()
     os.environ.pop("LGH_REQUIRE_ALL", None)
 
@@ -81,7 +110,10 @@ def main():
             scene, _ = scenes.build(prefix.with_suffix(".vdb"), width=a.size, height=a.size,
                                     eye=(0.0, -4.0, 0.0), rotation=(90.0, 0.0, 0.0), fov=40.0)
             scenes.render(d, "warm")
-            lgh_exr, lgh_cpu = timed_render(scenes, d, "lgh")
+            lghs = []
+            for i, (suffix, chosen) in enumerate(a.sampling):
+                set_sampling(scene, chosen)
+                lghs.append((suffix, chosen, *timed_render(scenes, d, f"lgh{i}")))
             scenes.use_cycles(scene, a.ref_spp, bounces=128)
             seeds = []
             for seed in range(1, a.ref_seeds + 1):
@@ -98,18 +130,19 @@ def main():
                                "error": compare.rel_rmse(str(exr), ref)[0]})
             noise = compare.fit_noise(ladder, n_ref)
             c0, c1 = compare.fit_cpu(ladder)
-            e, mean_ratio, rgb = compare.rel_rmse(str(lgh_exr), ref)
-            truth2 = e * e - noise / n_ref
-            record = {"lgh_cpu_s": lgh_cpu, "lgh_error": e, "lgh_mean_ratio": mean_ratio,
-                      "lgh_rel_rmse_rgb": rgb["rel_rmse_rgb"], "reference_spp": n_ref,
-                      "cycles_noise_a": noise, "ladder": ladder}
-            if truth2 > 0.0:
-                n_star = noise / truth2
-                record.update({"lgh_error_truth": math.sqrt(truth2), "cycles_spp": n_star,
-                               "cycles_cpu_s": c0 + c1 * n_star,
-                               "speedup": (c0 + c1 * n_star) / lgh_cpu})
-            results[name] = record
-            print(name, json.dumps(record), file=sys.stderr)
+            for suffix, chosen, lgh_exr, lgh_cpu in lghs:
+                e, mean_ratio, rgb = compare.rel_rmse(str(lgh_exr), ref)
+                truth2 = e * e - noise / n_ref
+                record = {"sampling": chosen, "lgh_cpu_s": lgh_cpu, "lgh_error": e,
+                          "lgh_mean_ratio": mean_ratio, "lgh_rel_rmse_rgb": rgb["rel_rmse_rgb"],
+                          "reference_spp": n_ref, "cycles_noise_a": noise, "ladder": ladder}
+                if truth2 > 0.0:
+                    n_star = noise / truth2
+                    record.update({"lgh_error_truth": math.sqrt(truth2), "cycles_spp": n_star,
+                                   "cycles_cpu_s": c0 + c1 * n_star,
+                                   "speedup": (c0 + c1 * n_star) / lgh_cpu})
+                results[name + suffix] = record
+                print(name + suffix, json.dumps(record), file=sys.stderr)
     json.dump(results, json_out, indent=1)
     json_out.write("\n")
     json_out.flush()

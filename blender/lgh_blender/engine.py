@@ -7,7 +7,7 @@ image is written.
 """
 import bpy
 
-from . import preview, room
+from . import preview, room, sampling
 from .errors import Refused
 from .pixels import rgba_rows_up
 from .scene import job
@@ -142,6 +142,7 @@ def panels():
 
 
 def register():
+    sampling.register()
     bpy.utils.register_class(LGHRenderEngine)
     for panel in panels():
         engines = getattr(panel, "COMPAT_ENGINES", None)
@@ -155,3 +156,4 @@ def unregister():
         if engines is not None:
             engines.discard("LGH")
     bpy.utils.unregister_class(LGHRenderEngine)
+    sampling.unregister()

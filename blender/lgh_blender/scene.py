@@ -22,14 +22,15 @@ What is read:
 - Blender 4.x/5.x's interpolation of each attribute on its own (``emission_interpolation``);
 - the world's constant colour as the background (``background``; its light on the smoke is
   named);
-- the visible meshes, as the room the fire lights (:mod:`.room`).
+- the visible meshes, as the room the fire lights (:mod:`.room`);
+- the engine's own Sampling settings (``scene.lgh``, :mod:`.sampling`).
 """
 import math
 import os
 
 import bpy
 
-from . import camera, domain
+from . import camera, domain, sampling
 from .errors import Refused
 from .nodes import linked_to_output
 
@@ -339,6 +340,7 @@ def job(depsgraph, view_only=False):
     if background is not None:
         settings["background"] = background
     settings.update(source.settings)
+    settings.update(sampling.settings(scene))
     settings.update({
         "up": "z",
         "emission_interpolation": "attributes" if bpy.app.version >= (4, 0, 0) else "temperature",

@@ -1,0 +1,105 @@
+"""The engine's own render settings (Render Properties > Sampling, ``scene.lgh``): how finely
+LGH samples what the .blend describes. Each is *Auto* by default — ``lgh explosion``'s own rule
+— or a fixed value; the final render and the preview's full-quality pass both use them.
+
+- **Pixel samples**: camera rays per side of a pixel, ``N × N`` rays through the centres of
+  ``N × N`` sub-pixels averaged: a one-pixel box filter, as Cycles' *Box* filter of width 1
+  draws (``--pixel-samples``). Auto takes the fewest, at most 4, for which a sub-pixel covers
+  at most three quarters of a voxel at the volume's centre.
+- **Scatter spacing**: the grid, in voxels, on which multiple scattering's deeper depths
+  compute their light (``--scatter-spacing``; paper Sec. 5). Auto takes 4, 2 or 1, at least 8
+  cells across the smoke.
+
+Measured on the procedural explosion at 128² against converged Cycles 5.2.3 (docs/blender.md,
+``blender/race.py``): Auto errs by 5.4%; 4 pixel samples and a scatter spacing of 2 by less, at
+about twice the render's time.
+"""
+import bpy
+
+#: (identifier, name, description) of the two ways each setting is chosen.
+AUTO = ("AUTO", "Auto", "lgh explosion's own rule (see the setting's description)")
+FIXED = ("FIXED", "Fixed", "The value given here")
+
+
+class LGHSettings(bpy.types.PropertyGroup):
+    """``scene.lgh``: see the module's text."""
+
+    pixel_sampling: bpy.props.EnumProperty(
+        name="Pixel Samples",
+        description="Camera rays per side of a pixel: auto (the fewest, at most 4, for which "
+                    "a sub-pixel covers at most 3/4 of a voxel) or fixed",
+        items=[AUTO, FIXED], default="AUTO")
+    pixel_samples: bpy.props.IntProperty(
+        name="Rays per Side",
+        description="N: N x N camera rays through the centres of N x N sub-pixels, averaged "
+                    "(a one-pixel box filter, as Cycles' Box filter of width 1). The render's "
+                    "rays cost about N squared as much",
+        default=2, min=1, max=8)
+    scatter_grid: bpy.props.EnumProperty(
+        name="Scatter Spacing",
+        description="The grid of multiple scattering's deeper depths: auto (4, 2 or 1 voxels, "
+                    "at least 8 cells across the smoke) or fixed",
+        items=[AUTO, FIXED], default="AUTO")
+    scatter_spacing: bpy.props.IntProperty(
+        name="Voxels",
+        description="Distance between the scattering grid's points, in voxels (1: every "
+                    "voxel; finer is more accurate and slower)",
+        default=2, min=1, max=8)
+
+
+def settings(scene):
+    """``lgh.render_explosion``'s keyword arguments for ``scene``'s LGH settings: none for Auto
+    (the library's default), the value where Fixed. A scene without them (the add-on's
+    settings unregistered) gets none."""
+    s = getattr(scene, "lgh", None)
+    if s is None:
+        return {}
+    out = {}
+    if s.pixel_sampling == "FIXED":
+        out["pixel_samples"] = s.pixel_samples
+    if s.scatter_grid == "FIXED":
+        out["scatter_spacing"] = s.scatter_spacing
+    return out
+
+
+class LGH_PT_sampling(bpy.types.Panel):
+    """Render Properties > Sampling, for LGH."""
+
+    bl_idname = "LGH_PT_sampling"
+    bl_label = "Sampling"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {"LGH"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        s = context.scene.lgh
+        layout.prop(s, "pixel_sampling")
+        row = layout.row()
+        row.active = s.pixel_sampling == "FIXED"
+        row.prop(s, "pixel_samples")
+        layout.prop(s, "scatter_grid")
+        row = layout.row()
+        row.active = s.scatter_grid == "FIXED"
+        row.prop(s, "scatter_spacing")
+
+
+CLASSES = (LGHSettings, LGH_PT_sampling)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.lgh = bpy.props.PointerProperty(type=LGHSettings)
+
+
+def unregister():
+    del bpy.types.Scene.lgh
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)
