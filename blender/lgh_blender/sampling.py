@@ -21,30 +21,37 @@ AUTO = ("AUTO", "Auto", "lgh explosion's own rule (see the setting's description
 FIXED = ("FIXED", "Fixed", "The value given here")
 
 
+def _choice(name, description):
+    """How a setting is chosen: Auto or Fixed."""
+    return bpy.props.EnumProperty(name=name, description=description, items=[AUTO, FIXED],
+                                  default="AUTO")
+
+
+def _fixed(name, description):
+    """A setting's fixed value: 1 to 8."""
+    return bpy.props.IntProperty(name=name, description=description, default=2, min=1, max=8)
+
+
 class LGHSettings(bpy.types.PropertyGroup):
     """``scene.lgh``: see the module's text."""
 
-    pixel_sampling: bpy.props.EnumProperty(
-        name="Pixel Samples",
-        description="Camera rays per side of a pixel: auto (the fewest, at most 4, for which "
-                    "a sub-pixel covers at most 3/4 of a voxel) or fixed",
-        items=[AUTO, FIXED], default="AUTO")
-    pixel_samples: bpy.props.IntProperty(
-        name="Rays per Side",
-        description="N: N x N camera rays through the centres of N x N sub-pixels, averaged "
-                    "(a one-pixel box filter, as Cycles' Box filter of width 1). The render's "
-                    "rays cost about N squared as much",
-        default=2, min=1, max=8)
-    scatter_grid: bpy.props.EnumProperty(
-        name="Scatter Spacing",
-        description="The grid of multiple scattering's deeper depths: auto (4, 2 or 1 voxels, "
-                    "at least 8 cells across the smoke) or fixed",
-        items=[AUTO, FIXED], default="AUTO")
-    scatter_spacing: bpy.props.IntProperty(
-        name="Voxels",
-        description="Distance between the scattering grid's points, in voxels (1: every "
-                    "voxel; finer is more accurate and slower)",
-        default=2, min=1, max=8)
+    pixel_sampling: _choice(
+        "Pixel Samples",
+        "Camera rays per side of a pixel: auto (the fewest, at most 4, for which a sub-pixel "
+        "covers at most 3/4 of a voxel) or fixed")
+    pixel_samples: _fixed(
+        "Rays per Side",
+        "N: N x N camera rays through the centres of N x N sub-pixels, averaged (a one-pixel "
+        "box filter, as Cycles' Box filter of width 1). The render's rays cost about N "
+        "squared as much")
+    scatter_grid: _choice(
+        "Scatter Spacing",
+        "The grid of multiple scattering's deeper depths: auto (4, 2 or 1 voxels, at least 8 "
+        "cells across the smoke) or fixed")
+    scatter_spacing: _fixed(
+        "Voxels",
+        "Distance between the scattering grid's points, in voxels (1: every voxel; finer is "
+        "more accurate and slower)")
 
 
 def settings(scene):
