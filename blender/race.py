@@ -60,8 +60,10 @@ def sampling(text):
     out = []
     for entry in text.split(","):
         parts = ["auto", "auto"] if entry == "auto" else entry.split("/")
-        if len(parts) != 2 or not all(p == "auto" or p.isdigit() for p in parts):
-            sys.exit(f"race.py: --sampling {entry!r}: auto or PIXELS/SPACING (numbers or auto)")
+        if len(parts) != 2 or not all(p == "auto" or (p.isdigit() and 1 <= int(p) <= 8)
+                                      for p in parts):
+            raise argparse.ArgumentTypeError(
+                f"{entry!r}: auto or PIXELS/SPACING, each 1 to 8 or auto")
         fixed = [None if p == "auto" else int(p) for p in parts]
         suffix = "" if fixed == [None, None] else f"_p{parts[0]}s{parts[1]}"
         out.append((suffix, {"pixel_samples": fixed[0], "scatter_spacing": fixed[1]}))
