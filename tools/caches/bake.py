@@ -63,17 +63,10 @@ def bake(directory, case, resolution, first, last):
     ds.cache_frame_start, ds.cache_frame_end = first, last
     ds.cache_directory = directory
     data = os.path.join(directory, "data")
-    for _ in range(5):
-        # Mantaflow's first evaluation fails now and then (a grid it has not made yet); baking
-        # again in the same process then works.
-        try:
-            with bpy.context.temp_override(object=domain, active_object=domain):
-                bpy.ops.fluid.bake_all()
-        except (RuntimeError, SystemError) as e:
-            print(f"bake.py: the bake failed ({e}); again", file=sys.stderr)
-        if os.path.isdir(data) and len(os.listdir(data)) >= last - first + 1:
-            break
-    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(directory, "scene.blend"))
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "blender" / "tests"))
+    from mantaflow import bake as bake_domain
+
+    bake_domain(domain, data, last - first + 1, "bake.py")
 
 
 # ---- Driving Blender --------------------------------------------------------------------------
