@@ -57,7 +57,8 @@ fi
     echo "|---|---|---|---|---|---|---|"
 } > "$summary"
 
-# run NAME THREADS BASE_WALL_FILE ARGS...: one timed run of `lgh ARGS --threads THREADS`.
+# run NAME THREADS ARGS...: one timed run of `lgh --threads THREADS ARGS`; the first run of NAME
+# is the baseline of its speed-up and its image.
 run() {
     local name=$1 threads=$2
     shift 2
@@ -79,7 +80,7 @@ run() {
         start=$(date +%s.%N)
         "$LGH" --threads "$threads" "$@" "${image[@]}" > "$stem.log" 2>&1
         end=$(date +%s.%N)
-        echo "$(echo "$end - $start" | bc) ? ? ?" > "$stem.time"
+        awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f ? ? ?\n", b - a }' > "$stem.time"
     fi
     grep -E '^  (volume|hierarchy|cache|scatter|render|shadows)' "$stem.log" >&2 || true
     read -r wall user sys rss < "$stem.time"
