@@ -9,7 +9,7 @@ use lgh_core::{LightcutsSettings, Representative};
 use lgh_volume::cache::{self, EmissionValues, GridNames};
 use lgh_volume::medium::{grow_framing, EmissionInterpolation, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
-use lgh_volume::render::{Camera, Framing, MarchSettings, Up};
+use lgh_volume::render::{Camera, Framing, MarchSettings, PixelRefinement, Up};
 use lgh_volume::{ExplosionLights, FrameRender, Method, Shadows};
 
 use clap::ArgMatches;
@@ -1223,6 +1223,16 @@ impl Frames<'_> {
         let mut work = rendered.stats.map_or(String::new(), |st| {
             format!(", {:.1} lights per shading point", st.lights_per_point())
         });
+        if let (Some(st), PixelRefinement::Adaptive { .. }) =
+            (rendered.stats, march.pixel_refinement)
+        {
+            let n = march.pixel_samples;
+            let share = 100.0 * st.refined_pixels as f64 / (args.width * args.height) as f64;
+            work += &format!(
+                ", {share:.1}% of pixels refined to {m}×{m} rays",
+                m = march.pixel_refinement.refined(n)
+            );
+        }
         if let Some((f, maps)) = frame.as_ref().and_then(|(f, _)| Some((f, f.cube_maps()?))) {
             let (mb, s) = (maps.bytes() as f64 / 1e6, f.seconds());
             work += &format!(", cube maps {mb:.1} MB traced in {:.2} s", s.shadows);

@@ -9,7 +9,7 @@ use lgh_volume::lgh_core::NearField;
 use lgh_volume::lighting_cache::{
     CacheMode, CacheSpacing, Level0Form, LightingCache, LightingCacheSettings, ScatteredLight,
 };
-use lgh_volume::render::{Camera, MarchSettings, RenderStats};
+use lgh_volume::render::{Camera, MarchSettings, PixelRefinement, RenderStats};
 use lgh_volume::scattering::{self, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
 use lgh_volume::{FrameRender, Shadows};
@@ -117,18 +117,34 @@ fn parse_or_word<T: std::str::FromStr>(
         .map_err(|_| format!("expected {word} or a number of {unit}, not '{s}'"))
 }
 
-/// `--pixel-samples`: rays a pixel side, or `auto` (from the image's and the voxels' sizes).
+/// `--pixel-tolerance`'s default: neighbouring rays that differ by more than 5% of the image's
+/// mean luminance refine their pixels (docs/cycles.md, "Adaptive pixels").
+pub const DEFAULT_PIXEL_TOLERANCE: f32 = 0.05;
+
+/// The most rays a side `--pixel-samples adaptive` takes first (refined to 6).
+const ADAPTIVE_FIRST_RAYS: usize = 2;
+
+/// `--pixel-samples`: rays a pixel side, `auto` (from the image's and the voxels' sizes) or
+/// `adaptive` (auto's, at most 2, refined three times finer where neighbouring rays differ).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelSamplesArg {
     /// This many rays a side.
     Fixed(usize),
     /// [`lgh_volume::render::auto_pixel_samples`].
     Auto,
+    /// [`Auto`](Self::Auto)'s rays, at most 2 a side, then
+    /// [`lgh_volume::render::PixelRefinement::Adaptive`] at `--pixel-tolerance`.
+    Adaptive,
 }
 
-/// `auto` or a number of rays a pixel side.
+/// `auto`, `adaptive` or a number of rays a pixel side.
 fn parse_pixel_samples(s: &str) -> Result<PixelSamplesArg, String> {
-    Ok(parse_auto(s, "rays a pixel side")?.map_or(PixelSamplesArg::Auto, PixelSamplesArg::Fixed))
+    if s == "adaptive" {
+        return Ok(PixelSamplesArg::Adaptive);
+    }
+    parse_auto(s, "rays a pixel side")
+        .map(|n| n.map_or(PixelSamplesArg::Auto, PixelSamplesArg::Fixed))
+        .map_err(|e| format!("{e} (or adaptive)"))
 }
 
 /// `--cache-level`: the lighting cache's first level, or `auto` (from the camera rays' footprint).
@@ -338,8 +354,17 @@ pub struct MarchArgs {
     /// change. `auto`: the fewest (at most 4) for which a sub-pixel covers at most 3/4 of a
     /// voxel at the volume's centre (1 where the image resolves the voxels) [default: auto for
     /// lgh explosion, 1 for lgh demo]
+    /// `adaptive`: auto's rays (at most 2 a side), then three times finer a side (6 × 6 for
+    /// 2 × 2) in the pixels where two neighbouring rays differ in luminance by more than
+    /// --pixel-tolerance of the image's mean — thin flames filtered as the finer box filter
+    /// would, at its cost only where the image varies; deterministic, no noise.
     #[arg(long, value_name = "N", value_parser = parse_pixel_samples)]
     pub pixel_samples: Option<PixelSamplesArg>,
+    /// With --pixel-samples adaptive: the luminance difference between neighbouring rays
+    /// that refines their pixels, as a share of the image's mean luminance (smaller refines
+    /// more pixels: slower, closer to the finer filter)
+    #[arg(long, value_name = "SHARE", default_value_t = DEFAULT_PIXEL_TOLERANCE)]
+    pub pixel_tolerance: f32,
     #[command(flatten)]
     pub cache: CacheArgs,
 }
@@ -354,12 +379,17 @@ impl MarchArgs {
         camera: &lgh_volume::render::Camera,
         centre: lgh_volume::lgh_core::glam::Vec3,
         voxel_size: f32,
-    ) -> usize {
+    ) -> (usize, PixelRefinement) {
+        let auto = || lgh_volume::render::auto_pixel_samples(camera, centre, voxel_size);
         match self.pixel_samples.unwrap_or(default) {
-            PixelSamplesArg::Fixed(n) => n,
-            PixelSamplesArg::Auto => {
-                lgh_volume::render::auto_pixel_samples(camera, centre, voxel_size)
-            }
+            PixelSamplesArg::Fixed(n) => (n, PixelRefinement::Uniform),
+            PixelSamplesArg::Auto => (auto(), PixelRefinement::Uniform),
+            PixelSamplesArg::Adaptive => (
+                auto().min(ADAPTIVE_FIRST_RAYS),
+                PixelRefinement::Adaptive {
+                    tolerance: self.pixel_tolerance,
+                },
+            ),
         }
     }
 
@@ -376,11 +406,13 @@ impl MarchArgs {
         centre: lgh_volume::lgh_core::glam::Vec3,
         voxel_size: f32,
     ) -> MarchSettings {
-        let pixel_samples = self.pixel_samples_for(pixel_default, camera, centre, voxel_size);
+        let (pixel_samples, pixel_refinement) =
+            self.pixel_samples_for(pixel_default, camera, centre, voxel_size);
         let footprint =
             lgh_volume::render::pixel_footprint(camera, centre, voxel_size) / pixel_samples as f32;
         MarchSettings {
             pixel_samples,
+            pixel_refinement,
             lighting_cache: LightingCacheSettings {
                 first_level: self.cache.first_level(footprint),
                 ..settings.lighting_cache
@@ -430,6 +462,13 @@ impl MarchArgs {
             return Err(format!(
                 "--pixel-samples {pixel_samples} must be 1 to {} (camera rays a pixel side) or auto",
                 lgh_volume::render::MAX_PIXEL_SAMPLES
+            )
+            .into());
+        }
+        if !(self.pixel_tolerance.is_finite() && self.pixel_tolerance >= 0.0) {
+            return Err(format!(
+                "--pixel-tolerance {} must be a share of the image's mean luminance, at least 0",
+                self.pixel_tolerance
             )
             .into());
         }
@@ -611,6 +650,11 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
     if n > 1 {
         // The box filter's rays a pixel's side (`--pixel-samples`); absent: pixel centres.
         out.push(("pixel_samples", n.to_string()));
+    }
+    if let PixelRefinement::Adaptive { tolerance } = frame.settings().pixel_refinement {
+        // Refined pixels take three times as many a side (`--pixel-samples adaptive`).
+        out.push(("pixel_refinement", "adaptive".to_string()));
+        out.push(("pixel_tolerance", tolerance.to_string()));
     }
     if let Some(m) = frame.cube_maps() {
         out.push(("shadow_bytes", m.bytes().to_string()));

@@ -76,6 +76,7 @@ pub mod method;
 pub mod near_part;
 pub mod occupancy;
 pub mod pathtrace;
+mod pixel_refinement;
 pub mod procedural;
 pub mod progress;
 pub mod render;

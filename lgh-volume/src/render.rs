@@ -27,8 +27,10 @@ use crate::shadow::Visibility;
 use crate::surfaces::{SurfaceHit, Surfaces};
 
 pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
+pub use crate::pixel_refinement::pixels_to_refine;
 pub use crate::settings::{
-    auto_pixel_samples, pixel_footprint, MarchSettings, AUTO_SUBPIXEL_VOXELS, MAX_PIXEL_SAMPLES,
+    auto_pixel_samples, pixel_footprint, MarchSettings, PixelRefinement, AUTO_SUBPIXEL_VOXELS,
+    MAX_PIXEL_SAMPLES, REFINEMENT,
 };
 pub use crate::stats::RenderStats;
 
@@ -400,7 +402,10 @@ impl<'s, B> Lit<'s, B> {
     }
 }
 
-/// The marcher's radiance and counts for `pixels` (`None`: the whole image) of `camera`.
+/// The marcher's radiance and counts for `pixels` (`None`: the whole image) of `camera`: each
+/// pixel `n × n` rays ([`MarchSettings::pixel_samples`]), and with
+/// [`PixelRefinement::Adaptive`] `3n × 3n` where neighbouring rays differ (the whole image
+/// only: the decision reads the neighbours and the image's mean).
 fn march_pixels<B: ManyLights + Sync>(
     marcher: &Marcher<'_>,
     lights: Lit<'_, B>,
@@ -408,31 +413,154 @@ fn march_pixels<B: ManyLights + Sync>(
     pixels: Option<&[[usize; 2]]>,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
-    let out = shade_pixels(
+    let n = marcher.settings.pixel_samples;
+    let rays = PixelRays {
+        marcher,
+        lights,
         camera,
-        pixels,
+    };
+    let tolerance = match (marcher.settings.pixel_refinement, pixels) {
+        (PixelRefinement::Uniform, _) => {
+            let out = shade_pixels(
+                camera,
+                pixels,
+                LightScratch::default,
+                |scratch, x, y| {
+                    let mut stats = RenderStats::default();
+                    let r = rays.box_filter([x, y], n, None, &mut stats, scratch)?;
+                    Ok((r, stats))
+                },
+                progress,
+            )?;
+            return Ok(summed(out));
+        }
+        (PixelRefinement::Adaptive { tolerance }, None) => tolerance,
+        (PixelRefinement::Adaptive { .. }, Some(list)) => {
+            return Err(RenderError::InvalidCount {
+                name: "pixels of an adaptively refined render",
+                value: list.len(),
+                rule: "must be the whole image (the refinement compares neighbouring pixels \
+                       against the image's mean)",
+            })
+        }
+    };
+    // The first rays, n × n a pixel, kept for the decision and for the refined pixels.
+    let first = shade_pixels(
+        camera,
+        None,
         LightScratch::default,
         |scratch, x, y| {
             let mut stats = RenderStats::default();
-            let n = marcher.settings.pixel_samples;
-            if n <= 1 {
-                let (eye, d) = camera.ray(x, y);
-                let radiance = marcher.march_with(lights, eye, d, &mut stats, scratch)?;
-                return Ok((radiance, stats));
-            }
-            // A box filter over the pixel by the midpoint rule: the centres of n × n sub-pixels.
-            let mut sum = Vec3::ZERO;
+            let mut kept = [Vec3::ZERO; MAX_FIRST_RAYS];
             for j in 0..n {
                 for i in 0..n {
                     let (u, v) = (sub_pixel(x, i, n), sub_pixel(y, j, n));
-                    let d = camera.direction(u, v);
-                    sum += marcher.march_with(lights, camera.eye(), d, &mut stats, scratch)?;
+                    kept[j * n + i] = rays.march(u, v, &mut stats, scratch)?;
                 }
             }
-            Ok((sum / (n * n) as f32, stats))
+            Ok((kept, stats))
         },
         progress,
     )?;
+    let (w, h) = (camera.width(), camera.height());
+    let mut stats = RenderStats::default();
+    let mut all = Vec::with_capacity(w * h * n * n);
+    for (r, s) in &first {
+        stats.add(s);
+        all.extend_from_slice(&r[..n * n]);
+    }
+    let refine = pixels_to_refine(&all, w, h, n, tolerance);
+    let m = REFINEMENT * n;
+    let refined = shade_pixels(
+        camera,
+        Some(&refine),
+        LightScratch::default,
+        |scratch, x, y| {
+            let mut stats = RenderStats::default();
+            let kept = &first[y * w + x].0[..n * n];
+            let r = rays.box_filter([x, y], m, Some(kept), &mut stats, scratch)?;
+            Ok((r, stats))
+        },
+        &|_| {},
+    )?;
+    let mut radiance: Vec<Vec3> = all
+        .chunks_exact(n * n)
+        .map(|r| mean_of(r.iter().copied(), n))
+        .collect();
+    for (&[x, y], (r, s)) in refine.iter().zip(&refined) {
+        radiance[y * w + x] = *r;
+        stats.add(s);
+    }
+    stats.refined_pixels = refine.len() as u64;
+    Ok((radiance, stats))
+}
+
+/// The most rays a pixel's first pass keeps under [`PixelRefinement::Adaptive`]: 2 × 2 (its
+/// first rays are at most 2 a side, refined to 6).
+const MAX_FIRST_RAYS: usize = 4;
+
+/// What a pixel's camera rays march: the marcher, its lights, the camera.
+struct PixelRays<'a, 'm, 's, B> {
+    marcher: &'a Marcher<'m>,
+    lights: Lit<'s, B>,
+    camera: &'a Camera,
+}
+
+impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
+    /// The ray through image point `(u, v)`.
+    fn march(
+        &self,
+        u: f32,
+        v: f32,
+        stats: &mut RenderStats,
+        scratch: &mut LightScratch,
+    ) -> Result<Vec3, RenderError> {
+        let d = self.camera.direction(u, v);
+        self.marcher
+            .march_with(self.lights, self.camera.eye(), d, stats, scratch)
+    }
+
+    /// Pixel `[x, y]`'s box filter by the midpoint rule: the mean of `n × n` rays through the
+    /// centres of its sub-pixels (the centre ray for `n = 1`). `kept`: the rays of the pixel's
+    /// `n/3 × n/3` filter, already marched — the nodes `(3i + 1, 3j + 1)` of this one, the
+    /// same rays bit for bit (`(i + ½)/(n/3)` and `(3i + 1 + ½)/n` are the same f32).
+    fn box_filter(
+        &self,
+        [x, y]: [usize; 2],
+        n: usize,
+        kept: Option<&[Vec3]>,
+        stats: &mut RenderStats,
+        scratch: &mut LightScratch,
+    ) -> Result<Vec3, RenderError> {
+        if n <= 1 {
+            let (eye, d) = self.camera.ray(x, y);
+            return self.marcher.march_with(self.lights, eye, d, stats, scratch);
+        }
+        let mut sum = Vec3::ZERO;
+        for j in 0..n {
+            for i in 0..n {
+                sum += match kept {
+                    Some(k) if i % REFINEMENT == 1 && j % REFINEMENT == 1 => {
+                        k[(j / REFINEMENT) * (n / REFINEMENT) + i / REFINEMENT]
+                    }
+                    _ => self.march(sub_pixel(x, i, n), sub_pixel(y, j, n), stats, scratch)?,
+                };
+            }
+        }
+        Ok(sum / (n * n) as f32)
+    }
+}
+
+/// The mean of a pixel's `n × n` rays, summed in order (one ray: itself).
+fn mean_of(rays: impl Iterator<Item = Vec3>, n: usize) -> Vec3 {
+    if n <= 1 {
+        return rays.fold(Vec3::ZERO, |_, r| r);
+    }
+    rays.fold(Vec3::ZERO, |a, r| a + r) / (n * n) as f32
+}
+
+/// The pixels' radiance, and their counts summed.
+fn summed(out: Vec<(Vec3, RenderStats)>) -> (Vec<Vec3>, RenderStats) {
     let mut stats = RenderStats::default();
     let radiance = out
         .into_iter()
@@ -441,7 +569,7 @@ fn march_pixels<B: ManyLights + Sync>(
             r
         })
         .collect();
-    Ok((radiance, stats))
+    (radiance, stats)
 }
 
 /// The bricks of `volume`'s box where a march with `settings` reads zero density and no
@@ -658,6 +786,100 @@ mod tests {
             };
             assert!(s.check().is_err(), "{bad} rays a side accepted");
         }
+    }
+
+    #[test]
+    fn adaptive_refinement_is_the_finer_filter_where_rays_differ() {
+        // Each pixel of an adaptive render is, bit for bit, the pixel of the n × n filter or of
+        // the 3n × 3n one; a tolerance of zero refines wherever rays differ, a huge one
+        // nowhere; in between it comes much closer to the finer image than n × n does, at a
+        // fraction of its rays.
+        let v = crate::procedural::ball(16, 0.5, 2500.0);
+        let m = Medium::new(4.0, 0.0, 1e-3, 500.0).unwrap();
+        let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 24, 16).unwrap();
+        let render = |n: usize, refinement: PixelRefinement| {
+            let s = MarchSettings {
+                pixel_samples: n,
+                pixel_refinement: refinement,
+                ..Default::default()
+            };
+            let marcher = Marcher::new(&v, &m, &s).unwrap();
+            let lit = Lit::<BruteForce>::lights(None);
+            marcher.render_lit(lit, &camera, &|_| {}).unwrap()
+        };
+        let adaptive = |n, tolerance| render(n, PixelRefinement::Adaptive { tolerance });
+        let luminance_error = |a: &Image, b: &Image| {
+            a.pixels
+                .iter()
+                .zip(&b.pixels)
+                .map(|(x, y)| f64::from(lgh_core::luminance(*x - *y)).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        for n in [1usize, 2] {
+            let coarse = render(n, PixelRefinement::Uniform).0;
+            let fine = render(REFINEMENT * n, PixelRefinement::Uniform).0;
+            let (never, stats) = adaptive(n, 1e30);
+            assert_eq!(
+                (never.pixels, stats.refined_pixels),
+                (coarse.pixels.clone(), 0)
+            );
+            let (all, stats) = adaptive(n, 0.0);
+            let pixels = coarse.pixels.len();
+            assert!(
+                stats.refined_pixels > 0,
+                "n {n}: nothing refined at tolerance 0"
+            );
+            for (i, p) in all.pixels.iter().enumerate() {
+                assert!(
+                    *p == coarse.pixels[i] || *p == fine.pixels[i],
+                    "n {n}, pixel {i}"
+                );
+                // Where the image varies at all, tolerance 0 refines.
+                if coarse.pixels[i] != fine.pixels[i]
+                    && (fine.pixels[i] - coarse.pixels[i]).length() > 1e-6
+                {
+                    assert_eq!(
+                        *p, fine.pixels[i],
+                        "n {n}, pixel {i} differs and was not refined"
+                    );
+                }
+            }
+            let (some, stats) = adaptive(n, 0.05);
+            let refined = stats.refined_pixels as usize;
+            assert!(
+                refined > 0 && refined < pixels,
+                "n {n}: {refined} of {pixels} refined"
+            );
+            let (before, after) = (
+                luminance_error(&coarse, &fine),
+                luminance_error(&some, &fine),
+            );
+            assert!(after < 0.25 * before, "n {n}: {after} left of {before}");
+        }
+        // A refined pixel takes 3n ≤ 8 rays a side; the tolerance is a share, at least 0.
+        for (n, tolerance) in [(3, 0.05), (1, -0.1), (1, f32::NAN)] {
+            let s = MarchSettings {
+                pixel_samples: n,
+                pixel_refinement: PixelRefinement::Adaptive { tolerance },
+                ..Default::default()
+            };
+            assert!(
+                s.check().is_err(),
+                "{n} rays a side, tolerance {tolerance} accepted"
+            );
+        }
+        // The decision needs the whole image: a render of some pixels refuses it.
+        let s = MarchSettings {
+            pixel_refinement: PixelRefinement::Adaptive { tolerance: 0.05 },
+            ..Default::default()
+        };
+        let marcher = Marcher::new(&v, &m, &s).unwrap();
+        let lit = Lit::<BruteForce>::lights(None);
+        let err = marcher
+            .render_pixels_lit(lit, &camera, &[[0, 0]])
+            .unwrap_err();
+        assert!(err.to_string().contains("whole image"), "{err}");
     }
 
     /// A backend whose every query fails, as a backend does on a point it cannot shade.

@@ -18,6 +18,53 @@ pub const MAX_SCATTER_DEPTH: usize = 16;
 /// pixel, where the box filter's own error is far below a hierarchy's.
 pub const MAX_PIXEL_SAMPLES: usize = 8;
 
+/// How many times finer a side an adaptively refined pixel is sampled
+/// ([`PixelRefinement::Adaptive`]): three, so that the midpoint rule's nodes of `n` rays a side
+/// are among those of `3n` (`(i + ½)/n = (3i + 1 + ½)/(3n)`) and a refined pixel keeps its
+/// first rays.
+pub const REFINEMENT: usize = 3;
+
+/// Where a pixel takes more camera rays than [`MarchSettings::pixel_samples`] a side.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum PixelRefinement {
+    /// Every pixel takes `n × n` rays (`n` = [`MarchSettings::pixel_samples`]).
+    #[default]
+    Uniform,
+    /// Every pixel takes `n × n` rays first. Then a pixel where one of them differs from a
+    /// neighbouring ray — the next on the image's grid of rays, `n` times finer than its pixels,
+    /// in the pixel or across its border — by more than `tolerance` times the mean luminance
+    /// of all those first rays takes `3n × 3n` ([`REFINEMENT`]): its first rays are among them,
+    /// and it is the pixel of `pixel_samples: 3n`, bit for bit. Thin flames are filtered as
+    /// the finer box filter would, at the cost of the finer filter only where the image varies
+    /// within a pixel; deterministic, no noise. It needs the whole image (the mean and the
+    /// neighbours): a render of some pixels only refuses it.
+    Adaptive {
+        /// The luminance difference between neighbouring rays that refines a pixel, as a
+        /// share of the image's mean luminance (at least 0; 0 refines every pixel whose rays
+        /// differ at all).
+        tolerance: f32,
+    },
+}
+
+impl PixelRefinement {
+    /// The rays a side of a refined pixel where the first take `n` a side: `3n` adaptively,
+    /// else `n`.
+    ///
+    /// ```
+    /// use lgh_volume::render::PixelRefinement;
+    ///
+    /// assert_eq!(PixelRefinement::Uniform.refined(2), 2);
+    /// assert_eq!(PixelRefinement::Adaptive { tolerance: 0.05 }.refined(2), 6);
+    /// ```
+    #[must_use]
+    pub fn refined(&self, n: usize) -> usize {
+        match self {
+            PixelRefinement::Uniform => n,
+            PixelRefinement::Adaptive { .. } => REFINEMENT * n,
+        }
+    }
+}
+
 /// The largest footprint of a sub-pixel at the volume, in voxels, under
 /// [`auto_pixel_samples`]. Below about a voxel a pixel's radiance varies over the pixel and its
 /// centre is not its mean (Cycles' box filter): on the demo's explosion at 128³ seen at 128²
@@ -144,6 +191,9 @@ pub struct MarchSettings {
     /// i.e. a one-pixel box filter (Cycles' "Box" filter of width 1), without noise. 1 (the
     /// default) is the pixel's centre. At most [`MAX_PIXEL_SAMPLES`].
     pub pixel_samples: usize,
+    /// Where pixels take more rays than [`pixel_samples`](Self::pixel_samples) a side: nowhere
+    /// (the default) or where neighbouring rays differ.
+    pub pixel_refinement: PixelRefinement,
     /// Radiance (linear RGB) seen where a camera ray leaves the scene without meeting a
     /// surface, times the ray's transmittance through the smoke: a constant world behind the
     /// volume (Blender's world colour × strength). It lights nothing. Black by default; a ray
@@ -208,6 +258,21 @@ impl MarchSettings {
                 rule: "must be 1 to 8 a side",
             });
         }
+        if let PixelRefinement::Adaptive { tolerance } = self.pixel_refinement {
+            check_setting(
+                tolerance.is_finite() && tolerance >= 0.0,
+                "march settings: adaptive pixel tolerance",
+                tolerance,
+                "must be a share of the mean luminance, at least 0",
+            )?;
+            if self.pixel_refinement.refined(self.pixel_samples) > MAX_PIXEL_SAMPLES {
+                return Err(RenderError::InvalidCount {
+                    name: "pixel samples refined adaptively",
+                    value: self.pixel_samples,
+                    rule: "must be 1 or 2 a side (refined three times finer, at most 8)",
+                });
+            }
+        }
         self.lighting_cache.check()?;
         Ok(())
     }
@@ -271,6 +336,7 @@ impl Default for MarchSettings {
             scatter_skip: 0.0,
             lighting_cache: LightingCacheSettings::default(),
             pixel_samples: 1,
+            pixel_refinement: PixelRefinement::Uniform,
             background: Vec3::ZERO,
         }
     }

@@ -11,6 +11,9 @@ pub struct RenderStats {
     pub shadow_samples: u64,
     /// Surface points shaded: camera rays that met a surface (also in `shading_points`).
     pub surface_points: u64,
+    /// Pixels refined ([`PixelRefinement::Adaptive`](crate::render::PixelRefinement)): their
+    /// rays three times finer a side.
+    pub refined_pixels: u64,
 }
 
 impl RenderStats {
@@ -20,6 +23,7 @@ impl RenderStats {
         self.lights_evaluated += o.lights_evaluated;
         self.shadow_samples += o.shadow_samples;
         self.surface_points += o.surface_points;
+        self.refined_pixels += o.refined_pixels;
     }
 
     /// Mean lights evaluated per shading point (0 when none).

@@ -251,13 +251,18 @@ vdb.write(sys.argv[1], grids=[d, e, f])
     // Blender's `flame` is in the file and found by default, but it scales a blackbody: unused.
     assert!(v.flame.is_none());
     let d = &v.density;
+    assert_eq!(
+        d.dims, [8; 3],
+        "6³ active voxels and a voxel of background around them"
+    );
     let mut lit = 0;
     for k in 0..d.dims[2] {
         for j in 0..d.dims[1] {
             for i in 0..d.dims[0] {
-                // The dense box starts at the first active voxel, index (0, 0, 0) here.
+                // The dense box starts a voxel of background before the first active voxel,
+                // index (0, 0, 0) here ([`lgh_volume::cache::BACKGROUND_MARGIN`]).
                 let p = d.centre(i, j, k) / 0.25;
-                let [a, b, c] = [p.x, p.y, p.z].map(|x| x.round() as usize);
+                let [a, b, c] = [p.x, p.y, p.z].map(|x| x.round() as i32);
                 let want = if (1..=4).contains(&a) && (1..=4).contains(&b) && (1..=4).contains(&c) {
                     [a as f32 + 0.5, 0.25 * b as f32, 0.125 * c as f32]
                 } else {
@@ -291,4 +296,64 @@ vdb.write(sys.argv[1], grids=[d, e, f])
     };
     let err = lgh_volume::cache::load(&[path], &made, placement).unwrap_err();
     assert!(err.to_string().contains("no flame to read"), "{err}");
+}
+
+/// Outside its active voxels an OpenVDB grid is its background (zero), and a trilinear lookup
+/// (OpenVDB's `BoxSampler`, Cycles' through NanoVDB) falls from the last active voxel's value to
+/// zero over the next voxel. A block of emitting voxels that fills its active box, as flames at
+/// a domain's wall do, must read so: a voxel of background around the box
+/// ([`lgh_volume::cache::BACKGROUND_MARGIN`]), not the outermost values held to their faces.
+#[test]
+fn outside_the_active_voxels_the_field_falls_to_the_background() {
+    if !lgh_tests::openvdb() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("block_0001.vdb");
+    let script = r#"
+import sys
+import numpy as np
+import pyopenvdb as vdb
+block = np.full((4, 4, 4), 2.0, dtype=np.float32)
+grids = []
+for name in ("density", "temperature"):
+    g = vdb.FloatGrid(); g.copyFromArray(block, tolerance=0.0); g.name = name
+    g.transform = vdb.createLinearTransform(voxelSize=0.5)
+    grids.append(g)
+vdb.write(sys.argv[1], grids=grids)
+"#;
+    let out = Command::new("/usr/bin/python3")
+        .args(["-c", script, path.to_str().unwrap()])
+        .output();
+    let out = out.expect("/usr/bin/python3 ran a moment ago");
+    assert!(
+        out.status.success(),
+        "the OpenVDB writer failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let names = lgh_volume::cache::GridNames::default();
+    let placement = lgh_volume::cache::Placement::AsWritten;
+    let frames = lgh_volume::cache::load(&[path], &names, placement).unwrap();
+    let t = &frames[0].temperature;
+    assert_eq!(t.dims, [6; 3]);
+    // Along x through the block's middle (index 1.5 on y and z): active voxels 0..=3 hold 2;
+    // from the last centre (index 3) the value falls linearly to 0 at index 4, and stays 0.
+    for (x, want) in [
+        (0.0, 2.0),
+        (3.0, 2.0),
+        (3.25, 1.5),
+        (3.5, 1.0),
+        (3.75, 0.5),
+        (4.0, 0.0),
+        (4.4, 0.0),
+        (-0.5, 1.0),
+        (-1.0, 0.0),
+    ] {
+        let p = lgh_volume::lgh_core::glam::Vec3::new(x, 1.5, 1.5) * 0.5;
+        let got = t.sample(p);
+        assert!(
+            (got - want).abs() < 1e-5,
+            "index {x}: {got}, OpenVDB's trilinear {want}"
+        );
+    }
 }
