@@ -10,6 +10,7 @@ use lgh_volume::cache::{self, EmissionValues, GridNames};
 use lgh_volume::medium::{grow_framing, EmissionInterpolation, EmissionModel, Medium, Volume};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings, PixelRefinement, Up};
+use lgh_volume::thin_smoke::ThinSmoke;
 use lgh_volume::{ExplosionLights, FrameRender, Method, Shadows};
 
 use clap::ArgMatches;
@@ -173,6 +174,13 @@ pub struct ExplosionArgs {
     pub alpha: f32,
     #[command(flatten)]
     pub march: MarchArgs,
+    /// Skip the lights' shadows in a frame whose smoke is so thin that skipping them adds at
+    /// most this share of the emitted light to its scattered light: a bound from its densest
+    /// voxel and its grid's size (`lgh_volume::thin_smoke`), the image otherwise untouched
+    /// (emission, absorption along camera rays). 0 never skips; not with --scene, whose
+    /// surfaces shadow each other.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub shadow_skip: f32,
     #[command(flatten)]
     pub scatter: ScatterArgs,
     /// Paths per pixel (backend pathtrace).
@@ -444,6 +452,13 @@ impl Setup {
         }
         if !(args.albedo.is_finite() && (0.0..=1.0).contains(&args.albedo)) {
             return Err(format!("--albedo {} must be in 0..=1", args.albedo).into());
+        }
+        if !(0.0..1.0).contains(&args.shadow_skip) {
+            return Err(format!(
+                "--shadow-skip {} must be a share of the emitted light in [0, 1)",
+                args.shadow_skip
+            )
+            .into());
         }
         let up = match args.up {
             UpArg::Y => Up::Y,
@@ -1182,6 +1197,19 @@ impl Frames<'_> {
             }
         }
         let mut extra = self.header(&file.path, lit);
+        // Smoke too thin for its shadows to matter, by the bound: rendered without them.
+        let thin = ThinSmoke::of(volume, &setup.medium);
+        let skip_shadows =
+            self.room.is_none() && march.shadows != Shadows::None && thin.skips(args.shadow_skip);
+        let unshadowed = MarchSettings {
+            shadows: Shadows::None,
+            ..*march
+        };
+        let march = if skip_shadows { &unshadowed } else { march };
+        if skip_shadows {
+            extra.push(("shadow_skip", args.shadow_skip.to_string()));
+            extra.push(("shadows_skipped_bound", format!("{:.6e}", thin.power_bound)));
+        }
         if volume.colour.is_some() {
             // Read as it is: no blackbody, no temperature cut.
             extra.push(("emission_rgb", args.emission_grid.clone()));
@@ -1255,6 +1283,16 @@ impl Frames<'_> {
             out.display(),
             png.display()
         );
+        if skip_shadows {
+            say!(
+                "  shadows skipped: the smoke's optical depth is at most {:.3}, so they would \
+                 take at most {:.3}% of the emitted light from the scattered light \
+                 (--shadow-skip {}%)",
+                thin.optical_depth,
+                100.0 * thin.power_bound,
+                100.0 * args.shadow_skip
+            );
+        }
         if let Some((frame, shares)) = &frame {
             output::say_scattering(frame, shares.as_ref())?;
         }

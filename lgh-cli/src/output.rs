@@ -363,7 +363,7 @@ pub struct MarchArgs {
     /// With --pixel-samples adaptive: the luminance difference between neighbouring rays
     /// that refines their pixels, as a share of the image's mean luminance (smaller refines
     /// more pixels: slower, closer to the finer filter)
-    #[arg(long, value_name = "SHARE", default_value_t = DEFAULT_PIXEL_TOLERANCE)]
+    #[arg(long, value_name = "SHARE", default_value_t = DEFAULT_PIXEL_TOLERANCE, allow_negative_numbers = true)]
     pub pixel_tolerance: f32,
     #[command(flatten)]
     pub cache: CacheArgs,

@@ -312,6 +312,12 @@ fn bench_core_prints_json() {
 
 /// The EXR header of `out`: a lookup of its attributes by name that fails the test on a
 /// missing one.
+/// Whether `out`'s header lacks the attribute `k`.
+fn header_has_no(out: &Path, k: &str) -> bool {
+    let attrs = lgh_image::read_exr_attributes(out).unwrap();
+    attrs.iter().all(|(n, _)| n != k)
+}
+
 fn header(out: &Path) -> impl Fn(&str) -> String {
     let attrs = lgh_image::read_exr_attributes(out).unwrap();
     move |k: &str| {
@@ -760,8 +766,18 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert_eq!(get("lgh:min_temperature"), "0");
     assert_eq!(get("lgh:scatter_stop"), "0.002");
     assert_eq!(get("lgh:scatter_skip"), "0.01");
-    // Coarse lights shadowed as the volume lights they stand for (lgh demo keeps raymarch).
+    // The dev fire's smoke is so thin (its optical depth at most 0.022 at --density-scale 1)
+    // that its shadows could take at most a small fraction of a percent of the emitted light
+    // from the scattered light: below --shadow-skip's 1%, they are skipped, the bound said.
+    assert_eq!(get("lgh:shadows"), "none");
+    let bound: f64 = get("lgh:shadows_skipped_bound").parse().unwrap();
+    assert!(bound > 0.0 && bound < 0.01, "{bound}");
+    // Kept, coarse lights shadowed as the volume lights they stand for (lgh demo keeps
+    // raymarch).
+    let get = render(&["--shadow-skip", "0"]);
     assert_eq!(get("lgh:shadows"), "volumes");
+    assert!(header_has_no(&out, "lgh:shadows_skipped_bound"));
+    let get = render(&[]);
     // The emission of the interpolated temperature (Cycles 3.x) unless asked otherwise.
     assert_eq!(get("lgh:emission_interpolation"), "temperature");
     // Rays a pixel from the image's and the voxels' sizes: 8 × 6 pixels over the fire's 81
@@ -816,6 +832,17 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
         let o = dir.path().join(format!("bad{bad}.exr"));
         a.extend([o.to_str().unwrap(), "--pixel-samples", bad]);
         assert_refused(dir.path(), &a, "--pixel-samples");
+    }
+    // Adaptive: auto's rays, at most 2 a side (4 here), refined where rays differ.
+    let get = render(&["--scatter-depth", "0", "--pixel-samples", "adaptive"]);
+    assert_eq!(get("lgh:pixel_samples"), "2");
+    assert_eq!(get("lgh:pixel_refinement"), "adaptive");
+    assert_eq!(get("lgh:pixel_tolerance"), "0.05");
+    for (flag, bad) in [("--pixel-tolerance", "-1"), ("--shadow-skip", "1")] {
+        let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
+        let o = dir.path().join("bad.exr");
+        a.extend([o.to_str().unwrap(), flag, bad]);
+        assert_refused(dir.path(), &a, flag);
     }
 }
 

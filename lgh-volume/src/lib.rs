@@ -87,6 +87,7 @@ mod shading;
 pub mod shadow;
 pub mod stats;
 pub mod surfaces;
+pub mod thin_smoke;
 pub mod vdb;
 pub mod voxel_light;
 

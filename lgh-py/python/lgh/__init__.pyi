@@ -47,6 +47,7 @@ def render_explosion(
     step: _Value | None = ...,  # Step along camera rays, in voxels (smaller is more accurate and slower) (default 1)
     shadow_step: _Value | None = ...,  # Step along shadow rays, in voxels (smaller is more accurate and slower) [default: 1, or 2 for lgh demo]
     pixel_samples: _Value | None = ...,  # Camera rays per side of a pixel, 1 to 8: N×N rays through the centres of N×N sub-pixels, averaged — a one-pixel box filter (Cycles' "Box" filter, width 1), w
+    pixel_tolerance: _Value | None = ...,  # With --pixel-samples adaptive: the luminance difference between neighbouring rays that refines their pixels, as a share of the image's mean luminance (smal
     lighting_cache: Literal['none', 'coarse'] | None = ...,  # Lighting cache for the hierarchy's coarse levels: their in-scattered light computed once per frame at grid vertices over the smoke and in
     cache_spacing: _Value | None = ...,  # Distance between the lighting cache's vertices: `auto` (cells of --cache-depth optical depth across the densest smoke, 0.25 to 4 voxels) or voxels (0.25 to 1
     cache_depth: _Value | None = ...,  # With --cache-spacing auto: the optical depth across a cell of the densest smoke (the 99th percentile of its density); the interpolation's error grows with it (
@@ -55,6 +56,7 @@ def render_explosion(
     cache_near: _Value | None = ...,  # With level 0 cached as a ratio: the reach, in voxels (at least 0.9), of its near part, summed at every sample; beyond it level 0's unshadowed light is interpola
     scatter_spacing: _Value | None = ...,  # With --scatter-depth and the lighting cache: scattering depths 2 and up compute their fluence on a grid this many voxels apart (1 to 8), every level cached
     scattered_light: Literal['merged', 'grid'] | None = ...,  # With --scatter-depth, the lighting cache and ray-marched shadows: how the render takes in the scattered light (default merged)
+    shadow_skip: _Value | None = ...,  # Skip the lights' shadows in a frame whose smoke is so thin that skipping them adds at most this share of the emitted light to its scattered light: a bound from
     scatter_depth: _Value | None = ...,  # Depths of scattered light (paper Sec. 5): 0 is single scattering; n adds lights for light scattered 1..=n times, so paths of up to n + 1 scattering events (t
     scatter_stop: _Value | None = ...,  # Stop adding scattering depths when the next one, predicted from the last two (the light falls by a nearly steady factor a depth), would add less than this sha
     scatter_skip: _Value | None = ...,  # Skip the whole scattering pass when a sample of the smoky voxels predicts that its first depth would add less than this share of the emitted light (0: never s
