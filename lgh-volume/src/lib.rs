@@ -18,7 +18,8 @@
 //!   in one value; [`progress`]: how long work reports its progress.
 //! - [`shadow`]: the visibility of the lights ([`Shadows`] chosen, [`Visibility`] built: the
 //!   paper's deep-shadow cube maps over prefiltered density (Sec. 4, eq. 6), ray-marched, or
-//!   none); [`lighting`]: the one per-point lighting function, [`Lights::incident`] (eq. 1
+//!   none; [`thin_smoke`]: the bound under which a frame's shadows may be skipped);
+//!   [`lighting`]: the one per-point lighting function, [`Lights::incident`] (eq. 1
 //!   with `V`); [`lighting_cache`]: the coarse levels' light computed once per frame at the
 //!   vertices of a grid over the smoke and interpolated, level 0's near part summed at every
 //!   sample ([`near_part`]).

@@ -54,9 +54,12 @@ impl ThinSmoke {
     /// let thin = ThinSmoke::of(&volume, &medium);
     /// assert!((thin.optical_depth - 0.2 * 3f32.sqrt()).abs() < 1e-5);
     /// assert!((thin.point_bound - (0.2f64 * 3f64.sqrt()).exp_m1()).abs() < 1e-6);
-    /// // Single scattering's term, α τ (1 − e^{−τ}), and the deeper ones, far smaller.
-    /// let first = 0.7 * 0.3464 * (1.0 - (-0.3464f64).exp());
-    /// assert!(thin.power_bound > first && thin.power_bound < 1.2 * first);
+    /// // Σ_k (α τ)^k (1 − e^{−kτ}) over the 17 flights of 16 depths: single scattering's
+    /// // term first, each deeper one smaller.
+    /// let t = f64::from(thin.optical_depth);
+    /// let want: f64 = (1..=17).map(|k| (0.7 * t).powi(k) * -(-f64::from(k) * t).exp_m1()).sum();
+    /// assert!((thin.power_bound - want).abs() < 1e-6 * want); // the albedo is an f32
+    /// assert!(thin.power_bound > 0.7 * t * -(-t).exp_m1());
     /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     #[must_use]
