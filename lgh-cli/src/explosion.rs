@@ -1073,11 +1073,32 @@ impl Frames<'_> {
         )
     }
 
+    /// `march` for `volume`: without shadows where its smoke is too thin for them to matter
+    /// (`--shadow-skip`, by [`ThinSmoke`]'s bound; not with `--scene`), with that bound.
+    fn frame_march(
+        &self,
+        march: &MarchSettings,
+        volume: &Volume,
+    ) -> (MarchSettings, Option<ThinSmoke>) {
+        let thin = ThinSmoke::of(volume, &self.setup.medium);
+        if self.room.is_some()
+            || march.shadows == Shadows::None
+            || !thin.skips(self.args.shadow_skip)
+        {
+            return (*march, None);
+        }
+        let unshadowed = MarchSettings {
+            shadows: Shadows::None,
+            ..*march
+        };
+        (unshadowed, Some(thin))
+    }
+
     /// The first frame made ready to render from any camera ([`prepare_in_memory`]).
     fn into_parts(mut self) -> Result<FrameParts, crate::Error> {
         let camera = self.camera()?;
-        let march = self.march_for(&camera);
         let volume = self.volume(0)?;
+        let march = self.frame_march(&self.march_for(&camera), &volume).0;
         self.lights_for(&volume)?;
         let lights = self
             .lights
@@ -1198,15 +1219,9 @@ impl Frames<'_> {
         }
         let mut extra = self.header(&file.path, lit);
         // Smoke too thin for its shadows to matter, by the bound: rendered without them.
-        let thin = ThinSmoke::of(volume, &setup.medium);
-        let skip_shadows =
-            self.room.is_none() && march.shadows != Shadows::None && thin.skips(args.shadow_skip);
-        let unshadowed = MarchSettings {
-            shadows: Shadows::None,
-            ..*march
-        };
-        let march = if skip_shadows { &unshadowed } else { march };
-        if skip_shadows {
+        let (march, thin) = self.frame_march(march, volume);
+        let march = &march;
+        if let Some(thin) = &thin {
             extra.push(("shadow_skip", args.shadow_skip.to_string()));
             extra.push(("shadows_skipped_bound", format!("{:.6e}", thin.power_bound)));
         }
@@ -1283,7 +1298,7 @@ impl Frames<'_> {
             out.display(),
             png.display()
         );
-        if skip_shadows {
+        if let Some(thin) = thin {
             say!(
                 "  shadows skipped: the smoke's optical depth is at most {:.3}, so they would \
                  take at most {:.3}% of the emitted light from the scattered light \
