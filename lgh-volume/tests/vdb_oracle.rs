@@ -54,6 +54,20 @@ fn num(v: &Value) -> f64 {
     }
 }
 
+/// Runs `script` (Python with pyopenvdb and numpy; it writes the file `sys.argv[1]`) for `path`:
+/// a file written by the official library.
+fn write_with_openvdb(script: &str, path: &Path) {
+    let out = Command::new("/usr/bin/python3")
+        .args(["-c", script, path.to_str().unwrap()])
+        .output();
+    let out = out.expect("/usr/bin/python3 ran a moment ago");
+    assert!(
+        out.status.success(),
+        "the OpenVDB writer failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn same(a: f64, b: f64) -> bool {
     a == b || (a.is_nan() && b.is_nan())
 }
@@ -231,15 +245,7 @@ for g in (d, e, f):
     g.transform = vdb.createLinearTransform(voxelSize=0.25)
 vdb.write(sys.argv[1], grids=[d, e, f])
 "#;
-    let out = Command::new("/usr/bin/python3")
-        .args(["-c", script, path.to_str().unwrap()])
-        .output();
-    let out = out.expect("/usr/bin/python3 ran a moment ago");
-    assert!(
-        out.status.success(),
-        "the OpenVDB writer failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    write_with_openvdb(script, &path);
     let names = lgh_volume::cache::GridNames {
         emission: "emission".into(),
         ..Default::default()
@@ -322,15 +328,7 @@ for name in ("density", "temperature"):
     grids.append(g)
 vdb.write(sys.argv[1], grids=grids)
 "#;
-    let out = Command::new("/usr/bin/python3")
-        .args(["-c", script, path.to_str().unwrap()])
-        .output();
-    let out = out.expect("/usr/bin/python3 ran a moment ago");
-    assert!(
-        out.status.success(),
-        "the OpenVDB writer failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    write_with_openvdb(script, &path);
     let names = lgh_volume::cache::GridNames::default();
     let placement = lgh_volume::cache::Placement::AsWritten;
     let frames = lgh_volume::cache::load(&[path], &names, placement).unwrap();
