@@ -121,8 +121,11 @@ fn parse_or_word<T: std::str::FromStr>(
 /// mean luminance refine their pixels (docs/cycles.md, "Adaptive pixels").
 pub const DEFAULT_PIXEL_TOLERANCE: f32 = 0.05;
 
-/// The most rays a side `--pixel-samples adaptive` takes first (refined to 6).
-const ADAPTIVE_FIRST_RAYS: usize = 2;
+/// The most rays a side `--pixel-samples adaptive` takes first: those whose refinement
+/// ([`lgh_volume::render::REFINEMENT`] times as many) stays within
+/// [`lgh_volume::render::MAX_PIXEL_SAMPLES`] (2, refined to 6).
+const ADAPTIVE_FIRST_RAYS: usize =
+    lgh_volume::render::MAX_PIXEL_SAMPLES / lgh_volume::render::REFINEMENT;
 
 /// `--pixel-samples`: rays a pixel side, `auto` (from the image's and the voxels' sizes) or
 /// `adaptive` (auto's, at most 2, refined three times finer where neighbouring rays differ).

@@ -95,6 +95,9 @@ def listed(kind, allowed=None):
 
 
 def main():
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "blender" / "tests"))
+    from mantaflow import retried
+
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--out", default="target/caches", type=pathlib.Path)
     p.add_argument("--cases", default="fire,smoky", type=listed("cases", list(CASES)))
@@ -123,17 +126,15 @@ def main():
             print(f"bake.py: baking {case} at {res} cells, frames {first}..{last} into {d}",
                   file=sys.stderr)
             start = time.monotonic()
-            for _ in range(6):  # Blender 3.4.1's bake fails every other run on this machine
-                shutil.rmtree(d, ignore_errors=True)
-                d.mkdir(parents=True)  # and always into a directory it must make
-                run = subprocess.run(
+            baked, run = retried(
+                d,
+                lambda: subprocess.run(
                     [a.blender, "-b", "--factory-startup", "--python", __file__, "--", "bake",
                      str(d), case, str(res), str(first), str(last)],
-                    capture_output=True, text=True, env=env, cwd=d)
-                if (d / "data" / f"fluid_data_{last:04d}.vdb").is_file() and \
-                        (d / "scene.blend").is_file():
-                    break
-            else:
+                    capture_output=True, text=True, env=env, cwd=d),
+                lambda: (d / "data" / f"fluid_data_{last:04d}.vdb").is_file()
+                and (d / "scene.blend").is_file())
+            if not baked:
                 shutil.rmtree(d, ignore_errors=True)
                 sys.exit(f"bake.py: Blender did not bake {case} at {res}:\n"
                          f"{run.stdout[-1500:]}{run.stderr[-1500:]}")
