@@ -1,0 +1,319 @@
+#!/usr/bin/env python3
+"""lgh against Blender Cycles on real simulation caches, at equal error, at 128x128 and, for the
+scenes named by --hd-scenes, measured at 1280x720 too.
+
+The scenes are fires that Blender's own simulator (Mantaflow) baked — the dev fire's frame 56
+(`../shared/data`) and the four fires of tools/caches/bake.py (a thin "fire" and a dense
+"smoky" one, each at 64 and 128 cells; frame 50 of 60) — each read by both renderers from the
+cache's OpenVDB file with tools/cycles/compare.py's medium (extinction 4 x density, albedo 0.7,
+blackbody emission of `temperature` x 1000 K times `flame`, 128 volume bounces in Cycles). The
+baked fires are seen from -Y, the camera framing the smoke's active box at 40 deg vertically.
+
+    python3 tools/cycles/caches.py [--work cycles-caches] [--bpy target/py313/bin/python] ...
+
+One run measures one Cycles: Debian's `blender` (3.4.1: lgh's settings `default` and `adaptive`)
+or, with --bpy, PyPI's bpy (5.2.3: `attributes` and `attributes-adaptive`, the emission
+interpolated as Cycles 4.x and later do). The method at 128x128 is compare.py's (its Runner,
+files and fits): a converged reference of --ref-seeds x --ref-spp, a ladder of sample counts
+fitted by e^2 = a (1/n + 1/N), lgh's error against the truth sqrt(e^2 - a/N), and the Cycles
+samples n* = a / e_truth^2 and CPU-seconds (a line through the ladder's) at which Cycles' error
+equals lgh's.
+
+At 1280x720 (--hd-scenes) the same is measured, not modelled: a reference of --hd-ref-seeds x
+--hd-ref-spp at 1280x720, a ladder there (--hd-ladder) whose errors against it fit the 720p
+`a`, lgh's 720p renders against that reference. Cycles' noise in the reference is removed by
+the same sqrt(e^2 - a/N), so the reference need not be converged, only its noise known (each
+seed against the others checks it). Beside it, compare.py's model (Cycles' error per sample from
+the 128x128 ladder, lgh's error its 128x128 error), to check that model at this point.
+
+Prints the results as JSON on standard output (what tools/figures records), a Markdown table on
+standard error and into WORK/caches-VERSION.md. Every render is kept in --work and reused (delete
+a file or its results.json entry to redo it); --only-reference renders the untimed references
+and stops; --remeasure renders the timed part again (the ladders, lgh), keeping the references.
+Needs what compare.py needs, and the baked fires (python3 tools/caches/bake.py; a scene whose
+cache is absent is skipped with a message). Not part of CI: hours on 2 cores.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+
+import compare  # noqa: E402  (tools/cycles/compare.py: the method, the files, the fits)
+
+#: The baked fires: name -> (tools/caches/bake.py's folder, frame).
+BAKED = {f"{case}{res}": (f"{case}-{res}", 50) for case in ("fire", "smoky") for res in (64, 128)}
+
+#: lgh's settings measured against each Cycles (compare.py's names; the adaptive ones added).
+SETTINGS = {
+    "3": ["default", "adaptive"],
+    "5": ["attributes", "attributes-adaptive"],
+}
+compare.LGH_SETTINGS.setdefault("adaptive", ["--pixel-samples", "adaptive"])
+compare.LGH_SETTINGS.setdefault("attributes-adaptive",
+                                ["--emission-interpolation", "attributes",
+                                 "--pixel-samples", "adaptive"])
+
+#: The camera's vertical field of view (compare.py's), and the margin around the smoke's box.
+FOV_DEGREES = 40.0
+MARGIN = 1.1
+
+#: The active box of a grid in world coordinates, by the official library (python3-openvdb).
+BOX = r"""
+import sys, json, pyopenvdb as vdb
+g = vdb.read(sys.argv[1], "density")
+lo, hi = g.evalActiveVoxelBoundingBox()
+print(json.dumps([g.transform.indexToWorld(lo), g.transform.indexToWorld(hi),
+                  g.transform.voxelSize()[0]]))
+"""
+
+
+def log(*a):
+    print(*a, file=sys.stderr, flush=True)
+
+
+def framing(vdb):
+    """compare.py's camera string for a cache: from -Y at the centre of the density's active
+    box (its voxels' cells), far enough that the box's front fits the vertical field of view
+    (and the horizontal one of a square image) with a 10% margin."""
+    out = subprocess.run(["/usr/bin/python3", "-c", BOX, vdb], capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"caches.py: cannot read {vdb}'s density: {out.stderr.strip()[-500:]}")
+    lo, hi, voxel = json.loads(out.stdout)
+    lo = [c - voxel / 2 for c in lo]
+    hi = [c + voxel / 2 for c in hi]
+    centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+    half = [(b - a) / 2 for a, b in zip(lo, hi)]
+    distance = half[1] + MARGIN * max(half[0], half[2]) / math.tan(math.radians(FOV_DEGREES / 2))
+    eye = (centre[0], centre[1] - distance, centre[2])
+    return ",".join(f"{v:.4f}" for v in (*eye, *centre, FOV_DEGREES))
+
+
+def scenes(a):
+    """compare.SCENES entries for the scenes asked for (the baked fires added): name -> scene,
+    or a message saying why it is skipped."""
+    out = {}
+    for name in a.scenes.split(","):
+        if name in BAKED:
+            folder, frame = BAKED[name]
+            vdb = os.path.abspath(os.path.join(a.caches, folder, "data",
+                                               f"fluid_data_{frame:04d}.vdb"))
+            if not os.path.exists(vdb):
+                out[name] = (f"{vdb} is absent: bake it with `python3 tools/caches/bake.py "
+                             f"--out {a.caches}`")
+                continue
+            compare.SCENES[name] = {"vdb": vdb, "flame": True, "temperature_scale": 1000.0,
+                                    "camera": framing(vdb)}
+        elif name not in compare.SCENES:
+            sys.exit(f"caches.py: no scene {name!r} (the baked {', '.join(BAKED)}, or "
+                     f"compare.py's {', '.join(compare.SCENES)})")
+        out[name] = compare.SCENES[name]
+    return out
+
+
+def ladder_rows(r, name, vdb, scene, counts, ref, width, height):
+    rows = []
+    for spp in counts:
+        c = r.cycles(name, vdb, scene, spp, 0, width, height)
+        e, mean, rgb = compare.rel_rmse(c["out"], ref)
+        rows.append({"spp": spp, "cpu_s": c["cpu_s"], "wall_s": c["wall_s"], "error": e,
+                     "mean_ratio": mean, **rgb})
+    return rows
+
+
+def reference(r, name, vdb, scene, spp, seeds, width, height):
+    """The mean of `seeds` Cycles renders of `spp` samples (seeds 1, 2, ...) at width x height,
+    and each seed's error against the mean of the others (the reference's own noise, a check of
+    the fitted `a`)."""
+    runs = [r.cycles(name, vdb, scene, spp, 1 + i, width, height) for i in range(seeds)]
+    out = os.path.join(r.work, f"{name}_reference_{width}x{height}_{spp * seeds}spp.exr")
+    if not os.path.exists(out):
+        compare.write_exr(out, sum(compare.read_exr(q["out"]) for q in runs) / seeds)
+    spread = []
+    for i, q in enumerate(runs):
+        tmp = os.path.join(r.work, f"{name}_others_{width}x{height}.exr")
+        compare.write_exr(tmp, sum(compare.read_exr(p["out"]) for j, p in enumerate(runs)
+                                   if j != i) / (seeds - 1))
+        spread.append(compare.rel_rmse(q["out"], tmp)[0])
+        os.remove(tmp)
+    return out, spp * seeds, spread
+
+
+def at_equal_error(e, noise, n_ref, cpu_fit):
+    """lgh's error against the truth, Cycles' samples at that error, and their CPU-seconds
+    (None where lgh's error is within the reference's noise: the reference cannot tell)."""
+    truth = math.sqrt(max(e * e - noise / n_ref, 0.0))
+    if truth == 0.0:
+        return truth, None, None
+    n_star = noise / truth ** 2
+    return truth, n_star, cpu_fit[0] + cpu_fit[1] * n_star
+
+
+def measure(r, a, name, scene, settings):
+    vdb = r.vdb(name, scene)
+    ref, n_ref, spread = reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128)
+    hd = name in a.hd_scenes.split(",")
+    if hd:
+        hd_ref, hd_n_ref, hd_spread = reference(r, name, vdb, scene, a.hd_ref_spp,
+                                                a.hd_ref_seeds, 1280, 720)
+    if a.only_reference:
+        return None
+    ladder = ladder_rows(r, name, vdb, scene, [int(s) for s in a.ladder.split(",")], ref,
+                         128, 128)
+    noise = compare.fit_noise(ladder, n_ref)
+    cpu_fit = compare.fit_cpu(ladder)
+    summary = {"scene": name, "camera": scene.get("camera"), "vdb": vdb,
+               "reference_spp": n_ref, "reference_noise": math.sqrt(noise / n_ref),
+               "reference_seed_spread": spread, "cycles_noise_per_spp": noise,
+               "cycles_cpu_fit_128": list(cpu_fit), "ladder": ladder, "lgh": {}}
+    if hd:
+        hd_ladder = ladder_rows(r, name, vdb, scene, [int(s) for s in a.hd_ladder.split(",")],
+                                hd_ref, 1280, 720)
+        hd_noise = compare.fit_noise(hd_ladder, hd_n_ref)
+        hd_cpu_fit = compare.fit_cpu(hd_ladder)
+        summary["hd"] = {"reference_spp": hd_n_ref, "reference_noise":
+                         math.sqrt(hd_noise / hd_n_ref), "reference_seed_spread": hd_spread,
+                         "cycles_noise_per_spp": hd_noise, "cycles_cpu_fit": list(hd_cpu_fit),
+                         "ladder": hd_ladder}
+    for setting in settings:
+        q = r.lgh(name, vdb, scene, setting, 128, 128)
+        e, mean, rgb = compare.rel_rmse(q["out"], ref)
+        truth, n_star, cyc = at_equal_error(e, noise, n_ref, cpu_fit)
+        row = {"cpu_s": q["cpu_s"], "wall_s": q["wall_s"], "error": e,
+               "error_vs_truth": truth, "mean_ratio": mean,
+               "cycles_spp_at_equal_error": n_star, "cycles_cpu_s_at_equal_error": cyc,
+               "speedup": cyc and cyc / q["cpu_s"], **rgb}
+        if hd:
+            h = r.lgh(name, vdb, scene, setting, 1280, 720)
+            he, hmean, hrgb = compare.rel_rmse(h["out"], hd_ref)
+            htruth, hn, hcyc = at_equal_error(he, hd_noise, hd_n_ref, hd_cpu_fit)
+            # compare.py's model: Cycles' 720p time at the samples of the 128x128 comparison.
+            model = n_star and hd_cpu_fit[0] + hd_cpu_fit[1] * n_star
+            row["hd"] = {"cpu_s": h["cpu_s"], "wall_s": h["wall_s"], "error": he,
+                         "error_vs_truth": htruth, "mean_ratio": hmean,
+                         "cycles_spp_at_equal_error": hn, "cycles_cpu_s_at_equal_error": hcyc,
+                         "speedup": hcyc and hcyc / h["cpu_s"],
+                         "modelled_speedup": model and model / h["cpu_s"],
+                         **hrgb}
+        summary["lgh"][setting] = row
+    try:
+        shown = [ref, r.lgh(name, vdb, scene, settings[0], 128, 128)["out"],
+                 r.lgh(name, vdb, scene, settings[-1], 128, 128)["out"],
+                 r.cycles(name, vdb, scene, int(a.ladder.split(",")[-1]), 0, 128, 128)["out"]]
+        compare.figure(os.path.join(r.work, f"{name}.png"), shown,
+                       [f"Cycles {n_ref} spp", f"lgh {settings[0]}", f"lgh {settings[-1]}",
+                        f"Cycles {a.ladder.split(',')[-1]} spp"])
+    except ImportError:
+        log("no Pillow: no side-by-side figure")
+    return summary
+
+
+def rgb(values):
+    return " / ".join("–" if v is None else f"{100 * v:.1f}" for v in values)
+
+
+def num(v, fmt, unit=""):
+    """A figure, or "—" where the reference could not tell (None)."""
+    return "—" if v is None else f"{v:{fmt}}{unit}"
+
+
+def table(version, results):
+    lines = [f"Cycles {version}; lgh's error is the relative RMSE of luminance against the "
+             "truth (the reference's noise removed), R / G / B each channel's against the "
+             "reference's (its noise not removed); — where the reference cannot tell.", "",
+             "| scene | lgh | lgh CPU-s | error | R / G / B (%) | Cycles spp at that error | "
+             "Cycles CPU-s | speed-up | 720p: lgh CPU-s, error, Cycles CPU-s, speed-up "
+             "(model) |", "|---|---|---|---|---|---|---|---|---|"]
+    for s in results:
+        for setting, row in s["lgh"].items():
+            hd = row.get("hd")
+            hd_text = (f"{hd['cpu_s']:.1f}, {100 * hd['error_vs_truth']:.2f}%, "
+                       f"{num(hd['cycles_cpu_s_at_equal_error'], '.0f')}, "
+                       f"{num(hd['speedup'], '.1f', '×')} "
+                       f"({num(hd['modelled_speedup'], '.1f', '×')})" if hd else "—")
+            lines.append(f"| {s['scene']} | {setting} | {row['cpu_s']:.1f} | "
+                         f"{100 * row['error_vs_truth']:.2f}% | {rgb(row['rel_rmse_rgb'])} | "
+                         f"{num(row['cycles_spp_at_equal_error'], '.0f')} | "
+                         f"{num(row['cycles_cpu_s_at_equal_error'], '.1f')} | "
+                         f"{num(row['speedup'], '.2f', '×')} | "
+                         f"{hd_text} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--scenes", default="fire56," + ",".join(BAKED))
+    p.add_argument("--caches", default=os.path.join(ROOT, "target", "caches"),
+                   help="tools/caches/bake.py's --out")
+    p.add_argument("--work", default="cycles-caches")
+    p.add_argument("--blender", default="/usr/bin/blender")
+    p.add_argument("--bpy", default=None, help="a Python with PyPI's bpy (5.2.3): Cycles runs "
+                   "there instead of --blender")
+    p.add_argument("--lgh", default=os.path.join(ROOT, "target/release/lgh"))
+    p.add_argument("--shared-data", default=os.path.join(ROOT, "..", "shared", "data"))
+    p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--bounces", type=int, default=128)
+    p.add_argument("--ref-spp", type=int, default=2048)
+    p.add_argument("--ref-seeds", type=int, default=2)
+    p.add_argument("--ladder", default="16,64,256,1024")
+    p.add_argument("--hd-scenes", default="fire56",
+                   help="the scenes also measured at 1280x720 (comma-separated; '' for none)")
+    p.add_argument("--hd-ref-spp", type=int, default=256)
+    p.add_argument("--hd-ref-seeds", type=int, default=2)
+    p.add_argument("--hd-ladder", default="16,64")
+    p.add_argument("--remeasure", action="store_true",
+                   help="render the timed part again (the ladders and lgh), keeping the "
+                        "untimed references: what a figure's refresh runs")
+    p.add_argument("--only-reference", action="store_true",
+                   help="render the references and stop (untimed: may run beside other work)")
+    a = p.parse_args()
+    if a.ref_seeds < 2 or a.hd_ref_seeds < 2:
+        sys.exit("caches.py: --ref-seeds and --hd-ref-seeds must be at least 2 (each seed "
+                 "against the others measures the reference's noise)")
+    compare.LGH = a.lgh
+    if not os.access(a.lgh, os.X_OK):
+        sys.exit(f"caches.py: no lgh at {a.lgh} (cargo build --release -p lgh-cli)")
+    ask = ([a.bpy, "-c", "import bpy; print('Blender', bpy.app.version_string)"] if a.bpy
+           else [a.blender, "--version"])
+    version = subprocess.run(ask, stdout=subprocess.PIPE, text=True).stdout
+    major = version.split("Blender ")[-1].split(".")[0] if "Blender " in version else ""
+    if major not in ("3", "4", "5"):
+        sys.exit(f"caches.py: no Blender answered ({' '.join(ask)})")
+    version = version.split("Blender ")[-1].split()[0]
+    # compare.Runner's arguments: Blender 3.x draws voxel i over [i, i+1] (half a voxel off).
+    a.shift_half_voxel = major == "3"
+    settings = SETTINGS["3" if major == "3" else "5"]
+    r = compare.Runner(a)
+    if a.remeasure:
+        # The ladders are seed 0, the references seeds 1, 2, ...
+        r.results = {k: v for k, v in r.results.items()
+                     if not (k.startswith("lgh/") or k.endswith("/seed0"))}
+    results = []
+    for name, scene in scenes(a).items():
+        if isinstance(scene, str):
+            log(f"caches.py: {name}: skipped: {scene}")
+            continue
+        s = measure(r, a, name, scene, settings)
+        if s is not None:
+            r.results[f"caches/{name}"] = s
+            r.save()
+            results.append(s)
+    if a.only_reference:
+        return
+    text = table(version, results)
+    with open(os.path.join(a.work, f"caches-{version}.md"), "w") as f:
+        f.write(text)
+    log(text)
+    json.dump({"blender": version, "threads": a.threads, "scenes": {s["scene"]: s
+                                                                    for s in results}},
+              sys.stdout, indent=1, allow_nan=False)
+    print()
+
+
+if __name__ == "__main__":
+    main()
