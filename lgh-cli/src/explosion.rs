@@ -1080,11 +1080,13 @@ impl Frames<'_> {
         march: &MarchSettings,
         volume: &Volume,
     ) -> (MarchSettings, Option<ThinSmoke>) {
+        // A room's surfaces shadow each other, and without shadows or with `--shadow-skip 0`
+        // there is nothing to decide: no pass over the density.
+        if self.room.is_some() || march.shadows == Shadows::None || self.args.shadow_skip <= 0.0 {
+            return (*march, None);
+        }
         let thin = ThinSmoke::of(volume, &self.setup.medium);
-        if self.room.is_some()
-            || march.shadows == Shadows::None
-            || !thin.skips(self.args.shadow_skip)
-        {
+        if !thin.skips(self.args.shadow_skip) {
             return (*march, None);
         }
         let unshadowed = MarchSettings {

@@ -22,7 +22,7 @@ use crate::lighting_cache::{CachedLights, LightingCache, LightingCacheSettings, 
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::{FrameBackend, Method, Prepared};
-use crate::progress::{self, Phase, Progress, Steps};
+use crate::progress::{Phase, Progress, Steps};
 use crate::render::{Lit, Marcher};
 use crate::scattering::{self, Scattered, Shares};
 use crate::settings::MarchSettings;
@@ -203,17 +203,14 @@ impl<'a> FrameRender<'a> {
     }
 
     /// Renders `camera`'s image, rows in parallel (nothing depends on the thread count);
-    /// `progress` hears [`Phase::Render`] over rows.
+    /// `progress` hears [`Phase::Render`] over rows, then, with adaptive pixels,
+    /// [`Phase::Refinement`] over the pixels refined.
     pub fn render(
         &self,
         camera: &Camera,
         progress: &dyn Progress,
     ) -> Result<(Image, RenderStats), RenderError> {
-        self.with_lit(|lit| {
-            progress::phase(progress, Phase::Render, camera.height() as u64, |p| {
-                self.marcher.render_lit(lit, camera, p)
-            })
-        })
+        self.with_lit(|lit| self.marcher.render_lit(lit, camera, progress))
     }
 
     /// The pixels `(x, y)` of `pixels` only, exactly as [`render`](Self::render) computes them
@@ -293,7 +290,7 @@ impl<'a> FrameRender<'a> {
         let depths = scattered.depths().len() + 1;
         let rows = ((depths + 1) * camera.height()) as u64;
         progress.begin(Phase::ScatterShares, rows);
-        let steps = Steps(progress);
+        let steps = Steps::new(progress);
         let render = |lights: &ExplosionLights, method| {
             FrameRender::new(lights, method, frame, medium, &settings, &())?
                 .render(camera, &steps)

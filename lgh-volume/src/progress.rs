@@ -1,6 +1,8 @@
 //! Progress of long work, reported to whoever asked for it: a phase begins with its count of
 //! steps, steps are done, the phase ends. The library never prints; the CLI draws bars.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 /// The phases of a frame's render ([`FrameRender`](crate::FrameRender)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {
@@ -12,6 +14,9 @@ pub enum Phase {
     Render,
     /// Each scattering depth's share of the image: steps are rows of every render.
     ScatterShares,
+    /// Adaptive pixels' second pass (`PixelRefinement::Adaptive`), after [`Phase::Render`]:
+    /// steps are the pixels refined.
+    Refinement,
 }
 
 impl Phase {
@@ -23,6 +28,7 @@ impl Phase {
             Phase::ShadowMaps => "shadow maps",
             Phase::Render => "rendering",
             Phase::ScatterShares => "scatter shares",
+            Phase::Refinement => "refining pixels",
         }
     }
 }
@@ -65,12 +71,39 @@ pub trait Progress: Sync {
 impl Progress for () {}
 
 /// `progress`'s steps only: the parts of a phase reported as one (its begin and end are the
-/// caller's).
-pub(crate) struct Steps<'p>(pub &'p dyn Progress);
+/// caller's), counted in rows — a render's [`Phase::Refinement`], whose steps are pixels, is
+/// left out.
+pub(crate) struct Steps<'p> {
+    progress: &'p dyn Progress,
+    refining: AtomicBool,
+}
+
+impl<'p> Steps<'p> {
+    pub(crate) fn new(progress: &'p dyn Progress) -> Self {
+        Steps {
+            progress,
+            refining: AtomicBool::new(false),
+        }
+    }
+}
 
 impl Progress for Steps<'_> {
+    fn begin(&self, phase: Phase, _: u64) {
+        if phase == Phase::Refinement {
+            self.refining.store(true, Ordering::Relaxed);
+        }
+    }
+
     fn advance(&self, steps: u64) {
-        self.0.advance(steps);
+        if !self.refining.load(Ordering::Relaxed) {
+            self.progress.advance(steps);
+        }
+    }
+
+    fn end(&self, phase: Phase) {
+        if phase == Phase::Refinement {
+            self.refining.store(false, Ordering::Relaxed);
+        }
     }
 }
 

@@ -21,6 +21,7 @@ use crate::lighting::{LightScratch, Lights};
 use crate::lighting_cache::CachedLights;
 use crate::medium::{Medium, Volume};
 use crate::occupancy::Occupancy;
+use crate::progress::{self, Phase, Progress};
 use crate::scattered_light::ScatteredRadiance;
 pub use crate::shadow::Shadows;
 use crate::shadow::Visibility;
@@ -117,12 +118,13 @@ impl<'a> Marcher<'a> {
 
     /// Renders the image of `camera` with single scattering from `lights`, rows in parallel (each
     /// pixel is independent and the counts are integer sums, so neither depends on the thread
-    /// count); `progress(rows)` as rows finish.
+    /// count); `progress` hears [`Phase::Render`] over rows, then, with adaptive pixels
+    /// ([`PixelRefinement::Adaptive`]), [`Phase::Refinement`] over the pixels refined.
     pub fn render<B: ManyLights + Sync>(
         &self,
         lights: &Lights<B>,
         camera: &Camera,
-        progress: &(dyn Fn(usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<(Image, RenderStats), RenderError> {
         self.render_lit(Lit::lights(Some(lights)), camera, progress)
     }
@@ -132,7 +134,7 @@ impl<'a> Marcher<'a> {
         &self,
         lights: Lit<'_, B>,
         camera: &Camera,
-        progress: &(dyn Fn(usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<(Image, RenderStats), RenderError> {
         let (pixels, stats) = march_pixels(self, lights, camera, None, progress)?;
         Ok((image(camera, pixels.into_iter()), stats))
@@ -157,7 +159,7 @@ impl<'a> Marcher<'a> {
         camera: &Camera,
         pixels: &[[usize; 2]],
     ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
-        march_pixels(self, lights, camera, Some(pixels), &|_| {})
+        march_pixels(self, lights, camera, Some(pixels), &())
     }
 
     /// The volume.
@@ -405,13 +407,15 @@ impl<'s, B> Lit<'s, B> {
 /// The marcher's radiance and counts for `pixels` (`None`: the whole image) of `camera`: each
 /// pixel `n × n` rays ([`MarchSettings::pixel_samples`]), and with
 /// [`PixelRefinement::Adaptive`] `3n × 3n` where neighbouring rays differ (the whole image
-/// only: the decision reads the neighbours and the image's mean).
+/// only: the decision reads the neighbours and the image's mean). `progress` hears
+/// [`Phase::Render`] over rows, then [`Phase::Refinement`] over the refined pixels (a list of
+/// pixels reports nothing).
 fn march_pixels<B: ManyLights + Sync>(
     marcher: &Marcher<'_>,
     lights: Lit<'_, B>,
     camera: &Camera,
     pixels: Option<&[[usize; 2]]>,
-    progress: &(dyn Fn(usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
     let n = marcher.settings.pixel_samples;
     let rays = PixelRays {
@@ -419,19 +423,19 @@ fn march_pixels<B: ManyLights + Sync>(
         lights,
         camera,
     };
+    let rows = camera.height() as u64;
     let tolerance = match (marcher.settings.pixel_refinement, pixels) {
         (PixelRefinement::Uniform, _) => {
-            let out = shade_pixels(
-                camera,
-                pixels,
-                LightScratch::default,
-                |scratch, x, y| {
-                    let mut stats = RenderStats::default();
-                    let r = rays.box_filter([x, y], n, None, &mut stats, scratch)?;
-                    Ok((r, stats))
-                },
-                progress,
-            )?;
+            let progress: &dyn Progress = if pixels.is_some() { &() } else { progress };
+            let out = progress::phase(progress, Phase::Render, rows, |p| {
+                shade_pixels(
+                    camera,
+                    pixels,
+                    LightScratch::default,
+                    |scratch, x, y| rays.filtered([x, y], n, None, scratch),
+                    p,
+                )
+            })?;
             return Ok(summed(out));
         }
         (PixelRefinement::Adaptive { tolerance }, None) => tolerance,
@@ -444,45 +448,49 @@ fn march_pixels<B: ManyLights + Sync>(
             })
         }
     };
-    // The first rays, n × n a pixel, kept for the decision and for the refined pixels.
-    let first = shade_pixels(
-        camera,
-        None,
-        LightScratch::default,
-        |scratch, x, y| {
-            let mut stats = RenderStats::default();
-            let mut kept = [Vec3::ZERO; MAX_FIRST_RAYS];
-            for j in 0..n {
-                for i in 0..n {
-                    let (u, v) = (sub_pixel(x, i, n), sub_pixel(y, j, n));
-                    kept[j * n + i] = rays.march(u, v, &mut stats, scratch)?;
+    // The first rays, n × n a pixel: the decision's, and among each refined pixel's rays.
+    let first = progress::phase(progress, Phase::Render, rows, |p| {
+        shade_pixels(
+            camera,
+            None,
+            LightScratch::default,
+            |scratch, x, y| {
+                let mut stats = RenderStats::default();
+                let mut kept = [Vec3::ZERO; MAX_FIRST_RAYS];
+                for j in 0..n {
+                    for i in 0..n {
+                        let (u, v) = (sub_pixel(x, i, n), sub_pixel(y, j, n));
+                        kept[j * n + i] = rays.march(u, v, &mut stats, scratch)?;
+                    }
                 }
-            }
-            Ok((kept, stats))
-        },
-        progress,
-    )?;
+                Ok((kept, stats))
+            },
+            p,
+        )
+    })?;
     let (w, h) = (camera.width(), camera.height());
     let mut stats = RenderStats::default();
     let mut all = Vec::with_capacity(w * h * n * n);
-    for (r, s) in &first {
-        stats.add(s);
+    for (r, s) in first {
+        stats.add(&s);
         all.extend_from_slice(&r[..n * n]);
     }
     let refine = pixels_to_refine(&all, w, h, n, tolerance);
     let m = REFINEMENT * n;
-    let refined = shade_pixels(
-        camera,
-        Some(&refine),
-        LightScratch::default,
-        |scratch, x, y| {
-            let mut stats = RenderStats::default();
-            let kept = &first[y * w + x].0[..n * n];
-            let r = rays.box_filter([x, y], m, Some(kept), &mut stats, scratch)?;
-            Ok((r, stats))
-        },
-        &|_| {},
-    )?;
+    let refined = progress::phase(progress, Phase::Refinement, refine.len() as u64, |p| {
+        shade_pixels(
+            camera,
+            Some(&refine),
+            LightScratch::default,
+            |scratch, x, y| {
+                let kept = &all[(y * w + x) * n * n..][..n * n];
+                let r = rays.filtered([x, y], m, Some(kept), scratch);
+                p(1);
+                r
+            },
+            &|_| {},
+        )
+    })?;
     let mut radiance: Vec<Vec3> = all
         .chunks_exact(n * n)
         .map(|r| mean_of(r.iter().copied(), n))
@@ -495,9 +503,9 @@ fn march_pixels<B: ManyLights + Sync>(
     Ok((radiance, stats))
 }
 
-/// The most rays a pixel's first pass keeps under [`PixelRefinement::Adaptive`]: 2 × 2 (its
-/// first rays are at most 2 a side, refined to 6).
-const MAX_FIRST_RAYS: usize = 4;
+/// The most rays a pixel's first pass keeps under [`PixelRefinement::Adaptive`]: its first rays
+/// a side are at most [`MAX_PIXEL_SAMPLES`] / [`REFINEMENT`] (2: refined to 6).
+const MAX_FIRST_RAYS: usize = (MAX_PIXEL_SAMPLES / REFINEMENT).pow(2);
 
 /// What a pixel's camera rays march: the marcher, its lights, the camera.
 struct PixelRays<'a, 'm, 's, B> {
@@ -548,6 +556,19 @@ impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
             }
         }
         Ok(sum / (n * n) as f32)
+    }
+
+    /// [`box_filter`](Self::box_filter) with its own counts: what a pixel pass returns.
+    fn filtered(
+        &self,
+        pixel: [usize; 2],
+        n: usize,
+        kept: Option<&[Vec3]>,
+        scratch: &mut LightScratch,
+    ) -> Result<(Vec3, RenderStats), RenderError> {
+        let mut stats = RenderStats::default();
+        let r = self.box_filter(pixel, n, kept, &mut stats, scratch)?;
+        Ok((r, stats))
     }
 }
 
@@ -754,7 +775,7 @@ mod tests {
             };
             let marcher = Marcher::new(&v, &m, &s).unwrap();
             let lit = Lit::<BruteForce>::lights(None);
-            marcher.render_lit(lit, camera, &|_| {}).unwrap().0
+            marcher.render_lit(lit, camera, &()).unwrap().0
         };
         let centres = render(&Camera::frame(lo, hi, w, h).unwrap(), 1);
         for n in [2usize, 3] {
@@ -789,6 +810,48 @@ mod tests {
     }
 
     #[test]
+    fn adaptive_pixels_report_their_refinement_after_the_rows() {
+        // The first pass is `Phase::Render` over rows; the refined pixels are a phase of their
+        // own whose steps add up to its total, the pixels `RenderStats` counts as refined.
+        use std::sync::Mutex;
+        #[derive(Default)]
+        struct Heard(Mutex<Vec<(Phase, u64, u64)>>);
+        impl Progress for Heard {
+            fn begin(&self, phase: Phase, total: u64) {
+                self.0.lock().unwrap().push((phase, total, 0));
+            }
+            fn advance(&self, steps: u64) {
+                self.0.lock().unwrap().last_mut().unwrap().2 += steps;
+            }
+        }
+        let v = crate::procedural::ball(16, 0.5, 2500.0);
+        let m = Medium::new(4.0, 0.0, 1e-3, 500.0).unwrap();
+        let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 24, 16).unwrap();
+        for refinement in [
+            PixelRefinement::Uniform,
+            PixelRefinement::Adaptive { tolerance: 0.05 },
+        ] {
+            let s = MarchSettings {
+                pixel_samples: 2,
+                pixel_refinement: refinement,
+                ..Default::default()
+            };
+            let marcher = Marcher::new(&v, &m, &s).unwrap();
+            let heard = Heard::default();
+            let lit = Lit::<BruteForce>::lights(None);
+            let (_, stats) = marcher.render_lit(lit, &camera, &heard).unwrap();
+            let rows = camera.height() as u64;
+            let mut want = vec![(Phase::Render, rows, rows)];
+            if refinement != PixelRefinement::Uniform {
+                assert!(stats.refined_pixels > 0);
+                let r = stats.refined_pixels;
+                want.push((Phase::Refinement, r, r));
+            }
+            assert_eq!(*heard.0.lock().unwrap(), want, "{refinement:?}");
+        }
+    }
+
+    #[test]
     fn adaptive_refinement_is_the_finer_filter_where_rays_differ() {
         // Each pixel of an adaptive render is, bit for bit, the pixel of the n × n filter or of
         // the 3n × 3n one; a tolerance of zero refines wherever rays differ, a huge one
@@ -805,7 +868,7 @@ mod tests {
             };
             let marcher = Marcher::new(&v, &m, &s).unwrap();
             let lit = Lit::<BruteForce>::lights(None);
-            marcher.render_lit(lit, &camera, &|_| {}).unwrap()
+            marcher.render_lit(lit, &camera, &()).unwrap()
         };
         let adaptive = |n, tolerance| render(n, PixelRefinement::Adaptive { tolerance });
         let luminance_error = |a: &Image, b: &Image| {
@@ -936,8 +999,8 @@ mod tests {
             let mut every = Marcher::new(&v, &m, &s).unwrap();
             every.occupancy.mark(&v.density, |_| true, 0.0);
             assert_eq!(every.occupancy.occupied_share(), 1.0);
-            let a = skipping.render(&lights, &camera, &|_| {}).unwrap();
-            let b = every.render(&lights, &camera, &|_| {}).unwrap();
+            let a = skipping.render(&lights, &camera, &()).unwrap();
+            let b = every.render(&lights, &camera, &()).unwrap();
             assert_eq!(a.0.pixels, b.0.pixels);
             assert!(a.0.pixels.iter().any(|p| p.max_element() > 0.0));
         }
@@ -991,13 +1054,13 @@ mod tests {
         assert!(skipping.occupancy.occupied_share() < 0.8);
         let mut every = Marcher::new(&v, &m, &s).unwrap();
         every.occupancy.mark(&v.density, |_| true, 0.0);
-        let a = skipping.render(&lights, &camera, &|_| {}).unwrap().0;
-        let b = every.render(&lights, &camera, &|_| {}).unwrap().0;
+        let a = skipping.render(&lights, &camera, &()).unwrap().0;
+        let b = every.render(&lights, &camera, &()).unwrap().0;
         assert_eq!(a.pixels, b.pixels);
         // The hot ball without smoke glows (its emission alone), and so does the lit smoke.
         let emission_only = Marcher::new(&v, &m, &s)
             .unwrap()
-            .render_lit::<BruteForce>(Lit::lights(None), &camera, &|_| {})
+            .render_lit::<BruteForce>(Lit::lights(None), &camera, &())
             .unwrap()
             .0;
         let lit = |img: &Image| img.pixels.iter().filter(|p| p.max_element() > 0.0).count();
@@ -1018,7 +1081,7 @@ mod tests {
             };
             let lights = Lights::new(Failing, 0.1);
             let marcher = Marcher::new(&v, &m, &s).unwrap();
-            let e = marcher.render(&lights, &camera, &|_| {}).unwrap_err();
+            let e = marcher.render(&lights, &camera, &()).unwrap_err();
             assert!(
                 matches!(e, RenderError::Query(lgh_core::QueryError::NonFinitePoint)),
                 "{shadows:?}: {e}"
@@ -1028,7 +1091,7 @@ mod tests {
         // Without lights nothing is queried, and the render succeeds.
         let marcher = Marcher::new(&v, &m, &MarchSettings::default()).unwrap();
         assert!(marcher
-            .render_lit::<Failing>(Lit::lights(None), &camera, &|_| {})
+            .render_lit::<Failing>(Lit::lights(None), &camera, &())
             .is_ok());
     }
 

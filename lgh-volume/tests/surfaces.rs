@@ -44,7 +44,7 @@ fn render(volume: &Volume, light: Vec3, shadows: Shadows, with_ground: bool) -> 
     if with_ground {
         marcher = marcher.with_surfaces(&ground);
     }
-    let (image, stats) = marcher.render(&lights, &camera, &|_| {}).unwrap();
+    let (image, stats) = marcher.render(&lights, &camera, &()).unwrap();
     assert_eq!(stats.surface_points, u64::from(with_ground));
     image.pixels[0]
 }
