@@ -115,6 +115,22 @@ def test_progress_is_reported_by_phase_and_changes_nothing():
 
 
 
+def test_adaptive_pixels_report_their_refinement_after_the_rows():
+    """``pixel_samples="adaptive"``'s second pass is a phase of its own after the image's rows,
+    its steps the refined pixels, and it ends with every one of them done."""
+    vdb = fire_frame(56)
+    calls = []
+    settings = dict(width=48, height=32, scatter_depth=0, pixel_samples="adaptive")
+    image = lgh.render_explosion(vdb, progress=lambda *a: calls.append(a), **settings)
+    phases = [c[0] for c in calls]
+    assert "refining pixels" in phases, calls
+    last_row = max(i for i, p in enumerate(phases) if p == "rendering")
+    assert phases.index("refining pixels") > last_row, calls
+    done, total = calls[-1][1:]
+    assert calls[-1][0] == "refining pixels" and done == total > 0, calls
+    np.testing.assert_array_equal(image, lgh.render_explosion(vdb, **settings))
+
+
 def test_an_exception_in_the_callback_or_ctrl_c_stops_the_render():
     """A stop asked for in the first row ends the render long before its rows are done: the
     callback's exception (or ``KeyboardInterrupt``) is what the call raises, and the next
