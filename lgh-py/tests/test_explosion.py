@@ -129,6 +129,18 @@ def test_adaptive_pixels_report_their_refinement_after_the_rows():
     done, total = calls[-1][1:]
     assert calls[-1][0] == "refining pixels" and done == total > 0, calls
     np.testing.assert_array_equal(image, lgh.render_explosion(vdb, **settings))
+    # A stop asked for during the refinement stops it, and the next render is whole.
+    refining = []
+
+    def refuse(phase, done, total):
+        if phase == "refining pixels":
+            refining.append(done)
+            raise RuntimeError("stopped while refining")
+
+    with pytest.raises(RuntimeError, match="stopped while refining"):
+        lgh.render_explosion(vdb, progress=refuse, **settings)
+    assert refining, "the refinement was never reported"
+    np.testing.assert_array_equal(image, lgh.render_explosion(vdb, **settings))
 
 
 def test_an_exception_in_the_callback_or_ctrl_c_stops_the_render():

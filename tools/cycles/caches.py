@@ -213,10 +213,6 @@ def measure(r, a, name, scene, settings):
     return summary
 
 
-def rgb(values):
-    return " / ".join("–" if v is None else f"{100 * v:.1f}" for v in values)
-
-
 def num(v, fmt, unit=""):
     """A figure, or "—" where the reference could not tell (None)."""
     return "—" if v is None else f"{v:{fmt}}{unit}"
@@ -237,7 +233,8 @@ def table(version, results):
                        f"{num(hd['speedup'], '.1f', '×')} "
                        f"({num(hd['modelled_speedup'], '.1f', '×')})" if hd else "—")
             lines.append(f"| {s['scene']} | {setting} | {row['cpu_s']:.1f} | "
-                         f"{100 * row['error_vs_truth']:.2f}% | {rgb(row['rel_rmse_rgb'])} | "
+                         f"{100 * row['error_vs_truth']:.2f}% | "
+                         f"{compare.channels(row['rel_rmse_rgb'])} | "
                          f"{num(row['cycles_spp_at_equal_error'], '.0f')} | "
                          f"{num(row['cycles_cpu_s_at_equal_error'], '.1f')} | "
                          f"{num(row['speedup'], '.2f', '×')} | "
