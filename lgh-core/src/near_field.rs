@@ -42,6 +42,12 @@
 //! too: a surface's irradiance from a source outside it is nearly the point's (exactly so for a
 //! spherical source, by the shell theorem), and the renderers' surfaces lie outside the smoke.
 //!
+//! In smoke, a voxel light's light also passes through its own voxel's smoke, which a shadow
+//! ray to its centre attenuates as if all of it came from the centre: [`NearField::falloff_in`]
+//! multiplies the fall-off by the [`escape`] of a uniform voxel's light through uniform smoke of
+//! the point's extinction, so that with that shadow ray it is the exact fluence (less at the
+//! voxel's own centre, more beyond a third of a voxel).
+//!
 //! Lightcuts' cluster bounds (`lightcuts`) stay the point lights' `1/d_min²`: a voxel light's
 //! fall-off exceeds `1/d²` by at most 1.46× (at `d ≈ 0.59 h`), 10.5% at `h` and 2.2% at `2h`,
 //! so near a cluster the bound may be that much too low and the cut refined less than ε asks.
@@ -61,6 +67,9 @@
 //! definition.
 
 use crate::blend::falloff;
+
+mod escape;
+pub use escape::escape;
 
 /// How the fall-off `g(d)` behaves near a light (see the [module](self) documentation).
 ///
@@ -94,38 +103,40 @@ impl NearField {
     #[inline(always)]
     #[must_use]
     pub fn falloff(self, level: u8, d: f32, h0: f32) -> f32 {
-        self.falloff_in(level, d, h0, 1.0)
+        self.falloff_in(level, d, h0, 0.0)
     }
 
-    /// [`falloff`](Self::falloff) at a point in smoke whose [`shielding`] is `shielding`: a
-    /// voxel light's fall-off is the point's `1/max(d, h0)²` plus the near field's excess over it
-    /// times `shielding` at the voxel's centre, rising linearly to 1 at [`SHIELDED_RADIUS`]
-    /// (1 in clear air: [`voxel_falloff`]).
+    /// [`falloff`](Self::falloff) at a point in smoke of `tau = σ_t h0` optical depths a voxel:
+    /// a voxel light's fall-off is [`voxel_falloff`] times the [`escape`] of its light through
+    /// that smoke, so that with the shadow ray to its centre (`e^{−τ d/h0}` in uniform smoke) it
+    /// is the exact fluence of a uniform emitting voxel in uniform smoke (1 in clear air:
+    /// [`voxel_falloff`]). Coarse lights and [`NearField::Clamp`] keep the point's fall-off.
     ///
     /// ```
-    /// use lgh_core::near_field::{shielding, voxel_falloff};
+    /// use lgh_core::near_field::voxel_falloff;
     /// use lgh_core::{falloff, NearField};
     ///
     /// let h = 0.5;
-    /// let clear = NearField::Voxel.falloff_in(0, 0.1, h, shielding(0.0));
+    /// let clear = NearField::Voxel.falloff_in(0, 0.1, h, 0.0);
     /// assert_eq!(clear, voxel_falloff(0.1, h));
-    /// // In dense smoke the voxel's own light reaches its centre only from close by.
-    /// let dense = NearField::Voxel.falloff_in(0, 0.0, h, shielding(3.0));
+    /// // In dense smoke the voxel's own light reaches its centre only from close by...
+    /// let dense = NearField::Voxel.falloff_in(0, 0.0, h, 3.0);
     /// assert!(dense < 0.5 * voxel_falloff(0.0, h) && dense > falloff(0.0, h));
-    /// assert_eq!(NearField::Clamp.falloff_in(0, 0.1, h, 0.2), falloff(0.1, h));
+    /// // ...and a voxel away, its near half's light through less smoke than its centre's.
+    /// assert!(NearField::Voxel.falloff_in(0, h, h, 1.0) > 1.1 * voxel_falloff(h, h));
+    /// assert_eq!(NearField::Clamp.falloff_in(0, 0.1, h, 2.0), falloff(0.1, h));
     /// ```
     #[inline(always)]
     #[must_use]
-    pub fn falloff_in(self, level: u8, d: f32, h0: f32, shielding: f32) -> f32 {
+    pub fn falloff_in(self, level: u8, d: f32, h0: f32, tau: f32) -> f32 {
         match self {
             NearField::Voxel if level == 0 => {
                 let near = voxel_falloff(d, h0);
-                if shielding == 1.0 || d >= SHIELDED_RADIUS * h0 {
+                if h0 == 0.0 {
                     return near;
                 }
-                let point = falloff(d, h0);
-                let s = shielding + (1.0 - shielding) * (d / (SHIELDED_RADIUS * h0));
-                point + (near - point) * s
+                // 1 in clear air (τ ≤ 0 or not a number).
+                near * escape(d / h0, tau)
             }
             _ => falloff(d, h0),
         }
@@ -201,43 +212,18 @@ const CENTRE_FLUENCE: [f32; 129] = [
     0.39269897,
 ];
 
-/// Within this distance of a voxel light's centre, in voxels, its near field is shielded by the
-/// smoke ([`NearField::falloff_in`]). The exact fluence of a uniform voxel through uniform
-/// smoke, divided by the transmittance `e^{−σ d}` that the shadow ray to its centre applies,
-/// falls below the unshielded [`voxel_falloff`] only near the centre: measured (Monte Carlo,
-/// 2·10⁶ rays a point) at `σ h` = 0.42, 1 and 2.3, the excess over the point's fall-off is
-/// 0.86, 0.71, 0.47 of the unshielded one at the centre ([`shielding`], exact there), 0.98,
-/// 0.95, 0.95 at `h/4`, and above 1 from about `0.3 h` on (1.09–1.85 at `h/2`, 1.5–6.6 at `h`:
-/// light from the voxel's near side, less attenuated than its centre's). Beyond this radius
-/// the near field is left unshielded, which under-counts a dense voxel's light there and never
-/// over-counts it.
-pub const SHIELDED_RADIUS: f32 = 0.3;
-
-/// How much of a voxel light's near field reaches a point in smoke of optical depth `tau =
-/// σ_t h` a voxel: 1 in clear air, falling to −1/6.67 in opaque smoke (where a voxel's own light
-/// is absorbed before it spreads). [`NearField::falloff_in`] scales the near field's excess
-/// over the point's clamped fall-off by it, so that at the voxel's centre the fall-off is the
-/// exact fluence of a uniform voxel through its own smoke, `K(τ)`, and a scattering pass never
-/// scatters more of a voxel's light in that voxel than its albedo: the share is
-/// `(σ_s h / 4π) K(τ) h² = albedo · (1/4π) ∫ (1 − e^{−τ ℓ(ω)}) dω < albedo`. (Without it, on the
-/// demo's explosion at 32³, where a voxel of soot is 4.7 optical depths across, each depth of
-/// scattered light was 1.9 times the one before.)
-///
-/// ```
-/// use lgh_core::near_field::shielding;
-///
-/// assert_eq!(shielding(0.0), 1.0);
-/// assert!(shielding(1.0) < 1.0 && shielding(1.0) > 0.0);
-/// assert!(shielding(1e6) < 0.0 && shielding(1e6) > -1.0 / 6.6);
-/// ```
-#[must_use]
-pub fn shielding(tau: f32) -> f32 {
-    let k = if tau < 32.0 {
+/// `h² K(τ)`, the fluence at a uniform voxel's centre from its own light through its own smoke
+/// of `tau = σ h` optical depths (`CENTRE_FLUENCE`; `4π/τ` beyond τ = 32). It keeps a scattering
+/// pass from scattering more of a voxel's light in that voxel than its albedo: the share is
+/// `(σ_s h / 4π) K(τ) h² = albedo · (1/4π) ∫ (1 − e^{−τ ℓ(ω)}) dω < albedo`. (Without it, on
+/// the demo's explosion at 32³, where a voxel of soot is 4.7 optical depths across, each depth
+/// of scattered light was 1.9 times the one before.)
+fn centre_fluence(tau: f32) -> f32 {
+    if tau < 32.0 {
         lerp_table(&CENTRE_FLUENCE, tau.max(0.0) * PER_DEPTH)
     } else {
         4.0 * core::f32::consts::PI / tau
-    };
-    (k - 1.0) / (CENTRE_FLUENCE[0] - 1.0)
+    }
 }
 
 /// `table` read at the fractional index `f ∈ [0, len − 1]` with linear interpolation (`f ≥ 0`,
@@ -535,14 +521,29 @@ mod tests {
         assert!(worst > 1e-4, "the bound is no longer tight: {worst}");
     }
 
+    /// The mean of `n` samples whose sum and sum of squares are `sum` and `sum2`, and its
+    /// standard error.
+    pub(super) fn estimate(sum: f64, sum2: f64, n: u32) -> (f64, f64) {
+        let n = f64::from(n);
+        let mean = sum / n;
+        (mean, ((sum2 / n - mean * mean) / n).sqrt())
+    }
+
     /// Length of the ray `x + t ω`, `t ≥ 0`, inside the unit cube centred at the origin.
     fn chord(x: DVec3, w: DVec3) -> f64 {
+        let (t0, t1) = span(x, w);
+        t1 - t0
+    }
+
+    /// `[t_in, t_out]` of the ray `x + t ω`, `t ≥ 0`, through the unit cube centred at the
+    /// origin (`t_in = t_out = 0` if it misses).
+    pub(super) fn span(x: DVec3, w: DVec3) -> (f64, f64) {
         let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
         for a in 0..3 {
             let (o, d) = (x[a], w[a]);
             if d == 0.0 {
                 if o.abs() > 0.5 {
-                    return 0.0;
+                    return (0.0, 0.0);
                 }
                 continue;
             }
@@ -550,10 +551,14 @@ mod tests {
             t0 = t0.max(ta.min(tb));
             t1 = t1.min(ta.max(tb));
         }
-        (t1 - t0).max(0.0)
+        if t1 > t0 {
+            (t0, t1)
+        } else {
+            (0.0, 0.0)
+        }
     }
 
-    fn unit(rng: &mut SplitMix64) -> DVec3 {
+    pub(super) fn unit(rng: &mut SplitMix64) -> DVec3 {
         let z = 2.0 * f64::from(rng.next_f32()) - 1.0;
         let phi = core::f64::consts::TAU * f64::from(rng.next_f32());
         let r = (1.0 - z * z).max(0.0).sqrt();
@@ -562,7 +567,7 @@ mod tests {
 
     /// A direction uniform in the cone of half-angle `acos(cos_max)` around `axis` (a unit
     /// vector), and the cone's solid angle, the sample's weight.
-    fn in_cone(rng: &mut SplitMix64, axis: DVec3, cos_max: f64) -> (DVec3, f64) {
+    pub(super) fn in_cone(rng: &mut SplitMix64, axis: DVec3, cos_max: f64) -> (DVec3, f64) {
         let z = 1.0 - f64::from(rng.next_f32()) * (1.0 - cos_max);
         let phi = core::f64::consts::TAU * f64::from(rng.next_f32());
         let r = (1.0 - z * z).max(0.0).sqrt();
@@ -597,8 +602,7 @@ mod tests {
                 sum += v;
                 sum2 += v * v;
             }
-            let mean = sum / f64::from(n);
-            let err = ((sum2 / f64::from(n) - mean * mean) / f64::from(n)).sqrt();
+            let (mean, err) = estimate(sum, sum2, n);
             let got = f64::from(voxel_falloff(u as f32, 1.0));
             assert!(
                 (got - mean).abs() < 5.0 * err + 1e-3 * got,
@@ -638,8 +642,7 @@ mod tests {
                 sum += v;
                 sum2 += v * v;
             }
-            let mean = sum / f64::from(n);
-            let err = ((sum2 / f64::from(n) - mean * mean) / f64::from(n)).sqrt();
+            let (mean, err) = estimate(sum, sum2, n);
             let got = f64::from(cell_falloff(u as f32, 1.0));
             assert!(
                 (got - mean).abs() < 5.0 * err + 1e-3 * got,
@@ -737,13 +740,13 @@ mod tests {
         }
         assert!((CENTRE_FLUENCE[0] - VOXEL_MEAN[0]).abs() < 1e-6);
         // Continuous into 4π/τ at τ = 32, and decreasing.
-        let (below, above) = (shielding(32.0 - 1e-4), shielding(32.0 + 1e-4));
+        let (below, above) = (centre_fluence(32.0 - 1e-4), centre_fluence(32.0 + 1e-4));
         assert!((below - above).abs() < 1e-5, "{below} {above}");
         let mut last = f32::INFINITY;
         for i in 0..2000 {
-            let s = shielding(i as f32 * 0.05);
-            assert!(s <= last && s > -1.0 / 6.6, "{s}");
-            last = s;
+            let k = centre_fluence(i as f32 * 0.05);
+            assert!(k <= last && k > 0.0, "{k}");
+            last = k;
         }
     }
 

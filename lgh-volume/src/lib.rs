@@ -12,7 +12,9 @@
 //!   blackbody colour as its volumes emit it, measured); [`procedural`](mod@procedural): the embedded
 //!   explosions ([`explosion`], the demo's, and the older [`procedural`](fn@procedural)).
 //! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
-//!   per-frame intensities ([`voxel_light`]: what a voxel light emits, its cell's emission); [`method`]: the many-lights method that shades them ([`Method`]:
+//!   per-frame intensities ([`voxel_light`]: what a voxel light emits, its cell's emission;
+//!   [`voxel_smoke`]: the smoke in its voxel, through which its light escapes); [`method`]: the
+//!   many-lights method that shades them ([`Method`]:
 //!   the lighting grid hierarchy at α, brute force, Lightcuts, or emission alone).
 //! - [`frame`]: [`FrameRender`], a frame made ready to render (scattering, method, shadows)
 //!   in one value; [`progress`]: how long work reports its progress.
@@ -91,6 +93,7 @@ pub mod surfaces;
 pub mod thin_smoke;
 pub mod vdb;
 pub mod voxel_light;
+pub mod voxel_smoke;
 
 pub use error::{ReadError, RenderError};
 pub use frame::{FrameRender, PrepareSeconds};

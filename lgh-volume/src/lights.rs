@@ -8,6 +8,7 @@
 //! from flickering: nothing is clustered anew each frame.
 
 use std::borrow::Borrow;
+use std::sync::Arc;
 
 use lgh_core::glam::Vec3;
 use lgh_core::{
@@ -18,6 +19,7 @@ use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::medium::{Medium, Volume};
 use crate::shadow::CoarseShadows;
+use crate::voxel_smoke::VoxelSmoke;
 
 /// The paper's flickering variants of the hierarchy (Secs. 3.1, 3.2, Fig. 9), each one choice
 /// away from its method so that `lgh bench flicker` measures what each choice does to an
@@ -51,6 +53,9 @@ pub struct ExplosionLights {
     variants: Variants,
     /// Voxel lights or the paper's points ([`with_near_field`](Self::with_near_field)).
     near_field: NearField,
+    /// The smoke in each voxel light's own voxel, of the frame set last (voxel lights only:
+    /// [`smoke`](Self::smoke)).
+    smoke: Option<Arc<VoxelSmoke>>,
 }
 
 /// The grid of the paper's explosions (Sec. 6.1): `h1 = 2h`, level-1 vertices on voxel
@@ -203,6 +208,7 @@ impl ExplosionLights {
             prune: 0.0,
             variants: Variants::default(),
             near_field: NearField::default(),
+            smoke: None,
         })
     }
 
@@ -365,7 +371,43 @@ impl ExplosionLights {
             NearField::Clamp => frame.voxel_emission(medium, idx),
         };
         let intensities: Vec<Vec3> = self.voxels.iter().map(|&idx| emission(idx) * h3).collect();
-        self.set_intensities(&intensities)
+        self.set_intensities(&intensities)?;
+        self.smoke = match self.near_field {
+            NearField::Voxel => Some(Arc::new(VoxelSmoke::of(t, &frame.density, medium))),
+            NearField::Clamp => None,
+        };
+        Ok(())
+    }
+
+    /// The smoke in each light's own voxel, of the frame set last ([`set_frame`](Self::set_frame)),
+    /// through which a voxel light's light escapes (`lgh_core::near_field::escape`); `None` for
+    /// the paper's points and for lights whose frame is not set yet.
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::NearField;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium};
+    ///
+    /// let volume = procedural(32, 0.5)?;
+    /// let medium = Medium::new(2.0, 6.0, 1e-4, 1000.0)?;
+    /// let lights = ExplosionLights::new(&[&volume], &medium)?;
+    /// let smoke = lights.smoke().unwrap();
+    /// let d = &volume.density;
+    /// let (i, j, k) = (16, 16, 16);
+    /// let want = medium.extinction(d.get(i, j, k)) * d.voxel_size;
+    /// assert_eq!(smoke.at(d.centre(i, j, k)), want);
+    /// let points = lights.with_near_field(NearField::Clamp, &volume, &medium)?;
+    /// assert!(points.smoke().is_none());
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn smoke(&self) -> Option<&Arc<VoxelSmoke>> {
+        self.smoke.as_ref()
+    }
+
+    /// Sets the smoke of the lights' voxels: scattered lights on the emission's grid take the
+    /// emission lights' ([`smoke`](Self::smoke)).
+    pub(crate) fn set_smoke(&mut self, smoke: Option<Arc<VoxelSmoke>>) {
+        self.smoke = smoke;
     }
 
     /// The same lights as voxels or as the paper's points, their intensities taken anew from

@@ -207,7 +207,9 @@ impl Prepared {
             Prepared::Lightcuts(tree, settings) => FrameBackend::Lightcuts(tree, *settings),
         };
         Ok(Some(
-            Lights::new(backend, lights.voxel_size()).with_near_field(lights.near_field()),
+            Lights::new(backend, lights.voxel_size())
+                .with_near_field(lights.near_field())
+                .with_smoke(lights.smoke().cloned()),
         ))
     }
 }

@@ -44,18 +44,20 @@
 //! by a tenth between runs). The near part's query scans only the cells that meet its smaller
 //! ball ([`lgh_core::LghBackend::within`]).
 //!
-//! `a` stays above the radius where the smoke at the sample shields a voxel light's near
-//! field (`lgh_core::near_field::SHIELDED_RADIUS`, 0.3 voxels), so the far part does not
-//! depend on the sample's extinction, only on the lights: a vertex computes it exactly.
+//! The far part's lights are shaded with the [`escape`](lgh_core::near_field::escape) of their
+//! light through the smoke at the point, which a vertex takes at its own extinction and the
+//! cache interpolates; `a` stays above 0.3 voxels, within which the escape falls below 1 and
+//! varies fastest with the extinction (a point's own voxel light, shielded by its smoke), so
+//! that part is always summed at the sample.
 
 use crate::error::{check_setting, RenderError};
 
 /// The default reach `b` of level 0's near part, in voxels (module docs).
 pub const NEAR_REACH: f32 = 3.0;
 
-/// The shortest reach: its inner radius `b/3` must stay beyond the shielded radius (0.3
-/// voxels, module docs).
-pub const MIN_NEAR_REACH: f32 = 3.0 * lgh_core::near_field::SHIELDED_RADIUS;
+/// The shortest reach: its inner radius `b/3` must stay beyond 0.3 voxels, where a voxel light
+/// is shielded by the smoke at the point (module docs).
+pub const MIN_NEAR_REACH: f32 = 0.9;
 
 /// The partition of level 0's lights into a near and a far part (module docs): `w(d) = 1` to
 /// `a = b/3`, linear to 0 at the reach `b`.

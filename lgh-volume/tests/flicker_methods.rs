@@ -105,10 +105,10 @@ fn lightcuts_randomness_follows_its_seed() {
 }
 
 /// Each variant renders a different image from the paper's hierarchy, of a similar error (they
-/// are variants of one approximation, not broken ones: within 3.5× of its error at α = 2). The
-/// worst is hard switches: 6.4% against 2.1% with voxel lights (3.0×), 7.5% against 2.8% with
-/// the paper's point lights (2.7×): the voxel lights' hierarchy errs less, the switches' jumps
-/// stay.
+/// are variants of one approximation, not broken ones: within 5× of its error at α = 2). The
+/// worst is hard switches: 5.8% against 1.3% with voxel lights (4.4×; 6.4% against 2.1%
+/// before the voxel lights' escape through their smoke), 7.5% against 2.8% with the paper's
+/// point lights (2.7×): the voxel lights' hierarchy errs less, the switches' jumps stay.
 #[test]
 fn the_flickering_variants_are_one_choice_away_from_the_papers_hierarchy() {
     let (v, l, c) = frame();
@@ -136,7 +136,7 @@ fn the_flickering_variants_are_one_choice_away_from_the_papers_hierarchy() {
         eprintln!("{variants:?}: relative RMSE {e:.4} (the paper's: {e_paper:.4})");
         assert_ne!(img.pixels, paper.pixels, "{variants:?}");
         assert!(
-            e < 3.5 * e_paper.max(0.01),
+            e < 5.0 * e_paper.max(0.01),
             "{variants:?}: {e} against {e_paper}"
         );
     }

@@ -269,7 +269,7 @@ fn bad_cache_settings_are_refused_before_any_work() {
             "{spacing}, {first_level}"
         );
     }
-    // A near part too short to leave the shielded near field whole, or not finite.
+    // A near part too short to hold a voxel light's shielded near field whole, or not finite.
     for reach in [0.5f32, 0.0, -1.0, f32::NAN, f32::INFINITY] {
         let settings = MarchSettings {
             shadows: Shadows::CubeMap,

@@ -77,7 +77,8 @@ pub(super) fn merged_lights(
     Ok(merged)
 }
 
-/// The emission lights' weak-light pruning, near field and coarse lights' shadows, set on
+/// The emission lights' weak-light pruning, near field (and the smoke of their voxels) and
+/// coarse lights' shadows, set on
 /// `lights` (each scattered depth's, and the merged ones).
 pub(super) fn carry_over(
     emission: &ExplosionLights,
@@ -85,6 +86,7 @@ pub(super) fn carry_over(
 ) -> Result<(), RenderError> {
     lights.set_prune(emission.prune())?;
     lights.set_near_field(emission.near_field());
+    lights.set_smoke(emission.smoke().cloned());
     let coarse = emission.variants().coarse_shadows;
     lights.set_coarse_shadows(coarse);
     Ok(())
