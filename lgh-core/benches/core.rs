@@ -7,6 +7,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use lgh_core::glam::Vec3;
+use lgh_core::spectrum::{blackbody_rgb, BlackbodyTable};
 use lgh_core::{
     bounds, falloff, testsets, BruteForce, GridSettings, LightingGridHierarchy, PointLight,
 };
@@ -118,5 +119,25 @@ fn level0_index(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, build, query, level0_index);
+/// The blackbody table every medium of lgh-volume shares (500 K to 12,000 K by 1 K, built once a
+/// process), against its entries computed one integral at a time (the colour-matching functions
+/// again at every entry), as the table was built before it computed them once.
+fn blackbody(c: &mut Criterion) {
+    let mut g = c.benchmark_group("blackbody_table_500_12000_by_1");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(11_502));
+    g.bench_function("table", |b| {
+        b.iter(|| BlackbodyTable::new(black_box(500.0), 12_000.0, 1.0).unwrap())
+    });
+    g.bench_function("integral_per_entry", |b| {
+        b.iter(|| {
+            (0..11_502)
+                .map(|i| blackbody_rgb(black_box(500.0) + i as f32))
+                .collect::<Vec<Vec3>>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, build, query, level0_index, blackbody);
 criterion_main!(benches);

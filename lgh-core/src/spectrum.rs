@@ -37,18 +37,26 @@ pub fn planck(nm: f64, kelvin: f64) -> f64 {
     2.0 * H * C * C / (l * l * l * l * l) / e
 }
 
+/// The wavelengths the blackbody's integral sums over, in nm: 360 to 830 by 1.
+const WAVELENGTHS: core::ops::RangeInclusive<u16> = 360..=830;
+
 /// CIE XYZ of a blackbody at `kelvin`: `∫ B(λ, T) x̄(λ) dλ` etc., in W / (sr m²). Zero for T ≤ 0.
 #[must_use]
 pub fn blackbody_xyz(kelvin: f32) -> [f64; 3] {
+    xyz_with(kelvin, WAVELENGTHS.map(|nm| cie1931(f64::from(nm))))
+}
+
+/// [`blackbody_xyz`] with the colour-matching functions at each of [`WAVELENGTHS`] given (the
+/// same for every temperature: a table computes them once, not once per entry — seven of
+/// every eight exponentials of an integral).
+fn xyz_with(kelvin: f32, cmf: impl IntoIterator<Item = [f64; 3]>) -> [f64; 3] {
     let t = kelvin as f64;
     if t.is_nan() || t <= 0.0 {
         return [0.0; 3];
     }
     let mut xyz = [0.0; 3];
-    for nm in 360..=830 {
-        let nm = nm as f64;
-        let b = planck(nm, t) * 1e-9; // per nm step
-        let c = cie1931(nm);
+    for (nm, c) in WAVELENGTHS.zip(cmf) {
+        let b = planck(f64::from(nm), t) * 1e-9; // per nm step
         for a in 0..3 {
             xyz[a] += b * c[a];
         }
@@ -93,8 +101,9 @@ impl BlackbodyTable {
         if !valid || n > 1_000_000 {
             return None;
         }
+        let cmf: Vec<[f64; 3]> = WAVELENGTHS.map(|nm| cie1931(f64::from(nm))).collect();
         let values = (0..n)
-            .map(|i| blackbody_rgb(min + i as f32 * step))
+            .map(|i| xyz_to_linear_srgb(xyz_with(min + i as f32 * step, cmf.iter().copied())))
             .collect();
         Some(BlackbodyTable { min, step, values })
     }
@@ -141,6 +150,10 @@ mod tests {
                 (got - exact).abs().max_element() <= 1e-3 * exact.max_element(),
                 "{k}: {got} vs {exact}"
             );
+        }
+        // Its entries are the integral itself, bit for bit (the functions computed once).
+        for k in [800.0f32, 801.0, 2345.0, 4000.0] {
+            assert_eq!(table.radiance(k), blackbody_rgb(k), "{k}");
         }
         assert_eq!(table.radiance(-5.0), Vec3::ZERO);
         assert!(BlackbodyTable::new(0.0, 10.0, 1.0).is_none());

@@ -7,15 +7,13 @@
 //! voxel) and surface shading (with a BRDF as the response). The core never computes `V`
 //! (ARCHITECTURE.md, "lgh-core"); this is where it is applied.
 
-use std::sync::Arc;
-
 use lgh_core::glam::Vec3;
 use lgh_core::{
     falloff, LightSample, ManyLights, NearField, QueryError, ShadingPoint, ISOTROPIC_PHASE,
 };
 
 use crate::shadow::{ShadowQuery, Visibility};
-use crate::voxel_smoke::VoxelSmoke;
+use crate::voxel_smoke::LightSmoke;
 
 /// The lights a renderer shades with: a many-lights backend and the fall-off `g` of the light
 /// model: `g(d) = 1 / max(d, h0)²` for a point light (the paper's Sec. 6, ARCHITECTURE.md "From a
@@ -31,9 +29,10 @@ pub struct Lights<B> {
     /// Whether the level-0 lights are points ([`NearField::Clamp`], what [`new`](Self::new)
     /// makes) or voxels ([`NearField::Voxel`], what an explosion's lights are by default).
     pub near_field: NearField,
-    /// The smoke in each voxel light's own voxel, which sets the escape of its light
-    /// ([`with_smoke`](Self::with_smoke)); `None`: the smoke at the shading point.
-    pub smoke: Option<Arc<VoxelSmoke>>,
+    /// The smoke in each voxel light's own voxel, by the light's index in `backend`, which sets
+    /// the escape of its light ([`with_smoke`](Self::with_smoke)); `None`: the smoke at the
+    /// shading point.
+    pub smoke: Option<LightSmoke>,
 }
 
 impl<B: ManyLights> Lights<B> {
@@ -96,7 +95,8 @@ impl<B: ManyLights> Lights<B> {
         self
     }
 
-    /// The same lights with the smoke of each voxel light's own voxel (`crate::voxel_smoke`): a
+    /// The same lights with the smoke of each voxel light's own voxel, listed by the lights'
+    /// index in the backend (`crate::voxel_smoke`, [`VoxelSmoke::of_lights`](crate::voxel_smoke::VoxelSmoke::of_lights)): a
     /// voxel light in a medium is shaded with the [`escape`](lgh_core::near_field::escape) of
     /// its light through smoke of its own voxel's optical depth or the shading point's, the
     /// thinner. Without it (`None`, what [`new`](Self::new) makes), through the smoke at the
@@ -110,7 +110,6 @@ impl<B: ManyLights> Lights<B> {
     /// voxel's centre there, by 1/0.63.)
     ///
     /// ```
-    /// use std::sync::Arc;
     /// use lgh_volume::grid::DenseGrid;
     /// use lgh_volume::lgh_core::glam::Vec3;
     /// use lgh_volume::lgh_core::{BruteForce, NearField, PointLight};
@@ -123,9 +122,11 @@ impl<B: ManyLights> Lights<B> {
     /// let h = 0.5;
     /// let clear = DenseGrid::zeros([4, 4, 4], h, Vec3::ZERO); // the light's voxel: no smoke
     /// let medium = Medium::new(1.0, 3.0, 1e-4, 1000.0)?;
-    /// let one = BruteForce::new(&[PointLight::new(clear.centre(1, 1, 1), Vec3::ONE)])?;
+    /// let at = clear.centre(1, 1, 1);
+    /// let one = BruteForce::new(&[PointLight::new(at, Vec3::ONE)])?;
     /// let voxel = Lights::new(one, h).with_near_field(NearField::Voxel);
-    /// let own = voxel.clone().with_smoke(Some(Arc::new(VoxelSmoke::of(&clear, &clear, &medium))));
+    /// let smoke = VoxelSmoke::of(&clear, &clear, &medium).of_lights([at]); // light 0's voxel
+    /// let own = voxel.clone().with_smoke(Some(smoke));
     /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
     /// let x = clear.centre(2, 1, 1); // a voxel over, in smoke of σ_t = 4 (τ = 2)
     /// let none = &Visibility::None;
@@ -135,7 +136,7 @@ impl<B: ManyLights> Lights<B> {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     #[must_use]
-    pub fn with_smoke(mut self, smoke: Option<Arc<VoxelSmoke>>) -> Self {
+    pub fn with_smoke(mut self, smoke: Option<LightSmoke>) -> Self {
         self.smoke = smoke;
         self
     }
@@ -160,7 +161,7 @@ impl<B: ManyLights> Lights<B> {
     fn falloff_at(&self, point: &ShadingPoint, sigma_t: f32) -> impl Fn(&LightSample) -> f32 + '_ {
         let (h0, near_field) = (self.h0, self.near_field);
         let medium = point.normal.is_none();
-        let smoke = self.smoke.as_deref();
+        let smoke = self.smoke.as_ref();
         let here = sigma_t * h0;
         move |l: &LightSample| {
             if medium {
@@ -168,7 +169,7 @@ impl<B: ManyLights> Lights<B> {
                 // thinner of its voxel's and the point's (`with_smoke`).
                 let tau = match smoke {
                     Some(s) if l.level == 0 && near_field == NearField::Voxel => {
-                        s.at(l.position).min(here)
+                        s.of_light(l.index).min(here)
                     }
                     Some(_) => 0.0,
                     None => here,

@@ -1080,6 +1080,9 @@ pub(crate) struct CachedLights<'l> {
     /// Levels below the cache's first, shaded at every sample (none when it caches every
     /// level); with level 0 kept as a ratio, level 0, unshadowed.
     pub(crate) fine: Option<Lights<LghBackend<'l>>>,
+    /// With the cache's near part ([`NearPart`]), the fine lights within its reach, summed
+    /// per point with its weight (made once here, not at every point).
+    near: Option<(NearPart, Lights<LghBackend<'l>>)>,
     /// The cached levels, what the cache is filled with.
     pub(crate) coarse: Lights<LghBackend<'l>>,
 }
@@ -1098,10 +1101,15 @@ impl<'l> CachedLights<'l> {
         } else {
             first.checked_sub(1).map(|last| split(0..=last))
         };
+        let near = cache
+            .near
+            .zip(fine.as_ref())
+            .map(|(part, fine)| (part, fine.with_backend(fine.backend.within(part.reach()))));
         CachedLights {
             cache,
             density,
             fine,
+            near,
             coarse: split(first..=u8::MAX),
         }
     }
@@ -1137,10 +1145,9 @@ impl<'l> CachedLights<'l> {
         let fine = match (&self.fine, cached.shadowing) {
             (Some(fine), Some(r)) => {
                 let none = &Visibility::None;
-                let unshadowed = match self.cache.near {
+                let unshadowed = match &self.near {
                     // The near part summed, the far part interpolated (`near_part`).
-                    Some(part) => {
-                        let near = fine.with_backend(fine.backend.within(part.reach()));
+                    Some((part, near)) => {
                         let w = |d| part.weight(d);
                         let near = near.unshadowed_part(x, scale, sigma_t, w, scratch, stats)?;
                         near + cached.far * (ISOTROPIC_PHASE * scale)

@@ -206,10 +206,23 @@ impl Prepared {
             Prepared::Brute(b) => FrameBackend::Brute(b),
             Prepared::Lightcuts(tree, settings) => FrameBackend::Lightcuts(tree, *settings),
         };
+        // Each voxel light's smoke listed by its index in the backend: the hierarchy's order,
+        // or that of the lights that shine (brute force, and Lightcuts' tree, whose clusters
+        // are shaded at a representative light).
+        let smoke = lights.smoke().map(|smoke| match &backend {
+            FrameBackend::Lgh(b) => {
+                let level0 = b.hierarchy().level(0);
+                smoke.of_lights((0..level0.len()).map(|k| level0.position(k)))
+            }
+            FrameBackend::Brute(b) => smoke.of_lights((0..b.len()).map(|i| b.light(i).0)),
+            FrameBackend::Lightcuts(tree, _) => {
+                smoke.of_lights(tree.lights().iter().map(|l| l.position))
+            }
+        });
         Ok(Some(
             Lights::new(backend, lights.voxel_size())
                 .with_near_field(lights.near_field())
-                .with_smoke(lights.smoke().cloned()),
+                .with_smoke(smoke),
         ))
     }
 }

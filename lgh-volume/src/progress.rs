@@ -2,6 +2,7 @@
 //! steps, steps are done, the phase ends. The library never prints; the CLI draws bars.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 /// The phases of a frame's render ([`FrameRender`](crate::FrameRender)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,6 +70,65 @@ pub trait Progress: Sync {
 }
 
 impl Progress for () {}
+
+/// One phase as a [`Recorder`] heard it: begun with `total` steps, `steps` of them reported.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Heard {
+    /// The phase.
+    pub phase: Phase,
+    /// The steps it began with.
+    pub total: u64,
+    /// The steps reported done in it.
+    pub steps: u64,
+}
+
+/// A [`Progress`] that keeps what it heard, phase by phase in the order they began: for a test
+/// of what a caller is told, or a caller that reports after the work. Steps reported before any
+/// phase began are not kept.
+///
+/// ```
+/// use lgh_volume::progress::{Heard, Phase, Progress, Recorder};
+///
+/// let recorder = Recorder::default();
+/// recorder.begin(Phase::Render, 3);
+/// recorder.advance(2);
+/// recorder.advance(1);
+/// recorder.end(Phase::Render);
+/// let render = Heard { phase: Phase::Render, total: 3, steps: 3 };
+/// assert_eq!(recorder.heard(), [render]);
+/// ```
+#[derive(Debug, Default)]
+pub struct Recorder(Mutex<Vec<Heard>>);
+
+impl Recorder {
+    /// The phases heard so far, in the order they began.
+    #[must_use]
+    pub fn heard(&self) -> Vec<Heard> {
+        self.phases().clone()
+    }
+
+    /// The phases, whether or not a thread panicked while it held them (what it had recorded
+    /// stays).
+    fn phases(&self) -> std::sync::MutexGuard<'_, Vec<Heard>> {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+impl Progress for Recorder {
+    fn begin(&self, phase: Phase, total: u64) {
+        self.phases().push(Heard {
+            phase,
+            total,
+            steps: 0,
+        });
+    }
+
+    fn advance(&self, steps: u64) {
+        if let Some(last) = self.phases().last_mut() {
+            last.steps += steps;
+        }
+    }
+}
 
 /// `progress`'s steps only: the parts of a phase reported as one (its begin and end are the
 /// caller's), counted in rows — a render's [`Phase::Refinement`], whose steps are pixels, is

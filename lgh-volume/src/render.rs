@@ -813,17 +813,7 @@ mod tests {
     fn adaptive_pixels_report_their_refinement_after_the_rows() {
         // The first pass is `Phase::Render` over rows; the refined pixels are a phase of their
         // own whose steps add up to its total, the pixels `RenderStats` counts as refined.
-        use std::sync::Mutex;
-        #[derive(Default)]
-        struct Heard(Mutex<Vec<(Phase, u64, u64)>>);
-        impl Progress for Heard {
-            fn begin(&self, phase: Phase, total: u64) {
-                self.0.lock().unwrap().push((phase, total, 0));
-            }
-            fn advance(&self, steps: u64) {
-                self.0.lock().unwrap().last_mut().unwrap().2 += steps;
-            }
-        }
+        use crate::progress::{Heard, Recorder};
         let v = crate::procedural::ball(16, 0.5, 2500.0);
         let m = Medium::new(4.0, 0.0, 1e-3, 500.0).unwrap();
         let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 24, 16).unwrap();
@@ -837,17 +827,20 @@ mod tests {
                 ..Default::default()
             };
             let marcher = Marcher::new(&v, &m, &s).unwrap();
-            let heard = Heard::default();
+            let recorder = Recorder::default();
             let lit = Lit::<BruteForce>::lights(None);
-            let (_, stats) = marcher.render_lit(lit, &camera, &heard).unwrap();
-            let rows = camera.height() as u64;
-            let mut want = vec![(Phase::Render, rows, rows)];
+            let (_, stats) = marcher.render_lit(lit, &camera, &recorder).unwrap();
+            let whole = |phase, n| Heard {
+                phase,
+                total: n,
+                steps: n,
+            };
+            let mut want = vec![whole(Phase::Render, camera.height() as u64)];
             if refinement != PixelRefinement::Uniform {
                 assert!(stats.refined_pixels > 0);
-                let r = stats.refined_pixels;
-                want.push((Phase::Refinement, r, r));
+                want.push(whole(Phase::Refinement, stats.refined_pixels));
             }
-            assert_eq!(*heard.0.lock().unwrap(), want, "{refinement:?}");
+            assert_eq!(recorder.heard(), want, "{refinement:?}");
         }
     }
 

@@ -8,13 +8,15 @@
 //! from voxel to voxel, the shading point's extinction is another voxel's, and a point in dense
 //! soot lit by a light in clear air took the dense voxel's escape — up to 3× at 4.7 optical
 //! depths a voxel (the demo's soot at 32³), which made each depth of scattered light brighter
-//! than the one before. [`VoxelSmoke`] holds `τ` at every voxel centre of the lights' grid, so
-//! that a light is shaded with its own voxel's, or the point's where that is thinner
-//! (`Lights::with_smoke`).
+//! than the one before. [`VoxelSmoke`] holds `τ` at every voxel centre of the lights' grid, and
+//! [`LightSmoke`] each light's, listed by its index in a many-lights backend, so that a light is
+//! shaded with its own voxel's, or the point's where that is thinner (`Lights::with_smoke`).
+
+use std::sync::Arc;
 
 use lgh_core::glam::Vec3;
 
-use crate::grid::DenseGrid;
+use crate::grid::{unflatten, DenseGrid};
 use crate::medium::Medium;
 
 /// `τ = σ_t h` at the centre of every voxel of a light grid (module documentation).
@@ -57,7 +59,7 @@ impl VoxelSmoke {
         } else {
             (0..nx * ny * nz)
                 .map(|v| {
-                    let (i, j, k) = (v % nx, (v / nx) % ny, v / (nx * ny));
+                    let [i, j, k] = unflatten(v, layout.dims);
                     medium.extinction(density.sample(layout.centre(i, j, k))) * h
                 })
                 .collect()
@@ -83,13 +85,52 @@ impl VoxelSmoke {
         {
             return 0.0;
         }
-        let (i, j, k) = (u.x as usize, u.y as usize, u.z as usize);
-        g.data[(k * ny + j) * nx + i]
+        g.get(u.x as usize, u.y as usize, u.z as usize)
     }
 
-    /// Whether this is the smoke of lights on `grid`'s layout.
+    /// `τ` of the voxel of each of `positions`, in their order ([`at`](Self::at)): the smoke of
+    /// a backend's level-0 lights listed by their index, read per light as one load
+    /// ([`LightSmoke`]).
+    ///
+    /// ```
+    /// use lgh_volume::grid::DenseGrid;
+    /// use lgh_volume::voxel_smoke::VoxelSmoke;
+    /// use lgh_volume::Medium;
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    ///
+    /// let mut density = DenseGrid::zeros([4, 4, 4], 0.5, Vec3::ZERO);
+    /// let at = density.index(1, 2, 3);
+    /// density.data[at] = 2.0;
+    /// let smoke = VoxelSmoke::of(&density, &density, &Medium::new(1.0, 3.0, 1e-4, 1000.0)?);
+    /// let lights = smoke.of_lights([density.centre(0, 0, 0), density.centre(1, 2, 3)]);
+    /// assert_eq!((lights.of_light(0), lights.of_light(1)), (0.0, 4.0));
+    /// assert_eq!(lights.of_light(2), 0.0); // no such light: clear air
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
     #[must_use]
-    pub fn on_layout(&self, grid: &DenseGrid) -> bool {
-        self.depth.same_layout(grid)
+    pub fn of_lights(&self, positions: impl IntoIterator<Item = Vec3>) -> LightSmoke {
+        LightSmoke {
+            depth: positions.into_iter().map(|p| self.at(p)).collect(),
+        }
+    }
+}
+
+/// `τ` of each level-0 light's own voxel, listed by the light's index in its backend
+/// ([`LightSample::index`](lgh_core::LightSample::index)): what `Lights` reads for every voxel
+/// light it shades. A light's smoke beside its index costs one load from an array in the
+/// backend's order (the hierarchy's lights of a cell lie together), where a lookup in the
+/// frame's grid by the light's position missed the cache on every light: on the dev fire it
+/// was a quarter of the frame (docs/cycles.md, "Real simulation caches").
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightSmoke {
+    depth: Arc<[f32]>,
+}
+
+impl LightSmoke {
+    /// `τ` of the voxel of light `index` (0, clear air, for an index beyond the list).
+    #[inline]
+    #[must_use]
+    pub fn of_light(&self, index: u32) -> f32 {
+        self.depth.get(index as usize).copied().unwrap_or(0.0)
     }
 }

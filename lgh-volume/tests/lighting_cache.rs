@@ -250,24 +250,21 @@ fn bad_cache_settings_are_refused_before_any_work() {
             scatter_depth: 2, // and a scattering pass before them
             ..Default::default()
         };
-        let heard = Heard::default();
+        let recorder = lgh_volume::progress::Recorder::default();
         match FrameRender::new(
             &lights,
             Method::Lgh { alpha: 2.0 },
             &v,
             &m,
             &settings,
-            &heard,
+            &recorder,
         ) {
             Err(RenderError::InvalidSetting { name: n, .. }) => assert_eq!(n, name),
             Err(e) => panic!("{spacing}, {first_level}: {e}"),
             Ok(_) => panic!("{spacing}, {first_level}: accepted"),
         }
         // No phase began: the cube maps were not traced.
-        assert!(
-            heard.0.lock().unwrap().is_empty(),
-            "{spacing}, {first_level}"
-        );
+        assert!(recorder.heard().is_empty(), "{spacing}, {first_level}");
     }
     // A near part too short to hold a voxel light's shielded near field whole, or not finite.
     for reach in [0.5f32, 0.0, -1.0, f32::NAN, f32::INFINITY] {
@@ -284,16 +281,6 @@ fn bad_cache_settings_are_refused_before_any_work() {
             Err(e) => panic!("{reach}: {e}"),
             Ok(_) => panic!("{reach}: accepted"),
         }
-    }
-}
-
-/// The phases a preparation began, in order.
-#[derive(Default)]
-struct Heard(std::sync::Mutex<Vec<lgh_volume::Phase>>);
-
-impl lgh_volume::Progress for Heard {
-    fn begin(&self, phase: lgh_volume::Phase, _total: u64) {
-        self.0.lock().unwrap().push(phase);
     }
 }
 

@@ -1,24 +1,10 @@
 //! A frame's progress as a caller hears it: the scatter shares count the rows of every render
 //! they make, and an adaptive render's refinement, whose steps are pixels, does not add to them.
 
-use std::sync::Mutex;
-
 use lgh_core::glam::Vec3;
+use lgh_volume::progress::Recorder;
 use lgh_volume::render::{Camera, Framing, MarchSettings, PixelRefinement};
-use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Phase, Progress};
-
-/// Each phase begun, its total and the steps heard in it.
-#[derive(Default)]
-struct Heard(Mutex<Vec<(Phase, u64, u64)>>);
-
-impl Progress for Heard {
-    fn begin(&self, phase: Phase, total: u64) {
-        self.0.lock().unwrap().push((phase, total, 0));
-    }
-    fn advance(&self, steps: u64) {
-        self.0.lock().unwrap().last_mut().unwrap().2 += steps;
-    }
-}
+use lgh_volume::{procedural, ExplosionLights, FrameRender, Medium, Method, Phase};
 
 #[test]
 fn scatter_shares_of_adaptive_renders_count_rows_alone() {
@@ -35,15 +21,14 @@ fn scatter_shares_of_adaptive_renders_count_rows_alone() {
         FrameRender::new(&emission, Method::Brute, &volume, &medium, &settings, &()).unwrap();
     let camera = Camera::frame(Vec3::splat(-1.0), Vec3::splat(1.0), 16, 12).unwrap();
     // The render itself refines (tolerance 0 refines every pixel that varies).
-    let heard = Heard::default();
-    let (_, stats) = frame.render(&camera, &heard).unwrap();
+    let recorder = Recorder::default();
+    let (_, stats) = frame.render(&camera, &recorder).unwrap();
     assert!(stats.refined_pixels > 0);
     // The shares' renders refine too; their one phase hears exactly its rows.
-    let heard = Heard::default();
-    frame.scatter_shares(&camera, &heard).unwrap().unwrap();
-    let phases = heard.0.lock().unwrap().clone();
+    let recorder = Recorder::default();
+    frame.scatter_shares(&camera, &recorder).unwrap().unwrap();
+    let phases = recorder.heard();
     assert_eq!(phases.len(), 1, "{phases:?}");
-    let (phase, total, steps) = phases[0];
-    assert_eq!(phase, Phase::ScatterShares);
-    assert_eq!(steps, total, "{phases:?}");
+    assert_eq!(phases[0].phase, Phase::ScatterShares);
+    assert_eq!(phases[0].steps, phases[0].total, "{phases:?}");
 }
