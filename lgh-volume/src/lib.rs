@@ -25,7 +25,8 @@
 //!   with `V`); [`lighting_cache`]: the coarse levels' light computed once per frame at the
 //!   vertices of a grid over the smoke and interpolated, level 0's near part summed at every
 //!   sample ([`near_part`]).
-//! - [`render`]: the ray marcher (emission + single scattering) and the one pixel loop, which
+//! - [`render`]: the ray marcher (emission + single scattering; [`step_emission`]: the emission
+//!   a step gathers through its smoke) and the one pixel loop, which
 //!   skips the empty bricks ([`occupancy`]) and composites opaque surfaces ([`surfaces`]: a
 //!   ground, or a room);
 //!   [`camera`]: the camera and its automatic framing; [`settings`]: what a render is asked to
@@ -89,6 +90,7 @@ pub mod settings;
 mod shading;
 pub mod shadow;
 pub mod stats;
+pub mod step_emission;
 pub mod surfaces;
 pub mod thin_smoke;
 pub mod vdb;
