@@ -1,9 +1,11 @@
 //! The camera and the volume ray marcher (ARCHITECTURE.md, "lgh-volume"; paper Sec. 6.1).
 //!
 //! A camera ray marches the smoke from where it enters the grid's box; each step of length `dt`
-//! adds `T · [j + σ_s/(4π) Σ_lights V·g·B·I] · (1 − e^{−σ_t dt}) / σ_t` — the exact integral over
-//! a step whose medium is constant (evaluated at the step's midpoint) — and multiplies the
-//! transmittance `T` by `e^{−σ_t dt}`, until `T` is negligible. The sum over lights is
+//! adds `T · σ_s/(4π) Σ_lights V·g·B·I · (1 − e^{−σ_t dt}) / σ_t` — the exact integral over a
+//! step whose medium is constant (evaluated at the step's midpoint) — plus `T` times the
+//! emission `j` at the step's two Gauss nodes, each weighed by what the step's smoke lets
+//! through from it ([`crate::step_emission`]: exact for an emission linear along the step), and
+//! multiplies the transmittance `T` by `e^{−σ_t dt}`, until `T` is negligible. The sum over lights is
 //! [`Lights::incident`], through any [`ManyLights`] backend, with the [`Visibility`] the
 //! [`Marcher`] built from its settings.
 //!

@@ -117,7 +117,10 @@ impl VoxelSmoke {
 
 /// `τ` of each level-0 light's own voxel, listed by the light's index in its backend
 /// ([`LightSample::index`](lgh_core::LightSample::index)): what `Lights` reads for every voxel
-/// light it shades. A light's smoke beside its index costs one load from an array in the
+/// light it shades. Each backend numbers its lights its own way (the hierarchy in its order,
+/// brute force and Lightcuts in their input's, the light octree in its nodes'): list the
+/// positions of the backend the lights are shaded with, in its order ([`VoxelSmoke::of_lights`]);
+/// an index beyond the list reads clear air. A light's smoke beside its index costs one load from an array in the
 /// backend's order (the hierarchy's lights of a cell lie together), where a lookup in the
 /// frame's grid by the light's position missed the cache on every light: on the dev fire it
 /// was a quarter of the frame (docs/cycles.md, "Real simulation caches").
