@@ -316,3 +316,15 @@ pub fn image_bits(image: &lgh_image::Image) -> Vec<[u32; 3]> {
         .map(|p| p.to_array().map(f32::to_bits))
         .collect()
 }
+
+/// An image's mean luminance, summed in f64: what the comparisons against the path tracer
+/// compare.
+#[must_use]
+pub fn mean_luminance(image: &lgh_image::Image) -> f64 {
+    image
+        .pixels
+        .iter()
+        .map(|&p| f64::from(lgh_core::luminance(p)))
+        .sum::<f64>()
+        / image.pixels.len() as f64
+}

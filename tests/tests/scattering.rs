@@ -12,6 +12,7 @@
 use lgh_core::glam::Vec3;
 use lgh_core::metrics::ErrorStats;
 use lgh_image::Image;
+use lgh_tests::mean_luminance;
 use lgh_volume::lighting_cache::{LightingCacheSettings, ScatteredLight};
 use lgh_volume::pathtrace::{self, PathSettings};
 use lgh_volume::render::{Camera, Framing, MarchSettings};
@@ -22,15 +23,6 @@ use lgh_volume::{ExplosionLights, FrameRender, Medium, Method, Shadows, Volume};
 /// light model, finds a large emitter quickly), `n³` voxels over `[-1, 1]³`.
 fn blob(n: usize) -> Volume {
     lgh_volume::procedural::ball(n, 0.7, 3000.0)
-}
-
-fn mean_luminance(image: &Image) -> f64 {
-    image
-        .pixels
-        .iter()
-        .map(|&p| f64::from(lgh_core::luminance(p)))
-        .sum::<f64>()
-        / image.pixels.len() as f64
 }
 
 fn minus(a: &Image, b: &Image) -> Vec<Vec3> {
