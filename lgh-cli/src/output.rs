@@ -123,19 +123,19 @@ pub const DEFAULT_PIXEL_TOLERANCE: f32 = 0.05;
 
 /// The most rays a side `--pixel-samples adaptive` takes first: those whose refinement
 /// ([`lgh_volume::render::REFINEMENT`] times as many) stays within
-/// [`lgh_volume::render::MAX_PIXEL_SAMPLES`] (2, refined to 6).
+/// [`lgh_volume::render::MAX_PIXEL_SAMPLES`] (4, refined to 8).
 const ADAPTIVE_FIRST_RAYS: usize =
     lgh_volume::render::MAX_PIXEL_SAMPLES / lgh_volume::render::REFINEMENT;
 
 /// `--pixel-samples`: rays a pixel side, `auto` (from the image's and the voxels' sizes) or
-/// `adaptive` (auto's, at most 2, refined three times finer where neighbouring rays differ).
+/// `adaptive` (auto's, at most 4, refined twice as fine where neighbouring rays differ).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelSamplesArg {
     /// This many rays a side.
     Fixed(usize),
     /// [`lgh_volume::render::auto_pixel_samples`].
     Auto,
-    /// [`Auto`](Self::Auto)'s rays, at most 2 a side, then
+    /// [`Auto`](Self::Auto)'s rays, at most 4 a side, then
     /// [`lgh_volume::render::PixelRefinement::Adaptive`] at `--pixel-tolerance`.
     Adaptive,
 }
@@ -357,8 +357,8 @@ pub struct MarchArgs {
     /// change. `auto`: the fewest (at most 4) for which a sub-pixel covers at most 3/4 of a
     /// voxel at the volume's centre (1 where the image resolves the voxels) [default: auto for
     /// lgh explosion, 1 for lgh demo]
-    /// `adaptive`: auto's rays (at most 2 a side), then three times finer a side (6 × 6 for
-    /// 2 × 2) in the pixels where two neighbouring rays differ in luminance by more than
+    /// `adaptive`: auto's rays (at most 4 a side), then twice as fine a side (4 × 4 for 2 × 2)
+    /// in the pixels where two neighbouring rays differ in luminance by more than
     /// --pixel-tolerance of the image's mean — thin flames filtered as the finer box filter
     /// would, at its cost only where the image varies; deterministic, no noise.
     #[arg(long, value_name = "N", value_parser = parse_pixel_samples)]

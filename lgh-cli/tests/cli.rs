@@ -833,9 +833,9 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
         a.extend([o.to_str().unwrap(), "--pixel-samples", bad]);
         assert_refused(dir.path(), &a, "--pixel-samples");
     }
-    // Adaptive: auto's rays, at most 2 a side (4 here), refined where rays differ.
+    // Adaptive: auto's rays (4 here, at most 4 a side, refined to 8), refined where rays differ.
     let get = render(&["--scatter-depth", "0", "--pixel-samples", "adaptive"]);
-    assert_eq!(get("lgh:pixel_samples"), "2");
+    assert_eq!(get("lgh:pixel_samples"), "4");
     assert_eq!(get("lgh:pixel_refinement"), "adaptive");
     assert_eq!(get("lgh:pixel_tolerance"), "0.05");
     for (flag, bad) in [("--pixel-tolerance", "-1"), ("--shadow-skip", "1")] {

@@ -1,5 +1,5 @@
 //! Adaptive pixel refinement ([`PixelRefinement::Adaptive`]): which pixels of an image first
-//! sampled `n × n` rays a pixel take `3n × 3n` — those where neighbouring rays differ.
+//! sampled `n × n` rays a pixel take `2n × 2n` — those where neighbouring rays differ.
 //!
 //! A pixel is the box filter's integral of the radiance over it, taken by the midpoint rule
 //! ([`MarchSettings::pixel_samples`](crate::render::MarchSettings::pixel_samples)). Where the

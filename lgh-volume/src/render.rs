@@ -415,7 +415,7 @@ impl<'s, B> Lit<'s, B> {
 
 /// The marcher's radiance and counts for `pixels` (`None`: the whole image) of `camera`: each
 /// pixel `n × n` rays ([`MarchSettings::pixel_samples`]), and with
-/// [`PixelRefinement::Adaptive`] `3n × 3n` where neighbouring rays differ (the whole image
+/// [`PixelRefinement::Adaptive`] `2n × 2n` where neighbouring rays differ (the whole image
 /// only: the decision reads the neighbours and the image's mean). `progress` hears
 /// [`Phase::Render`] over rows, then [`Phase::Refinement`] over the refined pixels (a list of
 /// pixels reports nothing).
@@ -441,7 +441,7 @@ fn march_pixels<B: ManyLights + Sync>(
                     camera,
                     pixels,
                     LightScratch::default,
-                    |scratch, x, y| rays.filtered([x, y], n, None, scratch),
+                    |scratch, x, y| rays.filtered([x, y], n, scratch),
                     p,
                 )
             })?;
@@ -457,7 +457,7 @@ fn march_pixels<B: ManyLights + Sync>(
             })
         }
     };
-    // The first rays, n × n a pixel: the decision's, and among each refined pixel's rays.
+    // The first rays, n × n a pixel: the decision's, and the pixels that are not refined.
     let first = progress::phase(progress, Phase::Render, rows, |p| {
         shade_pixels(
             camera,
@@ -465,14 +465,14 @@ fn march_pixels<B: ManyLights + Sync>(
             LightScratch::default,
             |scratch, x, y| {
                 let mut stats = RenderStats::default();
-                let mut kept = [Vec3::ZERO; MAX_FIRST_RAYS];
+                let mut first = [Vec3::ZERO; MAX_FIRST_RAYS];
                 for j in 0..n {
                     for i in 0..n {
                         let (u, v) = (sub_pixel(x, i, n), sub_pixel(y, j, n));
-                        kept[j * n + i] = rays.march(u, v, &mut stats, scratch)?;
+                        first[j * n + i] = rays.march(u, v, &mut stats, scratch)?;
                     }
                 }
-                Ok((kept, stats))
+                Ok((first, stats))
             },
             p,
         )
@@ -492,8 +492,7 @@ fn march_pixels<B: ManyLights + Sync>(
             Some(&refine),
             LightScratch::default,
             |scratch, x, y| {
-                let kept = &all[(y * w + x) * n * n..][..n * n];
-                let r = rays.filtered([x, y], m, Some(kept), scratch);
+                let r = rays.filtered([x, y], m, scratch);
                 p(1);
                 r
             },
@@ -513,7 +512,7 @@ fn march_pixels<B: ManyLights + Sync>(
 }
 
 /// The most rays a pixel's first pass keeps under [`PixelRefinement::Adaptive`]: its first rays
-/// a side are at most [`MAX_PIXEL_SAMPLES`] / [`REFINEMENT`] (2: refined to 6).
+/// a side are at most [`MAX_PIXEL_SAMPLES`] / [`REFINEMENT`] (4: refined to 8).
 const MAX_FIRST_RAYS: usize = (MAX_PIXEL_SAMPLES / REFINEMENT).pow(2);
 
 /// What a pixel's camera rays march: the marcher, its lights, the camera.
@@ -538,14 +537,11 @@ impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
     }
 
     /// Pixel `[x, y]`'s box filter by the midpoint rule: the mean of `n × n` rays through the
-    /// centres of its sub-pixels (the centre ray for `n = 1`). `kept`: the rays of the pixel's
-    /// `n/3 × n/3` filter, already marched — the nodes `(3i + 1, 3j + 1)` of this one, the
-    /// same rays bit for bit (`(i + ½)/(n/3)` and `(3i + 1 + ½)/n` are the same f32).
+    /// centres of its sub-pixels (the centre ray for `n = 1`).
     fn box_filter(
         &self,
         [x, y]: [usize; 2],
         n: usize,
-        kept: Option<&[Vec3]>,
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
     ) -> Result<Vec3, RenderError> {
@@ -556,12 +552,7 @@ impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
         let mut sum = Vec3::ZERO;
         for j in 0..n {
             for i in 0..n {
-                sum += match kept {
-                    Some(k) if i % REFINEMENT == 1 && j % REFINEMENT == 1 => {
-                        k[(j / REFINEMENT) * (n / REFINEMENT) + i / REFINEMENT]
-                    }
-                    _ => self.march(sub_pixel(x, i, n), sub_pixel(y, j, n), stats, scratch)?,
-                };
+                sum += self.march(sub_pixel(x, i, n), sub_pixel(y, j, n), stats, scratch)?;
             }
         }
         Ok(sum / (n * n) as f32)
@@ -572,11 +563,10 @@ impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
         &self,
         pixel: [usize; 2],
         n: usize,
-        kept: Option<&[Vec3]>,
         scratch: &mut LightScratch,
     ) -> Result<(Vec3, RenderStats), RenderError> {
         let mut stats = RenderStats::default();
-        let r = self.box_filter(pixel, n, kept, &mut stats, scratch)?;
+        let r = self.box_filter(pixel, n, &mut stats, scratch)?;
         Ok((r, stats))
     }
 }
@@ -856,7 +846,7 @@ mod tests {
     #[test]
     fn adaptive_refinement_is_the_finer_filter_where_rays_differ() {
         // Each pixel of an adaptive render is, bit for bit, the pixel of the n × n filter or of
-        // the 3n × 3n one; a tolerance of zero refines wherever rays differ, a huge one
+        // the 2n × 2n one; a tolerance of zero refines wherever rays differ, a huge one
         // nowhere; in between it comes much closer to the finer image than n × n does, at a
         // fraction of its rays.
         let v = crate::procedural::ball(16, 0.5, 2500.0);
@@ -922,8 +912,8 @@ mod tests {
             );
             assert!(after < 0.25 * before, "n {n}: {after} left of {before}");
         }
-        // A refined pixel takes 3n ≤ 8 rays a side; the tolerance is a share, at least 0.
-        for (n, tolerance) in [(3, 0.05), (1, -0.1), (1, f32::NAN)] {
+        // A refined pixel takes 2n ≤ 8 rays a side; the tolerance is a share, at least 0.
+        for (n, tolerance) in [(5, 0.05), (1, -0.1), (1, f32::NAN)] {
             let s = MarchSettings {
                 pixel_samples: n,
                 pixel_refinement: PixelRefinement::Adaptive { tolerance },

@@ -12,7 +12,7 @@ pub struct RenderStats {
     /// Surface points shaded: camera rays that met a surface (also in `shading_points`).
     pub surface_points: u64,
     /// Pixels refined ([`PixelRefinement::Adaptive`](crate::render::PixelRefinement)): their
-    /// rays three times finer a side.
+    /// rays twice as fine a side.
     pub refined_pixels: u64,
 }
 
