@@ -28,6 +28,10 @@ pub const MAX_PIXEL_SAMPLES: usize = 8;
 /// 3.14 × against 2.47 × Cycles' speed at that error.
 pub const REFINEMENT: usize = 2;
 
+/// The rule adaptive pixels' first rays a side are held to (`MAX_PIXEL_SAMPLES / REFINEMENT`).
+pub(crate) const ADAPTIVE_FIRST_RULE: &str =
+    "must be 1 to 4 a side (refined twice as fine, at most 8)";
+
 /// Where a pixel takes more camera rays than [`MarchSettings::pixel_samples`] a side.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum PixelRefinement {
@@ -273,7 +277,7 @@ impl MarchSettings {
                 return Err(RenderError::InvalidCount {
                     name: "pixel samples refined adaptively",
                     value: self.pixel_samples,
-                    rule: "must be 1 to 4 a side (refined twice as fine, at most 8)",
+                    rule: ADAPTIVE_FIRST_RULE,
                 });
             }
         }
