@@ -23,9 +23,9 @@ pub const MAX_PIXEL_SAMPLES: usize = 8;
 /// do not coincide, so a refined pixel marches its `2n × 2n` rays anew (`4n²` more than a
 /// factor of three, under which the first rays are among the finer filter's, would spend on
 /// `8n²` new ones). On the dev fire at 128² against Cycles 3.4.1 (docs/cycles.md, "Adaptive
-/// pixels"), where all of the fire's pixels refine, three (2 × 2 → 6 × 6) gave 0.75% at 5.6
-/// CPU-s and two (→ 4 × 4) 0.83% at 3.7: the same error to the eye, two thirds of the time,
-/// 3.14 × against 2.47 × Cycles' speed at that error.
+/// pixels"), where all of the fire's pixels refine, three (2 × 2 → 6 × 6) and two (→ 4 × 4)
+/// gave the same error to the eye in about two thirds of the time with two; that document's
+/// table holds the measured errors and speed-ups, each with the commit that made it.
 pub const REFINEMENT: usize = 2;
 
 /// The rule adaptive pixels' first rays a side are held to (`MAX_PIXEL_SAMPLES / REFINEMENT`).
