@@ -25,12 +25,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let usage = "usage: scattered_grid SPACING [lgh explosion's flags]";
     let spacing: u8 = args.next().ok_or(usage)?.parse().map_err(|_| usage)?;
+    if spacing < 2 {
+        return Err(
+            "SPACING must be at least 2: 1 is the every-voxel pass it is compared with".into(),
+        );
+    }
     let parts = prepare_in_memory(args).map_err(|e| format!("{e:?}"))?;
     let mut march = parts.march;
     march.scatter_depth = 2;
     march.scatter_stop = 0.0;
     march.scatter_skip = 0.0;
     march.lighting_cache.scattered_light = ScatteredLight::Merged;
+    march.lighting_cache.scattered_spacing = spacing;
+    // Refused before either pass runs: without the lighting cache there is no grid.
+    if march
+        .lighting_cache
+        .scattered_depths(&parts.volume.density)
+        .is_none()
+    {
+        return Err("no scattered-depth grid with these flags: is the lighting cache on?".into());
+    }
     let run = |s: u8| -> Result<Scattered, Box<dyn std::error::Error>> {
         let mut m = march;
         m.lighting_cache.scattered_spacing = s;
@@ -48,13 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Ok(r)
     };
     let (every, grid) = (run(1)?, run(spacing)?);
-    if grid.spacing() != spacing {
-        return Err(format!(
-            "the pass ran at spacing {}: is the cache on?",
-            grid.spacing()
-        )
-        .into());
-    }
+    debug_assert_eq!(grid.spacing(), spacing, "checked above");
     let lum = |v: Vec3| f64::from(lgh_core::luminance(v));
     let density = &parts.volume.density;
     let on_vertex = |v: usize| {

@@ -2,7 +2,8 @@
 luminance averaged over blocks of `--block` × `--block` pixels (a box filter, edges repeated,
 which takes most of a path tracer's noise away), the ratio of its mean to the reference's, its
 relative RMSE (RMSE over the reference's mean, `lgh compare`'s measure), and the relative RMSE
-once it is scaled to the reference's mean — its structure alone.
+once it is scaled to the reference's mean — its structure alone; and the same of each channel
+(`*_rgb`, each channel against the reference's).
 
 On an image whose light is concentrated (smoky64: 96% of it in a tenth of the pixels), a relative
 RMSE takes an error of the mean `sqrt(<R^2>) / <R>` times (3.7 there): the third figure says what
@@ -36,9 +37,9 @@ def block_means(a, n):
 
 
 def read(path):
-    """`path`'s luminance; exits with a message where it cannot be read."""
+    """`path`'s linear RGB; exits with a message where it cannot be read."""
     try:
-        return compare.luminance(compare.read_exr(path))
+        return compare.read_exr(path)
     except OSError as e:
         sys.exit(f"structure.py: {path}: {e}")
 
@@ -60,18 +61,25 @@ def main():
     if a.block < 1:
         sys.exit("structure.py: --block must be at least 1")
     ref = read(a.reference)
-    if ref.mean() <= 0:
+    ref_lum = block_means(compare.luminance(ref), a.block)
+    if ref_lum.mean() <= 0:
         sys.exit(f"structure.py: {a.reference} is black")
-    ref_b = block_means(ref, a.block)
-    gain = float(np.sqrt((ref_b ** 2).mean()) / ref_b.mean())
+    ref_rgb = [block_means(ref[..., c], a.block) for c in range(3)]
+    gain = float(np.sqrt((ref_lum ** 2).mean()) / ref_lum.mean())
     for path in a.images:
         img = read(path)
         if img.shape != ref.shape:
             sys.exit(f"structure.py: {path} is {img.shape[1]}x{img.shape[0]}, "
                      f"the reference {ref.shape[1]}x{ref.shape[0]}")
-        mean, rmse, scaled = structure(block_means(img, a.block), ref_b)
+        mean, rmse, scaled = structure(block_means(compare.luminance(img), a.block), ref_lum)
+        # Each channel the same way (null where the reference's channel is black).
+        rgb = [structure(block_means(img[..., c], a.block), r) if r.mean() > 0 else (None,) * 3
+               for c, r in enumerate(ref_rgb)]
         print(json.dumps({"image": path, "block": a.block, "mean_ratio": mean, "rel_rmse": rmse,
-                          "rel_rmse_scaled": scaled, "mean_error_gain": gain}))
+                          "rel_rmse_scaled": scaled, "mean_error_gain": gain,
+                          "mean_ratio_rgb": [c[0] for c in rgb],
+                          "rel_rmse_rgb": [c[1] for c in rgb],
+                          "rel_rmse_scaled_rgb": [c[2] for c in rgb]}))
 
 
 if __name__ == "__main__":
