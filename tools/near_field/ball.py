@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """lgh's light model against its path tracer on a uniform ball: single scattering ring by ring.
 
-The ball: a sphere of radius R voxels (10) in an N³ grid (32) over [-1, 1]³, one density (τ a
+The ball: a sphere of radius 10 voxels in a 32³ grid over [-1, 1]³ (`--cells`: the radius scales), one density (τ a
 voxel, times the medium's --density-scale 4) and one temperature (1,500 K); with `--edge
 sharp` the temperature ends with the smoke, with `--edge wide` it reaches 3 voxels beyond it (the
 smoke's edge then has uniform emission on both sides). Seen from −Y at 64², albedo 0.7:
@@ -35,14 +35,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "cycles"))
 from compare import luminance, read_exr  # noqa: E402
 
-N, RADIUS, SIZE = 32, 10, 64
+SIZE = 64
 CAMERA = "0,-4.17,0,0,0,0,40"  # the ball's edge 13.2 pixels from the centre
 RINGS = [(0, 4), (4, 8), (8, 12), (12, 14), (14, 16)]
 
 
-def write_ball(work, tau, edge):
+def write_ball(work, tau, edge, N=32, RADIUS=10):
     """The ball's VDB for `tau` optical depths a voxel (at --density-scale 4)."""
-    prefix = os.path.join(work, f"ball_{edge}_{tau}")
+    prefix = os.path.join(work, f"ball{N}_{edge}_{tau}")
     if os.path.exists(prefix + ".vdb"):
         return prefix + ".vdb"
     h = 2.0 / N
@@ -50,7 +50,7 @@ def write_ball(work, tau, edge):
     x, y, z = np.meshgrid(i, i, i, indexing="ij")
     r = np.sqrt(x * x + y * y + z * z)
     density = (r <= RADIUS) * (tau / (4.0 * h))
-    hot = RADIUS + (3 if edge == "wide" else 0)
+    hot = RADIUS + (3 * RADIUS / 10 if edge == "wide" else 0)
     temperature = (r <= hot) * 1.5
     grids = {"density": density, "temperature": temperature}
     for name, g in grids.items():
@@ -84,13 +84,14 @@ def main():
     p.add_argument("--taus", default="0.5,1,2")
     p.add_argument("--tag", default="model")
     p.add_argument("--spp", type=int, default=4096)
+    p.add_argument("--cells", type=int, default=32, help="voxels a side (the radius scales)")
     p.add_argument("flags", nargs="*", help="extra flags for the model's renders (after --)")
     a = p.parse_args()
     os.makedirs(a.work, exist_ok=True)
     model = ["--backend", "brute", "--lighting-cache", "none", "--step", "0.25"] + a.flags
     for tau in a.taus.split(","):
-        vdb = write_ball(a.work, float(tau), a.edge)
-        base = os.path.join(a.work, f"{a.edge}_{tau}")
+        vdb = write_ball(a.work, float(tau), a.edge, a.cells, 10 * a.cells // 32)
+        base = os.path.join(a.work, f"{a.cells}_{a.edge}_{tau}")
         render(a.lgh, vdb, f"{base}_pt_ref.exr", ["--albedo", "0.7", "--scatter-depth", "0",
                                                  "--backend", "pathtrace", "--spp", str(a.spp)])
         render(a.lgh, vdb, f"{base}_pte_ref.exr", ["--albedo", "0", "--backend", "pathtrace",
