@@ -110,6 +110,25 @@ def write_exr(path, rgb):
     os.replace(path + ".tmp", path)
 
 
+def write_volume(prefix, dims, voxel_size, origin, grids):
+    """A +Y-up volume as lgh-volume's `export` writes one — `PREFIX.NAME.f32` for each of
+    `grids` (name -> values, x fastest: an (nz, ny, nx) array or flat) and `PREFIX.json` —
+    turned into `PREFIX.vdb` by write_vdb.py (Debian's python3-openvdb, /usr/bin/python3).
+    Returns the VDB's path."""
+    nx, ny, nz = dims
+    for name, values in grids.items():
+        flat = np.asarray(values, dtype="<f4").ravel()
+        if flat.size != nx * ny * nz:
+            sys.exit(f"write_volume: grid {name} has {flat.size} values, not {nx}x{ny}x{nz}")
+        flat.tofile(f"{prefix}.{name}.f32")
+    meta = {"dims": list(dims), "voxel_size": voxel_size, "origin": list(origin), "up": "y",
+            "grids": list(grids)}
+    with open(prefix + ".json", "w") as f:
+        json.dump(meta, f)
+    run_cpu(["/usr/bin/python3", os.path.join(HERE, "write_vdb.py"), prefix])
+    return prefix + ".vdb"
+
+
 def luminance(rgb):
     return rgb @ np.array([0.2126, 0.7152, 0.0722])
 

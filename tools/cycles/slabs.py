@@ -25,7 +25,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from compare import read_exr, run_cpu  # noqa: E402
+from compare import read_exr, run_cpu, write_volume  # noqa: E402
 
 TEMPERATURES = [1000, 1250, 1500, 1750, 2000, 3000, 6500]
 N = 48
@@ -44,8 +44,6 @@ def write_slab(work, pattern):
     if os.path.exists(prefix + ".vdb"):
         return prefix + ".vdb"
     h = 2.0 / (N - 1)
-    meta = {"dims": [N, N, N], "voxel_size": h, "origin": [-1.0, -1.0, -1.0], "up": "y",
-            "grids": ["density", "temperature"]}
     # A checkerboard of ±10⁻⁶ (relative) on each value: OpenVDB stores a constant block as a
     # tile, not voxels, and Cycles draws no tiles (the slab came out black). 10⁻⁶ of T is
     # 4·10⁻⁶ of the emission, far below what is measured here.
@@ -53,11 +51,8 @@ def write_slab(work, pattern):
     checker = (1.0 + 1e-6 * (-1.0) ** (i + j + k)).ravel()
     # The file is x fastest, then y, then z: np.indices gives (z, y, x).
     layers = (1.0 + 2.0 * (i % 2)).ravel() if pattern == "alternating" else 1.0
-    for name, value in [("density", 0.25), ("temperature", layers)]:
-        (value * checker).astype("<f4").tofile(f"{prefix}.{name}.f32")
-    json.dump(meta, open(prefix + ".json", "w"))
-    run_cpu(["/usr/bin/python3", os.path.join(HERE, "write_vdb.py"), prefix])
-    return prefix + ".vdb"
+    grids = {"density": 0.25 * checker, "temperature": layers * checker}
+    return write_volume(prefix, [N, N, N], h, [-1.0, -1.0, -1.0], grids)
 
 
 def centre(path):
