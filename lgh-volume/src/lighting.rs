@@ -156,25 +156,35 @@ impl<B: ManyLights> Lights<B> {
     /// The fall-off the lights are shaded with at `point`, where the extinction is `sigma_t`:
     /// [`NearField::falloff_in`] in a medium, with the [`escape`](lgh_core::near_field::escape)
     /// of voxel lights' light through their own voxel's smoke ([`with_smoke`](Self::with_smoke);
-    /// without it, the point's), a point's `1/max(d, h0)²` on a surface.
+    /// without it, the point's) and their near field centred where their cell emits
+    /// (`crate::voxel_light`, "The near field's centre"; the shadow ray still ends at the
+    /// light's position), a point's `1/max(d, h0)²` on a surface.
     #[inline(always)]
     fn falloff_at(&self, point: &ShadingPoint, sigma_t: f32) -> impl Fn(&LightSample) -> f32 + '_ {
         let (h0, near_field) = (self.h0, self.near_field);
         let medium = point.normal.is_none();
         let smoke = self.smoke.as_ref();
         let here = sigma_t * h0;
+        let x = point.position;
         move |l: &LightSample| {
             if medium {
                 // Only a level-0 voxel light reads its voxel's smoke (`falloff_in`); the
-                // thinner of its voxel's and the point's (`with_smoke`).
-                let tau = match smoke {
+                // thinner of its voxel's and the point's (`with_smoke`). Its near field is
+                // centred at its cell's emission centroid (`crate::voxel_light`).
+                let (tau, d) = match smoke {
                     Some(s) if l.level == 0 && near_field == NearField::Voxel => {
-                        s.of_light(l.index).min(here)
+                        let c = s.centroid_of(l.index);
+                        let d = if c == Vec3::ZERO {
+                            l.distance
+                        } else {
+                            (x - (l.position + c)).length()
+                        };
+                        (s.of_light(l.index).min(here), d)
                     }
-                    Some(_) => 0.0,
-                    None => here,
+                    Some(_) => (0.0, l.distance),
+                    None => (here, l.distance),
                 };
-                near_field.falloff_in(l.level, l.distance, h0, tau)
+                near_field.falloff_in(l.level, d, h0, tau)
             } else {
                 falloff(l.distance, h0)
             }

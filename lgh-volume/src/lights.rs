@@ -365,17 +365,37 @@ impl ExplosionLights {
         if !self.on_grid(t) {
             return Err(RenderError::FrameOffGrid { frame: None });
         }
-        let h3 = self.voxel_size.powi(3);
-        let emission = |idx: usize| match self.near_field {
-            NearField::Voxel => frame.cell_emission(medium, idx),
-            NearField::Clamp => frame.voxel_emission(medium, idx),
+        let (h, h3) = (self.voxel_size, self.voxel_size.powi(3));
+        let (intensities, smoke): (Vec<Vec3>, _) = match self.near_field {
+            NearField::Voxel => {
+                // Each voxel light emits what its cell does, its near field centred where the
+                // cell emits (`crate::voxel_light`).
+                let (cells, centres): (Vec<Vec3>, Vec<Vec3>) = self
+                    .voxels
+                    .iter()
+                    .map(|&idx| frame.cell_light(medium, idx))
+                    .unzip();
+                let centroids = self
+                    .voxels
+                    .iter()
+                    .zip(centres)
+                    .filter(|(_, c)| *c != Vec3::ZERO)
+                    .map(|(&idx, c)| (idx, c * h));
+                let smoke = VoxelSmoke::of(t, &frame.density, medium).with_centroids(centroids);
+                let intensities = cells.into_iter().map(|j| j * h3).collect();
+                (intensities, Some(Arc::new(smoke)))
+            }
+            NearField::Clamp => {
+                let intensities = self
+                    .voxels
+                    .iter()
+                    .map(|&idx| frame.voxel_emission(medium, idx) * h3)
+                    .collect();
+                (intensities, None)
+            }
         };
-        let intensities: Vec<Vec3> = self.voxels.iter().map(|&idx| emission(idx) * h3).collect();
         self.set_intensities(&intensities)?;
-        self.smoke = match self.near_field {
-            NearField::Voxel => Some(Arc::new(VoxelSmoke::of(t, &frame.density, medium))),
-            NearField::Clamp => None,
-        };
+        self.smoke = smoke;
         Ok(())
     }
 
@@ -405,7 +425,8 @@ impl ExplosionLights {
     }
 
     /// Sets the smoke of the lights' voxels: scattered lights on the emission's grid take the
-    /// emission lights' ([`smoke`](Self::smoke)).
+    /// emission lights' ([`smoke`](Self::smoke)), their near field centred on their voxels or,
+    /// merged, as their emission's share of it says (`crate::scattering`).
     pub(crate) fn set_smoke(&mut self, smoke: Option<Arc<VoxelSmoke>>) {
         self.smoke = smoke;
     }

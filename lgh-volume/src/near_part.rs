@@ -48,7 +48,11 @@
 //! light through the smoke at the point, which a vertex takes at its own extinction and the
 //! cache interpolates; `a` stays above 0.3 voxels, within which the escape falls below 1 and
 //! varies fastest with the extinction (a point's own voxel light, shielded by its smoke), so
-//! that part is always summed at the sample.
+//! that part is always summed at the sample. The distances here are to the lights' voxel
+//! centres, while a voxel light's near field is centred at its cell's emission centroid, up to
+//! 0.71 voxels from its centre (`crate::voxel_light`, "The near field's centre"): at the
+//! default reach a far-part light's near field is centred 0.29 voxels or more from the point;
+//! at the shortest reach it may be centred at the point itself.
 
 use crate::error::{check_setting, RenderError};
 

@@ -2,6 +2,8 @@
 //! of one voxel become one light — the voxel's emission light plus its scattered lights, summed
 //! in depth order, on the emission lights' grid.
 
+use std::sync::Arc;
+
 use lgh_core::glam::Vec3;
 
 use crate::error::RenderError;
@@ -71,13 +73,34 @@ pub(super) fn merged_lights(
     let merged_intensities: Vec<Vec3> = (0..voxels.len())
         .map(|s| per_depth.iter().fold(Vec3::ZERO, |a, d| a + d[s]))
         .collect();
+    // Each merged light's near field is centred at its emission's centroid scaled by the
+    // emission's share of its light (luminance): the mean of its depths' centres, the scattered
+    // depths' being their voxels' (`crate::voxel_light`, "The near field's centre").
+    let centroids: Vec<(usize, Vec3)> = match emission.smoke() {
+        Some(smoke) => voxels
+            .iter()
+            .enumerate()
+            .filter_map(|(s, &v)| {
+                let c = smoke.centroid_of_voxel(v)?;
+                let all = lgh_core::luminance(merged_intensities[s]);
+                let own = lgh_core::luminance(per_depth[0][s]);
+                (all > 0.0).then(|| (v, c * (own / all).clamp(0.0, 1.0)))
+            })
+            .collect(),
+        None => Vec::new(),
+    };
     let mut merged =
         ExplosionLights::at_voxels(grid, voxels, &merged_intensities, Some(max_level))?;
     carry_over(emission, &mut merged)?;
+    if let Some(smoke) = emission.smoke() {
+        let smoke = smoke.without_centroids().with_centroids(centroids);
+        merged.set_smoke(Some(Arc::new(smoke)));
+    }
     Ok(merged)
 }
 
-/// The emission lights' weak-light pruning, near field (and the smoke of their voxels) and
+/// The emission lights' weak-light pruning, near field (and the smoke of their voxels, each
+/// light's near field centred on its voxel) and
 /// coarse lights' shadows, set on
 /// `lights` (each scattered depth's, and the merged ones).
 pub(super) fn carry_over(
@@ -86,7 +109,7 @@ pub(super) fn carry_over(
 ) -> Result<(), RenderError> {
     lights.set_prune(emission.prune())?;
     lights.set_near_field(emission.near_field());
-    lights.set_smoke(emission.smoke().cloned());
+    lights.set_smoke(emission.smoke().map(|s| Arc::new(s.without_centroids())));
     let coarse = emission.variants().coarse_shadows;
     lights.set_coarse_shadows(coarse);
     Ok(())

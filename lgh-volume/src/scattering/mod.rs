@@ -359,8 +359,11 @@ impl Scattered {
     }
 
     /// The lights of depth `k` alone (0: the emission lights) on the merged lights' voxels and
-    /// grid: what [`FrameRender::scatter_shares`](crate::FrameRender::scatter_shares) renders. Depth 0 renders the single-scattering image
-    /// bit for bit (the added voxels are dark, the grid is the emission lights').
+    /// grid: what [`FrameRender::scatter_shares`](crate::FrameRender::scatter_shares) renders.
+    /// Each keeps the merged lights' near-field centres (a light's emission centroid times the
+    /// emission's share of its light, `crate::voxel_light`), so that the depths' images add up
+    /// to the whole: depth 0 is the single-scattering image but where a voxel's scattered light
+    /// moves its light's centre (the added voxels are dark, the grid is the emission lights').
     ///
     /// ```
     /// use lgh_volume::render::MarchSettings;
@@ -562,7 +565,14 @@ mod tests {
                     // their light's escape through the smoke of their own voxel or x's,
                     // the thinner (`Lights::with_smoke`).
                     let tau = medium.extinction(d.data[w].min(rho)) * h as f32;
-                    let g = NearField::Voxel.falloff_in(0, x.distance(p), h as f32, tau);
+                    // Depth 1's lights, the emission's, have their near field centred where
+                    // their cell emits; the scattered depths' on their voxel.
+                    let centroid = if k == 1 {
+                        volume.cell_centroid(&medium, w) * h as f32
+                    } else {
+                        Vec3::ZERO
+                    };
+                    let g = NearField::Voxel.falloff_in(0, x.distance(p + centroid), h as f32, tau);
                     let g = f64::from(g);
                     let vis = f64::from(grid.transmittance(x, p).0);
                     for c in 0..3 {

@@ -12,7 +12,8 @@ pub struct Shares {
     /// `Σ_px ‖E‖`: the emission seen through the smoke, no scattering.
     pub emission: f64,
     /// `Σ_px ‖R_k − E‖` for `k = 0..=n`, `R_k` the image lit by depth `k`'s lights alone (depth
-    /// 0: single scattering of the emission lights).
+    /// 0: single scattering of the emission lights, their near field centred as the merged
+    /// lights').
     pub depths: Vec<f64>,
 }
 
