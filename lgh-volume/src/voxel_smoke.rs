@@ -215,9 +215,23 @@ impl VoxelSmoke {
     /// ```
     #[must_use]
     pub fn of_lights(&self, positions: impl IntoIterator<Item = Vec3>) -> LightSmoke {
+        if self.centroids.is_empty() {
+            // Every light centred on itself: none listed (a light beyond the list is).
+            return LightSmoke {
+                depth: positions.into_iter().map(|p| self.at(p)).collect(),
+                centroid: Arc::new([]),
+            };
+        }
         let (depth, centroid): (Vec<f32>, Vec<Vec3>) = positions
             .into_iter()
-            .map(|p| (self.at(p), self.centroid_at(p)))
+            .map(|p| {
+                let v = self.voxel_of(p);
+                let centroid = v.and_then(|v| self.centroid_of_voxel(v));
+                (
+                    v.map_or(0.0, |v| self.depth.data[v]),
+                    centroid.unwrap_or(Vec3::ZERO),
+                )
+            })
             .unzip();
         LightSmoke {
             depth: depth.into(),

@@ -544,6 +544,10 @@ mod tests {
         let u = f64::from(f32::EPSILON) / 2.0;
         let n = voxels.len() as f64;
         let mut worst = 0.0f64;
+        let centroids: Vec<Vec3> = voxels
+            .iter()
+            .map(|&w| volume.cell_centroid(&medium, w) * h as f32)
+            .collect();
         for k in 1..=depth {
             let got = brute.intensities(k).unwrap();
             let bound = k as f64 * (n + 12.0) * u;
@@ -567,11 +571,7 @@ mod tests {
                     let tau = medium.extinction(d.data[w].min(rho)) * h as f32;
                     // Depth 1's lights, the emission's, have their near field centred where
                     // their cell emits; the scattered depths' on their voxel.
-                    let centroid = if k == 1 {
-                        volume.cell_centroid(&medium, w) * h as f32
-                    } else {
-                        Vec3::ZERO
-                    };
+                    let centroid = if k == 1 { centroids[q] } else { Vec3::ZERO };
                     let g = NearField::Voxel.falloff_in(0, x.distance(p + centroid), h as f32, tau);
                     let g = f64::from(g);
                     let vis = f64::from(grid.transmittance(x, p).0);
