@@ -17,7 +17,7 @@
 
 use lgh_cli::explosion::prepare_in_memory;
 use lgh_core::glam::Vec3;
-use lgh_core::NearField;
+use lgh_core::{NearField, ISOTROPIC_PHASE};
 use lgh_volume::lighting_cache::ScatteredLight;
 use lgh_volume::scattering::{scatter, Scattered};
 
@@ -66,12 +66,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let lum = |v: Vec3| f64::from(lgh_core::luminance(v));
     let density = &parts.volume.density;
     let on_vertex = |v: usize| {
-        let [i, j, k] = [
-            v % density.dims[0],
-            v / density.dims[0] % density.dims[1],
-            v / (density.dims[0] * density.dims[1]),
-        ];
-        [i, j, k].iter().all(|c| c % usize::from(spacing) == 0)
+        let voxel = density.voxel(v);
+        voxel.iter().all(|c| c % usize::from(spacing) == 0)
     };
     let voxels = every.lights().voxels();
     for depth in 1..=2 {
@@ -104,7 +100,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let tau = parts.medium.extinction(rho) * h;
         let g = NearField::Voxel.falloff_in(0, 0.0, h, tau);
-        let scale = h.powi(3) * parts.medium.scattering * rho / (4.0 * std::f32::consts::PI);
+        let scale = parts.medium.voxel_scattering(rho, h) * ISOTROPIC_PHASE;
         own += lum(one * (scale * g));
         whole += lum(two);
     }

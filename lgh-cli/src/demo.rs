@@ -16,7 +16,7 @@ use lgh_volume::{
     explosion, ExplosionLights, FrameRender, Medium, Method, RenderError, Shadows, Volume,
 };
 
-use crate::output::{self, MarchArgs, PixelSamplesArg, Rendered, ScatterArgs};
+use crate::output::{self, EmissionSamplesArg, MarchArgs, PixelSamplesArg, Rendered, ScatterArgs};
 use crate::progress::Bars;
 
 /// Arguments of `lgh demo`.
@@ -74,14 +74,15 @@ pub struct Scene {
 
 impl Scene {
     /// `march` with what depends on the camera resolved as `lgh demo` does
-    /// ([`MarchArgs::for_camera`]: one ray a pixel unless `--pixel-samples`, the cache's first
-    /// level), for the volume's framed middle.
+    /// ([`MarchArgs::for_camera`]: one ray a pixel unless `--pixel-samples`, the emission with
+    /// the light unless `--emission-samples`, the cache's first level), for the volume's framed
+    /// middle.
     pub fn for_camera(&self, args: &MarchArgs, march: MarchSettings) -> MarchSettings {
         let (lo, hi) = framing_bounds(&[&self.volume]).expect("one frame");
         let voxel = self.volume.density.voxel_size;
         args.for_camera(
             march,
-            PixelSamplesArg::Fixed(1),
+            (PixelSamplesArg::Fixed(1), EmissionSamplesArg::WithLight),
             &self.camera,
             0.5 * (lo + hi),
             voxel,

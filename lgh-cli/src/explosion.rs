@@ -17,7 +17,9 @@ use clap::ArgMatches;
 
 use crate::dark;
 use crate::manifest::{self, FrameFile, Manifest, SceneFile};
-use crate::output::{self, DepthArg, MarchArgs, PixelSamplesArg, Rendered, ScatterArgs};
+use crate::output::{
+    self, DepthArg, EmissionSamplesArg, MarchArgs, PixelSamplesArg, Rendered, ScatterArgs,
+};
 use crate::progress::{self, Bars};
 use crate::room::Room;
 
@@ -1059,14 +1061,14 @@ impl Frames<'_> {
         Ok(())
     }
 
-    /// The settings for `camera`: the rays a pixel side and the cache's first level, from the
-    /// image's and the voxels' sizes with `auto` (the defaults): one resolution for the whole
-    /// sequence.
+    /// The settings for `camera`: the rays a pixel side (the emission's too) and the cache's
+    /// first level, from the image's and the voxels' sizes with `auto` (the defaults): one
+    /// resolution for the whole sequence.
     fn march_for(&self, camera: &Camera) -> MarchSettings {
         let (lo, hi) = self.manifest.framing.unwrap_or_else(|| self.seq.bounds());
         self.args.march.for_camera(
             self.setup.march,
-            PixelSamplesArg::Auto,
+            (PixelSamplesArg::Auto, EmissionSamplesArg::Auto),
             camera,
             0.5 * (lo + hi),
             self.seq.voxel_size(),

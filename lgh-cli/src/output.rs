@@ -140,6 +140,24 @@ pub enum PixelSamplesArg {
     Adaptive,
 }
 
+/// `--emission-samples`: rays a pixel side for the emission alone, `auto` (from the image's and
+/// the voxels' sizes), or as many as the pixel samples (what `lgh demo` takes unless told).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EmissionSamplesArg {
+    /// This many rays a side (at most the pixel samples: every ray marches both).
+    Fixed(usize),
+    /// [`lgh_volume::render::auto_emission_samples`].
+    Auto,
+    /// The pixel samples: every ray marches the emission and the light together.
+    WithLight,
+}
+
+/// `auto` or a number of emission rays a pixel side.
+fn parse_emission_samples(s: &str) -> Result<EmissionSamplesArg, String> {
+    parse_auto(s, "rays a pixel side")
+        .map(|n| n.map_or(EmissionSamplesArg::Auto, EmissionSamplesArg::Fixed))
+}
+
 /// `auto`, `adaptive` or a number of rays a pixel side.
 fn parse_pixel_samples(s: &str) -> Result<PixelSamplesArg, String> {
     if s == "adaptive" {
@@ -340,8 +358,10 @@ pub struct MarchArgs {
     pub point_shadows: bool,
     /// The voxel lights' near field: `voxel` makes each level-0 light the uniform emitting
     /// voxel it stands for (its intensity what its cell emits, its fall-off the voxel's mean of
-    /// 1/r² at points in the smoke: 7.7/h² at its centre); `clamp` keeps the paper's point
-    /// lights (the emission at the voxel's centre, fall-off 1/max(d, h)²)
+    /// 1/r² at points in the smoke, 7.7/h² at its centre, centred where its cell emits — the
+    /// luminance centroid of the cell's emission — and its light escaping through the voxel's
+    /// own smoke); `clamp` keeps the paper's point lights (the emission at the voxel's centre,
+    /// fall-off 1/max(d, h)²)
     #[arg(long, value_enum, default_value_t = NearFieldArg::Voxel)]
     pub near_field: NearFieldArg,
     /// Step along camera rays, in voxels (smaller is more accurate and slower).
@@ -363,6 +383,17 @@ pub struct MarchArgs {
     /// would, at its cost only where the image varies; deterministic, no noise.
     #[arg(long, value_name = "N", value_parser = parse_pixel_samples)]
     pub pixel_samples: Option<PixelSamplesArg>,
+    /// Camera rays per side of a pixel for the emission alone, 1 to 8: where more than
+    /// --pixel-samples, each pixel's emission (and what the smoke absorbs of it) is the box
+    /// filter of N×N rays that read no light, and the light the smoke scatters that of
+    /// --pixel-samples' rays — a thin flame's emission varies far below a voxel, the scattered
+    /// light as the smoke does, and an emission ray costs a fraction of one that shades the
+    /// smoke. `auto`: the fewest for which an emission sub-pixel covers at most a quarter of a
+    /// voxel at the volume's centre, at least --pixel-samples; with --pixel-samples adaptive,
+    /// which refines both together, --pixel-samples' [default: auto for lgh explosion,
+    /// --pixel-samples' for lgh demo]
+    #[arg(long, value_name = "N", value_parser = parse_emission_samples)]
+    pub emission_samples: Option<EmissionSamplesArg>,
     /// With --pixel-samples adaptive: the luminance difference between neighbouring rays
     /// that refines their pixels, as a share of the image's mean luminance (smaller refines
     /// more pixels: slower, closer to the finer filter)
@@ -398,24 +429,41 @@ impl MarchArgs {
 
     /// `settings` with what depends on the camera resolved for `camera` looking at a volume
     /// centred at `centre` with voxels of `voxel_size`: the rays a pixel side
-    /// ([`pixel_samples_for`](Self::pixel_samples_for), `pixel_default` where `--pixel-samples`
-    /// was not given) and `--cache-level auto`
+    /// ([`pixel_samples_for`](Self::pixel_samples_for), `defaults.0` where `--pixel-samples`
+    /// was not given), the emission's (`--emission-samples`, else `defaults.1`; with adaptive
+    /// pixels the pixel samples) and `--cache-level auto`
     /// ([`lgh_volume::lighting_cache::auto_first_level`] of a sub-pixel's footprint).
     pub fn for_camera(
         &self,
         settings: MarchSettings,
-        pixel_default: PixelSamplesArg,
+        defaults: (PixelSamplesArg, EmissionSamplesArg),
         camera: &lgh_volume::render::Camera,
         centre: lgh_volume::lgh_core::glam::Vec3,
         voxel_size: f32,
     ) -> MarchSettings {
+        let (pixel_default, emission_default) = defaults;
         let (pixel_samples, pixel_refinement) =
             self.pixel_samples_for(pixel_default, camera, centre, voxel_size);
+        let emission_samples = match (pixel_refinement, self.emission_samples) {
+            // Refused with an explicit count before any work (`settings`).
+            (PixelRefinement::Adaptive { .. }, _) => pixel_samples,
+            (PixelRefinement::Uniform, given) => match given.unwrap_or(emission_default) {
+                EmissionSamplesArg::Fixed(e) => e,
+                EmissionSamplesArg::Auto => lgh_volume::render::auto_emission_samples(
+                    camera,
+                    centre,
+                    voxel_size,
+                    pixel_samples,
+                ),
+                EmissionSamplesArg::WithLight => pixel_samples,
+            },
+        };
         let footprint =
             lgh_volume::render::pixel_footprint(camera, centre, voxel_size) / pixel_samples as f32;
         MarchSettings {
             pixel_samples,
             pixel_refinement,
+            emission_samples,
             lighting_cache: LightingCacheSettings {
                 first_level: self.cache.first_level(footprint),
                 ..settings.lighting_cache
@@ -467,6 +515,25 @@ impl MarchArgs {
                 lgh_volume::render::MAX_PIXEL_SAMPLES
             )
             .into());
+        }
+        match (self.emission_samples, self.pixel_samples) {
+            (Some(EmissionSamplesArg::Fixed(e)), _)
+                if !(1..=lgh_volume::render::MAX_PIXEL_SAMPLES).contains(&e) =>
+            {
+                return Err(format!(
+                    "--emission-samples {e} must be 1 to {} (emission rays a pixel side) or auto",
+                    lgh_volume::render::MAX_PIXEL_SAMPLES
+                )
+                .into());
+            }
+            (Some(EmissionSamplesArg::Fixed(e)), Some(PixelSamplesArg::Adaptive)) if e > 1 => {
+                return Err(format!(
+                    "--emission-samples {e} needs uniform pixels: --pixel-samples adaptive \
+                     refines the emission with the light"
+                )
+                .into());
+            }
+            _ => {}
         }
         if !(self.pixel_tolerance.is_finite() && self.pixel_tolerance >= 0.0) {
             return Err(format!(
@@ -654,8 +721,14 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         // The box filter's rays a pixel's side (`--pixel-samples`); absent: pixel centres.
         out.push(("pixel_samples", n.to_string()));
     }
+    let e = frame.settings().emission_samples;
+    if e > n {
+        // The emission's rays a pixel side, marched apart (`--emission-samples`); absent:
+        // the emission is marched with the light.
+        out.push(("emission_samples", e.to_string()));
+    }
     if let PixelRefinement::Adaptive { tolerance } = frame.settings().pixel_refinement {
-        // Refined pixels take three times as many a side (`--pixel-samples adaptive`).
+        // Refined pixels take twice as many a side (`--pixel-samples adaptive`).
         out.push(("pixel_refinement", "adaptive".to_string()));
         out.push(("pixel_tolerance", tolerance.to_string()));
     }

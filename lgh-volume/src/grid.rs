@@ -38,6 +38,21 @@ impl DenseGrid {
         (k * self.dims[1] + j) * self.dims[0] + i
     }
 
+    /// The voxel `[i, j, k]` at linear index `idx`: [`index`](Self::index)'s inverse.
+    ///
+    /// ```
+    /// use lgh_volume::grid::DenseGrid;
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    ///
+    /// let grid = DenseGrid::zeros([4, 3, 2], 1.0, Vec3::ZERO);
+    /// assert_eq!(grid.voxel(grid.index(3, 1, 1)), [3, 1, 1]);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn voxel(&self, idx: usize) -> [usize; 3] {
+        unflatten(idx, self.dims)
+    }
+
     /// Value of voxel `(i, j, k)`.
     #[inline]
     #[must_use]

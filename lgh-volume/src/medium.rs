@@ -395,6 +395,22 @@ impl Medium {
     pub fn extinction(&self, density: f32) -> f32 {
         (self.absorption + self.scattering) * density
     }
+
+    /// A voxel's scattering cross-section `h³ σ_s = h³ κ_s ρ` (`h` its side): the factor of
+    /// paper Sec. 5's `I^k = h³ σ_s/(4π) · Φ^{k−1}` that makes a voxel's fluence the
+    /// intensity of its light of scattered light (before the isotropic phase function's 1/4π).
+    ///
+    /// ```
+    /// use lgh_volume::Medium;
+    ///
+    /// let medium = Medium::new(1.0, 3.0, 1e-4, 1000.0)?;
+    /// assert_eq!(medium.voxel_scattering(0.5, 0.25), 0.25f32.powi(3) * 3.0 * 0.5);
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn voxel_scattering(&self, density: f32, voxel_size: f32) -> f32 {
+        voxel_size.powi(3) * self.scattering * density
+    }
 }
 
 #[cfg(test)]

@@ -34,8 +34,8 @@ pub use crate::camera::{check_image_size, Camera, Framing, Up, MAX_IMAGE_SIDE};
 pub use crate::pixel_refinement::pixels_to_refine;
 use crate::settings::ADAPTIVE_FIRST_RULE;
 pub use crate::settings::{
-    auto_pixel_samples, pixel_footprint, MarchSettings, PixelRefinement, AUTO_SUBPIXEL_VOXELS,
-    MAX_PIXEL_SAMPLES, REFINEMENT,
+    auto_emission_samples, auto_pixel_samples, pixel_footprint, MarchSettings, PixelRefinement,
+    AUTO_EMISSION_SUBPIXEL_VOXELS, AUTO_SUBPIXEL_VOXELS, MAX_PIXEL_SAMPLES, REFINEMENT,
 };
 pub use crate::stats::RenderStats;
 
@@ -201,6 +201,7 @@ impl<'a> Marcher<'a> {
     ) -> Result<Vec3, RenderError> {
         self.march_with(
             Lit::lights(Some(lights)),
+            Terms::All,
             origin,
             dir,
             stats,
@@ -208,27 +209,34 @@ impl<'a> Marcher<'a> {
         )
     }
 
-    /// [`march`](Self::march) (emission alone without `lights`) with buffers that the caller
-    /// reuses from ray to ray.
+    /// [`march`](Self::march) of `terms` (emission alone without `lights`) with buffers that
+    /// the caller reuses from ray to ray.
     fn march_with<B: ManyLights>(
         &self,
         lit: Lit<'_, B>,
+        terms: Terms,
         origin: Vec3,
         dir: Vec3,
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
     ) -> Result<Vec3, RenderError> {
         let (volume, medium, settings) = (self.volume, self.medium, &self.settings);
+        // The emission's march reads no light and sees nothing behind the smoke.
+        let lit = match terms {
+            Terms::Emission => Lit::lights(None),
+            Terms::All | Terms::Light => lit,
+        };
         let lights = lit.lights;
         let h = volume.density.voxel_size;
         let (lo, hi) = volume.density.bounds();
         let hit = self.surfaces.and_then(|s| Some((s, s.hit(origin, dir)?)));
-        let surface = |stats: &mut RenderStats, scratch: &mut LightScratch| match hit {
-            Some((s, hit)) => {
+        let surface = |stats: &mut RenderStats, scratch: &mut LightScratch| match (hit, terms) {
+            (_, Terms::Emission) => Ok(Vec3::ZERO),
+            (Some((s, hit)), _) => {
                 let lights = lit.surface.or(lights).map(|l| (l, s));
                 self.shade_surface(lights, origin + dir * hit.t, hit, stats, scratch)
             }
-            None => Ok(settings.background),
+            (None, _) => Ok(settings.background),
         };
         let Some((t0, t1)) = crate::grid::slab(origin, dir, lo, hi) else {
             return surface(stats, scratch);
@@ -262,12 +270,16 @@ impl<'a> Marcher<'a> {
             // and the step's midpoint alone missed 2.7% of the dev fire's light at one-voxel
             // steps: docs/cycles.md), weighed by what the smoke lets through from each
             // (`step_emission`; in clear air the two-point Gauss rule, exact for a cubic).
-            let (near, far) = (
-                volume.emission(medium, x - gauss),
-                volume.emission(medium, x + gauss),
-            );
-            let [w_near, w_far] = step_emission::node_weights(sigma_t * dt);
-            let emitted = (w_near * dt) * near + (w_far * dt) * far;
+            let emitted = if terms == Terms::Light {
+                Vec3::ZERO
+            } else {
+                let (near, far) = (
+                    volume.emission(medium, x - gauss),
+                    volume.emission(medium, x + gauss),
+                );
+                let [w_near, w_far] = step_emission::node_weights(sigma_t * dt);
+                (w_near * dt) * near + (w_far * dt) * far
+            };
             let mut source = Vec3::ZERO;
             if let Some(scattered) = lit.scattered {
                 source += scattered.sample(x);
@@ -294,6 +306,7 @@ impl<'a> Marcher<'a> {
             }
         }
         if trans >= settings.min_transmittance
+            && terms != Terms::Emission
             && (hit.is_some() || settings.background != Vec3::ZERO)
         {
             radiance += trans * surface(stats, scratch)?;
@@ -381,6 +394,18 @@ pub fn shade_pixels<T: Send, S>(
     results.into_iter().collect()
 }
 
+/// Which of a camera ray's terms a march adds up ([`MarchSettings::emission_samples`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Terms {
+    /// The whole radiance: the emission, the light the smoke scatters, and the surfaces and
+    /// background behind it, each through the smoke in front of it.
+    All,
+    /// The emission alone, through the smoke in front of it.
+    Emission,
+    /// All but the emission.
+    Light,
+}
+
 /// What a march shades with: the lights (of surfaces, and of the medium without a cache;
 /// `None` for emission alone) and the lights split for a lighting cache, if any.
 pub(crate) struct Lit<'s, B> {
@@ -427,7 +452,7 @@ fn march_pixels<B: ManyLights + Sync>(
     pixels: Option<&[[usize; 2]]>,
     progress: &dyn Progress,
 ) -> Result<(Vec<Vec3>, RenderStats), RenderError> {
-    let n = marcher.settings.pixel_samples;
+    let (n, e) = (marcher.settings.pixel_samples, marcher.settings.emission_samples);
     let rays = PixelRays {
         marcher,
         lights,
@@ -442,7 +467,7 @@ fn march_pixels<B: ManyLights + Sync>(
                     camera,
                     pixels,
                     LightScratch::default,
-                    |scratch, x, y| rays.filtered([x, y], n, scratch),
+                    |scratch, x, y| rays.filtered([x, y], n, e, scratch),
                     p,
                 )
             })?;
@@ -480,7 +505,8 @@ fn march_pixels<B: ManyLights + Sync>(
             Some(&refine),
             LightScratch::default,
             |scratch, x, y| {
-                let r = rays.filtered([x, y], m, scratch);
+                // Adaptive pixels take the emission with the light (`MarchSettings::check`).
+                let r = rays.filtered([x, y], m, m, scratch);
                 p(1);
                 r
             },
@@ -521,7 +547,7 @@ fn first_rays<const K: usize, B: ManyLights + Sync>(
             for j in 0..n {
                 for i in 0..n {
                     let (u, v) = (sub_pixel(x, i, n), sub_pixel(y, j, n));
-                    first[j * n + i] = rays.march(u, v, &mut stats, scratch)?;
+                    first[j * n + i] = rays.march(Terms::All, [u, v], &mut stats, scratch)?;
                 }
             }
             Ok((first, stats))
@@ -545,23 +571,24 @@ struct PixelRays<'a, 'm, 's, B> {
 }
 
 impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
-    /// The ray through image point `(u, v)`.
+    /// `terms` of the ray through image point `(u, v)`.
     fn march(
         &self,
-        u: f32,
-        v: f32,
+        terms: Terms,
+        [u, v]: [f32; 2],
         stats: &mut RenderStats,
         scratch: &mut LightScratch,
     ) -> Result<Vec3, RenderError> {
         let d = self.camera.direction(u, v);
         self.marcher
-            .march_with(self.lights, self.camera.eye(), d, stats, scratch)
+            .march_with(self.lights, terms, self.camera.eye(), d, stats, scratch)
     }
 
-    /// Pixel `[x, y]`'s box filter by the midpoint rule: the mean of `n × n` rays through the
-    /// centres of its sub-pixels (the centre ray for `n = 1`).
+    /// Pixel `[x, y]`'s box filter of `terms` by the midpoint rule: the mean of `n × n` rays
+    /// through the centres of its sub-pixels (the centre ray for `n = 1`).
     fn box_filter(
         &self,
+        terms: Terms,
         [x, y]: [usize; 2],
         n: usize,
         stats: &mut RenderStats,
@@ -569,26 +596,35 @@ impl<B: ManyLights> PixelRays<'_, '_, '_, B> {
     ) -> Result<Vec3, RenderError> {
         if n <= 1 {
             let (eye, d) = self.camera.ray(x, y);
-            return self.marcher.march_with(self.lights, eye, d, stats, scratch);
+            return (self.marcher).march_with(self.lights, terms, eye, d, stats, scratch);
         }
         let mut sum = Vec3::ZERO;
         for j in 0..n {
             for i in 0..n {
-                sum += self.march(sub_pixel(x, i, n), sub_pixel(y, j, n), stats, scratch)?;
+                let at = [sub_pixel(x, i, n), sub_pixel(y, j, n)];
+                sum += self.march(terms, at, stats, scratch)?;
             }
         }
         Ok(sum / (n * n) as f32)
     }
 
-    /// [`box_filter`](Self::box_filter) with its own counts: what a pixel pass returns.
+    /// Pixel `[x, y]` with `n × n` rays a pixel, and `e × e` for its emission where `e > n`
+    /// ([`MarchSettings::emission_samples`]): the box filter of the whole radiance, or that
+    /// of the emission plus that of the rest. With its own counts: what a pixel pass returns.
     fn filtered(
         &self,
         pixel: [usize; 2],
         n: usize,
+        e: usize,
         scratch: &mut LightScratch,
     ) -> Result<(Vec3, RenderStats), RenderError> {
         let mut stats = RenderStats::default();
-        let r = self.box_filter(pixel, n, &mut stats, scratch)?;
+        let r = if e > n {
+            let light = self.box_filter(Terms::Light, pixel, n, &mut stats, scratch)?;
+            light + self.box_filter(Terms::Emission, pixel, e, &mut stats, scratch)?
+        } else {
+            self.box_filter(Terms::All, pixel, n, &mut stats, scratch)?
+        };
         Ok((r, stats))
     }
 }
@@ -684,6 +720,7 @@ mod tests {
             .unwrap()
             .march_with::<BruteForce>(
                 Lit::lights(None),
+                Terms::All,
                 Vec3::new(0.0, 0.0, 5.0),
                 -Vec3::Z,
                 &mut RenderStats::default(),
@@ -732,6 +769,7 @@ mod tests {
                 .unwrap()
                 .march_with::<BruteForce>(
                     Lit::lights(None),
+                    Terms::All,
                     origin,
                     -Vec3::Z,
                     &mut RenderStats::default(),

@@ -72,15 +72,14 @@ impl Fluence<'_> {
         let sparse = |c: &&LightingCache| c.tiers().iter().any(|&(_, voxels)| voxels > 1.0);
         let cache = shading.cache.as_ref().filter(sparse);
         let cached = CachedLights::of(cache, grid, &lights);
-        let h3 = grid.voxel_size.powi(3);
         let shade = |voxels: &[usize], out: &mut [Vec3], progress: bool| {
             shade_voxels(voxels, out, |out, voxels| {
                 let mut scratch = LightScratch::default();
                 let mut stats = RenderStats::default();
                 for (o, &v) in out.iter_mut().zip(voxels) {
-                    let [i, j, k] = crate::grid::unflatten(v, grid.dims);
+                    let [i, j, k] = grid.voxel(v);
                     let (x, rho) = (grid.centre(i, j, k), grid.data[v]);
-                    let scale = h3 * self.medium.scattering * rho;
+                    let scale = self.medium.voxel_scattering(rho, grid.voxel_size);
                     *o = match &cached {
                         Some(c) => {
                             let sigma_t = self.medium.extinction(rho);

@@ -9,6 +9,7 @@ use lgh_core::glam::Vec3;
 use crate::error::RenderError;
 use crate::grid::DenseGrid;
 use crate::lights::ExplosionLights;
+use crate::voxel_smoke::VoxelSmoke;
 
 /// The sorted union of `hot` and `dense` (both ascending), with each one's slot in it.
 pub(super) fn merge(hot: &[usize], dense: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
@@ -91,25 +92,23 @@ pub(super) fn merged_lights(
     };
     let mut merged =
         ExplosionLights::at_voxels(grid, voxels, &merged_intensities, Some(max_level))?;
-    carry_over(emission, &mut merged)?;
-    if let Some(smoke) = emission.smoke() {
-        let smoke = smoke.without_centroids().with_centroids(centroids);
-        merged.set_smoke(Some(Arc::new(smoke)));
-    }
+    carry_over(emission, &mut merged, centroids)?;
     Ok(merged)
 }
 
-/// The emission lights' weak-light pruning, near field (and the smoke of their voxels, each
-/// light's near field centred on its voxel) and
-/// coarse lights' shadows, set on
-/// `lights` (each scattered depth's, and the merged ones).
+/// The emission lights' weak-light pruning, near field, the smoke of their voxels (each
+/// light's near field centred at its voxel's offset in `centroids`, on its voxel where none is
+/// given: each scattered depth gives none) and coarse lights' shadows, set on `lights` (each
+/// scattered depth's, and the merged ones).
 pub(super) fn carry_over(
     emission: &ExplosionLights,
     lights: &mut ExplosionLights,
+    centroids: Vec<(usize, Vec3)>,
 ) -> Result<(), RenderError> {
     lights.set_prune(emission.prune())?;
     lights.set_near_field(emission.near_field());
-    lights.set_smoke(emission.smoke().map(|s| Arc::new(s.without_centroids())));
+    let smoke = |s: &Arc<VoxelSmoke>| Arc::new(s.without_centroids().with_centroids(centroids));
+    lights.set_smoke(emission.smoke().map(smoke));
     let coarse = emission.variants().coarse_shadows;
     lights.set_coarse_shadows(coarse);
     Ok(())

@@ -52,7 +52,7 @@ pub(super) fn pass(
     )?;
     // The emission lights' weak-light pruning and coarse lights' shadows carry over, to each
     // depth and to the merge.
-    carry_over(emission, &mut scattered)?;
+    carry_over(emission, &mut scattered, Vec::new())?;
     let (single, later_settings, spacing) = depth_settings(settings, method, grid);
     let fluence = |settings| Fluence {
         method,
