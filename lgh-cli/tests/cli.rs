@@ -783,6 +783,8 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     // Rays a pixel from the image's and the voxels' sizes: 8 × 6 pixels over the fire's 81
     // voxels are ~10 voxels a pixel, so the most `auto` takes, 4 a side.
     assert_eq!(get("lgh:pixel_samples"), "4");
+    // The emission's rays apart, at most a quarter of a voxel each: 40 a side, at most 8.
+    assert_eq!(get("lgh:emission_samples"), "8");
     assert_eq!(get("lgh:scatter_depth"), "0");
     let share: f64 = get("lgh:scatter_skipped_share").parse().unwrap();
     assert!(share > 0.0 && share < 0.01, "{share}");
@@ -827,23 +829,49 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     // The box filter's rays are said in the header, and refused out of range before any work.
     let get = render(&["--scatter-depth", "0", "--pixel-samples", "2"]);
     assert_eq!(get("lgh:pixel_samples"), "2");
-    for bad in ["0", "9"] {
+    // Emission rays as given; at most the pixel samples, the emission is marched with the light.
+    let get = render(&["--scatter-depth", "0", "--emission-samples", "5"]);
+    assert_eq!(get("lgh:emission_samples"), "5");
+    let get = render(&[
+        "--scatter-depth",
+        "0",
+        "--pixel-samples",
+        "2",
+        "--emission-samples",
+        "1",
+    ]);
+    assert_eq!(get("lgh:pixel_samples"), "2");
+    assert!(header_has_no(&out, "lgh:emission_samples"));
+    for (flag, bad) in [
+        ("--pixel-samples", "0"),
+        ("--pixel-samples", "9"),
+        ("--emission-samples", "0"),
+        ("--emission-samples", "9"),
+    ] {
         let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
         let o = dir.path().join(format!("bad{bad}.exr"));
-        a.extend([o.to_str().unwrap(), "--pixel-samples", bad]);
-        assert_refused(dir.path(), &a, "--pixel-samples");
+        a.extend([o.to_str().unwrap(), flag, bad]);
+        assert_refused(dir.path(), &a, flag);
     }
     // Adaptive: auto's rays (4 here, at most 4 a side, refined to 8), refined where rays differ.
     let get = render(&["--scatter-depth", "0", "--pixel-samples", "adaptive"]);
     assert_eq!(get("lgh:pixel_samples"), "4");
     assert_eq!(get("lgh:pixel_refinement"), "adaptive");
     assert_eq!(get("lgh:pixel_tolerance"), "0.05");
+    // Adaptive pixels refine the emission with the light: no emission rays apart, and asked
+    // for, refused.
+    assert!(header_has_no(&out, "lgh:emission_samples"));
     for (flag, bad) in [("--pixel-tolerance", "-1"), ("--shadow-skip", "1")] {
         let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
         let o = dir.path().join("bad.exr");
         a.extend([o.to_str().unwrap(), flag, bad]);
         assert_refused(dir.path(), &a, flag);
     }
+    let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
+    let o = dir.path().join("bad.exr");
+    a.extend([o.to_str().unwrap(), "--pixel-samples", "adaptive"]);
+    a.extend(["--emission-samples", "3"]);
+    assert_refused(dir.path(), &a, "--emission-samples");
 }
 
 #[test]
