@@ -6,6 +6,11 @@ LGH samples what the .blend describes. Each is *Auto* by default — ``lgh explo
   ``N × N`` sub-pixels averaged: a one-pixel box filter, as Cycles' *Box* filter of width 1
   draws (``--pixel-samples``). Auto takes the fewest, at most 4, for which a sub-pixel covers
   at most three quarters of a voxel at the volume's centre.
+- **Emission samples**: camera rays per side of a pixel for the emission alone, where more
+  than the pixel samples: a thin flame's emission varies far below a voxel, the light the smoke
+  scatters as the smoke does, and an emission ray reads no light (``--emission-samples``). Auto
+  takes the fewest, at most 8 and at least the pixel samples, for which an emission sub-pixel
+  covers at most a quarter of a voxel.
 - **Scatter spacing**: the grid, in voxels, on which multiple scattering's deeper depths
   compute their light (``--scatter-spacing``; paper Sec. 5). Auto takes 4, 2 or 1, at least 8
   cells across the smoke.
@@ -43,6 +48,16 @@ class LGHSettings(bpy.types.PropertyGroup):
         "N: N x N camera rays through the centres of N x N sub-pixels, averaged (a one-pixel "
         "box filter, as Cycles' Box filter of width 1). The render's rays cost about N "
         "squared as much")
+    emission_sampling: _choice(
+        "Emission Samples",
+        "Camera rays per side of a pixel for the emission alone: auto (the fewest, at most 8 "
+        "and at least the pixel samples, for which a sub-pixel covers at most a quarter of a "
+        "voxel) or fixed")
+    emission_samples: _fixed(
+        "Emission Rays per Side",
+        "N: the emission alone is the box filter of N x N rays that read no light, where N is "
+        "more than the pixel samples (thin flames vary below a voxel); a fraction of a lit "
+        "ray's cost")
     scatter_grid: _choice(
         "Scatter Spacing",
         "The grid of multiple scattering's deeper depths: auto (4, 2 or 1 voxels, at least 8 "
@@ -63,6 +78,8 @@ def settings(scene):
     out = {}
     if s.pixel_sampling == "FIXED":
         out["pixel_samples"] = s.pixel_samples
+    if s.emission_sampling == "FIXED":
+        out["emission_samples"] = s.emission_samples
     if s.scatter_grid == "FIXED":
         out["scatter_spacing"] = s.scatter_spacing
     return out
@@ -90,6 +107,10 @@ class LGH_PT_sampling(bpy.types.Panel):
         row = layout.row()
         row.active = s.pixel_sampling == "FIXED"
         row.prop(s, "pixel_samples")
+        layout.prop(s, "emission_sampling")
+        row = layout.row()
+        row.active = s.emission_sampling == "FIXED"
+        row.prop(s, "emission_samples")
         layout.prop(s, "scatter_grid")
         row = layout.row()
         row.active = s.scatter_grid == "FIXED"

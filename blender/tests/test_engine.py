@@ -29,17 +29,20 @@ def test_a_volume_object_renders_as_lgh_explosion_with_the_same_flags(fireball, 
 
 def test_the_sampling_settings_are_the_commands_flags(fireball, tmp_path):
     """Render Properties > Sampling (``scene.lgh``): Auto leaves the command's own rule, a
-    fixed pixel sampling and scatter spacing are ``--pixel-samples`` and ``--scatter-spacing``
-    (the fireball scatters: its albedo 0.7 gives the spacing work to do)."""
+    fixed pixel sampling, emission sampling and scatter spacing are ``--pixel-samples``,
+    ``--emission-samples`` and ``--scatter-spacing`` (the fireball scatters: its albedo 0.7
+    gives the spacing work to do)."""
     scene, _ = build(fireball)
     assert hasattr(bpy.types, "LGH_PT_sampling"), "the Sampling panel is not registered"
     s = scene.lgh
-    assert (s.pixel_sampling, s.scatter_grid) == ("AUTO", "AUTO")
+    assert (s.pixel_sampling, s.emission_sampling, s.scatter_grid) == ("AUTO",) * 3
     s.pixel_sampling, s.pixel_samples = "FIXED", 3
+    s.emission_sampling, s.emission_samples = "FIXED", 5
     s.scatter_grid, s.scatter_spacing = "FIXED", 1
     image, report = render(tmp_path)
     assert report == [], report
-    want = cli(tmp_path, fireball, front(0.7, "--pixel-samples", "3", "--scatter-spacing", "1"))
+    want = cli(tmp_path, fireball, front(0.7, "--pixel-samples", "3", "--emission-samples", "5",
+                                         "--scatter-spacing", "1"))
     auto = cli(tmp_path, fireball, front(0.7), name="auto")
     assert rel_rmse(image, want) <= 1e-5, rel_rmse(image, want)
     assert rel_rmse(want, auto) > 1e-3, "the settings change nothing: the test tests nothing"

@@ -47,6 +47,7 @@ def render_explosion(
     step: _Value | None = ...,  # Step along camera rays, in voxels (smaller is more accurate and slower) (default 1)
     shadow_step: _Value | None = ...,  # Step along shadow rays, in voxels (smaller is more accurate and slower) [default: 1, or 2 for lgh demo]
     pixel_samples: _Value | None = ...,  # Camera rays per side of a pixel, 1 to 8: N×N rays through the centres of N×N sub-pixels, averaged — a one-pixel box filter (Cycles' "Box" filter, width 1), w
+    emission_samples: _Value | None = ...,  # Camera rays per side of a pixel for the emission alone, 1 to 8: where more than --pixel-samples, each pixel's emission (and what the smoke absorbs of it)
     pixel_tolerance: _Value | None = ...,  # With --pixel-samples adaptive: the luminance difference between neighbouring rays that refines their pixels, as a share of the image's mean luminance (smal
     lighting_cache: Literal['none', 'coarse'] | None = ...,  # Lighting cache for the hierarchy's coarse levels: their in-scattered light computed once per frame at grid vertices over the smoke and in
     cache_spacing: _Value | None = ...,  # Distance between the lighting cache's vertices: `auto` (cells of --cache-depth optical depth across the densest smoke, 0.25 to 4 voxels) or voxels (0.25 to 1
