@@ -127,9 +127,19 @@ pub fn auto_pixel_samples(
     centre: lgh_core::glam::Vec3,
     voxel_size: f32,
 ) -> usize {
-    let n = (pixel_footprint(camera, centre, voxel_size) / AUTO_SUBPIXEL_VOXELS).ceil();
+    rays_a_side(
+        pixel_footprint(camera, centre, voxel_size),
+        AUTO_SUBPIXEL_VOXELS,
+        4,
+    )
+}
+
+/// The fewest rays a pixel side, at most `max`, for which a sub-pixel of a pixel `footprint`
+/// voxels wide covers at most `sub_pixel` voxels; 1 where that is not a finite count.
+fn rays_a_side(footprint: f32, sub_pixel: f32, max: usize) -> usize {
+    let n = (footprint / sub_pixel).ceil();
     if n.is_finite() && n >= 1.0 {
-        (n as usize).min(4)
+        (n as usize).min(max)
     } else {
         1
     }
@@ -170,13 +180,8 @@ pub fn auto_emission_samples(
     voxel_size: f32,
     pixel_samples: usize,
 ) -> usize {
-    let n = (pixel_footprint(camera, centre, voxel_size) / AUTO_EMISSION_SUBPIXEL_VOXELS).ceil();
-    let n = if n.is_finite() && n >= 1.0 {
-        (n as usize).min(MAX_PIXEL_SAMPLES)
-    } else {
-        1
-    };
-    n.max(pixel_samples)
+    let footprint = pixel_footprint(camera, centre, voxel_size);
+    rays_a_side(footprint, AUTO_EMISSION_SUBPIXEL_VOXELS, MAX_PIXEL_SAMPLES).max(pixel_samples)
 }
 
 /// `depth` if it is at most [`MAX_SCATTER_DEPTH`], else [`RenderError::InvalidCount`]: checked
