@@ -1,6 +1,6 @@
 """The viewport's progressive preview: the scene as the viewport sees it, first at a quarter of
-the viewport's resolution (a sixteenth of its pixels) with single scattering, one ray a pixel,
-a lighting cache 16 voxels apart and two-voxel steps — under a second for the dev fire's frame
+the viewport's resolution (a sixteenth of its pixels) with single scattering, one ray a pixel
+(its emission's too), a lighting cache 16 voxels apart and two-voxel steps — under a second for the dev fire's frame
 56 at 640×360 on two cores —, then at full resolution and full quality (the final render's settings), each
 drawn as soon as it is done; a change of the view, the frame or a setting restarts it, and the
 render it replaces stops within a row. Each pass's frame is made ready once
@@ -20,11 +20,12 @@ from .scene import job
 
 #: The preview's passes: the divisor of the viewport's width and height, and the settings that
 #: replace the final render's (the first pass's make it quick: no scattering pass, one ray a
-#: pixel, the coarsest lighting cache, two-voxel steps — on the dev fire's frame 56 at 160×90
+#: pixel — the emission's too, not ``--emission-samples auto``'s finer filter —, the coarsest lighting cache, two-voxel steps — on the dev fire's frame 56 at 160×90
 #: its render takes half the time of one-voxel steps and a cache 8 voxels apart, and its mean
 #: moves by 1.3%).
 PASSES = (
-    (4, {"scatter_depth": 0, "pixel_samples": 1, "cache_spacing": 16, "step": 2}),
+    (4, {"scatter_depth": 0, "pixel_samples": 1, "emission_samples": 1, "cache_spacing": 16,
+         "step": 2}),
     (1, {}),
 )
 

@@ -144,7 +144,7 @@ pub enum PixelSamplesArg {
 /// the voxels' sizes), or as many as the pixel samples (what `lgh demo` takes unless told).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EmissionSamplesArg {
-    /// This many rays a side (at most the pixel samples: every ray marches both).
+    /// This many rays a side (where at most the pixel samples, every ray marches both).
     Fixed(usize),
     /// [`lgh_volume::render::auto_emission_samples`].
     Auto,
@@ -374,7 +374,7 @@ pub struct MarchArgs {
     /// Camera rays per side of a pixel, 1 to 8: N×N rays through the centres of N×N sub-pixels,
     /// averaged — a one-pixel box filter (Cycles' "Box" filter, width 1), without noise; 1 is
     /// the pixel's centre. The render costs about N² times as much; the passes before it do not
-    /// change. `auto`: the fewest (at most 4) for which a sub-pixel covers at most 3/4 of a
+    /// change (the emission takes --emission-samples' rays where they are more). `auto`: the fewest (at most 4) for which a sub-pixel covers at most 3/4 of a
     /// voxel at the volume's centre (1 where the image resolves the voxels) [default: auto for
     /// lgh explosion, 1 for lgh demo]
     /// `adaptive`: auto's rays (at most 4 a side), then twice as fine a side (4 × 4 for 2 × 2)
@@ -529,7 +529,7 @@ impl MarchArgs {
             (Some(EmissionSamplesArg::Fixed(e)), Some(PixelSamplesArg::Adaptive)) if e > 1 => {
                 return Err(format!(
                     "--emission-samples {e} needs uniform pixels: --pixel-samples adaptive \
-                     refines the emission with the light"
+                     refines the emission with the light (auto or 1 take its rays)"
                 )
                 .into());
             }

@@ -36,8 +36,8 @@ self_cell!(
 /// lights, the scattering pass, the shadows — with the same checks and exceptions;
 /// ``render(camera=..., ...)`` then renders a camera (``camera``, ``camera_up``,
 /// ``camera_shift`` and ``width``, ``height`` as ``lgh explosion``'s flags; none: the camera
-/// of ``settings``). The settings that depend on a camera (``pixel_samples`` and
-/// ``cache_level`` ``auto``) are resolved for the camera of ``settings``: a render of that
+/// of ``settings``). The settings that depend on a camera (``pixel_samples``,
+/// ``emission_samples`` and ``cache_level`` ``auto``) are resolved for the camera of ``settings``: a render of that
 /// camera is ``render_explosion``'s image, bit for bit, and so is any camera's where those
 /// resolve alike or are given. ``progress`` and ``threads`` as ``render_explosion``'s.
 #[pyclass(frozen, module = "lgh")]

@@ -11,8 +11,8 @@ from test_explosion import fire_frame
 
 # Fixed where ``auto`` would depend on the camera: every camera then renders with the same
 # settings as a render of its own.
-SETTINGS = dict(width=40, height=24, pixel_samples=1, cache_level=1, albedo=0.7,
-                scatter_depth="auto")
+SETTINGS = dict(width=40, height=24, pixel_samples=1, emission_samples=2, cache_level=1,
+                albedo=0.7, scatter_depth="auto")
 FRONT = (0.53, -2.16, 0.455, 0.53, 0.34, 0.455, 40)
 SIDE = (-1.7, 0.34, 0.6, 0.53, 0.34, 0.455, 35)
 
