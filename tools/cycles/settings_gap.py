@@ -1,8 +1,8 @@
 """How far lgh's default image of a procedural scene is from lgh's own finest — what a quality
 setting could still buy — on ``blender/race.py``'s scene (the same volume, medium and camera
 at 128×128, Blender 5's interpolation): the error of the default image, and of 4×4 rays a pixel
-alone, against 4×4 rays a pixel, half-voxel steps, no lighting cache and scattering depths down
-to 0.1% — by ``lgh compare``, the race's measure (RMSE of luminance over the reference's mean),
+alone, against 4×4 rays a pixel (8×8 for the emission), half-voxel steps, no lighting cache and
+scattering depths down to 0.1% — by ``lgh compare``, the race's measure (RMSE of luminance over the reference's mean),
 and each channel's (``*_rgb``).
 
     target/py313/bin/python tools/cycles/settings_gap.py [--scene explosion] [--resolution 128]
@@ -22,7 +22,8 @@ import lgh
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import compare  # noqa: E402 (tools/cycles' one measure: lgh compare)
-FINEST = {"pixel_samples": 4, "step": 0.5, "lighting_cache": "none", "scatter_stop": 0.001}
+FINEST = {"pixel_samples": 4, "emission_samples": 8, "step": 0.5, "lighting_cache": "none",
+          "scatter_stop": 0.001}
 
 
 def main():
