@@ -842,16 +842,21 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     ]);
     assert_eq!(get("lgh:pixel_samples"), "2");
     assert!(header_has_no(&out, "lgh:emission_samples"));
+    // `lgh explosion` of the dev fire with `extra`, refused naming `flag`.
+    let bad_out = dir.path().join("bad.exr");
+    let refused = |extra: &[&str], flag: &str| {
+        let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
+        a.push(bad_out.to_str().unwrap());
+        a.extend_from_slice(extra);
+        assert_refused(dir.path(), &a, flag);
+    };
     for (flag, bad) in [
         ("--pixel-samples", "0"),
         ("--pixel-samples", "9"),
         ("--emission-samples", "0"),
         ("--emission-samples", "9"),
     ] {
-        let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
-        let o = dir.path().join(format!("bad{bad}.exr"));
-        a.extend([o.to_str().unwrap(), flag, bad]);
-        assert_refused(dir.path(), &a, flag);
+        refused(&[flag, bad], flag);
     }
     // Adaptive: auto's rays (4 here, at most 4 a side, refined to 8), refined where rays differ.
     let get = render(&["--scatter-depth", "0", "--pixel-samples", "adaptive"]);
@@ -862,16 +867,10 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     // for, refused.
     assert!(header_has_no(&out, "lgh:emission_samples"));
     for (flag, bad) in [("--pixel-tolerance", "-1"), ("--shadow-skip", "1")] {
-        let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
-        let o = dir.path().join("bad.exr");
-        a.extend([o.to_str().unwrap(), flag, bad]);
-        assert_refused(dir.path(), &a, flag);
+        refused(&[flag, bad], flag);
     }
-    let mut a = vec!["explosion", "--vdb", f56.to_str().unwrap(), "--out"];
-    let o = dir.path().join("bad.exr");
-    a.extend([o.to_str().unwrap(), "--pixel-samples", "adaptive"]);
-    a.extend(["--emission-samples", "3"]);
-    assert_refused(dir.path(), &a, "--emission-samples");
+    let adaptive = ["--pixel-samples", "adaptive", "--emission-samples", "3"];
+    refused(&adaptive, "--emission-samples");
 }
 
 #[test]
