@@ -11,7 +11,7 @@
 //!   and emit ([`Medium`]: Planck's or Blender's emission; [`blender_blackbody`]: Cycles'
 //!   blackbody colour as its volumes emit it, measured); [`procedural`](mod@procedural): the embedded
 //!   explosions ([`explosion`], the demo's, and the older [`procedural`](fn@procedural)).
-//! - [`lights`]: one light per hot voxel (`I0 = j h³`), fixed positions over a sequence with
+//! - [`lights`]: one light per emitting voxel cell (`I0 = j h³`), fixed positions over a sequence with
 //!   per-frame intensities ([`voxel_light`]: what a voxel light emits, its cell's emission;
 //!   [`voxel_smoke`]: the smoke in its voxel, through which its light escapes); [`method`]: the
 //!   many-lights method that shades them ([`Method`]:

@@ -94,7 +94,8 @@ fn check_factors(frame: &Volume, index: Option<usize>) -> Result<(), RenderError
 }
 
 impl ExplosionLights {
-    /// Lights at every voxel hotter than `T_min` in any of `frames`, with the intensities of
+    /// Lights at every voxel whose cell or centre emits in any of `frames`
+    /// ([`Volume::emitting_cells`]), with the intensities of
     /// `frames[0]`. Every frame's temperature (and flame) grid must have one layout (dimensions,
     /// voxel size, origin); the density may lie on another.
     pub fn new(frames: &[&Volume], medium: &Medium) -> Result<Self, RenderError> {
@@ -126,8 +127,8 @@ impl ExplosionLights {
             if !grid.same_layout(&f.temperature) {
                 return Err(RenderError::FrameOffGrid { frame: Some(i) });
             }
-            for (v, h) in hot.iter_mut().enumerate() {
-                *h = *h || f.voxel_emits(medium, v);
+            for (h, emits) in hot.iter_mut().zip(f.emitting_cells(medium)) {
+                *h = *h || emits;
             }
         }
         let (grid, hot) = layout.ok_or(RenderError::NoFrames)?;
@@ -542,13 +543,21 @@ mod tests {
         let v = procedural(32, 0.3).unwrap();
         let medium = Medium::new(1.0, 1.0, 1e-3, 1000.0).unwrap();
         let s = ExplosionLights::new(&[&v], &medium).unwrap();
+        let n = v.temperature.data.len();
         let hot = v.temperature.data.iter().filter(|&&t| t > 1000.0).count();
-        assert_eq!((s.lights.len(), s.lit()), (hot, hot));
+        let cells = (0..n).filter(|&i| v.cell_emits(&medium, i)).count();
+        // A light at every emitting cell: the hot voxels and the cells they warm.
+        assert_eq!(s.lit(), cells);
+        assert!(
+            s.lights.len() >= cells && cells > hot,
+            "{cells} cells, {hot} hot"
+        );
         let h3 = v.temperature.voxel_size.powi(3);
         let points = s
             .clone()
             .with_near_field(NearField::Clamp, &v, &medium)
             .unwrap();
+        assert_eq!(points.lit(), hot);
         let lights = s.lights.iter().zip(&points.lights).zip(&s.voxels);
         for ((voxel, point), &idx) in lights.step_by(17) {
             // A voxel light emits what its cell does, a point light its centre's emission.
@@ -558,7 +567,70 @@ mod tests {
                 medium.emission_at(v.temperature.data[idx]) * h3
             );
             assert_eq!(voxel.position, point.position);
-            assert!(v.temperature.sample(voxel.position) > 1000.0 * 0.999);
+        }
+    }
+
+    #[test]
+    fn voxel_lights_hold_every_cells_emitted_power() {
+        // The lights' intensities add up to the emission integrated over every cell of the grid
+        // (`Volume::cell_emission`, the same quadrature): nothing is lost at the cells beside the
+        // hot voxels, whichever interpolation, with a flame factor and with RGB emission. Lights
+        // at the hot voxels alone held 0.9930 of it with `attributes` on Blender's 64³ fires.
+        // The bound is the f32 sums' rounding (the two sums differ only in order and in the
+        // cells that emit nothing).
+        let ball = crate::procedural::ball(16, 0.6, 2600.0);
+        let mut flamed = ball.clone();
+        let mut flame = ball.temperature.clone();
+        for (i, f) in flame.data.iter_mut().enumerate() {
+            *f = 0.25 + 0.75 * ((i * 7919) % 13) as f32 / 12.0;
+        }
+        flamed.flame = Some(flame);
+        let colour = |c: usize| {
+            let mut g = ball.temperature.clone();
+            for (i, v) in g.data.iter_mut().enumerate() {
+                *v = (ball.temperature.data[i] - 1500.0).max(0.0) * (1.0 + c as f32);
+            }
+            g
+        };
+        let rgb = Volume::with_colour(ball.density.clone(), [0, 1, 2].map(colour)).unwrap();
+        let temperature = Medium::new(0.5, 4.5, 1e-3, 1000.0).unwrap();
+        let attributes = temperature
+            .clone()
+            .with_interpolation(crate::medium::EmissionInterpolation::Attributes);
+        let unit = Medium::new(0.5, 4.5, 1e-3, 1e6).unwrap();
+        let cases = [
+            ("temperature", &ball, &temperature),
+            ("attributes", &ball, &attributes),
+            ("flame", &flamed, &attributes),
+            ("rgb", &rgb, &unit),
+        ];
+        for (name, volume, medium) in cases {
+            let lights = ExplosionLights::new(&[volume], medium).unwrap();
+            let h3 = f64::from(volume.temperature.voxel_size.powi(3));
+            let held: f64 = lights
+                .lights()
+                .iter()
+                .map(|l| f64::from(l.intensity.x))
+                .sum();
+            let every: f64 = (0..volume.temperature.data.len())
+                .map(|i| f64::from(volume.cell_emission(medium, i).x) * h3)
+                .sum();
+            let centres: f64 = (0..volume.temperature.data.len())
+                .filter(|&i| volume.voxel_emits(medium, i))
+                .map(|i| f64::from(volume.cell_emission(medium, i).x) * h3)
+                .sum();
+            assert!(
+                (held / every - 1.0).abs() < 1e-9,
+                "{name}: {held} of {every}"
+            );
+            // And the cells beside the hot voxels are worth holding: the hot voxels' cells alone
+            // hold 0.99964 (temperature), 0.9928 (attributes), 0.9926 (flame), 0.830 (rgb,
+            // whose colour blends linearly into every neighbour's cell), measured.
+            assert!(
+                centres / every < 0.9999,
+                "{name}: centres hold {}",
+                centres / every
+            );
         }
     }
 }

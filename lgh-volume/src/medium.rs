@@ -132,7 +132,9 @@ impl Volume {
         }
     }
 
-    /// How many voxels emit ([`voxel_emits`](Self::voxel_emits)): the lights `S0` of this frame.
+    /// How many voxels emit at their centres ([`voxel_emits`](Self::voxel_emits)): the paper's
+    /// lights `S0` of this frame (lgh's voxel lights stand at every emitting cell too,
+    /// [`emitting_cells`](Self::emitting_cells)).
     #[must_use]
     pub fn emitting_voxels(&self, medium: &Medium) -> usize {
         (0..self.temperature.data.len())
@@ -140,7 +142,8 @@ impl Volume {
             .count()
     }
 
-    /// Whether voxel `idx` is a light: its [`voxel_emission`](Self::voxel_emission) is not zero.
+    /// Whether voxel `idx` emits at its centre: its [`voxel_emission`](Self::voxel_emission) is
+    /// not zero (the paper's lights; see [`emitting_cells`](Self::emitting_cells) for lgh's).
     #[must_use]
     pub fn voxel_emits(&self, medium: &Medium, idx: usize) -> bool {
         self.voxel_emission(medium, idx).max_element() > 0.0
