@@ -1181,9 +1181,7 @@ impl Frames<'_> {
     fn lights_for(&mut self, volume: &Volume) -> Result<usize, crate::Error> {
         let (args, medium) = (self.args, &self.setup.medium);
         if args.backend == BackendArg::Pathtrace {
-            // As many as the marcher's lights would shine: its emitting cells.
-            let cells = volume.emitting_cells(medium);
-            return Ok(cells.iter().filter(|&&emits| emits).count());
+            return Ok(volume.emitting_voxels(medium));
         }
         let lights = match &mut self.lights {
             Some(l) => l,

@@ -693,8 +693,9 @@ fn explosion_renders_a_sequence_of_the_real_cache() {
     );
     // The path tracer builds no lights but counts the voxels whose centres emit: the paper's
     // point lights. Voxel lights (the default) count those whose cells emit, more here: the
-    // lights sit at every voxel hot in frame 55 or 56, and in frame 56 some of their centres
-    // are below T_min while hotter neighbours warm part of their cells.
+    // lights sit at every voxel whose cell emits in frame 55 or 56 — the hot voxels and the
+    // cells beside them that their interpolated emission reaches (the dev fire's frame 56:
+    // 79,626 against 56,861 centres).
     assert!(lgh_lights.is_some());
     let mut points = args("lgh", "56..56");
     points.extend(["--near-field".to_string(), "clamp".to_string()]);
@@ -707,7 +708,7 @@ fn explosion_renders_a_sequence_of_the_real_cache() {
     let count = |s: Option<String>| s.unwrap().parse::<usize>().unwrap();
     let (voxels, points) = (count(lgh_lights), count(point_lights));
     assert!(
-        voxels >= points && voxels < points * 11 / 10,
+        voxels > points && voxels < points * 3 / 2,
         "{voxels} {points}"
     );
 
