@@ -294,7 +294,8 @@ impl<B: ManyLights> Lights<B> {
 
     /// The [`incident`](Self::incident) light at `x` from every direction (the bare light,
     /// `f = 1`), the same lights unshadowed (`V = 1`), their far part
-    /// `Σ_j far(d_j) I_j g_j` (`d_j` light `j`'s distance; 0 without `far`), and the flux vector
+    /// `Σ_j far(d_j) I_j g_j` (`d_j` light `j`'s distance; 0 without `far`) and its light
+    /// `Σ_j far(d_j) I_j g_j V_j`, and the flux vector
     /// `F = Σ_j lum(I_j g_j V_j) ω_j`, with `ω_j` the unit direction from light `j` to `x`: what
     /// the lighting cache needs to follow a shadow's gradient (`∇_x τ_j ≈ σ_t(x) ω_j`, so
     /// `∇L ≈ −σ_t F`) and to keep level 0 as a ratio (`lighting_cache`, `near_part`). The flux
@@ -317,7 +318,7 @@ impl<B: ManyLights> Lights<B> {
     /// let far = Some(|d: f32| if d > 1.0 { 0.5 } else { 0.0 });
     /// let at = lights.incident_flux(x, 0.0, &Visibility::None, far, &mut scratch, &mut stats)?;
     /// assert_eq!((at.light, at.unshadowed, at.flux), (Vec3::ONE, Vec3::ONE, Vec3::ZERO));
-    /// assert_eq!(at.far, Vec3::splat(0.5));
+    /// assert_eq!((at.far, at.far_light), (Vec3::splat(0.5), Vec3::splat(0.5)));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn incident_flux(
@@ -339,17 +340,28 @@ impl<B: ManyLights> Lights<B> {
             } else {
                 self.incident_in(&point, sigma_t, none, |_| Vec3::ONE, scratch, stats)?
             };
-            let far = match far {
+            let far_fn = far;
+            let far = match &far_fn {
                 Some(far) => {
                     let far = |l: &LightSample| Vec3::splat(far(l.distance));
                     self.incident_in(&point, sigma_t, none, far, scratch, stats)?
                 }
                 None => Vec3::ZERO,
             };
+            // The far part's light: its unshadowed light where nothing shadows it.
+            let far_light = match (&far_fn, visibility.is_none()) {
+                (_, true) => far,
+                (Some(far), false) => {
+                    let far = |l: &LightSample| Vec3::splat(far(l.distance));
+                    self.incident_in(&point, sigma_t, visibility, far, scratch, stats)?
+                }
+                (None, false) => Vec3::ZERO,
+            };
             return Ok(IncidentFlux {
                 light,
                 unshadowed,
                 far,
+                far_light,
                 flux: Vec3::ZERO,
             });
         }
@@ -362,7 +374,9 @@ impl<B: ManyLights> Lights<B> {
             split.light += term;
             split.unshadowed += unshadowed;
             if let Some(far) = &far {
-                split.far += unshadowed * far(d);
+                let w = far(d);
+                split.far += unshadowed * w;
+                split.far_light += term * w;
             }
             split.flux += (x - p).normalize_or_zero() * lgh_core::luminance(term);
         }
@@ -439,10 +453,46 @@ impl<B: ManyLights> Lights<B> {
         scratch: &mut LightScratch,
         stats: &mut crate::stats::RenderStats,
     ) -> Result<Vec3, QueryError> {
+        let none = &Visibility::None;
+        Ok(self.in_scattered_part(x, sigma_t, none, weight, scratch, stats)? * scale)
+    }
+
+    /// [`in_scattered`](Self::in_scattered) at a scale of 1 (times the scale, it is the voxel's
+    /// in-scattered light), each light's term weighted by `weight(distance)`: a part of the
+    /// light with its shadows, such as the near part of a lighting cache that
+    /// keeps level 0's far part as light ([`Level0Form::FarLight`](crate::lighting_cache::Level0Form::FarLight)).
+    ///
+    /// ```
+    /// use lgh_volume::lgh_core::glam::Vec3;
+    /// use lgh_volume::lgh_core::{BruteForce, PointLight};
+    /// use lgh_volume::lighting::{LightScratch, Lights};
+    /// use lgh_volume::render::RenderStats;
+    /// use lgh_volume::shadow::Visibility;
+    ///
+    /// let two = [PointLight::new(Vec3::ZERO, Vec3::ONE), PointLight::new(Vec3::X, Vec3::ONE)];
+    /// let lights = Lights::new(BruteForce::new(&two)?, 0.1);
+    /// let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
+    /// let (x, none) = (Vec3::new(3.0, 0.0, 0.0), &Visibility::None);
+    /// let near = |d: f32| if d < 2.5 { 1.0 } else { 0.0 };
+    /// let far = |d: f32| 1.0 - near(d);
+    /// let all = lights.in_scattered(x, 1.0, 0.0, none, &mut scratch, &mut stats)?;
+    /// let a = lights.in_scattered_part(x, 0.0, none, near, &mut scratch, &mut stats)?;
+    /// let b = lights.in_scattered_part(x, 0.0, none, far, &mut scratch, &mut stats)?;
+    /// assert!((a + b - all).abs().max_element() < 1e-7);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn in_scattered_part(
+        &self,
+        x: Vec3,
+        sigma_t: f32,
+        visibility: &Visibility,
+        weight: impl Fn(f32) -> f32,
+        scratch: &mut LightScratch,
+        stats: &mut crate::stats::RenderStats,
+    ) -> Result<Vec3, QueryError> {
         let point = ShadingPoint::in_medium(x);
         let phase = |l: &LightSample| Vec3::splat(ISOTROPIC_PHASE * weight(l.distance));
-        let none = &Visibility::None;
-        Ok(self.incident_in(&point, sigma_t, none, phase, scratch, stats)? * scale)
+        self.incident_in(&point, sigma_t, visibility, phase, scratch, stats)
     }
 }
 
@@ -456,6 +506,8 @@ pub struct IncidentFlux {
     pub unshadowed: Vec3,
     /// `Σ_j far(d_j) I_j g_j`: their far part, unshadowed (`near_part`).
     pub far: Vec3,
+    /// `Σ_j far(d_j) I_j g_j V_j`: their far part's light, shadowed (`near_part`).
+    pub far_light: Vec3,
     /// `Σ_j lum(I_j g_j V_j) ω_j`: the flux vector (0 without shadows).
     pub flux: Vec3,
 }

@@ -37,6 +37,19 @@
 //! ball of smoke, depth 2 two voxels apart lost 22% of its power blended geometrically, 0.2%
 //! linearly (0.5% at depth 3).
 //!
+//! **Level 0 on the scattering depths' grid.** Depths ≥ 2 of multiple scattering take their
+//! fluence from a grid of every level, vertices up to four voxels apart
+//! ([`LightingCacheSettings::scattered_depths`]). Interpolated whole, level 0's light loses
+//! what follows the density from voxel to voxel: a voxel's own light and its neighbours' are
+//! `h³ σ_s Φ/4π` of their own smoke, and the light a voxel scatters is its fluence times its
+//! smoke, so the pass's power is `Σ ρ_x Φ_x` where the grid gives `Σ ρ_x ⟨Φ⟩_x` — the
+//! covariance of the two is lost (on the smoky64 fire, Blender's Quick Smoke at 64 cells, the
+//! second depth's power on the grid was 0.93 of its power at every voxel, all of it lost
+//! between the vertices). So that grid keeps level 0's *far* light ([`Level0Form::FarLight`]):
+//! each light's term weighted by one minus [`crate::near_part`]'s partition of unity in the
+//! distance, and each voxel sums the near part — the lights within
+//! [`SCATTERED_NEAR_REACH`] voxels, with their shadows — itself.
+//!
 //! **Level 0 too, for large images, as a ratio.** Level 0's light varies from voxel to voxel,
 //! and within a voxel by its own light's near field, which no grid on the voxel centres
 //! follows: interpolated as light ([`Level0Form::Light`]), it adds flicker (`lgh bench flicker
@@ -147,6 +160,10 @@ pub enum CacheSpacing {
 
 /// The closest the vertices of an automatic spacing come, in voxels.
 pub const MIN_SPACING: f32 = 0.25;
+/// The reach, in voxels, of the near part that the scattering depths' grid sums at every voxel
+/// ([`LightingCacheSettings::scattered_depths`], [`Level0Form::FarLight`]).
+pub const SCATTERED_NEAR_REACH: f32 = 1.0;
+
 /// The farthest apart the vertices of an automatic spacing are, in voxels.
 pub const MAX_SPACING: f32 = 4.0;
 
@@ -196,9 +213,16 @@ pub enum Level0Form {
     /// their interpolated ratio `Σ w_v S_v / Σ w_v U_v`. The near field stays exact; the
     /// shadow rays, most of level 0's cost a sample, are cast at the vertices only.
     Ratio,
-    /// Its light, interpolated linearly: what the scattering depths' grid keeps, where every
-    /// voxel would otherwise sum level 0.
+    /// Its light, interpolated linearly, where every sample would otherwise sum level 0.
     Light,
+    /// The light of its far part interpolated linearly, its near part — the lights within
+    /// [`near_reach`](LightingCacheSettings::near_reach) — summed with their shadows at every
+    /// sample ([`crate::near_part`]'s split): what the scattering depths' grid keeps. A voxel's
+    /// own light and its neighbours' follow the voxel's density and extinction, which no grid
+    /// between the voxels follows: interpolated whole, the smoky64 fire's depth 2 lost 7% of
+    /// its power on a grid four voxels apart (module docs, "Level 0 on the scattering depths'
+    /// grid"). Without a near reach it is [`Light`](Self::Light).
+    FarLight,
 }
 
 impl Level0Form {
@@ -209,6 +233,7 @@ impl Level0Form {
             Level0Form::Auto => "auto",
             Level0Form::Ratio => "ratio",
             Level0Form::Light => "light",
+            Level0Form::FarLight => "far-light",
         }
     }
 
@@ -355,16 +380,20 @@ impl LightingCacheSettings {
     /// apart, on the voxel centres. Depth `k ≥ 2`'s lights are light that has scattered
     /// already: spread over all the smoke, their fluence varies over the smoke's scale and
     /// its shadows, which the cache's interpolation follows (module docs), not over a single
-    /// hot voxel's near field as the emission's does (depth 1 keeps every voxel). None without
-    /// a cache (the exact pass, every voxel) or with a spacing of 1.
+    /// hot voxel's near field as the emission's does (depth 1 keeps every voxel) — but for
+    /// level 0's near part, which follows the voxels' smoke: the grid keeps level 0's far
+    /// light ([`Level0Form::FarLight`]) and each voxel sums the lights within
+    /// [`SCATTERED_NEAR_REACH`] voxels (module docs, "Level 0 on the scattering depths'
+    /// grid"). None without a cache (the exact pass, every voxel) or with a spacing of 1.
     ///
     /// ```
-    /// use lgh_volume::lighting_cache::{CacheSpacing, LightingCacheSettings};
+    /// use lgh_volume::lighting_cache::{CacheSpacing, Level0Form, LightingCacheSettings};
     /// use lgh_volume::procedural;
     ///
     /// let density = procedural::ball(64, 0.7, 3000.0).density; // smoke 51 voxels across
     /// let later = LightingCacheSettings::coarse().scattered_depths(&density).unwrap();
     /// assert_eq!((later.spacing, later.first_level), (CacheSpacing::Voxels(4.0), 0));
+    /// assert_eq!(later.level0, Level0Form::FarLight);
     /// assert!(LightingCacheSettings::default().scattered_depths(&density).is_none()); // no cache
     /// let every = LightingCacheSettings { scattered_spacing: 1, ..LightingCacheSettings::coarse() };
     /// assert!(every.scattered_depths(&density).is_none());
@@ -375,7 +404,8 @@ impl LightingCacheSettings {
         (self.mode == CacheMode::Coarse && spacing > 1).then_some(LightingCacheSettings {
             spacing: CacheSpacing::Voxels(f32::from(spacing)),
             first_level: 0,
-            level0: Level0Form::Light,
+            level0: Level0Form::FarLight,
+            near_reach: Some(SCATTERED_NEAR_REACH),
             ..*self
         })
     }
@@ -520,9 +550,10 @@ struct Lattice {
     /// The levels, `first..=last`.
     first: u8,
     last: u8,
-    /// Whether it keeps level 0 as a ratio ([`Level0Form::Ratio`]): its vertices' shadowed
-    /// and unshadowed light, which [`LightingCache::lookup`] reads as a ratio.
-    ratio: bool,
+    /// What it keeps of level 0, if it holds level 0: its light ([`Level0Form::Light`]), its
+    /// vertices' shadowed and unshadowed light, which [`LightingCache::lookup`] reads as a
+    /// ratio ([`Level0Form::Ratio`]), or its far part's light ([`Level0Form::FarLight`]).
+    level0: Option<Level0Form>,
     /// World position of vertex (0, 0, 0): the first voxel centre.
     origin: Vec3,
     /// The spacing in voxels, in world units, and its inverse.
@@ -547,7 +578,13 @@ struct Brick {
 
 impl Lattice {
     /// An empty grid of levels `first..=last` over `density`'s box, `voxels` voxels apart.
-    fn new(density: &DenseGrid, voxels: f32, first: u8, last: u8, ratio: bool) -> Self {
+    fn new(
+        density: &DenseGrid,
+        voxels: f32,
+        first: u8,
+        last: u8,
+        level0: Option<Level0Form>,
+    ) -> Self {
         let spacing = density.voxel_size * voxels;
         let dims = density.dims.map(|n| {
             let span = n.saturating_sub(1) as f32 / voxels;
@@ -558,7 +595,7 @@ impl Lattice {
         Lattice {
             first,
             last,
-            ratio,
+            level0,
             origin: density.centre(0, 0, 0),
             voxels,
             spacing,
@@ -567,6 +604,11 @@ impl Lattice {
             bricks,
             filled: (0..count).map(|_| OnceLock::new()).collect(),
         }
+    }
+
+    /// Whether it keeps level 0 as a ratio.
+    fn ratio(&self) -> bool {
+        self.level0 == Some(Level0Form::Ratio)
     }
 
     /// World position of vertex `v`.
@@ -639,10 +681,13 @@ impl LightingCache {
                 // the coarse levels blend in the logarithm (module docs).
                 Some(t) if t.voxels == voxels && t.first > 0 => t.last = level,
                 _ => {
-                    let ratio = level == 0
-                        && settings.level0.for_lights(RenderedLights::Emission)
-                            == Level0Form::Ratio;
-                    tiers.push(Lattice::new(density, voxels, level, level, ratio));
+                    // A far part needs a near part to sum at the samples.
+                    let form = match settings.level0.for_lights(RenderedLights::Emission) {
+                        Level0Form::FarLight if settings.near_reach.is_none() => Level0Form::Light,
+                        form => form,
+                    };
+                    let level0 = (level == 0).then_some(form);
+                    tiers.push(Lattice::new(density, voxels, level, level, level0));
                 }
             }
         }
@@ -720,7 +765,7 @@ impl LightingCache {
         for tier in &self.tiers {
             let source = Source::of(tier, coarse, visibility, density);
             let corners = self.corners(tier, x, &source)?;
-            if tier.ratio {
+            if tier.ratio() {
                 cached.shadowing = ratio(&corners, sigma_t);
                 cached.far = corners
                     .iter()
@@ -744,7 +789,16 @@ impl LightingCache {
     /// sample.
     #[must_use]
     pub fn level0_ratio(&self) -> bool {
-        self.tiers.iter().any(|t| t.ratio)
+        self.tiers.iter().any(Lattice::ratio)
+    }
+
+    /// Whether level 0's far part is kept as light ([`Level0Form::FarLight`]): then its near
+    /// part is summed at every sample, with its shadows.
+    #[must_use]
+    pub fn level0_far_light(&self) -> bool {
+        self.tiers
+            .iter()
+            .any(|t| t.level0 == Some(Level0Form::FarLight))
     }
 
     /// The eight vertices of grid `tier` around `x` (the nearest face of the grid beyond its
@@ -835,10 +889,12 @@ impl LightingCache {
         let t = Instant::now();
         const N: usize = BRICK * BRICK * BRICK;
         let mut values = vec![Vertex::default(); N].into_boxed_slice();
-        let mut level0 = vec![Level0Vertex::default(); if tier.ratio { N } else { 0 }];
-        // On a ratio grid, the far part of level 0's unshadowed light (`near_part`).
+        let mut level0 = vec![Level0Vertex::default(); if tier.ratio() { N } else { 0 }];
+        // On a ratio grid, the far part of level 0's unshadowed light; on a grid of level 0's
+        // far light, that light (`near_part`).
+        let far_light = tier.level0 == Some(Level0Form::FarLight);
         let far = (self.near)
-            .filter(|_| tier.ratio)
+            .filter(|_| tier.ratio() || far_light)
             .map(|part| move |d: f32| 1.0 - part.weight(d));
         let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
         let mut count = 0u64;
@@ -868,7 +924,11 @@ impl LightingCache {
                         };
                     }
                     values[at] = Vertex {
-                        light: split.light,
+                        light: if far_light {
+                            split.far_light
+                        } else {
+                            split.light
+                        },
                         direction: if lum > 0.0 {
                             split.flux / lum
                         } else {
@@ -1080,8 +1140,9 @@ pub(crate) struct CachedLights<'l> {
     /// Levels below the cache's first, shaded at every sample (none when it caches every
     /// level); with level 0 kept as a ratio, level 0, unshadowed.
     pub(crate) fine: Option<Lights<LghBackend<'l>>>,
-    /// With the cache's near part ([`NearPart`]), the fine lights within its reach, summed
-    /// per point with its weight (made once here, not at every point).
+    /// With the cache's near part ([`NearPart`]), the lights within its reach, summed per
+    /// point with its weight (made once here, not at every point): level 0's, unshadowed, on a
+    /// ratio grid; every level's, shadowed, on a grid of level 0's far light.
     near: Option<(NearPart, Lights<LghBackend<'l>>)>,
     /// The cached levels, what the cache is filled with.
     pub(crate) coarse: Lights<LghBackend<'l>>,
@@ -1101,10 +1162,17 @@ impl<'l> CachedLights<'l> {
         } else {
             first.checked_sub(1).map(|last| split(0..=last))
         };
-        let near = cache
-            .near
-            .zip(fine.as_ref())
-            .map(|(part, fine)| (part, fine.with_backend(fine.backend.within(part.reach()))));
+        let within = |part: NearPart, l: &Lights<LghBackend<'l>>| {
+            (part, l.with_backend(l.backend.within(part.reach())))
+        };
+        let near = if cache.level0_far_light() {
+            cache.near.map(|part| within(part, lights))
+        } else {
+            cache
+                .near
+                .zip(fine.as_ref())
+                .map(|(part, fine)| within(part, fine))
+        };
         CachedLights {
             cache,
             density,
@@ -1159,7 +1227,14 @@ impl<'l> CachedLights<'l> {
             (Some(fine), None) => {
                 fine.in_scattered(x, scale, sigma_t, visibility, scratch, stats)?
             }
-            (None, _) => Vec3::ZERO,
+            (None, _) => match &self.near {
+                // Level 0's far light cached: its near part summed, shadowed (`near_part`).
+                Some((part, near)) if self.cache.level0_far_light() => {
+                    let w = |d| part.weight(d);
+                    near.in_scattered_part(x, sigma_t, visibility, w, scratch, stats)? * scale
+                }
+                _ => Vec3::ZERO,
+            },
         };
         let coarse = cached.light;
         Ok(fine + coarse * (ISOTROPIC_PHASE * scale))

@@ -63,15 +63,19 @@ def escape(us, taus, nx, nw):
     return out
 
 
+def print_table(name, rows, digits):
+    """A Rust constant `name` of f32 rows, each value formatted by `digits` (a format spec)."""
+    print("#[rustfmt::skip]")
+    print(f"const {name}: [[f32; {len(rows[0])}]; {len(rows)}] = [")
+    for row in rows:
+        print("    [" + ", ".join(f"{v:{digits}}" for v in row) + "],")
+    print("];")
+
+
 def main():
     nx, nw = (int(sys.argv[1]), int(sys.argv[2])) if len(sys.argv) > 2 else (256, 32768)
     us, taus = np.arange(33) / 8.0, np.arange(33) / 4.0
-    table = escape(us, taus, nx, nw)
-    print("#[rustfmt::skip]")
-    print(f"const ESCAPE: [[f32; {len(taus)}]; {len(us)}] = [")
-    for row in table:
-        print("    [" + ", ".join(f"{v:.6}" for v in row) + "],")
-    print("];")
+    print_table("ESCAPE", escape(us, taus, nx, nw), ".6")
 
 
 if __name__ == "__main__":

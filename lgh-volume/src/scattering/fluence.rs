@@ -9,11 +9,12 @@ use crate::lighting::LightScratch;
 use crate::lighting_cache::{CachedLights, LightingCache};
 use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
-use crate::method::Method;
+use crate::method::{FrameBackend, Method};
 use crate::settings::MarchSettings;
 use crate::shading::Shading;
 use crate::stats::RenderStats;
 
+use super::lattice::{self, Corrections};
 use super::pilot::Pilot;
 use super::plan::nothing_to_scatter;
 use super::stop::power;
@@ -30,6 +31,9 @@ pub(super) struct Fluence<'a> {
     pub(super) settings: &'a MarchSettings,
     /// The voxels with smoke, ascending.
     pub(super) voxels: &'a [usize],
+    /// Whether the level-0 lights near each voxel are taken at the cell's mean
+    /// ([`lattice`](super::lattice)): the depths lit by scattered light.
+    pub(super) cell_means: bool,
     pub(super) progress: &'a (dyn Fn(usize) + Sync),
 }
 
@@ -62,9 +66,11 @@ impl Fluence<'_> {
         let Some(lights) = shading.prepared.lights(source)? else {
             return Err(nothing_to_scatter(1));
         };
-        // The fluence at the voxel's centre: the cell means (`near_field::cell_falloff`,
-        // `Volume::cell_density`) took the path-tracer test's ball 3% further from the path
-        // tracer (docs/shadows.md, "Cell means in the pass").
+        // The fluence at the voxel's centre, but for the level-0 lights within two voxels of
+        // the depths lit by scattered light, taken at the cell's mean (`lattice`). The
+        // spherically averaged cell means (`near_field::cell_falloff`, `Volume::cell_density`)
+        // took the path-tracer test's ball 3% further from the path tracer (docs/shadows.md,
+        // "Cell means in the pass").
         let grid = &self.frame.density;
         // With a lighting cache, the coarse levels' fluence comes from it, as in the render —
         // where some grid is coarser than the voxels: the pass queries every voxel, so a cache
@@ -72,6 +78,17 @@ impl Fluence<'_> {
         let sparse = |c: &&LightingCache| c.tiers().iter().any(|&(_, voxels)| voxels > 1.0);
         let cache = shading.cache.as_ref().filter(sparse);
         let cached = CachedLights::of(cache, grid, &lights);
+        // The level-0 lights near each voxel at the cell's mean (`lattice`): the hierarchy's
+        // level 0 within reach, or a brute-force sum's every light (weighted 0 beyond it).
+        let h = grid.voxel_size;
+        let near = match (self.cell_means, &lights.backend) {
+            (true, FrameBackend::Lgh(b)) => Some(FrameBackend::Lgh(
+                b.with_levels(0..=0).within(lattice::REACH_VOXELS * h),
+            )),
+            (true, FrameBackend::Brute(b)) => Some(FrameBackend::Brute(b)),
+            _ => None,
+        };
+        let lattice = near.map(|b| lights.with_backend(b));
         let shade = |voxels: &[usize], out: &mut [Vec3], progress: bool| {
             shade_voxels(voxels, out, |out, voxels| {
                 let mut scratch = LightScratch::default();
@@ -80,17 +97,19 @@ impl Fluence<'_> {
                     let [i, j, k] = grid.voxel(v);
                     let (x, rho) = (grid.centre(i, j, k), grid.data[v]);
                     let scale = self.medium.voxel_scattering(rho, grid.voxel_size);
+                    let sigma_t = self.medium.extinction(rho);
+                    let s = (&mut scratch, &mut stats);
                     *o = match &cached {
-                        Some(c) => {
-                            let sigma_t = self.medium.extinction(rho);
-                            c.in_scattered(x, scale, sigma_t, visibility, &mut scratch, &mut stats)?
-                        }
-                        None => {
-                            let sigma_t = self.medium.extinction(rho);
-                            let s = (&mut scratch, &mut stats);
-                            lights.in_scattered(x, scale, sigma_t, visibility, s.0, s.1)?
-                        }
+                        Some(c) => c.in_scattered(x, scale, sigma_t, visibility, s.0, s.1)?,
+                        None => lights.in_scattered(x, scale, sigma_t, visibility, s.0, s.1)?,
                     };
+                    if let Some(near) = &lattice {
+                        // In the table's uniform smoke, at the voxel's extinction: unshadowed,
+                        // times `e^{−σ_t d}` (module docs of `lattice`).
+                        let q = Corrections::at(sigma_t * h);
+                        let w = |d: f32| q.weight(d, h) * (-sigma_t * d).exp();
+                        *o += near.unshadowed_part(x, scale, sigma_t, w, s.0, s.1)?;
+                    }
                 }
                 if progress {
                     (self.progress)(voxels.len());

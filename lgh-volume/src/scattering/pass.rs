@@ -54,15 +54,18 @@ pub(super) fn pass(
     // depth and to the merge.
     carry_over(emission, &mut scattered, Vec::new())?;
     let (single, later_settings, spacing) = depth_settings(settings, method, grid);
-    let fluence = |settings| Fluence {
+    let fluence = |settings, cell_means| Fluence {
         method,
         frame,
         medium,
         settings,
         voxels: &dense,
+        cell_means,
         progress,
     };
-    let (first, later) = (fluence(&single), fluence(&later_settings));
+    // The depths lit by scattered light take their near lights at the cell's mean
+    // (`lattice`); depth 1, lit by the emission, keeps the centres.
+    let (first, later) = (fluence(&single, false), fluence(&later_settings, true));
     // With the scattered light as a grid: depths ≥ 2's intensities summed, each `h³ σ_s Φ/4π`
     // of the depth before (`scattered_light`), and one more depth than asked for.
     let grid_mode = settings.scattered_grid(method);
