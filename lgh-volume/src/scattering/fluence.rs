@@ -14,7 +14,7 @@ use crate::settings::MarchSettings;
 use crate::shading::Shading;
 use crate::stats::RenderStats;
 
-use super::lattice::{self, Corrections};
+use super::lattice::{self, Corrections, NearLights};
 use super::pilot::Pilot;
 use super::plan::nothing_to_scatter;
 use super::stop::power;
@@ -31,9 +31,9 @@ pub(super) struct Fluence<'a> {
     pub(super) settings: &'a MarchSettings,
     /// The voxels with smoke, ascending.
     pub(super) voxels: &'a [usize],
-    /// Whether the level-0 lights near each voxel are taken at the cell's mean
-    /// ([`lattice`](super::lattice)): the depths lit by scattered light.
-    pub(super) cell_means: bool,
+    /// Where the level-0 lights near each voxel are taken ([`lattice`]): at the
+    /// cell's mean for the depths lit by scattered light.
+    pub(super) near_lights: NearLights,
     pub(super) progress: &'a (dyn Fn(usize) + Sync),
 }
 
@@ -81,11 +81,11 @@ impl Fluence<'_> {
         // The level-0 lights near each voxel at the cell's mean (`lattice`): the hierarchy's
         // level 0 within reach, or a brute-force sum's every light (weighted 0 beyond it).
         let h = grid.voxel_size;
-        let near = match (self.cell_means, &lights.backend) {
-            (true, FrameBackend::Lgh(b)) => Some(FrameBackend::Lgh(
+        let near = match (self.near_lights, &lights.backend) {
+            (NearLights::CellMeans, FrameBackend::Lgh(b)) => Some(FrameBackend::Lgh(
                 b.with_levels(0..=0).within(lattice::REACH_VOXELS * h),
             )),
-            (true, FrameBackend::Brute(b)) => Some(FrameBackend::Brute(b)),
+            (NearLights::CellMeans, FrameBackend::Brute(b)) => Some(FrameBackend::Brute(b)),
             _ => None,
         };
         let lattice = near.map(|b| lights.with_backend(b));

@@ -14,8 +14,9 @@
 //! sends its light through less smoke than its centre does, dark.
 //!
 //! So each voxel's fluence from the level-0 lights within [`REACH_VOXELS`] is taken at the
-//! cell's mean: the pass adds `(Q(o, τ) − 1)` times each such light's term as computed (its
-//! fall-off, escape and shadow), `Q` the cell's mean over the centre's value for a uniform
+//! cell's mean: the pass adds `(Q(o, τ) − 1)` times each such light's term in the table's own
+//! uniform smoke — its fall-off and escape, unshadowed, times `e^{−σ_t d}` of the receiving
+//! voxel's extinction (no shadow rays) — `Q` the cell's mean over the centre's value for a uniform
 //! emitting voxel at offset `o` in uniform smoke of `τ = σ_t h` optical depths a voxel
 //! ([`cell_mean`]; the receiving voxel's `τ`, clamped to the table's 0–4):
 //!
@@ -26,7 +27,8 @@
 //! Measured on Blender's own fires (docs/cycles.md, "Real simulation caches") together with
 //! the scattering depths' far light (`lighting_cache`, "Level 0 on the scattering depths'
 //! grid"): each alone moves the image away from lgh's path tracer, the two together towards
-//! it. The brute-force and lightcuts backends keep the centres' values (no neighbour query).
+//! it. Brute force applies it too (every light, weighted 0 beyond the reach); lightcuts keeps
+//! the centres' values (no neighbour query).
 //!
 //! # The table
 //!
@@ -35,6 +37,16 @@
 //! 8,192 directions; the voxel's own entry, whose `1/r²` the midpoints sample worst, is 0.2% above
 //! 24³'s);
 //! the test below recomputes entries from the definition by the same quadrature in `f64`.
+
+/// Where a depth's pass takes the fluence of the level-0 lights near each voxel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum NearLights {
+    /// At the voxel's centre, as every other light (collocation): depth 1, lit by the emission.
+    AtCentres,
+    /// At the cell's mean, by this module's kernel, within [`REACH_VOXELS`]: the depths lit by
+    /// scattered light.
+    CellMeans,
+}
 
 /// The farthest a light is from a voxel's centre, in voxels, for its term to be taken at the
 /// cell's mean: two voxels over along an axis (the offset `(2, 0, 0)`), not `(2, 1, 0)`.

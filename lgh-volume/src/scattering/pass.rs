@@ -15,6 +15,7 @@ use crate::settings::MarchSettings;
 use crate::shading::Shading;
 
 use super::fluence::{Fluence, Ran};
+use super::lattice::NearLights;
 use super::merge::{carry_over, emission_intensities, merge, merged_lights, on_slots};
 use super::pilot::Pilot;
 use super::stop::{power, stop_after};
@@ -54,18 +55,21 @@ pub(super) fn pass(
     // depth and to the merge.
     carry_over(emission, &mut scattered, Vec::new())?;
     let (single, later_settings, spacing) = depth_settings(settings, method, grid);
-    let fluence = |settings, cell_means| Fluence {
+    let fluence = |settings, near_lights| Fluence {
         method,
         frame,
         medium,
         settings,
         voxels: &dense,
-        cell_means,
+        near_lights,
         progress,
     };
     // The depths lit by scattered light take their near lights at the cell's mean
     // (`lattice`); depth 1, lit by the emission, keeps the centres.
-    let (first, later) = (fluence(&single, false), fluence(&later_settings, true));
+    let (first, later) = (
+        fluence(&single, NearLights::AtCentres),
+        fluence(&later_settings, NearLights::CellMeans),
+    );
     // With the scattered light as a grid: depths ≥ 2's intensities summed, each `h³ σ_s Φ/4π`
     // of the depth before (`scattered_light`), and one more depth than asked for.
     let grid_mode = settings.scattered_grid(method);
