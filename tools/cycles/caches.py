@@ -126,12 +126,14 @@ def ladder_rows(r, name, vdb, scene, counts, ref, width, height):
     return rows
 
 
-def reference(r, name, vdb, scene, spp, seeds, width, height):
+def reference(r, name, vdb, scene, spp, seeds, width, height, step_rate=1.0):
     """The mean of `seeds` Cycles renders of `spp` samples (seeds 1, 2, ...) at width x height,
     and each seed's error against the mean of the others (the reference's own noise, a check of
-    the fitted `a`)."""
-    runs = [r.cycles(name, vdb, scene, spp, 1 + i, width, height) for i in range(seeds)]
-    out = os.path.join(r.work, f"{name}_reference_{width}x{height}_{spp * seeds}spp.exr")
+    the fitted `a`); and the seeds' renders."""
+    runs = [r.cycles(name, vdb, scene, spp, 1 + i, width, height, step_rate)
+            for i in range(seeds)]
+    rate = "" if step_rate == 1.0 else f"_r{step_rate:g}"
+    out = os.path.join(r.work, f"{name}_reference_{width}x{height}_{spp * seeds}spp{rate}.exr")
     if not os.path.exists(out):
         compare.write_exr(out, sum(compare.read_exr(q["out"]) for q in runs) / seeds)
     spread = []
@@ -141,68 +143,143 @@ def reference(r, name, vdb, scene, spp, seeds, width, height):
                                    if j != i) / (seeds - 1))
         spread.append(compare.rel_rmse(q["out"], tmp)[0])
         os.remove(tmp)
-    return out, spp * seeds, spread
+    return out, spp * seeds, spread, runs
 
 
-def at_equal_error(e, noise, n_ref, cpu_fit):
-    """lgh's error against the truth, Cycles' samples at that error, and their CPU-seconds
-    (None where lgh's error is within the reference's noise: the reference cannot tell)."""
-    truth = math.sqrt(max(e * e - noise / n_ref, 0.0))
-    if truth == 0.0:
-        return truth, None, None
-    n_star = noise / truth ** 2
-    return truth, n_star, cpu_fit[0] + cpu_fit[1] * n_star
+class Truth:
+    """What lgh's and Cycles' errors are measured against at one resolution, and what Cycles
+    pays for an error.
+
+    Without a finer step (`fine` None) the truth is Cycles' converged image at Blender's default
+    volume step rate (1): the reference `ref` of `n_ref` samples, noisy by `a / n_ref`, `a` the
+    ladder's fitted noise a sample, and Cycles at `n` samples errs by `sqrt(a / n)`.
+
+    With one (`fine`: reference()'s answer at --ref-step-rate), the truth is that finer step's
+    converged image. Cycles 3.x and 4.x ray-march a volume in steps of `rate` voxels, which
+    biases their image (docs/cycles.md, "Cycles 3.4.1's volume step"): at Blender's default step
+    Cycles errs by `sqrt(b^2 + a / n)` against the truth, `b` its converged image's bias — each
+    reference against the other less both references' noise — so it reaches an error `e` at
+    `n = a / (e^2 - b^2)` samples, and never where `e <= b`; at the finer step it errs by
+    `sqrt(a_f / n)`, `a_f` the finer reference's noise a sample (its seeds against each other),
+    at a CPU cost a sample from the finer reference's renders (the ladder's fixed cost kept).
+    Cycles' cost at an error is the cheaper of the two."""
+
+    def __init__(self, ref, n_ref, noise, cpu_fit, fine=None, step_rate=1.0, between=None):
+        """`fine`: reference()'s answer at `step_rate`; `between`: the default step's reference
+        against it (compare.rel_rmse's error and mean ratio)."""
+        self.noise, self.cpu_fit, self.step_rate = noise, cpu_fit, step_rate
+        self.image, self.var, self.bias, self.fine = ref, noise / n_ref, 0.0, None
+        if fine is None:
+            return
+        f_ref, f_n, f_spread, f_runs = fine
+        k = len(f_spread)
+        # Each seed against the mean of the others errs by sigma^2 k / (k - 1), sigma^2 a
+        # seed's noise; the mean of k seeds by sigma^2 / k.
+        f_var = sum(x * x for x in f_spread) * (k - 1) / k ** 3
+        e, mean = between
+        self.image, self.var = f_ref, f_var
+        self.bias = math.sqrt(max(e * e - noise / n_ref - f_var, 0.0))
+        c0 = cpu_fit[0]
+        c1 = sum((q["cpu_s"] - c0) / q["spp"] for q in f_runs) / len(f_runs)
+        self.fine = {"step_rate": step_rate, "reference": f_ref, "reference_spp": f_n,
+                     "reference_noise": math.sqrt(f_var), "reference_seed_spread": f_spread,
+                     "cycles_noise_per_spp": f_var * f_n, "cycles_cpu_fit": [c0, c1],
+                     "default_step_bias": self.bias, "default_step_mean_ratio": mean}
+
+    def cpu_s(self, step_rate, n):
+        """Cycles' CPU-seconds for `n` samples at one of the two step rates."""
+        c0, c1 = self.fine["cycles_cpu_fit"] if step_rate != 1.0 else self.cpu_fit
+        return c0 + c1 * n
+
+    def equal_error(self, e):
+        """lgh's error `e` against the reference as its error against the truth, and Cycles at
+        that error: {"step_rate", "spp", "cpu_s"} at the cheaper step, or None where lgh's error
+        is within the reference's noise (the reference cannot tell) or no step reaches it."""
+        truth = math.sqrt(max(e * e - self.var, 0.0))
+        ways = self.ways(truth) if truth > 0.0 else []
+        return truth, min(ways, key=lambda w: w["cpu_s"]) if ways else None
+
+    def ways(self, truth):
+        """Each step at which Cycles reaches the error `truth` against the truth: its samples
+        and CPU-seconds there."""
+        ways = []
+        if truth > self.bias:
+            ways.append((1.0, self.noise / (truth ** 2 - self.bias ** 2)))
+        if self.fine is not None:
+            ways.append((self.step_rate, self.fine["cycles_noise_per_spp"] / truth ** 2))
+        return [{"step_rate": r, "spp": n, "cpu_s": self.cpu_s(r, n)} for r, n in ways]
+
+
+def at_equal_error(truth, e, cpu_s):
+    """A row's Cycles columns: lgh's error `e` against `truth`'s reference, and Cycles' samples,
+    step and CPU-seconds at that error (None where it cannot tell), over lgh's `cpu_s`."""
+    t, cycles = truth.equal_error(e)
+    row = {"error_vs_truth": t, "cycles_spp_at_equal_error": cycles and cycles["spp"],
+           "cycles_cpu_s_at_equal_error": cycles and cycles["cpu_s"],
+           "speedup": cycles and cycles["cpu_s"] / cpu_s}
+    if truth.fine is not None:
+        row["cycles_step_rate_at_equal_error"] = cycles and cycles["step_rate"]
+    return row, cycles
 
 
 def measure(r, a, name, scene, settings):
     vdb = r.vdb(name, scene)
-    ref, n_ref, spread = reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128)
+    ref, n_ref, spread, _ = reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128)
+    steps = a.ref_step_rate != 1.0
+    fine = steps and reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128,
+                               a.ref_step_rate)
     hd = name in a.hd_scenes.split(",")
     if hd:
-        hd_ref, hd_n_ref, hd_spread = reference(r, name, vdb, scene, a.hd_ref_spp,
-                                                a.hd_ref_seeds, 1280, 720)
+        hd_ref, hd_n_ref, hd_spread, _ = reference(r, name, vdb, scene, a.hd_ref_spp,
+                                                   a.hd_ref_seeds, 1280, 720)
+        hd_fine = steps and reference(r, name, vdb, scene, a.hd_ref_spp, a.hd_ref_seeds,
+                                      1280, 720, a.ref_step_rate)
     if a.only_reference:
         return None
     ladder = ladder_rows(r, name, vdb, scene, [int(s) for s in a.ladder.split(",")], ref,
                          128, 128)
     noise = compare.fit_noise(ladder, n_ref)
     cpu_fit = compare.fit_cpu(ladder)
+    truth = Truth(ref, n_ref, noise, cpu_fit, fine or None, a.ref_step_rate,
+                  fine and compare.rel_rmse(ref, fine[0])[:2])
     summary = {"scene": name, "camera": scene.get("camera"), "vdb": vdb,
                "reference_spp": n_ref, "reference_noise": math.sqrt(noise / n_ref),
                "reference_seed_spread": spread, "cycles_noise_per_spp": noise,
                "cycles_cpu_fit_128": list(cpu_fit), "ladder": ladder, "lgh": {}}
+    if truth.fine is not None:
+        summary["fine_step"] = truth.fine
     if hd:
         hd_ladder = ladder_rows(r, name, vdb, scene, [int(s) for s in a.hd_ladder.split(",")],
                                 hd_ref, 1280, 720)
         hd_noise = compare.fit_noise(hd_ladder, hd_n_ref)
         hd_cpu_fit = compare.fit_cpu(hd_ladder)
+        hd_truth = Truth(hd_ref, hd_n_ref, hd_noise, hd_cpu_fit, hd_fine or None,
+                         a.ref_step_rate, hd_fine and compare.rel_rmse(hd_ref, hd_fine[0])[:2])
         summary["hd"] = {"reference_spp": hd_n_ref, "reference_noise":
                          math.sqrt(hd_noise / hd_n_ref), "reference_seed_spread": hd_spread,
                          "cycles_noise_per_spp": hd_noise, "cycles_cpu_fit": list(hd_cpu_fit),
                          "ladder": hd_ladder}
+        if hd_truth.fine is not None:
+            summary["hd"]["fine_step"] = hd_truth.fine
     for setting in settings:
         q = r.lgh(name, vdb, scene, setting, 128, 128)
-        e, mean, rgb = compare.rel_rmse(q["out"], ref)
-        truth, n_star, cyc = at_equal_error(e, noise, n_ref, cpu_fit)
-        row = {"cpu_s": q["cpu_s"], "wall_s": q["wall_s"], "error": e,
-               "error_vs_truth": truth, "mean_ratio": mean,
-               "cycles_spp_at_equal_error": n_star, "cycles_cpu_s_at_equal_error": cyc,
-               "speedup": cyc and cyc / q["cpu_s"], **rgb}
+        e, mean, rgb = compare.rel_rmse(q["out"], truth.image)
+        columns, cycles = at_equal_error(truth, e, q["cpu_s"])
+        row = {"cpu_s": q["cpu_s"], "wall_s": q["wall_s"], "error": e, "mean_ratio": mean,
+               **columns, **rgb}
         if hd:
             h = r.lgh(name, vdb, scene, setting, 1280, 720)
-            he, hmean, hrgb = compare.rel_rmse(h["out"], hd_ref)
-            htruth, hn, hcyc = at_equal_error(he, hd_noise, hd_n_ref, hd_cpu_fit)
-            # compare.py's model: Cycles' 720p time at the samples of the 128x128 comparison.
-            model = n_star and hd_cpu_fit[0] + hd_cpu_fit[1] * n_star
+            he, hmean, hrgb = compare.rel_rmse(h["out"], hd_truth.image)
+            hd_columns, _ = at_equal_error(hd_truth, he, h["cpu_s"])
+            # compare.py's model: Cycles' 720p time at the samples (and step) of the 128x128
+            # comparison.
+            model = cycles and hd_truth.cpu_s(cycles["step_rate"], cycles["spp"])
             row["hd"] = {"cpu_s": h["cpu_s"], "wall_s": h["wall_s"], "error": he,
-                         "error_vs_truth": htruth, "mean_ratio": hmean,
-                         "cycles_spp_at_equal_error": hn, "cycles_cpu_s_at_equal_error": hcyc,
-                         "speedup": hcyc and hcyc / h["cpu_s"],
-                         "modelled_speedup": model and model / h["cpu_s"],
-                         **hrgb}
+                         "mean_ratio": hmean, **hd_columns,
+                         "modelled_speedup": model and model / h["cpu_s"], **hrgb}
         summary["lgh"][setting] = row
     try:
-        shown = [ref, r.lgh(name, vdb, scene, settings[0], 128, 128)["out"],
+        shown = [truth.image, r.lgh(name, vdb, scene, settings[0], 128, 128)["out"],
                  r.lgh(name, vdb, scene, settings[-1], 128, 128)["out"],
                  r.cycles(name, vdb, scene, int(a.ladder.split(",")[-1]), 0, 128, 128)["out"]]
         compare.figure(os.path.join(r.work, f"{name}.png"), shown,
@@ -216,6 +293,12 @@ def measure(r, a, name, scene, settings):
 def num(v, fmt, unit=""):
     """A figure, or "—" where the reference could not tell (None)."""
     return "—" if v is None else f"{v:{fmt}}{unit}"
+
+
+def step(row):
+    """The text `" at step R"` where Cycles reaches lgh's error only at the finer step R."""
+    rate = row.get("cycles_step_rate_at_equal_error")
+    return f" at step {rate:g}" if rate is not None and rate != 1.0 else ""
 
 
 def table(version, results):
@@ -235,10 +318,18 @@ def table(version, results):
             lines.append(f"| {s['scene']} | {setting} | {row['cpu_s']:.1f} | "
                          f"{100 * row['error_vs_truth']:.2f}% | "
                          f"{compare.channels(row['rel_rmse_rgb'])} | "
-                         f"{num(row['cycles_spp_at_equal_error'], '.0f')} | "
+                         f"{num(row['cycles_spp_at_equal_error'], '.0f')}{step(row)} | "
                          f"{num(row['cycles_cpu_s_at_equal_error'], '.1f')} | "
                          f"{num(row['speedup'], '.2f', '×')} | "
                          f"{hd_text} |")
+    for s in results:
+        f = s.get("fine_step")
+        if f is not None:
+            lines.append(f"\n{s['scene']}: the truth is Cycles at step rate {f['step_rate']:g} "
+                         f"({f['reference_spp']} samples, {100 * f['reference_noise']:.2f}% "
+                         f"noisy); Blender's default step errs by "
+                         f"{100 * f['default_step_bias']:.2f}% against it, its mean "
+                         f"{f['default_step_mean_ratio']:.4f} of it.")
     return "\n".join(lines) + "\n"
 
 
@@ -268,7 +359,16 @@ def main():
                         "untimed references: what a figure's refresh runs")
     p.add_argument("--only-reference", action="store_true",
                    help="render the references and stop (untimed: may run beside other work)")
+    p.add_argument("--ref-step-rate", type=float, default=1.0,
+                   help="Cycles 3.x and 4.x: also render each reference at this volume step "
+                        "rate (e.g. 0.25) and measure both renderers against it, Cycles' "
+                        "default step's bias included (docs/cycles.md, \"Cycles 3.4.1's volume "
+                        "step\"); 1 (Blender's default): against the default step's reference")
     a = p.parse_args()
+    if not 0.0 < a.ref_step_rate <= 1.0:
+        sys.exit(f"caches.py: --ref-step-rate {a.ref_step_rate:g} is not in (0, 1]: a finer "
+                 "step than Blender's default converges the volume's march, a coarser one "
+                 "does not")
     if a.ref_seeds < 2 or a.hd_ref_seeds < 2:
         sys.exit("caches.py: --ref-seeds and --hd-ref-seeds must be at least 2 (each seed "
                  "against the others measures the reference's noise)")
@@ -282,6 +382,9 @@ def main():
     if major not in ("3", "4", "5"):
         sys.exit(f"caches.py: no Blender answered ({' '.join(ask)})")
     version = version.split("Blender ")[-1].split()[0]
+    if major == "5" and a.ref_step_rate != 1.0:
+        sys.exit("caches.py: --ref-step-rate: Blender 5.x integrates volumes without steps "
+                 "(unbiased, its default): there is no step to converge")
     # compare.Runner's arguments: Blender 3.x draws voxel i over [i, i+1] (half a voxel off).
     a.shift_half_voxel = major == "3"
     settings = SETTINGS["3" if major == "3" else "5"]

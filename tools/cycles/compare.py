@@ -201,9 +201,13 @@ class Runner:
                 "temperature_scale": scene.get("temperature_scale", 1.0),
                 "flame": scene.get("flame", False)}
 
-    def cycles(self, name, vdb, scene, spp, seed, width, height):
-        key = f"cycles/{name}/{width}x{height}/{spp}spp/seed{seed}"
-        out = os.path.join(self.work, f"{name}_cycles_{width}x{height}_{spp}spp_s{seed}.exr")
+    def cycles(self, name, vdb, scene, spp, seed, width, height, step_rate=1.0):
+        """One Cycles render (kept and reused): `step_rate` is Cycles' volume step rate, whose
+        default 1 keeps the files' and results' names of before it."""
+        rate = "" if step_rate == 1.0 else f"_r{step_rate:g}"
+        key = f"cycles/{name}/{width}x{height}/{spp}spp/seed{seed}{rate}"
+        out = os.path.join(self.work,
+                           f"{name}_cycles_{width}x{height}_{spp}spp_s{seed}{rate}.exr")
         if key in self.results and os.path.exists(out):
             return self.results[key]
         s = self.scene_args(scene)
@@ -219,12 +223,13 @@ class Runner:
                 "--density-scale", str(MEDIUM["density_scale"]),
                 "--albedo", str(MEDIUM["albedo"]),
                 "--temperature-scale", str(s["temperature_scale"]),
-                "--bounces", str(self.a.bounces)]
+                "--bounces", str(self.a.bounces), "--step-rate", str(step_rate)]
         if s["flame"]:
             cmd.append("--flame")
         if self.a.shift_half_voxel:
             cmd.append("--shift-half-voxel")
-        log(f"cycles {name} {width}x{height} {spp} spp seed {seed}")
+        log(f"cycles {name} {width}x{height} {spp} spp seed {seed}"
+            + (f" step rate {step_rate:g}" if rate else ""))
         text, wall, cpu = run_cpu(cmd)
         line = [l for l in text.splitlines() if l.startswith("CYCLES ")][-1]
         r = json.loads(line[len("CYCLES "):])
