@@ -127,10 +127,13 @@ def ladder_rows(r, name, vdb, scene, counts, ref, width, height):
 
 
 def reference(r, name, vdb, scene, spp, seeds, width, height, step_rate=1.0):
-    """The mean of `seeds` Cycles renders of `spp` samples (seeds 1, 2, ...) at width x height,
-    and each seed's error against the mean of the others (the reference's own noise, a check of
-    the fitted `a`); and the seeds' renders."""
-    runs = [r.cycles(name, vdb, scene, spp, 1 + i, width, height, step_rate)
+    """The mean of `seeds` Cycles renders of `spp` samples (seeds 1, 2, ...; at another step
+    rate than Blender's default 101, 102, ...: a seed's samples at another step are correlated
+    with its own, which would hide the step's bias) at width x height, and each seed's error
+    against the mean of the others (the reference's own noise, a check of the fitted `a`); and
+    the seeds' renders."""
+    first = 1 if step_rate == 1.0 else 101
+    runs = [r.cycles(name, vdb, scene, spp, first + i, width, height, step_rate)
             for i in range(seeds)]
     rate = "" if step_rate == 1.0 else f"_r{step_rate:g}"
     out = os.path.join(r.work, f"{name}_reference_{width}x{height}_{spp * seeds}spp{rate}.exr")
