@@ -26,6 +26,13 @@ the same sqrt(e^2 - a/N), so the reference need not be converged, only its noise
 seed against the others checks it). Beside it, compare.py's model (Cycles' error per sample from
 the 128x128 ladder, lgh's error its 128x128 error), to check that model at this point.
 
+With --ref-step-rate R (Cycles 3.x and 4.x, which ray-march a volume in steps of R voxels;
+Blender's default is 1) every reference is also rendered at step R, and both renderers are
+measured against that finer step's image, the truth of the model: Cycles at its default step
+errs by sqrt(b^2 + a/n) against it (b the default step's bias), at step R by sqrt(a_R/n), and
+its cost at lgh's error is the cheaper of the two (`Truth`; docs/cycles.md, "Cycles 3.4.1's
+volume step").
+
 Prints the results as JSON on standard output (what tools/figures records), a Markdown table on
 standard error and into WORK/caches-VERSION.md. Every render is kept in --work and reused (delete
 a file or its results.json entry to redo it); --only-reference renders the untimed references
