@@ -26,6 +26,13 @@ the same sqrt(e^2 - a/N), so the reference need not be converged, only its noise
 seed against the others checks it). Beside it, compare.py's model (Cycles' error per sample from
 the 128x128 ladder, lgh's error its 128x128 error), to check that model at this point.
 
+With --ref-step-rate R (Cycles 3.x and 4.x, which ray-march a volume in steps of R voxels;
+Blender's default is 1) every reference is also rendered at step R, and both renderers are
+measured against that finer step's image, the truth of the model: Cycles at its default step
+errs by sqrt(b^2 + a/n) against it (b the default step's bias), at step R by sqrt(a_R/n), and
+its cost at lgh's error is the cheaper of the two (`Truth`; docs/cycles.md, "Cycles 3.4.1's
+volume step").
+
 Prints the results as JSON on standard output (what tools/figures records), a Markdown table on
 standard error and into WORK/caches-VERSION.md. Every render is kept in --work and reused (delete
 a file or its results.json entry to redo it); --only-reference renders the untimed references
@@ -229,8 +236,8 @@ def measure(r, a, name, scene, settings):
     vdb = r.vdb(name, scene)
     ref, n_ref, spread, _ = reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128)
     steps = a.ref_step_rate != 1.0
-    fine = steps and reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128,
-                               a.ref_step_rate)
+    fine = steps and reference(r, name, vdb, scene, a.step_ref_spp or a.ref_spp, a.ref_seeds,
+                               128, 128, a.ref_step_rate)
     hd = name in a.hd_scenes.split(",")
     if hd:
         hd_ref, hd_n_ref, hd_spread, _ = reference(r, name, vdb, scene, a.hd_ref_spp,
@@ -367,11 +374,17 @@ def main():
                         "rate (e.g. 0.25) and measure both renderers against it, Cycles' "
                         "default step's bias included (docs/cycles.md, \"Cycles 3.4.1's volume "
                         "step\"); 1 (Blender's default): against the default step's reference")
+    p.add_argument("--step-ref-spp", type=int, default=None,
+                   help="the samples of each seed of the finer step's 128x128 reference "
+                        "(default --ref-spp; a finer step costs more a sample)")
     a = p.parse_args()
     if not 0.0 < a.ref_step_rate <= 1.0:
         sys.exit(f"caches.py: --ref-step-rate {a.ref_step_rate:g} is not in (0, 1]: a finer "
                  "step than Blender's default converges the volume's march, a coarser one "
                  "does not")
+    if a.step_ref_spp is not None and (a.ref_step_rate == 1.0 or a.step_ref_spp < 1):
+        sys.exit("caches.py: --step-ref-spp is the samples (at least 1) of the finer step's "
+                 "references: give --ref-step-rate too")
     if a.ref_seeds < 2 or a.hd_ref_seeds < 2:
         sys.exit("caches.py: --ref-seeds and --hd-ref-seeds must be at least 2 (each seed "
                  "against the others measures the reference's noise)")
