@@ -176,7 +176,7 @@ class Truth:
 
     def __init__(self, ref, n_ref, noise, cpu_fit, fine=None, step_rate=1.0, between=None):
         """`fine`: reference()'s answer at `step_rate`; `between`: the default step's reference
-        against it (compare.rel_rmse's error and mean ratio)."""
+        against it (compare.rel_rmse's error, mean ratio and channels)."""
         self.noise, self.cpu_fit, self.step_rate = noise, cpu_fit, step_rate
         self.image, self.var, self.bias, self.fine = ref, noise / n_ref, 0.0, None
         if fine is None:
@@ -186,7 +186,7 @@ class Truth:
         # Each seed against the mean of the others errs by sigma^2 k / (k - 1), sigma^2 a
         # seed's noise; the mean of k seeds by sigma^2 / k.
         f_var = sum(x * x for x in f_spread) * (k - 1) / k ** 3
-        e, mean = between
+        e, mean, rgb = between
         self.image, self.var = f_ref, f_var
         self.bias = math.sqrt(max(e * e - noise / n_ref - f_var, 0.0))
         c0 = cpu_fit[0]
@@ -194,7 +194,15 @@ class Truth:
         self.fine = {"step_rate": step_rate, "reference": f_ref, "reference_spp": f_n,
                      "reference_noise": math.sqrt(f_var), "reference_seed_spread": f_spread,
                      "cycles_noise_per_spp": f_var * f_n, "cycles_cpu_fit": [c0, c1],
-                     "default_step_bias": self.bias, "default_step_mean_ratio": mean}
+                     "default_step_bias": self.bias, "default_step_mean_ratio": mean,
+                     "default_step_mean_ratio_rgb": rgb["mean_ratio_rgb"]}
+
+    @classmethod
+    def measured(cls, ref, n_ref, noise, cpu_fit, fine, step_rate):
+        """The truth of one resolution: the default step's reference measured against the
+        finer one where there is one (`fine`, else None)."""
+        between = compare.rel_rmse(ref, fine[0]) if fine is not None else None
+        return cls(ref, n_ref, noise, cpu_fit, fine, step_rate, between)
 
     def cpu_s(self, step_rate, n):
         """Cycles' CPU-seconds for `n` samples at one of the two step rates."""
@@ -236,22 +244,21 @@ def measure(r, a, name, scene, settings):
     vdb = r.vdb(name, scene)
     ref, n_ref, spread, _ = reference(r, name, vdb, scene, a.ref_spp, a.ref_seeds, 128, 128)
     steps = a.ref_step_rate != 1.0
-    fine = steps and reference(r, name, vdb, scene, a.step_ref_spp or a.ref_spp, a.ref_seeds,
-                               128, 128, a.ref_step_rate)
+    fine = (reference(r, name, vdb, scene, a.step_ref_spp or a.ref_spp, a.ref_seeds, 128, 128,
+                      a.ref_step_rate) if steps else None)
     hd = name in a.hd_scenes.split(",")
     if hd:
         hd_ref, hd_n_ref, hd_spread, _ = reference(r, name, vdb, scene, a.hd_ref_spp,
                                                    a.hd_ref_seeds, 1280, 720)
-        hd_fine = steps and reference(r, name, vdb, scene, a.hd_ref_spp, a.hd_ref_seeds,
-                                      1280, 720, a.ref_step_rate)
+        hd_fine = (reference(r, name, vdb, scene, a.hd_ref_spp, a.hd_ref_seeds, 1280, 720,
+                             a.ref_step_rate) if steps else None)
     if a.only_reference:
         return None
     ladder = ladder_rows(r, name, vdb, scene, [int(s) for s in a.ladder.split(",")], ref,
                          128, 128)
     noise = compare.fit_noise(ladder, n_ref)
     cpu_fit = compare.fit_cpu(ladder)
-    truth = Truth(ref, n_ref, noise, cpu_fit, fine or None, a.ref_step_rate,
-                  fine and compare.rel_rmse(ref, fine[0])[:2])
+    truth = Truth.measured(ref, n_ref, noise, cpu_fit, fine, a.ref_step_rate)
     summary = {"scene": name, "camera": scene.get("camera"), "vdb": vdb,
                "reference_spp": n_ref, "reference_noise": math.sqrt(noise / n_ref),
                "reference_seed_spread": spread, "cycles_noise_per_spp": noise,
@@ -263,8 +270,8 @@ def measure(r, a, name, scene, settings):
                                 hd_ref, 1280, 720)
         hd_noise = compare.fit_noise(hd_ladder, hd_n_ref)
         hd_cpu_fit = compare.fit_cpu(hd_ladder)
-        hd_truth = Truth(hd_ref, hd_n_ref, hd_noise, hd_cpu_fit, hd_fine or None,
-                         a.ref_step_rate, hd_fine and compare.rel_rmse(hd_ref, hd_fine[0])[:2])
+        hd_truth = Truth.measured(hd_ref, hd_n_ref, hd_noise, hd_cpu_fit, hd_fine,
+                                  a.ref_step_rate)
         summary["hd"] = {"reference_spp": hd_n_ref, "reference_noise":
                          math.sqrt(hd_noise / hd_n_ref), "reference_seed_spread": hd_spread,
                          "cycles_noise_per_spp": hd_noise, "cycles_cpu_fit": list(hd_cpu_fit),
@@ -306,7 +313,7 @@ def num(v, fmt, unit=""):
 
 
 def step(row):
-    """The text `" at step R"` where Cycles reaches lgh's error only at the finer step R."""
+    """The text `" at step R"` where Cycles reaches lgh's error for less at the finer step R."""
     rate = row.get("cycles_step_rate_at_equal_error")
     return f" at step {rate:g}" if rate is not None and rate != 1.0 else ""
 
@@ -339,7 +346,8 @@ def table(version, results):
                          f"({f['reference_spp']} samples, {100 * f['reference_noise']:.2f}% "
                          f"noisy); Blender's default step errs by "
                          f"{100 * f['default_step_bias']:.2f}% against it, its mean "
-                         f"{f['default_step_mean_ratio']:.4f} of it.")
+                         f"{f['default_step_mean_ratio']:.4f} of it (R / G / B "
+                         f"{' / '.join(f'{m:.4f}' for m in f['default_step_mean_ratio_rgb'])}).")
     return "\n".join(lines) + "\n"
 
 
