@@ -4,7 +4,7 @@ of equal point lights, unshadowed, against brute force — `lgh probes` (eq. 3's
 point fall-off `1/max(d, h0)²`) at random points inside the lattice, across its edge and outside
 it. docs/cycles.md ("The hierarchy's α-2 error, taken apart") quotes it:
 
-    python3 tools/hierarchy/lattice_probes.py [--lgh target/release/lgh] [--n 32] [--alpha 2,4]
+    python3 tools/hierarchy/lattice_probes.py [--lgh target/release/lgh] [--n 32] [--alpha 2,4,8]
 
 Prints one JSON line per region and α: the ratio of the summed light to brute force's, the mean,
 minimum and maximum of the per-point ratios, and their RMS distance from 1. Standard library only
@@ -15,6 +15,7 @@ import argparse
 import json
 import os
 import random
+import shutil
 import struct
 import subprocess
 import sys
@@ -35,17 +36,24 @@ def write_ply(path, points, rgb=None):
 
 
 def read_red(path):
-    """The `r` of each point of `lgh probes`' binary output (x, y, z, r, g, b as floats)."""
+    """The `r` of each point of `lgh probes`' binary output (float properties, `r` among them,
+    little-endian); exits with a message where the file is not that."""
     with open(path, "rb") as f:
         data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode()
-    names = [line.split()[-1] for line in header.splitlines() if line.startswith("property")]
-    n = int(next(line for line in header.splitlines() if line.startswith("element vertex")).split()[2])
-    if any(not line.startswith("property float") for line in header.splitlines() if line.startswith("property")):
-        sys.exit(f"lattice_probes.py: {path}: expected float properties only")
-    stride = 4 * len(names)
-    r = names.index("r")
+    marker = b"end_header\n"
+    if marker not in data:
+        sys.exit(f"lattice_probes.py: {path}: not a PLY file")
+    end = data.index(marker) + len(marker)
+    lines = data[:end].decode(errors="replace").splitlines()
+    props = [line.split() for line in lines if line.startswith("property")]
+    vertex = [line.split() for line in lines if line.startswith("element vertex")]
+    if ("format binary_little_endian 1.0" not in lines or not vertex
+            or any(p[1] != "float" for p in props) or ["property", "float", "r"] not in props):
+        sys.exit(f"lattice_probes.py: {path}: expected a little-endian binary PLY of floats with r")
+    n, stride = int(vertex[0][2]), 4 * len(props)
+    r = props.index(["property", "float", "r"])
+    if len(data) < end + n * stride:
+        sys.exit(f"lattice_probes.py: {path}: truncated")
     return [struct.unpack_from("<f", data, end + i * stride + 4 * r)[0] for i in range(n)]
 
 
@@ -60,22 +68,33 @@ def regions(n, rng):
 
 def run(lgh, args):
     """`lgh probes` with `args`; exits with its message where it fails."""
-    p = subprocess.run([lgh, "probes", "--quiet", *args], capture_output=True, text=True)
+    try:
+        p = subprocess.run([lgh, "probes", "--quiet", *args], capture_output=True, text=True)
+    except OSError as e:
+        sys.exit(f"lattice_probes.py: cannot run {lgh}: {e}")
     if p.returncode != 0:
-        sys.exit(f"lattice_probes.py: lgh probes failed: {p.stderr.strip()}")
+        sys.exit(f"lattice_probes.py: lgh probes failed (exit status {p.returncode}): "
+                 f"{p.stderr.strip() or 'no message'}")
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                epilog="Usage as docs/cycles.md quotes it: " + __doc__.split("\n\n")[1].strip())
     p.add_argument("--lgh", default="target/release/lgh", help="the lgh binary")
     p.add_argument("--n", type=int, default=32, help="lights a side of the lattice (spacing 1)")
     p.add_argument("--alpha", default="2,4", help="the α to measure, comma-separated")
     a = p.parse_args()
-    if not os.path.exists(a.lgh):
+    lgh = a.lgh if os.sep in a.lgh else (shutil.which(a.lgh) or a.lgh)
+    if not (os.path.isfile(lgh) and os.access(lgh, os.X_OK)):
         sys.exit(f"lattice_probes.py: no lgh binary at {a.lgh} (cargo build --release -p lgh-cli)")
     if a.n < 4:
         sys.exit("lattice_probes.py: --n must be at least 4")
-    alphas = [float(x) for x in a.alpha.split(",")]
+    try:
+        alphas = [float(x) for x in a.alpha.split(",")]
+    except ValueError:
+        sys.exit(f"lattice_probes.py: --alpha wants numbers separated by commas, not {a.alpha!r}")
+    if not all(x > 0 and x == x and x != float("inf") for x in alphas):
+        sys.exit(f"lattice_probes.py: every --alpha must be a finite number above 0: {a.alpha}")
     lights = [(float(i), float(j), float(k)) for i in range(a.n) for j in range(a.n) for k in range(a.n)]
     rng = random.Random(1)
     with tempfile.TemporaryDirectory() as tmp:
@@ -86,11 +105,11 @@ def main():
             probes = os.path.join(tmp, f"{name}.ply")
             write_ply(probes, points)
             exact = os.path.join(tmp, f"{name}_brute.ply")
-            run(a.lgh, common + ["--points", probes, "--out", exact, "--backend", "brute"])
+            run(lgh, common + ["--points", probes, "--out", exact, "--backend", "brute"])
             want = read_red(exact)
             for alpha in alphas:
                 out = os.path.join(tmp, f"{name}_{alpha}.ply")
-                run(a.lgh, common + ["--points", probes, "--out", out, "--alpha", str(alpha)])
+                run(lgh, common + ["--points", probes, "--out", out, "--alpha", str(alpha)])
                 got = read_red(out)
                 ratios = [g / w for g, w in zip(got, want)]
                 rms = (sum((r - 1.0) ** 2 for r in ratios) / len(ratios)) ** 0.5
