@@ -83,6 +83,9 @@ def main():
     p.add_argument("--lgh", default="target/release/lgh", help="the lgh binary")
     p.add_argument("--n", type=int, default=32, help="lights a side of the lattice (spacing 1)")
     p.add_argument("--alpha", default="2,4", help="the α to measure, comma-separated")
+    p.add_argument("--max-level", type=int, default=None,
+                   help="the hierarchy's top level (default: lgh's; lower keeps only the finest "
+                        "levels' transitions)")
     a = p.parse_args()
     lgh = a.lgh if os.sep in a.lgh else (shutil.which(a.lgh) or a.lgh)
     if not (os.path.isfile(lgh) and os.access(lgh, os.X_OK)):
@@ -101,6 +104,8 @@ def main():
         write_ply(os.path.join(tmp, "lights.ply"), lights, [(1.0, 1.0, 1.0)] * len(lights))
         # h1 = 2: the lattice's spacing is h0, the voxel size of an explosion's lights.
         common = ["--lights", os.path.join(tmp, "lights.ply"), "--h1", "2"]
+        if a.max_level is not None:
+            common += ["--max-level", str(a.max_level)]
         for name, points in regions(a.n, rng).items():
             probes = os.path.join(tmp, f"{name}.ply")
             write_ply(probes, points)
@@ -114,7 +119,7 @@ def main():
                 ratios = [g / w for g, w in zip(got, want)]
                 rms = (sum((r - 1.0) ** 2 for r in ratios) / len(ratios)) ** 0.5
                 print(json.dumps({
-                    "region": name, "alpha": alpha, "points": len(points),
+                    "region": name, "alpha": alpha, "max_level": a.max_level, "points": len(points),
                     "sum_ratio": round(sum(got) / sum(want), 5),
                     "mean_ratio": round(sum(ratios) / len(ratios), 5),
                     "min_ratio": round(min(ratios), 5), "max_ratio": round(max(ratios), 5),
