@@ -1,60 +1,37 @@
 #!/usr/bin/env python3
 """The hierarchy's own error at a given α on the simplest cloud there is: a uniform cubic lattice
-of equal point lights, unshadowed, against brute force — `lgh probes` (eq. 3's sum with the
-point fall-off `1/max(d, h0)²`) at random points inside the lattice, across its edge and outside
-it. docs/cycles.md ("The hierarchy's α-2 error, taken apart") quotes it:
+of equal point lights, unshadowed, against brute force — `lgh.Hierarchy.probe` (eq. 3's sum with
+the point fall-off `1/max(d, h0)²`, the Python package lgh-py) against the same sum over every
+light, at random points inside the lattice, across its edge and outside it. docs/cycles.md ("The
+hierarchy's α-2 error, taken apart") quotes it:
 
-    python3 tools/hierarchy/lattice_probes.py [--lgh target/release/lgh] [--n 32] [--alpha 2,4,8]
+    target/py313/bin/python tools/hierarchy/lattice_probes.py [--n 32] [--alpha 2,4,8] [--max-level L]
 
 Prints one JSON line per region and α: the ratio of the summed light to brute force's, the mean,
-minimum and maximum of the per-point ratios, and their RMS distance from 1. Standard library only
-(the point clouds are written as ASCII PLY, `lgh probes`' binary output read with `struct`); the
-random points are drawn with a fixed seed, so the figures repeat.
+minimum and maximum of the per-point ratios, and their RMS distance from 1. Needs numpy and lgh
+(`.ci/run` installs both into target/py313); the random points are drawn with a fixed seed, so
+the figures repeat.
 """
 import argparse
 import json
-import os
 import random
-import shutil
-import struct
-import subprocess
 import sys
-import tempfile
+
+try:
+    import numpy as np
+    import lgh
+except ImportError as e:
+    sys.exit(f"lattice_probes.py: {e.name} is missing: run it with target/py313/bin/python "
+             "(`.ci/run` installs numpy and lgh there)")
 
 
-def write_ply(path, points, rgb=None):
-    """`points` (and, if given, an intensity each) as an ASCII PLY `lgh probes` reads."""
-    with open(path, "w") as f:
-        f.write("ply\nformat ascii 1.0\nelement vertex %d\n" % len(points))
-        f.write("property float x\nproperty float y\nproperty float z\n")
-        if rgb is not None:
-            f.write("property float r\nproperty float g\nproperty float b\n")
-        f.write("end_header\n")
-        for i, p in enumerate(points):
-            extra = " %g %g %g" % rgb[i] if rgb is not None else ""
-            f.write("%r %r %r%s\n" % (p[0], p[1], p[2], extra))
-
-
-def read_red(path):
-    """The `r` of each point of `lgh probes`' binary output (float properties, `r` among them,
-    little-endian); exits with a message where the file is not that."""
-    with open(path, "rb") as f:
-        data = f.read()
-    marker = b"end_header\n"
-    if marker not in data:
-        sys.exit(f"lattice_probes.py: {path}: not a PLY file")
-    end = data.index(marker) + len(marker)
-    lines = data[:end].decode(errors="replace").splitlines()
-    props = [line.split() for line in lines if line.startswith("property")]
-    vertex = [line.split() for line in lines if line.startswith("element vertex")]
-    if ("format binary_little_endian 1.0" not in lines or not vertex
-            or any(p[1] != "float" for p in props) or ["property", "float", "r"] not in props):
-        sys.exit(f"lattice_probes.py: {path}: expected a little-endian binary PLY of floats with r")
-    n, stride = int(vertex[0][2]), 4 * len(props)
-    r = props.index(["property", "float", "r"])
-    if len(data) < end + n * stride:
-        sys.exit(f"lattice_probes.py: {path}: truncated")
-    return [struct.unpack_from("<f", data, end + i * stride + 4 * r)[0] for i in range(n)]
+def brute_force(lights, points, h0):
+    """`Σ_j 1/max(d_j, h0)²` at each point over every light (unit intensities), in float64."""
+    out = np.empty(len(points))
+    for s in range(0, len(points), 256):
+        d2 = ((points[s:s + 256, None, :] - lights[None, :, :]) ** 2).sum(axis=2)
+        out[s:s + 256] = (1.0 / np.maximum(d2, h0 * h0)).sum(axis=1)
+    return out
 
 
 def regions(n, rng):
@@ -66,64 +43,44 @@ def regions(n, rng):
     return {"inside": inner, "across": across, "outside": outside}
 
 
-def run(lgh, args):
-    """`lgh probes` with `args`; exits with its message where it fails."""
-    try:
-        p = subprocess.run([lgh, "probes", "--quiet", *args], capture_output=True, text=True)
-    except OSError as e:
-        sys.exit(f"lattice_probes.py: cannot run {lgh}: {e}")
-    if p.returncode != 0:
-        sys.exit(f"lattice_probes.py: lgh probes failed (exit status {p.returncode}): "
-                 f"{p.stderr.strip() or 'no message'}")
-
-
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 epilog="Usage as docs/cycles.md quotes it: " + __doc__.split("\n\n")[1].strip())
-    p.add_argument("--lgh", default="target/release/lgh", help="the lgh binary")
     p.add_argument("--n", type=int, default=32, help="lights a side of the lattice (spacing 1)")
     p.add_argument("--alpha", default="2,4", help="the α to measure, comma-separated")
     p.add_argument("--max-level", type=int, default=None,
                    help="the hierarchy's top level (default: lgh's; lower keeps only the finest "
                         "levels' transitions)")
     a = p.parse_args()
-    lgh = a.lgh if os.sep in a.lgh else (shutil.which(a.lgh) or a.lgh)
-    if not (os.path.isfile(lgh) and os.access(lgh, os.X_OK)):
-        sys.exit(f"lattice_probes.py: no lgh binary at {a.lgh} (cargo build --release -p lgh-cli)")
     if a.n < 4:
         sys.exit("lattice_probes.py: --n must be at least 4")
     try:
         alphas = [float(x) for x in a.alpha.split(",")]
     except ValueError:
         sys.exit(f"lattice_probes.py: --alpha wants numbers separated by commas, not {a.alpha!r}")
-    if not all(x > 0 and x == x and x != float("inf") for x in alphas):
+    if not all(0 < x < float("inf") for x in alphas):
         sys.exit(f"lattice_probes.py: every --alpha must be a finite number above 0: {a.alpha}")
-    lights = [(float(i), float(j), float(k)) for i in range(a.n) for j in range(a.n) for k in range(a.n)]
+    g = np.arange(a.n, dtype=np.float32)
+    lights = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    ones = np.ones_like(lights)
     rng = random.Random(1)
-    with tempfile.TemporaryDirectory() as tmp:
-        write_ply(os.path.join(tmp, "lights.ply"), lights, [(1.0, 1.0, 1.0)] * len(lights))
-        # h1 = 2: the lattice's spacing is h0, the voxel size of an explosion's lights.
-        common = ["--lights", os.path.join(tmp, "lights.ply"), "--h1", "2"]
-        if a.max_level is not None:
-            common += ["--max-level", str(a.max_level)]
-        for name, points in regions(a.n, rng).items():
-            probes = os.path.join(tmp, f"{name}.ply")
-            write_ply(probes, points)
-            exact = os.path.join(tmp, f"{name}_brute.ply")
-            run(lgh, common + ["--points", probes, "--out", exact, "--backend", "brute"])
-            want = read_red(exact)
-            for alpha in alphas:
-                out = os.path.join(tmp, f"{name}_{alpha}.ply")
-                run(lgh, common + ["--points", probes, "--out", out, "--alpha", str(alpha)])
-                got = read_red(out)
-                ratios = [g / w for g, w in zip(got, want)]
-                rms = (sum((r - 1.0) ** 2 for r in ratios) / len(ratios)) ** 0.5
-                print(json.dumps({
-                    "region": name, "alpha": alpha, "max_level": a.max_level, "points": len(points),
-                    "sum_ratio": round(sum(got) / sum(want), 5),
-                    "mean_ratio": round(sum(ratios) / len(ratios), 5),
-                    "min_ratio": round(min(ratios), 5), "max_ratio": round(max(ratios), 5),
-                    "rms": round(rms, 5)}), flush=True)
+    for name, points in regions(a.n, rng).items():
+        points = np.asarray(points, dtype=np.float32)
+        for alpha in alphas:
+            # h1 = 2: the lattice's spacing is h0, the voxel size of an explosion's lights.
+            try:
+                h = lgh.Hierarchy(lights, ones, alpha=alpha, h1=2.0, max_level=a.max_level)
+            except ValueError as e:
+                sys.exit(f"lattice_probes.py: {e}")
+            want = brute_force(lights.astype(np.float64), points.astype(np.float64), h.h0)
+            got = h.probe(points)[:, 0].astype(np.float64)
+            ratios = got / want
+            print(json.dumps({
+                "region": name, "alpha": alpha, "max_level": a.max_level, "points": len(points),
+                "sum_ratio": round(float(got.sum() / want.sum()), 5),
+                "mean_ratio": round(float(ratios.mean()), 5),
+                "min_ratio": round(float(ratios.min()), 5), "max_ratio": round(float(ratios.max()), 5),
+                "rms": round(float(np.sqrt(((ratios - 1.0) ** 2).mean())), 5)}), flush=True)
 
 
 if __name__ == "__main__":
