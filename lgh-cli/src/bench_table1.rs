@@ -81,6 +81,9 @@ pub fn run(args: &Table1Args) -> Result<(), crate::Error> {
         .march
         .settings(crate::demo::DEMO_DEFAULTS, &ScatterArgs::default())?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
+    scene
+        .lights
+        .set_coarse_spread(args.march.coarse_spread.into());
     let march = scene.for_camera(&args.march, march);
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());

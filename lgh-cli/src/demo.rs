@@ -146,6 +146,9 @@ pub fn run(args: &DemoArgs) -> Result<(), crate::Error> {
     output::check_out(&args.out)?;
     let march = args.march.settings(DEMO_DEFAULTS, &args.scatter)?;
     let mut scene = args.scene.build(args.march.near_field.into())?;
+    scene
+        .lights
+        .set_coarse_spread(args.march.coarse_spread.into());
     let march = scene.for_camera(&args.march, march);
     scene.lights.set_prune(args.march.prune)?;
     scene.lights.set_coarse_shadows(args.march.coarse_shadows());

@@ -1199,6 +1199,7 @@ impl Frames<'_> {
         }
         lights.set_coarse_shadows(args.march.coarse_shadows());
         lights.set_near_field(args.march.near_field.into());
+        lights.set_coarse_spread(args.march.coarse_spread.into());
         lights.set_frame(volume, medium)?;
         Ok(lights.lit())
     }

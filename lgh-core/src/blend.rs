@@ -10,7 +10,15 @@
 //! weights are then `2 − a` and `a − 1` with `a ∈ [1, 2]`; both subtractions are exact (Sterbenz),
 //! so `Σ_ℓ B_ℓ(d) = 1` holds exactly in floating point, not just approximately.
 
+use glam::Vec3;
+
 use crate::error::QueryError;
+
+mod spread;
+mod spread_table;
+
+pub(crate) use spread::Averaged;
+pub use spread::CoarseSpread;
 
 /// The most levels above level 0 a hierarchy may have.
 pub const MAX_LEVEL: u8 = 21;
@@ -58,6 +66,11 @@ pub struct Blending {
     radius: [f32; MAX_LEVEL as usize + 1],
     /// Eq. (3)'s blending, or hard level switches (a flickering variant).
     switches: Switches,
+    /// Where a coarse light's weight and fall-off are taken ([`CoarseSpread`]).
+    spread: CoarseSpread,
+    /// Per level, how far beyond eq. (3)'s support a light's weight reaches: the largest radius
+    /// `R = √7 s` of the level's lights' balls with [`CoarseSpread::Averaged`], else 0.
+    reach: [f32; MAX_LEVEL as usize + 1],
     /// Per level `(a, c1, b, c2)` with `B_ℓ(d) = clamp(min(a d + c1, c2 − b d), 0, 1)`: the rising and
     /// falling ramps, `a = 1 / r_{ℓ−1}`, `b = 1 / r_ℓ` (exact powers-of-two multiples of `1 / r_0`),
     /// or a constant 1 where a level has no ramp on that side.
@@ -121,7 +134,71 @@ impl Blending {
             radius,
             ramps,
             switches: Switches::Blended,
+            spread: CoarseSpread::Centre,
+            reach: [0.0; MAX_LEVEL as usize + 1],
         })
+    }
+
+    /// The same radii with each coarse light's weight and fall-off averaged over its spread
+    /// ([`CoarseSpread::Averaged`]), for lights whose largest spread `s = √(tr σ²/3)` (eq. 4) at
+    /// level ℓ is `spreads[ℓ]`: each level's support grows by that light's radius `√7 s`. Made by
+    /// [`LightingGridHierarchy::blending_with`](crate::LightingGridHierarchy::blending_with).
+    #[must_use]
+    pub(crate) fn with_spreads(mut self, spreads: &[f32; MAX_LEVEL as usize + 1]) -> Self {
+        self.switches = Switches::Blended;
+        self.spread = CoarseSpread::Averaged;
+        let levels = 1..=self.max_level as usize;
+        for ((reach, &s), &r) in self.reach[levels.clone()]
+            .iter_mut()
+            .zip(&spreads[levels.clone()])
+            .zip(&self.radius[levels])
+        {
+            // σ is clamped at 1 (spread.rs), so no light's ball is wider than √7 r_ℓ.
+            let s = s.min(r);
+            *reach = if s > 0.0 {
+                s * spread::RADIUS_PER_SPREAD * (1.0 + 1e-5)
+            } else {
+                0.0
+            };
+        }
+        self
+    }
+
+    /// How far beyond eq. (3)'s support a light of `level` may have a weight: with
+    /// [`CoarseSpread::Averaged`], the largest radius `√7 s` of the level's lights' balls; 0 for
+    /// [`CoarseSpread::Centre`], for level 0 and above `ℓ_max`.
+    ///
+    /// ```
+    /// use lgh_core::Blending;
+    ///
+    /// assert_eq!(Blending::new(2.0, 1.0, 3)?.spread_reach(1), 0.0);
+    /// # Ok::<(), lgh_core::QueryError>(())
+    /// ```
+    #[must_use]
+    pub fn spread_reach(&self, level: u8) -> f32 {
+        self.reach.get(level as usize).copied().unwrap_or(0.0)
+    }
+
+    /// Where a coarse light's weight and fall-off are taken: [`CoarseSpread::Centre`] unless made
+    /// by [`LightingGridHierarchy::blending_with`](crate::LightingGridHierarchy::blending_with).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{CoarseSpread, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> =
+    ///     (0..8).map(|i| PointLight::new(Vec3::new(i as f32, 0.0, 0.0), Vec3::ONE)).collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// assert_eq!(lgh.blending(2.0)?.coarse_spread(), CoarseSpread::Centre);
+    /// let averaged = lgh.blending_with(2.0, CoarseSpread::Averaged)?;
+    /// assert_eq!(averaged.coarse_spread(), CoarseSpread::Averaged);
+    /// // Hard switches take every light whole, at its centre.
+    /// assert_eq!(averaged.with_hard_switches().coarse_spread(), CoarseSpread::Centre);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn coarse_spread(&self) -> CoarseSpread {
+        self.spread
     }
 
     /// The same radii with *hard level switches* instead of the blending of eq. (3): each
@@ -144,6 +221,8 @@ impl Blending {
     #[must_use]
     pub fn with_hard_switches(mut self) -> Self {
         self.switches = Switches::Hard;
+        self.spread = CoarseSpread::Centre;
+        self.reach = [0.0; MAX_LEVEL as usize + 1];
         self
     }
 
@@ -181,25 +260,38 @@ impl Blending {
             .unwrap_or(f32::INFINITY)
     }
 
-    /// Distances `(inner, outer)` with `B_ℓ(d) = 0` for every `d ≤ inner` and every `d ≥ outer`:
-    /// the nominal `r_{ℓ−1}` and `2 r_ℓ` (0 for level 0, ∞ for the top level), widened by a relative
-    /// 1e-6 so that rounding in [`weight`](Self::weight) can never put a non-zero weight outside.
-    /// Levels above `ℓ_max` have no support.
+    /// Distances `(inner, outer)` with a zero weight for every `d ≤ inner` and every `d ≥ outer`:
+    /// eq. (3)'s `r_{ℓ−1}` and `2 r_ℓ` (0 for level 0, ∞ for the top level), widened by a relative
+    /// 1e-6 so that rounding in [`weight`](Self::weight) can never put a non-zero weight outside;
+    /// with [`CoarseSpread::Averaged`], widened on both sides by the level's largest ball radius
+    /// `√7 s` too (the lights' balls reach that far beyond their centres). Levels above `ℓ_max`
+    /// have no support.
+    ///
+    /// ```
+    /// use lgh_core::Blending;
+    ///
+    /// let b = Blending::new(2.0, 1.0, 3)?; // r = 1, 2, 4, 8
+    /// let (inner, outer) = b.support(1);
+    /// assert!((inner - 1.0).abs() < 1e-5 && (outer - 4.0).abs() < 1e-5);
+    /// assert_eq!(b.support(3).1, f32::INFINITY);
+    /// # Ok::<(), lgh_core::QueryError>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn support(&self, level: u8) -> (f32, f32) {
         if level > self.max_level {
             return (f32::INFINITY, f32::INFINITY);
         }
+        let reach = self.reach[level as usize];
         let inner = if level == 0 {
             0.0
         } else {
-            self.radius[level as usize - 1] * (1.0 - 1e-6)
+            (self.radius[level as usize - 1] * (1.0 - 1e-6) - reach).max(0.0)
         };
         let outer = if level == self.max_level {
             f32::INFINITY
         } else {
-            2.0 * self.radius[level as usize] * (1.0 + 1e-6)
+            2.0 * self.radius[level as usize] * (1.0 + 1e-6) + reach
         };
         (inner, outer)
     }
@@ -212,12 +304,79 @@ impl Blending {
         self.ramp(level).weight(d)
     }
 
+    /// The weight a light of level `level` with per-axis variance `variance` (eq. 4) gets with
+    /// its centre `d` away: [`weight`](Self::weight) for [`CoarseSpread::Centre`] and for level 0;
+    /// with [`CoarseSpread::Averaged`], `B_ℓ(d')/d'²` averaged over the light's ball, times
+    /// `max(d, h0)²` (so that times the point's fall-off [`falloff`] it is that mean).
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{falloff, CoarseSpread, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> =
+    ///     (0..64).map(|i| PointLight::new(Vec3::new(i as f32, 0.0, 0.0), Vec3::ONE)).collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let centre = lgh.blending(2.0)?;
+    /// let averaged = lgh.blending_with(2.0, CoarseSpread::Averaged)?;
+    /// let top = lgh.max_level();
+    /// // A point is weighed at its centre either way...
+    /// assert_eq!(averaged.weight_of(top, 1e3, Vec3::ZERO), centre.weight(top, 1e3));
+    /// // ...and a spread light far from everything by its ball's mean of 1/d², above 1/d².
+    /// let spread = Vec3::splat(lgh.h(top) * lgh.h(top) / 6.0);
+    /// assert!(averaged.weight_of(top, 1e3, spread) > 1.0);
+    /// assert_eq!(centre.weight_of(top, 1e3, spread), 1.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn weight_of(&self, level: u8, d: f32, variance: Vec3) -> f32 {
+        self.level_weight(level).weight(d, || variance)
+    }
+
     /// `B_ℓ` of one level, for evaluating many distances.
     #[inline(always)]
     pub(crate) fn ramp(&self, level: u8) -> Ramp {
         match self.ramps.get(level as usize) {
             Some(&r) if level <= self.max_level => Ramp(r, self.switches),
             _ => Ramp([0.0, -1.0, 0.0, -1.0], Switches::Blended), // always 0
+        }
+    }
+
+    /// How one level's lights are weighted: by eq. (3)'s ramp, or averaged over their spread.
+    #[inline(always)]
+    pub(crate) fn level_weight(&self, level: u8) -> LevelWeight {
+        match self.spread {
+            CoarseSpread::Averaged if level >= 1 && level <= self.max_level => {
+                let r = self.radius[level as usize];
+                LevelWeight::Averaged(Averaged {
+                    ramp: self.ramp(level),
+                    top: level == self.max_level,
+                    inv_r: 1.0 / r,
+                    h0: self.h1 * 0.5,
+                })
+            }
+            _ => LevelWeight::Ramp(self.ramp(level)),
+        }
+    }
+}
+
+/// How one level's lights are weighted ([`Blending::level_weight`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum LevelWeight {
+    /// Eq. (3)'s `B_ℓ(d)` at the light's centre.
+    Ramp(Ramp),
+    /// `B_ℓ/d²` averaged over the light's ball, times `max(d, h0)²`.
+    Averaged(Averaged),
+}
+
+impl LevelWeight {
+    /// The weight of a light whose centre is `d` away; `variance` is asked for only when it is
+    /// needed (level 0 stores none).
+    #[inline(always)]
+    pub fn weight(self, d: f32, variance: impl FnOnce() -> Vec3) -> f32 {
+        match self {
+            LevelWeight::Ramp(r) => r.weight(d),
+            LevelWeight::Averaged(a) => a.weight(d, variance()),
         }
     }
 }

@@ -94,7 +94,7 @@ pub mod spectrum;
 pub mod testsets;
 pub mod ward;
 
-pub use blend::{check_alpha, falloff, Blending, MAX_LEVEL};
+pub use blend::{check_alpha, falloff, Blending, CoarseSpread, MAX_LEVEL};
 pub use brute::BruteForce;
 pub use error::{BuildError, QueryError, MAX_LIGHTS};
 pub use glam;

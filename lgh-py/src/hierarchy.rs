@@ -5,7 +5,9 @@
 //! command line), `gather` the lights one point sees with their blending weights.
 
 use lgh_core::glam::Vec3;
-use lgh_core::{GridSettings, LghBackend, LightingGridHierarchy, PointLight};
+use lgh_core::{
+    Blending, CoarseSpread, GridSettings, LghBackend, LightingGridHierarchy, PointLight,
+};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -22,7 +24,10 @@ use crate::{arrays, errors, work};
 /// ``alpha`` is the blending's α of eq. (3) (the paper uses 2; larger is closer to the exact
 /// sum and slower). ``h1`` (level 1's grid spacing), ``origin`` and ``max_level`` are derived
 /// when not given (paper Sec. 6.4); ``prune_below`` skips lights dimmer than it (luminance) at
-/// every level but the top. The build releases the GIL.
+/// every level but the top. ``coarse_spread`` is how coarse lights are weighted: ``"centre"``
+/// (eq. 3 at each light's centre, as the paper prints it) or ``"averaged"`` (eq. 3's blended
+/// fall-off averaged over the spread of the lights each stands for: closer to the exact sum,
+/// the support of each level wider). The build releases the GIL.
 ///
 /// >>> import numpy as np, lgh
 /// >>> h = lgh.Hierarchy(np.zeros((1, 3)), np.ones((1, 3)))
@@ -33,6 +38,19 @@ pub struct Hierarchy {
     lgh: LightingGridHierarchy,
     settings: GridSettings,
     alpha: f32,
+    coarse_spread: CoarseSpread,
+}
+
+/// The [`CoarseSpread`] named `name`.
+fn coarse_spread(name: &str) -> PyResult<CoarseSpread> {
+    CoarseSpread::ALL
+        .into_iter()
+        .find(|c| c.name() == name)
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "coarse_spread must be \"centre\" or \"averaged\", not {name:?}"
+            ))
+        })
 }
 
 /// The lights of two `(n, 3)` arrays, checked to be as many.
@@ -65,7 +83,9 @@ fn build(
 #[pymethods]
 impl Hierarchy {
     #[new]
-    #[pyo3(signature = (positions, intensities, *, alpha = 2.0, h1 = None, origin = None, max_level = None, prune_below = 0.0))]
+    // One argument a Python keyword: the signature is the class's constructor.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (positions, intensities, *, alpha = 2.0, h1 = None, origin = None, max_level = None, prune_below = 0.0, coarse_spread = "centre"))]
     fn new(
         positions: &Bound<'_, PyAny>,
         intensities: &Bound<'_, PyAny>,
@@ -74,8 +94,10 @@ impl Hierarchy {
         origin: Option<&Bound<'_, PyAny>>,
         max_level: Option<i64>,
         prune_below: f32,
+        coarse_spread: &str,
     ) -> PyResult<Self> {
         lgh_core::check_alpha(alpha).map_err(errors::query)?;
+        let spread = self::coarse_spread(coarse_spread)?;
         let max_level = max_level
             .map(|l| {
                 u8::try_from(l).map_err(|_| {
@@ -102,6 +124,7 @@ impl Hierarchy {
             lgh,
             settings,
             alpha,
+            coarse_spread: spread,
         })
     }
 
@@ -126,7 +149,8 @@ impl Hierarchy {
         let points = arrays::rows(points, "points")?;
         let points: Vec<[f32; 3]> = arrays::triples(points.readonly().as_slice()?).to_vec();
         let points = points.as_slice();
-        let backend = LghBackend::new(&self.lgh, self.alpha).map_err(errors::query)?;
+        let backend =
+            LghBackend::with_blending(&self.lgh, self.blending()?).map_err(errors::query)?;
         let h0 = self.lgh.h0();
         let out = arrays::zeros(py, points.len());
         {
@@ -166,7 +190,7 @@ impl Hierarchy {
         point: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let x = Vec3::from(arrays::point(point, "point")?);
-        let blending = self.lgh.blending(self.alpha).map_err(errors::query)?;
+        let blending = self.blending()?;
         let mut seen = Vec::new();
         self.lgh
             .query(x, &blending, |s| seen.push(*s))
@@ -248,6 +272,23 @@ impl Hierarchy {
         Ok(())
     }
 
+    /// How coarse lights are weighted, ``"centre"`` or ``"averaged"`` (see the class).
+    ///
+    /// >>> import numpy as np, lgh
+    /// >>> h = lgh.Hierarchy(np.zeros((1, 3)), np.ones((1, 3)), coarse_spread="averaged")
+    /// >>> h.coarse_spread
+    /// 'averaged'
+    #[getter(coarse_spread)]
+    fn get_coarse_spread(&self) -> &'static str {
+        self.coarse_spread.name()
+    }
+
+    #[setter(coarse_spread)]
+    fn set_coarse_spread(&mut self, name: &str) -> PyResult<()> {
+        self.coarse_spread = coarse_spread(name)?;
+        Ok(())
+    }
+
     /// Level 1's grid spacing ``h1``.
     #[getter]
     fn h1(&self) -> f32 {
@@ -279,11 +320,22 @@ impl Hierarchy {
 
     fn __repr__(&self) -> String {
         format!(
-            "lgh.Hierarchy({} lights, alpha={}, h1={}, max_level={})",
+            "lgh.Hierarchy({} lights, alpha={}, coarse_spread={:?}, h1={}, max_level={})",
             self.lgh.len(),
             self.alpha,
+            self.coarse_spread.name(),
             self.lgh.h1(),
             self.lgh.max_level()
         )
+    }
+}
+
+impl Hierarchy {
+    /// The blending `probe` and `gather` use: α and the coarse lights' weighting, for the
+    /// lights as they are now (the spreads follow `update_intensities`).
+    fn blending(&self) -> PyResult<Blending> {
+        self.lgh
+            .blending_with(self.alpha, self.coarse_spread)
+            .map_err(errors::query)
     }
 }

@@ -138,7 +138,9 @@ impl Method {
         Ok(match self {
             Method::Emission => Prepared::Emission,
             Method::Lgh { alpha } => {
-                let blending = lights.hierarchy().blending(alpha)?;
+                let blending = lights
+                    .hierarchy()
+                    .blending_with(alpha, lights.coarse_spread())?;
                 let shading = if lights.variants().hard_switches {
                     blending.with_hard_switches()
                 } else {

@@ -5,7 +5,7 @@ the point fall-off `1/max(d, h0)²`, the Python package lgh-py) against the same
 light, at random points inside the lattice, across its edge and outside it. docs/cycles.md ("The
 hierarchy's α-2 error, taken apart") quotes it:
 
-    target/py313/bin/python tools/hierarchy/lattice_probes.py [--n 32] [--alpha 2,4,8] [--max-level L]
+    target/py313/bin/python tools/hierarchy/lattice_probes.py [--n 32] [--alpha 2,4,8] [--max-level L] [--coarse-spread centre,averaged]
 
 Prints one JSON line per region and α: the ratio of the summed light to brute force's, the mean,
 minimum and maximum of the per-point ratios, and their RMS distance from 1. Needs numpy and lgh
@@ -51,7 +51,13 @@ def main():
     p.add_argument("--max-level", type=int, default=None,
                    help="the hierarchy's top level (default: lgh's; lower keeps only the finest "
                         "levels' transitions)")
+    p.add_argument("--coarse-spread", default="centre",
+                   help="how coarse lights are weighted, comma-separated: centre (eq. 3 as printed) "
+                        "and/or averaged (over each light's spread, lgh-core's blend::spread)")
     a = p.parse_args()
+    spreads = a.coarse_spread.split(",")
+    if not all(s in ("centre", "averaged") for s in spreads):
+        sys.exit(f"lattice_probes.py: --coarse-spread takes centre and/or averaged, not {a.coarse_spread!r}")
     if a.n < 4:
         sys.exit("lattice_probes.py: --n must be at least 4")
     try:
@@ -67,20 +73,23 @@ def main():
     for name, points in regions(a.n, rng).items():
         points = np.asarray(points, dtype=np.float32)
         for alpha in alphas:
-            # h1 = 2: the lattice's spacing is h0, the voxel size of an explosion's lights.
-            try:
-                h = lgh.Hierarchy(lights, ones, alpha=alpha, h1=2.0, max_level=a.max_level)
-            except ValueError as e:
-                sys.exit(f"lattice_probes.py: {e}")
-            want = brute_force(lights.astype(np.float64), points.astype(np.float64), h.h0)
-            got = h.probe(points)[:, 0].astype(np.float64)
-            ratios = got / want
-            print(json.dumps({
-                "region": name, "alpha": alpha, "max_level": a.max_level, "points": len(points),
-                "sum_ratio": round(float(got.sum() / want.sum()), 5),
-                "mean_ratio": round(float(ratios.mean()), 5),
-                "min_ratio": round(float(ratios.min()), 5), "max_ratio": round(float(ratios.max()), 5),
-                "rms": round(float(np.sqrt(((ratios - 1.0) ** 2).mean())), 5)}), flush=True)
+            for spread in spreads:
+                # h1 = 2: the lattice's spacing is h0, the voxel size of an explosion's lights.
+                try:
+                    h = lgh.Hierarchy(lights, ones, alpha=alpha, h1=2.0, max_level=a.max_level,
+                                      coarse_spread=spread)
+                except ValueError as e:
+                    sys.exit(f"lattice_probes.py: {e}")
+                want = brute_force(lights.astype(np.float64), points.astype(np.float64), h.h0)
+                got = h.probe(points)[:, 0].astype(np.float64)
+                ratios = got / want
+                print(json.dumps({
+                    "region": name, "alpha": alpha, "coarse_spread": spread,
+                    "max_level": a.max_level, "points": len(points),
+                    "sum_ratio": round(float(got.sum() / want.sum()), 5),
+                    "mean_ratio": round(float(ratios.mean()), 5),
+                    "min_ratio": round(float(ratios.min()), 5), "max_ratio": round(float(ratios.max()), 5),
+                    "rms": round(float(np.sqrt(((ratios - 1.0) ** 2).mean())), 5)}), flush=True)
 
 
 if __name__ == "__main__":

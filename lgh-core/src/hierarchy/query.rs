@@ -6,7 +6,7 @@ use core::ops::RangeInclusive;
 use glam::Vec3;
 
 use super::LightingGridHierarchy;
-use crate::blend::{Blending, Ramp};
+use crate::blend::{Blending, CoarseSpread, LevelWeight, MAX_LEVEL};
 use crate::bricks::Ball;
 use crate::error::QueryError;
 use crate::light::{Contribution, Hit, Inner, LevelLights};
@@ -31,6 +31,49 @@ impl LightingGridHierarchy {
     /// ```
     pub fn blending(&self, alpha: f32) -> Result<Blending, QueryError> {
         Blending::new(alpha, self.h1(), self.max_level())
+    }
+
+    /// The blending at `alpha` with each coarse light weighted as `spread` says
+    /// ([`CoarseSpread`]): for [`CoarseSpread::Averaged`], each level's support widened by its
+    /// lights' largest spread. Make it again after [`update_intensities`](Self::update_intensities):
+    /// the spreads follow the intensities.
+    ///
+    /// ```
+    /// use lgh_core::glam::Vec3;
+    /// use lgh_core::{CoarseSpread, GridSettings, LightingGridHierarchy, PointLight};
+    ///
+    /// let lights: Vec<PointLight> =
+    ///     (0..64).map(|i| PointLight::new(Vec3::new(i as f32, 0.0, 0.0), Vec3::ONE)).collect();
+    /// let lgh = LightingGridHierarchy::build(&lights, &GridSettings::default())?;
+    /// let centre = lgh.blending_with(2.0, CoarseSpread::Centre)?;
+    /// assert_eq!(centre, lgh.blending(2.0)?);
+    /// let averaged = lgh.blending_with(2.0, CoarseSpread::Averaged)?;
+    /// assert!(averaged.support(1).1 > centre.support(1).1); // level 1 reaches further
+    /// assert_eq!(averaged.support(0), centre.support(0)); // level 0's lights are points
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn blending_with(&self, alpha: f32, spread: CoarseSpread) -> Result<Blending, QueryError> {
+        let blending = self.blending(alpha)?;
+        Ok(match spread {
+            CoarseSpread::Centre => blending,
+            CoarseSpread::Averaged => blending.with_spreads(&self.spreads()),
+        })
+    }
+
+    /// Per level ℓ ≥ 1, the largest spread `√(tr σ²/3)` (eq. 4) of its lights (0 at level 0).
+    fn spreads(&self) -> [f32; MAX_LEVEL as usize + 1] {
+        let mut out = [0.0f32; MAX_LEVEL as usize + 1];
+        for (l, s) in out.iter_mut().enumerate().skip(1) {
+            let level = self.level(l as u8);
+            for i in 0..level.len() {
+                let v = level.variance(i);
+                // A NaN (a dark light's) is skipped by max.
+                *s = s.max(crate::math::sqrt(
+                    ((v.x + v.y + v.z) * (1.0 / 3.0)).max(0.0),
+                ));
+            }
+        }
+        out
     }
 
     /// Calls `f(index, distance)` for every light of `level` whose position lies within `radius`
@@ -292,7 +335,7 @@ impl LightingGridHierarchy {
                         outer2: f32| {
             let mut hits = LevelHits {
                 f: &mut f,
-                ramp: blending.ramp(level),
+                weight: blending.level_weight(level),
                 level,
                 lights,
             };
@@ -461,7 +504,7 @@ impl LightingGridHierarchy {
 /// Hands one level's contributing lights to the caller's closure.
 struct LevelHits<'a, F> {
     f: &'a mut F,
-    ramp: Ramp,
+    weight: LevelWeight,
     level: u8,
     lights: &'a LevelLights,
 }
@@ -473,11 +516,11 @@ impl<R: Contribution, F: FnMut(&LightSample) -> R> Hit for LevelHits<'_, F> {
     /// never get here: their scanned positions are NaN.)
     #[inline(always)]
     fn hit(&mut self, index: usize, d: f32) -> Option<R> {
-        let w = self.ramp.weight(d);
+        let l = self.lights;
+        let w = self.weight.weight(d, || l.variance(index));
         if w <= 0.0 {
             return None;
         }
-        let l = self.lights;
         Some((self.f)(&LightSample {
             level: self.level,
             index: index as u32,

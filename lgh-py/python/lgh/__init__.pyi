@@ -44,6 +44,7 @@ def render_explosion(
     shadow_knots: _Value | None = ...,  # Knots a cube-map texel stores, 2 to 16: the transmittance at K distances placed per texel where it changes (adaptive deep shadow maps; 2 bytes each, so the de
     point_shadows: bool | None = ...,  # Cube maps trace coarse lights as points through the plain density instead of as volume lights through the prefiltered density (eq. 6): the flickering variant o
     near_field: Literal['voxel', 'clamp'] | None = ...,  # The voxel lights' near field: `voxel` makes each level-0 light the uniform emitting voxel it stands for (its intensity what its cell emits, i
+    coarse_spread: Literal['centre', 'averaged'] | None = ...,  # How coarse lights (levels ≥ 1) are weighted: `centre` takes eq. (3) at each light's centre as the paper prints it (up to 2% bright out
     step: _Value | None = ...,  # Step along camera rays, in voxels (smaller is more accurate and slower) (default 1)
     shadow_step: _Value | None = ...,  # Step along shadow rays, in voxels (smaller is more accurate and slower) [default: 1, or 2 for lgh demo]
     pixel_samples: _Value | None = ...,  # Camera rays per side of a pixel, 1 to 8: N×N rays through the centres of N×N sub-pixels, averaged — a one-pixel box filter (Cycles' "Box" filter, width 1), w

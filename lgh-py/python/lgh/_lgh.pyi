@@ -46,6 +46,7 @@ class Hierarchy:
         origin: Optional[npt.ArrayLike] = None,
         max_level: Optional[int] = None,
         prune_below: float = 0.0,
+        coarse_spread: Literal["centre", "averaged"] = "centre",
     ) -> None: ...
     def probe(
         self,
@@ -61,6 +62,7 @@ class Hierarchy:
     def rebuild(self, positions: npt.ArrayLike, intensities: npt.ArrayLike) -> None:
         """Rebuilds over new lights (any count) with the same settings."""
     alpha: float
+    coarse_spread: Literal["centre", "averaged"]
     @property
     def h1(self) -> float: ...
     @property

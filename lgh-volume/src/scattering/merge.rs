@@ -96,7 +96,7 @@ pub(super) fn merged_lights(
     Ok(merged)
 }
 
-/// The emission lights' weak-light pruning, near field, the smoke of their voxels (each
+/// The emission lights' weak-light pruning, near field, coarse lights' spread, the smoke of their voxels (each
 /// light's near field centred at its voxel's offset in `centroids`, on its voxel where none is
 /// given: each scattered depth gives none) and coarse lights' shadows, set on `lights` (each
 /// scattered depth's, and the merged ones).
@@ -107,6 +107,7 @@ pub(super) fn carry_over(
 ) -> Result<(), RenderError> {
     lights.set_prune(emission.prune())?;
     lights.set_near_field(emission.near_field());
+    lights.set_coarse_spread(emission.coarse_spread());
     let smoke = |s: &Arc<VoxelSmoke>| Arc::new(s.without_centroids().with_centroids(centroids));
     lights.set_smoke(emission.smoke().map(smoke));
     let coarse = emission.variants().coarse_shadows;

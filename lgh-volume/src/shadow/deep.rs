@@ -211,16 +211,17 @@ pub struct CubeMaps {
     table: Vec<LevelMaps>,
 }
 
-/// The paper's `R` and `D` of `level`: cells `h` wide at `r_ℓ`, depths to `2 r_ℓ`; the top
-/// level, or a level reaching beyond the box, to the box's diagonal (and no finer than `h`
-/// there).
+/// The paper's `R` and `D` of `level`: cells `h` wide at `r_ℓ`, depths to `2 r_ℓ` (to the
+/// level's support, further by [`Blending::spread_reach`] where coarse lights are averaged
+/// over their spread); the top level, or a level reaching beyond the box, to the box's
+/// diagonal (and no finer than `h` there).
 fn resolution(blending: &Blending, level: u8, h: f32, diagonal: f32) -> (u32, f32) {
     let r = blending.radius(level);
     let top = level == blending.max_level();
     let reach = if top {
         diagonal
     } else {
-        (2.0 * r).min(diagonal)
+        (2.0 * r + blending.spread_reach(level)).min(diagonal)
     };
     let cells = (2.0 * r / h).min(2.0 * diagonal / h).ceil().max(1.0);
     (cells.min(1e6) as u32, reach)
