@@ -24,10 +24,10 @@ use crate::{arrays, errors, work};
 /// ``alpha`` is the blending's α of eq. (3) (the paper uses 2; larger is closer to the exact
 /// sum and slower). ``h1`` (level 1's grid spacing), ``origin`` and ``max_level`` are derived
 /// when not given (paper Sec. 6.4); ``prune_below`` skips lights dimmer than it (luminance) at
-/// every level but the top. ``coarse_spread`` is how coarse lights are weighted: ``"centre"``
-/// (eq. 3 at each light's centre, as the paper prints it) or ``"averaged"`` (eq. 3's blended
-/// fall-off averaged over the spread of the lights each stands for: closer to the exact sum,
-/// the support of each level wider). The build releases the GIL.
+/// every level but the top. The property ``coarse_spread`` says how coarse lights are weighted:
+/// ``"centre"`` (the default: eq. 3 at each light's centre, as the paper prints it) or
+/// ``"averaged"`` (eq. 3's blended fall-off averaged over the spread of the lights each stands
+/// for: closer to the exact sum, each level's support wider). The build releases the GIL.
 ///
 /// >>> import numpy as np, lgh
 /// >>> h = lgh.Hierarchy(np.zeros((1, 3)), np.ones((1, 3)))
@@ -83,9 +83,7 @@ fn build(
 #[pymethods]
 impl Hierarchy {
     #[new]
-    // One argument a Python keyword: the signature is the class's constructor.
-    #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (positions, intensities, *, alpha = 2.0, h1 = None, origin = None, max_level = None, prune_below = 0.0, coarse_spread = "centre"))]
+    #[pyo3(signature = (positions, intensities, *, alpha = 2.0, h1 = None, origin = None, max_level = None, prune_below = 0.0))]
     fn new(
         positions: &Bound<'_, PyAny>,
         intensities: &Bound<'_, PyAny>,
@@ -94,10 +92,8 @@ impl Hierarchy {
         origin: Option<&Bound<'_, PyAny>>,
         max_level: Option<i64>,
         prune_below: f32,
-        coarse_spread: &str,
     ) -> PyResult<Self> {
         lgh_core::check_alpha(alpha).map_err(errors::query)?;
-        let spread = self::coarse_spread(coarse_spread)?;
         let max_level = max_level
             .map(|l| {
                 u8::try_from(l).map_err(|_| {
@@ -124,7 +120,7 @@ impl Hierarchy {
             lgh,
             settings,
             alpha,
-            coarse_spread: spread,
+            coarse_spread: CoarseSpread::Centre,
         })
     }
 
@@ -275,7 +271,8 @@ impl Hierarchy {
     /// How coarse lights are weighted, ``"centre"`` or ``"averaged"`` (see the class).
     ///
     /// >>> import numpy as np, lgh
-    /// >>> h = lgh.Hierarchy(np.zeros((1, 3)), np.ones((1, 3)), coarse_spread="averaged")
+    /// >>> h = lgh.Hierarchy(np.zeros((1, 3)), np.ones((1, 3)))
+    /// >>> h.coarse_spread = "averaged"
     /// >>> h.coarse_spread
     /// 'averaged'
     #[getter(coarse_spread)]
@@ -320,7 +317,7 @@ impl Hierarchy {
 
     fn __repr__(&self) -> String {
         format!(
-            "lgh.Hierarchy({} lights, alpha={}, coarse_spread={:?}, h1={}, max_level={})",
+            "lgh.Hierarchy({} lights, alpha={}, coarse_spread='{}', h1={}, max_level={})",
             self.lgh.len(),
             self.alpha,
             self.coarse_spread.name(),

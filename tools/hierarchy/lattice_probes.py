@@ -76,8 +76,8 @@ def main():
             for spread in spreads:
                 # h1 = 2: the lattice's spacing is h0, the voxel size of an explosion's lights.
                 try:
-                    h = lgh.Hierarchy(lights, ones, alpha=alpha, h1=2.0, max_level=a.max_level,
-                                      coarse_spread=spread)
+                    h = lgh.Hierarchy(lights, ones, alpha=alpha, h1=2.0, max_level=a.max_level)
+                    h.coarse_spread = spread
                 except ValueError as e:
                     sys.exit(f"lattice_probes.py: {e}")
                 want = brute_force(lights.astype(np.float64), points.astype(np.float64), h.h0)

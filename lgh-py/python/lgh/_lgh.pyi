@@ -46,7 +46,6 @@ class Hierarchy:
         origin: Optional[npt.ArrayLike] = None,
         max_level: Optional[int] = None,
         prune_below: float = 0.0,
-        coarse_spread: Literal["centre", "averaged"] = "centre",
     ) -> None: ...
     def probe(
         self,
