@@ -54,7 +54,9 @@ pub struct LightSample {
     pub size: f32,
     /// Distance `d = ‖x − position‖`.
     pub distance: f32,
-    /// Blending weight `B_ℓ(d)` already folded into `intensity` (1 for non-LGH backends).
+    /// Blending weight `B_ℓ(d)` already folded into `intensity` (1 for non-LGH backends); with
+    /// [`CoarseSpread::Averaged`](crate::CoarseSpread::Averaged), a coarse light's `B_ℓ/d²`
+    /// averaged over its spread times `max(d, h0)²`, which may exceed 1.
     pub weight: f32,
     /// The part of the reflection to shade this light for ([`Lobe::All`] but for the light
     /// octree, which shades the diffuse and specular terms of eq. (1) separately).

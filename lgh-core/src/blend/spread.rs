@@ -46,6 +46,10 @@
 //! mean, which is closed-form because `B̂` is piecewise linear; the test below recomputes every
 //! entry from that formula in `f64`.
 //!
+//! The table's `1/d²` is not clamped at `h0`: for ℓ ≥ 1 the ramp is zero below `r_{ℓ−1} ≥ r_0 =
+//! α h0`, so the clamp never acts where α ≥ 1. A light of no spread (one input light, or all at
+//! one point) is weighed by eq. (3) exactly.
+//!
 //! The weight a query reports is `K_ℓ · max(d, h0)²`, so that a caller's `I · weight · g(d)` with
 //! the point's fall-off `g(d) = 1/max(d, h0)²` is `I K_ℓ`; it may exceed 1 (beyond `r_ℓ` on the top
 //! level the ball's mean of `1/d²` is above `1/d²`). A light's weight is non-zero from `r_{ℓ−1} −
@@ -59,7 +63,7 @@ use crate::math::sqrt;
 
 /// How a coarse light (level ℓ ≥ 1) is weighted and its fall-off taken: at its illumination
 /// centre, as eq. (3) is printed, or averaged over the spread of the lights it stands for (eq. 4;
-/// the [module](self) documentation). Level-0 lights are points either way.
+/// the `blend::spread` module documentation). Level-0 lights are points either way.
 ///
 /// ```
 /// use lgh_core::glam::Vec3;
