@@ -386,7 +386,7 @@ pub struct MarchArgs {
     /// centre as the paper prints it (up to 2% bright outside a cloud of lights at α 2);
     /// `averaged` takes eq. (3)'s blended fall-off averaged over the spread of the voxels each
     /// stands for (eq. 4's variance), the exact sum over those voxels to about 0.1% on a uniform
-    /// cloud at α 2, at 1.3–1.6× the render's time on Blender's fires
+    /// cloud at α 2, at 1.3–1.6× the render's time on two baked fires (fire128, smoky128)
     #[arg(long, value_enum, default_value_t = CoarseSpreadArg::Centre)]
     pub coarse_spread: CoarseSpreadArg,
     /// Step along camera rays, in voxels (smaller is more accurate and slower).

@@ -279,19 +279,31 @@ impl Blending {
     #[inline]
     #[must_use]
     pub fn support(&self, level: u8) -> (f32, f32) {
+        let (inner, outer) = self.ramp_support(level);
+        if level > self.max_level {
+            return (inner, outer);
+        }
+        let reach = self.reach[level as usize];
+        ((inner - reach).max(0.0), outer + reach)
+    }
+
+    /// Eq. (3)'s own support of `level`, `(r_{ℓ−1}, 2 r_ℓ)` widened by a relative 1e-6, whatever
+    /// the coarse lights' spread: [`support`](Self::support) before the balls widen it.
+    #[inline]
+    #[must_use]
+    pub(crate) fn ramp_support(&self, level: u8) -> (f32, f32) {
         if level > self.max_level {
             return (f32::INFINITY, f32::INFINITY);
         }
-        let reach = self.reach[level as usize];
         let inner = if level == 0 {
             0.0
         } else {
-            (self.radius[level as usize - 1] * (1.0 - 1e-6) - reach).max(0.0)
+            self.radius[level as usize - 1] * (1.0 - 1e-6)
         };
         let outer = if level == self.max_level {
             f32::INFINITY
         } else {
-            2.0 * self.radius[level as usize] * (1.0 + 1e-6) + reach
+            2.0 * self.radius[level as usize] * (1.0 + 1e-6)
         };
         (inner, outer)
     }

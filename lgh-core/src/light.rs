@@ -242,6 +242,10 @@ pub struct LevelLights {
     intensity: Vec<Vec3>,
     variance: Vec<Vec3>,
     size: Vec<f32>,
+    /// The largest spread `√(tr σ²/3)` (eq. 4) of the level's lights, dark ones included (0 at
+    /// level 0): what [`crate::CoarseSpread::Averaged`] widens the level's support by, kept
+    /// here so that a blending is made without a pass over the lights.
+    max_spread: f32,
 }
 
 /// Bit-for-bit equality (so NaN padding compares equal and −0.0 differs from 0.0): "the same
@@ -266,6 +270,13 @@ impl PartialEq for LevelLights {
     }
 }
 
+/// A light's spread `s = √(tr σ²/3)`: the standard deviation, per axis, of an isotropic
+/// cloud with the variance `σ²` of eq. (4) ([`crate::CoarseSpread::Averaged`]'s ball).
+#[inline]
+fn spread_of(variance: Vec3) -> f32 {
+    crate::math::sqrt(((variance.x + variance.y + variance.z) * (1.0 / 3.0)).max(0.0))
+}
+
 impl LevelLights {
     /// No lights.
     pub const EMPTY: LevelLights = LevelLights {
@@ -278,6 +289,7 @@ impl LevelLights {
         intensity: Vec::new(),
         variance: Vec::new(),
         size: Vec::new(),
+        max_spread: 0.0,
     };
 
     /// Stores `lights` of a level of kind `kind`; for [`LevelKind::Input`] variance and size are
@@ -300,6 +312,7 @@ impl LevelLights {
             intensity: Vec::with_capacity(n),
             variance: Vec::with_capacity(if points { 0 } else { n }),
             size: Vec::with_capacity(if points { 0 } else { n }),
+            max_spread: 0.0,
         };
         for l in lights {
             let p = out.scanned(l.position, l.luminance);
@@ -312,6 +325,8 @@ impl LevelLights {
             if !points {
                 out.variance.push(l.variance);
                 out.size.push(l.size);
+                // A dark light's NaN variance counts as no spread.
+                out.max_spread = out.max_spread.max(spread_of(l.variance));
             }
         }
         for _ in 1..LANES {
@@ -576,6 +591,12 @@ impl LevelLights {
     #[inline]
     pub(crate) fn variance(&self, i: usize) -> Vec3 {
         self.variance.get(i).copied().unwrap_or(Vec3::ZERO)
+    }
+
+    /// The largest spread `√(tr σ²/3)` (eq. 4) of the level's lights (0 at level 0).
+    #[inline]
+    pub(crate) fn max_spread(&self) -> f32 {
+        self.max_spread
     }
 
     /// Size of light `i` (zero at level 0).

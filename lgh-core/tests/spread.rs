@@ -14,6 +14,10 @@
 use lgh_core::glam::Vec3;
 use lgh_core::random::SplitMix64;
 use lgh_core::{falloff, CoarseSpread, GridSettings, LightingGridHierarchy, PointLight};
+use wasm_bindgen_test::wasm_bindgen_test;
+
+// In a browser (wasm32), see docs/embedding.md.
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 const N: u32 = 32;
 
@@ -74,7 +78,7 @@ fn measure(
     (got / total, (sq / points.len() as f64).sqrt())
 }
 
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn averaged_spread_is_the_exact_sum_on_a_lattice() {
     let lights = lattice();
     let settings = GridSettings {
@@ -109,7 +113,7 @@ fn averaged_spread_is_the_exact_sum_on_a_lattice() {
 /// level's scan is widened by its largest ball, so no light's ball is cut off where it leaves
 /// eq. (3)'s support (which would make lights enter a moving point's query with a jump). Lights
 /// of random positions and intensities, so the levels' spreads differ light by light.
-#[test]
+#[wasm_bindgen_test(unsupported = test)]
 fn the_query_reports_every_light_its_ball_reaches() {
     let mut rng = SplitMix64(11);
     let lights: Vec<PointLight> = (0..4000)

@@ -43,14 +43,11 @@ pub struct Hierarchy {
 
 /// The [`CoarseSpread`] named `name`.
 fn coarse_spread(name: &str) -> PyResult<CoarseSpread> {
-    CoarseSpread::ALL
-        .into_iter()
-        .find(|c| c.name() == name)
-        .ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "coarse_spread must be \"centre\" or \"averaged\", not {name:?}"
-            ))
-        })
+    CoarseSpread::from_name(name).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "coarse_spread must be \"centre\" or \"averaged\", not {name:?}"
+        ))
+    })
 }
 
 /// The lights of two `(n, 3)` arrays, checked to be as many.

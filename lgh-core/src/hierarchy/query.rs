@@ -60,18 +60,12 @@ impl LightingGridHierarchy {
         })
     }
 
-    /// Per level ℓ ≥ 1, the largest spread `√(tr σ²/3)` (eq. 4) of its lights (0 at level 0).
+    /// Per level ℓ ≥ 1, the largest spread `√(tr σ²/3)` (eq. 4) of its lights (0 at level 0),
+    /// kept by each level since it was built.
     fn spreads(&self) -> [f32; MAX_LEVEL as usize + 1] {
         let mut out = [0.0f32; MAX_LEVEL as usize + 1];
         for (l, s) in out.iter_mut().enumerate().skip(1) {
-            let level = self.level(l as u8);
-            for i in 0..level.len() {
-                let v = level.variance(i);
-                // A NaN (a dark light's) is skipped by max.
-                *s = s.max(crate::math::sqrt(
-                    ((v.x + v.y + v.z) * (1.0 / 3.0)).max(0.0),
-                ));
-            }
+            *s = self.level(l as u8).max_spread();
         }
         out
     }
@@ -420,7 +414,10 @@ impl LightingGridHierarchy {
     /// [`query_levels`](Self::query_levels) and these lights together account for every
     /// input light exactly once (lgh-vpl's per-representative blending). (`2√3 h_ℓ` bounds
     /// any light's extent: its centre and its input lights lie in the cube of half-width
-    /// `h_ℓ` about its vertex, eqs. 1, 2.)
+    /// `h_ℓ` about its vertex, eqs. 1, 2.) The blending's [`CoarseSpread`] does not enter:
+    /// blending each input light at its own distance is what
+    /// [`CoarseSpread::Averaged`] approximates, so the support is eq. (3)'s and each weight
+    /// `B_ℓ(d)` at the light's centre.
     ///
     /// Returns the number of calls; the order is fixed, as in [`query`](Self::query).
     ///
@@ -448,6 +445,11 @@ impl LightingGridHierarchy {
     /// // Every light eq. (3) gathers, and more near the supports' edges.
     /// assert!(centred.iter().all(|l| reaching.contains(l)));
     /// assert!(reaching.len() > centred.len());
+    /// // The coarse lights' spread does not enter: the same lights, the same weights.
+    /// let averaged = lgh.blending_with(2.0, lgh_core::CoarseSpread::Averaged)?;
+    /// let mut same = Vec::new();
+    /// lgh.query_reaching(x, &averaged, widest, |r| same.push((r.level, r.index)))?;
+    /// assert_eq!(same, reaching);
     /// // Lights of no extent (each a single point at its centre): eq. (3)'s own.
     /// let points = |_| (0.0, &[][..]);
     /// let mut exact = Vec::new();
@@ -468,7 +470,7 @@ impl LightingGridHierarchy {
         let mut count = 0u32;
         for l in 1..=top {
             let lights = &self.levels[l as usize - 1].lights;
-            let (inner, outer) = blending.support(l);
+            let (inner, outer) = blending.ramp_support(l);
             let (widest, each) = extents(l);
             let widest = widest.max(0.0);
             let (scan_inner, scan_outer) = (inner - widest, outer + widest);
