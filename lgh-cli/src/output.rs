@@ -241,14 +241,15 @@ pub struct CacheArgs {
     /// Where the lighting cache holds level 0: `ratio` caches only its shadows (the ratio of
     /// shadowed to unshadowed light at the vertices, multiplying level 0's unshadowed light
     /// summed exactly at every sample: no added flicker), `light` its light, interpolated
-    /// linearly (cheaper a sample, but it flickers); `auto`: ratio for the emission's lights,
-    /// light for multiple scattering's merged lights (one a smoky voxel: too many to sum at
-    /// every sample)
+    /// linearly (cheaper a sample, but it flickers), `far-light` its far part's light with the
+    /// lights within --cache-near summed at every sample; `auto`: ratio for the emission's
+    /// lights, light for multiple scattering's merged lights (one a smoky voxel: too many to
+    /// sum at every sample)
     #[arg(long, value_enum, default_value_t = Level0Arg::Auto)]
     pub cache_level0: Level0Arg,
-    /// With level 0 cached as a ratio: the reach, in voxels (at least 0.9), of its near part,
-    /// summed at every sample; beyond it level 0's unshadowed light is interpolated from the
-    /// vertices, with a partition of unity between the parts from a third of the reach to it
+    /// With level 0 cached as a ratio or far light: the reach, in voxels (at least 0.9), of its
+    /// near part, summed at every sample; beyond it level 0's unshadowed (or far) light is
+    /// interpolated from the vertices, with a partition of unity between the parts from a third of the reach to it
     /// (`all`: every level-0 light summed at every sample). Shorter reaches are cheaper and
     /// flicker more
     #[arg(long, default_value = "3", value_parser = parse_near_reach)]
@@ -274,6 +275,9 @@ pub enum Level0Arg {
     Ratio,
     /// Its light, interpolated linearly between the voxel centres
     Light,
+    /// The light of its far part interpolated, its near part (the lights within --cache-near)
+    /// summed with their shadows at every sample: a voxel's own light follows its smoke
+    FarLight,
 }
 
 impl From<Level0Arg> for Level0Form {
@@ -282,6 +286,7 @@ impl From<Level0Arg> for Level0Form {
             Level0Arg::Auto => Self::Auto,
             Level0Arg::Ratio => Self::Ratio,
             Level0Arg::Light => Self::Light,
+            Level0Arg::FarLight => Self::FarLight,
         }
     }
 }
@@ -774,9 +779,15 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
         if c.settings().first_level == 0 {
-            let form = if c.level0_ratio() { "ratio" } else { "light" };
-            out.push(("lighting_cache_level0", form.to_string()));
-            if c.level0_ratio() {
+            let form = if c.level0_ratio() {
+                Level0Form::Ratio
+            } else if c.level0_far_light() {
+                Level0Form::FarLight
+            } else {
+                Level0Form::Light
+            };
+            out.push(("lighting_cache_level0", form.name().to_string()));
+            if c.level0_ratio() || c.level0_far_light() {
                 out.push(("lighting_cache_level0_near", near_reach(c)));
             }
         }
@@ -889,6 +900,10 @@ pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
                     None => "summed whole".to_string(),
                 };
                 format!("level 0's shadows (a ratio, {near}) at {v:.3} voxels")
+            }
+            0 if c.level0_far_light() => {
+                let r = c.settings().near_reach.unwrap_or(f32::INFINITY);
+                format!("level 0's far light (near part {r} voxels) at {v:.3} voxels")
             }
             _ => format!("levels {l}.. at {v:.3} voxels"),
         })

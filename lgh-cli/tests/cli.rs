@@ -863,6 +863,20 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
         "light",
     ]);
     assert_eq!(get("lgh:lighting_cache_level0"), "light");
+    assert!(header_has_no(&out, "lgh:lighting_cache_level0_near"));
+    // Level 0's far part interpolated, its near part summed at every sample: within its reach.
+    let get = render(&[
+        "--scatter-depth",
+        "0",
+        "--cache-level",
+        "0",
+        "--cache-level0",
+        "far-light",
+        "--cache-near",
+        "1.5",
+    ]);
+    assert_eq!(get("lgh:lighting_cache_level0"), "far-light");
+    assert_eq!(get("lgh:lighting_cache_level0_near"), "1.5");
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
     assert_eq!(get("lgh:min_temperature"), "800");
     assert_eq!(get("lgh:scatter_depth"), "0");

@@ -119,6 +119,10 @@ def scenes(a):
         elif name not in compare.SCENES:
             sys.exit(f"caches.py: no scene {name!r} (the baked {', '.join(BAKED)}, or "
                      f"compare.py's {', '.join(compare.SCENES)})")
+        elif "kind" in compare.SCENES[name] and not os.access(a.export_grids, os.X_OK):
+            sys.exit(f"caches.py: {name} is procedural and its grids are written by "
+                     f"{a.export_grids}, which is absent: `cargo build --release -p lgh-volume "
+                     f"--example export_grids` (or give --export-grids)")
         out[name] = compare.SCENES[name]
     return out
 
@@ -361,6 +365,11 @@ def main():
     p.add_argument("--bpy", default=None, help="a Python with PyPI's bpy (5.2.3): Cycles runs "
                    "there instead of --blender")
     p.add_argument("--lgh", default=os.path.join(ROOT, "target/release/lgh"))
+    p.add_argument("--export-grids",
+                   default=os.path.join(ROOT, "target/release/examples/export_grids"),
+                   help="lgh-volume's export_grids example, which writes compare.py's procedural "
+                        "volumes (fireball64, explosion128) for Cycles: `cargo build --release "
+                        "-p lgh-volume --example export_grids`")
     p.add_argument("--shared-data", default=os.path.join(ROOT, "..", "shared", "data"))
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--bounces", type=int, default=128)
