@@ -351,7 +351,7 @@ def table(version, results):
                          f"noisy); Blender's default step errs by "
                          f"{100 * f['default_step_bias']:.2f}% against it, its mean "
                          f"{f['default_step_mean_ratio']:.4f} of it (R / G / B "
-                         f"{' / '.join(f'{m:.4f}' for m in f['default_step_mean_ratio_rgb'])}).")
+                         f"{' / '.join(num(m, '.4f') for m in f['default_step_mean_ratio_rgb'])}).")
     return "\n".join(lines) + "\n"
 
 
