@@ -146,7 +146,7 @@ def reference(r, name, vdb, scene, spp, seeds, width, height, step_rate=1.0):
     first = 1 if step_rate == 1.0 else 101
     runs = [r.cycles(name, vdb, scene, spp, first + i, width, height, step_rate)
             for i in range(seeds)]
-    rate = "" if step_rate == 1.0 else f"_r{step_rate:g}"
+    rate = compare.step_suffix(step_rate)
     out = os.path.join(r.work, f"{name}_reference_{width}x{height}_{spp * seeds}spp{rate}.exr")
     if not os.path.exists(out):
         compare.write_exr(out, sum(compare.read_exr(q["out"]) for q in runs) / seeds)

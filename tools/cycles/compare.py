@@ -169,6 +169,12 @@ def run_cpu(cmd, **kw):
     return p.stdout, t1 - t0, cpu
 
 
+def step_suffix(step_rate):
+    """What a file's or a result's name adds for Cycles' volume step rate: nothing at Blender's
+    default 1 (the names of before it), `_r0.25` at 0.25."""
+    return "" if step_rate == 1.0 else f"_r{step_rate:g}"
+
+
 class Runner:
     def __init__(self, a):
         self.a = a
@@ -204,7 +210,7 @@ class Runner:
     def cycles(self, name, vdb, scene, spp, seed, width, height, step_rate=1.0):
         """One Cycles render (kept and reused): `step_rate` is Cycles' volume step rate, whose
         default 1 keeps the files' and results' names of before it."""
-        rate = "" if step_rate == 1.0 else f"_r{step_rate:g}"
+        rate = step_suffix(step_rate)
         key = f"cycles/{name}/{width}x{height}/{spp}spp/seed{seed}{rate}"
         out = os.path.join(self.work,
                            f"{name}_cycles_{width}x{height}_{spp}spp_s{seed}{rate}.exr")
