@@ -249,9 +249,9 @@ pub struct CacheArgs {
     pub cache_level0: Level0Arg,
     /// With level 0 cached as a ratio or far light: the reach, in voxels (at least 0.9), of its
     /// near part, summed at every sample; beyond it level 0's unshadowed (or far) light is
-    /// interpolated from the vertices, with a partition of unity between the parts from a third of the reach to it
-    /// (`all`: every level-0 light summed at every sample). Shorter reaches are cheaper and
-    /// flicker more
+    /// interpolated from the vertices, with a partition of unity between the parts from a
+    /// third of the reach to it (`all`: every level-0 light summed at every sample). Shorter
+    /// reaches are cheaper and flicker more
     #[arg(long, default_value = "3", value_parser = parse_near_reach)]
     pub cache_near: NearReachArg,
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
