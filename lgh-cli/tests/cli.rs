@@ -854,27 +854,24 @@ fn explosion_defaults_are_blenders_model_multiple_scattering_and_auto_pixel_samp
     assert_eq!(get("lgh:lighting_cache_level"), "0");
     assert_eq!(get("lgh:lighting_cache_level0"), "ratio");
     assert!(get("lgh:lighting_cache_tiers").starts_with("0:1,1:1"));
-    let get = render(&[
-        "--scatter-depth",
-        "0",
-        "--cache-level",
-        "0",
-        "--cache-level0",
-        "light",
-    ]);
+    // Level 0 cached in the form asked for, with `extra`.
+    let level0 = |form: &str, extra: &[&str]| {
+        let mut a = vec![
+            "--scatter-depth",
+            "0",
+            "--cache-level",
+            "0",
+            "--cache-level0",
+            form,
+        ];
+        a.extend_from_slice(extra);
+        render(&a)
+    };
+    let get = level0("light", &[]);
     assert_eq!(get("lgh:lighting_cache_level0"), "light");
     assert!(header_has_no(&out, "lgh:lighting_cache_level0_near"));
     // Level 0's far part interpolated, its near part summed at every sample: within its reach.
-    let get = render(&[
-        "--scatter-depth",
-        "0",
-        "--cache-level",
-        "0",
-        "--cache-level0",
-        "far-light",
-        "--cache-near",
-        "1.5",
-    ]);
+    let get = level0("far-light", &["--cache-near", "1.5"]);
     assert_eq!(get("lgh:lighting_cache_level0"), "far-light");
     assert_eq!(get("lgh:lighting_cache_level0_near"), "1.5");
     let get = render(&["--emission-model", "planck", "--scatter-depth", "0"]);
