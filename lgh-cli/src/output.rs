@@ -779,15 +779,9 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
         if c.settings().first_level == 0 {
-            let form = if c.level0_ratio() {
-                Level0Form::Ratio
-            } else if c.level0_far_light() {
-                Level0Form::FarLight
-            } else {
-                Level0Form::Light
-            };
+            let form = level0_form(c);
             out.push(("lighting_cache_level0", form.name().to_string()));
-            if c.level0_ratio() || c.level0_far_light() {
+            if form != Level0Form::Light {
                 out.push(("lighting_cache_level0_near", near_reach(c)));
             }
         }
@@ -878,6 +872,18 @@ fn tiers(c: &LightingCache) -> String {
 }
 
 /// Level 0's near reach in voxels (`all` without a near part), as headers and JSON give it.
+/// How a cache that holds level 0 holds it, as resolved for its lights ([`Level0Form::Auto`]
+/// never: a far light without a near part is [`Level0Form::Light`]).
+fn level0_form(c: &LightingCache) -> Level0Form {
+    if c.level0_ratio() {
+        Level0Form::Ratio
+    } else if c.level0_far_light() {
+        Level0Form::FarLight
+    } else {
+        Level0Form::Light
+    }
+}
+
 fn near_reach(c: &lgh_volume::lighting_cache::LightingCache) -> String {
     c.settings()
         .near_reach
@@ -893,19 +899,20 @@ pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
     let tiers: Vec<String> = c
         .tiers()
         .iter()
-        .map(|&(l, v)| match l {
-            0 if c.level0_ratio() => {
-                let near = match c.settings().near_reach {
-                    Some(r) => format!("near part {r} voxels"),
-                    None => "summed whole".to_string(),
-                };
-                format!("level 0's shadows (a ratio, {near}) at {v:.3} voxels")
+        .map(|&(l, v)| {
+            let near = match c.settings().near_reach {
+                Some(r) => format!("near part {r} voxels"),
+                None => "summed whole".to_string(),
+            };
+            match (l, level0_form(c)) {
+                (0, Level0Form::Ratio) => {
+                    format!("level 0's shadows (a ratio, {near}) at {v:.3} voxels")
+                }
+                (0, Level0Form::FarLight) => {
+                    format!("level 0's far light ({near}) at {v:.3} voxels")
+                }
+                _ => format!("levels {l}.. at {v:.3} voxels"),
             }
-            0 if c.level0_far_light() => {
-                let r = c.settings().near_reach.unwrap_or(f32::INFINITY);
-                format!("level 0's far light (near part {r} voxels) at {v:.3} voxels")
-            }
-            _ => format!("levels {l}.. at {v:.3} voxels"),
         })
         .collect();
     say!(
