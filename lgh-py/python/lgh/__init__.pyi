@@ -54,8 +54,8 @@ def render_explosion(
     cache_spacing: _Value | None = ...,  # Distance between the lighting cache's vertices: `auto` (cells of --cache-depth optical depth across the densest smoke, 0.25 to 4 voxels) or voxels (0.25 to 1
     cache_depth: _Value | None = ...,  # With --cache-spacing auto: the optical depth across a cell of the densest smoke (the 99th percentile of its density); the interpolation's error grows with it (
     cache_level: _Value | None = ...,  # The first level of the hierarchy the lighting cache holds (finer levels are shaded at every sample), or `auto`: 0 where a camera ray's footprint at the volume'
-    cache_level0: Literal['auto', 'ratio', 'light'] | None = ...,  # Where the lighting cache holds level 0: `ratio` caches only its shadows (the ratio of shadowed to unshadowed light at the vertices,
-    cache_near: _Value | None = ...,  # With level 0 cached as a ratio: the reach, in voxels (at least 0.9), of its near part, summed at every sample; beyond it level 0's unshadowed light is interpola
+    cache_level0: Literal['auto', 'ratio', 'light', 'far-light'] | None = ...,  # Where the lighting cache holds level 0: `ratio` caches only its shadows (the ratio of shadowed to unshadowed light at
+    cache_near: _Value | None = ...,  # With level 0 cached as a ratio or far light: the reach, in voxels (at least 0.9), of its near part, summed at every sample; beyond it level 0's unshadowed (or f
     scatter_spacing: _Value | None = ...,  # With --scatter-depth and the lighting cache: scattering depths 2 and up compute their fluence on a grid this many voxels apart (1 to 8), every level cached
     scattered_light: Literal['merged', 'grid'] | None = ...,  # With --scatter-depth, the lighting cache and ray-marched shadows: how the render takes in the scattered light (default merged)
     shadow_skip: _Value | None = ...,  # Skip the lights' shadows in a frame whose smoke is so thin that skipping them adds at most this share of the emitted light to its scattered light: a bound from
