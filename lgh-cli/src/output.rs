@@ -10,7 +10,7 @@ use lgh_volume::lighting_cache::{
     CacheMode, CacheSpacing, Level0Form, LightingCache, LightingCacheSettings, ScatteredLight,
 };
 use lgh_volume::render::{Camera, MarchSettings, PixelRefinement, RenderStats};
-use lgh_volume::scattering::{self, Shares};
+use lgh_volume::scattering::{self, ScatterTail, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
 use lgh_volume::{FrameRender, Shadows};
 
@@ -287,6 +287,25 @@ impl From<Level0Arg> for Level0Form {
             Level0Arg::Ratio => Self::Ratio,
             Level0Arg::Light => Self::Light,
             Level0Arg::FarLight => Self::FarLight,
+        }
+    }
+}
+
+/// What a scattering pass stopped by its rule does with the depths beyond its last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum ScatterTailArg {
+    /// Left out (the stopping share bounds them)
+    Dropped,
+    /// Added as a geometric series of the last depth's lights
+    #[default]
+    Geometric,
+}
+
+impl From<ScatterTailArg> for ScatterTail {
+    fn from(a: ScatterTailArg) -> Self {
+        match a {
+            ScatterTailArg::Dropped => Self::Dropped,
+            ScatterTailArg::Geometric => Self::Geometric,
         }
     }
 }
@@ -578,6 +597,7 @@ impl MarchArgs {
             scatter_depth: scatter.depth(),
             scatter_stop: scatter.stop(),
             scatter_skip: scatter.skip(),
+            scatter_tail: scatter.scatter_tail.into(),
             step_voxels: self.step,
             shadow_step_voxels: shadow_step,
             cube_maps: CubeMapSettings {
@@ -663,6 +683,12 @@ pub struct ScatterArgs {
     /// with --scatter-depth auto, else 0]
     #[arg(long)]
     pub scatter_skip: Option<f32>,
+    /// With a stopping share (--scatter-depth auto): the depths beyond the last, added as a
+    /// geometric series of the last depth's lights by its fall from the depth before
+    /// (`geometric`, which stops once that series, by the last fall and by the one before,
+    /// differs by less than --scatter-stop of the light so far) or left out (`dropped`)
+    #[arg(long, value_enum, default_value_t = ScatterTailArg::Geometric)]
+    pub scatter_tail: ScatterTailArg,
     /// Also report each depth's share of the image (renders the emission and each depth's
     /// lights alone: n + 2 more renders).
     #[arg(long)]
@@ -802,6 +828,16 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
     if skip > 0.0 {
         // The pilot's bar (`scatter_skipped_share` below it: the pass skipped).
         out.push(("scatter_skip", skip.to_string()));
+    }
+    if stop > 0.0 {
+        out.push((
+            "scatter_tail",
+            frame.settings().scatter_tail.name().to_string(),
+        ));
+    }
+    if let Some(f) = s.tail() {
+        // The depths beyond the last, as a multiple of its lights (in the merged lights).
+        out.push(("scatter_tail_factor", format!("{f:.6e}")));
     }
     if let Some(k) = s.skipped() {
         // The pilot's prediction of depth 1's power, as a share of the emitted light.

@@ -242,10 +242,11 @@ pub struct LevelLights {
     intensity: Vec<Vec3>,
     variance: Vec<Vec3>,
     size: Vec<f32>,
-    /// The largest spread `√(tr σ²/3)` (eq. 4) of the level's lights, dark ones included (0 at
-    /// level 0): what [`crate::CoarseSpread::Averaged`] widens the level's support by, kept
-    /// here so that a blending is made without a pass over the lights.
-    max_spread: f32,
+    /// The largest `tr σ²/3` (eq. 4) of the level's lights, dark ones included (0 at level 0):
+    /// the square of the spread [`crate::CoarseSpread::Averaged`] widens the level's support
+    /// by, kept here so that a blending is made without a pass over the lights (the square
+    /// root, being monotone, is taken once, in [`max_spread`](Self::max_spread)).
+    max_spread_squared: f32,
 }
 
 /// Bit-for-bit equality (so NaN padding compares equal and −0.0 differs from 0.0): "the same
@@ -270,11 +271,20 @@ impl PartialEq for LevelLights {
     }
 }
 
-/// A light's spread `s = √(tr σ²/3)`: the standard deviation, per axis, of an isotropic
-/// cloud with the variance `σ²` of eq. (4) ([`crate::CoarseSpread::Averaged`]'s ball).
+/// The square of a light's spread, `s² = tr σ²/3`: the variance, per axis, of an isotropic
+/// cloud with the variance `σ²` of eq. (4) ([`crate::CoarseSpread::Averaged`]'s ball); 0 for
+/// a point, a negative rounding or a dark light's NaN.
 #[inline]
-fn spread_of(variance: Vec3) -> f32 {
-    crate::math::sqrt(((variance.x + variance.y + variance.z) * (1.0 / 3.0)).max(0.0))
+fn spread_squared(variance: Vec3) -> f32 {
+    ((variance.x + variance.y + variance.z) * (1.0 / 3.0)).max(0.0)
+}
+
+/// A light's spread `s = √(tr σ²/3)`, the standard deviation per axis of
+/// [`spread_squared`]'s cloud.
+#[inline]
+#[must_use]
+pub(crate) fn spread_of(variance: Vec3) -> f32 {
+    crate::math::sqrt(spread_squared(variance))
 }
 
 impl LevelLights {
@@ -289,7 +299,7 @@ impl LevelLights {
         intensity: Vec::new(),
         variance: Vec::new(),
         size: Vec::new(),
-        max_spread: 0.0,
+        max_spread_squared: 0.0,
     };
 
     /// Stores `lights` of a level of kind `kind`; for [`LevelKind::Input`] variance and size are
@@ -312,7 +322,7 @@ impl LevelLights {
             intensity: Vec::with_capacity(n),
             variance: Vec::with_capacity(if points { 0 } else { n }),
             size: Vec::with_capacity(if points { 0 } else { n }),
-            max_spread: 0.0,
+            max_spread_squared: 0.0,
         };
         for l in lights {
             let p = out.scanned(l.position, l.luminance);
@@ -326,7 +336,7 @@ impl LevelLights {
                 out.variance.push(l.variance);
                 out.size.push(l.size);
                 // A dark light's NaN variance counts as no spread.
-                out.max_spread = out.max_spread.max(spread_of(l.variance));
+                out.max_spread_squared = out.max_spread_squared.max(spread_squared(l.variance));
             }
         }
         for _ in 1..LANES {
@@ -596,7 +606,7 @@ impl LevelLights {
     /// The largest spread `√(tr σ²/3)` (eq. 4) of the level's lights (0 at level 0).
     #[inline]
     pub(crate) fn max_spread(&self) -> f32 {
-        self.max_spread
+        crate::math::sqrt(self.max_spread_squared)
     }
 
     /// Size of light `i` (zero at level 0).

@@ -7,6 +7,7 @@ use lgh_core::glam::Vec3;
 use crate::error::{check_setting, RenderError};
 use crate::lighting_cache::LightingCacheSettings;
 use crate::method::Method;
+use crate::scattering::ScatterTail;
 use crate::shadow::{CubeMapSettings, Shadows};
 
 /// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
@@ -241,6 +242,11 @@ pub struct MarchSettings {
     /// needs a smaller share than the skip, whose first depth in smoke that scatters almost
     /// nothing is nearly all the scattered light.
     pub scatter_skip: f32,
+    /// What a pass that stops by `scatter_stop` does with the depths beyond its last: adds
+    /// them as a geometric series (the default, which then stops when that series has
+    /// settled, [`crate::scattering::tail_settled`]) or leaves them out. No effect without a
+    /// stopping share: a fixed number of depths is the paths of that many events.
+    pub scatter_tail: ScatterTail,
     /// Whether the hierarchy's coarse levels are shaded through a lighting cache
     /// ([`crate::lighting_cache`]; the hierarchy only, none by default).
     pub lighting_cache: LightingCacheSettings,
@@ -421,6 +427,7 @@ impl Default for MarchSettings {
             scatter_depth: 0,
             scatter_stop: 0.0,
             scatter_skip: 0.0,
+            scatter_tail: ScatterTail::Geometric,
             lighting_cache: LightingCacheSettings::default(),
             pixel_samples: 1,
             pixel_refinement: PixelRefinement::Uniform,

@@ -59,7 +59,7 @@
 use glam::Vec3;
 
 use super::spread_table::{MIDDLE, TOP};
-use crate::math::sqrt;
+use crate::light::spread_of;
 
 /// How a coarse light (level ℓ ≥ 1) is weighted and its fall-off taken: at its illumination
 /// centre, as eq. (3) is printed, or averaged over the spread of the lights it stands for (eq. 4;
@@ -149,8 +149,7 @@ const SIGMA_MAX: f32 = 1.0;
 /// 1/r_ℓ`), at most [`SIGMA_MAX`]; 0 for a point, a negative rounding or a NaN.
 #[inline(always)]
 fn sigma(variance: Vec3, inv_r: f32) -> f32 {
-    let s2 = ((variance.x + variance.y + variance.z) * (1.0 / 3.0)).max(0.0);
-    (sqrt(s2) * inv_r).min(SIGMA_MAX)
+    (spread_of(variance) * inv_r).min(SIGMA_MAX)
 }
 
 /// The table's `k(ρ, σ)`, bilinearly, for `ρ` below its last row (`x = ρ · STEPS`).

@@ -62,17 +62,26 @@ pub(super) fn emission_intensities(emission: &ExplosionLights) -> Vec<Vec3> {
 }
 
 /// The paper's merge: one light per voxel of `voxels`, its depths' intensities (`per_depth`, on
-/// the same voxels) summed in order, on the emission lights' grid (their top level
-/// `max_level`) and with their settings ([`carry_over`]).
+/// the same voxels) summed in order — the last depth `1 + tail` times where the depths beyond
+/// it are its geometric tail ([`super::ScatterTail::Geometric`]) — on the emission lights'
+/// grid (their top level `max_level`) and with their settings ([`carry_over`]).
 pub(super) fn merged_lights(
     emission: &ExplosionLights,
     grid: &DenseGrid,
     voxels: Vec<usize>,
     per_depth: &[Vec<Vec3>],
+    tail: Option<f64>,
     max_level: u8,
 ) -> Result<ExplosionLights, RenderError> {
+    let last = per_depth.len() - 1;
     let merged_intensities: Vec<Vec3> = (0..voxels.len())
-        .map(|s| per_depth.iter().fold(Vec3::ZERO, |a, d| a + d[s]))
+        .map(|s| {
+            let sum = per_depth.iter().fold(Vec3::ZERO, |a, d| a + d[s]);
+            match tail {
+                Some(f) if last > 0 => sum + per_depth[last][s] * f as f32,
+                _ => sum,
+            }
+        })
         .collect();
     // Each merged light's near field is centred at its emission's centroid scaled by the
     // emission's share of its light (luminance): the mean of its depths' centres, the scattered

@@ -102,7 +102,7 @@ pub use fluence::CHUNK_VOXELS;
 pub use pilot::PILOT_VOXELS;
 pub use plan::{ScatterPlan, BYTES_PER_LIGHT};
 pub use shares::Shares;
-pub use stop::stop_after;
+pub use stop::{geometric_tail, shape_change, stop_after, tail_settled, ScatterTail};
 
 /// What one scattered depth took and gave.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,6 +141,9 @@ pub struct Scattered {
     radiance_report: Option<DepthReport>,
     /// Set when the first depth's pilot skipped the pass.
     skipped: Option<Skipped>,
+    /// With a geometric tail ([`ScatterTail::Geometric`]): the depths beyond the last, as a
+    /// multiple of its lights, which the merged lights include.
+    tail_factor: Option<f64>,
 }
 
 /// A pass whose first depth was skipped by its pilot: the smoke scatters too little of the
@@ -323,6 +326,40 @@ impl Scattered {
     #[must_use]
     pub fn depths(&self) -> &[DepthReport] {
         &self.reports
+    }
+
+    /// With a geometric tail ([`ScatterTail::Geometric`], a pass stopped by its rule): the
+    /// depths beyond the last as a multiple `r/(1 − r)` of its lights, which the merged lights
+    /// include ([`geometric_tail`]); `None` where the tail is dropped or the pass computed a
+    /// fixed number of depths.
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::{scatter, ScatterTail};
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural::ball(10, 0.7, 3000.0);
+    /// let medium = Medium::new(4.0, 0.8, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let auto = MarchSettings {
+    ///     shadows: Shadows::None,
+    ///     scatter_depth: 16,
+    ///     scatter_stop: 0.002,
+    ///     ..Default::default()
+    /// };
+    /// let lgh = Method::Lgh { alpha: 2.0 };
+    /// let s = scatter(&emission, lgh, &volume, &medium, &auto, &())?;
+    /// let tail = s.tail().expect("a pass stopped by its rule, two falls or more");
+    /// assert!(tail > 0.0 && s.depths().len() < 16);
+    /// let dropped = MarchSettings { scatter_tail: ScatterTail::Dropped, ..auto };
+    /// assert_eq!(scatter(&emission, lgh, &volume, &medium, &dropped, &())?.tail(), None);
+    /// let fixed = MarchSettings { scatter_stop: 0.0, scatter_depth: 3, ..auto };
+    /// assert_eq!(scatter(&emission, lgh, &volume, &medium, &fixed, &())?.tail(), None);
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn tail(&self) -> Option<f64> {
+        self.tail_factor
     }
 
     /// The scattered depths' in-scattered radiance at the voxels, if the settings take the

@@ -18,7 +18,7 @@ use super::fluence::{Fluence, Ran};
 use super::lattice::NearLights;
 use super::merge::{carry_over, emission_intensities, merge, merged_lights, on_slots};
 use super::pilot::Pilot;
-use super::stop::{power, stop_after};
+use super::stop::{geometric_tail, power, shape_change, stop_after, tail_settled, ScatterTail};
 use super::{DepthReport, Scattered, Skipped};
 
 /// [`scatter`](super::scatter) after its checks, `progress(n)` as `n` more voxels' fluence is
@@ -94,7 +94,14 @@ pub(super) fn pass(
         .summed
         .map(|s| ScatteredRadiance::new(grid, &dense, &s));
     drop(scattered);
-    let merged = merged_lights(emission, grid, voxels, &depths.per_depth, max_level)?;
+    let merged = merged_lights(
+        emission,
+        grid,
+        voxels,
+        &depths.per_depth,
+        depths.tail_factor,
+        max_level,
+    )?;
     let scattered = Scattered {
         merged,
         per_depth: depths.per_depth,
@@ -104,6 +111,7 @@ pub(super) fn pass(
         radiance_report: depths.radiance_report,
         spacing,
         skipped: None,
+        tail_factor: depths.tail_factor,
     };
     Ok((scattered, None))
 }
@@ -148,6 +156,9 @@ struct Depths {
     summed: Option<Vec<Vec3>>,
     /// The report of depth `n + 1`, computed for the grid alone.
     radiance_report: Option<DepthReport>,
+    /// With a geometric tail: the depths beyond the last, as a multiple of its lights
+    /// ([`geometric_tail`]).
+    tail_factor: Option<f64>,
 }
 
 impl Depths {
@@ -165,6 +176,7 @@ impl Depths {
             powers,
             summed: grid_mode.then(|| vec![Vec3::ZERO; lights]),
             radiance_report: None,
+            tail_factor: None,
         }
     }
 }
@@ -242,7 +254,13 @@ impl DepthLoop<'_> {
                 stats,
             };
             if k > last {
-                // Depth n + 1: its intensities only, never lights.
+                // Depth n + 1: its intensities only, never lights; the grid takes the depths
+                // beyond it as the merged lights take those beyond n.
+                if let (Some(summed), Some(f)) = (depths.summed.as_mut(), depths.tail_factor) {
+                    for (s, n) in summed.iter_mut().zip(&next) {
+                        *s += *n * f as f32;
+                    }
+                }
                 depths.radiance_report = Some(report(t.elapsed().as_secs_f64()));
                 break;
             }
@@ -252,12 +270,27 @@ impl DepthLoop<'_> {
             let report = report(t.elapsed().as_secs_f64());
             depths.powers.push(report.power);
             depths.reports.push(report);
-            if k < last && stop > 0.0 && stop_after(&depths.powers, stop) {
+            let tail = stop > 0.0 && self.settings.scatter_tail == ScatterTail::Geometric;
+            let stops = k < last
+                && stop > 0.0
+                && (stop_after(&depths.powers, stop)
+                    || (tail && k >= 3 && {
+                        let [.., before, last] = &depths.per_depth[..] else {
+                            unreachable!("depth 0 and k ≥ 3 depths")
+                        };
+                        tail_settled(&depths.powers, shape_change(last, before), stop)
+                    }));
+            if stops {
                 // The last depth; with the grid, one more for its radiance.
                 last = k;
-                if !self.grid_mode {
-                    break;
-                }
+            }
+            if k == last && tail {
+                // The depths beyond the last, by the last fall (none where there is no such
+                // fall: one scattered depth, or light that does not fall).
+                depths.tail_factor = geometric_tail(&depths.powers);
+            }
+            if stops && !self.grid_mode {
+                break;
             }
         }
         Ok(None)
@@ -275,6 +308,7 @@ fn single_scattering(emission: &ExplosionLights, max_level: u8) -> Scattered {
         radiance_report: None,
         spacing: 1,
         skipped: None,
+        tail_factor: None,
     }
 }
 
