@@ -804,8 +804,7 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache", c.settings().mode.name().to_string()));
         out.push(("lighting_cache_spacing", c.spacing_voxels().to_string()));
         out.push(("lighting_cache_level", c.settings().first_level.to_string()));
-        if c.settings().first_level == 0 {
-            let form = level0_form(c);
+        if let Some(form) = c.level0() {
             out.push(("lighting_cache_level0", form.name().to_string()));
             if form != Level0Form::Light {
                 out.push(("lighting_cache_level0_near", near_reach(c)));
@@ -908,19 +907,7 @@ fn tiers(c: &LightingCache) -> String {
 }
 
 /// Level 0's near reach in voxels (`all` without a near part), as headers and JSON give it.
-/// How a cache that holds level 0 holds it, as resolved for its lights ([`Level0Form::Auto`]
-/// never: a far light without a near part is [`Level0Form::Light`]).
-fn level0_form(c: &LightingCache) -> Level0Form {
-    if c.level0_ratio() {
-        Level0Form::Ratio
-    } else if c.level0_far_light() {
-        Level0Form::FarLight
-    } else {
-        Level0Form::Light
-    }
-}
-
-fn near_reach(c: &lgh_volume::lighting_cache::LightingCache) -> String {
+fn near_reach(c: &LightingCache) -> String {
     c.settings()
         .near_reach
         .map_or_else(|| "all".to_string(), |r| r.to_string())
@@ -940,7 +927,7 @@ pub fn say_lighting_cache(frame: &FrameRender) -> Result<(), crate::Error> {
                 Some(r) => format!("near part {r} voxels"),
                 None => "summed whole".to_string(),
             };
-            match (l, level0_form(c)) {
+            match (l, c.level0().unwrap_or(Level0Form::Light)) {
                 (0, Level0Form::Ratio) => {
                     format!("level 0's shadows (a ratio, {near}) at {v:.3} voxels")
                 }

@@ -784,6 +784,14 @@ impl LightingCache {
         Ok(cached)
     }
 
+    /// How the grid that holds level 0 holds it, as resolved for the frame's lights
+    /// ([`Level0Form::Auto`] never; a far light without a near part is kept as
+    /// [`Level0Form::Light`]); `None` where the cache starts above level 0.
+    #[must_use]
+    pub fn level0(&self) -> Option<Level0Form> {
+        self.tiers.iter().find_map(|t| t.level0)
+    }
+
     /// Whether level 0 is kept as a ratio ([`Level0Form::Ratio`]): then the cache's light
     /// leaves it out, and its shadowing multiplies level 0's unshadowed light, summed at the
     /// sample.

@@ -362,16 +362,7 @@ def main():
                    help="tools/caches/bake.py's --out")
     p.add_argument("--work", default="cycles-caches")
     p.add_argument("--blender", default="/usr/bin/blender")
-    p.add_argument("--bpy", default=None, help="a Python with PyPI's bpy (5.2.3): Cycles runs "
-                   "there instead of --blender")
-    p.add_argument("--lgh", default=os.path.join(ROOT, "target/release/lgh"))
-    p.add_argument("--export-grids",
-                   default=os.path.join(ROOT, "target/release/examples/export_grids"),
-                   help="lgh-volume's export_grids example, which writes compare.py's procedural "
-                        "volumes (fireball64, explosion128) for Cycles: `cargo build --release "
-                        "-p lgh-volume --example export_grids`")
-    p.add_argument("--shared-data", default=os.path.join(ROOT, "..", "shared", "data"))
-    p.add_argument("--threads", type=int, default=2)
+    compare.add_common_arguments(p)
     p.add_argument("--bounces", type=int, default=128)
     p.add_argument("--ref-spp", type=int, default=2048)
     p.add_argument("--ref-seeds", type=int, default=2)

@@ -320,19 +320,27 @@ def fit_cpu(ladder):
     return float(c0), float(c1)
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--scenes", default="fireball64,explosion128,fire56")
-    p.add_argument("--work", default="cycles-compare")
-    p.add_argument("--blender", default=shutil.which("blender") or "blender")
+def add_common_arguments(p):
+    """The arguments compare.py and caches.py share: the programs run and where they run."""
     p.add_argument("--bpy", default=None,
                    help="a Python with PyPI's bpy (Blender as a module, e.g. 5.2.3 under Python "
                         "3.13): Cycles runs there instead of --blender")
     p.add_argument("--lgh", default=os.path.join(ROOT, "target/release/lgh"))
     p.add_argument("--export-grids",
-                   default=os.path.join(ROOT, "target/release/examples/export_grids"))
+                   default=os.path.join(ROOT, "target/release/examples/export_grids"),
+                   help="lgh-volume's export_grids example, which writes the procedural volumes "
+                        "(fireball64, explosion128) for Cycles: `cargo build --release "
+                        "-p lgh-volume --example export_grids`")
     p.add_argument("--shared-data", default=os.path.join(ROOT, "..", "shared", "data"))
     p.add_argument("--threads", type=int, default=2)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--scenes", default="fireball64,explosion128,fire56")
+    p.add_argument("--work", default="cycles-compare")
+    p.add_argument("--blender", default=shutil.which("blender") or "blender")
+    add_common_arguments(p)
     p.add_argument("--bounces", type=int, default=128,
                    help="Cycles' volume (and total) bounces (Blender's default volume: 0)")
     p.add_argument("--ref-spp", type=int, default=4096)
