@@ -23,8 +23,15 @@ fn translate(wgsl: &str, entry: &str) -> Vec<(&'static str, Vec<u8>)> {
         shader_stage: stage,
         entry_point: entry.into(),
     };
+    // The flags spelled out: naga's default adds `DEBUG` (the names, `OpName`) in a debug
+    // build only, so the same WGSL gave other SPIR-V under `--release`. The committed files
+    // keep the names, which an engine's tools show.
     let spv_options = back::spv::Options {
         lang_version: (1, 3),
+        flags: back::spv::WriterFlags::ADJUST_COORDINATE_SPACE
+            | back::spv::WriterFlags::LABEL_VARYINGS
+            | back::spv::WriterFlags::CLAMP_FRAG_DEPTH
+            | back::spv::WriterFlags::DEBUG,
         ..Default::default()
     };
     let spv = back::spv::write_vec(&module, &info, &spv_options, Some(&spv_pipeline)).unwrap();
