@@ -7,7 +7,6 @@ use lgh_core::glam::Vec3;
 use crate::error::{check_setting, RenderError};
 use crate::lighting_cache::LightingCacheSettings;
 use crate::method::Method;
-use crate::scattering::ScatterTail;
 use crate::shadow::{CubeMapSettings, Shadows};
 
 /// The deepest scattering the pass accepts (`--scatter-depth`): the paper's Fig. 7 uses 4, and
@@ -412,6 +411,38 @@ impl MarchSettings {
         MarchSettings {
             shadows,
             ..Default::default()
+        }
+    }
+}
+
+/// What a pass that stops by its rule does with the depths beyond its last
+/// (`--scatter-tail`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ScatterTail {
+    /// Left out: the image holds the depths computed, and the rule's share bounds what it
+    /// loses ([`stop_after`](crate::scattering::stop_after)).
+    Dropped,
+    /// Added as a geometric series: each depth scatters the one before through the same
+    /// smoke, so once the fall a depth `r = P_k/P_{k−1}` has settled, the depths beyond `n`
+    /// are `r^j` times depth `n`'s light and its voxels' shares those of depth `n` (the
+    /// transport's dominant eigenfunction, which the depths approach: the Neumann series'
+    /// tail). Their sum is depth `n`'s lights times [`geometric_tail`](crate::scattering::geometric_tail)'s `r/(1 − r)`; the pass
+    /// stops when that sum, taken with the last fall and with the one before, differs by
+    /// less than the stopping share of the light so far ([`tail_settled`](crate::scattering::tail_settled)). On the dense
+    /// fire smoky128 (Blender's Quick Smoke, 128 cells) the falls are 0.600, 0.603, 0.606,
+    /// 0.609, … a depth: the tail from depth 5 holds 0.078 (depth 1: 0.375) where depths 6
+    /// to 10 and the rest hold 0.079, and the pass computes 5 depths instead of 10.
+    #[default]
+    Geometric,
+}
+
+impl ScatterTail {
+    /// The name on the command line (`dropped`, `geometric`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            ScatterTail::Dropped => "dropped",
+            ScatterTail::Geometric => "geometric",
         }
     }
 }

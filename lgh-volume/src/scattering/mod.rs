@@ -97,12 +97,12 @@ use crate::settings::MarchSettings;
 use crate::shading::Shading;
 use crate::stats::RenderStats;
 
-pub use crate::settings::{check_depth, MAX_SCATTER_DEPTH};
+pub use crate::settings::{check_depth, ScatterTail, MAX_SCATTER_DEPTH};
 pub use fluence::CHUNK_VOXELS;
 pub use pilot::PILOT_VOXELS;
 pub use plan::{ScatterPlan, BYTES_PER_LIGHT};
 pub use shares::Shares;
-pub use stop::{geometric_tail, shape_change, stop_after, tail_settled, ScatterTail};
+pub use stop::{geometric_tail, shape_change, stop_after, tail_settled};
 
 /// What one scattered depth took and gave.
 #[derive(Clone, Copy, Debug, PartialEq)]

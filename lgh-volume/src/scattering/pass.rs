@@ -11,14 +11,14 @@ use crate::lights::ExplosionLights;
 use crate::medium::{Medium, Volume};
 use crate::method::Method;
 use crate::scattered_light::ScatteredRadiance;
-use crate::settings::MarchSettings;
+use crate::settings::{MarchSettings, ScatterTail};
 use crate::shading::Shading;
 
 use super::fluence::{Fluence, Ran};
 use super::lattice::NearLights;
 use super::merge::{carry_over, emission_intensities, merge, merged_lights, on_slots};
 use super::pilot::Pilot;
-use super::stop::{geometric_tail, power, shape_change, stop_after, tail_settled, ScatterTail};
+use super::stop::{geometric_tail, power, shape_change, stop_after, tail_settled};
 use super::{DepthReport, Scattered, Skipped};
 
 /// [`scatter`](super::scatter) after its checks, `progress(n)` as `n` more voxels' fluence is

@@ -34,38 +34,6 @@ pub fn stop_after(powers: &[f64], share: f32) -> bool {
     next < f64::from(share) * powers.iter().sum::<f64>()
 }
 
-/// What a pass that stops by its rule does with the depths beyond its last
-/// (`--scatter-tail`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum ScatterTail {
-    /// Left out: the image holds the depths computed, and the rule's share bounds what it
-    /// loses ([`stop_after`]).
-    Dropped,
-    /// Added as a geometric series: each depth scatters the one before through the same
-    /// smoke, so once the fall a depth `r = P_k/P_{k−1}` has settled, the depths beyond `n`
-    /// are `r^j` times depth `n`'s light and its voxels' shares those of depth `n` (the
-    /// transport's dominant eigenfunction, which the depths approach: the Neumann series'
-    /// tail). Their sum is depth `n`'s lights times [`geometric_tail`]'s `r/(1 − r)`; the pass
-    /// stops when that sum, taken with the last fall and with the one before, differs by
-    /// less than the stopping share of the light so far ([`tail_settled`]). On the dense
-    /// fire smoky128 (Blender's Quick Smoke, 128 cells) the falls are 0.600, 0.603, 0.606,
-    /// 0.609, … a depth: the tail from depth 5 holds 0.078 (depth 1: 0.375) where depths 6
-    /// to 10 and the rest hold 0.079, and the pass computes 5 depths instead of 10.
-    #[default]
-    Geometric,
-}
-
-impl ScatterTail {
-    /// The name on the command line (`dropped`, `geometric`).
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            ScatterTail::Dropped => "dropped",
-            ScatterTail::Geometric => "geometric",
-        }
-    }
-}
-
 /// The fall a depth `r = P_n/P_{n−1}` between the last two scattered depths of `powers`
 /// (depth 0, the emission lights', first; the emission's own fall to depth 1 is not the
 /// transport's), if there are two and it is below 1.
@@ -78,7 +46,7 @@ fn last_fall(powers: &[f64]) -> Option<f64> {
 
 /// The factor `r/(1 − r)` by which the depths beyond the last of `powers` (depth 0, the
 /// emission lights', first), a geometric series of ratio `r = P_n/P_{n−1}`, exceed depth `n`
-/// ([`ScatterTail::Geometric`]); `None` with fewer than two scattered depths or a fall
+/// ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)); `None` with fewer than two scattered depths or a fall
 /// of 1 or more (light that does not fall converges to nothing).
 ///
 /// ```
@@ -94,7 +62,7 @@ pub fn geometric_tail(powers: &[f64]) -> Option<f64> {
     last_fall(powers).map(|r| r / (1.0 - r))
 }
 
-/// Whether a pass with a geometric tail ([`ScatterTail::Geometric`]) stops after the depths
+/// Whether a pass with a geometric tail ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)) stops after the depths
 /// whose powers are `powers` (depth 0 first), the last two scattered depths' shapes differing
 /// by `shape_change` ([`shape_change`]): when the tail's error — its power `T = P_n r/(1 − r)`
 /// with the last fall against with the one before, plus `T` times the shape's last change
@@ -179,7 +147,7 @@ mod tests {
     use crate::method::Method;
     use crate::scattering::merge::emission_intensities;
     use crate::scattering::tests::{bits, blob, pass};
-    use crate::settings::MarchSettings;
+    use crate::settings::{MarchSettings, ScatterTail};
 
     #[test]
     fn the_pass_stops_where_the_next_depth_would_add_too_little() {
