@@ -965,10 +965,18 @@ pub fn say_scattering(frame: &FrameRender, shares: Option<&Shares>) -> Result<()
         return Ok(());
     }
     let d = s.depths();
+    // With a geometric tail the merged lights hold every order of scattering, the depths past
+    // the last as its lights times the factor.
+    let events = match s.tail() {
+        Some(f) => format!(
+            "every scattering event, the rest as depth {} × {f:.3}",
+            d.len()
+        ),
+        None => format!("up to {} scattering events", d.len() + 1),
+    };
     say!(
-        "  scattering {} depths (up to {} scattering events): {} lights a depth, {} merged lights; {:.2} s",
+        "  scattering {} depths ({events}): {} lights a depth, {} merged lights; {:.2} s",
         d.len(),
-        d.len() + 1,
         d.first().map_or(0, |r| r.lights),
         s.lights().lights().len(),
         frame.seconds().scattering

@@ -654,20 +654,19 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
     // 0, which means automatic).
     assert!(["1", "2", "4"].contains(&get("lgh:scatter_spacing").as_str()));
     // The depths beyond the last as a geometric tail by default: its factor r/(1 − r), from
-    // the last two depths' powers (with two depths or more).
+    // the last two depths' powers (the demo's smoke scatters enough for two depths or more).
     assert_eq!(get("lgh:scatter_tail"), "geometric");
-    if depth >= 2 {
-        let p: Vec<f64> = get("lgh:scatter_depth_powers")
-            .split(',')
-            .map(|x| x.parse().unwrap())
-            .collect();
-        let r = p[depth - 1] / p[depth - 2];
-        let factor: f64 = get("lgh:scatter_tail_factor").parse().unwrap();
-        assert!(
-            (factor - r / (1.0 - r)).abs() < 1e-4 * factor,
-            "{factor} {r}"
-        );
-    }
+    assert!(depth >= 2, "{depth}");
+    let p: Vec<f64> = get("lgh:scatter_depth_powers")
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let r = p[depth - 1] / p[depth - 2];
+    let factor: f64 = get("lgh:scatter_tail_factor").parse().unwrap();
+    assert!(
+        (factor - r / (1.0 - r)).abs() < 1e-4 * factor,
+        "{factor} {r}"
+    );
     // Dropped on request: no factor.
     let dropped = dir.path().join("dropped.exr");
     let o = small_demo(
