@@ -689,8 +689,8 @@ pub struct ScatterArgs {
     /// differs by less than --scatter-stop of the light so far) or left out (`dropped`)
     #[arg(long, value_enum, default_value_t = ScatterTailArg::Geometric)]
     pub scatter_tail: ScatterTailArg,
-    /// Also report each depth's share of the image (renders the emission and each depth's
-    /// lights alone: n + 2 more renders).
+    /// Also report each depth's share of the image (renders the emission, each depth's
+    /// lights and the geometric tail's alone: n + 2 more renders, one more with a tail).
     #[arg(long)]
     pub scatter_shares: bool,
 }
@@ -879,25 +879,28 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("scatter_grid_seconds", format!("{:.3}", r.seconds)));
     }
     if let Some(shares) = shares {
-        let f = fractions(shares);
+        let (f, tail) = fractions(shares);
         out.push((
             "scatter_shares",
             list(&mut f.iter().map(|x| format!("{x:.5}"))),
         ));
+        if let Some(t) = tail {
+            // The geometric tail's: with `scatter_shares`, the whole image.
+            out.push(("scatter_shares_tail", format!("{t:.5}")));
+        }
     }
     out
 }
 
-/// The shares as fractions of their sum: emission, then depths 0..=n.
-fn fractions(shares: &Shares) -> Vec<f64> {
-    let parts: Vec<f64> = std::iter::once(shares.emission)
+/// The shares as fractions of the image ([`Shares::total`]): emission, then depths 0..=n; and
+/// the geometric tail's, if there is one.
+fn fractions(shares: &Shares) -> (Vec<f64>, Option<f64>) {
+    let sum = shares.total().max(f64::MIN_POSITIVE);
+    let parts = std::iter::once(shares.emission)
         .chain(shares.depths.iter().copied())
+        .map(|p| p / sum)
         .collect();
-    let sum: f64 = parts.iter().sum();
-    parts
-        .iter()
-        .map(|p| p / sum.max(f64::MIN_POSITIVE))
-        .collect()
+    (parts, shares.tail.map(|t| t / sum))
 }
 
 /// A cache's grids as `first level:spacing in voxels`, comma-separated (`1:1,2:2`).
@@ -1001,11 +1004,12 @@ pub fn say_scattering(frame: &FrameRender, shares: Option<&Shares>) -> Result<()
         );
     }
     if let Some(shares) = shares {
-        let f = fractions(shares);
+        let (f, tail) = fractions(shares);
         let depths: Vec<String> = f[1..]
             .iter()
             .enumerate()
             .map(|(k, x)| format!("depth {k} {:.2}%", 100.0 * x))
+            .chain(tail.map(|t| format!("tail {:.2}%", 100.0 * t)))
             .collect();
         say!(
             "    shares of the image: emission {:.2}%, {}",

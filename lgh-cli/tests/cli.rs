@@ -704,6 +704,30 @@ fn scatter_depth_is_refused_before_any_work_and_reported_in_the_header() {
         "{shares:?}"
     );
     assert!(shares.iter().all(|&x| x > 0.0), "{shares:?}");
+    assert!(header_has_no(&out, "lgh:scatter_shares_tail"));
+    // With a stopping share the geometric tail is a part of its own: the parts add up to the
+    // image with it.
+    let auto = dir.path().join("auto.exr");
+    let o = small_demo(
+        &auto,
+        (16, 10),
+        &["--scatter-depth", "auto", "--scatter-shares"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains(", tail "));
+    let get = header(&auto);
+    let depth: usize = get("lgh:scatter_depth").parse().unwrap();
+    let shares: Vec<f64> = get("lgh:scatter_shares")
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(shares.len(), depth + 2);
+    let tail: f64 = get("lgh:scatter_shares_tail").parse().unwrap();
+    assert!(tail > 0.0, "{tail}");
+    assert!(
+        (shares.iter().sum::<f64>() + tail - 1.0).abs() < 1e-4,
+        "{shares:?} {tail}"
+    );
 }
 
 #[test]

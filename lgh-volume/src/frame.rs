@@ -269,8 +269,9 @@ impl<'a> FrameRender<'a> {
     }
 
     /// Each scattering depth's share of `camera`'s image (`None` without scattering): renders
-    /// the emission alone and each depth's lights alone ([`Scattered::depth_lights`]) through
-    /// the method with the same shadows — `n + 2` renders, which `progress` hears as one
+    /// the emission alone, each depth's lights alone ([`Scattered::depth_lights`]) and the
+    /// geometric tail's ([`Scattered::tail_lights`]) through the method with the same shadows
+    /// — `n + 2` renders, one more with a tail, which `progress` hears as one
     /// [`Phase::ScatterShares`] over all their rows. For brute force the parts add up to the
     /// image up to rounding (the marcher is linear in the lights' intensities); the hierarchy's
     /// centres are weighted by luminance, so for it they add up approximately.
@@ -288,7 +289,9 @@ impl<'a> FrameRender<'a> {
             ..*self.settings()
         };
         let depths = scattered.depths().len() + 1;
-        let rows = ((depths + 1) * camera.height()) as u64;
+        let tail = scattered.tail_lights()?;
+        let renders = depths + 1 + usize::from(tail.is_some());
+        let rows = (renders * camera.height()) as u64;
         progress.begin(Phase::ScatterShares, rows);
         let steps = Steps::new(progress);
         let render = |lights: &ExplosionLights, method| {
@@ -301,7 +304,8 @@ impl<'a> FrameRender<'a> {
             let images = (0..depths)
                 .map(|k| render(&scattered.depth_lights(k)?, self.method))
                 .collect::<Result<Vec<_>, _>>()?;
-            Ok(Shares::of_images(&emitted, &images))
+            let tail = tail.as_ref().map(|l| render(l, self.method)).transpose()?;
+            Ok(Shares::of_images(&emitted, &images, tail.as_ref()))
         })();
         progress.end(Phase::ScatterShares);
         shares.map(Some)

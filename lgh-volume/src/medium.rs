@@ -399,6 +399,29 @@ impl Medium {
         (self.absorption + self.scattering) * density
     }
 
+    /// The single-scattering albedo `κ_s/(κ_a + κ_s)`: the share of the light a voxel takes
+    /// out of a beam that it sends on (0 for a medium that takes none). It bounds how much of
+    /// a scattering depth's power the next can hold: of the light that leaves depth `k`, at
+    /// most all is extinct in the smoke, and this share of it scatters (paper Sec. 5's
+    /// `I^k = h³ σ_s/(4π) · Φ^{k−1}`, `Φ` the fluence the extinct light came from).
+    ///
+    /// ```
+    /// use lgh_volume::Medium;
+    ///
+    /// assert_eq!(Medium::new(1.0, 3.0, 1e-4, 1000.0)?.albedo(), 0.75);
+    /// assert_eq!(Medium::new(0.0, 0.0, 1e-4, 1000.0)?.albedo(), 0.0);
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    #[must_use]
+    pub fn albedo(&self) -> f32 {
+        let extinction = self.absorption + self.scattering;
+        if extinction > 0.0 {
+            self.scattering / extinction
+        } else {
+            0.0
+        }
+    }
+
     /// A voxel's scattering cross-section `h³ σ_s = h³ κ_s ρ` (`h` its side): the factor of
     /// paper Sec. 5's `I^k = h³ σ_s/(4π) · Φ^{k−1}` that makes a voxel's fluence the
     /// intensity of its light of scattered light (before the isotropic phase function's 1/4π).

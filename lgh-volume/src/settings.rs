@@ -241,10 +241,11 @@ pub struct MarchSettings {
     /// needs a smaller share than the skip, whose first depth in smoke that scatters almost
     /// nothing is nearly all the scattered light.
     pub scatter_skip: f32,
-    /// What a pass that stops by `scatter_stop` does with the depths beyond its last: adds
-    /// them as a geometric series (the default, which then stops when that series has
-    /// settled, [`crate::scattering::tail_settled`]) or leaves them out. No effect without a
-    /// stopping share: a fixed number of depths is the paths of that many events.
+    /// What a pass with a stopping share (`scatter_stop`) does with the depths beyond its
+    /// last, whether its rule stopped it or it reached `scatter_depth`: adds them as a
+    /// geometric series (the default, which then stops when that series has settled,
+    /// [`crate::scattering::tail_settled`]) or leaves them out. No effect without a stopping
+    /// share: a fixed number of depths is the paths of that many events.
     pub scatter_tail: ScatterTail,
     /// Whether the hierarchy's coarse levels are shaded through a lighting cache
     /// ([`crate::lighting_cache`]; the hierarchy only, none by default).
@@ -415,8 +416,8 @@ impl MarchSettings {
     }
 }
 
-/// What a pass that stops by its rule does with the depths beyond its last
-/// (`--scatter-tail`).
+/// What a pass with a stopping share does with the depths beyond its last, whether its rule
+/// stopped it or it reached its most depths (`--scatter-tail`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ScatterTail {
     /// Left out: the image holds the depths computed, and the rule's share bounds what it
@@ -426,9 +427,12 @@ pub enum ScatterTail {
     /// smoke, so once the fall a depth `r = P_k/P_{k−1}` has settled, the depths beyond `n`
     /// are `r^j` times depth `n`'s light and its voxels' shares those of depth `n` (the
     /// transport's dominant eigenfunction, which the depths approach: the Neumann series'
-    /// tail). Their sum is depth `n`'s lights times [`geometric_tail`](crate::scattering::geometric_tail)'s `r/(1 − r)`; the pass
-    /// stops when that sum, taken with the last fall and with the one before, differs by
-    /// less than the stopping share of the light so far ([`tail_settled`](crate::scattering::tail_settled)). On the dense
+    /// tail). Their sum is depth `n`'s lights times
+    /// [`geometric_tail`](crate::scattering::geometric_tail)'s `r/(1 − r)`; the pass stops
+    /// when that sum, taken with the last fall and with the one before, differs by less than
+    /// the stopping share of the light so far
+    /// ([`tail_settled`](crate::scattering::tail_settled)); where the rule has not settled
+    /// the fall, the medium's albedo bounds it. On the dense
     /// fire smoky128 (Blender's Quick Smoke, 128 cells) the falls are 0.600, 0.603, 0.606,
     /// 0.609, … a depth: the tail from depth 5 holds 0.078 (depth 1: 0.375) where depths 6
     /// to 10 and the rest hold 0.079, and the pass computes 5 depths instead of 10.

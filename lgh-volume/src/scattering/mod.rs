@@ -328,10 +328,11 @@ impl Scattered {
         &self.reports
     }
 
-    /// With a geometric tail ([`ScatterTail::Geometric`], a pass stopped by its rule): the
-    /// depths beyond the last as a multiple `r/(1 − r)` of its lights, which the merged lights
-    /// include ([`geometric_tail`]); `None` where the tail is dropped or the pass computed a
-    /// fixed number of depths.
+    /// With a geometric tail ([`ScatterTail::Geometric`], a pass with a stopping share,
+    /// stopped by its rule or at its most depths): the depths beyond the last as a multiple
+    /// `r/(1 − r)` of its lights, which the merged lights include ([`geometric_tail`]); `None`
+    /// where the tail is dropped, the pass computed a fixed number of depths (no stopping
+    /// share), or there is no fall to extend (one scattered depth, light that does not fall).
     ///
     /// ```
     /// use lgh_volume::render::MarchSettings;
@@ -423,6 +424,50 @@ impl Scattered {
             value: depth,
             rule: "is past the pass's last depth",
         })?;
+        self.lights_with(intensities)
+    }
+
+    /// The lights of the depths beyond the last alone, the geometric tail ([`tail`](Self::tail)):
+    /// the last depth's lights times the tail's factor, on the merged lights' voxels and grid as
+    /// [`depth_lights`](Self::depth_lights)' are, so that with them the depths' images add up
+    /// to the whole; `None` without a tail.
+    ///
+    /// ```
+    /// use lgh_volume::render::MarchSettings;
+    /// use lgh_volume::scattering::scatter;
+    /// use lgh_volume::{procedural, ExplosionLights, Medium, Method, Shadows};
+    ///
+    /// let volume = procedural::ball(10, 0.7, 3000.0);
+    /// let medium = Medium::new(4.0, 0.8, 1e-4, 1000.0)?;
+    /// let emission = ExplosionLights::new(&[&volume], &medium)?;
+    /// let settings = MarchSettings {
+    ///     shadows: Shadows::None,
+    ///     scatter_depth: 16,
+    ///     scatter_stop: 0.002,
+    ///     ..Default::default()
+    /// };
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &settings, &())?;
+    /// let (n, f) = (s.depths().len(), s.tail().unwrap() as f32);
+    /// let tail = s.tail_lights()?.unwrap();
+    /// for (l, &last) in tail.lights().iter().zip(s.intensities(n).unwrap()) {
+    ///     assert_eq!(l.intensity, last * f);
+    /// }
+    /// let fixed = MarchSettings { scatter_stop: 0.0, scatter_depth: 2, ..settings };
+    /// let s = scatter(&emission, Method::Lgh { alpha: 2.0 }, &volume, &medium, &fixed, &())?;
+    /// assert!(s.tail_lights()?.is_none());
+    /// # Ok::<(), lgh_volume::RenderError>(())
+    /// ```
+    pub fn tail_lights(&self) -> Result<Option<ExplosionLights>, RenderError> {
+        let (Some(f), Some(last)) = (self.tail_factor, self.per_depth.last()) else {
+            return Ok(None);
+        };
+        let f = f as f32;
+        let tail: Vec<Vec3> = last.iter().map(|&i| i * f).collect();
+        self.lights_with(&tail).map(Some)
+    }
+
+    /// The merged lights with `intensities` in place of theirs.
+    fn lights_with(&self, intensities: &[Vec3]) -> Result<ExplosionLights, RenderError> {
         let mut lights = self.merged.clone();
         lights.set_intensities(intensities)?;
         debug_assert_eq!(lights.hierarchy().max_level(), self.max_level);

@@ -271,23 +271,27 @@ impl DepthLoop<'_> {
             depths.powers.push(report.power);
             depths.reports.push(report);
             let tail = stop > 0.0 && self.settings.scatter_tail == ScatterTail::Geometric;
-            let stops = k < last
-                && stop > 0.0
-                && (stop_after(&depths.powers, stop)
-                    || (tail && k >= 3 && {
-                        let [.., before, last] = &depths.per_depth[..] else {
-                            unreachable!("depth 0 and k ≥ 3 depths")
-                        };
-                        tail_settled(&depths.powers, shape_change(last, before), stop)
-                    }));
+            let settled = tail && k >= 3 && k <= last && {
+                let [.., one_before, this] = &depths.per_depth[..] else {
+                    unreachable!("depth 0 and k ≥ 3 depths")
+                };
+                tail_settled(&depths.powers, shape_change(this, one_before), stop)
+            };
+            let stops = k < last && stop > 0.0 && (settled || stop_after(&depths.powers, stop));
             if stops {
                 // The last depth; with the grid, one more for its radiance.
                 last = k;
             }
             if k == last && tail {
                 // The depths beyond the last, by the last fall (none where there is no such
-                // fall: one scattered depth, or light that does not fall).
-                depths.tail_factor = geometric_tail(&depths.powers);
+                // fall: one scattered depth, or light that does not fall), which the albedo
+                // bounds where the rule has not confirmed it.
+                let max_fall = if settled {
+                    1.0
+                } else {
+                    f64::from(self.first.medium.albedo())
+                };
+                depths.tail_factor = geometric_tail(&depths.powers, max_fall);
             }
             if stops && !self.grid_mode {
                 break;

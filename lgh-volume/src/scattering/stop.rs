@@ -36,39 +36,52 @@ pub fn stop_after(powers: &[f64], share: f32) -> bool {
 
 /// The fall a depth `r = P_n/P_{n−1}` between the last two scattered depths of `powers`
 /// (depth 0, the emission lights', first; the emission's own fall to depth 1 is not the
-/// transport's), if there are two and it is below 1.
+/// transport's), if there are two and `0 ≤ r < 1`: a depth of negative power (a colour whose
+/// luminance sums below 0) or light that does not fall makes no geometric series.
 fn last_fall(powers: &[f64]) -> Option<f64> {
     let [_, .., before, last] = powers else {
         return None;
     };
-    (*before > 0.0 && last / before < 1.0).then(|| last / before)
+    let r = last / before;
+    (*before > 0.0 && (0.0..1.0).contains(&r)).then_some(r)
 }
 
 /// The factor `r/(1 − r)` by which the depths beyond the last of `powers` (depth 0, the
 /// emission lights', first), a geometric series of ratio `r = P_n/P_{n−1}`, exceed depth `n`
-/// ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)); `None` with fewer than two scattered depths or a fall
-/// of 1 or more (light that does not fall converges to nothing).
+/// ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)), the fall taken
+/// at most `max_fall`; `None` with fewer than two scattered depths or a fall outside `[0, 1)`
+/// (light that does not fall converges to nothing). A pass whose rule has not settled the
+/// fall ([`tail_settled`]: it stopped at its most depths, or by [`stop_after`] after one
+/// fall) bounds it by the medium's albedo ([`Medium::albedo`](crate::Medium::albedo)), the
+/// most of a depth's light the next can hold; a settled one passes 1.
 ///
 /// ```
 /// use lgh_volume::scattering::geometric_tail;
 ///
 /// // 1 + 1/2 + 1/4 + … beyond depth 2's quarter: another quarter.
-/// assert_eq!(geometric_tail(&[2.0, 0.5, 0.25]), Some(1.0));
-/// assert_eq!(geometric_tail(&[1.0, 0.5]), None); // the emission's fall is not the smoke's
-/// assert_eq!(geometric_tail(&[1.0, 0.5, 0.5]), None);
+/// assert_eq!(geometric_tail(&[2.0, 0.5, 0.25], 1.0), Some(1.0));
+/// // A fall of 0.9 not confirmed, in smoke of albedo 0.5: at most 0.5/(1 − 0.5).
+/// assert_eq!(geometric_tail(&[2.0, 1.0, 0.9], 0.5), Some(1.0));
+/// assert_eq!(geometric_tail(&[1.0, 0.5], 1.0), None); // the emission's fall is not the smoke's
+/// assert_eq!(geometric_tail(&[1.0, 0.5, 0.5], 1.0), None);
+/// assert_eq!(geometric_tail(&[1.0, 0.5, -0.1], 1.0), None);
 /// ```
 #[must_use]
-pub fn geometric_tail(powers: &[f64]) -> Option<f64> {
-    last_fall(powers).map(|r| r / (1.0 - r))
+pub fn geometric_tail(powers: &[f64], max_fall: f64) -> Option<f64> {
+    last_fall(powers).map(|r| {
+        let r = r.min(max_fall);
+        r / (1.0 - r)
+    })
 }
 
-/// Whether a pass with a geometric tail ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)) stops after the depths
-/// whose powers are `powers` (depth 0 first), the last two scattered depths' shapes differing
-/// by `shape_change` ([`shape_change`]): when the tail's error — its power `T = P_n r/(1 − r)`
-/// with the last fall against with the one before, plus `T` times the shape's last change
-/// (the tail takes depth `n`'s shape, where the depths beyond it keep moving towards the
-/// densest smoke) — is below `share` of all the light so far. Needs three scattered depths
-/// (two falls between them).
+/// Whether a pass with a geometric tail
+/// ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)) stops after the
+/// depths whose powers are `powers` (depth 0 first), the last two scattered depths' shapes
+/// differing by `shape_change` ([`shape_change`]). The tail's error is the change of its power
+/// `T = P_n r/(1 − r)` from the fall before to the last fall, plus `T` times the shape's last
+/// change: the tail takes depth `n`'s shape, where the depths beyond it keep moving towards the
+/// densest smoke. The pass stops when that error is below `share` of all the light so far.
+/// Needs three scattered depths (two falls between them).
 ///
 /// ```
 /// use lgh_volume::scattering::tail_settled;
@@ -148,6 +161,7 @@ mod tests {
     use crate::scattering::merge::emission_intensities;
     use crate::scattering::tests::{bits, blob, pass};
     use crate::settings::{MarchSettings, ScatterTail};
+    use crate::shadow::Shadows;
 
     #[test]
     fn the_pass_stops_where_the_next_depth_would_add_too_little() {
@@ -219,10 +233,11 @@ mod tests {
     #[test]
     fn the_geometric_tail_is_the_full_pass_where_dropping_it_is_not() {
         // The exact answer of the same model: the pass to 16 depths, every one computed. On a
-        // ball of smoke that scatters most of what it takes (albedo 0.83, the light falling about 0.47 a depth) the
-        // pass stopped by the rule at 0.2% with its tail holds the full pass's merged light to
-        // within that share where, the tail dropped, it loses several times as much; and each
-        // voxel's light too (the tail's shape is the last depth's: the rule weighs its change).
+        // ball of smoke that scatters most of what it takes (albedo 0.83, the light falling
+        // about 0.47 a depth) the pass stopped by the rule at 0.2% with its tail holds the
+        // full pass's merged light to within that share where, the tail dropped, it loses
+        // several times as much; and each voxel's light too (the tail's shape is the last
+        // depth's: the rule weighs its change).
         let volume = blob(16);
         let medium = Medium::new(0.6, 3.0, 1e-4, 1000.0).unwrap();
         let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
@@ -306,5 +321,42 @@ mod tests {
             let want = sum + tail.intensities(k).unwrap()[s] * f;
             assert!((*m - want).abs().max_element() <= 1e-5 * want.abs().max_element().max(1e-6));
         }
+    }
+
+    #[test]
+    fn a_tail_the_rule_has_not_settled_takes_a_fall_no_steeper_than_the_albedo() {
+        // A pass cut at its most depths (2) under a stopping share too small to stop it has
+        // one fall, which nothing confirms: its tail takes the fall at most the medium's albedo.
+        // Without shadows the model does not conserve energy (every voxel sees every other
+        // unhidden), so the fall passes the albedo there and the bound is what decides; with
+        // ray-marched shadows it falls below the albedo and the fall is taken as it is.
+        let volume = blob(12);
+        let medium = Medium::new(1.0, 3.0, 1e-4, 1000.0).unwrap();
+        let albedo = f64::from(medium.albedo());
+        let emission = ExplosionLights::new(&[&volume], &medium).unwrap();
+        let lgh = Method::Lgh { alpha: 2.0 };
+        let fall = |shadows| {
+            let settings = MarchSettings {
+                shadows,
+                scatter_stop: 1e-6,
+                ..Default::default()
+            };
+            let s = pass(&emission, 2, lgh, &volume, &medium, &settings);
+            assert_eq!(s.depths().len(), 2);
+            let mut powers = vec![power(&emission_intensities(&emission))];
+            powers.extend(s.depths().iter().map(|d| d.power));
+            let r = powers[2] / powers[1];
+            println!(
+                "{shadows:?}: fall {r:.4}, albedo {albedo}, tail {:?}",
+                s.tail()
+            );
+            (r, s.tail().expect("one fall below 1"))
+        };
+        let (r, tail) = fall(Shadows::None);
+        assert!(r > albedo && r < 1.0, "{r}");
+        assert_eq!(tail, albedo / (1.0 - albedo));
+        let (r, tail) = fall(Shadows::RayMarch);
+        assert!(r < albedo, "{r}");
+        assert_eq!(tail, r / (1.0 - r));
     }
 }
