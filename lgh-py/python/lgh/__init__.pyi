@@ -63,7 +63,7 @@ def render_explosion(
     scatter_stop: _Value | None = ...,  # Stop adding scattering depths when the next one, predicted from the last two (the light falls by a nearly steady factor a depth), would add less than this sha
     scatter_skip: _Value | None = ...,  # Skip the whole scattering pass when a sample of the smoky voxels predicts that its first depth would add less than this share of the emitted light (0: never s
     scatter_tail: Literal['dropped', 'geometric'] | None = ...,  # With a stopping share (--scatter-depth auto): the depths beyond the last, added as a geometric series of the last depth's lights by i
-    scatter_shares: bool | None = ...,  # Also report each depth's share of the image (renders the emission and each depth's lights alone: n + 2 more renders)
+    scatter_shares: bool | None = ...,  # Also report each depth's share of the image (renders the emission, each depth's lights and the geometric tail's alone: n + 2 more renders, one more with a tai
     spp: _Value | None = ...,  # Paths per pixel (backend pathtrace) (default 64)
     max_scatter: _Value | None = ...,  # Scattering events per path (backend pathtrace; 1 = the marcher's single scattering) (default 1)
     width: _Value | None = ...,  # Image width in pixels (default 640)
