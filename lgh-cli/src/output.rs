@@ -885,7 +885,7 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
             list(&mut f.iter().map(|x| format!("{x:.5}"))),
         ));
         if let Some(t) = tail {
-            // The geometric tail's: with `scatter_shares`, the whole image.
+            // The geometric tail's: with `scatter_shares`' entries, it sums to 1.
             out.push(("scatter_shares_tail", format!("{t:.5}")));
         }
     }

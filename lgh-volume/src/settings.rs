@@ -435,7 +435,10 @@ pub enum ScatterTail {
     /// the fall, the medium's albedo bounds it. On the dense
     /// fire smoky128 (Blender's Quick Smoke, 128 cells) the falls are 0.600, 0.603, 0.606,
     /// 0.609, … a depth: the tail from depth 5 holds 0.078 (depth 1: 0.375) where depths 6
-    /// to 10 and the rest hold 0.079, and the pass computes 5 depths instead of 10.
+    /// to 10 and the rest hold 0.079, and the pass computes 5 depths instead of 10. Where the
+    /// albedo bounds an unsettled fall that the model exceeds (smoke without shadows, which
+    /// does not conserve energy), the tail is the exact transport's bound, not the model's own
+    /// depths beyond `n`.
     #[default]
     Geometric,
 }

@@ -61,6 +61,19 @@ pub(super) fn emission_intensities(emission: &ExplosionLights) -> Vec<Vec3> {
     emission.lights().iter().map(|l| l.intensity).collect()
 }
 
+/// The geometric tail's intensities on the merged voxels
+/// ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)): the last depth's
+/// (`per_depth`'s, depth 0 the emission's) times the tail's factor `tail`; `None` without a
+/// tail or a scattered depth. The merged lights and
+/// [`Scattered::tail_lights`](super::Scattered::tail_lights) take the same.
+pub(super) fn tail_intensities(per_depth: &[Vec<Vec3>], tail: Option<f64>) -> Option<Vec<Vec3>> {
+    let (Some(f), [_, .., last]) = (tail, per_depth) else {
+        return None;
+    };
+    let f = f as f32;
+    Some(last.iter().map(|&i| i * f).collect())
+}
+
 /// The paper's merge: one light per voxel of `voxels`, its depths' intensities (`per_depth`, on
 /// the same voxels) summed in order — the last depth `1 + tail` times where the depths beyond
 /// it are its geometric tail ([`super::ScatterTail::Geometric`]) — on the emission lights'
@@ -73,13 +86,13 @@ pub(super) fn merged_lights(
     tail: Option<f64>,
     max_level: u8,
 ) -> Result<ExplosionLights, RenderError> {
-    let last = per_depth.len() - 1;
+    let tail = tail_intensities(per_depth, tail);
     let merged_intensities: Vec<Vec3> = (0..voxels.len())
         .map(|s| {
             let sum = per_depth.iter().fold(Vec3::ZERO, |a, d| a + d[s]);
-            match tail {
-                Some(f) if last > 0 => sum + per_depth[last][s] * f as f32,
-                _ => sum,
+            match &tail {
+                Some(t) => sum + t[s],
+                None => sum,
             }
         })
         .collect();

@@ -332,7 +332,8 @@ impl Scattered {
     /// stopped by its rule or at its most depths): the depths beyond the last as a multiple
     /// `r/(1 − r)` of its lights, which the merged lights include ([`geometric_tail`]); `None`
     /// where the tail is dropped, the pass computed a fixed number of depths (no stopping
-    /// share), or there is no fall to extend (one scattered depth, light that does not fall).
+    /// share), or there is no fall to extend (one scattered depth, light that does not fall,
+    /// a depth of negative luminance).
     ///
     /// ```
     /// use lgh_volume::render::MarchSettings;
@@ -350,7 +351,7 @@ impl Scattered {
     /// };
     /// let lgh = Method::Lgh { alpha: 2.0 };
     /// let s = scatter(&emission, lgh, &volume, &medium, &auto, &())?;
-    /// let tail = s.tail().expect("a pass stopped by its rule, two falls or more");
+    /// let tail = s.tail().expect("a pass with a stopping share, a fall in [0, 1)");
     /// assert!(tail > 0.0 && s.depths().len() < 16);
     /// let dropped = MarchSettings { scatter_tail: ScatterTail::Dropped, ..auto };
     /// assert_eq!(scatter(&emission, lgh, &volume, &medium, &dropped, &())?.tail(), None);
@@ -458,12 +459,9 @@ impl Scattered {
     /// # Ok::<(), lgh_volume::RenderError>(())
     /// ```
     pub fn tail_lights(&self) -> Result<Option<ExplosionLights>, RenderError> {
-        let (Some(f), Some(last)) = (self.tail_factor, self.per_depth.last()) else {
-            return Ok(None);
-        };
-        let f = f as f32;
-        let tail: Vec<Vec3> = last.iter().map(|&i| i * f).collect();
-        self.lights_with(&tail).map(Some)
+        merge::tail_intensities(&self.per_depth, self.tail_factor)
+            .map(|tail| self.lights_with(&tail))
+            .transpose()
     }
 
     /// The merged lights with `intensities` in place of theirs.

@@ -271,7 +271,7 @@ impl DepthLoop<'_> {
             depths.powers.push(report.power);
             depths.reports.push(report);
             let tail = stop > 0.0 && self.settings.scatter_tail == ScatterTail::Geometric;
-            let settled = tail && k >= 3 && k <= last && {
+            let settled = tail && k >= 3 && {
                 let [.., one_before, this] = &depths.per_depth[..] else {
                     unreachable!("depth 0 and k ≥ 3 depths")
                 };
@@ -285,7 +285,8 @@ impl DepthLoop<'_> {
             if k == last && tail {
                 // The depths beyond the last, by the last fall (none where there is no such
                 // fall: one scattered depth, or light that does not fall), which the albedo
-                // bounds where the rule has not confirmed it.
+                // bounds where the rule has not confirmed it. With the grid, depth n + 1 is
+                // computed and the grid takes the depths beyond it by this factor too.
                 let max_fall = if settled {
                     1.0
                 } else {

@@ -49,11 +49,12 @@ fn last_fall(powers: &[f64]) -> Option<f64> {
 /// The factor `r/(1 − r)` by which the depths beyond the last of `powers` (depth 0, the
 /// emission lights', first), a geometric series of ratio `r = P_n/P_{n−1}`, exceed depth `n`
 /// ([`ScatterTail::Geometric`](crate::scattering::ScatterTail::Geometric)), the fall taken
-/// at most `max_fall`; `None` with fewer than two scattered depths or a fall outside `[0, 1)`
-/// (light that does not fall converges to nothing). A pass whose rule has not settled the
-/// fall ([`tail_settled`]: it stopped at its most depths, or by [`stop_after`] after one
-/// fall) bounds it by the medium's albedo ([`Medium::albedo`](crate::Medium::albedo)), the
-/// most of a depth's light the next can hold; a settled one passes 1.
+/// at most `max_fall` (in `[0, 1]`; 0 below, 1 leaves it as it is); `None` with fewer than two
+/// scattered depths or a fall outside `[0, 1)` (light that does not fall converges to
+/// nothing). A pass whose rule has not settled the fall (it reached its most depths, or
+/// [`stop_after`] stopped it, without [`tail_settled`]) bounds it by the medium's albedo
+/// ([`Medium::albedo`](crate::Medium::albedo)), the most of a depth's light the next can hold
+/// in the exact transport; a settled one passes 1.
 ///
 /// ```
 /// use lgh_volume::scattering::geometric_tail;
@@ -69,7 +70,7 @@ fn last_fall(powers: &[f64]) -> Option<f64> {
 #[must_use]
 pub fn geometric_tail(powers: &[f64], max_fall: f64) -> Option<f64> {
     last_fall(powers).map(|r| {
-        let r = r.min(max_fall);
+        let r = r.min(max_fall).max(0.0);
         r / (1.0 - r)
     })
 }
@@ -358,5 +359,19 @@ mod tests {
         let (r, tail) = fall(Shadows::RayMarch);
         assert!(r < albedo, "{r}");
         assert_eq!(tail, r / (1.0 - r));
+        // Where the rule has settled the fall, it is taken as it is, above the albedo too.
+        let settling = MarchSettings {
+            shadows: Shadows::None,
+            scatter_stop: 0.01,
+            ..Default::default()
+        };
+        let s = pass(&emission, 16, lgh, &volume, &medium, &settling);
+        let mut powers = vec![power(&emission_intensities(&emission))];
+        powers.extend(s.depths().iter().map(|d| d.power));
+        let n = powers.len() - 1;
+        let (r, before) = (powers[n] / powers[n - 1], powers[n - 1] / powers[n - 2]);
+        println!("settled after {n} depths: falls {before:.4}, {r:.4}");
+        assert!(n < 16 && r > albedo, "{powers:?}");
+        assert_eq!(s.tail(), Some(r / (1.0 - r)));
     }
 }
