@@ -10,7 +10,7 @@ use lgh_volume::lighting_cache::{
     CacheMode, CacheSpacing, Level0Form, LightingCache, LightingCacheSettings, ScatteredLight,
 };
 use lgh_volume::render::{Camera, MarchSettings, PixelRefinement, RenderStats};
-use lgh_volume::scattering::{self, ScatterTail, Shares};
+use lgh_volume::scattering::{self, ScatterTail, Scattered, Shares};
 use lgh_volume::shadow::{CoarseShadows, CubeMapSettings, Depths, LevelMaps};
 use lgh_volume::{FrameRender, Shadows};
 
@@ -813,10 +813,21 @@ pub fn frame_header(frame: &FrameRender, shares: Option<&Shares>) -> Vec<(&'stat
         out.push(("lighting_cache_vertices", stats.vertices.to_string()));
         out.push(("lighting_cache_tiers", tiers(c)));
     }
-    let Some(s) = frame.scattered() else {
-        out.push(("scatter_depth", "0".to_string()));
-        return out;
-    };
+    match frame.scattered() {
+        Some(s) => out.extend(scatter_header(frame, s, shares)),
+        None => out.push(("scatter_depth", "0".to_string())),
+    }
+    out
+}
+
+/// EXR header entries of a frame's scattering pass: the rule that stopped it, its depths'
+/// powers and seconds, its lights, how the render used them and, if measured, the shares.
+fn scatter_header(
+    frame: &FrameRender,
+    s: &Scattered,
+    shares: Option<&Shares>,
+) -> Vec<(&'static str, String)> {
+    let mut out = Vec::new();
     let list = |v: &mut dyn Iterator<Item = String>| v.collect::<Vec<_>>().join(",");
     let stop = frame.settings().scatter_stop;
     if stop > 0.0 {
