@@ -97,8 +97,8 @@ fn cold_voxels_render_finite_images() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    // Brute force sums every light at every step of every pixel's march (2.5 minutes at
-    // 16×12 in a debug build): a NaN light would reach any of its pixels, so 4×3 of them.
+    // Brute force sums every light at every step of every pixel's march (about 3 minutes
+    // at 16×12 in a debug build): a NaN light would reach any of its pixels, so 4×3 of them.
     for (backend, size) in [("lgh", ("16", "12")), ("brute", ("4", "3"))] {
         let out = dir.path().join(format!("{backend}.exr"));
         let o = explosion_of_size(
