@@ -12,7 +12,7 @@ LGH samples what the .blend describes. Each is *Auto* by default — ``lgh explo
   takes the fewest, at most 8 and at least the pixel samples, for which an emission sub-pixel
   covers at most a quarter of a voxel.
 - **Scatter spacing**: the grid, in voxels, on which multiple scattering's deeper depths
-  compute their light (``--scatter-spacing``; paper Sec. 5). Auto takes 4, 2 or 1, at least 8
+  compute their light (``--scatter-spacing``; paper Sec. 5). Auto takes 4, 2 or 1, at least 9
   cells across the smoke.
 
 Finer values come nearer the converged image and cost more; docs/blender.md races Auto and a
@@ -60,7 +60,7 @@ class LGHSettings(bpy.types.PropertyGroup):
         "ray's cost")
     scatter_grid: _choice(
         "Scatter Spacing",
-        "The grid of multiple scattering's deeper depths: auto (4, 2 or 1 voxels, at least 8 "
+        "The grid of multiple scattering's deeper depths: auto (4, 2 or 1 voxels, at least 9 "
         "cells across the smoke) or fixed")
     scatter_spacing: _fixed(
         "Voxels",

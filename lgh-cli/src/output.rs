@@ -257,7 +257,7 @@ pub struct CacheArgs {
     /// With --scatter-depth and the lighting cache: scattering depths 2 and up compute their
     /// fluence on a grid this many voxels apart (1 to 8), every level cached, and interpolate it
     /// to the voxels (their light has scattered already and varies slowly); 1 computes it at
-    /// every voxel, as depth 1 does; auto: 4, 2 or 1, at least 8 cells across the smoke
+    /// every voxel, as depth 1 does; auto: 4, 2 or 1, at least 9 cells across the smoke
     #[arg(long, default_value = "auto", value_parser = parse_scatter_spacing)]
     pub scatter_spacing: u8,
     /// With --scatter-depth, the lighting cache and ray-marched shadows: how the render takes

@@ -336,8 +336,13 @@ pub const SCATTERED_SPACING: u8 = 0;
 /// smoke 19 voxels across) four voxels apart (4.7 cells) +6.5%, two apart (9.5 cells) +0.5%;
 /// the Fig. 8-class frame (`docs/shadows.md`, over 200 voxels across) four apart against two
 /// apart: depths 2–4's power +0.8%, +0.6%, +0.1%, the image 1.5%, at half the pass's time
-/// (depths 2–4 8–12 s each against 58–66 s).
-pub const MIN_SCATTERED_CELLS: f32 = 8.0;
+/// (depths 2–4 8–12 s each against 58–66 s). Against Cycles 3.4.1's converged image
+/// (`docs/cycles.md`, "The scattering depths' grid a step finer on the small volumes"): the 64³
+/// fires and the fireball, 35 voxels across, four apart (8.75 cells) leave 0.5–0.6% of
+/// structure against every voxel, two apart (17.5 cells) 0.16%; 9 is the least minimum that
+/// takes them to two, and leaves the 24³ ball (20 voxels in its box of smoke, 10 cells two apart)
+/// where it was.
+pub const MIN_SCATTERED_CELLS: f32 = 9.0;
 
 impl Default for LightingCacheSettings {
     /// No cache; when on, cells of optical depth 1 across the densest smoke, levels ≥ 1,
@@ -422,6 +427,8 @@ impl LightingCacheSettings {
     /// let auto = LightingCacheSettings::coarse();
     /// let small = procedural::ball(24, 0.7, 3000.0).density; // 19 voxels across
     /// assert_eq!(auto.scattered_spacing_on(&small), 2);
+    /// let fire64 = procedural::ball(42, 0.7, 3000.0).density; // 34 across, near the 64³ fires' 35
+    /// assert_eq!(auto.scattered_spacing_on(&fire64), 2); // 8.5 cells at 4
     /// let large = procedural::ball(64, 0.7, 3000.0).density;
     /// assert_eq!(auto.scattered_spacing_on(&large), 4);
     /// let fixed = LightingCacheSettings { scattered_spacing: 3, ..auto };

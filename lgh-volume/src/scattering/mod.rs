@@ -25,7 +25,7 @@
 //! work. Depths ≥ 2 light the smoke with light that has scattered already, spread over all of
 //! it: they go through a cache of every level, the finest included, on a grid
 //! [`scattered_spacing`](crate::lighting_cache::LightingCacheSettings::scattered_spacing) voxels apart
-//! (automatic by default: 4, 2 or 1 voxels, at least 8 cells across the smoke,
+//! (automatic by default: 4, 2 or 1 voxels, at least 9 cells across the smoke,
 //! [`scattered_spacing_on`](crate::lighting_cache::LightingCacheSettings::scattered_spacing_on);
 //! on the Fig. 8-class frame four apart, a depth takes 8–12 s instead of 58–70 s).
 //!
