@@ -252,6 +252,94 @@ fn octants(volume: &Volume, medium: &Medium) -> (Vec<(PointLight, Vec3)>, DenseG
     (out, half)
 }
 
+/// The exact fluence at offset `o` (voxels, from the centre) of a unit uniform emitting cube in
+/// uniform smoke of `tau` optical depths a voxel, over the shadow ray's `e^{−τ|o|}`: what a
+/// kernel over the offset vector would hold. By 1,024 directions on a Fibonacci sphere, each
+/// ray's chord through the cube `(e^{−τ t_in} − e^{−τ t_out}) / τ`.
+fn cube_kernel(o: [f64; 3], tau: f64) -> f64 {
+    const N: usize = 1024;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut sum = 0.0;
+    for i in 0..N {
+        let zc = 1.0 - (2.0 * i as f64 + 1.0) / N as f64;
+        let r = (1.0 - zc * zc).sqrt();
+        let phi = golden * i as f64;
+        let w = [r * phi.cos(), r * phi.sin(), zc];
+        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+        for a in 0..3 {
+            if w[a].abs() < 1e-12 {
+                if o[a].abs() > 0.5 {
+                    t1 = -1.0;
+                }
+                continue;
+            }
+            let (ta, tb) = ((-0.5 - o[a]) / w[a], (0.5 - o[a]) / w[a]);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+        if t1 > t0 {
+            sum += if tau > 0.0 {
+                ((-tau * t0).exp() - (-tau * t1).exp()) / tau
+            } else {
+                t1 - t0
+            };
+        }
+    }
+    let d = (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt();
+    4.0 * std::f64::consts::PI * sum / N as f64 * (tau * d).exp()
+}
+
+/// [`cube_kernel`] tabulated over `|o|` per axis in `[0, 2]` (1/8 apart) and `τ` in `[0, 4.5]`
+/// (1/4 apart), read multilinearly.
+struct CubeTable(Vec<f64>);
+
+const CUBE_N: usize = 17;
+const CUBE_T: usize = 19;
+
+impl CubeTable {
+    fn get() -> &'static CubeTable {
+        static TABLE: std::sync::OnceLock<CubeTable> = std::sync::OnceLock::new();
+        TABLE.get_or_init(|| {
+            let mut v = vec![0.0; CUBE_T * CUBE_N * CUBE_N * CUBE_N];
+            for t in 0..CUBE_T {
+                for k in 0..CUBE_N {
+                    for j in 0..CUBE_N {
+                        for i in 0..CUBE_N {
+                            let o = [i as f64 / 8.0, j as f64 / 8.0, k as f64 / 8.0];
+                            v[((t * CUBE_N + k) * CUBE_N + j) * CUBE_N + i] =
+                                cube_kernel(o, t as f64 / 4.0);
+                        }
+                    }
+                }
+            }
+            CubeTable(v)
+        })
+    }
+
+    fn at(&self, o: Vec3, tau: f32) -> f64 {
+        let u = [o.x.abs(), o.y.abs(), o.z.abs()].map(|c| (f64::from(c) * 8.0).min(16.0 - 1e-9));
+        let ft = (f64::from(tau) * 4.0).clamp(0.0, 18.0 - 1e-9);
+        let (i, t) = (u.map(|c| c as usize), ft as usize);
+        let f = [
+            u[0] - i[0] as f64,
+            u[1] - i[1] as f64,
+            u[2] - i[2] as f64,
+            ft - t as f64,
+        ];
+        let mut sum = 0.0;
+        for c in 0..16 {
+            let b = |n: usize| (c >> n) & 1;
+            let w = (0..4)
+                .map(|n| if b(n) == 1 { f[n] } else { 1.0 - f[n] })
+                .product::<f64>();
+            let idx =
+                (((t + b(3)) * CUBE_N + i[2] + b(2)) * CUBE_N + i[1] + b(1)) * CUBE_N + i[0] + b(0);
+            sum += w * self.0[idx];
+        }
+        sum
+    }
+}
+
 /// Camera-weighted sums of the model's light and the exact one, over the whole march and over
 /// its last voxel of smoke.
 #[derive(Clone, Copy, Default)]
@@ -293,6 +381,9 @@ struct Measured {
     /// The lights within reach as octants shaded with their light's one shadow ray, each
     /// times the shadow's difference through the point's smoke, `e^{−σ_t(x)(d_k − d)}`.
     one_ray: [f64; 4],
+    /// The lights within 1.5 voxels shaded with the exact fluence of a uniform cube at their
+    /// offset ([`CubeTable`]), their one shadow ray and the shadow's difference.
+    cube: [f64; 4],
 }
 
 /// Camera rays across a quarter of a voxel's cross-section (the lattice's symmetry gives the
@@ -327,6 +418,7 @@ fn measure(tau: f32, at: Samples) -> Measured {
         .filter(|l| l.intensity.max_element() > 0.0)
         .collect();
     let brute = BruteForce::new(&lit).unwrap();
+    let voxel_smoke = lights.smoke().unwrap().clone();
     let smoke = lights
         .smoke()
         .unwrap()
@@ -364,9 +456,9 @@ fn measure(tau: f32, at: Samples) -> Measured {
         })
         .collect();
     let reach = OCTANT_REACH * h;
-    let mut per_ray: Vec<[Sums; 3]> = vec![];
+    let mut per_ray: Vec<[Sums; 4]> = vec![];
     for (ox, oy) in ray_offsets() {
-        let mut sums = [Sums::default(); 3];
+        let mut sums = [Sums::default(); 4];
         for &(z, weight, exact) in &samples {
             let x = Vec3::new(ox * h, oy * h, z);
             let sigma_t = medium.extinction(volume.density.sample(x));
@@ -409,6 +501,26 @@ fn measure(tau: f32, at: Samples) -> Measured {
             sums[0].add(weight, lum(light), exact, surface);
             sums[1].add(weight, lum(far + own_rays), exact, surface);
             sums[2].add(weight, lum(far + one_ray), exact, surface);
+            // A kernel over the offset vector for the lights within 1.5 voxels: the exact
+            // fluence of a uniform cube at the offset from the light's centroid, through the
+            // thinner smoke, times the shadow ray's transmittance over the local smoke's.
+            let cube_reach = 1.5 * h;
+            let beyond = |d: f32| f32::from(u8::from(d > cube_reach));
+            let far15 = model
+                .in_scattered_part(x, sigma_t, &visibility, beyond, &mut scratch, &mut stats)
+                .unwrap();
+            let table = CubeTable::get();
+            let mut cube = Vec3::ZERO;
+            for l in lit.iter().filter(|l| l.position.distance(x) <= cube_reach) {
+                let d = l.position.distance(x);
+                let c = l.position + voxel_smoke.centroid_at(l.position);
+                let tau = voxel_smoke.at(l.position).min(sigma_t * h);
+                let v = grid.transmittance(x, l.position).0;
+                let k = table.at((x - c) / h, tau) as f32 / (h * h);
+                cube += l.intensity * (k * v * (sigma_t * d).exp() * (-tau / h * d).exp());
+            }
+            cube *= 1.0 / (4.0 * std::f32::consts::PI);
+            sums[3].add(weight, lum(far15 + cube), exact, surface);
         }
         per_ray.push(sums);
     }
@@ -425,6 +537,7 @@ fn measure(tau: f32, at: Samples) -> Measured {
         today: summary(0),
         octants: summary(1),
         one_ray: summary(2),
+        cube: summary(3),
     }
 }
 
@@ -484,6 +597,14 @@ fn the_exact_answer_is_right() {
 /// octants' light taken through the far ones' smoke). The bounds hold each with a margin over
 /// the measured; a change that moves the model's light at the surface by a few percent fails
 /// them.
+///
+/// A fourth model shades the lights within 1.5 voxels with a kernel over the offset vector —
+/// the exact fluence of a uniform cube in uniform smoke at the point's offset from the light
+/// ([`CubeTable`]), through the thinner smoke, times the shadow ray over the local smoke's
+/// attenuation: its rays agree to 0.987–0.991 / 0.971–0.986 at τ 0.5 / 1 (today's 0.927–1.018
+/// / 0.870–1.032), so the lattice's spread is the kernel's; but its means are today's (0.989 /
+/// 0.978 / 1.007 / 1.337), so the surface's error — a third too much at τ 4 — is not: it is
+/// the escape's and the shadow's treatment of the light's dense cell seen from the thin ramp.
 #[test]
 fn single_scattering_at_the_surface_of_dense_smoke() {
     let taus = [0.5f32, 1.0, 2.0, 4.0];
@@ -507,6 +628,7 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
             show(m.octants),
             show(m.one_ray)
         );
+        eprintln!("   offset kernel {}", show(m.cube));
     }
     // [mean's least, mean's most, one ray's least, one ray's most] by τ.
     let today = [
@@ -527,6 +649,26 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
         [0.980, 1.000, 0.93, 1.055],
         [0.990, 1.020, 0.89, 1.12],
     ];
+    // The kernel over the offset vector: the rays agree to within 2% up to τ 1 (measured 0.4
+    // and 1.5%), the means where today's are (measured 0.989 / 0.978 / 1.007 / 1.337).
+    let offset_means = [0.989, 0.978, 1.007, 1.337];
+    for (k, m) in measured.iter().enumerate() {
+        let r = m.cube;
+        assert!(
+            (r[0] - offset_means[k]).abs() < 0.015,
+            "τ {}: offset kernel {}",
+            taus[k],
+            show(r)
+        );
+        if taus[k] <= 1.0 {
+            assert!(
+                r[2] - r[1] < 0.02,
+                "τ {}: offset kernel {}",
+                taus[k],
+                show(r)
+            );
+        }
+    }
     for (k, m) in measured.iter().enumerate() {
         for (name, r, b) in [
             ("today", m.today, today[k]),
@@ -559,7 +701,9 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
 /// direction-averaged kernel sums to the exact there, `docs/cycles.md`); the octants, whose
 /// eight kernels meet at the voxel's centre, under-count there — a third at τ 4 — though they
 /// are the better over every position. So the octants as tried do not serve the renderer's
-/// march: a kernel that is right at every position, not on average, is what the lead needs.
+/// march. The kernel over the offset vector (printed, not asserted here) is no better at these
+/// phases (0.977 / 0.945 / 0.906 / 0.944 at the centres): where the march samples one point a
+/// voxel through the smoke's surface, the surface's treatment decides, not the kernel.
 #[test]
 fn single_scattering_where_the_march_samples() {
     let taus = [0.5f32, 1.0, 2.0, 4.0];
@@ -591,6 +735,7 @@ fn single_scattering_where_the_march_samples() {
             means(&|x| x.octants[0]),
             means(&|x| x.one_ray[0])
         );
+        eprintln!("   offset kernel {}", means(&|x| x.cube[0]));
     }
     // Today's and the one-ray octants' means at the centres' planes, each ± 0.02 of the
     // measured: [today, octants] by τ.
