@@ -24,14 +24,16 @@
 //! at a voxel's centre, on a face or at a corner sees its neighbours' kernels differently), and
 //! a pixel averages over those positions.
 //!
-//! Beside today's model, the lead the page derives: each light within two voxels of the point
-//! split into its cell's eight octants, each an eighth of the cell with its own emission (the
-//! same Gauss nodes as `lgh_volume::voxel_light`'s), its own voxel near field at half the
-//! side and its own escape through its octant's smoke; shaded with a shadow ray each, and as a
-//! renderer would shade them without more rays: with their light's one shadow ray, each
-//! octant's term times the shadow's difference through the point's smoke,
-//! `e^{−σ_t(x)(‖x − c_k‖ − ‖x − c‖)}`. Built here from the library's public pieces (`Lights` at
-//! half the voxel side, `VoxelSmoke` on a grid of half-voxels), not in the renderer.
+//! Beside today's model, three others, built here from the library's public pieces (`Lights`
+//! at half the voxel side, `VoxelSmoke` on a grid of half-voxels, the shadow rays), not in the
+//! renderer: the lead the page derives — each light within two voxels of the point split into
+//! its cell's eight octants, each an eighth of the cell with its own emission (the same Gauss
+//! nodes as `lgh_volume::voxel_light`'s), its own voxel near field at half the side and its own
+//! escape through its octant's smoke, shaded as a renderer would without more rays: with their
+//! light's one shadow ray, each octant's term times the shadow's difference through the
+//! point's smoke, `e^{−σ_t(x)(‖x − c_k‖ − ‖x − c‖)}`; a kernel over the offset vector (the
+//! exact fluence of a uniform cube at the point's offset, [`CubeTable`]) for the lights within
+//! 1.5 voxels; and the octants within a voxel with that kernel at half the side.
 
 use lgh_volume::grid::DenseGrid;
 use lgh_volume::lgh_core::glam::Vec3;
@@ -289,11 +291,11 @@ fn cube_kernel(o: [f64; 3], tau: f64) -> f64 {
     4.0 * std::f64::consts::PI * sum / N as f64 * (tau * d).exp()
 }
 
-/// [`cube_kernel`] tabulated over `|o|` per axis in `[0, 2]` (1/8 apart) and `τ` in `[0, 4.5]`
+/// [`cube_kernel`] tabulated over `|o|` per axis in `[0, 3]` (1/8 apart) and `τ` in `[0, 4.5]`
 /// (1/4 apart), read multilinearly.
 struct CubeTable(Vec<f64>);
 
-const CUBE_N: usize = 17;
+const CUBE_N: usize = 25;
 const CUBE_T: usize = 19;
 
 impl CubeTable {
@@ -317,7 +319,7 @@ impl CubeTable {
     }
 
     fn at(&self, o: Vec3, tau: f32) -> f64 {
-        let u = [o.x.abs(), o.y.abs(), o.z.abs()].map(|c| (f64::from(c) * 8.0).min(16.0 - 1e-9));
+        let u = [o.x.abs(), o.y.abs(), o.z.abs()].map(|c| (f64::from(c) * 8.0).min(24.0 - 1e-9));
         let ft = (f64::from(tau) * 4.0).clamp(0.0, 18.0 - 1e-9);
         let (i, t) = (u.map(|c| c as usize), ft as usize);
         let f = [
@@ -369,6 +371,121 @@ impl Sums {
     }
 }
 
+/// The four models of the slab's lights (module documentation), each giving the light
+/// in-scattered at a point (times `4π`, unshadowed by the phase function).
+struct Models {
+    h: f32,
+    /// Today's voxel lights, brute force, with their smoke.
+    today: Lights<BruteForce>,
+    /// The lights that shine, in the backend's order.
+    lit: Vec<PointLight>,
+    /// Their voxels' smoke (`τ` and centroids).
+    smoke: VoxelSmoke,
+    /// Each light's octants and its centre, and the octants' smoke.
+    octants: Vec<(PointLight, Vec3)>,
+    octant_smoke: VoxelSmoke,
+    /// The shadow rays, marched finely.
+    grid: ShadowGrid,
+    visibility: Visibility,
+}
+
+/// What the models give at one point: today's, the octants' with their light's ray, the
+/// kernel over the offset vector, the octants with it.
+type Light4 = [Vec3; 4];
+
+impl Models {
+    fn new(volume: &Volume, medium: &Medium) -> Models {
+        let h = volume.temperature.voxel_size;
+        let lights = ExplosionLights::new(&[volume], medium).unwrap();
+        let lit: Vec<PointLight> = lights
+            .lights()
+            .iter()
+            .copied()
+            .filter(|l| l.intensity.max_element() > 0.0)
+            .collect();
+        let brute = BruteForce::new(&lit).unwrap();
+        let smoke = lights.smoke().unwrap().as_ref().clone();
+        let of_lights = smoke.of_lights((0..brute.len()).map(|i| brute.light(i).0));
+        let today = Lights::new(brute, h)
+            .with_near_field(NearField::Voxel)
+            .with_smoke(Some(of_lights));
+        let (octants, half) = octants(volume, medium);
+        let octant_smoke = VoxelSmoke::of(&half, &volume.density, medium);
+        let grid = ShadowGrid::new(volume, medium, STEP, 1e-5);
+        let visibility = Visibility::RayMarched(grid.clone());
+        Models {
+            h,
+            today,
+            lit,
+            smoke,
+            octants,
+            octant_smoke,
+            grid,
+            visibility,
+        }
+    }
+
+    /// Today's lights beyond `reach` of `x` (world units), shadowed.
+    fn beyond(&self, x: Vec3, sigma_t: f32, reach: f32, scratch: &mut LightScratch) -> Vec3 {
+        let beyond = |d: f32| f32::from(u8::from(d > reach));
+        let mut stats = RenderStats::default();
+        (self.today)
+            .in_scattered_part(x, sigma_t, &self.visibility, beyond, scratch, &mut stats)
+            .unwrap()
+    }
+
+    fn at(&self, x: Vec3, sigma_t: f32, scratch: &mut LightScratch) -> Light4 {
+        let (h, mut stats) = (self.h, RenderStats::default());
+        let today = (self.today)
+            .in_scattered(x, 1.0, sigma_t, &self.visibility, scratch, &mut stats)
+            .unwrap();
+        let table = CubeTable::get();
+        let phase = 1.0 / (4.0 * std::f32::consts::PI);
+        // The octants within reach, with their light's one shadow ray and the shadow's
+        // difference through the point's smoke: eight kernels a light and no more rays.
+        let (mut one_ray, mut octant_cube) = (Vec3::ZERO, Vec3::ZERO);
+        for &(octant, parent) in &self.octants {
+            let d = parent.distance(x);
+            if d > OCTANT_REACH * h {
+                continue;
+            }
+            let dk = octant.position.distance(x);
+            let tau = self.octant_smoke.at(octant.position).min(sigma_t * h / 2.0);
+            let v = self.grid.transmittance(x, parent).0;
+            let g = NearField::Voxel.falloff_in(0, dk, h / 2.0, tau);
+            one_ray += octant.intensity * (g * v * (-sigma_t * (dk - d)).exp());
+            if d <= h {
+                // The octant's exact fluence at its offset (the table's `F / e^{−τ u}`), the
+                // light's ray over the point's smoke along it.
+                let hh = h / 2.0;
+                let k = table.at((x - octant.position) / hh, tau) as f32 / (hh * hh);
+                octant_cube +=
+                    octant.intensity * (k * (-tau / hh * dk).exp() * v * (sigma_t * d).exp());
+            }
+        }
+        // The lights within 1.5 voxels with the kernel over the offset from their centroid.
+        let mut cube = Vec3::ZERO;
+        for l in self
+            .lit
+            .iter()
+            .filter(|l| l.position.distance(x) <= 1.5 * h)
+        {
+            let d = l.position.distance(x);
+            let c = l.position + self.smoke.centroid_at(l.position);
+            let tau = self.smoke.at(l.position).min(sigma_t * h);
+            let v = self.grid.transmittance(x, l.position).0;
+            let k = table.at((x - c) / h, tau) as f32 / (h * h);
+            cube += l.intensity * (k * v * (sigma_t * d).exp() * (-tau / h * d).exp());
+        }
+        [
+            today,
+            self.beyond(x, sigma_t, OCTANT_REACH * h, scratch) + one_ray * phase,
+            self.beyond(x, sigma_t, 1.5 * h, scratch) + cube * phase,
+            self.beyond(x, sigma_t, h, scratch) + octant_cube * phase,
+        ]
+    }
+}
+
 /// What the camera sees of the models against the exact, at `tau` optical depths a voxel,
 /// each as `[mean, least, most, last voxel]`: the mean over the camera rays' positions across a
 /// voxel's cross-section, the least and most of one ray, the last voxel's mean.
@@ -376,14 +493,14 @@ impl Sums {
 struct Measured {
     /// Today's voxel lights.
     today: [f64; 4],
-    /// The lights within reach as octants, each with its own shadow ray.
-    octants: [f64; 4],
-    /// The lights within reach as octants shaded with their light's one shadow ray, each
+    /// The lights within two voxels as octants shaded with their light's one shadow ray, each
     /// times the shadow's difference through the point's smoke, `e^{−σ_t(x)(d_k − d)}`.
     one_ray: [f64; 4],
     /// The lights within 1.5 voxels shaded with the exact fluence of a uniform cube at their
-    /// offset ([`CubeTable`]), their one shadow ray and the shadow's difference.
+    /// offset ([`CubeTable`]), their one shadow ray over the point's smoke along it.
     cube: [f64; 4],
+    /// The lights within a voxel as octants, each with that kernel at half the side.
+    octant_cube: [f64; 4],
 }
 
 /// Camera rays across a quarter of a voxel's cross-section (the lattice's symmetry gives the
@@ -410,36 +527,14 @@ fn measure(tau: f32, at: Samples) -> Measured {
     let (volume, medium) = slab(tau);
     let axis = Axis::new(&volume, &medium);
     let h = volume.temperature.voxel_size;
-    let lights = ExplosionLights::new(&[&volume], &medium).unwrap();
-    let lit: Vec<PointLight> = lights
-        .lights()
-        .iter()
-        .copied()
-        .filter(|l| l.intensity.max_element() > 0.0)
-        .collect();
-    let brute = BruteForce::new(&lit).unwrap();
-    let voxel_smoke = lights.smoke().unwrap().clone();
-    let smoke = lights
-        .smoke()
-        .unwrap()
-        .of_lights((0..brute.len()).map(|i| brute.light(i).0));
-    let model = Lights::new(brute, h)
-        .with_near_field(NearField::Voxel)
-        .with_smoke(Some(smoke));
-    let (octant_lights, half) = octants(&volume, &medium);
-    let octant_smoke = VoxelSmoke::of(&half, &volume.density, &medium);
-    let grid = ShadowGrid::new(&volume, &medium, STEP, 1e-5);
-    let visibility = Visibility::RayMarched(grid.clone());
-    let (mut scratch, mut stats) = (LightScratch::default(), RenderStats::default());
-
-    // The march's samples (midpoints of STEP from where the smoke ends down to the bottom),
-    // each with its camera weight `T_cam σ_s dz` and the exact light, the same for every ray
-    // across the voxel (the slab is uniform sideways; the square's edges, 12 voxels away, move
-    // by less than a voxel).
+    let models = Models::new(&volume, &medium);
+    let mut scratch = LightScratch::default();
+    // The march's samples from where the smoke ends down to the bottom, each with its camera
+    // weight `T_cam σ_s dz` and the exact light, the same for every ray across the voxel (the
+    // slab is uniform sideways; the square's edges, 12 voxels away, move by less than a voxel).
     let top = (LAYERS as f32 + 0.5) * h;
-    let steps = (top / (STEP * h)).round() as usize;
     let (steps, dz) = match at {
-        Samples::Fine => (steps, STEP),
+        Samples::Fine => ((top / (STEP * h)).round() as usize, STEP),
         Samples::Voxel { .. } => (LAYERS + 1, 1.0),
     };
     let samples: Vec<(f32, f64, f64)> = (0..steps)
@@ -455,75 +550,22 @@ fn measure(tau: f32, at: Samples) -> Measured {
             (z, weight, exact)
         })
         .collect();
-    let reach = OCTANT_REACH * h;
-    let mut per_ray: Vec<[Sums; 4]> = vec![];
-    for (ox, oy) in ray_offsets() {
-        let mut sums = [Sums::default(); 4];
-        for &(z, weight, exact) in &samples {
-            let x = Vec3::new(ox * h, oy * h, z);
-            let sigma_t = medium.extinction(volume.density.sample(x));
-            let light = model
-                .in_scattered(x, 1.0, sigma_t, &visibility, &mut scratch, &mut stats)
-                .unwrap();
-            // The lead: the lights within reach as octants, the rest as they are.
-            let beyond = |d: f32| f32::from(u8::from(d > reach));
-            let far = model
-                .in_scattered_part(x, sigma_t, &visibility, beyond, &mut scratch, &mut stats)
-                .unwrap();
-            let near: Vec<&(PointLight, Vec3)> = octant_lights
-                .iter()
-                .filter(|(_, parent)| parent.distance(x) <= reach)
-                .collect();
-            let own_rays = if near.is_empty() {
-                Vec3::ZERO
-            } else {
-                let lights: Vec<PointLight> = near.iter().map(|&&(l, _)| l).collect();
-                let smoke = octant_smoke.of_lights(lights.iter().map(|l| l.position));
-                Lights::new(BruteForce::new(&lights).unwrap(), h / 2.0)
-                    .with_near_field(NearField::Voxel)
-                    .with_smoke(Some(smoke))
-                    .in_scattered(x, 1.0, sigma_t, &visibility, &mut scratch, &mut stats)
-                    .unwrap()
-            };
-            // The same octants with their light's one shadow ray: as the renderer would shade
-            // them, eight kernels a light and no more rays.
-            let mut one_ray = Vec3::ZERO;
-            for &&(octant, parent) in &near {
-                let (d, dk) = (parent.distance(x), octant.position.distance(x));
-                let tau = octant_smoke.at(octant.position).min(sigma_t * h / 2.0);
-                let g = NearField::Voxel.falloff_in(0, dk, h / 2.0, tau);
-                let v = grid.transmittance(x, parent).0;
-                one_ray += octant.intensity * (g * v * (-sigma_t * (dk - d)).exp());
+    let per_ray: Vec<[Sums; 4]> = ray_offsets()
+        .into_iter()
+        .map(|(ox, oy)| {
+            let mut sums = [Sums::default(); 4];
+            for &(z, weight, exact) in &samples {
+                let x = Vec3::new(ox * h, oy * h, z);
+                let sigma_t = medium.extinction(volume.density.sample(x));
+                let surface = z > (LAYERS as f32 - 1.0) * h;
+                let light = models.at(x, sigma_t, &mut scratch);
+                for (s, l) in sums.iter_mut().zip(light) {
+                    s.add(weight, f64::from(luminance(l)), exact, surface);
+                }
             }
-            one_ray *= 1.0 / (4.0 * std::f32::consts::PI);
-            let surface = z > (LAYERS as f32 - 1.0) * h;
-            let lum = |v: Vec3| f64::from(luminance(v));
-            sums[0].add(weight, lum(light), exact, surface);
-            sums[1].add(weight, lum(far + own_rays), exact, surface);
-            sums[2].add(weight, lum(far + one_ray), exact, surface);
-            // A kernel over the offset vector for the lights within 1.5 voxels: the exact
-            // fluence of a uniform cube at the offset from the light's centroid, through the
-            // thinner smoke, times the shadow ray's transmittance over the local smoke's.
-            let cube_reach = 1.5 * h;
-            let beyond = |d: f32| f32::from(u8::from(d > cube_reach));
-            let far15 = model
-                .in_scattered_part(x, sigma_t, &visibility, beyond, &mut scratch, &mut stats)
-                .unwrap();
-            let table = CubeTable::get();
-            let mut cube = Vec3::ZERO;
-            for l in lit.iter().filter(|l| l.position.distance(x) <= cube_reach) {
-                let d = l.position.distance(x);
-                let c = l.position + voxel_smoke.centroid_at(l.position);
-                let tau = voxel_smoke.at(l.position).min(sigma_t * h);
-                let v = grid.transmittance(x, l.position).0;
-                let k = table.at((x - c) / h, tau) as f32 / (h * h);
-                cube += l.intensity * (k * v * (sigma_t * d).exp() * (-tau / h * d).exp());
-            }
-            cube *= 1.0 / (4.0 * std::f32::consts::PI);
-            sums[3].add(weight, lum(far15 + cube), exact, surface);
-        }
-        per_ray.push(sums);
-    }
+            sums
+        })
+        .collect();
     let summary = |m: usize| {
         let ratios: Vec<[f64; 2]> = per_ray.iter().map(|s| s[m].ratios()).collect();
         let n = ratios.len() as f64;
@@ -535,9 +577,9 @@ fn measure(tau: f32, at: Samples) -> Measured {
     };
     Measured {
         today: summary(0),
-        octants: summary(1),
-        one_ray: summary(2),
-        cube: summary(3),
+        one_ray: summary(1),
+        cube: summary(2),
+        octant_cube: summary(3),
     }
 }
 
@@ -575,36 +617,32 @@ fn the_exact_answer_is_right() {
     );
 }
 
-/// Today's voxel lights and the octants' lead against the exact answer, at 0.5, 1, 2 and 4
-/// optical depths a voxel (measured at 2026-12-08's main: the mean over the camera rays, the
-/// least and most of one ray, the last voxel's mean):
+/// The four models against the exact answer, at 0.5, 1, 2 and 4 optical depths a voxel
+/// (measured at 2026-12-08's main: the mean over the camera rays, the least and most of one
+/// ray; `(h/2)` the octants):
 ///
-/// | τ a voxel | today | one ray | last voxel | octants, one shadow ray | one ray | last voxel |
-/// |---|---|---|---|---|---|---|
-/// | 0.5 | 0.990 | 0.927–1.018 | 0.967 | 0.995 | 0.981–1.011 | 0.989 |
-/// | 1 | 0.981 | 0.870–1.032 | 0.963 | 0.991 | 0.965–1.021 | 0.986 |
-/// | 2 | 1.009 | 0.805–1.136 | 1.019 | 0.990 | 0.941–1.043 | 0.988 |
-/// | 4 | 1.336 | 0.813–1.891 | 1.370 | 1.004 | 0.902–1.104 | 1.005 |
+/// | τ a voxel | today | one ray | octants (h/2), their light's ray | one ray | offset kernel | one ray | octants (h/2) with it | one ray |
+/// |---|---|---|---|---|---|---|---|---|
+/// | 0.5 | 0.990 | 0.927–1.018 | 0.995 | 0.981–1.011 | 0.989 | 0.987–0.991 | 0.994 | 0.993–0.996 |
+/// | 1 | 0.981 | 0.870–1.032 | 0.991 | 0.965–1.021 | 0.978 | 0.971–0.986 | 0.991 | 0.989–0.994 |
+/// | 2 | 1.009 | 0.805–1.136 | 0.990 | 0.941–1.043 | 1.007 | 0.974–1.054 | 0.995 | 0.987–1.006 |
+/// | 4 | 1.336 | 0.813–1.891 | 1.004 | 0.902–1.104 | 1.337 | 1.147–1.650 | 1.027 | 0.992–1.069 |
 ///
 /// Today's lights hold their mean within 2% up to 2 optical depths a voxel but vary from ray
 /// to ray by up to 20% (the direction-averaged kernel on the lattice: a point at a voxel's
 /// centre, a face or a corner sees its neighbours' light differently), and at 4 the camera,
 /// which sees the smoke's first quarter voxel, gets a third too much. The octants shaded with
 /// their light's one shadow ray and the shadow's difference keep the mean within 1% at every
-/// τ and the rays within 4% up to 2. With a shadow ray each they are alike (0.994 / 0.989 /
-/// 0.985 / 1.034, the rays 0.980–1.011, 0.964–1.019, 0.940–1.038, 0.954–1.139); with the one
-/// ray and without the difference, far too dark (0.969 / 0.921 / 0.849 / 0.853: the near
-/// octants' light taken through the far ones' smoke). The bounds hold each with a margin over
-/// the measured; a change that moves the model's light at the surface by a few percent fails
-/// them.
-///
-/// A fourth model shades the lights within 1.5 voxels with a kernel over the offset vector —
-/// the exact fluence of a uniform cube in uniform smoke at the point's offset from the light
-/// ([`CubeTable`]), through the thinner smoke, times the shadow ray over the local smoke's
-/// attenuation: its rays agree to 0.987–0.991 / 0.971–0.986 at τ 0.5 / 1 (today's 0.927–1.018
-/// / 0.870–1.032), so the lattice's spread is the kernel's; but its means are today's (0.989 /
-/// 0.978 / 1.007 / 1.337), so the surface's error — a third too much at τ 4 — is not: it is
-/// the escape's and the shadow's treatment of the light's dense cell seen from the thin ramp.
+/// τ and the rays within 4% up to 2 (with a shadow ray each, alike; without the difference,
+/// far too dark: 8b8fa1f's and b268c79's versions of this test). The kernel over the offset
+/// vector — the exact fluence of a uniform cube at the point's offset from the light's
+/// centroid, through the thinner smoke, times the shadow ray over the local smoke's
+/// attenuation — takes the rays' spread away (the lattice's spread is the kernel's) but keeps
+/// today's means, a third too much at τ 4: that error is the escape's and the shadow's
+/// treatment of a dense, steep cell seen from the thin ramp above it, which the octants'
+/// halves follow. The octants with the offset kernel have both: means within 1% up to τ 2
+/// (2.7% at 4) and rays within 1% up to τ 1. The bounds hold each with a margin over the
+/// measured; a change that moves a model's light at the surface by a few percent fails them.
 #[test]
 fn single_scattering_at_the_surface_of_dense_smoke() {
     let taus = [0.5f32, 1.0, 2.0, 4.0];
@@ -623,12 +661,15 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
     };
     for (tau, m) in taus.iter().zip(&measured) {
         eprintln!(
-            "τ {tau}: today {}, octants {}, with one shadow ray {}",
+            "τ {tau}: today {}, octants {}",
             show(m.today),
-            show(m.octants),
             show(m.one_ray)
         );
-        eprintln!("   offset kernel {}", show(m.cube));
+        eprintln!(
+            "   offset kernel {}, octants with it {}",
+            show(m.cube),
+            show(m.octant_cube)
+        );
     }
     // [mean's least, mean's most, one ray's least, one ray's most] by τ.
     let today = [
@@ -637,43 +678,34 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
         [0.990, 1.030, 0.78, 1.16],
         [1.28, 1.40, 0.78, 1.95],
     ];
-    let octants = [
-        [0.985, 1.005, 0.97, 1.02],
-        [0.980, 1.000, 0.95, 1.03],
-        [0.975, 0.995, 0.93, 1.05],
-        [1.020, 1.050, 0.94, 1.16],
-    ];
     let one_ray = [
         [0.985, 1.005, 0.97, 1.02],
         [0.982, 1.000, 0.955, 1.03],
         [0.980, 1.000, 0.93, 1.055],
         [0.990, 1.020, 0.89, 1.12],
     ];
-    // The kernel over the offset vector: the rays agree to within 2% up to τ 1 (measured 0.4
-    // and 1.5%), the means where today's are (measured 0.989 / 0.978 / 1.007 / 1.337).
-    let offset_means = [0.989, 0.978, 1.007, 1.337];
-    for (k, m) in measured.iter().enumerate() {
-        let r = m.cube;
-        assert!(
-            (r[0] - offset_means[k]).abs() < 0.015,
-            "τ {}: offset kernel {}",
-            taus[k],
-            show(r)
-        );
-        if taus[k] <= 1.0 {
-            assert!(
-                r[2] - r[1] < 0.02,
-                "τ {}: offset kernel {}",
-                taus[k],
-                show(r)
-            );
-        }
-    }
+    let cube = [
+        [0.975, 1.000, 0.98, 1.00],
+        [0.965, 0.990, 0.96, 0.995],
+        [0.990, 1.025, 0.96, 1.07],
+        [1.30, 1.37, 1.10, 1.70],
+    ];
+    let octant_cube = [
+        [0.985, 1.005, 0.985, 1.005],
+        [0.980, 1.000, 0.98, 1.005],
+        [0.985, 1.005, 0.975, 1.02],
+        [1.010, 1.045, 0.98, 1.09],
+    ];
     for (k, m) in measured.iter().enumerate() {
         for (name, r, b) in [
             ("today", m.today, today[k]),
-            ("octants", m.octants, octants[k]),
-            ("one shadow ray", m.one_ray, one_ray[k]),
+            ("octants", m.one_ray, one_ray[k]),
+            ("offset kernel", m.cube, cube[k]),
+            (
+                "octants with the offset kernel",
+                m.octant_cube,
+                octant_cube[k],
+            ),
         ] {
             assert!(
                 r[0] >= b[0] && r[0] <= b[1] && r[1] >= b[2] && r[2] <= b[3],
@@ -690,20 +722,21 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
 /// face — the baked fires' cameras look along +y), on their faces (0) and between (0.25),
 /// the means over the rays (measured at 2026-12-08's main):
 ///
-/// | τ a voxel | today: centres / faces / quarter | octants, their light's ray: centres / faces / quarter |
-/// |---|---|---|
-/// | 0.5 | 0.998 / 0.974 / 0.968 | 0.968 / 0.988 / 1.008 |
-/// | 1 | 0.974 / 0.960 / 0.912 | 0.924 / 0.988 / 1.018 |
-/// | 2 | 0.937 / 0.994 / 0.810 | 0.830 / 1.022 / 1.043 |
-/// | 4 | 0.974 / 1.450 / 0.734 | 0.704 / 1.236 / 1.103 |
+/// | τ a voxel | today: centres / faces / quarter | octants, their light's ray | offset kernel | octants with it |
+/// |---|---|---|---|---|
+/// | 0.5 | 0.998 / 0.974 / 0.968 | 0.968 / 0.988 / 1.008 | 0.977 / 0.994 / 0.960 | 0.984 / 1.000 / 0.994 |
+/// | 1 | 0.974 / 0.960 / 0.912 | 0.924 / 0.988 / 1.018 | 0.945 / 0.990 / 0.892 | 0.953 / 1.009 / 0.992 |
+/// | 2 | 0.937 / 0.994 / 0.810 | 0.830 / 1.022 / 1.043 | 0.906 / 1.025 / 0.768 | 0.885 / 1.064 / 1.003 |
+/// | 4 | 0.974 / 1.450 / 0.734 | 0.704 / 1.236 / 1.103 | 0.944 / 1.397 / 0.667 | 0.799 / 1.323 / 1.051 |
 ///
 /// Today's lights are nearly right where such a march samples them, the voxels' centres (the
 /// direction-averaged kernel sums to the exact there, `docs/cycles.md`); the octants, whose
 /// eight kernels meet at the voxel's centre, under-count there — a third at τ 4 — though they
-/// are the better over every position. So the octants as tried do not serve the renderer's
-/// march. The kernel over the offset vector (printed, not asserted here) is no better at these
-/// phases (0.977 / 0.945 / 0.906 / 0.944 at the centres): where the march samples one point a
-/// voxel through the smoke's surface, the surface's treatment decides, not the kernel.
+/// are the better over every position: built in the renderer they darkened the baked fires
+/// (`docs/cycles.md`). With one sample a voxel through the smoke's surface, what each model
+/// does at a few points of the ramp decides, and none of them is right there at every phase
+/// (with the exact kernel too): the ramp's light, point by point, is the next thing to get
+/// right.
 #[test]
 fn single_scattering_where_the_march_samples() {
     let taus = [0.5f32, 1.0, 2.0, 4.0];
@@ -730,15 +763,15 @@ fn single_scattering_where_the_march_samples() {
                 .join(" / ")
         };
         eprintln!(
-            "τ {tau}: today {}, octants {}, with one shadow ray {}",
+            "τ {tau}: today {}, octants {}, offset kernel {}, octants with it {}",
             means(&|x| x.today[0]),
-            means(&|x| x.octants[0]),
-            means(&|x| x.one_ray[0])
+            means(&|x| x.one_ray[0]),
+            means(&|x| x.cube[0]),
+            means(&|x| x.octant_cube[0])
         );
-        eprintln!("   offset kernel {}", means(&|x| x.cube[0]));
     }
-    // Today's and the one-ray octants' means at the centres' planes, each ± 0.02 of the
-    // measured: [today, octants] by τ.
+    // Today's and the octants' means at the centres' planes, each ± 0.02 of the measured:
+    // [today, octants] by τ.
     let centres = [
         [0.998, 0.968],
         [0.974, 0.924],
