@@ -1,19 +1,21 @@
 //! The voxel lights' single scattering at the surface of dense smoke, against the exact answer
 //! of the same medium (docs/cycles.md, "The next lead, derived"): a slab of uniform smoke and
-//! uniform temperature, as wide as its grid, whose density ramps to zero over the half voxel
-//! beyond its last centre (the grid's trilinear interpolation) and whose emission ends where
-//! the interpolated temperature falls below `T_min`, seen by a camera along its normal.
+//! uniform temperature, as wide as its grid, whose density ramps linearly to zero over the voxel
+//! from its last centre (z = 7.5 voxels) to the first clear one (8.5; the grid's trilinear
+//! interpolation) and whose emission ends where the interpolated temperature falls below
+//! `T_min` (z = 8, the last cell's face), seen by a camera along its normal.
 //!
-//! The exact in-scattered fluence at a point `z` on the slab's axis, from a medium that varies
-//! only with height, is
+//! The exact fluence of the emitted light at a point `z` on the slab's axis, from a medium that
+//! varies only with height, is
 //!
 //! `Φ(z) = ∫ dz' j(z') ∫_square e^{−k r} / r² dA`,  `k = |Σ(z) − Σ(z')| / |z − z'|`,
 //!
 //! (`Σ` the optical depth from the bottom, `r` the distance to a point of the layer at `z'`:
 //! through a medium that varies with height alone a ray's optical depth is `k r`). Over the
 //! square of the grid's cross-section, in polar coordinates about the axis, the inner integral
-//! is `∫_0^{2π} [E₁(k|z − z'|) − E₁(k R(φ))] dφ` with `R(φ)` the distance to the square's edge
-//! at angle `φ` (for an infinite layer it is `2π E₁(|ΔΣ|)`, the usual half-space kernel). The
+//! is `∫_0^{2π} [E₁(k|z − z'|) − E₁(k R(φ))] dφ` with `R(φ)` the distance from `z` to the
+//! layer's point on the square's edge at angle `φ` (the radial integral in closed form, the
+//! angle's and the height's by Gauss–Legendre quadrature) (for an infinite layer it is `2π E₁(|ΔΣ|)`, the usual half-space kernel). The
 //! model's light at `z` is `Lights::in_scattered` of the voxel lights the renderer makes
 //! (`ExplosionLights`: each cell's emission, its near field centred at the emission's centroid,
 //! its escape through the thinner of its own voxel's smoke and the point's), brute force, the
@@ -32,7 +34,7 @@
 //! escape through its octant's smoke, shaded as a renderer would without more rays: with their
 //! light's one shadow ray, each octant's term times the shadow's difference through the
 //! point's smoke, `e^{−σ_t(x)(‖x − c_k‖ − ‖x − c‖)}`; a kernel over the offset vector (the
-//! exact fluence of a uniform cube at the point's offset, [`CubeTable`]) for the lights within
+//! exact fluence of a uniform cube at the point's offset, [`cube_kernel`]) for the lights within
 //! 1.5 voxels; and the octants within a voxel with that kernel at half the side.
 
 use lgh_volume::grid::DenseGrid;
@@ -256,10 +258,11 @@ fn octants(volume: &Volume, medium: &Medium) -> (Vec<(PointLight, Vec3)>, DenseG
 
 /// The exact fluence at offset `o` (voxels, from the centre) of a unit uniform emitting cube in
 /// uniform smoke of `tau` optical depths a voxel, over the shadow ray's `e^{−τ|o|}`: what a
-/// kernel over the offset vector would hold. By 1,024 directions on a Fibonacci sphere, each
-/// ray's chord through the cube `(e^{−τ t_in} − e^{−τ t_out}) / τ`.
+/// kernel over the offset vector would hold. By 2,048 directions on a Fibonacci sphere, each
+/// ray's chord through the cube `(e^{−τ t_in} − e^{−τ t_out}) / τ` (7.674 at the centre in
+/// clear air, `lgh_core::near_field`'s `G(0)`; checked in [`the_exact_answer_is_right`]).
 fn cube_kernel(o: [f64; 3], tau: f64) -> f64 {
-    const N: usize = 1024;
+    const N: usize = 2048;
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     let mut sum = 0.0;
     for i in 0..N {
@@ -289,57 +292,6 @@ fn cube_kernel(o: [f64; 3], tau: f64) -> f64 {
     }
     let d = (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt();
     4.0 * std::f64::consts::PI * sum / N as f64 * (tau * d).exp()
-}
-
-/// [`cube_kernel`] tabulated over `|o|` per axis in `[0, 3]` (1/8 apart) and `τ` in `[0, 4.5]`
-/// (1/4 apart), read multilinearly.
-struct CubeTable(Vec<f64>);
-
-const CUBE_N: usize = 25;
-const CUBE_T: usize = 19;
-
-impl CubeTable {
-    fn get() -> &'static CubeTable {
-        static TABLE: std::sync::OnceLock<CubeTable> = std::sync::OnceLock::new();
-        TABLE.get_or_init(|| {
-            let mut v = vec![0.0; CUBE_T * CUBE_N * CUBE_N * CUBE_N];
-            for t in 0..CUBE_T {
-                for k in 0..CUBE_N {
-                    for j in 0..CUBE_N {
-                        for i in 0..CUBE_N {
-                            let o = [i as f64 / 8.0, j as f64 / 8.0, k as f64 / 8.0];
-                            v[((t * CUBE_N + k) * CUBE_N + j) * CUBE_N + i] =
-                                cube_kernel(o, t as f64 / 4.0);
-                        }
-                    }
-                }
-            }
-            CubeTable(v)
-        })
-    }
-
-    fn at(&self, o: Vec3, tau: f32) -> f64 {
-        let u = [o.x.abs(), o.y.abs(), o.z.abs()].map(|c| (f64::from(c) * 8.0).min(24.0 - 1e-9));
-        let ft = (f64::from(tau) * 4.0).clamp(0.0, 18.0 - 1e-9);
-        let (i, t) = (u.map(|c| c as usize), ft as usize);
-        let f = [
-            u[0] - i[0] as f64,
-            u[1] - i[1] as f64,
-            u[2] - i[2] as f64,
-            ft - t as f64,
-        ];
-        let mut sum = 0.0;
-        for c in 0..16 {
-            let b = |n: usize| (c >> n) & 1;
-            let w = (0..4)
-                .map(|n| if b(n) == 1 { f[n] } else { 1.0 - f[n] })
-                .product::<f64>();
-            let idx =
-                (((t + b(3)) * CUBE_N + i[2] + b(2)) * CUBE_N + i[1] + b(1)) * CUBE_N + i[0] + b(0);
-            sum += w * self.0[idx];
-        }
-        sum
-    }
 }
 
 /// Camera-weighted sums of the model's light and the exact one, over the whole march and over
@@ -372,7 +324,7 @@ impl Sums {
 }
 
 /// The four models of the slab's lights (module documentation), each giving the light
-/// in-scattered at a point (times `4π`, unshadowed by the phase function).
+/// in-scattered at a point per unit `σ_s`: `Φ / 4π`, the fluence through the isotropic phase.
 struct Models {
     h: f32,
     /// Today's voxel lights, brute force, with their smoke.
@@ -439,8 +391,14 @@ impl Models {
         let today = (self.today)
             .in_scattered(x, 1.0, sigma_t, &self.visibility, scratch, &mut stats)
             .unwrap();
-        let table = CubeTable::get();
         let phase = 1.0 / (4.0 * std::f32::consts::PI);
+        // A uniform cube's exact fluence at offset `o` (world units) from its centre, side
+        // `side`, in uniform smoke of `tau` a side: `F = cube_kernel · e^{−τ|o|/side} / side²`.
+        let exact_cube = |o: Vec3, side: f32, tau: f32| {
+            let u = o / side;
+            let k = cube_kernel([u.x, u.y, u.z].map(f64::from), f64::from(tau)) as f32;
+            k * (-tau * u.length()).exp() / (side * side)
+        };
         // The octants within reach, with their light's one shadow ray and the shadow's
         // difference through the point's smoke: eight kernels a light and no more rays.
         let (mut one_ray, mut octant_cube) = (Vec3::ZERO, Vec3::ZERO);
@@ -455,12 +413,10 @@ impl Models {
             let g = NearField::Voxel.falloff_in(0, dk, h / 2.0, tau);
             one_ray += octant.intensity * (g * v * (-sigma_t * (dk - d)).exp());
             if d <= h {
-                // The octant's exact fluence at its offset (the table's `F / e^{−τ u}`), the
-                // light's ray over the point's smoke along it.
-                let hh = h / 2.0;
-                let k = table.at((x - octant.position) / hh, tau) as f32 / (hh * hh);
-                octant_cube +=
-                    octant.intensity * (k * (-tau / hh * dk).exp() * v * (sigma_t * d).exp());
+                // The octant's exact fluence at its offset through the thinner smoke, times its
+                // light's ray over what the point's smoke alone would take along it.
+                let f = exact_cube(x - octant.position, h / 2.0, tau);
+                octant_cube += octant.intensity * (f * v * (sigma_t * d).exp());
             }
         }
         // The lights within 1.5 voxels with the kernel over the offset from their centroid.
@@ -474,8 +430,7 @@ impl Models {
             let c = l.position + self.smoke.centroid_at(l.position);
             let tau = self.smoke.at(l.position).min(sigma_t * h);
             let v = self.grid.transmittance(x, l.position).0;
-            let k = table.at((x - c) / h, tau) as f32 / (h * h);
-            cube += l.intensity * (k * v * (sigma_t * d).exp() * (-tau / h * d).exp());
+            cube += l.intensity * (exact_cube(x - c, h, tau) * v * (sigma_t * d).exp());
         }
         [
             today,
@@ -497,10 +452,13 @@ struct Measured {
     /// times the shadow's difference through the point's smoke, `e^{−σ_t(x)(d_k − d)}`.
     one_ray: [f64; 4],
     /// The lights within 1.5 voxels shaded with the exact fluence of a uniform cube at their
-    /// offset ([`CubeTable`]), their one shadow ray over the point's smoke along it.
+    /// offset from their centroid ([`cube_kernel`]) through the thinner smoke, times their one
+    /// shadow ray over what the point's smoke alone would take along it.
     cube: [f64; 4],
     /// The lights within a voxel as octants, each with that kernel at half the side.
     octant_cube: [f64; 4],
+    /// Along the first ray, each sample's height and the four models' light over the exact.
+    profile: Vec<(f32, [f64; 4])>,
 }
 
 /// Camera rays across a quarter of a voxel's cross-section (the lattice's symmetry gives the
@@ -519,7 +477,9 @@ enum Samples {
     Fine,
     /// One a voxel, at `z = k + phase` voxels (the default march's step of one voxel; a ray
     /// along a grid axis that enters at the grid's face samples at the centres' planes,
-    /// `phase = 0.5`). Each weighed over its voxel.
+    /// `phase = 0.5`). Each weighed `T_cam(z) σ_s(z)` over its voxel, the same for the models
+    /// and the exact: the models' light at those points, not the march's image (whose steps
+    /// weigh `(1 − e^{−σ_t dt})` with the transmittance built step by step).
     Voxel { phase: f32 },
 }
 
@@ -550,17 +510,24 @@ fn measure(tau: f32, at: Samples) -> Measured {
             (z, weight, exact)
         })
         .collect();
+    let mut profile = vec![];
     let per_ray: Vec<[Sums; 4]> = ray_offsets()
         .into_iter()
-        .map(|(ox, oy)| {
+        .enumerate()
+        .map(|(ray, (ox, oy))| {
             let mut sums = [Sums::default(); 4];
             for &(z, weight, exact) in &samples {
                 let x = Vec3::new(ox * h, oy * h, z);
                 let sigma_t = medium.extinction(volume.density.sample(x));
                 let surface = z > (LAYERS as f32 - 1.0) * h;
-                let light = models.at(x, sigma_t, &mut scratch);
-                for (s, l) in sums.iter_mut().zip(light) {
-                    s.add(weight, f64::from(luminance(l)), exact, surface);
+                let light = models
+                    .at(x, sigma_t, &mut scratch)
+                    .map(|l| f64::from(luminance(l)));
+                for (s, &l) in sums.iter_mut().zip(&light) {
+                    s.add(weight, l, exact, surface);
+                }
+                if ray == 0 {
+                    profile.push((z, light.map(|l| l / exact)));
                 }
             }
             sums
@@ -580,6 +547,7 @@ fn measure(tau: f32, at: Samples) -> Measured {
         one_ray: summary(1),
         cube: summary(2),
         octant_cube: summary(3),
+        profile,
     }
 }
 
@@ -603,6 +571,25 @@ fn the_exact_answer_is_right() {
     // The difference's two branches agree where they meet.
     let (a, b) = (e1_between(1.0, 0.5, 1.999), e1(0.5) - e1(1.999));
     assert!((a / b - 1.0).abs() < 1e-10);
+    // The cube's kernel: 7.674 at the centre in clear air (the voxel's mean of 1/r²), and two
+    // voxels away in smoke the direction-averaged kernel times the escape, `G(2) R(2, 1)`, within
+    // its directions' spread (the offset kernel is not averaged over directions: along an axis
+    // and a diagonal it brackets the average).
+    let centre = cube_kernel([0.0; 3], 0.0);
+    assert!((centre / 7.674 - 1.0).abs() < 2e-3, "{centre}");
+    let averaged = f64::from(
+        lgh_volume::lgh_core::near_field::voxel_falloff(2.0, 1.0)
+            * lgh_volume::lgh_core::near_field::escape(2.0, 1.0),
+    );
+    let (axis_, diagonal) = (
+        cube_kernel([2.0, 0.0, 0.0], 1.0),
+        cube_kernel([2.0 / 3f64.sqrt(); 3], 1.0),
+    );
+    assert!(
+        axis_.min(diagonal) < averaged && averaged < axis_.max(diagonal),
+        "{averaged} outside {axis_}–{diagonal}"
+    );
+    assert!((axis_ / averaged - 1.0).abs() < 0.05 && (diagonal / averaged - 1.0).abs() < 0.05);
     // Inside the slab, four optical depths a voxel and 3.5 voxels from its faces, the fluence is
     // an infinite medium's, 4π j / σ_t, to e^{−14}.
     let (volume, medium) = slab(4.0);
@@ -618,31 +605,34 @@ fn the_exact_answer_is_right() {
 }
 
 /// The four models against the exact answer, at 0.5, 1, 2 and 4 optical depths a voxel
-/// (measured at 2026-12-08's main: the mean over the camera rays, the least and most of one
-/// ray; `(h/2)` the octants):
+/// (measured at 2026-12-08's main: the mean over the camera rays and, in brackets, the least
+/// and the most of one ray):
 ///
-/// | τ a voxel | today | one ray | octants (h/2), their light's ray | one ray | offset kernel | one ray | octants (h/2) with it | one ray |
-/// |---|---|---|---|---|---|---|---|---|
-/// | 0.5 | 0.990 | 0.927–1.018 | 0.995 | 0.981–1.011 | 0.989 | 0.987–0.991 | 0.994 | 0.993–0.996 |
-/// | 1 | 0.981 | 0.870–1.032 | 0.991 | 0.965–1.021 | 0.978 | 0.971–0.986 | 0.991 | 0.989–0.994 |
-/// | 2 | 1.009 | 0.805–1.136 | 0.990 | 0.941–1.043 | 1.007 | 0.974–1.054 | 0.995 | 0.987–1.006 |
-/// | 4 | 1.336 | 0.813–1.891 | 1.004 | 0.902–1.104 | 1.337 | 1.147–1.650 | 1.027 | 0.992–1.069 |
+/// | τ a voxel | today | octants, their light's ray | offset kernel | octants with it |
+/// |---|---|---|---|---|
+/// | 0.5 | 0.990 (0.927–1.018) | 0.995 (0.981–1.011) | 0.992 (0.992–0.992) | 0.995 (0.994–0.997) |
+/// | 1 | 0.981 (0.870–1.032) | 0.991 (0.965–1.021) | 0.985 (0.984–0.985) | 0.992 (0.990–0.995) |
+/// | 2 | 1.009 (0.805–1.136) | 0.990 (0.941–1.043) | 0.989 (0.982–0.996) | 0.998 (0.990–1.008) |
+/// | 4 | 1.336 (0.813–1.891) | 1.004 (0.902–1.104) | 1.095 (1.054–1.143) | 1.031 (0.995–1.072) |
 ///
 /// Today's lights hold their mean within 2% up to 2 optical depths a voxel but vary from ray
 /// to ray by up to 20% (the direction-averaged kernel on the lattice: a point at a voxel's
-/// centre, a face or a corner sees its neighbours' light differently), and at 4 the camera,
-/// which sees the smoke's first quarter voxel, gets a third too much. The octants shaded with
-/// their light's one shadow ray and the shadow's difference keep the mean within 1% at every
-/// τ and the rays within 4% up to 2 (with a shadow ray each, alike; without the difference,
-/// far too dark: 8b8fa1f's and b268c79's versions of this test). The kernel over the offset
-/// vector — the exact fluence of a uniform cube at the point's offset from the light's
-/// centroid, through the thinner smoke, times the shadow ray over the local smoke's
-/// attenuation — takes the rays' spread away (the lattice's spread is the kernel's) but keeps
-/// today's means, a third too much at τ 4: that error is the escape's and the shadow's
-/// treatment of a dense, steep cell seen from the thin ramp above it, which the octants'
-/// halves follow. The octants with the offset kernel have both: means within 1% up to τ 2
-/// (2.7% at 4) and rays within 1% up to τ 1. The bounds hold each with a margin over the
-/// measured; a change that moves a model's light at the surface by a few percent fails them.
+/// centre, a face or a corner sees its neighbours' light differently), and at 4 a third too
+/// much. The octants with their light's ray keep the mean within 1% at every τ, the rays
+/// within 4% up to τ 1 and −6% / +4% at τ 2. The kernel over the offset vector takes the
+/// rays' spread away (within 0.2% up to τ 1, 1.4% at τ 2) and brings τ 4 to 9.5% over; the
+/// octants with it are within 1% up to τ 2, 3% at 4. Point by point (the first ray's profile,
+/// printed), the octants with the offset kernel are within 3% from 0.15 voxels below the last
+/// centre (z = 7.5) down, up to 7% low just below it, and every model is over above it, in
+/// the ramp, by about the same at its top (z = 8.45: about 4 / 10 / 25 / 55% at τ 0.5 / 1 / 2
+/// / 4, all four): there the point's
+/// smoke is thin, so the escape, through the thinner of the light's and the point's smoke,
+/// takes none of the light's own, and the light of the cell's lower, denser half is carried
+/// as if from its centre. That, and not the kernel, is the surface's remaining error. The
+/// bounds hold each with a margin of about a point over the measured (the exact integral is
+/// checked to 1e-5 inside the slab; the cube's kernel by 2,048 directions, within 1% of 32,768's
+/// at the offsets used); a change that moves a model's mean at the surface by a couple of percent fails
+/// them.
 #[test]
 fn single_scattering_at_the_surface_of_dense_smoke() {
     let taus = [0.5f32, 1.0, 2.0, 4.0];
@@ -670,6 +660,14 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
             show(m.cube),
             show(m.octant_cube)
         );
+        // Point by point near the surface along the first ray (x = y = 1/12 voxel): today's,
+        // the octants', the offset kernel's, the octants' with it, over the exact.
+        for (z, r) in m.profile.iter().filter(|(z, _)| *z > 6.4) {
+            eprintln!(
+                "   z {z:.2}: {:.3} / {:.3} / {:.3} / {:.3}",
+                r[0], r[1], r[2], r[3]
+            );
+        }
     }
     // [mean's least, mean's most, one ray's least, one ray's most] by τ.
     let today = [
@@ -685,16 +683,16 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
         [0.990, 1.020, 0.89, 1.12],
     ];
     let cube = [
-        [0.975, 1.000, 0.98, 1.00],
-        [0.965, 0.990, 0.96, 0.995],
-        [0.990, 1.025, 0.96, 1.07],
-        [1.30, 1.37, 1.10, 1.70],
+        [0.982, 1.002, 0.985, 1.000],
+        [0.975, 0.995, 0.975, 0.995],
+        [0.978, 1.000, 0.970, 1.010],
+        [1.070, 1.120, 1.030, 1.170],
     ];
     let octant_cube = [
         [0.985, 1.005, 0.985, 1.005],
-        [0.980, 1.000, 0.98, 1.005],
-        [0.985, 1.005, 0.975, 1.02],
-        [1.010, 1.045, 0.98, 1.09],
+        [0.982, 1.002, 0.980, 1.005],
+        [0.988, 1.008, 0.980, 1.020],
+        [1.015, 1.045, 0.980, 1.090],
     ];
     for (k, m) in measured.iter().enumerate() {
         for (name, r, b) in [
@@ -719,24 +717,19 @@ fn single_scattering_at_the_surface_of_dense_smoke() {
 
 /// The same models with the camera's samples one voxel apart, at the voxels' centre planes
 /// (`phase` 0.5: the default march's, for a ray along a grid axis that enters at the grid's
-/// face — the baked fires' cameras look along +y), on their faces (0) and between (0.25),
-/// the means over the rays (measured at 2026-12-08's main):
+/// face), on their faces (0) and between (0.25), the means over the rays (measured at
+/// 2026-12-08's main):
 ///
 /// | τ a voxel | today: centres / faces / quarter | octants, their light's ray | offset kernel | octants with it |
 /// |---|---|---|---|---|
-/// | 0.5 | 0.998 / 0.974 / 0.968 | 0.968 / 0.988 / 1.008 | 0.977 / 0.994 / 0.960 | 0.984 / 1.000 / 0.994 |
-/// | 1 | 0.974 / 0.960 / 0.912 | 0.924 / 0.988 / 1.018 | 0.945 / 0.990 / 0.892 | 0.953 / 1.009 / 0.992 |
-/// | 2 | 0.937 / 0.994 / 0.810 | 0.830 / 1.022 / 1.043 | 0.906 / 1.025 / 0.768 | 0.885 / 1.064 / 1.003 |
-/// | 4 | 0.974 / 1.450 / 0.734 | 0.704 / 1.236 / 1.103 | 0.944 / 1.397 / 0.667 | 0.799 / 1.323 / 1.051 |
+/// | 0.5 | 0.998 / 0.974 / 0.968 | 0.968 / 0.988 / 1.008 | 0.978 / 0.999 / 0.965 | 0.984 / 0.999 / 0.994 |
+/// | 1 | 0.974 / 0.960 / 0.912 | 0.924 / 0.988 / 1.018 | 0.937 / 1.008 / 0.909 | 0.952 / 1.009 / 0.993 |
+/// | 2 | 0.937 / 0.994 / 0.810 | 0.830 / 1.022 / 1.043 | 0.850 / 1.056 / 0.817 | 0.885 / 1.064 / 1.005 |
+/// | 4 | 0.974 / 1.450 / 0.734 | 0.704 / 1.236 / 1.103 | 0.755 / 1.241 / 0.757 | 0.799 / 1.324 / 1.054 |
 ///
-/// Today's lights are nearly right where such a march samples them, the voxels' centres (the
-/// direction-averaged kernel sums to the exact there, `docs/cycles.md`); the octants, whose
-/// eight kernels meet at the voxel's centre, under-count there — a third at τ 4 — though they
-/// are the better over every position: built in the renderer they darkened the baked fires
-/// (`docs/cycles.md`). With one sample a voxel through the smoke's surface, what each model
-/// does at a few points of the ramp decides, and none of them is right there at every phase
-/// (with the exact kernel too): the ramp's light, point by point, is the next thing to get
-/// right.
+/// With one sample a voxel, a few points of the ramp decide, and none of the models is right
+/// there at every phase; at the centres' planes today's are within 3% up to τ 1 (6% at 2) and
+/// the others fall short, the octants by up to a third at τ 4.
 #[test]
 fn single_scattering_where_the_march_samples() {
     let taus = [0.5f32, 1.0, 2.0, 4.0];
@@ -770,16 +763,17 @@ fn single_scattering_where_the_march_samples() {
             means(&|x| x.octant_cube[0])
         );
     }
-    // Today's and the octants' means at the centres' planes, each ± 0.02 of the measured:
-    // [today, octants] by τ.
+    // The four models' means at the centres' planes, each ± 0.02 of the measured (the faces'
+    // and the quarter's are printed): [today, octants, offset kernel, octants with it] by τ.
     let centres = [
-        [0.998, 0.968],
-        [0.974, 0.924],
-        [0.937, 0.830],
-        [0.974, 0.704],
+        [0.998, 0.968, 0.978, 0.984],
+        [0.974, 0.924, 0.937, 0.952],
+        [0.937, 0.830, 0.850, 0.885],
+        [0.974, 0.704, 0.755, 0.799],
     ];
     for (k, m) in measured.iter().enumerate() {
-        let got = [m[0].today[0], m[0].one_ray[0]];
+        let m = &m[0];
+        let got = [m.today[0], m.one_ray[0], m.cube[0], m.octant_cube[0]];
         for (g, want) in got.iter().zip(centres[k]) {
             assert!(
                 (g - want).abs() < 0.02,
