@@ -258,40 +258,14 @@ fn octants(volume: &Volume, medium: &Medium) -> (Vec<(PointLight, Vec3)>, DenseG
 
 /// The exact fluence at offset `o` (voxels, from the centre) of a unit uniform emitting cube in
 /// uniform smoke of `tau` optical depths a voxel, over the shadow ray's `e^{−τ|o|}`: what a
-/// kernel over the offset vector would hold. By 2,048 directions on a Fibonacci sphere, each
-/// ray's chord through the cube `(e^{−τ t_in} − e^{−τ t_out}) / τ` (7.674 at the centre in
-/// clear air, `lgh_core::near_field`'s `G(0)`; checked in [`the_exact_answer_is_right`]).
+/// kernel over the offset vector would hold ([`lgh_tests::cube_fluence`] over 2,048 directions
+/// on a Fibonacci sphere, made once; 7.674 at the centre in clear air, `lgh_core::near_field`'s
+/// `G(0)`; checked in [`the_exact_answer_is_right`]).
 fn cube_kernel(o: [f64; 3], tau: f64) -> f64 {
-    const N: usize = 2048;
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    let mut sum = 0.0;
-    for i in 0..N {
-        let zc = 1.0 - (2.0 * i as f64 + 1.0) / N as f64;
-        let r = (1.0 - zc * zc).sqrt();
-        let phi = golden * i as f64;
-        let w = [r * phi.cos(), r * phi.sin(), zc];
-        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
-        for a in 0..3 {
-            if w[a].abs() < 1e-12 {
-                if o[a].abs() > 0.5 {
-                    t1 = -1.0;
-                }
-                continue;
-            }
-            let (ta, tb) = ((-0.5 - o[a]) / w[a], (0.5 - o[a]) / w[a]);
-            t0 = t0.max(ta.min(tb));
-            t1 = t1.min(ta.max(tb));
-        }
-        if t1 > t0 {
-            sum += if tau > 0.0 {
-                ((-tau * t0).exp() - (-tau * t1).exp()) / tau
-            } else {
-                t1 - t0
-            };
-        }
-    }
+    static DIRECTIONS: std::sync::OnceLock<Vec<[f64; 3]>> = std::sync::OnceLock::new();
+    let dirs = DIRECTIONS.get_or_init(|| lgh_tests::fibonacci_sphere(2048));
     let d = (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt();
-    4.0 * std::f64::consts::PI * sum / N as f64 * (tau * d).exp()
+    lgh_tests::cube_fluence(o, dirs, tau) * (tau * d).exp()
 }
 
 /// Camera-weighted sums of the model's light and the exact one, over the whole march and over

@@ -328,3 +328,66 @@ pub fn mean_luminance(image: &lgh_image::Image) -> f64 {
         .sum::<f64>()
         / image.pixels.len() as f64
 }
+
+/// `n` directions on a Fibonacci sphere, `[x, y, z]` unit vectors: a deterministic, even
+/// quadrature of the sphere for the near-field tests.
+///
+/// ```
+/// let d = lgh_tests::fibonacci_sphere(64);
+/// assert_eq!(d.len(), 64);
+/// let mean_z: f64 = d.iter().map(|w| w[2]).sum::<f64>() / 64.0;
+/// assert!(mean_z.abs() < 1e-12 && d.iter().all(|w| (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - 1.0).abs() < 1e-12));
+/// ```
+#[must_use]
+pub fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = (i as f64 + 0.5) * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+            [r * phi.cos(), r * phi.sin(), z]
+        })
+        .collect()
+}
+
+/// `∫_cube e^{−τ‖x − y‖} / ‖x − y‖² dy` over the unit cube centred at the origin, seen from `x`
+/// (in the cube's side), in uniform smoke of `tau` optical depths a side: over the directions
+/// `dirs` ([`fibonacci_sphere`]), each ray's chord `[t_in, t_out]` through the cube gives
+/// `(e^{−τ t_in} − e^{−τ t_out}) / τ`. The exact fluence of a uniform emitting voxel — what
+/// `lgh_core::near_field`'s kernel and escape stand for — `G(0) = 7.674` at the centre in clear
+/// air. The directions must resolve the cube: 2,048 hold it within 1% up to about three sides
+/// away; farther, few rays meet it.
+///
+/// ```
+/// let dirs = lgh_tests::fibonacci_sphere(2048);
+/// assert!((lgh_tests::cube_fluence([0.0; 3], &dirs, 0.0) / 7.674 - 1.0).abs() < 2e-3);
+/// // Two sides away, near the inverse square (the cube's `1 + 1/(12 d²)` beyond it).
+/// let near = lgh_tests::cube_fluence([0.0, 0.0, 2.0], &dirs, 0.0);
+/// assert!((near * 4.0 - 1.0).abs() < 0.03, "{near}");
+/// ```
+#[must_use]
+pub fn cube_fluence(x: [f64; 3], dirs: &[[f64; 3]], tau: f64) -> f64 {
+    let mut sum = 0.0;
+    for w in dirs {
+        let (mut t_in, mut t_out) = (0.0f64, f64::INFINITY);
+        for a in 0..3 {
+            if w[a] == 0.0 {
+                if x[a].abs() > 0.5 {
+                    t_out = -1.0;
+                }
+                continue;
+            }
+            let (t1, t2) = ((-0.5 - x[a]) / w[a], (0.5 - x[a]) / w[a]);
+            t_in = t_in.max(t1.min(t2));
+            t_out = t_out.min(t1.max(t2));
+        }
+        if t_out > t_in {
+            sum += if tau == 0.0 {
+                t_out - t_in
+            } else {
+                ((-tau * t_in).exp() - (-tau * t_out).exp()) / tau
+            };
+        }
+    }
+    4.0 * std::f64::consts::PI * sum / dirs.len() as f64
+}
