@@ -351,20 +351,49 @@ impl Models {
         }
     }
 
-    /// Today's lights beyond `reach` of `x` (world units), shadowed.
-    fn beyond(&self, x: Vec3, sigma_t: f32, reach: f32, scratch: &mut LightScratch) -> Vec3 {
+    /// Today's light at `x` from beyond each of `reaches` (world units, each at most
+    /// `OCTANT_REACH` voxels), shadowed, and from every light: the lights beyond the octants'
+    /// reach summed once over the whole backend, the few within it as a backend of their own.
+    fn beyond<const N: usize>(
+        &self,
+        x: Vec3,
+        sigma_t: f32,
+        reaches: [f32; N],
+        scratch: &mut LightScratch,
+    ) -> ([Vec3; N], Vec3) {
+        let (reach, mut stats) = (OCTANT_REACH * self.h, RenderStats::default());
+        let visibility = &self.visibility;
         let beyond = |d: f32| f32::from(u8::from(d > reach));
-        let mut stats = RenderStats::default();
-        (self.today)
-            .in_scattered_part(x, sigma_t, &self.visibility, beyond, scratch, &mut stats)
-            .unwrap()
+        let far = (self.today)
+            .in_scattered_part(x, sigma_t, visibility, beyond, scratch, &mut stats)
+            .unwrap();
+        let near: Vec<PointLight> = self
+            .lit
+            .iter()
+            .copied()
+            .filter(|l| l.position.distance(x) <= reach)
+            .collect();
+        if near.is_empty() {
+            return ([far; N], far);
+        }
+        let smoke = self.smoke.of_lights(near.iter().map(|l| l.position));
+        let near = Lights::new(BruteForce::new(&near).unwrap(), self.h)
+            .with_near_field(NearField::Voxel)
+            .with_smoke(Some(smoke));
+        let mut part = |r: f32| {
+            let between = |d: f32| f32::from(u8::from(d > r && d <= reach));
+            far + near
+                .in_scattered_part(x, sigma_t, visibility, between, scratch, &mut stats)
+                .unwrap()
+        };
+        let all = part(-1.0);
+        (reaches.map(part), all)
     }
 
     fn at(&self, x: Vec3, sigma_t: f32, scratch: &mut LightScratch) -> Light4 {
-        let (h, mut stats) = (self.h, RenderStats::default());
-        let today = (self.today)
-            .in_scattered(x, 1.0, sigma_t, &self.visibility, scratch, &mut stats)
-            .unwrap();
+        let h = self.h;
+        let ([beyond_octants, beyond_cube, beyond_voxel], today) =
+            self.beyond(x, sigma_t, [OCTANT_REACH * h, 1.5 * h, h], scratch);
         let phase = 1.0 / (4.0 * std::f32::consts::PI);
         // A uniform cube's exact fluence at offset `o` (world units) from its centre, side
         // `side`, in uniform smoke of `tau` a side: `F = cube_kernel · e^{−τ|o|/side} / side²`.
@@ -408,9 +437,9 @@ impl Models {
         }
         [
             today,
-            self.beyond(x, sigma_t, OCTANT_REACH * h, scratch) + one_ray * phase,
-            self.beyond(x, sigma_t, 1.5 * h, scratch) + cube * phase,
-            self.beyond(x, sigma_t, h, scratch) + octant_cube * phase,
+            beyond_octants + one_ray * phase,
+            beyond_cube + cube * phase,
+            beyond_voxel + octant_cube * phase,
         ]
     }
 }
